@@ -1,0 +1,224 @@
+"""Run one scene through one method at one level: plan the stages the outputs need, run them, build
+and validate the result Dataset.
+
+Planning: each requested output is produced by the first stage of the method's chain whose selected
+model declares it in ``capabilities.provides``; the stages up to the last one needed run, no others.
+A scene that gives its heat source runs no contact stage (core model "given" supplies the source).
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+import numpy as np
+
+from .errors import PluginError, Refused, SolverError
+from .grid import BASE_CELLS
+from .models.sliding import given_heat_source as _given
+from .plugins import MethodInfo, PluginHost, get_host
+from .scene import Scene, load_scene
+from .schema import build_dataset, history_line, validate_dataset
+from .stages import STAGES, CoupledModel, StageModel
+
+__all__ = ["solve", "plan", "given_heat_source", "Plan"]
+
+
+def given_heat_source(scene: Scene, level: int, cells: int | None = None):
+    """The :class:`railtherm.HeatSource` a scene gives, on the grid of ``level``."""
+    return _given(scene, level, cells)
+
+
+@dataclass
+class Plan:
+    """Models selected for a (scene, method, level) and the stages that will run."""
+
+    method: MethodInfo
+    stages: tuple[str, ...]
+    models: dict[str, StageModel]
+
+    def describe(self) -> str:
+        return ", ".join(f"{s}={self.models[s].name}" for s in self.stages)
+
+
+def _select(host: PluginHost, mi: MethodInfo, stage: str, scene: Scene, level: int) -> StageModel:
+    reasons = []
+    for name in mi.method.chain.get(stage, ()):
+        model = host.model(name).cls()
+        why = model.supports(scene, level)
+        if why is None:
+            return model
+        reasons.append(why)
+    if not reasons:
+        raise Refused(f"method {mi.name!r} has no {stage} model")
+    raise Refused("; ".join(reasons))
+
+
+def plan(scene: Scene, method: str, level: int = 0, host: PluginHost | None = None) -> Plan:
+    """Choose the models and the stages to run; raises :class:`railtherm.Refused` when impossible."""
+    host = host or get_host()
+    mi = host.method(method)
+    given = scene.heat_source is not None
+    models: dict[str, StageModel] = {}
+    order = [s for s in STAGES if s in mi.method.chain]
+    if given:
+        order = [s for s in order if s != "contact"]
+        if "heat_source" not in order and "temperature" in order:
+            order.insert(0, "heat_source")
+    for stage in order:
+        if given and stage == "heat_source":
+            coupled = [n for n in mi.method.chain.get("heat_source", ()) if issubclass(host.model(n).cls, CoupledModel)]
+            models[stage] = host.model(coupled[0]).cls() if coupled else host.model("given").cls()
+            continue
+        models[stage] = _select(host, mi, stage, scene, level)
+    # which stages do the outputs need?
+    last = -1
+    for out in scene.outputs:
+        found = None
+        for i, stage in enumerate(order):
+            if out in models[stage].capabilities.provides or (given and stage == "heat_source"
+                                                               and out in {"heat_flux", "frictional_power", "heat_partition"}):
+                found = i
+                break
+        if found is None:
+            extra = " (the scene gives its heat source, so no contact stage runs)" if given else ""
+            raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}{extra}; "
+                          f"its models provide: {sorted(set().union(*(m.capabilities.provides for m in models.values())))}")
+        last = max(last, found)
+    stages = tuple(order[: last + 1])
+    return Plan(mi, stages, {s: models[s] for s in stages})
+
+
+def _flat_diagnostics(prefix: str, diag: Mapping[str, Any], out: dict) -> None:
+    for k, v in (diag or {}).items():
+        key = f"{prefix}_{k}".replace(" ", "_")
+        if isinstance(v, (bool, np.bool_)):
+            out[key] = int(v)
+        elif isinstance(v, (int, float, np.integer, np.floating, str)):
+            out[key] = v.item() if hasattr(v, "item") else v
+        elif isinstance(v, (list, tuple, np.ndarray)) and len(v) and all(isinstance(t, (int, float, np.number)) for t in v):
+            out[key] = np.asarray(v, dtype=float)
+        else:
+            out[key] = str(v)
+
+
+def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
+    patch = source = temp = None
+    cells = options.get("cells") or pl.method.method.default_cells or BASE_CELLS
+    done: set[int] = set()
+    for stage in pl.stages:
+        model = pl.models[stage]
+        if id(model) in done:
+            continue
+        opts = {"cells": cells, **model.resolve_options(options)}
+        opts["cells"] = options.get("cells") or cells
+        if isinstance(model, CoupledModel):
+            same = tuple(s for s in pl.stages if type(pl.models[s]) is type(model))
+            for s in same:
+                done.add(id(pl.models[s]))
+            if scene.heat_source is not None:  # a given source: the coupled model runs its thermal part only
+                same = tuple(s for s in same if s == "temperature")
+                source = given_heat_source(scene, level, cells)
+            patch, source_c, temp = model.compute(scene, level, opts, same)
+            source = source_c if source_c is not None else source
+            continue
+        if stage == "contact":
+            patch = model.compute_patch(scene, level, opts)
+        elif stage == "heat_source":
+            source = model.compute_source(scene, patch, level, opts)
+            if source.patch is not None:
+                patch = source.patch
+        else:
+            temp = model.compute_temperature(scene, source, level, opts)
+        done.add(id(model))
+    return patch, source, temp
+
+
+def _versions(pl: Plan, host: PluginHost) -> str:
+    from . import __version__
+    parts = [f"railtherm {__version__}", f"method {pl.method.name} from plugin {pl.method.plugin} {pl.method.version}"]
+    seen = []
+    for s in pl.stages:
+        m = pl.models[s]
+        if m.name not in seen:
+            seen.append(m.name)
+            info = host.models[m.name]
+            parts.append(f"{m.name} ({info.plugin} {info.version})")
+    return "; ".join(parts)
+
+
+def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options: Mapping[str, Any] | None = None,
+          *, host: PluginHost | None = None, validate: bool = True):
+    """Solve one scene with one method at one resolution level.
+
+    Parameters
+    ----------
+    scene : Scene or mapping
+        A :class:`railtherm.Scene`, or a mapping in the study vocabulary with materials included.
+    method : str
+        Method name (see :func:`railtherm.methods`).
+    level : int
+        Resolution level k >= 0 (each level halves the method's characteristic cell size).
+    options : mapping, optional
+        Method options (``[study.options.<method>]``), validated by the method's models.
+
+    Returns
+    -------
+    xarray.Dataset
+        The result in the schema of DESIGN.md (CF-1.11 attributes), already validated.
+
+    Raises
+    ------
+    railtherm.SceneError
+        Invalid scene or option.
+    railtherm.Refused
+        The scene lies outside the method's validity; the message names the limit.
+    railtherm.SolverError
+        The solver did not converge or produced non-finite numbers.
+    """
+    host = host or get_host()
+    scene = load_scene(scene)
+    level = int(level)
+    if level < 0:
+        raise ValueError(f"level must be >= 0, got {level}")
+    options = dict(options or {})
+    pl = plan(scene, method, level, host)
+    for s in pl.stages:  # validate options early (SceneError names the key)
+        pl.models[s].resolve_options(options)
+    t0 = time.perf_counter()
+    patch, source, temp = _run(pl, scene, level, options)
+    wall = time.perf_counter() - t0
+    grid = (source.grid if source is not None else patch.grid if patch is not None else None)
+    if grid is None:
+        raise PluginError(f"method {method!r}: no stage returned a result for scene {scene.name!r}")
+    diag: dict[str, Any] = {}
+    converged = True
+    for obj, model_name in ((patch, pl.models.get("contact")), (source, pl.models.get("heat_source")),
+                            (temp, pl.models.get("temperature"))):
+        if obj is not None and model_name is not None:
+            _flat_diagnostics(model_name.name, obj.diagnostics, diag)
+            if obj.diagnostics.get("converged") is False:
+                converged = False
+    attrs = {
+        "title": f"railtherm result: scene {scene.name}, method {method}, level {level}",
+        "source": _versions(pl, host),
+        "history": history_line(f"railtherm.solve(scene={scene.name!r}, method={method!r}, level={level})"),
+        "references": "see the docstrings of the models named in 'source'",
+        "method": method, "scene": scene.name, "scene_hash": scene.hash, "level": level,
+        "stages": " ".join(f"{s}:{pl.models[s].name}" for s in pl.stages),
+        "outputs": " ".join(scene.outputs),
+        "wall_time": wall, "converged": int(converged),
+        **diag,
+    }
+    ds = build_dataset(grid, patch, source, temp, outputs=scene.outputs, attrs=attrs)
+    if not converged:
+        raise SolverError(f"method {method!r} did not converge on scene {scene.name!r} at level {level}: "
+                          + ", ".join(f"{k}={v}" for k, v in diag.items() if "resid" in k or "iter" in k))
+    for name in scene.outputs:
+        if name in ds and np.issubdtype(ds[name].dtype, np.floating) and not np.all(np.isfinite(ds[name].values)) \
+                and name != "stick":
+            raise SolverError(f"method {method!r} returned NaN/inf for {name!r} on scene {scene.name!r}")
+    if validate:
+        validate_dataset(ds, pl.method.plugin)
+    return ds

@@ -1,0 +1,334 @@
+"""Stage interfaces: contact patch, heat source, temperature field.
+
+A scene flows through up to three stages. Each stage hands the next a small container:
+
+* :class:`ContactPatch` -- geometry, normal pressure, tangential traction, slip, stick/slip;
+* :class:`HeatSource` -- frictional power density on the patch, split between wheel and rail;
+* :class:`TemperatureField` -- surface temperature of each body, optionally a depth field.
+
+A *stage model* implements one stage (subclass :class:`ContactModel`, :class:`HeatSourceModel` or
+:class:`TemperatureModel`); a *coupled model* (:class:`CoupledModel`) implements several at once.
+Each model declares what it can do (:class:`Capabilities`) and answers :meth:`StageModel.supports`
+before it runs. Plugins register model classes and :class:`Method` chains through the hooks in
+:mod:`railtherm.hookspec`.
+
+Conventions (all SI, temperatures in degC as rises above the body's bulk temperature unless a
+field says otherwise): x is the rolling direction with the origin at the patch centre and the
+leading edge at x = +a; in the frame of the contact the body material flows in the -x direction
+(enters at +a, leaves at -a); z >= 0 is depth into the body. Arrays on the surface grid have shape
+``grid.shape`` = (nx, ny), or (nx,) for a line contact. Body index 0 is the wheel, 1 the rail.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any, ClassVar, Mapping
+
+import numpy as np
+
+from .errors import SceneError
+from .grid import SurfaceGrid
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .scene import Scene
+
+STAGES = ("contact", "heat_source", "temperature")
+BODIES = ("wheel", "rail")
+
+
+@dataclass
+class ContactPatch:
+    """Result of the contact stage.
+
+    Attributes
+    ----------
+    grid : SurfaceGrid
+        Surface grid of the patch.
+    normal_force : float
+        Normal force [N] ([N/m] for a line contact).
+    a, b : float
+        Semi-axes [m] (b None for a line contact).
+    max_pressure : float
+        Peak pressure p0 [Pa].
+    pressure : ndarray
+        Normal pressure on the grid [Pa].
+    traction_x, traction_y : ndarray or None
+        Tangential traction on body 1 (wheel) [Pa].
+    slip_velocity_x, slip_velocity_y : ndarray or None
+        Local slip velocity, wheel relative to rail [m/s].
+    stick : ndarray or None
+        1 where the cell sticks, 0 where it slips, NaN outside the patch [1].
+    creep_force_x, creep_force_y, spin_moment : float or None
+        Total tangential forces on the wheel [N] and spin moment [N m].
+    diagnostics : dict
+        Solver diagnostics (iterations, residual, converged, ...).
+    """
+
+    grid: SurfaceGrid
+    normal_force: float
+    a: float
+    b: float | None
+    max_pressure: float
+    pressure: np.ndarray
+    traction_x: np.ndarray | None = None
+    traction_y: np.ndarray | None = None
+    slip_velocity_x: np.ndarray | None = None
+    slip_velocity_y: np.ndarray | None = None
+    stick: np.ndarray | None = None
+    creep_force_x: float | None = None
+    creep_force_y: float | None = None
+    spin_moment: float | None = None
+    diagnostics: dict = field(default_factory=dict)
+
+    def with_tangential(self, **fields) -> "ContactPatch":
+        """Return a copy with tangential fields filled (used by heat-source models such as FASTSIM)."""
+        return replace(self, **fields)
+
+
+@dataclass
+class HeatSource:
+    """Result of the heat-source stage.
+
+    Attributes
+    ----------
+    grid : SurfaceGrid
+        Surface grid (the patch grid).
+    power_density : ndarray
+        Total frictional power density on the grid [W/m^2].
+    heat_partition : float or ndarray
+        Fraction of the heat entering the wheel [1] (scalar or per cell).
+    body_speed : tuple of float
+        Speed of each body's surface relative to the contact (wheel, rail) [m/s]
+        (seed eqs. 32-33: v_w = v0 + v_s, v_r = v0).
+    frictional_power : float
+        Frictional power as the heat-source model defines it [W] (integral of ``power_density``
+        unless the model says otherwise in ``diagnostics``).
+    patch : ContactPatch or None
+        The contact patch the heat came from (None for a given heat source).
+    shape : str or None
+        "uniform" | "hertz" for an analytic given source (lets references be evaluated), else None.
+    peak_flux : float or None
+        Uniform value or peak of the analytic shape [W/m^2].
+    diagnostics : dict
+    """
+
+    grid: SurfaceGrid
+    power_density: np.ndarray
+    heat_partition: float | np.ndarray
+    body_speed: tuple[float, float]
+    frictional_power: float
+    patch: ContactPatch | None = None
+    shape: str | None = None
+    peak_flux: float | None = None
+    diagnostics: dict = field(default_factory=dict)
+
+    def flux(self, body: int | str) -> np.ndarray:
+        """Heat flux entering ``body`` (0/"wheel" or 1/"rail") [W/m^2]."""
+        i = BODIES.index(body) if isinstance(body, str) else int(body)
+        eps = self.heat_partition
+        return self.power_density * (eps if i == 0 else 1.0 - eps)
+
+    def integrated_power(self) -> float:
+        """Integral of the power density over the grid [W] ([W/m] for a line contact)."""
+        return self.grid.integrate(self.power_density)
+
+
+@dataclass
+class TemperatureField:
+    """Result of the temperature stage.
+
+    Attributes
+    ----------
+    surface_temperature : ndarray, shape (2, *grid.shape)
+        Surface temperature of wheel and rail on the grid [degC] (absolute, bulk included).
+    max_surface_temperature : ndarray, shape (2,)
+        Maximum surface temperature of each body [degC].
+    mean_contact_temperature : ndarray, shape (2,)
+        Mean surface temperature over the contact patch [degC].
+    z : ndarray or None
+        Depth coordinate of the depth field [m], z >= 0.
+    temperature : ndarray or None, shape (2, nx, nz)
+        Temperature at y = 0 against depth [degC].
+    steady_wheel_temperature, steady_mean_contact_temperature : float or None
+        Long-term (steady-state) values [degC] where the model computes them.
+    diagnostics : dict
+    """
+
+    surface_temperature: np.ndarray
+    max_surface_temperature: np.ndarray
+    mean_contact_temperature: np.ndarray
+    z: np.ndarray | None = None
+    temperature: np.ndarray | None = None
+    steady_wheel_temperature: float | None = None
+    steady_mean_contact_temperature: float | None = None
+    diagnostics: dict = field(default_factory=dict)
+
+    @classmethod
+    def from_surface(cls, grid: SurfaceGrid, surface: np.ndarray, **kw) -> "TemperatureField":
+        """Fill max and patch-mean from a (2, *grid.shape) surface field [degC]."""
+        surface = np.asarray(surface, dtype=float)
+        inside = grid.inside()
+        tmax = surface.reshape(2, -1).max(axis=1)
+        tmean = np.array([surface[i][inside].mean() for i in range(2)])
+        return cls(surface, tmax, tmean, **kw)
+
+
+@dataclass(frozen=True)
+class Capabilities:
+    """What a stage model can do; used by :meth:`StageModel.supports` and ``railtherm methods``.
+
+    Attributes
+    ----------
+    contacts : frozenset of {"ellipse", "line"}
+    sources : frozenset of {"computed", "given"}
+        Whether the model takes a patch computed by an earlier stage and/or a given heat source.
+    tangential : frozenset of {"full-sliding", "creepage"}
+    convection : bool
+        Honours the scene's convection coefficient.
+    modes : frozenset of {"steady", "transient"}
+    peclet : (float, float)
+        Péclet range (V a / 2 kappa) in which the model is valid.
+    provides : frozenset of str
+        Result variables the model fills (names of :data:`railtherm.schema.VARIABLES`).
+    """
+
+    contacts: frozenset = frozenset({"ellipse", "line"})
+    sources: frozenset = frozenset({"computed", "given"})
+    tangential: frozenset = frozenset({"full-sliding", "creepage"})
+    convection: bool = False
+    modes: frozenset = frozenset({"steady"})
+    peclet: tuple[float, float] = (0.0, float("inf"))
+    provides: frozenset = frozenset()
+
+    def describe(self) -> str:
+        lo, hi = self.peclet
+        return (f"contacts={'/'.join(sorted(self.contacts))}; sources={'/'.join(sorted(self.sources))}; "
+                f"tangential={'/'.join(sorted(self.tangential))}; convection={'yes' if self.convection else 'no'}; "
+                f"modes={'/'.join(sorted(self.modes))}; Peclet {lo:g}..{hi:g}")
+
+
+@dataclass(frozen=True)
+class Option:
+    """A declared model option (``[study.options.<method>]`` / ``solve(..., options=...)``)."""
+
+    default: Any
+    doc: str
+    choices: tuple | None = None
+    minimum: float | None = None
+
+    def check(self, model: str, key: str, value: Any) -> Any:
+        if self.choices is not None and value not in self.choices:
+            raise SceneError(f"option {key!r} of model {model!r} = {value!r} is not allowed: one of {list(self.choices)}",
+                             key=key, value=value, allowed=str(list(self.choices)))
+        if self.minimum is not None:
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= self.minimum:
+                raise SceneError(f"option {key!r} of model {model!r} = {value!r} is not allowed: a number >= {self.minimum}",
+                                 key=key, value=value, allowed=f">= {self.minimum}")
+        return value
+
+
+class StageModel:
+    """Base class of every stage model.
+
+    Subclasses set the class attributes and implement the compute method of their stage.
+    Instances are cheap; the runner makes one per run.
+    """
+
+    #: unique model name, e.g. "hertz", "fastsim", "green"
+    name: ClassVar[str] = ""
+    #: stages this model implements (one for a stage model, several for a coupled model)
+    stages: ClassVar[tuple[str, ...]] = ()
+    #: one line for ``railtherm methods``
+    description: ClassVar[str] = ""
+    capabilities: ClassVar[Capabilities] = Capabilities()
+    #: declared options: name -> Option
+    options: ClassVar[Mapping[str, Option]] = {}
+    #: version string reported in results' ``source`` (defaults to the plugin's distribution version)
+    version: ClassVar[str | None] = None
+
+    def supports(self, scene: "Scene", level: int) -> str | None:
+        """Return None when the model can run ``scene`` at ``level``, else the reason it cannot.
+
+        The default checks the contact shape, the heat source kind and the tangential regime
+        against :attr:`capabilities`; override to add limits (Péclet number, stability...) and call
+        ``super().supports``. The reason becomes the message of a ``refused`` run: name the limit
+        and what would work instead.
+        """
+        caps = self.capabilities
+        if scene.contact_shape not in caps.contacts:
+            return f"model {self.name!r} handles {sorted(caps.contacts)} contacts, not {scene.contact_shape!r}"
+        kind = "given" if scene.heat_source is not None else "computed"
+        if kind not in caps.sources:
+            return f"model {self.name!r} needs a {'/'.join(sorted(caps.sources))} heat source, scene gives a {kind} one"
+        if scene.heat_source is None and scene.tangential not in caps.tangential:
+            return f"model {self.name!r} handles {sorted(caps.tangential)}, not {scene.tangential!r}"
+        return None
+
+    @classmethod
+    def resolve_options(cls, options: Mapping[str, Any] | None) -> dict:
+        """Fill defaults and validate the options that belong to this model; others are ignored."""
+        options = dict(options or {})
+        out = {}
+        for key, opt in cls.options.items():
+            out[key] = opt.check(cls.name, key, options[key]) if key in options else opt.default
+        return out
+
+
+class ContactModel(StageModel):
+    """Contact-patch stage: patch geometry, pressure and (optionally) tangential fields."""
+
+    stages = ("contact",)
+
+    def compute_patch(self, scene: "Scene", level: int, options: dict) -> ContactPatch:
+        """Return the contact patch of ``scene`` on the grid of ``level``."""
+        raise NotImplementedError
+
+
+class HeatSourceModel(StageModel):
+    """Heat-source stage: frictional power density and its split between the bodies."""
+
+    stages = ("heat_source",)
+
+    def compute_source(self, scene: "Scene", patch: ContactPatch, level: int, options: dict) -> HeatSource:
+        """Return the heat source for ``patch``; may fill the patch's tangential fields (FASTSIM)."""
+        raise NotImplementedError
+
+
+class TemperatureModel(StageModel):
+    """Temperature stage: surface (and optionally depth) temperature of wheel and rail."""
+
+    stages = ("temperature",)
+
+    def compute_temperature(self, scene: "Scene", source: HeatSource, level: int, options: dict) -> TemperatureField:
+        """Return the temperature field caused by ``source``."""
+        raise NotImplementedError
+
+
+class CoupledModel(StageModel):
+    """A model that computes several stages together (e.g. the thermoelastic FEM)."""
+
+    stages = STAGES
+
+    def compute(self, scene: "Scene", level: int, options: dict, stages: tuple[str, ...]
+                ) -> tuple[ContactPatch | None, HeatSource | None, TemperatureField | None]:
+        """Compute the requested ``stages`` (a subset of :attr:`stages`, in pipeline order).
+
+        When the scene gives its heat source, ``stages`` is ("temperature",) and the given source
+        is available as ``railtherm.given_heat_source(scene, level)``.
+        """
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class Method:
+    """A named chain of stage models, e.g. ``Method("green", {"contact": ("hertz",),
+    "heat_source": ("full-sliding", "fastsim"), "temperature": ("green",)})``.
+
+    For each stage the chain lists candidate model names; the first candidate whose
+    :meth:`StageModel.supports` accepts the scene runs. A coupled model is named in each stage
+    it covers. ``default_cells`` sets the surface grid's cells along 2a at level 0.
+    """
+
+    name: str
+    chain: Mapping[str, tuple[str, ...]]
+    description: str = ""
+    default_cells: int | None = None
