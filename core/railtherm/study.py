@@ -17,7 +17,7 @@ from .errors import SceneError
 from .scene import MATERIAL_KEYS, SCENE_KEYS, SCHEMA_VERSION, Scene, Table, load_scene
 
 STUDY_KEYS = {"name", "description", "methods", "levels", "reference", "options", "repeat", "timeout",
-              "warmup"}
+              "warmup", "tolerance"}
 REFERENCES = ("analytic", "finest")
 
 
@@ -35,6 +35,7 @@ class Study:
     repeat: int = 3
     warmup: bool = True
     timeout: float = 600.0
+    tolerance: float = 0.05
     path: str | None = None
 
     def method_names(self, available) -> list[str]:
@@ -151,6 +152,11 @@ def parse_study(doc: Mapping[str, Any], *, path: str | None = None) -> Study:
     if not isinstance(opts, Mapping) or not all(isinstance(v, Mapping) for v in opts.values()):
         raise SceneError.bad_value(None, "study.options", opts, "tables [study.options.<method>]")
     kw["options"] = {k: dict(v) for k, v in opts.items()}
+    if "tolerance" in st:
+        v = st["tolerance"]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v < math.inf):
+            raise SceneError.bad_value(None, "study.tolerance", v, "a number > 0 (relative error)")
+        kw["tolerance"] = float(v)
     for key, lo in (("repeat", 1), ("timeout", 0)):
         if key in st:
             v = st[key]

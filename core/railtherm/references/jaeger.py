@@ -1,0 +1,134 @@
+"""Jaeger's moving band heat source on a half-plane (2-D, steady, any Péclet number).
+
+A band |x| <= a on the surface z = 0 of a half-plane z >= 0 carries the heat flux q(x) [W/m^2] into
+the body and moves with speed V in +x (equivalently the material flows in -x past the source). In the
+source frame the steady temperature rise is the superposition of moving line sources
+(Carslaw & Jaeger 1959, 10.7; Jaeger 1942):
+
+``T(x, z) = 1/(pi lambda) int_{-a}^{a} q(x') exp(-P (x - x')) K0(P r) dx'``,
+``P = V/(2 kappa)``, ``r = sqrt((x - x')^2 + z^2)``.
+
+Sign check: upstream of a line source (x > x') the factor exp(-P X) K0(P X) ~ exp(-2 P X) decays,
+downstream (x < x') it decays only like r^(-1/2): the heat trails to x < 0. Energy: the depth
+integral of one line source at any X < 0 is exactly ``int_0^inf G dz = 1/(rho c V)`` (all the heat is
+carried downstream), since ``int K0(P sqrt(X^2 + z^2)) dz = (pi/(2P)) exp(-P|X|)`` over z >= 0.
+
+Numerics: with u = x'/a = -cos(theta) (removes the square-root end of a Hertzian flux), the theta
+interval is split at the field point and each part is integrated by a composite Gauss-Legendre rule
+geometrically graded toward the field point (hp-quadrature), which integrates the logarithmic
+singularity of K0 at r = 0 and the downstream boundary layer of width 1/P for any Péclet number.
+``exp(-P X) K0(P r) = k0e(P r) exp(-P (r + X))`` with r + X >= 0 avoids overflow.
+
+References
+----------
+.. [1] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy. Soc.
+   New South Wales 76 (1942) 203-224.
+.. [2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7.
+   ISBN 978-0198533689
+.. [3] C. Schwab, p- and hp-Finite Element Methods, Oxford, 1998 (geometric meshes).
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+from scipy.special import k0e
+
+from ._quadrature import graded_rule
+from .flash import thermal_properties
+
+__all__ = ["jaeger_band_temperature", "peclet_number"]
+
+
+def peclet_number(speed: float, half_width: float, diffusivity: float) -> float:
+    """Péclet number L = V a / (2 kappa) [1] (railtherm convention)."""
+    return speed * half_width / (2.0 * diffusivity)
+
+
+def _shape_function(shape):
+    if isinstance(shape, str):
+        if shape == "uniform":
+            return lambda u: np.ones_like(u)
+        if shape == "hertz":
+            return lambda u: np.sqrt(np.clip(1.0 - u * u, 0.0, None))
+        raise ValueError(f"shape must be 'uniform', 'hertz' or a callable, got {shape!r}")
+    if callable(shape):
+        return shape
+    raise ValueError(f"shape must be 'uniform', 'hertz' or a callable, got {shape!r}")
+
+
+def jaeger_band_temperature(x, z, half_width: float, speed: float, material, flux: float = 1.0,
+                            shape: str | Callable = "uniform", quad_points: int = 8,
+                            chunk: int = 2048) -> np.ndarray:
+    """Steady temperature rise of a moving band heat source on a half-plane, any Péclet number.
+
+    Parameters
+    ----------
+    x : array_like
+        Rolling coordinate in the source frame [m]; band |x| <= a, leading edge at +a, material
+        flows in -x.
+    z : array_like
+        Depth [m], >= 0 (broadcast with x).
+    half_width : float
+        Band half-width a [m].
+    speed : float
+        Speed V of the body relative to the source [m/s], > 0 (the 2-D static problem has no steady
+        state).
+    material : Material-like
+        conductivity [W/(m K)] and diffusivity [m^2/s] (or density [kg/m^3] and specific_heat [J/(kg K)]).
+    flux : float
+        Heat flux into the body [W/m^2]: uniform value, or the peak q0 of ``q0 sqrt(1 - (x/a)^2)``.
+    shape : {"uniform", "hertz"} or callable
+        Flux distribution; a callable f(u) of u = x'/a in [-1, 1] gives q = flux f(u) (it should be
+        smooth in theta = arccos(-u) for spectral accuracy).
+    quad_points : int
+        Gauss-Legendre points per graded panel [1]; the error decays exponentially with it
+        (about 1e-10 relative at the default 8, see tests).
+    chunk : int
+        Field points evaluated per vectorised block (memory bound).
+
+    Returns
+    -------
+    numpy.ndarray
+        Temperature rise [K], shape of the broadcast x, z.
+
+    References
+    ----------
+    .. [1] J.C. Jaeger, J. Proc. Roy. Soc. New South Wales 76 (1942) 203-224.
+    .. [2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., 1959, section 10.7.
+    """
+    if not (half_width > 0 and speed > 0):
+        raise ValueError("half_width and speed must be positive")
+    lam, kappa = thermal_properties(material)
+    a = float(half_width)
+    pe = peclet_number(float(speed), a, kappa)
+    f = _shape_function(shape)
+    x, z = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(z, dtype=float))
+    if np.any(z < 0):
+        raise ValueError("depth z must be >= 0")
+    xi = (x / a).ravel()
+    zeta = (z / a).ravel()
+    t, w = graded_rule(int(quad_points))
+    out = np.empty(xi.shape)
+    for s in range(0, xi.size, chunk):
+        out[s:s + chunk] = _band_integral(xi[s:s + chunk], zeta[s:s + chunk], pe, f, t, w)
+    return (flux * a / (math.pi * lam) * out).reshape(x.shape)
+
+
+def _band_integral(xi, zeta, pe, f, t, w):
+    """int_{-1}^{1} f(u) exp(-L (xi - u)) K0(L rho) du, rho = sqrt((xi - u)^2 + zeta^2), u = -cos(theta)."""
+    # pivot: theta of the field point, or the nearer band end if outside
+    piv = np.arccos(-np.clip(xi, -1.0, 1.0))[:, None]
+    total = np.zeros(xi.shape)
+    for side_len, sign in ((piv, -1.0), (math.pi - piv, 1.0)):
+        th = piv + sign * side_len * t[None, :]
+        u = -np.cos(th)
+        dx = xi[:, None] - u
+        rho = np.sqrt(dx * dx + zeta[:, None] ** 2)
+        arg = pe * rho
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ker = np.where(arg > 0, k0e(arg) * np.exp(-pe * (rho + dx)), 0.0)
+        integrand = f(u) * np.sin(th) * ker
+        total += side_len[:, 0] * (integrand @ w)
+    return total
