@@ -209,6 +209,7 @@ def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options
         "stages": " ".join(f"{s}:{pl.models[s].name}" for s in pl.stages),
         "outputs": " ".join(scene.outputs),
         "wall_time": wall, "converged": int(converged),
+        **{"sweep_" + k.replace(".", "_"): v for k, v in scene.sweep.items()},
         **diag,
     }
     ds = build_dataset(grid, patch, source, temp, outputs=scene.outputs, attrs=attrs)

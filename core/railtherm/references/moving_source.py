@@ -1,0 +1,326 @@
+"""Moving elliptical surface heat source on a half-space (3-D, steady, any Péclet number).
+
+The ellipse (x/a)^2 + (y/b)^2 <= 1 on the surface z = 0 of the half-space z >= 0 carries the flux
+q(x, y) [W/m^2] into the body and moves with speed V in +x (material flows in -x in the source frame).
+The steady rise is the superposition of moving point sources (Carslaw & Jaeger 1959, 10.7;
+Rosenthal 1946):
+
+``T(x, y, z) = 1/(2 pi lambda) int int q(x', y') exp(-P (R + (x - x'))) / R dx' dy'``,
+``P = V/(2 kappa)``, ``R = sqrt((x - x')^2 + (y - y')^2 + z^2)``,
+
+heat trailing to x < 0 (upstream, x > x', the factor is exp(-2 P (x - x')) / R).
+
+Numerics: polar coordinates (rho, phi) centred at the surface point (x, y): x' = x + rho cos(phi),
+y' = y + rho sin(phi), dA = rho drho dphi, so the kernel becomes
+``(rho/R) exp(-P (R - rho cos(phi)))``, bounded (= exp(-P rho (1 - cos phi)) at z = 0): the 1/R
+singularity cancels with the Jacobian. For each ray the source interval [rho1, rho2] follows from the
+ray-ellipse intersection. Radial integral: uniform flux at z = 0 in closed form,
+``(exp(-c rho1) - exp(-c rho2))/c``, c = P (1 - cos phi); otherwise graded Gauss-Legendre toward the
+near end (boundary layer of width 1/c and the depth scale z); the Hertz flux
+``q0 sqrt(1 - (x'/a)^2 - (y'/b)^2)`` is sqrt((rho+ - rho)(rho - rho-)) along the ray, removed by
+rho = m + h cos(theta). Angular integral: composite Gauss-Legendre geometrically graded toward the
+breakpoints phi = 0 (upstream peak of width ~ L^(-1/2)), phi = pi, the tangent directions to the
+ellipse (outside points) or the directions parallel to the nearest boundary (inside points).
+
+References
+----------
+.. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7.
+   ISBN 978-0198533689
+.. [2] D. Rosenthal, The theory of moving sources of heat and its application to metal treatments,
+   Trans. ASME 68 (1946) 849-866.
+.. [3] X. Tian, F.E. Kennedy, Maximum and average flash temperatures in sliding contacts, J. Tribol.
+   116 (1994) 167-174. doi:10.1115/1.2927035
+.. [4] K.L. Johnson, Contact Mechanics, 1985, section 3.2-3.4 (static analogue: the Boussinesq
+   displacement of uniform and Hertz pressure on a circle). doi:10.1017/CBO9781139171731
+"""
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from ._quadrature import graded_rule
+from .flash import thermal_properties
+
+__all__ = ["moving_source_temperature", "static_circle_uniform", "static_circle_hertz"]
+
+_PI = math.pi
+_TWO_PI = 2.0 * math.pi
+
+
+@numba.njit(cache=True)
+def _ray(px, py, r0sq, cphi, sphi, a, b):
+    """Ray-ellipse intersection: returns (rho1, rho2, m, h, sqrt(beta2)) or rho2 <= rho1 if none."""
+    dx = cphi / a
+    dy = sphi / b
+    b2 = dx * dx + dy * dy
+    b1 = px * dx + py * dy
+    cc = r0sq - 1.0
+    disc = b1 * b1 - b2 * cc
+    if disc <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    sq = math.sqrt(disc)
+    if b1 >= 0.0:
+        qq = -(b1 + sq)
+        rm = qq / b2
+        rp = cc / qq if qq != 0.0 else 0.0
+    else:
+        qq = -b1 + sq
+        rp = qq / b2
+        rm = cc / qq
+    r1 = max(rm, 0.0)
+    return r1, rp, -b1 / b2, sq / b2, math.sqrt(b2)
+
+
+@numba.njit(cache=True)
+def _kern(rho, z, pc, cphi):
+    # (rho/R) exp(-P (R - rho cos phi))
+    if z == 0.0:
+        return math.exp(-pc * rho * (1.0 - cphi))
+    r = math.sqrt(rho * rho + z * z)
+    return rho / r * math.exp(-pc * (r - rho * cphi))
+
+
+@numba.njit(cache=True)
+def _radial(px, py, r0sq, z, a, b, pc, phi, hertz, tr, wr):
+    cphi = math.cos(phi)
+    sphi = math.sin(phi)
+    r1, r2, m, h, sb2 = _ray(px, py, r0sq, cphi, sphi, a, b)
+    if r2 <= r1:
+        return 0.0
+    if not hertz:
+        if z == 0.0:
+            s2 = math.sin(0.5 * phi)
+            c = 2.0 * pc * s2 * s2  # P (1 - cos phi) without cancellation
+            length = r2 - r1
+            if c * length < 1e-12:
+                return length * math.exp(-c * r1) * (1.0 - 0.5 * c * length)
+            return math.exp(-c * r1) * (-math.expm1(-c * length)) / c
+        length = r2 - r1
+        s = 0.0
+        for k in range(tr.size):
+            s += wr[k] * _kern(r1 + length * tr[k], z, pc, cphi)
+        return s * length
+    # Hertz: rho = m + h cos(theta), theta in [0, theta1], graded toward theta1 (rho = rho1)
+    arg = (r1 - m) / h
+    if arg < -1.0:
+        arg = -1.0
+    elif arg > 1.0:
+        arg = 1.0
+    th1 = math.acos(arg)
+    s = 0.0
+    for k in range(tr.size):
+        th = th1 * (1.0 - tr[k])
+        st = math.sin(th)
+        rho = m + h * math.cos(th)
+        if rho < 0.0:
+            rho = 0.0
+        s += wr[k] * st * st * _kern(rho, z, pc, cphi)
+    return s * th1 * sb2 * h * h
+
+
+@numba.njit(cache=True)
+def _angle_intervals(px, py, r0sq, a, b):
+    """Breakpoints (ascending) of the angular integral; consecutive pairs are intervals."""
+    r0 = math.sqrt(r0sq)
+    pts = np.empty(8)
+    n = 0
+    if r0 < 1.0:
+        pts[0] = 0.0
+        pts[1] = _PI
+        n = 2
+        if r0 > 0.0:
+            ux, uy = px / r0, py / r0
+            for sgn in (1.0, -1.0):
+                dxs, dys = -sgn * uy, sgn * ux
+                ang = math.atan2(b * dys, a * dxs)
+                if ang < 0.0:
+                    ang += _TWO_PI
+                pts[n] = ang
+                n += 1
+        bp = np.sort(pts[:n])
+        out = np.empty(n + 1)
+        out[:n] = bp
+        out[n] = bp[0] + _TWO_PI
+        return out
+    # outside (or on) the ellipse: window between the two tangent directions
+    ux, uy = px / r0, py / r0
+    s = math.sqrt(max(r0sq - 1.0, 0.0))
+    ain = math.atan2(-b * uy, -a * ux)
+    t = np.empty(2)
+    for j, sgn in enumerate((1.0, -1.0)):
+        dxs = (-s * ux - sgn * uy) / r0
+        dys = (-s * uy + sgn * ux) / r0
+        ang = math.atan2(b * dys, a * dxs)
+        while ang < ain - _PI:
+            ang += _TWO_PI
+        while ang > ain + _PI:
+            ang -= _TWO_PI
+        t[j] = ang
+    lo, hi = min(t[0], t[1]), max(t[0], t[1])
+    pts[0] = lo
+    n = 1
+    k = math.ceil(lo / _PI)
+    while k * _PI < hi:
+        if k * _PI > lo:
+            pts[n] = k * _PI
+            n += 1
+        k += 1
+    pts[n] = hi
+    n += 1
+    return pts[:n].copy()
+
+
+@numba.njit(cache=True)
+def _temperature(xs, ys, zs, a, b, pc, hertz, tphi, wphi, tr, wr):
+    out = np.empty(xs.size)
+    for i in range(xs.size):
+        px = xs[i] / a
+        py = ys[i] / b
+        r0sq = px * px + py * py
+        bp = _angle_intervals(px, py, r0sq, a, b)
+        total = 0.0
+        for j in range(bp.size - 1):
+            lo = bp[j]
+            hi = bp[j + 1]
+            half = 0.5 * (hi - lo)
+            if half <= 0.0:
+                continue
+            for k in range(tphi.size):
+                d = half * tphi[k]
+                total += wphi[k] * half * (_radial(px, py, r0sq, zs[i], a, b, pc, lo + d, hertz, tr, wr)
+                                           + _radial(px, py, r0sq, zs[i], a, b, pc, hi - d, hertz, tr, wr))
+        out[i] = total
+    return out
+
+
+def moving_source_temperature(x, y, z, semi_axes, speed: float, material, flux: float = 1.0,
+                              shape: str = "uniform", quad_points: int = 8,
+                              innermost: float = 1e-10) -> np.ndarray:
+    """Steady temperature rise of a moving elliptical surface heat source on a half-space.
+
+    Parameters
+    ----------
+    x : array_like
+        Rolling coordinate in the source frame [m]; leading edge at +a, material flows in -x.
+    y : array_like
+        Lateral coordinate [m].
+    z : array_like
+        Depth [m], >= 0. x, y, z are broadcast together.
+    semi_axes : tuple of float
+        (a, b): semi-axes along x and y [m] (a circle when a == b).
+    speed : float
+        Speed V of the body relative to the source [m/s], >= 0 (0: static source).
+    material : Material-like
+        conductivity [W/(m K)] and diffusivity [m^2/s] (or density [kg/m^3] and specific_heat [J/(kg K)]).
+    flux : float
+        Heat flux into the body [W/m^2]: the uniform value, or the peak q0 of the elliptical (Hertz)
+        distribution ``q0 sqrt(1 - (x/a)^2 - (y/b)^2)``.
+    shape : {"uniform", "hertz"}
+        Flux distribution.
+    quad_points : int
+        Gauss-Legendre points per graded panel [1] (angular and radial rules). The error decays
+        exponentially with it (see tests): about 1e-7 relative at the default 8.
+    innermost : float
+        Relative size of the innermost graded panel [1].
+
+    Returns
+    -------
+    numpy.ndarray
+        Temperature rise [K], shape of the broadcast x, y, z.
+
+    References
+    ----------
+    .. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., 1959, section 10.7.
+    .. [2] X. Tian, F.E. Kennedy, J. Tribol. 116 (1994) 167-174. doi:10.1115/1.2927035
+    """
+    a, b = (float(v) for v in semi_axes)
+    if not (a > 0 and b > 0):
+        raise ValueError(f"semi_axes must be positive, got {semi_axes!r} [m]")
+    if not speed >= 0:
+        raise ValueError(f"speed must be >= 0, got {speed!r} [m/s]")
+    if shape not in ("uniform", "hertz"):
+        raise ValueError(f"shape must be 'uniform' or 'hertz', got {shape!r}")
+    lam, kappa = thermal_properties(material)
+    x, y, z = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float),
+                                  np.asarray(z, dtype=float))
+    if np.any(z < 0):
+        raise ValueError("depth z must be >= 0")
+    t, w = graded_rule(int(quad_points), innermost=float(innermost))
+    pc = float(speed) / (2.0 * kappa)
+    out = _temperature(np.ascontiguousarray(x.ravel()), np.ascontiguousarray(y.ravel()),
+                       np.ascontiguousarray(z.ravel()), a, b, pc, shape == "hertz",
+                       np.asarray(t), np.asarray(w), np.asarray(t), np.asarray(w))
+    return (flux / (2.0 * math.pi * lam) * out).reshape(x.shape)
+
+
+def static_circle_uniform(r, radius: float, conductivity: float, flux: float = 1.0):
+    """Surface temperature of a static uniform circular source on a half-space (V = 0).
+
+    By analogy with the Boussinesq displacement under uniform pressure (Johnson 1985, eqs. 3.22-3.23):
+    ``T = (2 q a / (pi lambda)) E(r/a)`` for r <= a and
+    ``T = (2 q r / (pi lambda)) [E(a/r) - (1 - a^2/r^2) K(a/r)]`` for r > a (modulus k, scipy m = k^2).
+    Centre q a / lambda, edge 2 q a / (pi lambda).
+
+    Parameters
+    ----------
+    r : array_like
+        Radial distance from the centre [m].
+    radius : float
+        Source radius a [m].
+    conductivity : float
+        lambda [W/(m K)].
+    flux : float
+        Uniform flux q [W/m^2].
+
+    Returns
+    -------
+    numpy.ndarray
+        Temperature rise [K].
+    """
+    from scipy.special import ellipe, ellipk
+    r = np.asarray(r, dtype=float)
+    a = float(radius)
+    out = np.empty(r.shape)
+    inside = r <= a
+    out[inside] = 2.0 * flux * a / (math.pi * conductivity) * ellipe((r[inside] / a) ** 2)
+    ro = r[~inside]
+    m = (a / ro) ** 2
+    out[~inside] = 2.0 * flux * ro / (math.pi * conductivity) * (ellipe(m) - (1.0 - m) * ellipk(m))
+    return out
+
+
+def static_circle_hertz(r, radius: float, conductivity: float, flux: float = 1.0):
+    """Surface temperature of a static Hertzian circular source q0 sqrt(1 - r^2/a^2) on a half-space.
+
+    By analogy with the Hertz displacement (Johnson 1985, eqs. 3.41-3.42):
+    ``T = pi q0 (2 a^2 - r^2) / (8 a lambda)`` for r <= a and
+    ``T = q0 / (4 a lambda) [(2 a^2 - r^2) arcsin(a/r) + a r sqrt(1 - a^2/r^2)]`` for r > a.
+
+    Parameters
+    ----------
+    r : array_like
+        Radial distance [m].
+    radius : float
+        Source radius a [m].
+    conductivity : float
+        lambda [W/(m K)].
+    flux : float
+        Peak flux q0 [W/m^2].
+
+    Returns
+    -------
+    numpy.ndarray
+        Temperature rise [K].
+    """
+    r = np.asarray(r, dtype=float)
+    a = float(radius)
+    out = np.empty(r.shape)
+    inside = r <= a
+    ri = r[inside]
+    out[inside] = math.pi * flux * (2 * a * a - ri * ri) / (8.0 * a * conductivity)
+    ro = r[~inside]
+    out[~inside] = flux / (4.0 * a * conductivity) * ((2 * a * a - ro * ro) * np.arcsin(a / ro)
+                                                      + a * ro * np.sqrt(1.0 - (a / ro) ** 2))
+    return out

@@ -1,0 +1,56 @@
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+SHARED = Path(__file__).resolve().parents[2] / "shared"
+
+
+@pytest.fixture
+def flat_host():
+    """A plugin host with core and the fixture plugins only (no entry points)."""
+    from fixture_plugins import FlatPlugin
+    from railtherm import plugins
+    saved = plugins._HOST
+    host = plugins.new_host([("flat", FlatPlugin())], autoload=False, strict=True)
+    plugins.set_host(host)
+    yield host
+    plugins.set_host(saved)
+
+
+STUDY = """
+schema_version = 1
+[study]
+name = "tiny"
+methods = {methods}
+levels = [0, 1]
+repeat = 1
+timeout = {timeout}
+[defaults.wheel]
+shear_modulus = 82e9
+poisson_ratio = 0.28
+[defaults.rail]
+shear_modulus = 82e9
+[[scene]]
+name = "ek"
+normal_force = 100e3
+contact = {{ shape = "ellipse", semi_axes = [5.88e-3, 10.54e-3] }}
+speed = {speed}
+sliding_speed = 1.0
+friction = 0.3
+heat_partition = 0.5
+outputs = ["max_surface_temperature", "surface_temperature", "heat_flux", "frictional_power"]
+"""
+
+
+@pytest.fixture
+def write_study(tmp_path):
+    def write(methods='["flat"]', speed="[30.0, 60.0]", timeout=60, extra=""):
+        p = tmp_path / "study.toml"
+        p.write_text(STUDY.format(methods=methods, speed=speed, timeout=timeout) + extra)
+        return p
+    return write

@@ -1,0 +1,78 @@
+"""Small plugins used by the core tests (fixtures, not methods)."""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+import railtherm
+from railtherm import Capabilities, Method, TemperatureField, TemperatureModel, hookimpl
+
+
+class FlatTemperature(TemperatureModel):
+    """Test model: surface temperature = bulk + flux * scale (a fixture, not physics)."""
+
+    name = "flat"
+    description = "test fixture: temperature proportional to the local flux"
+    capabilities = Capabilities(provides=frozenset({"surface_temperature", "max_surface_temperature",
+                                                    "mean_contact_temperature"}))
+    options = {"scale": railtherm.Option(1e-6, "K per W/m^2", minimum=0.0)}
+
+    def compute_temperature(self, scene, source, level, options):
+        bulk = np.array([scene.wheel.bulk_temperature, scene.rail.bulk_temperature])
+        surf = np.stack([source.flux(0), source.flux(1)]) * options["scale"]
+        surf = surf + bulk.reshape((2,) + (1,) * (surf.ndim - 1))
+        return TemperatureField.from_surface(source.grid, surf, diagnostics={"iterations": 1, "converged": True})
+
+
+class BrokenTemperature(FlatTemperature):
+    """Test model that raises, returns NaN or hangs depending on the scene's speed."""
+
+    name = "broken"
+    description = "test fixture: raises (speed 13), NaN (speed 14), sleeps (speed 15)"
+
+    def compute_temperature(self, scene, source, level, options):
+        if scene.speed == 13.0:
+            raise RuntimeError("deliberate failure")
+        if scene.speed == 14.0:
+            f = super().compute_temperature(scene, source, level, options)
+            f.max_surface_temperature[:] = np.nan
+            return f
+        if scene.speed == 15.0:
+            time.sleep(30)
+        return super().compute_temperature(scene, source, level, options)
+
+
+class NoUnits(FlatTemperature):
+    """Fixture whose results are spoiled after the fact (see tests)."""
+
+    name = "nounits"
+    description = "test fixture"
+
+
+class FlatPlugin:
+    @hookimpl
+    def railtherm_register_models(self):
+        return [FlatTemperature, BrokenTemperature]
+
+    @hookimpl
+    def railtherm_register_methods(self):
+        return [Method("flat", {"contact": ("hertz",), "heat_source": ("full-sliding",), "temperature": ("flat",)},
+                       description="Hertz, full sliding, flat temperature (test fixture)"),
+                Method("broken", {"contact": ("hertz",), "heat_source": ("full-sliding",), "temperature": ("broken",)})]
+
+
+class RaisingPlugin:
+    @hookimpl
+    def railtherm_register_models(self):
+        raise RuntimeError("this plugin is broken on purpose")
+
+
+class DuplicatePlugin:
+    @hookimpl
+    def railtherm_register_models(self):
+        return [FlatTemperature]
+
+    @hookimpl
+    def railtherm_register_methods(self):
+        return [Method("flat", {"temperature": ("flat",)}), Method("ghost", {"temperature": ("nowhere",)})]
