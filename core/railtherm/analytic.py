@@ -12,7 +12,6 @@ Values are cached per scene hash (the reference does not depend on the method or
 """
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
@@ -54,8 +53,20 @@ def _surface_rise(scene, case, x, y, body):
     return moving_source_temperature(x, y, np.zeros_like(x), (a, b), speeds[body], mat, share * q, shape)
 
 
-@functools.lru_cache(maxsize=256)
+_CACHE: dict[str, dict] = {}
+
+
 def _scalars(scene):
+    """Cached by scene hash (a Scene holds dicts and is not hashable)."""
+    key = scene.hash
+    if key not in _CACHE:
+        if len(_CACHE) > 512:
+            _CACHE.clear()
+        _CACHE[key] = _scalars_uncached(scene)
+    return _CACHE[key]
+
+
+def _scalars_uncached(scene):
     """Scalar references of a scene: name -> value (temperatures absolute [degC])."""
     out: dict[str, object] = {"_names": []}
     from .errors import Refused
@@ -71,7 +82,7 @@ def _scalars(scene):
         out["_names"].append(_NAME["contact"])
         if scene.tangential == "full-sliding":
             out["frictional_power"] = scene.friction * scene.sliding_speed * n
-            out["creep_force_x"] = -math.copysign(scene.friction * n, scene.sliding_speed) if scene.sliding_speed else 0.0
+            out["creep_force_x"] = math.copysign(scene.friction * n, scene.sliding_speed) if scene.sliding_speed else 0.0
         elif (b is None and scene.creepage is not None and scene.creepage.lateral == 0 and scene.creepage.spin == 0
               and not scene.wheel.rigid and scene.wheel == _same(scene) and scene.friction > 0):
             from .references.carter import carter_2d
@@ -123,7 +134,9 @@ def _same(scene):
 
 def reference_values(scene) -> dict:
     """Scalar references of ``scene`` (name -> float or (2,) array) and ``"_names"`` (list of str)."""
-    return dict(_scalars(scene))
+    out = dict(_scalars(scene))
+    out["_names"] = list(out.get("_names", []))
+    return out
 
 
 def reference_fields(scene, ds) -> dict:

@@ -1,111 +1,384 @@
 """Executors of study runs: serial (default), local processes, dask.distributed.
 
 Every executor calls the same :func:`railtherm.runner.execute_run` on each task and yields
-``(index, record)`` pairs as runs finish. A worker that dies takes only its current run with it: the
-run is retried once on another worker and recorded as failed if it dies again; what was already
-written stays on disk (atomic writes) and ``--resume`` completes the study.
+``(index, record)`` pairs as runs finish, so the results are identical bit for bit whichever runs
+them. Workers rebuild the plugin host of the calling process (:func:`host_spec`): entry points when
+the caller loaded them, and every plugin registered in memory (``new_host([...])``, the conformance
+kit's ``railtherm_register``), sent by reference (cloudpickle) with the caller's ``sys.path``.
+
+Faults
+------
+* A worker that dies (killed, segfault, out of memory) takes only its current run with it: the run
+  is executed once more on a fresh worker and recorded as ``failed`` if its worker dies again. What
+  was already written stays on disk (atomic writes); a result written just before the death is
+  found by the retry and not written again (same ``run_id``); ``--resume`` completes the study.
+* A run past its time limit is stopped inside the worker (:func:`railtherm.runner._time_limit`);
+  a run stuck in a C call that ignores it is ended with its worker ``grace`` seconds later and
+  recorded as ``failed`` (not retried).
+
+dask: one task per run (``client.map``); a LocalCluster (one thread per worker process) is started
+unless a scheduler address is given. The scheduler retries a task whose worker died; a LocalCluster
+started here allows one retry (``distributed.scheduler.allowed-failures = 1``), a remote scheduler
+uses its own setting; a task that exhausts them is recorded ``failed`` (KilledWorker).
 """
 from __future__ import annotations
 
+import json
 import os
+import pickle
+import sys
+import threading
+import time
+import warnings
+from collections import deque
 from typing import Callable, Iterator
 
 EXECUTORS = ("serial", "processes", "dask")
 
+#: seconds a run may overrun its time limit before its worker process is ended
+GRACE = 10.0
+#: executions of one run (first attempt and retries) before a worker death marks it failed
+MAX_ATTEMPTS = 2
+
 
 def _crash_record(task, message):
+    """Record (and store beside the run) a run whose worker could not report a result."""
     from .runner import RunRecord, status_path, write_atomic_bytes
-    import json
     rec = RunRecord(task.scene.name, task.method, task.level, "failed", message, path=str(task.path),
-                    scene_hash=task.scene.hash)
+                    scene_hash=task.scene.hash, run_id=task.run_id)
+    if task.path.exists():  # the worker died after writing: the run is complete after all
+        from .runner import _existing
+        done = _existing(task, same_invocation=True)
+        if done is not None and done.status == "ok":
+            return done
     write_atomic_bytes(status_path(task.path), json.dumps(rec.to_dict(), indent=1).encode())
     return rec
 
 
+def _exit_text(code) -> str:
+    if code is None:
+        return "unknown exit"
+    if code < 0:
+        import signal
+        try:
+            return f"killed by {signal.Signals(-code).name}"
+        except ValueError:
+            return f"killed by signal {-code}"
+    return f"exit status {code}"
+
+
+# ----------------------------------------------------------------------------------------------
+# the plugin host of worker processes
+def _split_plugins(host):
+    """(autoload, [(name, plugin)]) of a host: were entry points loaded, which plugins came in memory."""
+    import importlib.metadata as md
+    from types import ModuleType
+
+    from .plugins import GROUP
+    autoload = getattr(host, "autoload", None)
+    extra = getattr(host, "extra", None)
+    if autoload is not None and extra is not None:
+        return bool(autoload), list(extra)
+    eps = {ep.name: ep.value.split(":")[0] for ep in md.entry_points(group=GROUP)}
+    autoload, extra = False, []
+    for name, obj in sorted(host.pm.list_name_plugin(), key=lambda t: t[0]):
+        if name == "railtherm":
+            continue
+        if isinstance(obj, ModuleType) and eps.get(name) == obj.__name__:
+            autoload = True
+            continue
+        extra.append((name, obj))
+    if not eps:
+        from .plugins import DISABLE_ENV
+        autoload = not os.environ.get(DISABLE_ENV)
+    return autoload, extra
+
+
+def host_spec() -> bytes:
+    """A picklable description of this process's plugin host for workers to rebuild it.
+
+    Raises
+    ------
+    railtherm.PluginError
+        A plugin registered in memory cannot be sent to workers (not picklable).
+    """
+    import cloudpickle
+
+    from .errors import PluginError
+    from .plugins import get_host
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        host = get_host()
+    autoload, extra = _split_plugins(host)
+    try:
+        payload = cloudpickle.dumps(extra)
+    except Exception as exc:  # noqa: BLE001
+        raise PluginError(f"plugins {[n for n, _ in extra]} registered in this process cannot be sent to worker "
+                          f"processes ({type(exc).__name__}: {exc}); register them through the entry-point group "
+                          "'railtherm.plugins' or use the serial executor") from exc
+    return pickle.dumps({"pid": os.getpid(), "sys_path": [p for p in sys.path if p], "autoload": autoload,
+                         "extra": payload})
+
+
+_INSTALLED: bytes | None = None
+_INSTALL_LOCK = threading.Lock()
+
+
+def install_host(spec: bytes | None) -> None:
+    """Build and install the plugin host described by ``spec`` in this (worker) process, once."""
+    global _INSTALLED
+    if spec is None or spec == _INSTALLED:
+        return
+    with _INSTALL_LOCK:
+        if spec == _INSTALLED:
+            return
+        d = pickle.loads(spec)
+        if d["pid"] == os.getpid():  # a thread of the calling process: its host is already there
+            _INSTALLED = spec
+            return
+        for p in d["sys_path"]:
+            if p not in sys.path and os.path.isdir(p):
+                sys.path.append(p)
+        import cloudpickle
+
+        from . import plugins
+        extra = cloudpickle.loads(d["extra"])
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            host = plugins.new_host(extra, autoload=d["autoload"])
+        plugins.set_host(host)
+        _INSTALLED = spec
+
+
+# ----------------------------------------------------------------------------------------------
 class SerialExecutor:
+    """Runs in the calling process, in task order."""
+
     def map(self, fn: Callable, tasks, **kw) -> Iterator:
         for i, t in enumerate(tasks):
             yield i, fn(t, **kw)
 
 
-class ProcessExecutor:
-    """Local worker processes (``concurrent.futures.ProcessPoolExecutor``, spawn context)."""
+def _worker_main(conn, spec, fn):  # pragma: no cover - runs in the worker process
+    import signal
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C and ends its workers
+    setup_error = None
+    try:
+        install_host(spec)
+    except BaseException as exc:  # noqa: BLE001
+        setup_error = f"worker could not set up its plugins: {type(exc).__name__}: {exc}"
+    while True:
+        try:
+            msg = conn.recv()
+        except (EOFError, OSError):
+            break
+        if msg is None:
+            break
+        i, task, kw = msg
+        if setup_error:
+            conn.send((i, setup_error))
+            continue
+        try:
+            out = fn(task, **kw)
+        except BaseException as exc:  # noqa: BLE001 - report, keep serving
+            out = f"{type(exc).__name__}: {exc}"
+        conn.send((i, out))
+    conn.close()
 
-    def __init__(self, workers: int | None = None):
+
+class _Worker:
+    def __init__(self, ctx, spec, fn):
+        parent, child = ctx.Pipe()
+        self.proc = ctx.Process(target=_worker_main, args=(child, spec, fn), daemon=True,
+                                name="railtherm-worker")
+        self.proc.start()
+        child.close()
+        self.conn = parent
+        self.task: int | None = None
+        self.t0 = 0.0
+
+    def send(self, i, task, kw) -> bool:
+        try:
+            self.conn.send((i, task, kw))
+        except (OSError, ValueError):
+            return False
+        self.task, self.t0 = i, time.monotonic()
+        return True
+
+    def stop(self, timeout=2.0):
+        try:
+            self.conn.send(None)
+        except (OSError, ValueError):
+            pass
+        self.proc.join(timeout)
+        if self.proc.is_alive():
+            self.proc.kill()
+            self.proc.join(1.0)
+        self.conn.close()
+
+
+class ProcessExecutor:
+    """Local worker processes (spawn), one run at a time each, supervised.
+
+    The parent knows which run each worker holds, so a worker that dies costs only that run (retried
+    once on a fresh worker, then recorded ``failed``), and a worker stuck past its run's time limit
+    plus ``grace`` seconds is ended and the run recorded ``failed``.
+    """
+
+    def __init__(self, workers: int | None = None, grace: float = GRACE, max_attempts: int = MAX_ATTEMPTS):
         self.workers = workers or max(1, (os.cpu_count() or 2))
+        self.grace, self.max_attempts = grace, max_attempts
+        self.pids: list[int] = []  # current worker pids (for monitoring and tests)
 
     def map(self, fn, tasks, **kw):
         import multiprocessing as mp
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-        from concurrent.futures.process import BrokenProcessPool
+        from multiprocessing.connection import wait
 
-        pending = dict(enumerate(tasks))
-        attempts = {i: 0 for i in pending}
-        while pending:
-            ctx = mp.get_context("spawn")
-            with ProcessPoolExecutor(self.workers, mp_context=ctx) as pool:
-                futs = {pool.submit(fn, t, **kw): i for i, t in pending.items()}
-                broken = False
-                for fut in as_completed(futs):
-                    i = futs[fut]
-                    try:
-                        rec = fut.result()
-                    except BrokenProcessPool:
-                        broken = True
+        n = len(tasks)
+        if n == 0:
+            return
+        ctx = mp.get_context("spawn")
+        spec = host_spec()
+        pending = deque(range(n))
+        attempts = [0] * n
+        pool = [_Worker(ctx, spec, fn) for _ in range(min(self.workers, n))]
+        self.pids = [w.proc.pid for w in pool]
+        done = 0
+        try:
+            while done < n:
+                for w in pool:
+                    if w.task is None and pending:
+                        i = pending.popleft()
                         attempts[i] += 1
-                        if attempts[i] >= 2:
-                            yield i, _crash_record(pending.pop(i), "worker process died twice during this run")
+                        if not w.send(i, tasks[i], kw):
+                            attempts[i] -= 1
+                            pending.appendleft(i)
+                            w.task, w.t0 = -1, time.monotonic()  # a dead idle worker: replaced below
+                busy = [w for w in pool if w.task is not None]
+                ready = set(wait([w.conn for w in busy] + [w.proc.sentinel for w in busy], timeout=0.5))
+                for k, w in enumerate(pool):
+                    if w.task is None:
                         continue
-                    except Exception as exc:  # noqa: BLE001
-                        rec = _crash_record(pending[i], f"{type(exc).__name__}: {exc}")
-                    pending.pop(i, None)
-                    yield i, rec
-                if not broken:
-                    break
-            kw = {**kw, "resume": True}
+                    i = w.task
+                    if w.conn in ready or (i >= 0 and w.conn.poll()):
+                        try:
+                            j, out = w.conn.recv()
+                        except (EOFError, OSError):
+                            out = None
+                        else:
+                            w.task = None
+                            done += 1
+                            if isinstance(out, str):
+                                out = _crash_record(tasks[j], out)
+                            yield j, out
+                            continue
+                    if w.proc.sentinel in ready or not w.proc.is_alive():
+                        w.proc.join(0.1)
+                        why = _exit_text(w.proc.exitcode)
+                        if i >= 0:
+                            if attempts[i] >= self.max_attempts:
+                                done += 1
+                                yield i, _crash_record(tasks[i], f"worker process died ({why}) in each of "
+                                                       f"{attempts[i]} attempts at this run")
+                            else:
+                                pending.appendleft(i)
+                        w.task = None
+                        w.conn.close()
+                        pool[k] = _Worker(ctx, spec, fn)
+                        continue
+                    limit = tasks[i].timeout if i >= 0 else 0
+                    if limit and limit > 0 and time.monotonic() - w.t0 > limit + self.grace:
+                        w.proc.kill()
+                        w.proc.join(5.0)
+                        w.conn.close()
+                        done += 1
+                        pool[k] = _Worker(ctx, spec, fn)
+                        yield i, _crash_record(tasks[i], f"run exceeded the per-run time limit of {limit:g} s and "
+                                               f"did not stop; its worker process was ended after {self.grace:g} s more")
+                self.pids = [w.proc.pid for w in pool]
+        finally:
+            for w in pool:
+                w.stop()
+
+
+def _dask_run(task, *, spec, fn, kw, grace):  # pragma: no cover - runs on a dask worker
+    install_host(spec)
+    finished = threading.Event()
+    limit = task.timeout
+    if limit and limit > 0:
+        def watchdog():
+            if not finished.wait(limit + grace):
+                # the run ignored its time limit (stuck in a C call): record it, then end this worker
+                # process; the nanny starts a new one, and the retried task finds this record
+                _crash_record(task, f"run exceeded the per-run time limit of {limit:g} s and did not stop; its "
+                                    f"dask worker process was ended after {grace:g} s more")
+                os._exit(70)
+        threading.Thread(target=watchdog, daemon=True, name="railtherm-watchdog").start()
+    try:
+        return fn(task, **kw)
+    finally:
+        finished.set()
 
 
 class DaskExecutor:
-    """dask.distributed: one task per run, on the scheduler at ``scheduler`` or a LocalCluster."""
+    """dask.distributed: one task per run, on the scheduler at ``scheduler`` or on a LocalCluster."""
 
-    def __init__(self, scheduler: str | None = None, workers: int | None = None):
-        self.scheduler, self.workers = scheduler, workers
+    def __init__(self, scheduler: str | None = None, workers: int | None = None, grace: float = GRACE):
+        self.scheduler, self.workers, self.grace = scheduler, workers, grace
+        self.client = None
 
     def map(self, fn, tasks, **kw):
+        import logging
+
+        import dask
         from distributed import Client, LocalCluster, as_completed
 
+        if not tasks:
+            return
+        spec = host_spec()
         cluster = None
         if self.scheduler:
-            client = Client(self.scheduler)
+            client = Client(self.scheduler, timeout="30s")
         else:
-            cluster = LocalCluster(n_workers=self.workers or 2, threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
+            with dask.config.set({"distributed.scheduler.allowed-failures": MAX_ATTEMPTS - 1}):
+                cluster = LocalCluster(n_workers=self.workers or max(1, os.cpu_count() or 2), threads_per_worker=1,
+                                       processes=True, dashboard_address=None, silence_logs=logging.ERROR)
             client = Client(cluster)
+        self.client = client
         try:
-            futs = {}
-            for i, t in enumerate(tasks):
-                f = client.submit(fn, t, key=f"run-{i}-{t.scene.hash}-{t.method}-{t.level}", retries=1,
-                                  pure=False, **kw)
-                futs[f] = i
-            for fut in as_completed(futs):
-                i = futs[fut]
+            run_id = tasks[0].run_id or "x"
+            keys = [f"railtherm-{run_id}-{i}" for i in range(len(tasks))]
+            futs = client.map(_dask_run, tasks, key=keys, pure=False, spec=spec, fn=fn, kw=kw, grace=self.grace)
+            index = {f.key: i for i, f in enumerate(futs)}
+            done = as_completed(futs)
+            del futs
+            for fut in done:
+                i = index[fut.key]
                 try:
                     rec = fut.result()
-                except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker after retries
-                    rec = _crash_record(tasks[i], f"{type(exc).__name__}: {exc}")
+                except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker after the retries
+                    name = type(exc).__name__
+                    msg = (f"worker process died in each attempt at this run (dask {name}: {exc})"
+                           if name == "KilledWorker" else f"{name}: {exc}")
+                    rec = _crash_record(tasks[i], msg)
+                fut.release()
                 yield i, rec
         finally:
+            self.client = None
             client.close()
             if cluster is not None:
                 cluster.close()
 
 
 def get_executor(name: str, *, scheduler: str | None = None, workers: int | None = None):
+    """The executor called ``name`` ("serial", "processes" or "dask")."""
+    from .errors import SceneError
+    if scheduler and name != "dask":
+        raise SceneError.bad_value(None, "scheduler", scheduler, "an address only with executor 'dask'")
     if name == "serial":
         return SerialExecutor()
     if name == "processes":
         return ProcessExecutor(workers)
     if name == "dask":
         return DaskExecutor(scheduler, workers)
-    from .errors import SceneError
     raise SceneError.bad_value(None, "executor", name, "one of " + ", ".join(EXECUTORS))

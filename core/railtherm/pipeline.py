@@ -19,7 +19,7 @@ from .grid import BASE_CELLS
 from .models.sliding import given_heat_source as _given
 from .plugins import MethodInfo, PluginHost, get_host
 from .scene import Scene, load_scene
-from .schema import build_dataset, history_line, validate_dataset
+from .schema import STAGE_OF_GROUP, VARIABLES, build_dataset, history_line, validate_dataset
 from .stages import STAGES, CoupledModel, StageModel
 
 __all__ = ["solve", "plan", "given_heat_source", "Plan"]
@@ -77,10 +77,22 @@ def plan(scene: Scene, method: str, level: int = 0, host: PluginHost | None = No
     for out in scene.outputs:
         found = None
         for i, stage in enumerate(order):
-            if out in models[stage].capabilities.provides or (given and stage == "heat_source"
-                                                               and out in {"heat_flux", "frictional_power", "heat_partition"}):
+            m = models[stage]
+            if isinstance(m, CoupledModel):
+                # one capability set for several stages: the schema says which stage a variable belongs to
+                if out in m.capabilities.provides and STAGE_OF_GROUP[VARIABLES[out].stage] == stage:
+                    found = i
+                    break
+                continue
+            if out in m.capabilities.provides or (given and stage == "heat_source"
+                                                  and out in {"heat_flux", "frictional_power", "heat_partition"}):
                 found = i
                 break
+        if found is None and any(isinstance(m, CoupledModel) for m in models.values()):
+            stage = STAGE_OF_GROUP[VARIABLES[out].stage]
+            cm = next(m for m in models.values() if isinstance(m, CoupledModel))
+            if out in cm.capabilities.provides and stage in order:
+                found = order.index(stage)
         if found is None:
             extra = " (the scene gives its heat source, so no contact stage runs)" if given else ""
             raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}{extra}; "

@@ -17,7 +17,7 @@ from .errors import SceneError
 from .scene import MATERIAL_KEYS, SCENE_KEYS, SCHEMA_VERSION, Scene, Table, load_scene
 
 STUDY_KEYS = {"name", "description", "methods", "levels", "reference", "options", "repeat", "timeout",
-              "warmup", "tolerance"}
+              "warmup", "tolerance", "published"}
 REFERENCES = ("analytic", "finest")
 
 
@@ -36,6 +36,8 @@ class Study:
     warmup: bool = True
     timeout: float = 600.0
     tolerance: float = 0.05
+    #: published values to show beside ours: scene name -> {variable: value, "source": str}
+    published: dict[str, dict] = field(default_factory=dict)
     path: str | None = None
 
     def method_names(self, available) -> list[str]:
@@ -152,6 +154,11 @@ def parse_study(doc: Mapping[str, Any], *, path: str | None = None) -> Study:
     if not isinstance(opts, Mapping) or not all(isinstance(v, Mapping) for v in opts.values()):
         raise SceneError.bad_value(None, "study.options", opts, "tables [study.options.<method>]")
     kw["options"] = {k: dict(v) for k, v in opts.items()}
+    pub = st.get("published", {})
+    if not isinstance(pub, Mapping) or not all(isinstance(v, Mapping) for v in pub.values()):
+        raise SceneError.bad_value(None, "study.published", pub,
+                                   'tables [study.published."<scene>"] of variable = value and source = "..."')
+    kw["published"] = {k: dict(v) for k, v in pub.items()}
     if "tolerance" in st:
         v = st["tolerance"]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v < math.inf):
@@ -194,6 +201,10 @@ def parse_study(doc: Mapping[str, Any], *, path: str | None = None) -> Study:
                                  scene=sc.name, key="name", value=sc.name)
             names.add(sc.name)
             scenes.append(sc)
+    for key in kw["published"]:
+        if key not in names:
+            raise SceneError(f"{where}: key 'study.published.{key}' names no scene; scenes: {sorted(names)}",
+                             key=f"study.published.{key}", value=key, allowed=", ".join(sorted(names)))
     return Study(scenes=scenes, **kw)
 
 

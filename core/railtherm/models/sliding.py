@@ -29,10 +29,12 @@ class FullSlidingHeat(HeatSourceModel):
         q = scene.friction * vs * patch.pressure
         eps = scene_partition(scene, v0 + vs, v0)
         mu_p = scene.friction * patch.pressure
+        # material flows in -x: the wheel surface moves at -(V + v_s), the rail at -V, so the wheel
+        # slips at -v_s relative to the rail and friction pushes it forward (+x) for v_s > 0
         patch = patch.with_tangential(
-            traction_x=-np.sign(vs) * mu_p, slip_velocity_x=np.where(patch.pressure > 0, vs, 0.0),
+            traction_x=np.sign(vs) * mu_p, slip_velocity_x=np.where(patch.pressure > 0, -vs, 0.0),
             stick=np.where(patch.pressure > 0, 0.0, np.nan),
-            creep_force_x=-np.sign(vs) * scene.friction * patch.normal_force)
+            creep_force_x=np.sign(vs) * scene.friction * patch.normal_force)
         power = scene.friction * vs * patch.normal_force
         return HeatSource(grid=patch.grid, power_density=q, heat_partition=eps, body_speed=(v0 + vs, v0),
                           frictional_power=power, patch=patch)

@@ -197,7 +197,7 @@ def _quad_depth(xi, z, a, v, kappa, beta, flux, f, hertz):
         lo = max(s, -1.0)
         if hertz:
             # weight (u - lo)^alpha (1 - u)^(1/2); the remaining factor is smooth
-            if s > -1.0:
+            if s >= -1.0:
                 g = lambda u: math.sqrt(1.0 + u) * math.exp(-c / (u - s)) if u > s else 0.0  # noqa: E731
                 val = integrate.quad(g, lo, 1.0, weight="alg", wvar=(-0.5, 0.5), epsabs=0, epsrel=1e-11,
                                      limit=200)[0]
@@ -206,7 +206,7 @@ def _quad_depth(xi, z, a, v, kappa, beta, flux, f, hertz):
                 val = integrate.quad(g, -1.0, 1.0, weight="alg", wvar=(0.5, 0.5), epsabs=0, epsrel=1e-11,
                                      limit=200)[0]
         else:
-            if s > -1.0:
+            if s >= -1.0:
                 g = lambda u: float(f(u)) * math.exp(-c / (u - s)) if u > s else 0.0  # noqa: E731
                 val = integrate.quad(g, lo, 1.0, weight="alg", wvar=(-0.5, 0.0), epsabs=0, epsrel=1e-11,
                                      limit=200)[0]

@@ -59,7 +59,7 @@ def _shape_function(shape):
 
 
 def jaeger_band_temperature(x, z, half_width: float, speed: float, material, flux: float = 1.0,
-                            shape: str | Callable = "uniform", quad_points: int = 8,
+                            shape: str | Callable = "uniform", quad_points: int = 16,
                             chunk: int = 2048) -> np.ndarray:
     """Steady temperature rise of a moving band heat source on a half-plane, any Péclet number.
 
@@ -83,8 +83,10 @@ def jaeger_band_temperature(x, z, half_width: float, speed: float, material, flu
         Flux distribution; a callable f(u) of u = x'/a in [-1, 1] gives q = flux f(u) (it should be
         smooth in theta = arccos(-u) for spectral accuracy).
     quad_points : int
-        Gauss-Legendre points per graded panel [1]; the error decays exponentially with it
-        (about 1e-10 relative at the default 8, see tests).
+        Gauss-Legendre points per graded panel [1]; the error decays exponentially with it, about
+        like 0.2^n (Bernstein-ellipse bound for the grading ratio 0.15; see tests). Measured against
+        independent quadratures: <= 4e-10 relative to the maximum at the default 16 for Pe 0.01 .. 1e5
+        (worst near the band ends at Pe ~ 10: 3e-7 at n = 12, 9e-5 at n = 8).
     chunk : int
         Field points evaluated per vectorised block (memory bound).
 
