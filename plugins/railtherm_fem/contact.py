@@ -1,0 +1,298 @@
+"""Signorini contact with (regularised) Coulomb friction on the condensed contact window.
+
+Unknowns at the m window nodes: pressure p_i >= 0 [Pa] and the tangential traction on the wheel
+tau_i [Pa] (plus the approach delta [m] when the normal force is prescribed). The condensed strip
+(and wheel) give the total sink W (positive opens the gap) and the relative tangential displacement
+U = u_x(wheel) - u_x(rail):
+
+    W = A_nn p + A_nt tau + W0,      U = A_tn p + A_tt tau + U0,
+
+gap ``g = h0(x) - delta + W`` with the undeformed wheel profile h0 = R - sqrt(R^2 - x^2), and the
+dimensionless slip of the wheel relative to the rail (steady rolling, material flowing in -x):
+
+    s_hat = xi - dU/dx          (slip velocity s = V s_hat [m/s]).
+
+Contact law, written as a semismooth system (Alart-Curnier complementarity functions):
+
+* Signorini: ``p - max(0, p - c_n g) = 0`` (exact: g >= 0, p >= 0, p g = 0).
+* Friction, regularised with epsilon as in the seed (section 4.2, eps = 1e-3):
+  ``tau - proj_[-mu p, mu p](tau - c_t (mu p s_hat + eps tau)) = 0``.
+  In stick this is ``s_hat = -eps tau / (mu p)`` (an elastic micro-slip of relative size eps); in slip
+  ``tau = -mu p sign(s_hat)`` with |s_hat| >= eps. This is the piecewise-linear form of the seed's
+  regularisation tau = -mu p s/sqrt(s^2 + eps^2): same limits, same slope mu p / eps at s = 0, and it
+  tends to exact Coulomb friction as eps -> 0 (eps = 0 is allowed: exact Coulomb). Written this way
+  the Newton iteration does not degrade as eps -> 0 (the seed's smooth form has a Jacobian of size
+  1/eps).
+
+Solved by a semismooth (generalised) Newton method on the dense condensed system — in effect a
+primal-dual active-set method — with a backtracking line search on the residual norm. The c_n,
+c_t constants only affect the path, not the solution.
+
+The x-derivative dU/dx uses second-order one-sided (upstream) differences: material enters the patch
+at the leading edge x = +a, so the upstream neighbours of node i are i+1, i+2.
+
+References
+----------
+.. [1] P. Alart, A. Curnier, A mixed formulation for frictional contact problems prone to Newton like
+   solution methods, Comput. Methods Appl. Mech. Eng. 92 (1991) 353-375. doi:10.1016/0045-7825(91)90022-X
+.. [2] S. Hueeber, G. Stadler, B. Wohlmuth, A primal-dual active set algorithm for three-dimensional
+   contact problems with Coulomb friction, SIAM J. Sci. Comput. 30 (2008) 572-596. doi:10.1137/060671061
+.. [3] J.J. Kalker, Three-dimensional elastic bodies in rolling contact, Kluwer, 1990.
+   doi:10.1007/978-94-015-7889-9
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["ContactSolution", "solve_contact", "upstream_derivative"]
+
+
+def upstream_derivative(m: int, h: float, order: int = 2) -> np.ndarray:
+    """Matrix D with (D U)_i ~ dU/dx at node i from node i and its upstream neighbours i+1, i+2.
+
+    Parameters
+    ----------
+    m : int
+        Number of uniformly spaced nodes.
+    h : float
+        Node spacing [m].
+    order : {1, 2}
+        Order of the one-sided difference.
+    """
+    D = np.zeros((m, m))
+    for i in range(m):
+        if order == 2 and i + 2 < m:
+            D[i, i:i + 3] = np.array([-3.0, 4.0, -1.0]) / (2.0 * h)
+        elif i + 1 < m:
+            D[i, i:i + 2] = np.array([-1.0, 1.0]) / h
+        else:
+            D[i, i - 1:i + 1] = np.array([-1.0, 1.0]) / h
+    return D
+
+
+@dataclass
+class ContactSolution:
+    """Nodal solution of the contact problem on the window.
+
+    Attributes
+    ----------
+    x : ndarray
+        Window node coordinates [m].
+    pressure, traction : ndarray
+        Normal pressure and tangential traction on the wheel [Pa].
+    slip : ndarray
+        Dimensionless slip s_hat of the wheel relative to the rail (slip velocity / V) [1].
+    gap : ndarray
+        Deformed gap [m].
+    stick : ndarray of bool
+        True where p > 0 and |tau| < mu p.
+    approach : float
+        delta [m].
+    normal_force, tangential_force : float
+        sum w p, sum w tau [N/m].
+    iterations : int
+    residual : float
+        Final residual (max norm) relative to the mean pressure [1].
+    converged : bool
+    """
+
+    x: np.ndarray
+    pressure: np.ndarray
+    traction: np.ndarray
+    slip: np.ndarray
+    gap: np.ndarray
+    stick: np.ndarray
+    approach: float
+    normal_force: float
+    tangential_force: float
+    iterations: int
+    residual: float
+    converged: bool
+    history: list = field(default_factory=list)
+
+
+def solve_contact(x, weights, h0, A_nn, A_nt, A_tn, A_tt, *, friction=0.0, creepage=None,
+                  regularization=0.0, normal_force=None, penetration=None, W0=None, U0=None,
+                  derivative=None, initial=None, tol=1e-10, maxit=100) -> ContactSolution:
+    """Solve the condensed frictional contact problem by semismooth Newton.
+
+    Parameters
+    ----------
+    x : ndarray, shape (m,)
+        Window node coordinates [m], uniformly spaced, increasing.
+    weights : ndarray, shape (m,)
+        Tributary length of each node [m] (nodal force = pressure * weight, per unit width).
+    h0 : ndarray, shape (m,)
+        Undeformed gap at zero approach [m].
+    A_nn, A_nt, A_tn, A_tt : ndarray, shape (m, m)
+        Compliance blocks: sink per pressure, sink per traction, relative tangential displacement
+        per pressure, per traction [m/Pa].
+    friction : float
+        Coulomb coefficient mu [1].
+    creepage : float or None
+        Rigid slip xi [1] (creepage, or sliding speed / V for full sliding); None: frictionless
+        normal problem only.
+    regularization : float
+        eps [1] (relative slip below which friction is not saturated); 0 is exact Coulomb.
+    normal_force : float, optional
+        Prescribed normal force per unit width [N/m] (delta becomes an unknown).
+    penetration : float, optional
+        Prescribed approach delta [m].
+    W0, U0 : ndarray, optional
+        Sink and relative tangential displacement from other loads (thermal expansion) [m].
+    derivative : ndarray, optional
+        Matrix of d/dx on the window (default: :func:`upstream_derivative` of order 2).
+    initial : ContactSolution, optional
+        Starting point (warm start).
+    tol : float
+        Stop when the residual max-norm is below tol times the mean pressure.
+    maxit : int
+        Maximum Newton iterations.
+    """
+    x = np.asarray(x, float)
+    m = x.size
+    w = np.asarray(weights, float)
+    h0 = np.asarray(h0, float)
+    W0 = np.zeros(m) if W0 is None else np.asarray(W0, float)
+    U0 = np.zeros(m) if U0 is None else np.asarray(U0, float)
+    force_control = normal_force is not None
+    if force_control == (penetration is not None):
+        raise ValueError("give exactly one of normal_force and penetration")
+    frictional = creepage is not None and friction > 0.0
+    mu, eps = float(friction), float(regularization)
+    D = upstream_derivative(m, float(x[1] - x[0])) if derivative is None else derivative
+
+    diag_nn = np.diag(A_nn).copy()
+    cn = 1.0 / diag_nn
+    # pressure scale and starting point
+    if initial is not None:
+        p = initial.pressure.copy()
+        tau = initial.traction.copy() if frictional else np.zeros(m)
+        delta = initial.approach if force_control else float(penetration)
+    else:
+        if force_control:
+            # Hertz-like start: half-width from the curvature of h0 and the local compliance
+            curv = np.polyfit(x, h0, 2)[0]
+            a0 = max(3 * (x[1] - x[0]), min(0.5 * x[-1], (normal_force * np.median(diag_nn) / (np.pi * curv * w[0])) ** (1 / 3)))
+            a0 = min(a0, 0.6 * x[-1])
+            p = np.where(np.abs(x) < a0, 2 * normal_force / (np.pi * a0) * np.sqrt(np.clip(1 - (x / a0) ** 2, 0, None)), 0.0)
+            inside = p > 0
+            delta = float(np.mean((h0 + A_nn @ p + W0)[inside]))
+        else:
+            delta = float(penetration)
+            p = np.maximum(0.0, -(h0 - delta + W0)) / diag_nn * 0.5
+        tau = np.zeros(m)
+    p_ref = (normal_force / w.sum() * 3.0) if force_control else max(float(np.max(p)), 1.0)
+    # tangential constant: slip response to traction
+    J_st = -D @ A_tt
+    ct = 1.0 / (max(mu, 1e-12) * p_ref * np.median(np.abs(np.diag(J_st))) + eps) if frictional else 1.0
+    xi = float(creepage) if frictional else 0.0
+
+    n_unk = 2 * m + (1 if force_control else 0) if frictional else m + (1 if force_control else 0)
+
+    def unpack(z):
+        p_ = z[:m]
+        t_ = z[m:2 * m] if frictional else np.zeros(m)
+        d_ = z[-1] if force_control else float(penetration)
+        return p_, t_, d_
+
+    def pack(p_, t_, d_):
+        parts = [p_]
+        if frictional:
+            parts.append(t_)
+        if force_control:
+            parts.append([d_])
+        return np.concatenate(parts)
+
+    def residual(z, jac=False):
+        p_, t_, d_ = unpack(z)
+        g = h0 - d_ + A_nn @ p_ + A_nt @ t_ + W0
+        R = np.empty(n_unk)
+        J = np.zeros((n_unk, n_unk)) if jac else None
+        r = p_ - cn * g
+        act = r > 0
+        R[:m] = np.where(act, cn * g, p_)
+        if jac:
+            ia = np.nonzero(act)[0]
+            ii = np.nonzero(~act)[0]
+            J[ia, :m] = cn[ia, None] * A_nn[ia]
+            if frictional:
+                J[ia, m:2 * m] = cn[ia, None] * A_nt[ia]
+            if force_control:
+                J[ia, -1] = -cn[ia]
+            J[ii, ii] = 1.0
+        s = None
+        if frictional:
+            U = A_tn @ p_ + A_tt @ t_ + U0
+            s = xi - D @ U
+            bound = mu * np.maximum(p_, 0.0)
+            arg = t_ - ct * (mu * p_ * s + eps * t_)
+            stick = np.abs(arg) < bound
+            up = (~stick) & (arg >= 0)
+            lo = (~stick) & (arg < 0)
+            Rt = np.where(stick, ct * (mu * p_ * s + eps * t_), t_ - np.where(up, bound, -bound))
+            R[m:2 * m] = Rt
+            if jac:
+                ist = np.nonzero(stick)[0]
+                # d(s) = -D (A_tn dp + A_tt dtau)
+                DS_p = -D @ A_tn
+                DS_t = -D @ A_tt
+                Jt = np.zeros((m, n_unk))
+                Jt[ist, :m] = ct * mu * p_[ist, None] * DS_p[ist]
+                Jt[ist, ist] += ct * mu * s[ist]
+                Jt[ist, m:2 * m] = ct * mu * p_[ist, None] * DS_t[ist]
+                Jt[ist, m + ist] += ct * eps
+                iu = np.nonzero(up)[0]
+                il = np.nonzero(lo)[0]
+                pos = p_ > 0
+                Jt[iu, m + iu] = 1.0
+                Jt[iu, iu] -= mu * pos[iu]
+                Jt[il, m + il] = 1.0
+                Jt[il, il] += mu * pos[il]
+                J[m:2 * m] = Jt
+        if force_control:
+            R[-1] = (w @ p_ - normal_force) / w.sum()
+            if jac:
+                J[-1, :m] = w / w.sum()
+        return R, J, g, s
+
+    z = pack(p, tau, delta)
+    history = []
+    converged = False
+    it = 0
+    R, J, g, s = residual(z, jac=True)
+    nrm = np.max(np.abs(R)) / p_ref
+    history.append(nrm)
+    for it in range(1, maxit + 1):
+        try:
+            dz = np.linalg.solve(J, -R)
+        except np.linalg.LinAlgError:
+            dz = np.linalg.lstsq(J, -R, rcond=None)[0]
+        alpha = 1.0
+        f0 = np.linalg.norm(R)
+        for _ in range(12):
+            Rn, _, _, _ = residual(z + alpha * dz)
+            if np.linalg.norm(Rn) <= (1.0 - 1e-4 * alpha) * f0:
+                break
+            alpha *= 0.5
+        else:
+            alpha = 1.0  # no decrease found: take the full (active-set) step
+        z = z + alpha * dz
+        R, J, g, s = residual(z, jac=True)
+        nrm = np.max(np.abs(R)) / p_ref
+        history.append(nrm)
+        if nrm < tol:
+            converged = True
+            break
+    p, tau, delta = unpack(z)
+    p = np.maximum(p, 0.0)
+    if s is None:
+        s = np.full(m, np.nan)
+        stick = np.zeros(m, bool)
+    else:
+        stick = (p > 0) & (np.abs(tau) < mu * p * (1.0 - 1e-9))
+    return ContactSolution(x=x, pressure=p, traction=tau, slip=s, gap=g, stick=stick, approach=float(delta),
+                           normal_force=float(w @ p), tangential_force=float(w @ tau), iterations=it,
+                           residual=float(nrm), converged=converged, history=history)

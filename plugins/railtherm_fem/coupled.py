@@ -1,0 +1,381 @@
+"""Operator splitting of the thermoelastic rolling contact (seed section 4.1, Steps 1-4).
+
+Step 1: theta^0 = 0 (bulk temperatures). Step 2: for theta^k solve the elastic strip with its
+thermal expansion load and the contact problem (Signorini + Coulomb) -> p^k, tau^k, slip^k.
+Step 3: frictional heat from the contact solution, split between the bodies, and the steady moving-
+frame conduction -> theta^{k+1}. Step 4: stop when ||theta^{k+1} - theta^k||_inf <= eta ||theta^{k+1}||_inf.
+The update is relaxed, theta^{k+1} = theta^k + omega_k (T(theta^k) - theta^k), with omega = 1 while
+the residual contracts and Aitken's dynamic relaxation when it does not.
+
+Heat flux (the seed's eq. 20 is dimensionally inconsistent as printed; what we use instead):
+the frictional power density ``P = tau . s`` (traction times slip velocity, = mu p |s| where it
+slips; the seed writes mu V F_2, i.e. assumes the whole speed V slips) is split by the heat
+partition eps (fraction into the wheel): the rail receives (1 - eps) P, the wheel eps P. The seed's
+``theta F_2 / r`` term is read as a pressure-dependent thermal contact conductance h_c = p / r
+[W/(m^2 K)] (r [K s/m], the seed's 1000), which carries heat from the hotter to the colder surface:
+``q_rail = (1 - eps) P - h_c (theta_rail - theta_wheel)``. As printed, the term would *add* heat in
+proportion to the temperature (a positive feedback without physical meaning) and it would be scaled
+by the partition; we apply it as a conductance between the two surfaces, not scaled. The seed's
+temperature-dependent friction factor (1 - k rho c theta / mu) has no value of k in section 4.2 and is
+dropped (constant friction).
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .contact import ContactSolution, solve_contact
+from .elastic import ElasticStrip
+from .mesh import graded_strip_mesh
+from .thermal import ThermalBody, ThermalGrid, ThermalSolver, hat_load, thermal_grid
+
+__all__ = ["FemProblem", "FemSolution", "solve_fem", "contact_edges"]
+
+
+@dataclass
+class FemProblem:
+    """All inputs of one FEM solve (SI units).
+
+    Attributes
+    ----------
+    radius : float
+        Wheel radius r0 [m].
+    rail, wheel : Material-like
+        shear_modulus [Pa], poisson_ratio [1], density [kg/m^3], specific_heat [J/(kg K)],
+        conductivity [W/(m K)], thermal_expansion [1/K], bulk_temperature [degC]; wheel.rigid [bool].
+    speed : float
+        Rolling speed V [m/s].
+    normal_force, penetration : float or None
+        Prescribed normal force per width [N/m] or approach [m] (exactly one).
+    friction : float
+        mu [1].
+    creepage : float or None
+        Longitudinal creepage xi [1]; for full sliding ``-sliding_speed / speed`` is used (the wheel surface
+        moves at V + v_s: a driving wheel, negative creepage, positive force on the wheel, as CONTACT).
+    sliding_speed : float or None
+        Full sliding speed [m/s].
+    regularization : float
+        Friction regularisation eps [1].
+    heat_partition : float or "equal-temperature"
+    convection : float
+        [W/(m^2 K)] on the free surfaces.
+    thermal_resistance : float
+        r [K s/m] of the contact conductance p / r; 0 switches it off.
+    strip_length, strip_depth : float or None
+        Strip size [m] (None: 80 a and 40 a from the estimated half-width).
+    level : int
+        Refinement level: surface spacing a/(10 2^level).
+    thermal : bool
+        Run the thermal part and the coupling.
+    two_d : bool
+        2-D conduction (True) or the seed's eq. 16 (False).
+    """
+
+    radius: float
+    rail: object
+    wheel: object
+    speed: float
+    normal_force: float | None = None
+    penetration: float | None = None
+    friction: float = 0.0
+    creepage: float | None = None
+    sliding_speed: float | None = None
+    regularization: float = 1e-3
+    heat_partition: object = 0.5
+    convection: float = 0.0
+    thermal_resistance: float = 0.0
+    strip_length: float | None = None
+    strip_depth: float | None = None
+    level: int = 0
+    thermal: bool = True
+    two_d: bool = True
+    grading: float = 8.0
+    window: float = 1.25
+    coupling_tolerance: float = 1e-6
+    coupling_max_iterations: int = 30
+    frictionless: bool = False
+
+
+@dataclass
+class FemSolution:
+    """Everything a FEM solve computed (internal frame: x = 0 under the wheel axis)."""
+
+    contact: ContactSolution
+    half_width: float
+    centre: float
+    heat_power_density: np.ndarray          # at window nodes [W/m^2]
+    heat_partition: float
+    frictional_power: float                 # [W/m]
+    thermal_grid: ThermalGrid | None
+    theta: list | None                      # rises (wheel, rail) on the thermal grid [K]
+    strip: ElasticStrip
+    displacement: np.ndarray
+    body_speed: tuple
+    history: list = field(default_factory=list)
+    omegas: list = field(default_factory=list)
+    coupling_iterations: int = 0
+    coupling_converged: bool = True
+    diagnostics: dict = field(default_factory=dict)
+
+    def rail_theta(self):
+        """Callable theta_rail(x, z) [K] (0 outside the thermal grid)."""
+        return _interpolator(self.thermal_grid, None if self.theta is None else self.theta[1])
+
+
+def _interpolator(grid, values):
+    if grid is None or values is None:
+        return lambda x, z: np.zeros(np.broadcast(np.asarray(x), np.asarray(z)).shape)
+    from scipy.interpolate import RegularGridInterpolator
+    f = RegularGridInterpolator((grid.x, grid.z), values, bounds_error=False, fill_value=0.0)
+
+    def theta(x, z):
+        x, z = np.broadcast_arrays(np.asarray(x, float), np.asarray(z, float))
+        return f(np.stack([x.ravel(), z.ravel()], axis=1)).reshape(x.shape)
+    return theta
+
+
+def _youngs(mat):
+    return 2.0 * mat.shear_modulus * (1.0 + mat.poisson_ratio)
+
+
+def _lame(mat):
+    nu, G = mat.poisson_ratio, mat.shear_modulus
+    return 2.0 * G * nu / (1.0 - 2.0 * nu), G
+
+
+def contact_edges(x, p):
+    """Trailing and leading contact edges [m] from nodal pressures.
+
+    Near a smooth contact edge p ~ sqrt(distance), so p^2 is linear: the edge is where the line
+    through p^2 of the outermost contact node and its inner neighbour vanishes (clipped to the
+    interval up to the next, open node).
+    """
+    idx = np.nonzero(p > 0)[0]
+    if idx.size == 0:
+        return 0.0, 0.0
+    h = x[1] - x[0]
+
+    def edge(i, j):
+        d = p[j] ** 2 - p[i] ** 2
+        if d <= 0:
+            return x[i] + 0.5 * (x[i] - x[j])
+        return x[i] + (x[i] - x[j]) * min(p[i] ** 2 / d, 1.0)
+
+    lo, hi = idx[0], idx[-1]
+    left = edge(lo, lo + 1) if lo + 1 < x.size else x[lo] - 0.5 * h
+    right = edge(hi, hi - 1) if hi >= 1 else x[hi] + 0.5 * h
+    return float(left), float(right)
+
+
+def _estimate_half_width(prob: FemProblem) -> float:
+    e_inv = (1 - prob.rail.poisson_ratio ** 2) / _youngs(prob.rail)
+    if not getattr(prob.wheel, "rigid", False):
+        e_inv += (1 - prob.wheel.poisson_ratio ** 2) / _youngs(prob.wheel)
+    if prob.normal_force is not None:
+        return math.sqrt(4.0 * prob.normal_force * prob.radius * e_inv / math.pi)
+    return math.sqrt(2.0 * prob.radius * prob.penetration)  # geometric overlap: an upper bound
+
+
+class _Mechanics:
+    """Strip(s), condensation and the relative compliance blocks for one mesh."""
+
+    def __init__(self, prob: FemProblem, length, depth, window, h):
+        self.mesh = graded_strip_mesh(length, depth, window, h, grading=prob.grading)
+        lam, G = _lame(prob.rail)
+        V = prob.speed
+        self.rail = ElasticStrip(self.mesh, lam, G, prob.rail.density, V, prob.rail.thermal_expansion)
+        rigid = bool(getattr(prob.wheel, "rigid", False))
+        m = self.mesh.window.size
+        w = np.full(m, h)
+        C = self.rail.compliance
+        Cxx, Cxy, Cyx, Cyy = C[:m, :m], C[:m, m:], C[m:, :m], C[m:, m:]
+        # sink = A_nn p + A_nt tau ; U = u_x(wheel) - u_x(rail) = A_tn p + A_tt tau
+        A_nn, A_nt, A_tn, A_tt = Cyy * w, Cyx * w, Cxy * w, Cxx * w
+        self.wheel = None
+        if not rigid:
+            same = all(getattr(prob.wheel, k) == getattr(prob.rail, k)
+                       for k in ("shear_modulus", "poisson_ratio", "density", "thermal_expansion"))
+            if same:
+                self.wheel = self.rail
+            else:
+                lw, Gw = _lame(prob.wheel)
+                self.wheel = ElasticStrip(self.mesh, lw, Gw, prob.wheel.density, V, prob.wheel.thermal_expansion)
+            Cw = self.wheel.compliance
+            # mirrored strip: x unchanged, y flipped -> coupling blocks change sign
+            A_nn = A_nn + Cw[m:, m:] * w
+            A_tt = A_tt + Cw[:m, :m] * w
+            A_nt = A_nt - Cw[m:, :m] * w
+            A_tn = A_tn - Cw[:m, m:] * w
+        self.blocks = (A_nn, A_nt, A_tn, A_tt)
+        self.w = w
+        self.x = self.mesh.x_window
+        R = prob.radius
+        self.h0 = R - np.sqrt(R * R - self.x ** 2)
+
+    def thermal_offsets(self, theta_rail, theta_wheel, depth):
+        """Sink W0 and relative tangential displacement U0 from thermal expansion; full rail field."""
+        m = self.mesh.window.size
+        win = self.mesh.window
+        u_r = self.rail.solve(self.rail.thermal_load(theta_rail, depth=depth))
+        ux, uy = u_r[self.rail.node_dofs[0, win]], u_r[self.rail.node_dofs[1, win]]
+        W0, U0 = -uy, -ux   # rail surface rising closes the gap
+        if self.wheel is not None and theta_wheel is not None:
+            u_w = self.wheel.solve(self.wheel.thermal_load(theta_wheel, depth=depth))
+            W0 = W0 - u_w[self.wheel.node_dofs[1, win]]
+            U0 = U0 + u_w[self.wheel.node_dofs[0, win]]
+        return W0, U0, u_r
+
+
+def solve_fem(prob: FemProblem) -> FemSolution:
+    """Solve the (coupled) FEM problem: mechanics on a graded mesh, then the Steps 1-4 loop."""
+    t_start = time.perf_counter()
+    a_ref = _estimate_half_width(prob)
+    length = prob.strip_length or 80.0 * a_ref
+    depth = prob.strip_depth or 40.0 * a_ref
+    frictional = not prob.frictionless and prob.friction > 0
+    xi = None
+    if frictional:
+        xi = prob.creepage if prob.creepage is not None else -(prob.sliding_speed or 0.0) / prob.speed
+    eps = float(prob.regularization)
+    # a first, coarse pass when only the penetration is known (the half-width is not)
+    a_est = a_ref
+    if prob.normal_force is None:
+        win0 = 1.1 * a_ref
+        mech0 = _Mechanics(prob, length, depth, win0, win0 / 40.0)
+        s0 = solve_contact(mech0.x, mech0.w, mech0.h0, *mech0.blocks, penetration=prob.penetration)
+        l0, r0 = contact_edges(s0.x, s0.pressure)
+        a_est = max(0.5 * (r0 - l0), 4 * win0 / 40.0)
+    window = prob.window * a_est
+    for attempt in range(4):
+        h = a_est / (10.0 * 2 ** prob.level)
+        window_n = max(window, 4 * h)
+        mech = _Mechanics(prob, length, depth, window_n, h)
+        common = dict(friction=prob.friction if frictional else 0.0, creepage=xi, regularization=eps,
+                      normal_force=prob.normal_force, penetration=prob.penetration)
+        sol = solve_contact(mech.x, mech.w, mech.h0, *mech.blocks, **common)
+        inside = np.nonzero(sol.pressure > 0)[0]
+        if inside.size and inside[0] >= 2 and inside[-1] <= mech.x.size - 3:
+            break
+        window *= 1.5
+    else:
+        raise RuntimeError(f"contact reaches the edge of the condensed window ({window:g} m) after enlarging it")
+    t_mech = time.perf_counter()
+
+    V = prob.speed
+    history, omegas = [], []
+    theta = None
+    grid = None
+    eps_part = prob.heat_partition if isinstance(prob.heat_partition, (int, float)) else 0.5
+    u_r = None
+    left, right = contact_edges(sol.x, sol.pressure)
+    a = 0.5 * (right - left)
+    power = V * np.abs(sol.traction * np.nan_to_num(sol.slip)) if frictional else np.zeros_like(sol.x)
+    vs_mean = V * float(np.sum(power) / max(np.sum(np.abs(sol.traction)) * V, 1e-300)) if frictional else 0.0
+    body_speed = (V + abs(vs_mean), V)
+    it = 0
+    converged = True
+    thermal_unknowns = 0
+    if prob.thermal:
+        rail, wheel = prob.rail, prob.wheel
+        rb = ThermalBody(rail.conductivity, rail.density * rail.specific_heat, body_speed[1], prob.convection)
+        wb = ThermalBody(wheel.conductivity, wheel.density * wheel.specific_heat, body_speed[0], prob.convection)
+        kap = min(rb.diffusivity / rb.speed, wb.diffusivity / wb.speed)  # kappa / V [m]
+        dx = mech.x[1] - mech.x[0]
+        x_min = -0.5 * length
+        x_max = mech.x[-1] + (max(30 * kap, 4 * dx) if prob.two_d else dx)
+        ztop = 8.0 * math.sqrt(max(rb.diffusivity / rb.speed, wb.diffusivity / wb.speed) * (x_max - x_min)) + 4 * kap
+        zdepth = min(depth, ztop)
+        rz = 1.0 + 0.2 / 2 ** prob.level
+        dz0 = 0.5 * min(math.sqrt(kap * dx), dx)
+        grid = thermal_grid(mech.x[-1], dx, x_min, x_max, dz0, zdepth, rz, rz)
+        nx = grid.x.size
+        theta = [np.zeros(grid.shape), np.zeros(grid.shape)]
+        omega = 1.0
+        r_prev = None
+        converged = False
+        for it in range(1, prob.coupling_max_iterations + 1):
+            # Step 3: heat from the current contact solution
+            power = V * np.abs(sol.traction * np.nan_to_num(sol.slip)) if frictional else np.zeros_like(sol.x)
+            qf = lambda s, pw=power: np.interp(s, sol.x, pw, left=0.0, right=0.0)
+            load = hat_load(grid.x, qf, breaks=sol.x, order=2)
+            hc = None
+            if prob.thermal_resistance > 0:
+                hc = np.interp(grid.x, sol.x, sol.pressure, left=0.0, right=0.0) / prob.thermal_resistance
+            solver = ThermalSolver(grid, [wb, rb], prob.two_d, hc)
+            dT = wheel.bulk_temperature - rail.bulk_temperature
+            # bulk difference drives conduction through h_c: load on wheel -h_c dT, on rail +h_c dT
+            cond = np.zeros(nx) if hc is None else hc * dT * np.asarray(_lumped(grid.x))
+            if isinstance(prob.heat_partition, str):
+                t_w1, t_r1 = solver.solve([load - cond, cond])
+                t_w0, t_r0 = solver.solve([-cond, load + cond])
+                sel = (grid.x >= left) & (grid.x <= right)
+                mw1, mr1 = t_w1[sel, 0].mean(), t_r1[sel, 0].mean()
+                mw0, mr0 = t_w0[sel, 0].mean(), t_r0[sel, 0].mean()
+                # wheel - rail mean (absolute) temperature, affine in eps
+                f0 = wheel.bulk_temperature + mw0 - rail.bulk_temperature - mr0
+                f1 = wheel.bulk_temperature + mw1 - rail.bulk_temperature - mr1
+                eps_part = float(np.clip(f0 / (f0 - f1), 0.0, 1.0)) if f0 != f1 else 0.5
+                new = [t_w0 + eps_part * (t_w1 - t_w0), t_r0 + eps_part * (t_r1 - t_r0)]
+            else:
+                new = solver.solve([eps_part * load - cond, (1 - eps_part) * load + cond])
+            thermal_unknowns = solver.unknowns
+            # Step 4: convergence test on the rail temperature (the field that loads the strip)
+            r = [new[0] - theta[0], new[1] - theta[1]]
+            rn = max(np.abs(r[0]).max(), np.abs(r[1]).max())
+            scale = max(np.abs(new[0]).max(), np.abs(new[1]).max(), 1e-300)
+            history.append(rn / scale)
+            if r_prev is not None:
+                if history[-1] >= history[-2]:  # not contracting: Aitken relaxation
+                    dr = np.concatenate([(r[j] - r_prev[j]).ravel() for j in range(2)])
+                    rv = np.concatenate([r_prev[j].ravel() for j in range(2)])
+                    den = float(dr @ dr)
+                    if den > 0:
+                        omega = float(np.clip(-omega * float(rv @ dr) / den, 0.05, 1.0))
+                else:
+                    omega = min(1.0, omega * 1.5) if omega < 1.0 else 1.0
+            omegas.append(omega)
+            theta = [theta[j] + omega * r[j] for j in range(2)]
+            r_prev = r
+            if history[-1] <= prob.coupling_tolerance or not (prob.rail.thermal_expansion or
+                                                               (mech.wheel is not None and prob.wheel.thermal_expansion)):
+                converged = True
+                break
+            # Step 2: contact with the thermal expansion of theta^{k+1}
+            th_r = _interpolator(grid, theta[1])
+            th_w = _interpolator(grid, theta[0]) if mech.wheel is not None else None
+            W0, U0, u_r = mech.thermal_offsets(th_r, th_w, zdepth)
+            sol = solve_contact(mech.x, mech.w, mech.h0, *mech.blocks, W0=W0, U0=U0, initial=sol, **common)
+            left, right = contact_edges(sol.x, sol.pressure)
+            a = 0.5 * (right - left)
+        if not converged:
+            pass
+    # final full displacement field (contact forces + thermal expansion)
+    m = mech.mesh.window.size
+    f = mech.rail.window_load(-sol.traction * mech.w, -sol.pressure * mech.w)
+    if theta is not None and prob.rail.thermal_expansion:
+        f = f + mech.rail.thermal_load(_interpolator(grid, theta[1]), depth=grid.z[-1])
+    u = mech.rail.solve(f)
+    power = V * np.abs(sol.traction * np.nan_to_num(sol.slip)) if frictional else np.zeros_like(sol.x)
+    diag = dict(dofs=int(mech.rail.ndofs), window_nodes=int(m), surface_spacing=float(mech.x[1] - mech.x[0]),
+                strip_length=float(length), strip_depth=float(depth), approach=float(sol.approach),
+                contact_iterations=int(sol.iterations), contact_residual=float(sol.residual),
+                contact_converged=bool(sol.converged), regularization=eps,
+                mechanics_time=float(t_mech - t_start), total_time=float(time.perf_counter() - t_start),
+                thermal_unknowns=int(thermal_unknowns), factor_fill=int(mech.rail.condensed.fill))
+    return FemSolution(contact=sol, half_width=float(a), centre=float(0.5 * (left + right)),
+                       heat_power_density=power, heat_partition=float(eps_part),
+                       frictional_power=float(np.sum(power * mech.w)), thermal_grid=grid, theta=theta,
+                       strip=mech.rail, displacement=u, body_speed=body_speed, history=history, omegas=omegas,
+                       coupling_iterations=it, coupling_converged=converged, diagnostics=diag)
+
+
+def _lumped(x):
+    """Lumped P1 mass (tributary lengths) of 1-D nodes [m]."""
+    d = np.diff(x)
+    m = np.zeros(x.size)
+    m[:-1] += 0.5 * d
+    m[1:] += 0.5 * d
+    return m

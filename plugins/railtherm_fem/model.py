@@ -1,0 +1,235 @@
+"""CoupledModel "fem": 2-D quasistatic thermoelastic FEM rolling contact (seed section 4).
+
+A rigid wheel (``wheel = { rigid = true }``, as in the paper) or an elastic wheel rolls on an
+elastic strip lying on a rigid foundation, in the frame moving with the wheel; see
+:mod:`railtherm_fem.coupled` for the operator splitting and the heat flux, :mod:`.contact` for the
+contact law and its epsilon regularisation, :mod:`.thermal` for the conduction, :mod:`.elastic` and
+:mod:`.condense` for the strip.
+
+Results on the patch grid ``surface_grid(a, None, level, cells)`` of the computed half-width a,
+centred on the computed patch (x = 0 at the patch centre, which may sit a little off the wheel axis
+when the rigid wheel's tangential-normal coupling shifts it; the shift is in the diagnostics as
+``patch_centre``). Nodal fields are mapped as cell averages of their piecewise-linear interpolant
+(conservative: the grid integral of the power density equals the nodal one up to the part of the
+edge hats outside [-a, a]); stick is the nearest node's state.
+
+Temperatures: the rail from the strip's conduction problem; the wheel -- rigid or not -- from the
+same conduction solver applied to the wheel's material moving at its surface speed V + v_s, with
+the wheel's share eps of the frictional heat (and the contact conductance, when given). For a
+rigid wheel that temperature is a report only: it does not deform the wheel.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from railtherm import (Capabilities, ContactPatch, CoupledModel, HeatSource, Option, Refused, TemperatureField,
+                       surface_grid)
+
+from .coupled import FemProblem, _interpolator, solve_fem
+from .thermal import ThermalBody, ThermalSolver, hat_load, thermal_grid
+
+__all__ = ["FemModel"]
+
+TEMPERATURE_OUTPUTS = frozenset({"surface_temperature", "temperature", "max_surface_temperature",
+                                 "mean_contact_temperature"})
+PROVIDES = frozenset({
+    "pressure", "traction_x", "slip_velocity_x", "stick", "normal_force", "semi_axis_a", "max_pressure",
+    "creep_force_x", "heat_flux", "frictional_power", "heat_partition", "surface_temperature", "temperature",
+    "max_surface_temperature", "mean_contact_temperature",
+})
+
+
+def cell_average(x_nodes, values, edges):
+    """Cell averages over ``edges`` of the piecewise-linear interpolant of nodal ``values`` (0 outside)."""
+    x_nodes = np.asarray(x_nodes, float)
+    v = np.asarray(values, float)
+    xs = np.unique(np.concatenate([x_nodes, edges]))
+    vs = np.interp(xs, x_nodes, v, left=0.0, right=0.0)
+    cum = np.concatenate([[0.0], np.cumsum(0.5 * (vs[1:] + vs[:-1]) * np.diff(xs))])
+    F = np.interp(edges, xs, cum)
+    return np.diff(F) / np.diff(edges)
+
+
+class FemModel(CoupledModel):
+    """Quasistatic thermoelastic FEM of a wheel rolling on an elastic strip (line contacts)."""
+
+    name = "fem"
+    description = ("2-D plane-strain FEM strip (graded P1 mesh, condensed onto the contact), Signorini + "
+                   "regularised Coulomb by semismooth Newton, moving-frame conduction, Steps 1-4 coupling (seed section 4)")
+    capabilities = Capabilities(contacts=frozenset({"line"}), sources=frozenset({"computed", "given"}),
+                                tangential=frozenset({"full-sliding", "creepage"}), convection=True,
+                                modes=frozenset({"steady"}), provides=PROVIDES)
+    options = {
+        "thermal_model": Option("2d", "conduction along x included ('2d') or dropped (seed eq. 16, '1d')",
+                                choices=("2d", "1d")),
+        "thermal_resistance": Option(0.0, "r [K s/m] of the contact conductance p/r (seed: 1000); 0 = none",
+                                     minimum=0.0),
+        "coupling_tolerance": Option(1e-6, "eta: stop when max|theta^{k+1}-theta^k| <= eta max|theta| [1]",
+                                     minimum=0.0),
+        "coupling_max_iterations": Option(30, "limit of the Steps 1-4 loop", minimum=1),
+        "grading": Option(8.0, "mesh grading: element size ~ distance / grading", minimum=1.0),
+        "regularization": Option(None, "friction regularisation eps [1] (default: scene numerics, else 1e-3)"),
+        "cells": Option(None, "cells of the patch grid at level 0"),
+    }
+
+    def supports(self, scene, level):
+        why = super().supports(scene, level)
+        if why:
+            return why
+        if getattr(scene, "mode", "steady") != "steady":
+            return "model 'fem' is quasistatic (steady in the moving frame); use a transient method"
+        cr = getattr(scene, "creepage", None)
+        if cr is not None and (cr.lateral or cr.spin):
+            return (f"model 'fem' is 2-D (longitudinal creepage only); lateral={cr.lateral!r}, spin={cr.spin!r} "
+                    "need a 3-D method (e.g. fastsim-fdm)")
+        if scene.heat_source is None:
+            if getattr(scene.rail, "rigid", False):
+                return "model 'fem' needs an elastic rail strip"
+            if scene.friction is None:
+                return "model 'fem' needs a friction coefficient"
+        if scene.speed is None or not scene.speed > 0:
+            return "model 'fem' needs a positive rolling speed (steady moving frame)"
+        return None
+
+    # ------------------------------------------------------------------------------------------
+    def _problem(self, scene, level, options, thermal):
+        strip = getattr(scene, "strip", None)
+        eps = options.get("regularization")
+        if eps is None:
+            eps = (getattr(scene, "numerics", None) or {}).get("regularization", 1e-3)
+        creep = None
+        sliding = None
+        if scene.creepage is not None:
+            creep = float(scene.creepage.longitudinal)
+        else:
+            sliding = float(scene.sliding_speed or 0.0)
+        return FemProblem(
+            radius=float(scene.wheel_radius), rail=scene.rail, wheel=scene.wheel, speed=float(scene.speed),
+            normal_force=scene.normal_force, penetration=scene.penetration if scene.normal_force is None else None,
+            friction=float(scene.friction or 0.0), creepage=creep, sliding_speed=sliding,
+            regularization=float(eps), heat_partition=scene.heat_partition,
+            convection=float(scene.convection or 0.0),
+            thermal_resistance=float(options.get("thermal_resistance") or 0.0),
+            strip_length=getattr(strip, "length", None) if strip else None,
+            strip_depth=getattr(strip, "depth", None) if strip else None,
+            level=int(level), thermal=thermal, two_d=options.get("thermal_model", "2d") == "2d",
+            grading=float(options.get("grading") or 8.0),
+            coupling_tolerance=float(options.get("coupling_tolerance", 1e-6)),
+            coupling_max_iterations=int(options.get("coupling_max_iterations", 30)))
+
+    def compute(self, scene, level, options, stages):
+        why = self.supports(scene, level)
+        if why:
+            raise Refused(why)
+        cells = options.get("cells")
+        if scene.heat_source is not None:
+            import railtherm
+            source = railtherm.given_heat_source(scene, level, cells)
+            wanted = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
+            return None, None, self._given(scene, level, options, source) if wanted else None
+        # the pipeline may plan only ("contact",) for a coupled model (see /work/requests/fem.md): run the
+        # thermal part whenever the scene asks for a temperature output
+        thermal = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
+        prob = self._problem(scene, level, options, thermal)
+        sol = solve_fem(prob)
+        c = sol.contact
+        a, xc = sol.half_width, sol.centre
+        grid = surface_grid(a, None, level, cells)
+        edges = grid.x_edges + xc
+        V = prob.speed
+        pressure = cell_average(c.x, c.pressure, edges)
+        traction = cell_average(c.x, c.traction, edges)
+        slip = cell_average(c.x, V * np.nan_to_num(c.slip), edges)
+        near = np.clip(np.searchsorted(c.x, grid.x + xc), 0, c.x.size - 1)
+        stick = np.where(grid.inside(), c.stick[near].astype(float), np.nan)
+        diag = dict(sol.diagnostics)
+        diag.update(patch_centre=float(xc), coupling_iterations=int(sol.coupling_iterations),
+                    coupling_converged=bool(sol.coupling_converged),
+                    coupling_history=",".join(f"{h:.3e}" for h in sol.history),
+                    coupling_relaxation=",".join(f"{w:.3g}" for w in sol.omegas),
+                    nodal_frictional_power=float(sol.frictional_power))
+        frictional = prob.friction > 0
+        patch = ContactPatch(grid=grid, normal_force=float(c.normal_force), a=float(a), b=None,
+                             max_pressure=float(c.pressure.max()), pressure=pressure,
+                             traction_x=traction if frictional else None,
+                             slip_velocity_x=slip if frictional else None,
+                             stick=stick if frictional else None,
+                             creep_force_x=float(c.tangential_force) if frictional else None,
+                             diagnostics=diag)
+        power = cell_average(c.x, sol.heat_power_density, edges)
+        source = HeatSource(grid=grid, power_density=power, heat_partition=float(sol.heat_partition),
+                            body_speed=tuple(float(v) for v in sol.body_speed),
+                            frictional_power=float(sol.frictional_power), patch=patch, diagnostics=diag)
+        temp = None
+        if thermal:
+            temp = self._temperature_from(sol.thermal_grid, sol.theta, grid, xc, scene, diag)
+            temp.diagnostics.update(self._stresses(sol, grid, xc))
+        return (patch if "contact" in stages else None, source if "heat_source" in stages or thermal else None, temp)
+
+    # ------------------------------------------------------------------------------------------
+    @staticmethod
+    def _temperature_from(tgrid, theta, grid, xc, scene, diag):
+        bulk = np.array([scene.wheel.bulk_temperature, scene.rail.bulk_temperature])
+        xs = grid.x + xc
+        surface = np.stack([np.interp(xs, tgrid.x, theta[j][:, 0]) for j in range(2)]) + bulk[:, None]
+        depth = np.stack([np.stack([np.interp(xs, tgrid.x, theta[j][:, k]) for k in range(tgrid.z.size)], axis=1)
+                          for j in range(2)]) + bulk[:, None, None]
+        return TemperatureField.from_surface(grid, surface, z=tgrid.z.copy(), temperature=depth, diagnostics=dict(diag))
+
+    @staticmethod
+    def _stresses(sol, grid, xc):
+        """Surface stress diagnostics: FE sigma_xx with thermal part, and the thin-layer limit."""
+        strip = sol.strip
+        th = sol.rail_theta()
+        xs = grid.x + xc
+        z = np.full(xs.shape, 1e-3 * (sol.contact.x[1] - sol.contact.x[0]))
+        s = strip.stress(sol.displacement, xs, z, th)
+        s_mech = strip.stress(sol.displacement, xs, z, None)
+        E = strip.mu * (3 * strip.lam + 2 * strip.mu) / (strip.lam + strip.mu)
+        nu = strip.lam / (2 * (strip.lam + strip.mu))
+        tmax = float(np.max(th(xs, 0 * xs))) if sol.theta is not None else 0.0
+        return dict(surface_stress_xx_min=float(s[0].min()), surface_stress_xx_max=float(s[0].max()),
+                    thermal_stress_xx_min=float((s[0] - s_mech[0]).min()),
+                    thin_layer_thermal_stress=float(-E * strip.alpha * tmax / (1 - nu)))
+
+    def _given(self, scene, level, options, source):
+        """Thermal part only, for a heat flux the scene gives (both bodies at their body_speed)."""
+        grid = source.grid
+        a = grid.a
+        level = int(level)
+        shape, q0 = source.shape, source.peak_flux
+        if shape == "uniform":
+            qf = lambda s: np.where(np.abs(s) <= a, q0, 0.0)
+        elif shape == "hertz":
+            qf = lambda s: q0 * np.sqrt(np.clip(1 - (s / a) ** 2, 0.0, None))
+        else:
+            edges, pd = grid.x_edges, source.power_density
+            qf = lambda s: np.where((s >= edges[0]) & (s < edges[-1]),
+                                    pd[np.clip(np.searchsorted(edges, s) - 1, 0, pd.size - 1)], 0.0)
+        two_d = options.get("thermal_model", "2d") == "2d"
+        vw, vr = source.body_speed
+        conv = float(scene.convection or 0.0)
+        bodies = [ThermalBody(m.conductivity, m.density * m.specific_heat, v, conv)
+                  for m, v in ((scene.wheel, vw), (scene.rail, vr))]
+        tgrid = given_grid(a, bodies, level, two_d, getattr(getattr(scene, "strip", None), "length", None))
+        load = hat_load(tgrid.x, qf, breaks=np.concatenate([[-a, a], grid.x_edges]), order=4)
+        eps = source.heat_partition
+        eps = float(np.mean(eps)) if np.ndim(eps) else float(eps)
+        solver = ThermalSolver(tgrid, bodies, two_d)
+        theta = solver.solve([eps * load, (1 - eps) * load])
+        diag = dict(thermal_unknowns=int(solver.unknowns), thermal_model="2d" if two_d else "1d")
+        return self._temperature_from(tgrid, theta, grid, 0.0, scene, diag)
+
+
+def given_grid(a, bodies, level, two_d, length=None):
+    """Thermal grid for a band of half-width a (spacing a/(10 2^level), wake 40 a or the strip)."""
+    dx = a / (10.0 * 2 ** level)
+    kap = min(b.diffusivity / b.speed for b in bodies)
+    kmax = max(b.diffusivity / b.speed for b in bodies)
+    x_min = -(0.5 * length if length else 40.0 * a)
+    x_max = a + (max(30 * kap, 4 * dx) if two_d else dx)
+    depth = 8.0 * math.sqrt(kmax * (x_max - x_min)) + 4 * kmax
+    rz = 1.0 + 0.2 / 2 ** level
+    return thermal_grid(a, dx, x_min, x_max, 0.5 * min(math.sqrt(kap * dx), dx), depth, rz, rz)
