@@ -45,6 +45,21 @@ def test_weights_are_upper_triangular_toeplitz_and_exact():
     assert kernel.surface_weights(xe) is w                            # cached
 
 
+def test_toeplitz_path_equals_full_matrix_and_graded_grid_exact():
+    """Uniform grids use the Toeplitz vector, others the full matrix: same numbers; and a graded
+    (non-uniform) grid is exact for a uniform flux as well."""
+    xe = np.linspace(-1.0, 1.0, 65)
+    q = np.random.default_rng(0).random((64, 3))
+    np.testing.assert_allclose(kernel.surface_rise(xe, q, 1.0, 1.0),
+                               kernel.surface_weights(xe) @ q / math.sqrt(math.pi), rtol=1e-12)
+    w = kernel.toeplitz_weights(64, xe[1] - xe[0])
+    np.testing.assert_allclose(w, kernel.surface_weights(xe)[0], rtol=1e-12)
+    graded = -A + 2 * A * np.linspace(0.0, 1.0, 41) ** 1.7
+    xc = 0.5 * (graded[1:] + graded[:-1])
+    t = kernel.surface_rise(graded, np.full(40, 1e8), STEEL.effusivity, V)
+    np.testing.assert_allclose(t, flash_temperature_1d(xc, 0.0, A, V, STEEL, 1e8, "uniform"), rtol=1e-12)
+
+
 def test_uniform_flux_surface_exact_inside_and_behind_patch():
     """Uniform flux is piecewise constant on any grid with edges at +-a: the quadrature is exact
     (round-off), in the patch (eq. 34) and behind it (eq. 36), where the flux is zero."""
@@ -73,6 +88,14 @@ def test_uniform_flux_depth_exact():
     ref = flash_temperature_1d(X, Z, A, V, STEEL, q, "uniform")
     np.testing.assert_allclose(t, ref, rtol=1e-10, atol=1e-12 * ref.max())
     np.testing.assert_allclose(t[:, 0], kernel.surface_rise(xe, flux, STEEL.effusivity, V), rtol=1e-13)
+    # graded grid (full-matrix path)
+    graded = np.concatenate([-2 * A + A * np.linspace(0.0, 1.0, 21)[:-1] ** 2,
+                             -A + 2 * A * np.linspace(0.0, 1.0, 41) ** 1.5])       # edge at -a
+    xg = 0.5 * (graded[1:] + graded[:-1])
+    tg = kernel.depth_rise(graded, np.where(xg > -A, q, 0.0), z, STEEL.effusivity, V, STEEL.diffusivity)
+    Xg, Zg = np.meshgrid(xg, z, indexing="ij")
+    refg = flash_temperature_1d(Xg, Zg, A, V, STEEL, q, "uniform")
+    np.testing.assert_allclose(tg, refg, rtol=1e-9, atol=1e-12 * refg.max())
 
 
 def test_two_bodies_one_matmul_equals_separate():

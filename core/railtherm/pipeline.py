@@ -24,6 +24,9 @@ from .stages import STAGES, CoupledModel, StageModel
 
 __all__ = ["solve", "plan", "given_heat_source", "Plan"]
 
+#: outputs that a line contact does not have
+LATERAL = {"traction_y", "slip_velocity_y", "creep_force_y", "spin_moment", "semi_axis_b"}
+
 
 def given_heat_source(scene: Scene, level: int, cells: int | None = None):
     """The :class:`railtherm.HeatSource` a scene gives, on the grid of ``level``."""
@@ -228,6 +231,10 @@ def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options
     if not converged:
         raise SolverError(f"method {method!r} did not converge on scene {scene.name!r} at level {level}: "
                           + ", ".join(f"{k}={v}" for k, v in diag.items() if "resid" in k or "iter" in k))
+    missing = [o for o in scene.outputs if o not in ds and not (grid.line and o in LATERAL)]
+    if missing:
+        raise PluginError(f"method {method!r} ({pl.describe()}) declared but did not return {missing} "
+                          f"for scene {scene.name!r}")
     for name in scene.outputs:
         if name in ds and np.issubdtype(ds[name].dtype, np.floating) and not np.all(np.isfinite(ds[name].values)) \
                 and name != "stick":

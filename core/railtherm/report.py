@@ -348,6 +348,8 @@ def _fig_work_precision(runs: list[_Run], scene: str, style: _Style, path: Path,
     methods = sorted({r.method for r in runs})
     levels = sorted({r.level for r in runs})
     marker = {k: LEVEL_MARKERS[i % len(LEVEL_MARKERS)] for i, k in enumerate(levels)}
+    # later methods get smaller markers: coinciding points show as concentric rings
+    ms = {m: max(10.0 - 1.6 * j, 4.0) for j, m in enumerate(methods)}
     zero_drawn = False
     drawn: set = set()  # (method, level) drawn in some panel
     for ax, met in zip(axes[:panels], metrics or [None]):
@@ -358,7 +360,7 @@ def _fig_work_precision(runs: list[_Run], scene: str, style: _Style, path: Path,
                     ax.plot([r.level for r in sel], [r.wall_time for r in sel], "-", color=style(m), lw=1.3)
                     for r in sel:
                         drawn.add((r.method, r.level))
-                        ax.plot(r.level, r.wall_time, marker[r.level], color=style(m), ms=7,
+                        ax.plot(r.level, r.wall_time, marker[r.level], color=style(m), ms=ms[m],
                                 mfc="white" if r.status == "inaccurate" else style(m))
             ax.set_yscale("log")
             ax.set_xlabel("level [1]")
@@ -379,7 +381,7 @@ def _fig_work_precision(runs: list[_Run], scene: str, style: _Style, path: Path,
             ax.plot(ex, [r.wall_time for r in sel], "-", color=style(m), lw=1.3, alpha=0.85)
             for r, e in zip(sel, ex):
                 drawn.add((r.method, r.level))
-                ax.plot(e, r.wall_time, marker[r.level], color=style(m), ms=7, mec=style(m),
+                ax.plot(e, r.wall_time, marker[r.level], color=style(m), ms=ms[m], mec=style(m), mew=1.3,
                         mfc="white" if r.status == "inaccurate" else style(m))
                 if not r.errors[met] > 0:
                     zero_drawn = True
@@ -469,8 +471,8 @@ def _fig_cross(cross: dict[str, np.ndarray], methods: list[str], scene: str, pat
     fig = _figure(min(size * len(qs) + 1.0, 15), size + 0.9)
     axes = fig.subplots(1, len(qs), squeeze=False)[0]
     allv = np.concatenate([cross[q][np.isfinite(cross[q]) & (cross[q] > 0)] for q in qs])
-    lo = max(float(allv.min()) if allv.size else 1e-6, 1e-12)
-    hi = max(float(allv.max()) if allv.size else 1.0, lo * 10)
+    lo = max(float(allv.min()) / 1.2 if allv.size else 1e-6, 1e-12)
+    hi = max(float(allv.max()) * 1.2 if allv.size else 1.0, lo * 4)
     norm = LogNorm(vmin=lo, vmax=hi)
     cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.9")
     im = None
@@ -597,7 +599,18 @@ def _fig_surface(finest: dict, scene_obj, scene: str, style: _Style, path: Path,
     return _save(fig, path), hot
 
 
+def _heated_depth(z, t, bulk) -> float:
+    """Depth [m] below which the temperature rise of profile ``t`` stays under 1 % of its maximum."""
+    rise = np.abs(np.asarray(t, float) - bulk)
+    if rise.size == 0 or not np.isfinite(rise).any() or np.nanmax(rise) == 0:
+        return float(np.max(z)) if np.size(z) else 0.0
+    above = np.nonzero(rise > 0.01 * np.nanmax(rise))[0]
+    return float(z[min(above[-1] + 1, z.size - 1)])
+
+
 def _fig_depth(finest: dict, scene_obj, scene: str, hot: dict, style: _Style, path: Path, notes: list) -> Path | None:
+    """Temperature against depth through the hottest surface point; the depth axis ends a little below
+    the heated layer (1 % of the surface rise), whatever depth each method's mesh reaches."""
     have = {m: ds for m, ds in finest.items() if "temperature" in ds and "z" in ds.dims}
     if not have:
         return None
@@ -610,27 +623,36 @@ def _fig_depth(finest: dict, scene_obj, scene: str, hot: dict, style: _Style, pa
             ds0 = next(iter(have.values()))
             t0 = ds0["temperature"].isel(body=body, z=0)
             x0 = float(t0["x"].values[int(np.argmax(t0.values))])
+        profiles = {}
+        zlim = 0.0
+        for m, ds in have.items():
+            da = ds["temperature"].isel(body=body).sel(x=x0, method="nearest")
+            z, t = da["z"].values, da.values
+            bulk = scene_obj.body(body).bulk_temperature if scene_obj is not None else float(t[np.argmax(z)])
+            profiles[m] = (z, t)
+            zlim = max(zlim, _heated_depth(z, t, bulk))
+        zlim = min(1.3 * zlim, zmax) if zlim > 0 else zmax
         if scene_obj is not None:
             try:
-                z = np.linspace(0.0, zmax, 41)
+                z = np.linspace(0.0, zlim, 41)
                 ref = _reference_depth(scene_obj, body, x0, z)
                 if ref is not None:
                     ax.plot(ref, z * 1e6, "-", color="0.7", lw=4.5, label="analytic reference")
             except Exception as exc:  # noqa: BLE001
                 if body == 0:
                     notes.append(f"analytic depth profile not drawn: {type(exc).__name__}: {_short(exc, 200)}")
-        for m, ds in have.items():
-            da = ds["temperature"].isel(body=body).sel(x=x0, method="nearest")
-            ax.plot(da.values, da["z"].values * 1e6, "-", color=style(m), lw=1.5,
-                    label=f"{m} (level {int(ds.attrs.get('level', -1))})", marker="." if da.size <= 30 else None)
-        ax.set_ylim(zmax * 1e6, 0.0)
+        for m, (z, t) in profiles.items():
+            n_vis = int(np.sum(z <= zlim))
+            ax.plot(t, z * 1e6, "-", color=style(m), lw=1.5, label=f"{m} (level {int(have[m].attrs.get('level', -1))})",
+                    marker="." if n_vis <= 30 else None, ms=4)
+        ax.set_ylim(zlim * 1e6, 0.0)
         ax.set_xlabel("temperature [°C]")
         ax.set_ylabel("depth z [µm]")
         ax.set_title(f"{['wheel', 'rail'][body]}: x = {x0 * 1e3:.3g} mm, y = 0", fontsize=10)
         ax.grid(True, alpha=0.3)
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 4), fontsize=8, frameon=False)
-    fig.suptitle(f"{scene}: depth profile through the hottest surface point", fontsize=11)
+    fig.suptitle(f"{scene}: depth profile through the hottest surface point (heated layer)", fontsize=11)
     return _save(fig, path)
 
 

@@ -149,8 +149,10 @@ def flash_temperature_1d(x, z, half_width: float, speed: float, material, flux: 
 
     References
     ----------
-    .. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., 1959, section 2.9.
-    .. [2] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, 1942.
+    .. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 2.9.
+       ISBN 978-0198533689
+    .. [2] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy.
+       Soc. New South Wales 76 (1942) 203-224.
     """
     if not (half_width > 0 and speed > 0):
         raise ValueError("half_width and speed must be positive")
@@ -223,7 +225,7 @@ def flash_uniform_max_coefficient() -> float:
 
 
 def flash_uniform_mean_coefficient() -> float:
-    """Coefficient C of the 1-D uniform-band mean over the band ``T_mean = C (q/beta) sqrt(a/V)``: 4 sqrt(2)/(3 sqrt(pi))."""
+    """Coefficient C of the 1-D uniform-band mean ``T_mean = C (q/beta) sqrt(a/V)``: 4 sqrt(2)/(3 sqrt(pi)) [1]."""
     return 4.0 * math.sqrt(2.0) / (3.0 * _SQRT_PI)
 
 

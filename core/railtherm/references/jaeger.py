@@ -98,7 +98,8 @@ def jaeger_band_temperature(x, z, half_width: float, speed: float, material, flu
     References
     ----------
     .. [1] J.C. Jaeger, J. Proc. Roy. Soc. New South Wales 76 (1942) 203-224.
-    .. [2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., 1959, section 10.7.
+    .. [2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7.
+       ISBN 978-0198533689
     """
     if not (half_width > 0 and speed > 0):
         raise ValueError("half_width and speed must be positive")

@@ -19,8 +19,11 @@ ray-ellipse intersection. Radial integral: uniform flux at z = 0 in closed form,
 near end (boundary layer of width 1/c and the depth scale z); the Hertz flux
 ``q0 sqrt(1 - (x'/a)^2 - (y'/b)^2)`` is sqrt((rho+ - rho)(rho - rho-)) along the ray, removed by
 rho = m + h cos(theta). Angular integral: composite Gauss-Legendre geometrically graded toward the
-breakpoints phi = 0 (upstream peak of width ~ L^(-1/2)), phi = pi, the tangent directions to the
-ellipse (outside points) or the directions parallel to the nearest boundary (inside points).
+breakpoints phi = 0 (upstream peak of width ~ L^(-1/2)), phi = pi, +-pi/2 (elongated ellipses), the
+tangent directions to the ellipse (outside points) or the directions parallel to the nearest boundary
+(inside points). Each ray and each breakpoint is graded only down to the scale of its feature
+(``adaptive=True``), tangent directions (square-root singularities) to full depth; a breakpoint close
+to a finer feature inherits its scale plus the distance.
 
 References
 ----------
@@ -28,9 +31,7 @@ References
    ISBN 978-0198533689
 .. [2] D. Rosenthal, The theory of moving sources of heat and its application to metal treatments,
    Trans. ASME 68 (1946) 849-866.
-.. [3] X. Tian, F.E. Kennedy, Maximum and average flash temperatures in sliding contacts, J. Tribol.
-   116 (1994) 167-174. doi:10.1115/1.2927035
-.. [4] K.L. Johnson, Contact Mechanics, 1985, section 3.2-3.4 (static analogue: the Boussinesq
+.. [3] K.L. Johnson, Contact Mechanics, 1985, section 3.2-3.4 (static analogue: the Boussinesq
    displacement of uniform and Hertz pressure on a circle). doi:10.1017/CBO9781139171731
 """
 from __future__ import annotations
@@ -87,6 +88,8 @@ def _depth(scale, length, kmax, log_ratio):
     """Number of graded panels so that the innermost panel [0, ratio^K] is <= scale/length."""
     if scale <= 0.0:
         return kmax
+    if length <= 0.0:
+        return 0
     rel = scale / length
     if rel >= 1.0:
         return 0
@@ -162,6 +165,8 @@ def _radial(px, py, r0sq, z, a, b, pc, phi, hertz, ot, ow, ct, cw, adaptive, log
     elif arg > 1.0:
         arg = 1.0
     th1 = math.acos(arg)
+    if th1 <= 0.0:
+        return 0.0
     if adaptive:
         # rho - rho1 ~ h sin(theta1) dtheta + h dtheta^2 / 2: the theta scale of the feature
         st1 = math.sin(th1)
@@ -257,6 +262,24 @@ def _angle_breakpoints(px, py, r0sq, a, b, pc):
 
 
 @numba.njit(cache=True)
+def _propagate_scales(bp, bs, circular):
+    """A feature of scale s_k at angular distance d from breakpoint j limits the scale at j to d + s_k
+    (so a breakpoint next to a singular tangent direction is graded deep enough)."""
+    n = bp.size
+    out = bs.copy()
+    for j in range(n):
+        for k in range(n):
+            if k == j:
+                continue
+            d = abs(bp[j] - bp[k])
+            if circular:
+                d = min(d, _TWO_PI - d)
+            if d + bs[k] < out[j]:
+                out[j] = d + bs[k]
+    return out
+
+
+@numba.njit(cache=True)
 def _temperature(xs, ys, zs, a, b, pc, hertz, ot, ow, ct, cw, adaptive, log_ratio):
     out = np.empty(xs.size)
     kmax = ot.shape[0]
@@ -265,6 +288,7 @@ def _temperature(xs, ys, zs, a, b, pc, hertz, ot, ow, ct, cw, adaptive, log_rati
         py = ys[i] / b
         r0sq = px * px + py * py
         bp, bs = _angle_breakpoints(px, py, r0sq, a, b, pc)
+        bs = _propagate_scales(bp, bs, r0sq < 1.0)
         total = 0.0
         for j in range(bp.size - 1):
             lo = bp[j]
@@ -332,7 +356,9 @@ def moving_source_temperature(x, y, z, semi_axes, speed: float, material, flux: 
         Flux distribution.
     quad_points : int
         Gauss-Legendre points per graded panel [1] (angular and radial rules). The error decays
-        exponentially with it (see tests): about 1e-7 relative at the default 8.
+        exponentially with it (see tests). Measured at the default 8 against a non-adaptive rule with
+        20 points, relative to the maximum: <= 2e-5 at z = 0 for Pe 0.01 .. 1e4 and a/b 0.2 .. 5
+        (inside, outside and next to the edge); <= 1e-4 at z = 0.05 a, Pe 1e4. 12 points: <= 3e-7.
     innermost : float
         Relative size of the innermost graded panel [1] (the deepest grading).
     adaptive : bool
@@ -348,8 +374,9 @@ def moving_source_temperature(x, y, z, semi_axes, speed: float, material, flux: 
 
     References
     ----------
-    .. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., 1959, section 10.7.
-    .. [2] X. Tian, F.E. Kennedy, J. Tribol. 116 (1994) 167-174. doi:10.1115/1.2927035
+    .. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7.
+       ISBN 978-0198533689
+    .. [2] D. Rosenthal, Trans. ASME 68 (1946) 849-866.
     """
     a, b = (float(v) for v in semi_axes)
     if not (a > 0 and b > 0):

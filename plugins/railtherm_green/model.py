@@ -1,0 +1,232 @@
+"""Temperature model "green": Ertz & Knothe's 1-D Green-function flash temperatures (seed §5).
+
+Each strip y = const of the patch is treated as a 1-D half-space heated through its surface while
+it crosses the contact (valid at high Péclet number, L = V a / (2 kappa) >> 1). The frictional flux
+is split between wheel and rail (seed eq. 38); the wheel surface moves through the patch at
+v_w = v0 + v_s, the rail at v_r = v0 (eqs. 32-33). Bodies at different bulk temperatures also
+exchange heat through the patch (eqs. 40-44). The long-term wheel temperature (eqs. 45-54) is
+computed when the scene asks for the steady outputs.
+
+Notes on the seed's formulas (what is implemented instead)
+-----------------------------------------------------------
+* Eqs. 32-33 run xi from the leading edge -1 to the trailing edge +1; here x = -a xi (leading edge
+  at +a). Eq. 34 prints ``exp(-xi^2/(2(xi+1)))`` for ``exp(-zeta^2/(2(xi+1)))``; eq. 36 has
+  unbalanced brackets (the consistent form is the difference of two eq. 34 terms); eq. 37 prints
+  ``xi = 1 - x^2/a^2`` for the flux ``mu v_s p0 sqrt(1 - (x/a)^2)``. The kernel integrates the
+  consistent forms exactly (tests against ``railtherm.references.flash``).
+* Eq. 39's constant 1.253 (= sqrt(pi/2)) for the maximum of the Hertzian band is 1.5 % above the
+  exact 1.2346 (at x = -0.652 a, not at the trailing edge as the seed says; the trailing-edge value is
+  1.0638).
+* Eq. 41's interface temperature eps theta_w0 uses Blok's fraction with the bodies' speeds (for
+  equal speeds beta_w/(beta_w + beta_r)); eq. 52 balances per an effective width b* = 4b/3 that the
+  strips of the ellipse do not have (31 % high for Table 1); eq. 53 is garbled and not used. See
+  :mod:`railtherm_green.steady`.
+
+References
+----------
+.. [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
+   temperatures in wheel/rail contact, Wear 253 (2002) 498-508. doi:10.1016/S0043-1648(02)00120-3
+.. [2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, sections 2.5, 2.9.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from railtherm import Capabilities, Option, Refused, TemperatureField, TemperatureModel
+
+from . import kernel, steady, validity
+
+__all__ = ["GreenTemperature"]
+
+_STEADY = ("steady_wheel_temperature", "steady_mean_contact_temperature")
+
+
+class GreenTemperature(TemperatureModel):
+    """Surface and depth temperatures of wheel and rail from the 1-D moving Green function.
+
+    For a heat flux q_i(x, y) [W/m^2] into body i (beta_i = sqrt(lambda rho c), speed v_i), every
+    strip is integrated exactly cell by cell (q piecewise constant on the source's grid):
+
+    ``T_i(x, y) = T_bulk,i + 1/(beta_i sqrt(pi v_i)) int_x^inf q_i(x', y) dx' / sqrt(x' - x)``
+
+    evaluated at the cell centres (:mod:`railtherm_green.kernel`). The error of the maximum against
+    the closed form for a Hertzian band falls as h^1.5 (the flux is smooth where the maximum lies;
+    the one-sided 1/sqrt kernel makes the local error of a piecewise-constant flux O(h^1.5)); the
+    pointwise maximum error falls as h, from the square-root edge of the flux at the leading edge.
+
+    Wheel and rail at different bulk temperatures (seed eqs. 40-44) exchange heat in the patch:
+    the interface takes ``T_r + eps_c (T_w - T_r)`` with the Blok fraction eps_c, and the surfaces
+    recover behind the patch; this field is added exactly (:func:`steady.contact_conduction_surface`).
+
+    Refuses a body Péclet number below 10 (conduction along x is no longer negligible); between 10
+    and 1000 the diagnostics carry the measured error of the 1-D model
+    (:func:`railtherm_green.validity.model_error`).
+
+    Outputs: ``surface_temperature``, ``max_surface_temperature``, ``mean_contact_temperature``
+    (mean over the cells of the patch), ``temperature`` (depth field at y = 0 on a graded z up to
+    ``depth_layers`` thermal layers sqrt(2 kappa a / v)), ``steady_wheel_temperature`` and
+    ``steady_mean_contact_temperature`` (seed eqs. 50-54, :mod:`railtherm_green.steady`; the air is
+    at the rail's bulk temperature and the wheel radius is ``scene.wheel_radius``).
+    """
+
+    name = "green"
+    description = ("Ertz & Knothe 2002: 1-D Green function of a moving half-space, strip by strip with exact "
+                   "cell quadrature (high Péclet number); steady wheel temperature")
+    capabilities = Capabilities(
+        contacts=frozenset({"ellipse", "line"}),
+        sources=frozenset({"computed", "given"}),
+        tangential=frozenset({"full-sliding", "creepage"}),
+        convection=True,
+        modes=frozenset({"steady"}),
+        peclet=(validity.PECLET_MIN, math.inf),
+        provides=frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature",
+                            "temperature", *_STEADY}),
+    )
+    options = {
+        "partition": Option("source", "heat partition: 'source' uses the heat source's (scene's) partition; "
+                            "'equal-temperature' recomputes Blok's fraction beta_w sqrt(v_w)/(beta_w sqrt(v_w) + "
+                            "beta_r sqrt(v_r)), which equalises the two surface temperatures at every point "
+                            "(a per-strip or per-cell equal-temperature split is the same constant here)",
+                            choices=("source", "equal-temperature")),
+        "convective_area": Option("wheel", "convective surface of the lumped wheel in the steady state: "
+                                  "'wheel' = solid disc of the wheel radius (2 pi r^2 + 2 pi r 2b), "
+                                  "'tread' = running band 2 pi r 2b (seed eq. 48 per unit band width)",
+                                  choices=("wheel", "tread")),
+        "depth_points": Option(41, "points of the graded depth coordinate z [1]", minimum=2),
+        "depth_layers": Option(5.0, "depth of the depth field in thermal layers sqrt(2 kappa a/v) [1]",
+                               minimum=0.1),
+    }
+
+    # ------------------------------------------------------------------------------------------
+    def supports(self, scene, level):
+        why = super().supports(scene, level)
+        if why is not None:
+            return why
+        if getattr(scene, "mode", "steady") not in self.capabilities.modes:
+            return (f"model 'green' computes the quasi-steady flash temperature (mode 'steady'), not "
+                    f"{scene.mode!r}; use 'fastsim-fdm' or 'fipy' for transients")
+        a = validity.scene_semi_axis(scene)
+        if a is None:
+            return None  # not known before the contact stage; checked again in compute_temperature
+        speeds = validity.scene_body_speeds(scene)
+        return validity.refusal(a, speeds, (scene.wheel, scene.rail))
+
+    # ------------------------------------------------------------------------------------------
+    def compute_temperature(self, scene, source, level, options):
+        grid = source.grid
+        a, b = grid.a, grid.b
+        wheel, rail = scene.wheel, scene.rail
+        v_w, v_r = (float(v) for v in source.body_speed)
+        why = validity.refusal(a, (v_w, v_r), (wheel, rail))
+        if why is not None:
+            raise Refused(why)
+        opts = self.resolve_options(options)
+        outputs = tuple(getattr(scene, "outputs", ()) or ())
+        want_all = not outputs
+
+        beta = (wheel.effusivity, rail.effusivity)
+        speeds = (v_w, v_r)
+        q = np.asarray(source.power_density, dtype=float)
+        shape = q.shape
+        q2 = q.reshape(shape[0], -1)                                        # (nx, ny); ny = 1 for a line
+        if opts["partition"] == "equal-temperature":
+            eps = steady.blok_partition(beta[0], beta[1], v_w, v_r)
+        else:
+            eps = source.heat_partition
+        eps_arr = np.asarray(eps, dtype=float)
+        eps2 = eps_arr.reshape(q2.shape) if eps_arr.ndim else eps_arr
+        flux = np.stack([eps2 * q2, (1.0 - eps2) * q2])                     # (2, nx, ny)
+        rise = kernel.surface_rise(grid.x_edges, flux, beta, speeds)          # one matmul, both bodies
+
+        # warm wheel against cold rail (or vice versa): conduction through the patch, eqs. 40-44
+        t_bulk = np.array([wheel.bulk_temperature, rail.bulk_temperature], dtype=float)
+        d_bulk = float(t_bulk[0] - t_bulk[1])
+        eps_c = steady.blok_partition(beta[0], beta[1], v_w, v_r)
+        surface = rise + t_bulk[:, None, None]
+        if d_bulk != 0.0:
+            half = _strip_half_lengths(grid)
+            cw, cr = steady.contact_conduction_surface(grid.x[:, None], half[None, :], eps_c)
+            surface[0] += d_bulk * cw
+            surface[1] += d_bulk * cr
+        field = TemperatureField.from_surface(grid, surface.reshape((2,) + shape))
+
+        pe = [validity.peclet(v, a, m.diffusivity) for v, m in zip(speeds, (wheel, rail))]
+        diag = {
+            "peclet_wheel": pe[0], "peclet_rail": pe[1],
+            "heat_partition": _mean_partition(eps_arr, q),
+            "contact_partition": eps_c,
+            "cells_x": int(shape[0]), "cells_y": int(q2.shape[1]) if not grid.line else 1,
+            "cell_size_x": grid.dx,
+        }
+        err = validity.model_error(min(pe), line=grid.line, shape=getattr(source, "shape", None))
+        diag.update({f"model_error_{k}": v for k, v in err.items()})
+        diag["model_error_note"] = validity.ERROR_NOTE
+
+        if want_all or "temperature" in outputs:
+            z, depth = self._depth(grid, flux, beta, speeds, (wheel, rail), d_bulk, eps_c, t_bulk, opts)
+            field.z, field.temperature = z, depth
+
+        if want_all or any(o in outputs for o in _STEADY):
+            mean_rise = [float(rise[i][grid.inside().reshape(q2.shape)].mean()) for i in range(2)]
+            st = steady.steady_state(
+                grid.integrate(flux[0]), 0.5 * (mean_rise[0] + mean_rise[1]),
+                effusivity_wheel=beta[0], effusivity_rail=beta[1], speed_wheel=v_w, speed_rail=v_r,
+                a=a, b=b, radius=float(scene.wheel_radius), heat_transfer=float(scene.convection or 0.0),
+                area_kind=opts["convective_area"])
+            field.steady_wheel_temperature = float(t_bulk[1] + st.wheel_rise)
+            field.steady_mean_contact_temperature = float(t_bulk[1] + st.mean_contact_rise)
+            diag.update({
+                "steady_wheel_power": st.wheel_power, "steady_conduction_conductance": st.conduction,
+                "steady_convection_conductance": st.convection, "steady_convective_area": st.area,
+                "steady_convection_ratio": st.convection_ratio, "steady_mean_flash_rise": st.mean_contact_rise
+                - st.contact_fraction * st.wheel_rise,
+                "steady_formula": ("theta_inf = eps P / (eps_c beta_r sqrt(8 a v_r/pi)"
+                                   + (" + alpha 2 pi r0) per unit width; " if grid.line else
+                                      " b B(1/2,5/4) + alpha A); ")
+                                   + "theta_mean_inf = theta_mean + eps_c theta_inf; air at rail bulk temperature"),
+            })
+        field.diagnostics.update(diag)
+        return field
+
+    # ------------------------------------------------------------------------------------------
+    @staticmethod
+    def _depth(grid, flux, beta, speeds, bodies, d_bulk, eps_c, t_bulk, opts):
+        """Depth field at y = 0: (z, T) with T of shape (2, nx, nz) [m], [degC]."""
+        a = grid.a
+        layers = [kernel.thermal_layer(a, v, m.diffusivity) for v, m in zip(speeds, bodies)]
+        n = int(opts["depth_points"])
+        z = float(opts["depth_layers"]) * max(layers) * (np.arange(n) / (n - 1)) ** 2
+        if grid.line:
+            qc = flux[:, :, 0]
+        else:
+            y = grid.y
+            j = int(np.clip(np.searchsorted(y, 0.0) - 1, 0, y.size - 2))
+            w1 = (0.0 - y[j]) / (y[j + 1] - y[j])
+            qc = (1.0 - w1) * flux[:, :, j] + w1 * flux[:, :, j + 1]      # linear in y at y = 0
+        out = np.empty((2, grid.x.size, n))
+        for i, (bt, v, m) in enumerate(zip(beta, speeds, bodies)):
+            out[i] = kernel.depth_rise(grid.x_edges, qc[i], z, bt, v, m.diffusivity) + t_bulk[i]
+        if d_bulk != 0.0:
+            cw, cr = steady.contact_conduction_depth(grid.x, z, a, eps_c, speeds[0], speeds[1],
+                                                      bodies[0].diffusivity, bodies[1].diffusivity)
+            out[0] += d_bulk * cw
+            out[1] += d_bulk * cr
+        return z, out
+
+
+def _strip_half_lengths(grid) -> np.ndarray:
+    """Contact half-length a_y of each strip (y cell centre) [m]; shape (ny,), (1,) for a line."""
+    if grid.line:
+        return np.array([grid.a])
+    s = 1.0 - (grid.y / grid.b) ** 2
+    return np.where(s > 0, grid.a * np.sqrt(np.clip(s, 0.0, None)), 0.0)
+
+
+def _mean_partition(eps: np.ndarray, q: np.ndarray) -> float:
+    """Power-weighted mean of a scalar or per-cell partition [1]."""
+    if eps.ndim == 0:
+        return float(eps)
+    total = float(q.sum())
+    return float((eps.reshape(q.shape) * q).sum() / total) if total > 0 else float(eps.mean())
