@@ -392,8 +392,9 @@ def moving_source_temperature(x, y, z, semi_axes, speed: float, material, flux: 
         raise ValueError("depth z must be >= 0")
     ot, ow, ct, cw = _panel_tables(int(quad_points), GRADING_RATIO, float(innermost))
     pc = float(speed) / (2.0 * kappa)
-    out = _temperature(np.ascontiguousarray(x.ravel()), np.ascontiguousarray(y.ravel()),
-                       np.ascontiguousarray(z.ravel()), a, b, pc, shape == "hertz",
+    # copies: broadcast views are read-only, which numba's typing warns about
+    out = _temperature(np.array(x.ravel(), dtype=float), np.array(y.ravel(), dtype=float),
+                       np.array(z.ravel(), dtype=float), a, b, pc, shape == "hertz",
                        ot, ow, ct, cw, bool(adaptive), math.log(GRADING_RATIO))
     return (flux / (2.0 * math.pi * lam) * out).reshape(x.shape)
 
