@@ -313,7 +313,7 @@ class Scene:
         """"full-sliding" or "creepage" (or "given" when the scene gives its heat source)."""
         if self.heat_source is not None:
             return "given"
-        return "creepage" if self.creepage is not None else "full-sliding"
+        return "creepage" if (self.creepage is not None or self.wheelset is not None) else "full-sliding"
 
     @property
     def hash(self) -> str:
@@ -433,14 +433,20 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
             _require(name, "semi_axes" not in ct and "curvatures" not in ct, "contact",
                      "a line contact takes 'wheel_radius' only (no semi_axes/curvatures)")
             kw["line_wheel_radius"] = ct["wheel_radius"]
+        ws = c.get("wheelset")
+        if ws is not None and "normal_force" not in c and "penetration" not in c:
+            # seed 6.1: the wheelset's kinematics sets the normal force; half the axle load starts it
+            c["normal_force"] = Wheelset(**ws).vertical_load / 2.0
         _require(name, ("normal_force" in c) != ("penetration" in c), "normal_force",
                  "give exactly one of 'normal_force' [N] ([N/m] for a line) or 'penetration' [m]")
         if "penetration" in c and kw.get("semi_axes") is not None:
             raise SceneError(f"scene {name!r}: key 'penetration' cannot be combined with contact.semi_axes "
                              "(the semi-axes fix the load): give normal_force, or curvatures",
                              scene=name, key="penetration", value=c["penetration"])
-        _require(name, ("sliding_speed" in c) != ("creepage" in c), "sliding_speed",
-                 "give exactly one of 'sliding_speed' [m/s] (full sliding) or 'creepage' (a table)")
+        _require(name, ("sliding_speed" in c) != ("creepage" in c) or (ws is not None and "sliding_speed" not in c),
+                 "sliding_speed",
+                 "give exactly one of 'sliding_speed' [m/s] (full sliding) or 'creepage' (a table)"
+                 + ("; with a wheelset both may be left out (the kinematics give the creepages)" if ws else ""))
         _require(name, "friction" in c, "friction", "key 'friction' (coefficient >= 0) is missing")
         if "creepage" in c:
             kw["creepage"] = Creepage(**c["creepage"])
