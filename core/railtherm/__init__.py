@@ -12,7 +12,8 @@ __version__ = "0.1.0"
 from .errors import PluginError, Refused, SceneError, SolverError
 from .grid import SurfaceGrid, surface_grid
 from .hookspec import hookimpl
-from .materials import Material
+from .materials import Material, combined_elastic
+from .models.partition import equal_temperature_partition, scene_partition
 from .stages import (BODIES, STAGES, Capabilities, ContactModel, ContactPatch, CoupledModel, HeatSource,
                      HeatSourceModel, Method, Option, StageModel, TemperatureField, TemperatureModel)
 
@@ -35,6 +36,6 @@ def __getattr__(name):  # lazy: keep `railtherm validate` / `methods` fast
 
 
 __all__ = ["__version__", "PluginError", "Refused", "SceneError", "SolverError", "SurfaceGrid", "surface_grid",
-           "hookimpl", "Material", "BODIES", "STAGES", "Capabilities", "ContactModel", "ContactPatch",
+           "hookimpl", "Material", "combined_elastic", "equal_temperature_partition", "scene_partition", "BODIES", "STAGES", "Capabilities", "ContactModel", "ContactPatch",
            "CoupledModel", "HeatSource", "HeatSourceModel", "Method", "Option", "StageModel",
            "TemperatureField", "TemperatureModel", *_LAZY]

@@ -45,7 +45,7 @@ def _crash_record(task, message):
     """Record (and store beside the run) a run whose worker could not report a result."""
     from .runner import RunRecord, status_path, write_atomic_bytes
     rec = RunRecord(task.scene.name, task.method, task.level, "failed", message, path=str(task.path),
-                    scene_hash=task.scene.hash, run_id=task.run_id)
+                    scene_hash=task.scene.hash, run_id=task.run_id, sweep=dict(task.scene.sweep))
     if task.path.exists():  # the worker died after writing: the run is complete after all
         from .runner import _existing
         done = _existing(task, same_invocation=True)

@@ -11,13 +11,16 @@ files ``runs/<scene>/<method>/level-<k>.nc``) and writes one section per scene:
   failed runs in a panel of their own (they have neither an error nor a time);
 * the fitted convergence order of each method (slope of log error against log h, h = 2^-level);
 * the cross-method difference matrices of the finest levels;
-* surface temperature along y = 0 and the depth profile through the hottest point, each method at
-  its finest successful level, with the analytic reference where core has one;
+* surface temperature along y = 0 (and its difference from the analytic reference) and the depth
+  profile through the hottest point, each method at its finest successful level, with the analytic
+  reference where core has one (:func:`railtherm.analytic.reference_fields`; in depth, Jaeger's band
+  or the moving surface source evaluated at z > 0);
 * tangential traction and stick/slip of each method (maps for an ellipse, curves for a line
   contact, with Carter's solution where it applies).
 
-Scenes swept over the longitudinal creepage or the sliding speed get creep-force curves (each method
-against Carter for line contacts). A study of many scenes keeps the report bounded: per-scene
+Scenes swept over the longitudinal creepage or the sliding speed get creep-force curves, Fx/(mu N)
+of each method at its finest level, against Carter's exact 2-D solution for line contacts and the
+initial slope of Kalker's linear theory for ellipses. A study of many scenes keeps the report bounded: per-scene
 sections for the first :data:`MAX_SCENE_SECTIONS` scenes, then one summary table. A pytest-benchmark
 JSON file adds a benchmark table; a footer records package versions, CPU, thread settings and the
 command line.
@@ -92,17 +95,12 @@ class _Doc:
         if items:
             self.blocks.append(("ul", items))
 
-    def table(self, header: list[str], rows: list[list[Any]], note: str | None = None):
+    def table(self, header: list[str], rows: list[list[Any]]):
         if rows:
             self.blocks.append(("table", header, [[_cell(v) for v in r] for r in rows]))
-            if note:
-                self.p(note)
 
     def img(self, rel: str, alt: str):
         self.blocks.append(("img", rel, alt))
-
-    def pre(self, text: str):
-        self.blocks.append(("pre", text))
 
     # -- Markdown -----------------------------------------------------------------------------
     def markdown(self) -> str:
@@ -110,7 +108,7 @@ class _Doc:
         for b in self.blocks:
             kind = b[0]
             if kind == "h":
-                out.append("#" * b[1] + " " + b[2])
+                out.append((f'<a id="{b[3]}"></a>\n\n' if b[3] else "") + "#" * b[1] + " " + b[2])
             elif kind == "p":
                 out.append(b[1])
             elif kind == "ul":
@@ -124,8 +122,6 @@ class _Doc:
                 out.append("\n".join(lines))
             elif kind == "img":
                 out.append(f"![{b[2]}]({b[1]})")
-            elif kind == "pre":
-                out.append("```\n" + b[1] + "\n```")
         return "\n\n".join(out) + "\n"
 
     # -- HTML ---------------------------------------------------------------------------------
@@ -147,8 +143,6 @@ class _Doc:
             elif kind == "img":
                 body.append(f'<figure><img src="{html.escape(b[1])}" alt="{html.escape(b[2])}">'
                             f"<figcaption>{html.escape(b[2])}</figcaption></figure>")
-            elif kind == "pre":
-                body.append(f"<pre>{html.escape(b[1])}</pre>")
         style = ("body{font-family:system-ui,sans-serif;max-width:1150px;margin:2em auto;padding:0 1em;color:#222}"
                  "table{border-collapse:collapse;margin:0.6em 0;font-size:0.86em}"
                  "th,td{border:1px solid #bbb;padding:2px 6px;text-align:left;vertical-align:top}"
@@ -259,8 +253,13 @@ def _load_info(out: Path) -> dict:
     return {}
 
 
-def _load_study(info: dict):
+def _load_study(info: dict, out: Path | None = None):
     path = info.get("path")
+    if path and not Path(path).is_absolute() and not Path(path).exists() and out is not None:
+        for base in (out.parent, out):  # a relative path recorded by a run started elsewhere
+            if (base / path).exists():
+                path = str(base / path)
+                break
     if not path or not Path(path).exists():
         return None, f"study file {path!r} not found: scene inputs and analytic overlays are left out" if path else \
             "no study given and no study path in study.json: scene inputs and analytic overlays are left out"
@@ -326,6 +325,15 @@ class _Style:
     def __call__(self, method: str):
         return self.color.get(method, "0.3")
 
+    def lw(self, method: str) -> float:
+        """Line width, thinner for later methods: coinciding curves stay visible as nested lines."""
+        j = sorted(self.color).index(method) if method in self.color else 0
+        return max(3.2 - 0.7 * j, 1.0)
+
+    def ms(self, method: str) -> float:
+        j = sorted(self.color).index(method) if method in self.color else 0
+        return max(8.0 - 1.5 * j, 3.0)
+
 
 def _finite_pos(v) -> bool:
     return v is not None and np.isfinite(v) and v > 0
@@ -368,6 +376,8 @@ def _fig_work_precision(runs: list[_Run], scene: str, style: _Style, path: Path,
             ax.set_title("no error against a reference:\nwall time by level", fontsize=10)
             ax.set_xticks(levels)
             ax.grid(True, which="both", alpha=0.3)
+            lo, hi = ax.get_ylim()
+            _log_ticks(ax.yaxis, lo, hi)
             continue
         vals = [r.errors.get(met, np.nan) for r in good]
         pos = [v for v in vals if _finite_pos(v)]
@@ -429,7 +439,8 @@ def _fig_work_precision(runs: list[_Run], scene: str, style: _Style, path: Path,
     if any(r.status == "refused" for r in bad):
         handles.append(Line2D([], [], ls="", marker="s", mfc="none", mec="0.35", mew=1.5, label="refused"))
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 6), fontsize=8, frameon=False)
-    fig.suptitle(f"{scene}: error against run time", fontsize=11)
+    fig.suptitle(f"{scene}: " + ("error against run time" if metrics else "run time (no error against a reference)"),
+                 fontsize=11)
     return _save(fig, path)
 
 
@@ -559,43 +570,64 @@ def _fig_surface(finest: dict, scene_obj, scene: str, style: _Style, path: Path,
     xmin = min(float(ds["x"].min()) for ds in have.values())
     xmax = max(float(ds["x"].max()) for ds in have.values())
     ref = None
-    xr_ = np.linspace(xmin, xmax, 161 if line else 81)
+    # Chebyshev-spaced (dense at the patch edges, where the field has square-root behaviour)
+    xr_ = 0.5 * (xmin + xmax) - 0.5 * (xmax - xmin) * np.cos(np.linspace(0.0, np.pi, 161 if line else 81))
     if scene_obj is not None:
         try:
             ref = _reference_surface(scene_obj, xr_, line)
         except Exception as exc:  # noqa: BLE001
             notes.append(f"analytic surface temperature not drawn: {type(exc).__name__}: {_short(exc, 200)}")
-    fig = _figure(10, 4.2)
-    axes = fig.subplots(1, 2, sharey=False)
+    if ref is not None:  # a second row: difference from the reference (PCHIP: no overshoot at the edges)
+        from scipy.interpolate import PchipInterpolator
+        ref_at = [PchipInterpolator(xr_, ref[i]) for i in (0, 1)]
+        fig = _figure(10, 6.2)
+        grid = fig.subplots(2, 2, sharex=True, height_ratios=[2.2, 1])
+        axes, daxes = grid[0], grid[1]
+    else:
+        fig = _figure(10, 4.2)
+        axes, daxes = fig.subplots(1, 2), (None, None)
     hot = {}
     a = _half_width(finest)
-    for body, ax in enumerate(axes):
+    for body, (ax, dax) in enumerate(zip(axes, daxes)):
         if ref is not None:
-            ax.plot(xr_ * 1e3, ref[body], "-", color="0.7", lw=4.5, label="analytic reference")
+            ax.plot(xr_ * 1e3, ref[body], "-", color="0.75", lw=6.5, label="analytic reference")
             hot[body] = float(xr_[np.argmax(ref[body])])
         for m, ds in have.items():
             da = _line_y0(ds["surface_temperature"]).isel(body=body)
             lv = int(ds.attrs.get("level", -1))
-            ax.plot(da["x"].values * 1e3, da.values, "-", color=style(m), lw=1.5, label=f"{m} (level {lv})",
-                    marker="." if da.size <= 40 else None)
-        else:
-            m0, ds0 = next(iter(have.items()))
-            da = _line_y0(ds0["surface_temperature"]).isel(body=body)
+            x = da["x"].values
+            mk = "." if da.size <= 40 else None
+            ax.plot(x * 1e3, da.values, "-", color=style(m), lw=style.lw(m), label=f"{m} (level {lv})", marker=mk)
+            if dax is not None:
+                inside = (x >= xr_[0]) & (x <= xr_[-1])
+                dax.plot(x[inside] * 1e3, da.values[inside] - ref_at[body](x[inside]), "-",
+                         color=style(m), lw=1.4, marker=mk)
+        if ref is None:
+            da = _line_y0(next(iter(have.values()))["surface_temperature"]).isel(body=body)
             hot[body] = float(da["x"].values[int(np.argmax(da.values))])
-        if a:
-            for s in (-a, a):
-                ax.axvline(s * 1e3, color="0.6", lw=0.8, ls=":")
-        ax.set_xlabel("x [mm] (leading edge at +a)")
+        for a_ in (ax, dax):
+            if a_ is None:
+                continue
+            if a:
+                for s_ in (-a, a):
+                    a_.axvline(s_ * 1e3, color="0.6", lw=0.8, ls=":")
+            a_.grid(True, alpha=0.3)
         ax.set_ylabel("surface temperature [°C]")
         ax.set_title(["wheel", "rail"][body] + ("" if line else " (y = 0)"), fontsize=10)
-        ax.grid(True, alpha=0.3)
+        last = ax
+        if dax is not None:
+            dax.axhline(0.0, color="0.4", lw=0.8)
+            dax.set_ylabel("T − T$_{ref}$ [K]")
+            last = dax
+        last.set_xlabel("x [mm] (leading edge at +a)")
     handles, labels = axes[0].get_legend_handles_labels()
     if a:
         from matplotlib.lines import Line2D
         handles.append(Line2D([], [], color="0.6", lw=0.8, ls=":"))
         labels.append("patch edges x = ±a")
     fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 4), fontsize=8, frameon=False)
-    fig.suptitle(f"{scene}: surface temperature", fontsize=11)
+    fig.suptitle(f"{scene}: surface temperature" + (" and its difference from the reference" if ref is not None
+                                                      else ""), fontsize=11)
     return _save(fig, path), hot
 
 
@@ -637,13 +669,13 @@ def _fig_depth(finest: dict, scene_obj, scene: str, hot: dict, style: _Style, pa
                 z = np.linspace(0.0, zlim, 41)
                 ref = _reference_depth(scene_obj, body, x0, z)
                 if ref is not None:
-                    ax.plot(ref, z * 1e6, "-", color="0.7", lw=4.5, label="analytic reference")
+                    ax.plot(ref, z * 1e6, "-", color="0.75", lw=6.5, label="analytic reference")
             except Exception as exc:  # noqa: BLE001
                 if body == 0:
                     notes.append(f"analytic depth profile not drawn: {type(exc).__name__}: {_short(exc, 200)}")
         for m, (z, t) in profiles.items():
             n_vis = int(np.sum(z <= zlim))
-            ax.plot(t, z * 1e6, "-", color=style(m), lw=1.5, label=f"{m} (level {int(have[m].attrs.get('level', -1))})",
+            ax.plot(t, z * 1e6, "-", color=style(m), lw=style.lw(m), label=f"{m} (level {int(have[m].attrs.get('level', -1))})",
                     marker="." if n_vis <= 30 else None, ms=4)
         ax.set_ylim(zlim * 1e6, 0.0)
         ax.set_xlabel("temperature [°C]")
@@ -656,7 +688,7 @@ def _fig_depth(finest: dict, scene_obj, scene: str, hot: dict, style: _Style, pa
     return _save(fig, path)
 
 
-def _carter_for(scene_obj, a: float | None = None):
+def _carter_for(scene_obj):
     """Carter's solution for a line-contact scene with pure longitudinal creepage, or None."""
     if scene_obj is None or scene_obj.contact_shape != "line" or scene_obj.creepage is None:
         return None
@@ -670,6 +702,28 @@ def _carter_for(scene_obj, a: float | None = None):
     from .references.carter import carter_2d
     a_, _, p0, n = hertz_geometry(scene_obj)
     return carter_2d(c.longitudinal, a_, scene_obj.friction, scene_obj.wheel_radius, max_pressure=p0), a_, p0, n
+
+
+def _kalker_slope(sc):
+    """d(Fx / mu N)/d(xi) of Kalker's linear theory for an elliptic Hertz contact with pure
+    longitudinal creepage [1], or None (line contact, rigid body, no creepage).
+
+    Combined elastic constants of two bodies (Kalker 1990): 1/G = (1/G1 + 1/G2)/2,
+    nu = G (nu1/G1 + nu2/G2)/2.
+    """
+    if sc is None or sc.contact_shape != "ellipse" or sc.creepage is None or not sc.friction:
+        return None
+    c = sc.creepage
+    w, r = sc.wheel, sc.rail
+    if w.rigid or r.rigid or c.lateral != 0 or c.spin != 0:
+        return None
+    from .models.hertz import hertz_geometry
+    from .references.kalker import kalker_linear_forces
+    a, b, _, n = hertz_geometry(sc)
+    g = 2.0 / (1.0 / w.shear_modulus + 1.0 / r.shear_modulus)
+    nu = 0.5 * g * (w.poisson_ratio / w.shear_modulus + r.poisson_ratio / r.shear_modulus)
+    fx, _, _ = kalker_linear_forces(a, b, g, nu, 1.0, 0.0, 0.0)
+    return fx / (sc.friction * n)
 
 
 def _fig_traction(finest: dict, scene_obj, scene: str, style: _Style, path: Path, notes: list) -> Path | None:
@@ -702,10 +756,10 @@ def _traction_line(have: dict, scene_obj, scene: str, style: _Style, path: Path,
     if car is not None:
         c, a, p0, _ = car
         ref_x = np.linspace(-a, a, 401)
-        handles += ax.plot(ref_x * 1e3, c.traction(ref_x) / 1e6, "-", color="0.7", lw=4.5, label="Carter (exact)")
+        handles += ax.plot(ref_x * 1e3, c.traction(ref_x) / 1e6, "-", color="0.75", lw=6.5, label="Carter (exact)")
     for m, ds in have.items():
         if "traction_x" in ds:
-            handles += ax.plot(ds["x"].values * 1e3, ds["traction_x"].values / 1e6, "-", color=style(m), lw=1.5,
+            handles += ax.plot(ds["x"].values * 1e3, ds["traction_x"].values / 1e6, "-", color=style(m), lw=style.lw(m),
                                label=f"{m} (level {int(ds.attrs.get('level', -1))})")
     ds0 = next(iter(have.values()))
     if mu and "pressure" in ds0:
@@ -759,17 +813,17 @@ def _traction_maps(have: dict, scene: str, path: Path, notes: list) -> Path | No
     ds0 = items[0][1]
     span = lambda v: float(v.max() - v.min()) or 1.0
     asp = span(ds0["y"].values) / span(ds0["x"].values)
-    portrait = asp > 1.2  # lateral semi-axis longer: methods side by side
-    if portrait:
-        w = min(3.0, 12.0 / n)
+    columns = asp > 1.2 or n <= 3  # methods side by side (traction row, stick/slip row)
+    if columns:
+        w = min(4.2 * n, 13.0) / n
         h = min(w * asp, 5.0)
-        fig = _figure(w * n + 1.8, 2 * h + 1.6)
+        fig = _figure(w * n + 1.8, 2 * (h + 0.75) + 0.7)
         grid = fig.subplots(2, n, squeeze=False, sharex=True, sharey=True)
         pairs = [(grid[0][i], grid[1][i]) for i in range(n)]
-    else:
+    else:  # many methods on a long patch: a row per method
         w = 4.0
-        h = max(min(w * asp, 4.0), 1.6)
-        fig = _figure(2 * w + 2.4, n * (h + 0.9) + 0.8)
+        h = max(w * asp, 1.4)
+        fig = _figure(2 * w + 2.4, n * (h + 0.75) + 0.7)
         grid = fig.subplots(n, 2, squeeze=False, sharex=True, sharey=True)
         pairs = [(grid[i][0], grid[i][1]) for i in range(n)]
     tmax = max((float(np.nanmax(np.abs(ds["traction_x"].values))) for _, ds in items if "traction_x" in ds),
@@ -833,7 +887,8 @@ def _fig_creep(group: list, style: _Style, key: str, title: str, path: Path, not
             pts.append((val, float(ds["creep_force_x"]) / (mu * n)))
         pts.sort()
         if pts:
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], "-o", color=style(m), ms=4, lw=1.5, zorder=3,
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "-o", color=style(m), ms=style.ms(m), lw=style.lw(m),
+                    zorder=3,
                     label=f"{m} (finest level)")
     # Carter, line contacts with longitudinal creepage only
     if key == "creepage.longitudinal":
@@ -843,14 +898,25 @@ def _fig_creep(group: list, style: _Style, key: str, title: str, path: Path, not
         except Exception as exc:  # noqa: BLE001
             car0 = None
             notes.append(f"Carter's curve not drawn: {type(exc).__name__}: {_short(exc, 200)}")
+        vals = [g[0] for g in group]
+        lo, hi = min(vals), max(vals)
         if car0 is not None:
             from .references.carter import carter_2d
             _, a, _, _ = car0
-            vals = [g[0] for g in group]
-            lo, hi = min(vals), max(vals)
             xs = np.unique(np.concatenate([np.linspace(lo, hi, 301), [0.0] if lo < 0 < hi else []]))
             ys = [carter_2d(v, a, sc0.friction, sc0.wheel_radius).force_ratio for v in xs]
-            ax.plot(xs, ys, "-", color="0.7", lw=4.5, zorder=1, label="Carter (exact, 2-D)")
+            ax.plot(xs, ys, "-", color="0.75", lw=6.5, zorder=1, label="Carter (exact, 2-D)")
+        else:
+            try:
+                slope = _kalker_slope(sc0)
+            except Exception as exc:  # noqa: BLE001
+                slope = None
+                notes.append(f"Kalker's linear theory not drawn: {type(exc).__name__}: {_short(exc, 200)}")
+            if slope:
+                lim = 1.0 / abs(slope)  # the linear law reaches |Fx| = mu N here
+                xs = np.linspace(max(lo, -lim), min(hi, lim), 3)
+                ax.plot(xs, slope * xs, "--", color="black", lw=1.2, zorder=2,
+                        label="Kalker linear theory (small creepage, no saturation)")
     for val, name, sc, f in group:
         row = [_num(val, 4)]
         for m in methods:
@@ -931,9 +997,19 @@ def _run_table(doc: _Doc, runs: list[_Run]):
     header = (["method", "level", "status", "wall time [s]", "peak memory [MB]", "heat balance [1]"]
               + [f"err {k}" for k in mets] + ["message"])
     rows = []
-    for r in sorted(runs, key=lambda r: (r.method, r.level)):
-        rows.append([r.method, r.level, r.status, r.wall_time, r.peak_memory / 1e6 if np.isfinite(r.peak_memory)
-                     else np.nan, r.heat_balance] + [r.errors.get(k, np.nan) for k in mets] + [_short(r.message)])
+    ordered = sorted(runs, key=lambda r: (r.method, r.level))
+    i = 0
+    while i < len(ordered):
+        r = ordered[i]
+        j = i
+        if r.status in ("refused", "failed"):  # one row for consecutive levels refused for the same reason
+            while (j + 1 < len(ordered) and ordered[j + 1].method == r.method and ordered[j + 1].status == r.status
+                   and ordered[j + 1].message == r.message):
+                j += 1
+        level = str(r.level) if j == i else f"{r.level}–{ordered[j].level}"
+        rows.append([r.method, level, r.status, r.wall_time, r.peak_memory / 1e6 if np.isfinite(r.peak_memory)
+                     else np.nan, r.heat_balance] + [r.errors.get(k, np.nan) for k in mets] + [_short(r.message, 220)])
+        i = j + 1
     doc.table(header, rows)
 
 
@@ -973,7 +1049,7 @@ def _cross_tables(m, scene: str) -> tuple[dict, list[str]]:
 
 
 def _scene_section(doc: _Doc, idx: int, scene: str, sc, runs: list[_Run], m, out: Path, fig_dir: Path,
-                   style: _Style, tol, levels: list[int], figures: list[Path]):
+                   style: _Style, tol, figures: list[Path]):
     anchor = f"scene-{idx}"
     doc.h(2, f"{idx}. Scene `{scene}`", anchor)
     desc = _describe_scene(sc)
@@ -1122,7 +1198,22 @@ def _footer(doc: _Doc, info: dict, provenance: list[str]):
              "Packages: " + ", ".join(versions),
              f"CPU: {_cpu_model()}; os.cpu_count() = {os.cpu_count()}"
              + (f"; usable by this process: {len(os.sched_getaffinity(0))}" if hasattr(os, "sched_getaffinity") else ""),
-             "Threads: " + ", ".join(f"{k}={os.environ.get(k, 'unset')}" for k in THREAD_ENV)]
+             ]
+    env = info.get("environment") if isinstance(info.get("environment"), dict) else None
+    if env:
+        items.append("Threads during the run: " + ", ".join(f"{k}={env.get(k) or 'unset'}" for k in THREAD_ENV))
+    else:
+        items.append("Threads (of the process writing this report; the run did not record its own): "
+                     + ", ".join(f"{k}={os.environ.get(k, 'unset')}" for k in THREAD_ENV))
+    timing = info.get("timing") if isinstance(info.get("timing"), dict) else {}
+    if timing:
+        parts = [f"executor {timing.get('executor', '?')}"]
+        if timing.get("workers"):
+            parts.append(f"{timing['workers']} workers")
+        for k in ("setup", "runs", "metrics"):
+            if isinstance(timing.get(k), (int, float)):
+                parts.append(f"{k} {timing[k]:.3g} s")
+        items.append("Study run: " + ", ".join(parts))
     argv = info.get("argv")
     if argv:
         items.append("Command line of the run: `" + " ".join(shlex.quote(str(a)) for a in argv) + "`")
@@ -1164,7 +1255,7 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     info = _load_info(out)
     study_note = None
     if study is None:
-        study, study_note = _load_study(info)
+        study, study_note = _load_study(info, out)
     runs = _runs_from_metrics(m)
     fig_dir = out / "figures"
     fig_dir.mkdir(parents=True, exist_ok=True)
@@ -1219,8 +1310,7 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     finest_all: dict[str, dict] = {}
     provenance: list[str] = []
     for i, name in enumerate(shown, start=1):
-        fin = _scene_section(doc, i, name, scenes.get(name), by_scene[name], m, out, fig_dir, style, tol, levels,
-                             figures)
+        fin = _scene_section(doc, i, name, scenes.get(name), by_scene[name], m, out, fig_dir, style, tol, figures)
         for ds in fin.values():
             src = str(ds.attrs.get("source", ""))
             if src and src not in provenance:

@@ -64,8 +64,9 @@ class RunTask:
     repeat: int = 3
     warmup: bool = True
     timeout: float = 600.0
-    #: id of the study invocation that runs this task (set by :func:`run_tasks`)
+    #: id of the study invocation that runs this task, and when it started (set by :func:`run_tasks`)
     run_id: str = ""
+    run_started: float = 0.0
     #: measure peak memory when ``warmup`` is false (a sample of the runs)
     trace_memory: bool = True
 
@@ -94,10 +95,14 @@ class RunRecord:
     heat_balance: float = float("nan")
     #: scalar results (RECORD_VALUES present in the result): name -> float or [wheel, rail]
     values: dict = field(default_factory=dict)
+    #: True when heat_balance and values were filled from the result (metrics need not open the file)
+    summary: bool = False
     #: where the time of this run went [s]: solve, compute, repeats, memory, write, total
     phases: dict = field(default_factory=dict)
     #: process id of the worker that ran it
     pid: int = 0
+    #: swept parameters of the scene (study key -> value), so that a status record places the run
+    sweep: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -276,18 +281,30 @@ def _time_limit(seconds: float):
 # ----------------------------------------------------------------------------------------------
 def _values(ds) -> dict:
     out = {}
+    variables = ds.variables
     for name in RECORD_VALUES:
-        if name in ds and ds[name].ndim <= 1 and ds[name].size <= 2:
-            v = np.asarray(ds[name].values, dtype=float)
+        var = variables.get(name)
+        if var is not None and var.ndim <= 1 and var.size <= 2:
+            v = np.asarray(var.values, dtype=float)
             out[name] = float(v) if v.ndim == 0 else [float(t) for t in v]
     return out
 
 
 def _record_from_file(task: RunTask, p: Path, attrs: Mapping[str, Any], resumed: bool) -> RunRecord:
-    return RunRecord(task.scene.name, task.method, task.level, "ok", "",
-                     float(attrs.get("wall_time", math.nan)), float(attrs.get("peak_memory", math.nan)),
-                     int(attrs.get("timing_runs", 0)), str(p), task.scene.hash, resumed=resumed,
-                     run_id=str(attrs.get("run_id", "")), pid=os.getpid())
+    rec = RunRecord(task.scene.name, task.method, task.level, "ok", "",
+                    float(attrs.get("wall_time", math.nan)), float(attrs.get("peak_memory", math.nan)),
+                    int(attrs.get("timing_runs", 0)), str(p), task.scene.hash, resumed=resumed,
+                    run_id=str(attrs.get("run_id", "")), pid=os.getpid(), sweep=dict(task.scene.sweep))
+    try:  # the summary metrics need, read here (in the worker) rather than by metrics (serially)
+        import xarray as xr
+
+        from .metrics import heat_balance
+        with xr.open_dataset(p, engine="netcdf4") as ds:
+            ds.load()
+            rec.heat_balance, rec.values, rec.summary = float(heat_balance(ds)), _values(ds), True
+    except Exception:  # noqa: BLE001 - metrics will open the file itself
+        pass
+    return rec
 
 
 def _existing(task: RunTask, *, same_invocation: bool = False) -> RunRecord | None:
@@ -320,6 +337,17 @@ def _existing(task: RunTask, *, same_invocation: bool = False) -> RunRecord | No
     return None
 
 
+def _written_since(task: RunTask, since: float) -> bool:
+    """Whether the run's file or status record was written after ``since`` (a stat, not an open)."""
+    for p in (task.path, status_path(task.path)):
+        try:
+            if p.stat().st_mtime >= since:
+                return True
+        except OSError:
+            pass
+    return False
+
+
 def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
     """Run one (scene, method, level): solve, time, write atomically.
 
@@ -334,12 +362,12 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         rec = _existing(task)
         if rec is not None:
             return rec
-    if task.run_id and (task.path.exists() or status_path(task.path).exists()):
+    if task.run_id and _written_since(task, task.run_started - 2.0):  # a retry finds its own result
         rec = _existing(task, same_invocation=True)
         if rec is not None:
             return rec
     rec = RunRecord(task.scene.name, task.method, task.level, "failed", path=str(task.path),
-                    scene_hash=task.scene.hash, run_id=task.run_id, pid=os.getpid())
+                    scene_hash=task.scene.hash, run_id=task.run_id, pid=os.getpid(), sweep=dict(task.scene.sweep))
     sp = status_path(task.path)
     phases: dict[str, float] = {}
     rec.phases = phases
@@ -386,8 +414,7 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         rec.wall_time = min(times)
         rec.timing_runs = len(times)
         rec.peak_memory = peak
-        rec.heat_balance = float(heat_balance(ds))
-        rec.values = _values(ds)
+        rec.heat_balance, rec.values, rec.summary = float(heat_balance(ds)), _values(ds), True
         ds.attrs.update({"wall_time": rec.wall_time, "peak_memory": rec.peak_memory,
                          "timing_runs": rec.timing_runs, "status": "ok", "run_id": task.run_id})
         how = (f"best of {len(times)} timed solves after a warm-up" if traced
@@ -413,7 +440,7 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         tb = traceback.extract_tb(exc.__traceback__)
         where = f" at {tb[-1].filename.rsplit('/', 1)[-1]}:{tb[-1].lineno}" if tb else ""
         rec.status, rec.message = "failed", f"{type(exc).__name__}: {exc}{where}"
-    rec.values, rec.heat_balance = {}, math.nan
+    rec.values, rec.heat_balance, rec.summary = {}, math.nan, False
     if task.path.exists():
         task.path.unlink()
     write_atomic_bytes(sp, json.dumps(rec.to_dict(), indent=1).encode())
@@ -462,8 +489,9 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
     from .executors import get_executor
 
     run_id = run_id or uuid.uuid4().hex[:12]
+    started = time.time()
     for t in tasks:
-        t.run_id = run_id
+        t.run_id, t.run_started = run_id, started
     ex = get_executor(executor, scheduler=scheduler, workers=workers)
     records: list[RunRecord | None] = [None] * len(tasks)
     with _progress(len(tasks), desc) as bar:
@@ -474,6 +502,16 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
                 bar.set_postfix_str(f"{rec.scene[:24]} {rec.method} L{rec.level} {rec.status}", refresh=False)
     _remove_stale_tmp({Path(t.path).parent for t in tasks})
     return [r for r in records if r is not None]
+
+
+def _children_cpu() -> float:
+    """CPU time [s] of this process's finished child processes (local workers), user + system."""
+    try:
+        import resource
+        r = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return r.ru_utime + r.ru_stime
+    except (ImportError, OSError):  # pragma: no cover
+        return math.nan
 
 
 def _remove_stale_tmp(folders) -> None:
@@ -519,7 +557,7 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     """
     from .metrics import compute_metrics
 
-    t0 = time.perf_counter()
+    t0, c0, w0 = time.perf_counter(), time.process_time(), _children_cpu()
     study = study_or_path if isinstance(study_or_path, Study) else load_study(study_or_path)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -532,7 +570,9 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     write_dataset_atomic(metrics, out / "metrics.nc")
     t3 = time.perf_counter()
     timing = {"setup": t1 - t0, "runs": t2 - t1, "metrics": t3 - t2, "executor": executor,
-              "workers": workers, "runs_total": len(records)}
+              "workers": workers, "runs_total": len(records),
+              "cpu_main": time.process_time() - c0, "cpu_local_workers": _children_cpu() - w0,
+              "cpu_count": os.cpu_count(), "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None}
     write_atomic_bytes(out / "study.json", json.dumps({"study": study.name, "path": study.path,
                                                       "argv": sys.argv, "timing": timing,
                                                       "records": [r.to_dict() for r in records]},

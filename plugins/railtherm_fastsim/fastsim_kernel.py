@@ -1,0 +1,234 @@
+"""Kalker's FASTSIM sweep (numba): tractions, slip, stick/slip map and frictional power density.
+
+The simplified theory replaces the elastic half-space by a Winkler bed of springs, ``u = L p``
+(displacement ``u`` [m], traction ``p`` [Pa], flexibility ``L`` [m/Pa]). In steady rolling the body
+material flows through the patch in the -x direction (it enters at the leading edge x = +a), and
+the slip of body 1 (wheel) relative to body 2 (rail), per unit rolling distance, is
+``s = w - du/dx`` with the rigid slip ``w = (xi - phi y, eta + phi x)`` ([1] [2]). Stepping from a
+cell at x to the next one downstream at x - dq:
+
+* adhesion (s = 0):   ``p_h = p' - dq (xi/L1 - phi y/L3,  eta/L2 + phi x*/L3)``
+* traction bound:     if ``|p_h| > g = mu p_z`` then ``p = g p_h/|p_h|`` (slip), else ``p = p_h``;
+* slip per unit rolling distance (cell i): ``s_x = L1 (p_x - p_hx)/dq``, ``s_y = L2 (p_y - p_hy)/dq``;
+  the slip velocity is ``V s`` [m/s] and the frictional power density ``-V p . s >= 0`` [W/m^2]
+  (the seed's "modified FASTSIM" power density; its printed formula for ``P_d`` is garbled, this
+  is the local dissipation of the Winkler model that the seed describes in words).
+
+With three flexibilities (L1, L2, L3) the spin term is weighted by 1/L3 exactly as in CONTACT's
+``M=3`` (rigid shift scaled by L1/L3, L2/L3); x* is where the spin slip is sampled (see
+``spin_offset``). Traction ``p`` acts on the wheel: a positive creepage gives a negative force
+(CONTACT's convention).
+
+References
+----------
+.. [1] J.J. Kalker, A fast algorithm for the simplified theory of rolling contact, Vehicle System
+   Dynamics 11 (1982) 1-13. doi:10.1080/00423118208968684
+.. [2] E.A.H. Vollebregt, CONTACT (open source, Apache-2.0), src/m_solvpt.f90 ``modif_fastsim``,
+   src/m_scontc.f90 (rigid slip for M=3).
+"""
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+
+@numba.njit(cache=True, fastmath=False, boundscheck=False)
+def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
+                  px, py, sx, sy, stick, power):  # pragma: no cover - compiled
+    """Sweep every strip y_j from the leading edge (x = +a) to the trailing edge.
+
+    Parameters
+    ----------
+    x : ndarray (nx,)
+        Cell centres along the rolling direction, ascending, uniform spacing dq [m].
+    y : ndarray (ny,)
+        Cell centres across [m].
+    bound : ndarray (nx, ny)
+        Traction bound g = mu p [Pa]; cells with g <= 0 are outside the contact.
+    lead : ndarray (ny,)
+        Leading-edge position a(y_j) of each strip [m] (used when ``edge_mode == 1``).
+    xi, eta : float
+        Longitudinal and lateral creepage [1].
+    phi : float
+        Spin creepage [1/m].
+    L1, L2, L3 : float
+        Flexibilities for xi, eta and phi [m/Pa].
+    speed : float
+        Rolling speed V [m/s] (scales slip velocity and power only).
+    spin_offset : float
+        x* - x_i of the spin term for interior steps [m] (dq/2: midpoint of the step; CONTACT: dq/6).
+    edge_mode : int
+        0: the first contact cell of a strip takes a full step dq from a zero traction (CONTACT);
+        1: the first step starts at the exact leading edge ``lead[j]``, and every step samples the
+        spin at the step's midpoint (exact for stick); a cut cell whose centre lies ahead of the
+        edge gets the traction of the middle of its inside part without advancing the strip.
+    px, py, sx, sy, stick, power : ndarray (nx, ny)
+        Outputs: traction on the wheel [Pa], slip velocity of the wheel relative to the rail [m/s],
+        stick map (1 stick, 0 slip, NaN outside), frictional power density [W/m^2].
+
+    Returns
+    -------
+    fx, fy, mz, pw : float
+        Sums of px, py, x py - y px, and power over the cells (multiply by the cell area for
+        forces [N], moment [N m] and power [W]).
+    nstick, nslip : int
+        Number of cells in stick and slip.
+    """
+    nx = x.shape[0]
+    ny = y.shape[0]
+    dq = x[1] - x[0] if nx > 1 else 1.0
+    inv_dq = 1.0 / dq
+    ax0 = xi / L1
+    ay0 = eta / L2
+    k3 = phi / L3
+    pvx = np.zeros(ny)
+    pvy = np.zeros(ny)
+    incon = np.zeros(ny, dtype=np.bool_)
+    fx = 0.0
+    fy = 0.0
+    mz = 0.0
+    pw = 0.0
+    nstick = 0
+    nslip = 0
+    nan = np.nan
+    for ii in range(nx):
+        i = nx - 1 - ii
+        xi_ = x[i]
+        for j in range(ny):
+            g = bound[i, j]
+            if g <= 0.0:
+                px[i, j] = 0.0
+                py[i, j] = 0.0
+                sx[i, j] = 0.0
+                sy[i, j] = 0.0
+                stick[i, j] = nan
+                power[i, j] = 0.0
+                pvx[j] = 0.0
+                pvy[j] = 0.0
+                incon[j] = False
+                continue
+            if edge_mode == 1 and not incon[j]:
+                step = lead[j] - xi_
+                if step <= 0.0:
+                    # cut cell whose centre lies ahead of the strip's leading edge: its inside part
+                    # [x - dq/2, a(y)] carries the traction of its middle; the strip still starts
+                    # at a(y) (the state is not advanced)
+                    step = 0.5 * (lead[j] - (xi_ - 0.5 * dq))
+                    if step < 0.0:
+                        step = 0.0
+                    xs = lead[j] - 0.5 * step
+                    wx = ax0 - k3 * y[j]
+                    wy = ay0 + k3 * xs
+                    hx = -step * wx
+                    hy = -step * wy
+                    habs = math.sqrt(hx * hx + hy * hy)
+                    if habs <= g:
+                        px[i, j] = hx
+                        py[i, j] = hy
+                        sx[i, j] = 0.0
+                        sy[i, j] = 0.0
+                        stick[i, j] = 1.0
+                        power[i, j] = 0.0
+                        nstick += 1
+                    else:
+                        f = g / habs
+                        qx = hx * f
+                        qy = hy * f
+                        vx = speed * L1 * (qx - hx) * inv_dq
+                        vy = speed * L2 * (qy - hy) * inv_dq
+                        px[i, j] = qx
+                        py[i, j] = qy
+                        sx[i, j] = vx
+                        sy[i, j] = vy
+                        stick[i, j] = 0.0
+                        power[i, j] = -(qx * vx + qy * vy)
+                        nslip += 1
+                    fx += px[i, j]
+                    fy += py[i, j]
+                    mz += xi_ * py[i, j] - y[j] * px[i, j]
+                    pw += power[i, j]
+                    continue
+                xs = 0.5 * (lead[j] + xi_)
+            else:
+                step = dq
+                xs = xi_ + spin_offset
+            yj = y[j]
+            wx = ax0 - k3 * yj          # traction increment per unit rolling distance [Pa/m]
+            wy = ay0 + k3 * xs
+            hx = pvx[j] - step * wx
+            hy = pvy[j] - step * wy
+            habs = math.sqrt(hx * hx + hy * hy)
+            if habs <= g:
+                px[i, j] = hx
+                py[i, j] = hy
+                sx[i, j] = 0.0
+                sy[i, j] = 0.0
+                stick[i, j] = 1.0
+                power[i, j] = 0.0
+                nstick += 1
+                fx += hx
+                fy += hy
+                mz += xi_ * hy - yj * hx
+                pvx[j] = hx
+                pvy[j] = hy
+            else:
+                f = g / habs
+                qx = hx * f
+                qy = hy * f
+                # slip per unit rolling distance, then velocity
+                vx = speed * L1 * (qx - hx) * inv_dq
+                vy = speed * L2 * (qy - hy) * inv_dq
+                px[i, j] = qx
+                py[i, j] = qy
+                sx[i, j] = vx
+                sy[i, j] = vy
+                stick[i, j] = 0.0
+                pd = -(qx * vx + qy * vy)
+                power[i, j] = pd
+                nslip += 1
+                fx += qx
+                fy += qy
+                mz += xi_ * qy - yj * qx
+                pw += pd
+                pvx[j] = qx
+                pvy[j] = qy
+            incon[j] = True
+    return fx, fy, mz, pw, nstick, nslip
+
+
+@numba.njit(cache=True, fastmath=False, boundscheck=False)
+def ellipse_cell_kernel(xe, ye, a, b, t, w, frac, par):  # pragma: no cover - compiled
+    """Cell averages of the ellipse indicator and parabola (see ``fastsim_model.ellipse_cell_integrals``).
+
+    Exact along x, Gauss-Legendre nodes ``t`` / weights ``w`` (on [-1, 1]) across y.
+    """
+    nx = xe.shape[0] - 1
+    ny = ye.shape[0] - 1
+    dx = xe[1] - xe[0]
+    inv_a2 = 1.0 / (a * a)
+    for j in range(ny):
+        y0 = ye[j]
+        y1 = ye[j + 1]
+        for i in range(nx):
+            frac[i, j] = 0.0
+            par[i, j] = 0.0
+        for q in range(t.shape[0]):
+            yy = 0.5 * (y0 + y1) + 0.5 * (y1 - y0) * t[q]
+            c2 = 1.0 - (yy / b) ** 2
+            if c2 <= 0.0:
+                continue
+            lim = a * math.sqrt(c2)
+            wq = 0.5 * w[q] / dx
+            for i in range(nx):
+                lo = xe[i]
+                hi = xe[i + 1]
+                if hi <= -lim or lo >= lim:
+                    continue
+                if lo < -lim:
+                    lo = -lim
+                if hi > lim:
+                    hi = lim
+                frac[i, j] += wq * (hi - lo)
+                par[i, j] += wq * (c2 * (hi - lo) - (hi ** 3 - lo ** 3) * inv_a2 / 3.0)

@@ -1,0 +1,231 @@
+"""Wheelset kinematics of seed section 6.1: creepages and normal forces of both wheel-rail contacts.
+
+A rigid wheelset with conical treads (conicity gamma = tan(delta), delta the cone and contact
+angle) rolls at speed V on two rails, shifted laterally by y and yawed by psi, loaded vertically by
+Q; its angular velocity is ``Omega = V (1 + theta) / r0`` with a small unknown theta (the seed's
+theta~). Wheel 1 is the left wheel (contact at lateral position +e, e = gauge/2, rolling radius
+r1 = r0 + gamma y, contact angle +delta), wheel 2 the right one (-e, r2 = r0 - gamma y, -delta).
+
+Creepages of wheel i (rigid slip of the wheel relative to the rail per unit rolling distance, the
+convention of the fastsim model; the seed's eqs. after (54) in their physically consistent form --
+the seed writes the longitudinal creepage of both wheels with the sign of wheel 1):
+
+* ``xi_i  = 1 - (1 + theta) r_i / r0``               (longitudinal; > 0 when the wheel surface is slower)
+* ``eta_i = -psi / cos(delta_i)``                    (lateral, quasi-static: no lateral velocity)
+* ``phi_i = (1 + theta) sin(delta_i) / r0``          (spin, seed's Phi_i)
+
+Equilibrium without inertia and without driving torque (seed: "the normal and tangential
+components ... satisfy a system of nonlinear algebraic equations"):
+
+* axle moment:   ``sum_i Fx_i r_i = 0``                                     -> theta
+* vertical:      ``sum_i (N_i cos(delta_i) + Fy_i sin(delta_i)) = Q``
+* roll moment:   ``sum_i (y_i (N_i cos(delta_i) + Fy_i sin(delta_i)) + r_i (Fy_i cos(delta_i) - N_i sin(delta_i))) = 0``
+
+With the creep forces written as ``Fy_i = k_i N_i`` (the seed's secant coefficients E_y, from the
+current iterate), the last two equations are the seed's linear system ``A N = Q`` (55). The seed's
+fixed-point iteration: creep forces (FASTSIM on each Hertz patch) -> theta -> A -> N, repeated until
+N changes by less than ``rtol``. The lateral force balance involves the (unknown) suspension force
+and is not used. The Hertz patch of each contact scales with its normal force: semi-axes as
+N^(1/3) when the contact is given by curvatures, fixed when it is given by semi-axes.
+
+References
+----------
+.. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, 1990, ch. 1 (creepages).
+   doi:10.1007/978-94-015-7889-9
+.. [2] K. Knothe, S. Stichel, Rail Vehicle Dynamics, Springer, 2017, ch. 5 (wheelset creepages).
+   doi:10.1007/978-3-319-45376-7
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from railtherm import surface_grid
+from scipy.optimize import brentq
+
+__all__ = ["WheelsetSolution", "wheelset_contacts", "hertz_patch_for", "scene_wheelset_contact"]
+
+
+@dataclass
+class WheelsetSolution:
+    """Both contacts of a wheelset (index 0 = left wheel 1, 1 = right wheel 2)."""
+
+    normal_force: np.ndarray      # N_i [N]
+    xi: np.ndarray                # [1]
+    eta: np.ndarray               # [1]
+    phi: np.ndarray               # [1/m]
+    creep_force_x: np.ndarray     # [N]
+    creep_force_y: np.ndarray     # [N]
+    theta: float                  # relative angular-velocity perturbation [1]
+    radii: np.ndarray             # rolling radii [m]
+    iterations: int
+    converged: bool
+    residuals: dict = field(default_factory=dict)
+
+
+def hertz_patch_for(normal_force, ref_normal_force, ref_a, ref_b, scaling="curvatures"):
+    """Semi-axes and peak pressure of a Hertz patch at another normal force.
+
+    ``scaling="curvatures"``: a, b ~ N^(1/3) (fixed gap curvatures); ``"semi_axes"``: a, b fixed.
+    Returns (a, b, p0) [m, m, Pa].
+    """
+    s = (normal_force / ref_normal_force) ** (1.0 / 3.0) if scaling == "curvatures" else 1.0
+    a, b = ref_a * s, ref_b * s
+    return a, b, 3.0 * normal_force / (2.0 * math.pi * a * b)
+
+
+def _hertz_cell_average(grid, a, b, n_gauss=12):
+    """Cell averages of sqrt(1 - x^2/a^2 - y^2/b^2) (exact in x, Gauss-Legendre in y)."""
+    x0, x1 = grid.x_edges[:-1, None], grid.x_edges[1:, None]
+    y0, y1 = grid.y_edges[:-1], grid.y_edges[1:]
+    t, w = np.polynomial.legendre.leggauss(n_gauss)
+    out = np.zeros(grid.shape)
+    for ti, wi in zip(t, w):
+        yy = 0.5 * (y0 + y1) + 0.5 * (y1 - y0) * ti
+        c = np.sqrt(np.clip(1.0 - (yy / b) ** 2, 0.0, None))[None, :]
+        lim = a * c
+        safe = np.where(lim > 0, lim, 1.0)
+
+        def F(u):
+            s = np.clip(u / safe, -1.0, 1.0)
+            return 0.5 * a * c ** 2 * (s * np.sqrt(1.0 - s * s) + np.arcsin(s))
+
+        out += 0.5 * wi * (F(np.clip(x1, -lim, lim)) - F(np.clip(x0, -lim, lim)))
+    return out / grid.dx
+
+
+def hertz_pressure_grid(a, b, p0, level=0, cells=16):
+    """Patch grid and cell-averaged Hertz pressure [Pa] for semi-axes a, b [m] and peak p0 [Pa]."""
+    g = surface_grid(a, b, level, cells)
+    return g, p0 * _hertz_cell_average(g, a, b)
+
+
+def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, wheel_radius, gauge, speed,
+                      friction, shear_modulus, poisson_ratio, ref_normal_force, ref_semi_axes,
+                      scaling="curvatures", cells=16, rtol=1e-10, maxiter=100, **fastsim_options):
+    """Solve the seed's wheelset kinematics (section 6.1) by its fixed-point iteration.
+
+    Parameters
+    ----------
+    conicity : float
+        gamma = tan(delta) [1].
+    lateral_shift : float
+        Lateral displacement y of the wheelset towards wheel 1 [m].
+    yaw_angle : float
+        psi [rad].
+    vertical_load : float
+        Q on the wheelset [N].
+    wheel_radius : float
+        Nominal rolling radius r0 [m].
+    gauge : float
+        Distance 2e between the contact points [m].
+    speed : float
+        V [m/s].
+    friction : float
+        mu [1].
+    shear_modulus, poisson_ratio : float
+        Combined G [Pa] and nu [1].
+    ref_normal_force : float
+        Normal force at which ``ref_semi_axes`` hold [N].
+    ref_semi_axes : tuple of float
+        Hertz semi-axes (a, b) at ``ref_normal_force`` [m].
+    scaling : {"curvatures", "semi_axes"}
+        How the patch changes with the normal force (:func:`hertz_patch_for`).
+    cells : int
+        FASTSIM cells along 2a [1].
+    rtol : float
+        Convergence tolerance of the normal forces [1].
+    **fastsim_options
+        bound, flexibility, leading_edge of :func:`railtherm_fastsim.fastsim_model.fastsim`.
+
+    Returns
+    -------
+    WheelsetSolution
+    """
+    from .fastsim_model import fastsim
+
+    gam = float(conicity)
+    delta = math.atan(gam)
+    dl = np.array([delta, -delta])
+    e = 0.5 * float(gauge)
+    ys = np.array([e, -e])
+    r0 = float(wheel_radius)
+    radii = np.array([r0 + gam * lateral_shift, r0 - gam * lateral_shift])
+    Q = float(vertical_load)
+    N = np.full(2, 0.5 * Q / math.cos(delta))
+
+    def creepages(theta):
+        xi = 1.0 - (1.0 + theta) * radii / r0
+        eta = -float(yaw_angle) / np.cos(dl)
+        phi = (1.0 + theta) * np.sin(dl) / r0
+        return xi, eta, phi
+
+    def forces(theta, Nv):
+        xi, eta, phi = creepages(theta)
+        fx = np.zeros(2)
+        fy = np.zeros(2)
+        for i in range(2):
+            a, b, p0 = hertz_patch_for(Nv[i], ref_normal_force, *ref_semi_axes, scaling)
+            g, p = hertz_pressure_grid(a, b, p0, 0, cells)
+            r = fastsim(g, p, a=a, b=b, normal_force=Nv[i], friction=friction, shear_modulus=shear_modulus,
+                        poisson_ratio=poisson_ratio, xi=xi[i], eta=eta[i], phi=phi[i], speed=speed,
+                        **fastsim_options)
+            fx[i], fy[i] = r.creep_force_x, r.creep_force_y
+        return fx, fy
+
+    theta = 0.0
+    converged = False
+    it = 0
+    for it in range(1, maxiter + 1):
+        def moment(th, Nv=N):
+            return float(np.dot(forces(th, Nv)[0], radii))
+
+        lo, hi = -0.05, 0.05
+        m_lo, m_hi = moment(lo), moment(hi)
+        theta = brentq(moment, lo, hi, xtol=1e-15, rtol=1e-12) if m_lo * m_hi < 0 else 0.0
+        fx, fy = forces(theta, N)
+        k = fy / N
+        alpha = np.cos(dl) + k * np.sin(dl)
+        beta = k * np.cos(dl) - np.sin(dl)
+        A = np.array([alpha, ys * alpha + radii * beta])
+        N_new = np.linalg.solve(A, np.array([Q, 0.0]))
+        change = float(np.max(np.abs(N_new - N) / np.abs(N_new)))
+        N = N_new
+        if change < rtol:
+            converged = True
+            break
+    xi, eta, phi = creepages(theta)
+    fx, fy = forces(theta, N)
+    fz = N * np.cos(dl) + fy * np.sin(dl)
+    flat = fy * np.cos(dl) - N * np.sin(dl)
+    res = {"vertical": float(fz.sum() - Q) / Q,
+           "roll": float(np.dot(ys, fz) + np.dot(radii, flat)) / (Q * e),
+           "axle_moment": float(np.dot(fx, radii)) / (Q * r0)}
+    return WheelsetSolution(N, xi, eta, phi, fx, fy, float(theta), radii, it, converged, res)
+
+
+def scene_wheelset_contact(scene, patch=None, **fastsim_options):
+    """Creepages (xi, eta, phi) and normal force of the scene's contact (wheel 1) from its wheelset.
+
+    The scene's contact patch (``patch``, or the scene's semi-axes and normal force) is taken as the
+    reference Hertz patch; it is rescaled to each wheel's normal force (semi-axes ~ N^(1/3) for a
+    contact given by curvatures, fixed for one given by semi-axes).
+
+    Returns
+    -------
+    xi, eta, phi, normal_force, solution
+    """
+    from railtherm import combined_elastic
+    ws = scene.wheelset
+    G, nu = combined_elastic(scene.wheel, scene.rail)
+    if patch is not None:
+        ref_n, axes = patch.normal_force, (patch.a, patch.b)
+    else:
+        ref_n, axes = scene.normal_force, scene.semi_axes
+    scaling = "semi_axes" if getattr(scene, "semi_axes", None) is not None else "curvatures"
+    sol = wheelset_contacts(conicity=ws.conicity, lateral_shift=ws.lateral_shift, yaw_angle=ws.yaw_angle,
+                            vertical_load=ws.vertical_load, wheel_radius=ws.wheel_radius, gauge=ws.gauge,
+                            speed=scene.speed, friction=scene.friction, shear_modulus=G, poisson_ratio=nu,
+                            ref_normal_force=ref_n, ref_semi_axes=axes, scaling=scaling, **fastsim_options)
+    return float(sol.xi[0]), float(sol.eta[0]), float(sol.phi[0]), float(sol.normal_force[0]), sol
