@@ -84,7 +84,7 @@ def _scalars_uncached(scene):
             out["frictional_power"] = scene.friction * scene.sliding_speed * n
             out["creep_force_x"] = math.copysign(scene.friction * n, scene.sliding_speed) if scene.sliding_speed else 0.0
         elif (b is None and scene.creepage is not None and scene.creepage.lateral == 0 and scene.creepage.spin == 0
-              and not scene.wheel.rigid and scene.wheel == _same(scene) and scene.friction > 0):
+              and _identical_elastic(scene.wheel, scene.rail) and scene.friction > 0):
             from .references.carter import carter_2d
             c = carter_2d(scene.creepage.longitudinal, a, scene.friction, scene.wheel_radius)
             out["creep_force_x"] = c.force_ratio * scene.friction * n
@@ -128,8 +128,10 @@ def _scalars_uncached(scene):
     return out
 
 
-def _same(scene):
-    return scene.rail
+def _identical_elastic(wheel, rail) -> bool:
+    """Carter's theory needs two elastic bodies with the same elastic constants (quasi-identical)."""
+    return (not wheel.rigid and not rail.rigid and wheel.shear_modulus == rail.shear_modulus
+            and wheel.poisson_ratio == rail.poisson_ratio)
 
 
 def reference_values(scene) -> dict:
