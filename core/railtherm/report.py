@@ -858,9 +858,9 @@ def _traction_maps(have: dict, scene: str, path: Path, notes: list) -> Path | No
     t_axes = [p[0] for p in pairs]
     s_axes = [p[1] for p in pairs]
     if pc is not None:
-        fig.colorbar(pc, ax=t_axes, label="$q_x$ on the wheel [MPa]", shrink=0.9)
+        fig.colorbar(pc, ax=t_axes, label="$q_x$ on the wheel [MPa]", shrink=0.9 if columns else 0.5)
     if pc2 is not None:
-        cb = fig.colorbar(pc2, ax=s_axes, ticks=[0, 1], shrink=0.9)
+        cb = fig.colorbar(pc2, ax=s_axes, ticks=[0, 1], shrink=0.9 if columns else 0.3)
         cb.ax.set_yticklabels(["slip", "stick"])
     fig.suptitle(f"{scene}: traction and stick/slip (x rolling direction, leading edge at +a)", fontsize=11)
     return _save(fig, path)
@@ -1048,8 +1048,32 @@ def _cross_tables(m, scene: str) -> tuple[dict, list[str]]:
     return out, methods
 
 
+def _published_table(doc: _Doc, published: dict, finest: dict):
+    """Published values beside each method's finest result, with the formulas the results name."""
+    pub = {k: v for k, v in published.items() if k != "source"}
+    methods = sorted(finest)
+    rows = []
+    for var, value in pub.items():
+        row = [f"`{var}`", value]
+        for meth in methods:
+            ds = finest[meth]
+            if var in ds:
+                vals = np.atleast_1d(np.asarray(ds[var].values, float))
+                row.append(" / ".join(_num(v, 4) for v in vals) + (" (wheel / rail)" if vals.size == 2 else ""))
+            else:
+                row.append("")
+        rows.append(row)
+    doc.p("Published values beside ours (finest successful level of each method). Source: "
+          + str(published.get("source", "not given")) + ".")
+    doc.table(["quantity", "published"] + methods, rows)
+    formulas = sorted({f"{meth}: {k} = {v}" for meth, ds in finest.items() for k, v in ds.attrs.items()
+                       if k.endswith("_formula")})
+    if formulas:
+        doc.p("Formulas used: " + "; ".join(formulas) + ".")
+
+
 def _scene_section(doc: _Doc, idx: int, scene: str, sc, runs: list[_Run], m, out: Path, fig_dir: Path,
-                   style: _Style, tol, figures: list[Path]):
+                   style: _Style, tol, figures: list[Path], published: dict | None = None):
     anchor = f"scene-{idx}"
     doc.h(2, f"{idx}. Scene `{scene}`", anchor)
     desc = _describe_scene(sc)
@@ -1117,6 +1141,8 @@ def _scene_section(doc: _Doc, idx: int, scene: str, sc, runs: list[_Run], m, out
             if ds is not None:
                 finest[meth] = ds
                 break
+    if published:
+        _published_table(doc, published, finest)
     if finest:
         res = draw("surface temperature", _fig_surface, finest, sc, scene, style, fig_dir / f"{base}-surface.png", notes)
         hot = res[1] if isinstance(res, tuple) else {}
@@ -1310,7 +1336,8 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     finest_all: dict[str, dict] = {}
     provenance: list[str] = []
     for i, name in enumerate(shown, start=1):
-        fin = _scene_section(doc, i, name, scenes.get(name), by_scene[name], m, out, fig_dir, style, tol, figures)
+        fin = _scene_section(doc, i, name, scenes.get(name), by_scene[name], m, out, fig_dir, style, tol, figures,
+                             published=(getattr(study, "published", None) or {}).get(name))
         for ds in fin.values():
             src = str(ds.attrs.get("source", ""))
             if src and src not in provenance:
