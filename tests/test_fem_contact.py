@@ -108,6 +108,7 @@ def test_carter_force_and_stick_zone(xi):
     assert abs(r["stick"]) < 0.02, r
 
 
+@pytest.mark.filterwarnings("ignore:friction regularisation:RuntimeWarning")  # large eps on purpose
 @pytest.mark.parametrize("eps", [1e-1, 1e-3, 1e-5, 1e-7, 1e-9, 0.0])
 def test_contact_converges_for_any_regularization(eps):
     """The semismooth Newton converges from eps = 1e-1 down to exact Coulomb (eps = 0)."""
@@ -120,6 +121,7 @@ def test_contact_converges_for_any_regularization(eps):
     assert np.all(np.abs(c.traction) <= 0.3 * c.pressure * (1 + 1e-9) + 1e-6)
 
 
+@pytest.mark.filterwarnings("ignore:friction regularisation:RuntimeWarning")  # large eps on purpose
 def test_carter_regularized_tends_to_coulomb():
     """As eps -> 0 the regularised creep force converges to the Coulomb (eps = 0) value."""
     vals = [carter_case(-2.4e-4, level=1, eps=e)["ratio"] for e in (1e-4, 1e-6, 1e-8, 0.0)]

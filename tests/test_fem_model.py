@@ -75,6 +75,7 @@ def test_seed_case_converges_within_15_iterations():
 
 
 @pytest.mark.slow
+@pytest.mark.filterwarnings("ignore:friction regularisation:RuntimeWarning")  # eps up to 50 |xi| on purpose
 @pytest.mark.parametrize("eps", [1e-1, 1e-3, 1e-5, 1e-7, 1e-9])
 @pytest.mark.parametrize("name", ["seed-sliding", "seed-rolling"])
 def test_seed_case_converges_for_eps(name, eps):

@@ -20,7 +20,8 @@ Contact law, written as a semismooth system (Alart-Curnier complementarity funct
   In stick this is ``s_hat = -eps tau / (mu p)`` (an elastic micro-slip of relative size eps); in slip
   ``tau = -mu p sign(s_hat)`` with |s_hat| >= eps. This is the piecewise-linear form of the seed's
   regularisation tau = -mu p s/sqrt(s^2 + eps^2): same limits, same slope mu p / eps at s = 0, and it
-  tends to exact Coulomb friction as eps -> 0 (eps = 0 is allowed: exact Coulomb). Written this way
+  tends to exact Coulomb friction as eps -> 0 (eps = 0 is allowed: exact Coulomb, the model's default;
+  eps must be small against |xi|, else the stick zone creeps and Fx -> mu N |xi| / eps). Written this way
   the Newton iteration does not degrade as eps -> 0 (the seed's smooth form has a Jacobian of size
   1/eps).
 

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
+from collections import OrderedDict
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -32,7 +34,7 @@ from .elastic import ElasticStrip
 from .mesh import graded_strip_mesh
 from .thermal import ThermalBody, ThermalGrid, ThermalSolver, hat_load, thermal_grid
 
-__all__ = ["FemProblem", "FemSolution", "solve_fem", "contact_edges"]
+__all__ = ["FemProblem", "FemSolution", "solve_fem", "contact_edges", "clear_cache"]
 
 
 @dataclass
@@ -58,7 +60,9 @@ class FemProblem:
     sliding_speed : float or None
         Full sliding speed [m/s].
     regularization : float
-        Friction regularisation eps [1].
+        Friction regularisation eps [1] (relative micro-slip of the stick zone, see :mod:`.contact`);
+        default 0: exact Coulomb. A value that is not small against |creepage| biases the creep force
+        (about Fx = mu N |xi| / eps when eps > |xi|); the diagnostics report eps / |xi|.
     heat_partition : float or "equal-temperature"
     convection : float
         [W/(m^2 K)] on the free surfaces.
@@ -83,7 +87,7 @@ class FemProblem:
     friction: float = 0.0
     creepage: float | None = None
     sliding_speed: float | None = None
-    regularization: float = 1e-3
+    regularization: float = 0.0
     heat_partition: object = 0.5
     convection: float = 0.0
     thermal_resistance: float = 0.0
@@ -229,6 +233,44 @@ class _Mechanics:
         return W0, U0, u_r
 
 
+_MECH_CACHE: "OrderedDict" = OrderedDict()
+#: how many meshes are kept (a penetration-controlled solve uses a coarse and a fine one)
+CACHE_SIZE = 2
+#: mechanics with more displacement unknowns than this are not kept (an LU factor of 1e5 unknowns
+#: holds about 0.3 GB)
+CACHE_MAX_DOFS = 150_000
+
+
+def _material_key(mat):
+    return tuple(float(getattr(mat, k, 0.0) or 0.0) for k in
+                 ("shear_modulus", "poisson_ratio", "density", "thermal_expansion")) + (bool(getattr(mat, "rigid", False)),)
+
+
+def _mechanics(prob: FemProblem, length, depth, window, h) -> "_Mechanics":
+    """The mechanics of one mesh, reused when the previous solve had the same geometry and materials.
+
+    A creepage or friction sweep (and the Steps 1-4 loop) changes neither the mesh nor the stiffness:
+    the :data:`CACHE_SIZE` most recent ones are kept, each only up to :data:`CACHE_MAX_DOFS` unknowns.
+    """
+    key = (float(length), float(depth), float(window), float(h), float(prob.grading), float(prob.speed),
+           float(prob.radius), _material_key(prob.rail), _material_key(prob.wheel))
+    mech = _MECH_CACHE.get(key)
+    if mech is not None:
+        _MECH_CACHE.move_to_end(key)
+        return mech
+    mech = _Mechanics(prob, length, depth, window, h)
+    if mech.rail.ndofs <= CACHE_MAX_DOFS:
+        _MECH_CACHE[key] = mech
+        while len(_MECH_CACHE) > CACHE_SIZE:
+            _MECH_CACHE.popitem(last=False)
+    return mech
+
+
+def clear_cache() -> None:
+    """Forget the kept mechanics (the next solve builds its mesh and factorisation anew)."""
+    _MECH_CACHE.clear()
+
+
 def solve_fem(prob: FemProblem) -> FemSolution:
     """Solve the (coupled) FEM problem: mechanics on a graded mesh, then the Steps 1-4 loop."""
     t_start = time.perf_counter()
@@ -240,11 +282,17 @@ def solve_fem(prob: FemProblem) -> FemSolution:
     if frictional:
         xi = prob.creepage if prob.creepage is not None else -(prob.sliding_speed or 0.0) / prob.speed
     eps = float(prob.regularization)
+    eps_ratio = eps / abs(xi) if (frictional and xi) else 0.0
+    if eps_ratio > 0.01:
+        warnings.warn(f"friction regularisation eps = {eps:g} is {eps_ratio:.3g} x |rigid slip| = {abs(xi):g}: the "
+                      "stick zone creeps viscously and the creep force is biased (towards mu N |xi| / eps when "
+                      "eps > |xi|); use eps <= 0.01 |xi|, or 0 (exact Coulomb, the default)",
+                      RuntimeWarning, stacklevel=2)
     # a first, coarse pass when only the penetration is known (the half-width is not)
     a_est = a_ref
     if prob.normal_force is None:
         win0 = 1.1 * a_ref
-        mech0 = _Mechanics(prob, length, depth, win0, win0 / 40.0)
+        mech0 = _mechanics(prob, length, depth, win0, win0 / 40.0)
         s0 = solve_contact(mech0.x, mech0.w, mech0.h0, *mech0.blocks, penetration=prob.penetration)
         l0, r0 = contact_edges(s0.x, s0.pressure)
         a_est = max(0.5 * (r0 - l0), 4 * win0 / 40.0)
@@ -252,7 +300,7 @@ def solve_fem(prob: FemProblem) -> FemSolution:
     for attempt in range(4):
         h = a_est / (10.0 * 2 ** prob.level)
         window_n = max(window, 4 * h)
-        mech = _Mechanics(prob, length, depth, window_n, h)
+        mech = _mechanics(prob, length, depth, window_n, h)
         common = dict(friction=prob.friction if frictional else 0.0, creepage=xi, regularization=eps,
                       normal_force=prob.normal_force, penetration=prob.penetration)
         sol = solve_contact(mech.x, mech.w, mech.h0, *mech.blocks, **common)
@@ -363,6 +411,7 @@ def solve_fem(prob: FemProblem) -> FemSolution:
                 strip_length=float(length), strip_depth=float(depth), approach=float(sol.approach),
                 contact_iterations=int(sol.iterations), contact_residual=float(sol.residual),
                 contact_converged=bool(sol.converged), regularization=eps,
+                regularization_over_slip=float(eps_ratio),
                 mechanics_time=float(t_mech - t_start), total_time=float(time.perf_counter() - t_start),
                 thermal_unknowns=int(thermal_unknowns), factor_fill=int(mech.rail.condensed.fill))
     return FemSolution(contact=sol, half_width=float(a), centre=float(0.5 * (left + right)),

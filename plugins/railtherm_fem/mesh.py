@@ -1,14 +1,18 @@
-"""Graded triangular mesh of the elastic strip, refined towards the contact window.
+"""Graded triangular mesh of the elastic strip, built directly as a balanced quadtree.
 
 The strip occupies ``-L/2 <= x <= L/2``, ``-H <= y <= 0`` (internal coordinates: y points up, the
-contact surface is y = 0; depth is z = -y). A coarse tensor mesh of right triangles is refined
-locally (red-green-blue refinement of scikit-fem) wherever an element is closer to the contact
-window than ``grading`` times its own diameter, until the surface node spacing in the window is h.
-The element size therefore grows about linearly with the distance from the window (a geometric
-grading), which is what the 1/r decay of the contact fields needs; the node count grows only like
-``(window / h) * grading + grading^2 log(H / h)``.
+contact surface is y = 0; depth is z = -y). A coarse tensor grid of rectangles is subdivided into
+quadrants (a quadtree) wherever a cell is closer to the contact window than ``grading`` times its
+own diagonal, until the surface cells in the window have the width h. The element size therefore grows
+about linearly with the distance from the window (a geometric grading), which is what the 1/r decay
+of the contact fields needs; the node count grows only like ``(window / h) * grading + grading^2 log(H / h)``.
+The tree is 2:1 balanced (neighbouring leaves differ by at most one level). Each leaf is split into two
+triangles along its (lower-left to upper-right) diagonal or, where a finer neighbour puts a node on
+its edge, into a fan of triangles about its centre, so the mesh is conforming.
+Built with array operations only (no element-by-element refinement): 0.07 s for 5e4 nodes
+(scikit-fem's red-green-blue refinement of the same grading took 0.38 s).
 
-The coarse cell size is ``h * 2**K`` so that repeated bisection lands exactly on the spacing h in the
+The coarse cell width is ``h * 2**K`` so that repeated halving lands exactly on the spacing h in the
 window: the window's surface nodes are uniformly spaced, ``x = j h``, symmetric about x = 0.
 """
 from __future__ import annotations
@@ -72,6 +76,34 @@ def _coarse_nodes(half: float, s0: float) -> np.ndarray:
     return np.concatenate([-pos[:0:-1], pos])
 
 
+def _balance_violations(ix, iy, lev, kmax, keys):
+    """Leaves with a node of the tree at a quarter point of one of their edges (2:1 balance broken)."""
+    size = (1 << (kmax - lev)).astype(np.int64)
+    q = size // 4
+    bad = np.zeros(ix.size, bool)
+    ok = q > 0
+    for fx, fy in ((1, 0), (3, 0), (1, 4), (3, 4), (0, 1), (0, 3), (4, 1), (4, 3)):
+        kx = ix + fx * q
+        ky = iy + fy * q
+        bad |= ok & _member(keys, _key(kx, ky))
+    return bad
+
+
+def _key(kx, ky):
+    return kx.astype(np.int64) * (1 << 31) + ky.astype(np.int64)
+
+
+def _sorted_unique(a):
+    a = np.sort(a)
+    return a[np.concatenate([[True], a[1:] != a[:-1]])] if a.size else a
+
+
+def _member(keys, q):
+    """q in keys (keys sorted and unique)."""
+    pos = np.minimum(np.searchsorted(keys, q), keys.size - 1)
+    return keys[pos] == q
+
+
 def graded_strip_mesh(length: float, depth: float, window: float, spacing: float,
                       grading: float = 4.0, core: float | None = None) -> StripMesh:
     """Build the graded triangular mesh of the strip.
@@ -87,10 +119,10 @@ def graded_strip_mesh(length: float, depth: float, window: float, spacing: float
     spacing : float
         Surface node spacing h in the window [m].
     grading : float
-        An element is refined while its distance to the window is below ``grading`` times its
-        diameter [1]; larger values give a smoother (and larger) mesh.
+        A cell is subdivided while its distance to the window is below ``grading`` times its
+        diagonal [1]; larger values give a smoother (and larger) mesh.
     core : float, optional
-        Depth of a region below the window meshed uniformly with spacing h [m] (default: h * 4).
+        Depth of a region below the window meshed with cells of width h [m] (default: h * 4).
 
     Returns
     -------
@@ -108,27 +140,100 @@ def graded_strip_mesh(length: float, depth: float, window: float, spacing: float
     xs = _coarse_nodes(0.5 * length, s0)
     ny = max(1, int(round(depth / s0)))
     ys = np.linspace(-depth, 0.0, ny + 1)
-    m = MeshTri.init_tensor(xs, ys)
     core = 4.0 * h if core is None else float(core)
-    for _ in range(k + 8):
-        pts = m.p[:, m.t]
-        c = pts.mean(axis=1)
-        edges = np.linalg.norm(pts - np.roll(pts, 1, axis=1), axis=0)
-        diam = edges.max(axis=0)
-        leg = edges.min(axis=0)
-        dx = np.maximum(np.abs(c[0]) - window, 0.0)
-        dist = np.hypot(dx, c[1])
-        mark = (dist < grading * diam) & (leg > 1.01 * h)
-        mark |= (np.abs(c[0]) < window) & (-c[1] < core) & (leg > 1.01 * h)
+    kmax = k + 1  # deepest level allowed (the balance may need one level below the window's)
+    # integer coordinates: coarse cell (I, J) spans [I, I+1] x [J, J+1] * 2**kmax
+    nxc, nyc = xs.size - 1, ys.size - 1
+    I, J = np.meshgrid(np.arange(nxc), np.arange(nyc), indexing="ij")
+    ix = (I.ravel() << kmax).astype(np.int64)
+    iy = (J.ravel() << kmax).astype(np.int64)
+    lev = np.zeros(ix.size, np.int64)
+
+    def phys(kx, ky):
+        cx = np.minimum(kx >> kmax, nxc - 1)
+        cy = np.minimum(ky >> kmax, nyc - 1)
+        fx = (kx - (cx << kmax)) / float(1 << kmax)
+        fy = (ky - (cy << kmax)) / float(1 << kmax)
+        return xs[cx] + fx * (xs[cx + 1] - xs[cx]), ys[cy] + fy * (ys[cy + 1] - ys[cy])
+
+    def split(ix, iy, lev, mark):
+        half = (1 << (kmax - lev[mark] - 1)).astype(np.int64)
+        cx, cy, cl = ix[mark], iy[mark], lev[mark] + 1
+        kids_x = np.concatenate([cx, cx + half, cx, cx + half])
+        kids_y = np.concatenate([cy, cy, cy + half, cy + half])
+        keep = ~mark
+        return (np.concatenate([ix[keep], kids_x]), np.concatenate([iy[keep], kids_y]),
+                np.concatenate([lev[keep], np.tile(cl, 4)]))
+
+    # subdivide by the grading criterion, level by level (a cell left alone once stays a leaf: the
+    # criterion depends on its geometry only)
+    for _ in range(kmax):
+        size = (1 << (kmax - lev)).astype(np.int64)
+        x0, y0 = phys(ix, iy)
+        x1, y1 = phys(ix + size, iy + size)
+        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+        width = x1 - x0
+        diam = np.hypot(width, y1 - y0)
+        dist = np.hypot(np.maximum(np.abs(cx) - window, 0.0), cy)
+        fine_enough = width <= 1.01 * h
+        mark = ((dist < grading * diam) | ((np.abs(cx) < window) & (-cy < core))) & ~fine_enough & (lev < kmax)
         if not mark.any():
             break
-        m = m.refined(np.nonzero(mark)[0])
-    p = m.p
+        ix, iy, lev = split(ix, iy, lev, mark)
+    # 2:1 balance
+    for _ in range(kmax + 1):
+        size = (1 << (kmax - lev)).astype(np.int64)
+        corners = np.concatenate([_key(ix, iy), _key(ix + size, iy), _key(ix, iy + size), _key(ix + size, iy + size)])
+        keys = _sorted_unique(corners)
+        bad = _balance_violations(ix, iy, lev, kmax, keys)
+        if not bad.any():
+            break
+        ix, iy, lev = split(ix, iy, lev, bad)
+    else:
+        raise RuntimeError("quadtree balancing did not finish")
+    # nodes: cell corners, plus a centre for cells with a hanging node on an edge
+    size = (1 << (kmax - lev)).astype(np.int64)
+    hs = size // 2
+    c00, c10 = _key(ix, iy), _key(ix + size, iy)
+    c01, c11 = _key(ix, iy + size), _key(ix + size, iy + size)
+    keys = _sorted_unique(np.concatenate([c00, c10, c01, c11]))
+    mids = [_key(ix + hs, iy), _key(ix + size, iy + hs), _key(ix + hs, iy + size), _key(ix, iy + hs)]
+    has = [_member(keys, mk) & (hs > 0) for mk in mids]  # bottom, right, top, left
+    hanging = has[0] | has[1] | has[2] | has[3]
+    ncorner = keys.size
+    idx = lambda kk: np.searchsorted(keys, kk)
+    n00, n10, n01, n11 = idx(c00), idx(c10), idx(c01), idx(c11)
+    nm = [np.where(hm, idx(np.where(hm, mk, keys[0])), -1) for hm, mk in zip(has, mids)]
+    hang = np.nonzero(hanging)[0]
+    centre = np.full(ix.size, -1)
+    centre[hang] = ncorner + np.arange(hang.size)
+    kx_all, ky_all = keys // (1 << 31), keys % (1 << 31)
+    px, py = phys(kx_all, ky_all)
+    ccx, ccy = phys(ix[hang] + hs[hang], iy[hang] + hs[hang])
+    p = np.vstack([np.concatenate([px, ccx]), np.concatenate([py, ccy])])
+    tris = []
+    # plain cells: two triangles, all with the same diagonal (as scikit-fem's init_tensor and its red
+    # refinement; a diagonal mirrored about x = 0 leaves the centre node in two triangles only and
+    # measurably worsened the Hertz peak pressure: 0.9 % instead of 0.1 % at level 3)
+    plain = np.nonzero(~hanging)[0]
+    a, b, c, d = n00[plain], n10[plain], n11[plain], n01[plain]
+    tris.append(np.vstack([a, b, c]))
+    tris.append(np.vstack([a, c, d]))
+    # cells with hanging nodes: fan about the centre over the boundary points in ccw order
+    ring = np.vstack([n00[hang], nm[0][hang], n10[hang], nm[1][hang], n11[hang], nm[2][hang], n01[hang], nm[3][hang]])
+    cen = centre[hang]
+    for j in range(8):
+        sel = ring[j] >= 0                       # corners (even j) always, edge midpoints where present
+        nxt = ring[(j + 1) % 8].copy()           # next boundary point: the midpoint, else the corner
+        nxt[nxt < 0] = ring[(j + 2) % 8][nxt < 0]
+        tris.append(np.vstack([ring[j][sel], nxt[sel], cen[sel]]))
+    t = np.hstack(tris)
+    m = MeshTri(p, t)
     tol = 1e-9 * h
     top = np.nonzero((np.abs(p[1]) < tol) & (np.abs(p[0]) <= window + tol))[0]
     top = top[np.argsort(p[0, top])]
     xw = p[0, top]
-    d = np.diff(xw)
-    if d.size and not np.allclose(d, h, rtol=1e-6, atol=0):
-        raise RuntimeError(f"window nodes are not uniformly spaced: spacing {d.min():g}..{d.max():g} m, wanted {h:g}")
+    dd = np.diff(xw)
+    if dd.size and not np.allclose(dd, h, rtol=1e-6, atol=0):
+        raise RuntimeError(f"window nodes are not uniformly spaced: spacing {dd.min():g}..{dd.max():g} m, wanted {h:g}")
     return StripMesh(m, float(length), float(depth), h, top, xw)

@@ -11,7 +11,7 @@ centred on the computed patch (x = 0 at the patch centre, which may sit a little
 when the rigid wheel's tangential-normal coupling shifts it; the shift is in the diagnostics as
 ``patch_centre``). Nodal fields are mapped as cell averages of their piecewise-linear interpolant
 (conservative: the grid integral of the power density equals the nodal one up to the part of the
-edge hats outside [-a, a]); stick is the nearest node's state.
+edge hats outside [-a, a]); stick is the state of the nearest node in contact.
 
 Temperatures: the rail from the strip's conduction problem; the wheel -- rigid or not -- from the
 same conduction solver applied to the wheel's material moving at its surface speed V + v_s, with
@@ -70,7 +70,8 @@ class FemModel(CoupledModel):
                                      minimum=0.0),
         "coupling_max_iterations": Option(30, "limit of the Steps 1-4 loop", minimum=1),
         "grading": Option(8.0, "mesh grading: element size ~ distance / grading", minimum=1.0),
-        "regularization": Option(None, "friction regularisation eps [1] (default: scene numerics, else 1e-3)"),
+        "regularization": Option(None, "friction regularisation eps [1] (default: scene numerics, else 0 = exact "
+                                       "Coulomb; eps biases the creep force by about eps/|creepage|)"),
         "cells": Option(None, "cells of the patch grid at level 0"),
     }
 
@@ -98,7 +99,9 @@ class FemModel(CoupledModel):
         strip = getattr(scene, "strip", None)
         eps = options.get("regularization")
         if eps is None:
-            eps = (getattr(scene, "numerics", None) or {}).get("regularization", 1e-3)
+            # exact Coulomb unless asked: the seed's eps = 1e-3 is a relative micro-slip as large as the
+            # creepages of rolling (1e-4 .. 1e-3) and would turn the stick zone viscous (Fx ~ mu N |xi| / eps)
+            eps = (getattr(scene, "numerics", None) or {}).get("regularization", 0.0)
         creep = None
         sliding = None
         if scene.creepage is not None:
@@ -142,7 +145,11 @@ class FemModel(CoupledModel):
         pressure = cell_average(c.x, c.pressure, edges)
         traction = cell_average(c.x, c.traction, edges)
         slip = cell_average(c.x, V * np.nan_to_num(c.slip), edges)
-        near = np.clip(np.searchsorted(c.x, grid.x + xc), 0, c.x.size - 1)
+        # stick: the state of the nearest node in contact (the patch edges lie between the outermost
+        # contact nodes and the next, open ones, whose state would read "slip")
+        loaded = np.nonzero(c.pressure > 0)[0]
+        loaded = loaded if loaded.size else np.arange(c.x.size)
+        near = loaded[np.argmin(np.abs(c.x[loaded][None, :] - (grid.x + xc)[:, None]), axis=1)]
         stick = np.where(grid.inside(), c.stick[near].astype(float), np.nan)
         diag = dict(sol.diagnostics)
         diag.update(patch_centre=float(xc), coupling_iterations=int(sol.coupling_iterations),
