@@ -126,7 +126,6 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
 
     tol = tolerance if tolerance is not None else getattr(study, "tolerance", 0.05)
     out = Path(out)
-    by_key = {(r.scene, r.method, r.level): r for r in records}
     scenes = {s.name: s for s in study.scenes}
     cache: dict = {}
 
@@ -135,9 +134,23 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
             cache[rec.path] = _open(rec.path)
         return cache[rec.path]
 
+    # finest ok level of each (scene, method), in one pass (O(runs))
+    finest_of: dict = {}
+    for r in records:
+        if r.status == "ok":
+            k = (r.scene, r.method)
+            if k not in finest_of or r.level > finest_of[k].level:
+                finest_of[k] = r
+
     def finest(scene, method):
-        ok = [r for (s, m, k), r in by_key.items() if s == scene and m == method and r.status == "ok"]
-        return max(ok, key=lambda r: r.level) if ok else None
+        return finest_of.get((scene, method))
+
+    def summary(rec):
+        """(heat balance, scalar values) of a run: from its record when the worker filled them."""
+        if getattr(rec, "summary", False):
+            return rec.heat_balance, rec.values
+        ds = load(rec)
+        return heat_balance(ds), {q: ds[q].values for q in CROSS if q in ds}
 
     rows = []
     for rec in records:
@@ -146,7 +159,6 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
                "reference": "", "heat_balance": math.nan}
         if rec.status == "ok":
             scene = scenes[rec.scene]
-            ds = load(rec)
             kind = scene.reference or study.reference
             ref_values, ref_ds, names = {}, None, []
             if kind == "analytic":
@@ -167,9 +179,13 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
                     ref_ds = load(fr)
                     names.append(f"{target} level {fr.level}")
             row["reference"] = "; ".join(names)
-            errs = run_errors(scene, ds, ref_values, ref_ds)
+            if ref_values or ref_ds is not None:  # (the run itself is not cached: only finest levels are reused)
+                own = cache.get(rec.path) or _open(rec.path)
+                errs = run_errors(scene, own, ref_values, ref_ds)
+            else:  # nothing to compare with: the file is not opened again
+                errs = {}
             row.update({f"error_{k}": v for k, v in errs.items()})
-            row["heat_balance"] = heat_balance(ds)
+            row["heat_balance"] = summary(rec)[0]
             finite = [v for v in errs.values() if np.isfinite(v)]
             if finite and max(finite) > tol:
                 row["status"] = "inaccurate"
@@ -202,16 +218,22 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
     mnames = sorted({r.method for r in records})
     order = np.full((len(snames), len(mnames), len(METRICS)), np.nan)
     cross = np.full((len(snames), len(CROSS), len(mnames), len(mnames)), np.nan)
+    by_sm: dict = {}
+    for r in rows:
+        if r["status"] in ("ok", "inaccurate"):
+            by_sm.setdefault((r["scene"], r["method"]), []).append(r)
     for i, s in enumerate(snames):
         vals = {}
         for j, m in enumerate(mnames):
-            sel = [r for r in rows if r["scene"] == s and r["method"] == m and r["status"] in ("ok", "inaccurate")]
-            for k, met in enumerate(METRICS):
-                order[i, j, k] = convergence_order([r["level"] for r in sel], [r.get(f"error_{met}", math.nan) for r in sel])
+            sel = by_sm.get((s, m), [])
+            if len(sel) >= 2:  # (one level: no order)
+                for k, met in enumerate(METRICS):
+                    order[i, j, k] = convergence_order([r["level"] for r in sel],
+                                                       [r.get(f"error_{met}", math.nan) for r in sel])
             fr = finest(s, m)
             if fr is not None:
-                d = load(fr)
-                vals[m] = {q: np.asarray(d[q].values, float) for q in CROSS if q in d}
+                v = summary(fr)[1]
+                vals[m] = {q: np.asarray(v[q], float) for q in CROSS if q in v}
         for q_i, q in enumerate(CROSS):
             for j, m1 in enumerate(mnames):
                 for k, m2 in enumerate(mnames):

@@ -73,6 +73,8 @@ class PluginHost:
     methods: dict[str, MethodInfo] = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)
     strict: bool = False
+    autoload: bool = True
+    extra: list = field(default_factory=list)
     _versions: dict[str, str] = field(default_factory=dict)
 
     # -- registration -----------------------------------------------------------------
@@ -179,10 +181,13 @@ def new_host(plugins: Iterable[tuple[str, Any]] = (), *, autoload: bool | None =
     pm = pluggy.PluginManager(hookspec.PROJECT)
     pm.add_hookspecs(hookspec)
     host = PluginHost(pm, strict=strict)
+    plugins = list(plugins)
+    host.extra = plugins  # how the host was built: executors rebuild it on workers
     from .models import core_plugin
     host.add_plugin(core_plugin, "railtherm", _core_version())
     if autoload is None:
         autoload = not os.environ.get(DISABLE_ENV)
+    host.autoload = autoload
     if autoload:
         for ep in sorted(md.entry_points(group=GROUP), key=lambda e: e.name):
             try:

@@ -41,6 +41,7 @@ class Num(_Check):
 
     def __init__(self, lo=-math.inf, hi=math.inf, lo_open=False, hi_open=False, unit=""):
         self.lo, self.hi, self.lo_open, self.hi_open = lo, hi, lo_open, hi_open
+        self.unit = unit
         parts = []
         if lo > -math.inf:
             parts.append(f"{'>' if lo_open else '>='} {lo:g}")
@@ -182,7 +183,7 @@ def _variable_names():
     return set(VARIABLES)
 
 
-POS = Num(0, lo_open=True)
+POS = Num(0, lo_open=True, unit="m")
 NONNEG = Num(0)
 ANY = Num()
 

@@ -19,6 +19,8 @@ from .scene import MATERIAL_KEYS, SCENE_KEYS, SCHEMA_VERSION, Scene, Table, load
 STUDY_KEYS = {"name", "description", "methods", "levels", "reference", "options", "repeat", "timeout",
               "warmup", "tolerance", "published"}
 REFERENCES = ("analytic", "finest")
+#: scenes one [[scene]] table may expand to
+MAX_SWEEP = 1_000_000
 
 
 @dataclass
@@ -86,6 +88,12 @@ def expand_sweeps(scene: Mapping[str, Any]) -> list[tuple[dict, dict]]:
                              scene=name, key=".".join(path), value=values, allowed="a non-empty list")
     if not sweeps:
         return [(dict(scene), {})]
+    n = math.prod(len(v) for _, v in sweeps)
+    if n > MAX_SWEEP:
+        keys = ",".join(".".join(p) for p, _ in sweeps)
+        raise SceneError(f"scene {name!r}: the sweep over {keys} expands to {n} scenes (lengths "
+                         f"{[len(v) for _, v in sweeps]}); at most {MAX_SWEEP} per [[scene]]: split the study "
+                         "or sweep fewer values", scene=name, key=keys, value=n, allowed=f"<= {MAX_SWEEP} scenes")
     out = []
     for combo in itertools.product(*(v for _, v in sweeps)):
         m = copy.deepcopy(dict(scene))
