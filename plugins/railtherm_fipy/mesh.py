@@ -1,0 +1,206 @@
+"""Graded finite-volume meshes for the moving-frame heat conduction problem.
+
+Everything here is derived from the scene's scales, not from hand-tuned lengths:
+
+* Péclet number ``Pe = V a / (2 kappa)`` [1];
+* thermal layer under the patch ``delta = a / sqrt(Pe) = sqrt(2 kappa a / V)`` [m] (seed eq. 24);
+* thermal wake length ``ell = 2 kappa / V = a / Pe`` [m]: ahead of the patch the temperature decays
+  like ``exp(-2 s / ell)`` and a perturbation at the outflow reaches back only ``~ ell``.
+
+Mesh along the rolling direction: the surface grid's cells on ``[-a, a]`` (subdivided ``refine``
+times), then cells growing geometrically away from the patch up to ``margin = max(4 ell, a/4)``
+on both sides (inflow at ``x = a + margin``, outflow at ``x = -a - margin``).
+
+Mesh in depth: first cell ``min(delta, a) / layer_cells`` at level 0, geometric growth to the depth
+``D = 3 * 2 sqrt(kappa L_x / V)`` (three diffusion lengths of the residence time over the domain
+length ``L_x``: ``erfc(3) = 2e-5``; at low Péclet number this is about ``12 ell``).
+
+Lateral mesh (3-D): the grid's cells on ``[-b, b]``, then geometric growth to ``b + max(5 ell, b/4)``.
+
+Refinement: level ``k`` subdivides every level-0 cell into ``2**k`` cells along the same smooth
+geometric map (the growth ratio becomes ``ratio**(1/2**k)``), so meshes are nested and every cell
+size halves per level -- what the convergence-rate fits assume.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+
+def thermal_scales(a: float, speed: float, diffusivity: float) -> dict:
+    """Scales of the moving heat source problem.
+
+    Parameters
+    ----------
+    a : float
+        Semi-axis of the patch along the rolling direction [m].
+    speed : float
+        Speed of the body's surface relative to the contact [m/s], > 0.
+    diffusivity : float
+        Thermal diffusivity kappa [m^2/s].
+
+    Returns
+    -------
+    dict
+        ``peclet`` [1] = V a / (2 kappa), ``delta`` [m] = a / sqrt(Pe), ``ell`` [m] = 2 kappa / V.
+    """
+    if not speed > 0:
+        raise ValueError(f"speed must be > 0 for a moving-frame solve, got {speed!r}")
+    pe = speed * a / (2.0 * diffusivity)
+    return {"peclet": pe, "delta": a / math.sqrt(pe), "ell": 2.0 * diffusivity / speed}
+
+
+def geometric_edges(length: float, first: float, ratio: float, level: int) -> np.ndarray:
+    """Edges ``0 = e_0 < ... < e_n = length`` of cells growing geometrically from ``first``.
+
+    Level 0 has ``n0 = ceil(log(1 + length (ratio - 1) / first) / log(ratio))`` cells along the map
+    ``e(s) = length (ratio**s - 1) / (ratio**n0 - 1)`` at ``s = 0, 1, ..., n0`` (so the first cell is
+    at most ``first``); level k samples the same map at ``s = j / 2**k``: nested meshes.
+
+    Parameters
+    ----------
+    length : float
+        Total length [m], > 0.
+    first : float
+        Largest admissible first cell at level 0 [m], > 0.
+    ratio : float
+        Growth ratio of neighbouring cells at level 0 [1], > 1.
+    level : int
+        Refinement level k >= 0.
+
+    Returns
+    -------
+    ndarray, shape (n0 * 2**k + 1,)
+        Edges [m].
+    """
+    if length <= 0 or first <= 0 or ratio <= 1.0:
+        raise ValueError(f"geometric_edges needs length > 0, first > 0, ratio > 1; got {length}, {first}, {ratio}")
+    if first >= length:
+        n0 = 1
+    else:
+        n0 = max(1, math.ceil(math.log(1.0 + length * (ratio - 1.0) / first) / math.log(ratio) - 1e-9))
+    s = np.arange(n0 * 2 ** level + 1) / 2 ** level
+    e = length * (ratio ** s - 1.0) / (ratio ** n0 - 1.0)
+    e[-1] = length
+    return e
+
+
+def subdivide(edges: np.ndarray, refine: int) -> np.ndarray:
+    """Split every cell of ``edges`` into ``refine`` equal cells."""
+    edges = np.asarray(edges, dtype=float)
+    if refine == 1:
+        return edges.copy()
+    t = np.arange(refine) / refine
+    inner = (edges[:-1, None] + np.diff(edges)[:, None] * t[None, :]).ravel()
+    return np.append(inner, edges[-1])
+
+
+@dataclass(frozen=True)
+class MovingFrameMesh:
+    """Cell edges of a moving-frame mesh for one body.
+
+    Attributes
+    ----------
+    x_edges : ndarray
+        Edges along the rolling direction [m], increasing; outflow at ``x_edges[0]``, inflow at
+        ``x_edges[-1]``.
+    y_edges : ndarray or None
+        Lateral edges [m] (None in 2-D).
+    z_edges : ndarray
+        Depth edges [m], ``z_edges[0] = 0`` is the surface.
+    peclet, delta, ell : float
+        Scales from :func:`thermal_scales` ([1], [m], [m]).
+    half : bool
+        3-D only: the mesh covers ``y >= 0`` (symmetric source).
+    """
+
+    x_edges: np.ndarray
+    y_edges: np.ndarray | None
+    z_edges: np.ndarray
+    peclet: float
+    delta: float
+    ell: float
+    half: bool = False
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Number of cells along (x, z) or (x, y, z)."""
+        if self.y_edges is None:
+            return (self.x_edges.size - 1, self.z_edges.size - 1)
+        return (self.x_edges.size - 1, self.y_edges.size - 1, self.z_edges.size - 1)
+
+    @property
+    def cells(self) -> int:
+        return int(np.prod(self.shape))
+
+
+def _outer(length: float, first: float, ratio: float, level: int) -> np.ndarray:
+    return geometric_edges(length, first, ratio, level)
+
+
+def moving_frame_mesh(x_patch_edges: np.ndarray, a: float, speed: float, diffusivity: float, level: int, *,
+                      y_patch_edges: np.ndarray | None = None, b: float | None = None, refine: int = 1,
+                      layer_cells: float = 4.0, ratio: float = 1.3, half: bool = False) -> MovingFrameMesh:
+    """Build the graded mesh of one body for a patch on ``[-a, a]`` (x [-b, b] in 3-D).
+
+    Parameters
+    ----------
+    x_patch_edges : ndarray
+        Edges of the surface grid along x on ``[-a, a]`` at level ``level`` [m] (uniform).
+    a : float
+        Semi-axis along the rolling direction [m].
+    speed : float
+        Speed of the body's surface relative to the contact [m/s].
+    diffusivity : float
+        Thermal diffusivity kappa [m^2/s].
+    level : int
+        Refinement level k (the grid's level): the growth ratio of the graded parts is
+        ``ratio**(1/2**k)``.
+    y_patch_edges : ndarray, optional
+        Lateral grid edges on ``[-b, b]`` [m]; given for a 3-D mesh.
+    b : float, optional
+        Lateral semi-axis [m] (3-D).
+    refine : int
+        FiPy cells per grid cell along x and y on the patch.
+    layer_cells : float
+        Cells per ``min(delta, a)`` at the surface at level 0 [1].
+    ratio : float
+        Growth ratio of neighbouring cells at level 0 [1].
+    half : bool
+        3-D: mesh only ``y >= 0`` (the caller checked that the source is symmetric and that the
+        grid has an edge at y = 0).
+
+    Returns
+    -------
+    MovingFrameMesh
+    """
+    sc = thermal_scales(a, speed, diffusivity)
+    ell, delta = sc["ell"], sc["delta"]
+    xp = subdivide(x_patch_edges, refine)
+    dx = float(xp[1] - xp[0])
+    dx0 = dx * 2 ** level  # the patch cell of level 0: grading continues it smoothly
+    margin = max(4.0 * ell, 0.25 * a)
+    out = _outer(margin, dx0, ratio, level)
+    x_edges = np.concatenate([-a - out[::-1], xp[1:-1], a + out])
+    x_edges[out.size - 1] = -a
+    x_edges[-out.size] = a
+    length = float(x_edges[-1] - x_edges[0])
+    depth = 3.0 * 2.0 * math.sqrt(diffusivity * length / speed)
+    first_z = min(delta, a) / layer_cells
+    depth = max(depth, 4.0 * first_z)
+    z_edges = geometric_edges(depth, first_z, ratio, level)
+    y_edges = None
+    if y_patch_edges is not None:
+        yp = subdivide(y_patch_edges, refine)
+        dy0 = float(yp[1] - yp[0]) * 2 ** level
+        lat = max(5.0 * ell, 0.25 * b)
+        yout = _outer(lat, dy0, ratio, level)
+        if half:
+            yin = yp[yp >= -1e-12 * b]
+            yin[0] = 0.0
+            y_edges = np.concatenate([yin[:-1], b + yout])
+        else:
+            y_edges = np.concatenate([-b - yout[::-1], yp[1:-1], b + yout])
+    return MovingFrameMesh(x_edges, y_edges, z_edges, sc["peclet"], delta, ell, half)

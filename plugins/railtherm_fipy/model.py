@@ -1,0 +1,370 @@
+"""Temperature stage model "fipy": finite-volume heat conduction with FiPy.
+
+Steady mode: each body (wheel at ``v_wheel``, rail at ``v_rail``) is solved in the frame moving with
+the contact (:mod:`railtherm_fipy.steady`) on a mesh graded from the scene's scales
+(:mod:`railtherm_fipy.mesh`):
+
+* line contact: one 2-D (x-z) problem per body;
+* ellipse, ``dimension = 2`` ("strips"): every row ``y_j`` of the surface grid is solved as an
+  independent 2-D x-z problem with that row's flux. This neglects lateral conduction, valid when the
+  thermal layer ``delta = a/sqrt(Pe)`` is thin compared with the lateral extent b of the patch; the
+  model refuses it when ``delta / b > max_strip_delta`` (default 0.02). Measured against the exact
+  moving Hertz source on a circle (tests/test_fipy_references.py): the strip error levels off at
+  1.2 % of the peak for delta/b = 0.032 (Pe 1e3) and stays below the discretisation error (< 0.8 %)
+  for delta/b <= 0.01 (Pe >= 1e4); Ertz & Knothe's case has delta/b = 0.007;
+* ellipse, ``dimension = 3``: one 3-D (x-y-z) problem per body (half the width when the source is
+  symmetric in y), LU up to 20 000 cells, else GMRES + ILU; refused when the mesh would exceed
+  ``max_cells`` (default 400 000: about 20-30 s on the development machine);
+* ``dimension = "auto"``: line -> 2-D; ellipse -> strips where valid, else 3-D if it fits in
+  ``max_cells``, else refused with both reasons.
+
+Transient mode (``scene.mode = "transient"``): the heating of the wheel over many revolutions,
+:mod:`railtherm_fipy.transient` (radial FiPy conduction in the wheel with the revolution-averaged
+tread balance), on top of the steady flash field. In steady mode the long-term values
+``steady_wheel_temperature`` / ``steady_mean_contact_temperature`` are the lumped balance the
+transient converges to.
+
+Accuracy (tests/test_fipy_references.py, Hertz flux, max-norm error over the patch / peak): 2-D
+against Jaeger's band 0.014 % (Pe 0.1, level 3), 0.05 % (Pe 10), 0.6 % (Pe 1e3, 1e4, level 4 = 128
+cells along 2a); 3-D against the moving surface source 0.5 % (Pe 0.1, level 1), 0.8 % (Pe 10) and
+2.4 % (Pe 1e3, 1e4) at level 2. Along the flow the scheme is first order wherever the cell Péclet
+number exceeds ~2 (upwinding): that, not the depth grading, limits the accuracy at high Pe.
+
+Temperatures returned are absolute: the rise plus the body's ``bulk_temperature``.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from railtherm import Capabilities, Option, Refused, TemperatureField, TemperatureModel
+
+from .mesh import moving_frame_mesh, thermal_scales
+from .steady import SCHEMES, MovingFrameSolver
+
+#: result variables this model fills
+PROVIDES = frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature", "temperature"})
+
+
+class FipyTemperature(TemperatureModel):
+    """Flash temperatures of wheel and rail by finite volumes (FiPy), steady in the contact frame.
+
+    Solves ``kappa laplace(T) - div(u T) = 0`` with ``u = (-V, 0, 0)`` for each body: the frictional
+    flux on the patch, convection ``h`` outside it, bulk temperature at the inflow, zero gradient at
+    the outflow, insulated elsewhere (see :mod:`railtherm_fipy.steady`). Verified against Jaeger's
+    moving band (2-D) and the moving surface source (3-D) of ``railtherm.references`` for Péclet
+    numbers 0.1 to 1e4, and against Table 1 of Ertz & Knothe [1]_.
+
+    Options
+    -------
+    scheme : {"power-law", "upwind", "exponential", "hybrid", "central"}
+        FiPy convection scheme (default "power-law"; "central" oscillates at high cell Péclet
+        number and is offered for demonstration only).
+    dimension : {"auto", 2, 3}
+        See the module docstring.
+    refine : int
+        FiPy cells per surface-grid cell along x (and y in 3-D) on the patch.
+    layer_cells : float
+        Cells per ``min(delta, a)`` at the surface at level 0.
+    growth : float
+        Growth ratio of the graded cells at level 0 (``growth**(1/2**level)`` at level k).
+    max_cells : int
+        Largest 3-D mesh (cells per body) this model will solve.
+    max_cells_low_peclet : int
+        Largest 3-D mesh when the Péclet number is below 1 (slow Krylov convergence there).
+    max_strip_delta : float
+        Largest ``delta / b`` for which strip-wise 2-D solves of an ellipse are accepted.
+
+    References
+    ----------
+    .. [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation
+       of temperatures in wheel/rail contact, Wear 253 (2002) 498-508.
+       doi:10.1016/S0043-1648(02)00140-6
+    .. [2] D. Wheeler, J.E. Guyer, J.A. Warren, FiPy: Partial differential equations with Python,
+       Computing in Science & Engineering 11 (2009) 63-72. doi:10.1109/MCSE.2009.52
+    .. [3] S.V. Patankar, Numerical Heat Transfer and Fluid Flow, Hemisphere, 1980 (power-law
+       scheme). ISBN 978-0891165224
+    """
+
+    name = "fipy"
+    description = "finite-volume heat conduction with FiPy: steady moving frame (2-D/3-D) and wheel heating"
+    capabilities = Capabilities(convection=True, modes=frozenset({"steady", "transient"}),
+                                provides=PROVIDES | {"steady_wheel_temperature", "steady_mean_contact_temperature"})
+    options = {
+        "scheme": Option("power-law", "convection scheme", choices=tuple(SCHEMES)),
+        "dimension": Option("auto", "2 (x-z, strips of an ellipse), 3 (x-y-z) or auto", choices=("auto", 2, 3)),
+        "refine": Option(1, "FiPy cells per surface-grid cell on the patch", minimum=1),
+        "layer_cells": Option(4.0, "cells per min(delta, a) at the surface at level 0", minimum=0.5),
+        "growth": Option(1.3, "growth ratio of graded cells at level 0", minimum=1.01),
+        "max_cells": Option(400_000, "largest 3-D mesh per body [cells]", minimum=1000),
+        "max_cells_low_peclet": Option(100_000, "largest 3-D mesh per body when Pe < 1 [cells]", minimum=1000),
+        "max_strip_delta": Option(0.02, "largest delta/b accepted for strip-wise 2-D solves", minimum=0.0),
+    }
+
+    def supports(self, scene, level):
+        why = super().supports(scene, level)
+        if why is not None:
+            return why
+        if not scene.speed > 0:
+            return (f"model 'fipy' solves in the frame moving with the contact and needs speed > 0, "
+                    f"scene {scene.name!r} has speed {scene.speed!r}; use a static method instead")
+        return None
+
+    # ------------------------------------------------------------------ helpers
+    @staticmethod
+    def _opts(options) -> dict:
+        o = FipyTemperature.resolve_options(options)
+        o["refine"] = int(o["refine"])
+        return o
+
+    @staticmethod
+    def choose_dimension(scene, source, level, options) -> tuple[int, str]:
+        """Return (2 or 3, how) for this scene and source; raise :class:`railtherm.Refused` when neither works.
+
+        ``how`` is "line", "strips" or "3-D".
+        """
+        grid = source.grid
+        dim = options.get("dimension", "auto")
+        if grid.line:
+            if dim == 3:
+                raise Refused("model 'fipy': dimension 3 needs an elliptical patch; a line contact is solved in 2-D "
+                              "(x-z): use dimension 'auto' or 2")
+            return 2, "line"
+        strip_why = FipyTemperature.strip_limit(scene, source, options)
+        cells = FipyTemperature.cells_3d(scene, source, level, options)
+        pe = min(thermal_scales(grid.a, source.body_speed[i], scene.body(i).diffusivity)["peclet"] for i in (0, 1))
+        size_why = None
+        if cells > options["max_cells"]:
+            size_why = (f"a 3-D mesh would need {cells} cells per body > max_cells = {options['max_cells']} "
+                        f"(lower the level or raise the option max_cells)")
+        elif pe < 1.0 and cells > options["max_cells_low_peclet"]:
+            size_why = (f"a 3-D mesh would need {cells} cells per body > max_cells_low_peclet = "
+                        f"{options['max_cells_low_peclet']} at Peclet number {pe:.3g} < 1 (diffusion-dominated: "
+                        f"GMRES + ILU needs hundreds of iterations; lower the level or raise the option)")
+        if dim == 2:
+            if strip_why:
+                raise Refused(f"model 'fipy', dimension 2: {strip_why}; use dimension 3 or 'auto'")
+            return 2, "strips"
+        if dim == 3:
+            if size_why:
+                raise Refused(f"model 'fipy', dimension 3: {size_why}")
+            return 3, "3-D"
+        if strip_why is None:
+            return 2, "strips"
+        if size_why is None:
+            return 3, "3-D"
+        raise Refused(f"model 'fipy': {strip_why}, and {size_why}")
+
+    @staticmethod
+    def strip_limit(scene, source, options) -> str | None:
+        """Reason why strip-wise 2-D solves of an ellipse are not valid, or None."""
+        grid = source.grid
+        worst = 0.0
+        for i in (0, 1):
+            v = source.body_speed[i]
+            sc = thermal_scales(grid.a, v, scene.body(i).diffusivity)
+            worst = max(worst, sc["delta"] / grid.b)
+        lim = options["max_strip_delta"]
+        if worst > lim:
+            pe = min(thermal_scales(grid.a, source.body_speed[i], scene.body(i).diffusivity)["peclet"] for i in (0, 1))
+            return (f"strip-wise 2-D solves neglect lateral conduction, valid only for a thin thermal layer: "
+                    f"delta/b = a/(b sqrt(Pe)) = {worst:.3g} > max_strip_delta = {lim:g} (Peclet number {pe:.3g})")
+        return None
+
+    @staticmethod
+    def cells_3d(scene, source, level, options) -> int:
+        """Cells per body of the 3-D mesh (the larger of wheel and rail)."""
+        grid = source.grid
+        n = 0
+        for i in (0, 1):
+            m = moving_frame_mesh(grid.x_edges, grid.a, source.body_speed[i], scene.body(i).diffusivity, level,
+                                  y_patch_edges=grid.y_edges, b=grid.b, refine=options["refine"],
+                                  layer_cells=options["layer_cells"], ratio=options["growth"],
+                                  half=FipyTemperature._half(source))
+            n = max(n, m.cells)
+        return n
+
+    @staticmethod
+    def _half(source) -> bool:
+        grid = source.grid
+        if grid.line or grid.y.size % 2:
+            return False
+        q = np.asarray(source.power_density, dtype=float)
+        eps = np.broadcast_to(np.asarray(source.heat_partition, dtype=float), q.shape)
+        return bool(np.allclose(q, q[:, ::-1], rtol=1e-12, atol=0.0) and np.allclose(eps, eps[:, ::-1]))
+
+    # ------------------------------------------------------------------ compute
+    def compute_temperature(self, scene, source, level, options):
+        """Surface (and depth at y = 0) temperatures of wheel and rail [degC], absolute."""
+        opts = self._opts(options)
+        flash = self._steady(scene, source, level, opts)
+        if getattr(scene, "mode", "steady") != "transient":
+            return self._lumped_steady(scene, source, flash)
+        return self._transient(scene, source, level, opts, flash)
+
+    @staticmethod
+    def _lumped_steady(scene, source, flash):
+        """Steady mode: the long-term values of the lumped balance (no time integration).
+
+        ``T_inf = eps P / (G_cond + alpha A)`` and ``T_mean_inf = T_mean + eps_c T_inf`` (seed eqs.
+        50-54; :mod:`railtherm_fipy.transient` for G_cond, A and eps_c), the state the transient mode
+        converges to.
+        """
+        from .transient import blok_fraction, conduction_conductance
+        grid = source.grid
+        v_w, v_r = (float(v) for v in source.body_speed)
+        power = float(grid.integrate(np.asarray(source.flux(0), dtype=float) * np.ones(grid.shape)))
+        g = conduction_conductance(grid.a, None if grid.line else grid.b, scene.wheel, scene.rail, v_w, v_r)
+        width = 1.0 if grid.line else 2.0 * grid.b
+        R = getattr(scene, "wheel_radius", None) or scene.wheel.radius
+        g_tot = g + float(scene.convection or 0.0) * 2.0 * math.pi * R * width
+        t_inf = power / g_tot if g_tot > 0 else 0.0
+        bulk_w = scene.wheel.bulk_temperature
+        flash.steady_wheel_temperature = bulk_w + t_inf
+        flash.steady_mean_contact_temperature = (float(flash.mean_contact_temperature[0])
+                                                 + blok_fraction(scene.wheel, scene.rail, v_w, v_r) * t_inf)
+        return flash
+
+    def _transient(self, scene, source, level, opts, flash):
+        """Wheel heating over many revolutions on top of the cold-wheel flash field (seed eq. 54)."""
+        from .transient import wheel_heating
+        h = wheel_heating(scene, source, level, opts)
+        ts = float(h["tread"][-1])                      # tread rise at the end of the simulated time
+        eps_c = h["eps_c"]
+        grid = source.grid
+        inside = grid.inside()
+        surface = flash.surface_temperature.copy()
+        # superposition (seed eqs. 41, 44, 54): in the patch both surfaces rise by eps_c T_s;
+        # outside it the wheel is at T_s
+        surface[0] = surface[0] + np.where(inside, eps_c * ts, ts)
+        surface[1] = surface[1] + np.where(inside, eps_c * ts, 0.0)
+        temperature = flash.temperature.copy() if flash.temperature is not None else None
+        if temperature is not None:
+            temperature[0] += ts
+        bulk_w = scene.wheel.bulk_temperature
+        diag = dict(flash.diagnostics)
+        diag.update({"transient_" + k: v for k, v in h.items() if np.isscalar(v)})
+        diag["transient_tread_fraction_of_steady"] = ts / h["t_inf"] if h["t_inf"] > 0 else 1.0
+        diag["transient_mean_fraction_of_steady"] = float(h["mean"][-1]) / h["t_inf"] if h["t_inf"] > 0 else 1.0
+        mean_flash_wheel = float(flash.mean_contact_temperature[0] - bulk_w)
+        out = TemperatureField.from_surface(grid, surface, z=flash.z, temperature=temperature, diagnostics=diag)
+        out.steady_wheel_temperature = bulk_w + ts
+        out.steady_mean_contact_temperature = bulk_w + mean_flash_wheel + eps_c * ts
+        out.history = h
+        return out
+
+    def _steady(self, scene, source, level, opts):
+        """Steady moving-frame flash temperatures of both bodies (absolute)."""
+        for i, v in enumerate(source.body_speed):
+            if not v > 0:
+                raise Refused(f"model 'fipy' solves each body in the frame moving with the contact and needs its "
+                              f"surface to move through the patch: the {('wheel', 'rail')[i]} moves at {v:g} m/s "
+                              f"(<= 0, e.g. a locked wheel v0 + v_s = 0); use a method with a static source")
+        dim, how = self.choose_dimension(scene, source, level, opts)
+        grid = source.grid
+        t0 = time.perf_counter()
+        surface = np.zeros((2, *grid.shape))
+        depth_T, depth_z = [], []
+        diag = {"dimension": dim, "mode": how, "scheme": opts["scheme"], "refine": opts["refine"]}
+        iters, resid, balance, cells = [], [], [], []
+        contact = grid.inside()
+        for i in (0, 1):
+            mat = scene.body(i)
+            v = float(source.body_speed[i])
+            q = np.asarray(source.flux(i), dtype=float) * np.ones(grid.shape)
+            mesh = moving_frame_mesh(grid.x_edges, grid.a, v, mat.diffusivity, level,
+                                     y_patch_edges=None if dim == 2 else grid.y_edges,
+                                     b=grid.b, refine=opts["refine"], layer_cells=opts["layer_cells"],
+                                     ratio=opts["growth"], half=(dim == 3 and self._half(source)))
+            diag[f"{('wheel', 'rail')[i]}_peclet"] = mesh.peclet
+            if not np.any(q != 0):  # no heat enters this body (partition 0 or 1): rise 0
+                depth_T.append(np.zeros((grid.x.size, mesh.z_edges.size - 1)))
+                depth_z.append(0.5 * (mesh.z_edges[1:] + mesh.z_edges[:-1]))
+                continue
+            solver = MovingFrameSolver(mesh, v, mat, scheme=opts["scheme"])
+            i0 = int(np.searchsorted(mesh.x_edges, -grid.a - 1e-12 * grid.a))
+            r_ = opts["refine"]
+            nxp = grid.x.size * r_
+            fine_x = solver.x[i0:i0 + nxp]
+
+            def to_grid(values):  # fine patch values -> grid x centres
+                return values if r_ == 1 else np.interp(grid.x, fine_x, values)
+
+            def on_mesh(row):  # grid row -> fine surface faces (piecewise constant)
+                full = np.zeros(solver.x.size)
+                full[i0:i0 + nxp] = np.repeat(row, r_)
+                return full
+
+            if dim == 2 and grid.line:
+                res = solver.solve(on_mesh(q), convection=scene.convection, contact=on_mesh(contact.astype(float)) > 0)
+                iters.append(res["iterations"]), resid.append(res["residual"])
+                balance.append(res["energy_balance"]), cells.append(res["cells"])
+                surface[i] = to_grid(res["surface"][i0:i0 + nxp])
+                depth_T.append(np.array([to_grid(res["T"][i0:i0 + nxp, k]) for k in range(res["z"].size)]).T)
+                depth_z.append(res["z"])
+            elif dim == 2:
+                centre = int(np.argmin(np.abs(grid.y)))
+                Q = np.array([on_mesh(q[:, j]) for j in range(grid.y.size)])
+                C = np.array([on_mesh(contact[:, j].astype(float)) > 0 for j in range(grid.y.size)])
+                res = solver.solve_strips(Q, C, convection=scene.convection, keep=centre)
+                iters.append(res["iterations"]), resid.append(res["residual"])
+                balance.extend(res["energy_balance"][np.any(Q > 0, axis=1)]), cells.append(res["cells"])
+                surface[i] = np.array([to_grid(row[i0:i0 + nxp]) for row in res["surface"]]).T
+                depth_T.append(np.array([to_grid(res["T"][i0:i0 + nxp, k]) for k in range(res["z"].size)]).T)
+                depth_z.append(res["z"])
+                diag[f"{('wheel', 'rail')[i]}_factorisations"] = int(res["factorisations"])
+            else:
+                j0 = int(np.searchsorted(mesh.y_edges, -grid.b - 1e-12 * grid.b)) if not mesh.half else 0
+                nyp = grid.y.size * r_
+                ycells = np.repeat(np.arange(grid.y.size), r_)
+                qf = np.zeros((solver.x.size, solver.y.size))
+                cf = np.zeros_like(qf, dtype=bool)
+                if mesh.half:
+                    jh = np.flatnonzero(grid.y > 0)
+                    yrep = np.repeat(jh, r_)
+                    qf[i0:i0 + nxp, :yrep.size] = np.repeat(q[:, yrep], r_, axis=0)
+                    cf[i0:i0 + nxp, :yrep.size] = np.repeat(contact[:, yrep], r_, axis=0)
+                else:
+                    qf[i0:i0 + nxp, j0:j0 + nyp] = np.repeat(q[:, ycells], r_, axis=0)
+                    cf[i0:i0 + nxp, j0:j0 + nyp] = np.repeat(contact[:, ycells], r_, axis=0)
+                res = solver.solve(qf, convection=scene.convection, contact=cf)
+                iters.append(res["iterations"]), resid.append(res["residual"])
+                balance.append(res["energy_balance"]), cells.append(res["cells"])
+                S = res["surface"][i0:i0 + nxp]
+                from scipy.interpolate import RegularGridInterpolator
+                yy = solver.y if not mesh.half else np.concatenate([-solver.y[::-1], solver.y])
+                SS = S if not mesh.half else np.concatenate([S[:, ::-1], S], axis=1)
+                interp = RegularGridInterpolator((fine_x, yy), SS, bounds_error=False, fill_value=None)
+                X, Y = grid.mesh()
+                surface[i] = interp(np.stack([X.ravel(), Y.ravel()], axis=1)).reshape(grid.shape)
+                Tyz = res["T"][i0:i0 + nxp]
+                ys = solver.y
+                if mesh.half:
+                    k0 = 0  # y = 0 is a symmetry plane: the first cell row is the nearest
+                    Tc = Tyz[:, k0, :]
+                else:
+                    kk = np.argsort(np.abs(ys))[:2]
+                    w = np.abs(ys[kk[::-1]]) / np.abs(ys[kk]).sum()
+                    Tc = w[0] * Tyz[:, kk[0], :] + w[1] * Tyz[:, kk[1], :]
+                depth_T.append(np.array([to_grid(Tc[:, k]) for k in range(res["z"].size)]).T)
+                depth_z.append(res["z"])
+            diag[f"{('wheel', 'rail')[i]}_first_cell"] = float(mesh.z_edges[1])
+            diag[f"{('wheel', 'rail')[i]}_depth"] = float(mesh.z_edges[-1])
+            diag[f"{('wheel', 'rail')[i]}_cells"] = int(mesh.cells)
+        # common depth axis: the wheel's; the rail interpolated onto it (zero rise below its mesh)
+        z = depth_z[0]
+        temperature = np.stack([depth_T[0], np.array([np.interp(z, depth_z[1], row, right=0.0)
+                                                      for row in depth_T[1]])])
+        bulk = np.array([scene.wheel.bulk_temperature, scene.rail.bulk_temperature])
+        surface_abs = surface + bulk.reshape((2,) + (1,) * len(grid.shape))
+        temperature = temperature + bulk[:, None, None]
+        diag.update(iterations=int(max(iters) if iters else 0), residual=float(max(resid) if resid else 0.0),
+                    converged=True, solves=len(iters), max_cells=int(max(cells) if cells else 0),
+                    energy_balance_min=float(min(balance) if balance else 1.0),
+                    energy_balance_max=float(max(balance) if balance else 1.0),
+                    solve_time=time.perf_counter() - t0)
+        from .solvers import solver_suite
+        diag["solver_suite"] = solver_suite()
+        return TemperatureField.from_surface(grid, surface_abs, z=z, temperature=temperature, diagnostics=diag)

@@ -1,0 +1,202 @@
+"""Transient heating of the wheel over many revolutions (FiPy, implicit Euler in time).
+
+Scales: one contact lasts ``2a / V`` (0.4 ms at 30 m/s) and heats a layer ``delta ~ 75 um``; one
+revolution takes ``2 pi R / V`` (0.1 s); the wheel warms up over minutes to hours (seed §5.3:
+"30-120 min"). Resolving every passage over thousands of revolutions is neither possible nor needed:
+after one revolution the flash layer has diffused into the rim (``sqrt(kappa 2 pi R / V) ~ 1 mm``),
+so on the time scale of the warm-up the tread sees the revolution-averaged heat balance of seed
+§5.1-5.3:
+
+* frictional heat into the wheel ``eps P`` [W] (``eps`` the source's partition);
+* conduction from the warm wheel into the cold rail (seed eqs. 40-43): two half-spaces at
+  ``T_s`` and 0 brought into contact take the interface temperature ``eps_c T_s`` with the Blok
+  fraction ``eps_c = beta_w sqrt(v_w) / (beta_w sqrt(v_w) + beta_r sqrt(v_r))`` (eq. 41), and the
+  rail takes ``G_cond T_s`` with, per strip of half-length ``a_y``,
+  ``eps_c beta_r sqrt(8 a_y v_r / pi)`` per unit width (eq. 43); integrated over the ellipse's strips
+  ``a_y = a sqrt(1 - y^2/b^2)``: ``G_cond = eps_c beta_r sqrt(8 a v_r / pi) b B(1/2, 5/4)`` [W/K]
+  (per unit width of a line contact: ``eps_c beta_r sqrt(8 a v_r / pi)`` [W/(m K)]);
+* convection ``alpha T_s`` on the running band (seed eqs. 45-48).
+
+The wheel is a disc of the rolling radius R and of the width of the running band ``w = 2 b`` (1 m
+per unit width for a line contact), heated through its tread ``A = 2 pi R w``; FiPy solves the radial
+conduction ``rho c dT/dt = (1/r) d/dr (lambda r dT/dr)`` on a ``CylindricalGrid1D`` graded towards
+the tread, with the tread flux ``(eps P - G_cond T_s) / A - alpha T_s`` (implicit in ``T_s``). Its
+steady state is the uniform ``T_inf = eps P / (G_cond + alpha A)`` -- the "green" method's lumped
+steady state (seed eq. 52 in its 3-D form); the transient says how fast the tread and the bulk of
+the wheel get there.
+
+Reported (``TemperatureField``): ``steady_wheel_temperature`` = tread temperature at the end of the
+simulated time (+ bulk), ``steady_mean_contact_temperature`` = the cold-wheel mean flash
+temperature of the wheel + ``eps_c T_s`` (seed eq. 54, superposition), and the surface fields of
+the steady flash solve shifted by the same superposition (wheel and rail in the patch by
+``eps_c T_s``, the wheel outside it by ``T_s``). Time stepping: ``numerics.time_step`` if given,
+else steps growing from ``tau / 1e4`` (``tau`` the lumped time constant), see :func:`time_steps`;
+duration ``numerics.duration`` or ``numerics.revolutions * 2 pi R / v_w``, default ``8 tau``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.special import beta as beta_fn
+
+from .mesh import geometric_edges
+from railtherm import SolverError
+
+from .solvers import assemble, import_fipy, lu_factor
+
+#: int_{-1}^{1} (1 - eta^2)^{1/4} d eta = B(1/2, 5/4): effective width of the strip conduction / b
+ELLIPSE_SQRT_WIDTH = float(beta_fn(0.5, 1.25))
+
+
+def blok_fraction(wheel, rail, v_wheel: float, v_rail: float) -> float:
+    """``eps_c = beta_w sqrt(v_w) / (beta_w sqrt(v_w) + beta_r sqrt(v_r))`` [1] (seed eq. 41, Blok)."""
+    w = wheel.effusivity * math.sqrt(v_wheel)
+    r = rail.effusivity * math.sqrt(v_rail)
+    return w / (w + r)
+
+
+def conduction_conductance(a: float, b: float | None, wheel, rail, v_wheel: float, v_rail: float) -> float:
+    """Conductance from the warm wheel into the cold rail through the patch (seed eqs. 42-43).
+
+    Parameters
+    ----------
+    a : float
+        Semi-axis along the rolling direction [m].
+    b : float or None
+        Lateral semi-axis [m]; None for a line contact (result per unit width).
+    wheel, rail : railtherm.Material
+        Bodies (``effusivity`` [W s^0.5 / (m^2 K)]).
+    v_wheel, v_rail : float
+        Surface speeds through the patch [m/s].
+
+    Returns
+    -------
+    float
+        ``G_cond`` [W/K] ([W/(m K)] for a line contact).
+    """
+    eps_c = blok_fraction(wheel, rail, v_wheel, v_rail)
+    per_width = eps_c * rail.effusivity * math.sqrt(8.0 * a * v_rail / math.pi)
+    return per_width if b is None else per_width * b * ELLIPSE_SQRT_WIDTH
+
+
+def time_steps(duration: float, tau: float, level: int, fixed: float | None = None) -> list[float]:
+    """Implicit-Euler time steps [s] covering ``duration``.
+
+    ``fixed`` (``numerics.time_step``) gives constant steps; otherwise steps grow by 10 % from
+    ``tau / 1e4`` (the sqrt(t) start of a suddenly heated surface) up to ``max(tau / 20, t / 50)``
+    (the late approach is governed by the slow radial conduction, time scale R^2 / kappa >> tau).
+    Level k divides every step by ``2**k``.
+    """
+    k = 2 ** int(level)
+    if fixed is not None:
+        n = max(1, int(math.ceil(duration * k / float(fixed) - 1e-9)))
+        return [duration / n] * n
+    dts, t, dt = [], 0.0, tau / 1e4 / k
+    growth = 1.1 ** (1.0 / k)
+    while t < duration * (1 - 1e-12):
+        step = min(dt, duration - t)
+        dts.append(step)
+        t += step
+        dt = min(dt * growth, max(tau / 20.0, t / 50.0) / k)
+    return dts
+
+
+def wheel_heating(scene, source, level: int, options: dict, flash=None) -> dict:
+    """Integrate the wheel's warm-up with FiPy (see the module docstring).
+
+    Parameters
+    ----------
+    scene : Scene-like
+        ``wheel``, ``rail`` (Material), ``convection`` [W/(m^2 K)], ``wheel_radius`` [m],
+        ``numerics`` (``time_step`` [s], ``duration`` [s], ``revolutions`` [1]).
+    source : railtherm.HeatSource
+        Heat source (grid, power density, partition, body speeds).
+    level : int
+        Refinement level: radial cells and time steps double per level.
+    options : dict
+        Model options (unused keys ignored).
+    flash : TemperatureField, optional
+        Unused; kept for symmetry with the steady path.
+
+    Returns
+    -------
+    dict
+        ``t`` [s], ``tread`` [K rise], ``mean`` [K rise] (volume mean of the disc) histories,
+        ``t_inf`` [K] (lumped steady state), ``tau`` [s], ``eps_c`` [1], ``g_cond`` [W/K],
+        ``power`` [W] into the wheel, diagnostics ``iterations``, ``residual``, ``converged``, ``steps``.
+    """
+    fp = import_fipy()
+    grid = source.grid
+    wheel, rail = scene.wheel, scene.rail
+    v_w, v_r = (float(v) for v in source.body_speed)
+    R = float(getattr(scene, "wheel_radius", None) or scene.wheel.radius)
+    width = 1.0 if grid.line else 2.0 * grid.b
+    area = 2.0 * math.pi * R * width
+    power = float(grid.integrate(np.asarray(source.flux(0), dtype=float) * np.ones(grid.shape)))
+    g_cond = conduction_conductance(grid.a, None if grid.line else grid.b, wheel, rail, v_w, v_r)
+    alpha = float(scene.convection or 0.0)
+    g_tot = g_cond + alpha * area
+    t_inf = power / g_tot
+    rho_c = wheel.density * wheel.specific_heat
+    lam = wheel.conductivity
+    tau = rho_c * math.pi * R * R * width / g_tot
+    num = dict(getattr(scene, "numerics", {}) or {})
+    if "duration" in num:
+        duration = float(num["duration"])
+    elif "revolutions" in num:
+        duration = float(num["revolutions"]) * 2.0 * math.pi * R / v_w
+    else:
+        duration = 8.0 * tau
+    # radial mesh graded towards the tread: first cell resolves the diffusion length of the first step
+    dt0 = float(num.get("time_step", tau / 1e4))
+    first = min(0.25 * math.sqrt(wheel.diffusivity * dt0), R / 20.0)
+    e = R - geometric_edges(R, first, 1.3, level)[::-1]
+    e[0] = 0.0
+    mesh = fp.CylindricalGrid1D(dx=np.diff(e))
+    T = fp.CellVariable(mesh=mesh, value=0.0, hasOld=True)
+    dr1 = e[-1] - e[-2]
+    tread = mesh.facesRight.value
+    n = mesh.faceNormals
+    # tread face: lambda (T_s - T_P) / (dr/2) = P/A - H T_s with H = G/A gives
+    # T_s = (T_P + P/A dr/(2 lambda)) / (1 + c), c = H dr / (2 lambda); the flux into the cell is
+    # (P/A) / (1 + c) - H_eff T_P with H_eff = H / (1 + c): exact steady state P / G.
+    c_half = (g_tot / area) * dr1 / (2.0 * lam)
+    h_eff = (g_tot / area) / (1.0 + c_half)
+    q_in = fp.FaceVariable(mesh=mesh, value=np.where(tread, power / area / (1.0 + c_half), 0.0))
+    h_face = fp.FaceVariable(mesh=mesh, value=np.where(tread, h_eff, 0.0))
+    # FiPy assembles the spatial operator once: L T = b for  div(lambda grad T) + flux - H_eff T = 0.
+    # Implicit Euler, exactly what FiPy's TransientTerm(rho c) adds (rho c V / dt on the diagonal):
+    #   (rho c V / dt - L) T_new = rho c V / dt T_old - b
+    # The coefficients never change, so one assembly serves every step (and FiPy issue #1223 cannot bite).
+    steady_eq = (fp.DiffusionTerm(coeff=lam) + (q_in * n).divergence
+                 - fp.ImplicitSourceTerm(coeff=(h_face * n).divergence)) == 0
+    L, b = assemble(steady_eq, T)
+    vol = np.asarray(mesh.cellVolumes, dtype=float)
+    cap = rho_c * vol
+    dts = time_steps(duration, tau, level, num.get("time_step"))
+    ts, tr, mean = [0.0], [0.0], [0.0]
+    res = 0.0
+    t = 0.0
+    x = np.zeros(vol.size)
+    lu, lu_dt = None, None
+    import scipy.sparse as sp
+    for dt in dts:
+        if lu is None or dt != lu_dt:
+            M = (sp.diags(cap / dt) - L).tocsc()
+            lu, lu_dt = lu_factor(M), dt
+        rhs = cap / dt * x - b
+        x = lu.solve(rhs)
+        rel = float(np.linalg.norm(M @ x - rhs) / max(np.linalg.norm(rhs), 1e-300))
+        if not (np.all(np.isfinite(x)) and rel < 1e-9):
+            raise SolverError(f"FiPy transient wheel heating: relative residual {rel:.3g} at t = {t:.4g} s")
+        res = max(res, rel)
+        t += dt
+        ts.append(t)
+        tr.append((float(x[-1]) + power / area * dr1 / (2.0 * lam)) / (1.0 + c_half))
+        mean.append(float(np.sum(x * vol) / np.sum(vol)))
+    T.value = x
+    return {"t": np.array(ts), "tread": np.array(tr), "mean": np.array(mean), "t_inf": t_inf, "tau": tau,
+            "eps_c": blok_fraction(wheel, rail, v_w, v_r), "g_cond": g_cond, "power": power,
+            "iterations": 1, "residual": res, "converged": True, "steps": len(dts), "duration": t,
+            "radial_cells": int(mesh.numberOfCells), "first_cell": float(dr1), "area": area}
