@@ -90,6 +90,9 @@ class FemModel(CoupledModel):
                 return "model 'fem' needs an elastic rail strip"
             if scene.friction is None:
                 return "model 'fem' needs a friction coefficient"
+            if scene.normal_force is not None and not scene.normal_force > 0:
+                return (f"model 'fem': normal_force = {scene.normal_force!r} N/m presses nothing into the strip "
+                        "(no contact, no heat); give a load > 0 or a penetration")
         if scene.speed is None or not scene.speed > 0:
             return "model 'fem' needs a positive rolling speed (steady moving frame)"
         return None
