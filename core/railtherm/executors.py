@@ -165,8 +165,12 @@ def _worker_main(conn, spec, fn):  # pragma: no cover - runs in the worker proce
     setup_error = None
     try:
         install_host(spec)
+        from . import pipeline, schema  # noqa: F401 - load the heavy modules before the first run
+        import netCDF4  # noqa: F401
+        import xarray  # noqa: F401
     except BaseException as exc:  # noqa: BLE001
         setup_error = f"worker could not set up its plugins: {type(exc).__name__}: {exc}"
+    conn.send(("ready", os.getpid()))
     while True:
         try:
             msg = conn.recv()
@@ -187,6 +191,8 @@ def _worker_main(conn, spec, fn):  # pragma: no cover - runs in the worker proce
 
 
 class _Worker:
+    """A worker process, its pipe, and the run it holds (None: idle; -1: not ready yet)."""
+
     def __init__(self, ctx, spec, fn):
         parent, child = ctx.Pipe()
         self.proc = ctx.Process(target=_worker_main, args=(child, spec, fn), daemon=True,
@@ -194,6 +200,7 @@ class _Worker:
         self.proc.start()
         child.close()
         self.conn = parent
+        self.ready = False
         self.task: int | None = None
         self.t0 = 0.0
 
@@ -206,6 +213,8 @@ class _Worker:
         return True
 
     def stop(self, timeout=2.0):
+        if not self.ready:  # still loading: nothing to finish
+            self.proc.kill()
         try:
             self.conn.send(None)
         except (OSError, ValueError):
@@ -222,7 +231,8 @@ class ProcessExecutor:
 
     The parent knows which run each worker holds, so a worker that dies costs only that run (retried
     once on a fresh worker, then recorded ``failed``), and a worker stuck past its run's time limit
-    plus ``grace`` seconds is ended and the run recorded ``failed``.
+    plus ``grace`` seconds is ended and the run recorded ``failed``. A worker gets its first run once
+    it has loaded its plugins and modules (the time limit counts from the start of the run).
     """
 
     def __init__(self, workers: int | None = None, grace: float = GRACE, max_attempts: int = MAX_ATTEMPTS):
@@ -243,58 +253,70 @@ class ProcessExecutor:
         attempts = [0] * n
         pool = [_Worker(ctx, spec, fn) for _ in range(min(self.workers, n))]
         self.pids = [w.proc.pid for w in pool]
-        done = 0
+        done = startup_deaths = 0
+        started = False
         try:
             while done < n:
                 for w in pool:
-                    if w.task is None and pending:
+                    if w.ready and w.task is None and pending:
                         i = pending.popleft()
                         attempts[i] += 1
-                        if not w.send(i, tasks[i], kw):
+                        if not w.send(i, tasks[i], kw):  # a dead worker: found below
                             attempts[i] -= 1
                             pending.appendleft(i)
-                            w.task, w.t0 = -1, time.monotonic()  # a dead idle worker: replaced below
-                busy = [w for w in pool if w.task is not None]
-                ready = set(wait([w.conn for w in busy] + [w.proc.sentinel for w in busy], timeout=0.5))
+                watched = [w for w in pool if w.task is not None or not w.ready]
+                ready = set(wait([w.conn for w in watched] + [w.proc.sentinel for w in watched], timeout=0.5))
                 for k, w in enumerate(pool):
-                    if w.task is None:
+                    if w.ready and w.task is None:
                         continue
                     i = w.task
-                    if w.conn in ready or (i >= 0 and w.conn.poll()):
+                    broken = False
+                    if w.conn in ready or w.conn.poll():
                         try:
                             j, out = w.conn.recv()
                         except (EOFError, OSError):
-                            out = None
+                            broken = True  # the worker is going away
                         else:
+                            if j == "ready":
+                                w.ready = started = True
+                                continue
                             w.task = None
                             done += 1
                             if isinstance(out, str):
                                 out = _crash_record(tasks[j], out)
                             yield j, out
                             continue
-                    if w.proc.sentinel in ready or not w.proc.is_alive():
-                        w.proc.join(0.1)
+                    if broken or w.proc.sentinel in ready or not w.proc.is_alive():
+                        w.proc.join(1.0)
+                        if w.proc.is_alive():
+                            w.proc.kill()
+                            w.proc.join(5.0)
                         why = _exit_text(w.proc.exitcode)
-                        if i >= 0:
+                        if i is not None:
                             if attempts[i] >= self.max_attempts:
                                 done += 1
                                 yield i, _crash_record(tasks[i], f"worker process died ({why}) in each of "
                                                        f"{attempts[i]} attempts at this run")
                             else:
                                 pending.appendleft(i)
-                        w.task = None
+                        elif not w.ready:
+                            startup_deaths += 1
+                            if startup_deaths >= 3 * len(pool) and not started:
+                                raise RuntimeError(f"railtherm worker processes die while starting ({why}); "
+                                                   "try --executor serial to see the error")
                         w.conn.close()
-                        pool[k] = _Worker(ctx, spec, fn)
+                        pool[k] = _Worker(ctx, spec, fn) if pending else None
                         continue
-                    limit = tasks[i].timeout if i >= 0 else 0
+                    limit = tasks[i].timeout if i is not None else 0
                     if limit and limit > 0 and time.monotonic() - w.t0 > limit + self.grace:
                         w.proc.kill()
                         w.proc.join(5.0)
                         w.conn.close()
                         done += 1
-                        pool[k] = _Worker(ctx, spec, fn)
+                        pool[k] = _Worker(ctx, spec, fn) if pending else None
                         yield i, _crash_record(tasks[i], f"run exceeded the per-run time limit of {limit:g} s and "
                                                f"did not stop; its worker process was ended after {self.grace:g} s more")
+                pool = [w for w in pool if w is not None]
                 self.pids = [w.proc.pid for w in pool]
         finally:
             for w in pool:
@@ -302,22 +324,23 @@ class ProcessExecutor:
 
 
 def _dask_run(task, *, spec, fn, kw, grace):  # pragma: no cover - runs on a dask worker
+    from .runner import WATCHDOG
     install_host(spec)
-    finished = threading.Event()
     limit = task.timeout
+    token = None
     if limit and limit > 0:
-        def watchdog():
-            if not finished.wait(limit + grace):
-                # the run ignored its time limit (stuck in a C call): record it, then end this worker
-                # process; the nanny starts a new one, and the retried task finds this record
-                _crash_record(task, f"run exceeded the per-run time limit of {limit:g} s and did not stop; its "
-                                    f"dask worker process was ended after {grace:g} s more")
-                os._exit(70)
-        threading.Thread(target=watchdog, daemon=True, name="railtherm-watchdog").start()
+        def end_worker():
+            # the run ignored its time limit (stuck in a C call): record it, then end this worker
+            # process; the nanny starts a new one, and the retried task finds this record
+            _crash_record(task, f"run exceeded the per-run time limit of {limit:g} s and did not stop; its "
+                                f"dask worker process was ended after {grace:g} s more")
+            os._exit(70)
+        token = WATCHDOG.add(limit + grace, end_worker)
     try:
         return fn(task, **kw)
     finally:
-        finished.set()
+        if token is not None:
+            WATCHDOG.cancel(token)
 
 
 class DaskExecutor:
@@ -338,7 +361,13 @@ class DaskExecutor:
         spec = host_spec()
         cluster = None
         if self.scheduler:
-            client = Client(self.scheduler, timeout="30s")
+            try:
+                client = Client(self.scheduler, timeout="30s")
+            except (OSError, TimeoutError) as exc:
+                from .errors import SceneError
+                raise SceneError.bad_value(None, "scheduler", self.scheduler,
+                                           f"the address of a running dask scheduler (start one with "
+                                           f"'dask scheduler --port 8786'); connecting failed: {exc}") from None
         else:
             with dask.config.set({"distributed.scheduler.allowed-failures": MAX_ATTEMPTS - 1}):
                 cluster = LocalCluster(n_workers=self.workers or max(1, os.cpu_count() or 2), threads_per_worker=1,

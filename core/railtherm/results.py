@@ -2,7 +2,7 @@
 
 :func:`open_results` reads every run file of a study output folder (``runs/<scene>/<method>/level-<k>.nc``)
 and the status records of runs without a file (``level-<k>.status.json``: refused or failed), and
-gathers the scalar results on dimensions ``scene``, ``method``, ``level`` (and ``body``). The swept
+gathers the scalar results on dimensions ``scene``, ``method_name``, ``level`` (and ``body``). The swept
 parameters of the study become coordinates along ``scene``; ``unstack=True`` turns a cartesian sweep
 into one dimension per swept parameter. Files are read with netCDF4-python directly (about 2 ms per
 run file, 20 s for a sweep of 10 000 scenes; xarray's ``open_dataset`` takes five times longer).
@@ -39,11 +39,11 @@ def _sweep_coord_attrs(key: str) -> dict:
     check = SCENE_KEYS.get(key.split(".")[0])
     if isinstance(check, Table) and "." in key:
         check = check.keys.get(key.split(".", 1)[1])
-    unit = "1"
-    if check is not None:
+    unit = getattr(check, "unit", None)
+    if unit is None and check is not None:  # a checker without a unit attribute: read "[unit]" of its text
         m = re.search(r"\[([^\]]+)\]\s*$", str(getattr(check, "allowed", "")))
-        if m:
-            unit = _UNIT_FIX.get(m.group(1), m.group(1))
+        unit = m.group(1) if m else None
+    unit = _UNIT_FIX.get(unit, unit) or "1"
     return {"units": unit, "long_name": f"swept study key '{key}'"}
 
 
@@ -82,7 +82,9 @@ def open_results(out, *, variables=None, unstack: bool = False):
     Returns
     -------
     xarray.Dataset
-        Dimensions ``scene``, ``method``, ``level`` (and ``body`` for per-body scalars). Variables: the
+        Dimensions ``scene``, ``method_name``, ``level`` (and ``body`` for per-body scalars); the method
+        dimension is not called ``method`` because ``Dataset.sel(method=...)`` is xarray's fill method
+        (as in ``metrics.nc``). Variables: the
         scalar results with the units of the result schema, ``wall_time`` [s] and ``status``
         (ok | refused | failed | missing). Refused, failed and missing runs are NaN. Each swept
         parameter is a coordinate along ``scene`` named after its study key (dots become
@@ -92,7 +94,7 @@ def open_results(out, *, variables=None, unstack: bool = False):
     Examples
     --------
     >>> ds = railtherm.open_results("runs/sweep_10k")                    # doctest: +SKIP
-    >>> ds["max_surface_temperature"].sel(method="green", level=0, body="wheel")  # doctest: +SKIP
+    >>> ds["max_surface_temperature"].sel(method_name="green", level=0, body="wheel")  # doctest: +SKIP
     >>> grid = railtherm.open_results("runs/sweep_10k", unstack=True)     # doctest: +SKIP
     """
     import xarray as xr
@@ -131,7 +133,7 @@ def open_results(out, *, variables=None, unstack: bool = False):
         for s, m, k, vals, *_ in records:
             if n in vals:
                 arr[si[s], mi[m], li[k]] = vals[n]
-        dims = ("scene", "method", "level") + (("body",) if per_body else ())
+        dims = ("scene", "method_name", "level") + (("body",) if per_body else ())
         data[n] = (dims, arr, variable_attrs(n))
     wt = np.full(shape, np.nan)
     status = np.full(shape, "missing", dtype=object)
@@ -140,11 +142,11 @@ def open_results(out, *, variables=None, unstack: bool = False):
         status[si[s], mi[m], li[k]] = st
     for s, m, k, st, _ in statuses:
         status[si[s], mi[m], li[k]] = st
-    data["wall_time"] = (("scene", "method", "level"), wt, {"units": "s", "long_name": "best wall time of the solve"})
-    data["status"] = (("scene", "method", "level"), status,
+    data["wall_time"] = (("scene", "method_name", "level"), wt, {"units": "s", "long_name": "best wall time of the solve"})
+    data["status"] = (("scene", "method_name", "level"), status,
                       {"units": "1", "long_name": "run status: ok | refused | failed | missing"})
     coords = {"scene": ("scene", np.array(scenes, dtype=object), {"units": "1", "long_name": "scene name"}),
-              "method": ("method", np.array(methods, dtype=object), {"units": "1", "long_name": "method name"}),
+              "method_name": ("method_name", np.array(methods, dtype=object), {"units": "1", "long_name": "method"}),
               "level": ("level", np.array(levels, dtype="int32"), {"units": "1", "long_name": "resolution level"}),
               "body": ("body", np.array(["wheel", "rail"]), {"units": "1", "long_name": "body"})}
     sweeps = {}
@@ -152,11 +154,7 @@ def open_results(out, *, variables=None, unstack: bool = False):
         sweeps.setdefault(r[0], r[4])
     for s in statuses:
         sweeps.setdefault(s[0], {k.replace(".", "_"): v for k, v in s[4].items()})
-    keys = []
-    for sw in sweeps.values():
-        for k in sw:
-            if k not in keys:
-                keys.append(k)
+    keys = sorted({k for sw in sweeps.values() for k in sw})  # (netCDF does not keep attribute order)
     sweep_names = {}
     for key in keys:
         col = np.full(len(scenes), np.nan, dtype=object)

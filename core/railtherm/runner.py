@@ -15,9 +15,11 @@ after writing but before reporting back) finds its own result and does not write
 Timing (DESIGN.md): with ``warmup`` the first solve is a warm-up (compile time excluded) traced with
 :mod:`tracemalloc` for the peak memory, then the best of ``repeat`` untraced solves is the wall time
 (a first solve slower than 2 s is its own timing). Without ``warmup`` (sweeps) one untraced solve is
-the result and its timing, and peak memory is measured by one extra traced solve on the runs marked
-``trace_memory`` only (a sample; NaN elsewhere): tracemalloc makes a small xarray-heavy solve about
-three times slower.
+the result and its timing (best of ``repeat`` with the further solves), and peak memory is measured
+by one extra traced solve on the runs marked ``trace_memory`` only (a sample; NaN elsewhere):
+tracemalloc makes a small xarray-heavy solve about three times slower. Even then, the first run of a
+(method, level) in a process is preceded by one untimed solve, so that no timing holds the loading of
+modules and compiled kernels (about 2 s for a numba method), whichever worker runs it.
 """
 from __future__ import annotations
 
@@ -227,8 +229,57 @@ class RunTimeout(Exception):
 
 
 def _async_raise(tid: int, exc: type | None) -> None:
+    """Raise ``exc`` in thread ``tid`` at its next bytecode (None clears a pending one)."""
     import ctypes
     ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(tid), ctypes.py_object(exc) if exc else None)
+
+
+class Watchdog:
+    """One daemon thread per process that runs actions at deadlines (time limits of runs in threads).
+
+    A thread per run would cost more than a small run itself (starting a thread waits for it to
+    run, which under a busy dask worker takes milliseconds). Actions run under the watchdog's lock,
+    so :meth:`cancel` returning False means the action has completed.
+    """
+
+    def __init__(self):
+        self._cond = threading.Condition()
+        self._entries: dict[int, tuple[float, Any]] = {}
+        self._count = 0
+        self._thread: threading.Thread | None = None
+
+    def add(self, seconds: float, action) -> int:
+        """Run ``action()`` in ``seconds`` unless cancelled; returns a token for :meth:`cancel`."""
+        with self._cond:
+            self._count += 1
+            self._entries[self._count] = (time.monotonic() + seconds, action)
+            if self._thread is None or not self._thread.is_alive():
+                self._thread = threading.Thread(target=self._loop, daemon=True, name="railtherm-watchdog")
+                self._thread.start()
+            self._cond.notify()
+            return self._count
+
+    def cancel(self, token: int) -> bool:
+        """True if the action was cancelled before it ran."""
+        with self._cond:
+            return self._entries.pop(token, None) is not None
+
+    def _loop(self):
+        with self._cond:
+            while True:
+                now = time.monotonic()
+                due = [k for k, (d, _) in self._entries.items() if d <= now]
+                for k in due:
+                    _, action = self._entries.pop(k)
+                    try:
+                        action()
+                    except Exception:  # noqa: BLE001 - a failing action must not end the watchdog
+                        pass
+                nxt = min((d for d, _ in self._entries.values()), default=None)
+                self._cond.wait(None if nxt is None else max(0.0, nxt - time.monotonic()))
+
+
+WATCHDOG = Watchdog()
 
 
 @contextlib.contextmanager
@@ -236,9 +287,10 @@ def _time_limit(seconds: float):
     """Raise :class:`RunTimeout` in the calling thread after ``seconds``.
 
     In the main thread of a POSIX process: SIGALRM (interrupts sleeps and waits). In another thread
-    (dask workers run tasks in threads): a watchdog raises the exception asynchronously in the
-    thread, which takes effect at its next Python bytecode; a run stuck inside one C call is ended
-    by its executor (the processes and dask executors end the worker after a grace period).
+    (dask workers run tasks in threads): the process's :data:`WATCHDOG` raises the exception
+    asynchronously in the thread, which takes effect at its next Python bytecode; a run stuck inside
+    one C call is ended by its executor (the processes and dask executors end the worker after a
+    grace period).
     """
     if not (seconds and seconds > 0 and math.isfinite(seconds)):
         yield
@@ -256,26 +308,12 @@ def _time_limit(seconds: float):
             signal.signal(signal.SIGALRM, old)
         return
     tid = threading.get_ident()
-    lock = threading.Lock()
-    state = {"active": True, "fired": False}
-
-    def fire():
-        with lock:
-            if state["active"]:
-                state["fired"] = True
-                _async_raise(tid, RunTimeout)
-
-    timer = threading.Timer(seconds, fire)
-    timer.daemon = True
-    timer.start()
+    token = WATCHDOG.add(seconds, lambda: _async_raise(tid, RunTimeout))
     try:
         yield
     finally:
-        timer.cancel()
-        with lock:
-            state["active"] = False
-            if state["fired"]:
-                _async_raise(tid, None)  # clear an exception not yet delivered
+        if not WATCHDOG.cancel(token):
+            _async_raise(tid, None)  # fired: clear the exception if it was not delivered yet
 
 
 # ----------------------------------------------------------------------------------------------
@@ -337,6 +375,10 @@ def _existing(task: RunTask, *, same_invocation: bool = False) -> RunRecord | No
     return None
 
 
+#: (method, level) solved at least once in this process (their modules and kernels are loaded)
+_WARM: set = set()
+
+
 def _written_since(task: RunTask, since: float) -> bool:
     """Whether the run's file or status record was written after ``since`` (a stat, not an open)."""
     for p in (task.path, status_path(task.path)):
@@ -376,6 +418,14 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
             t0 = time.perf_counter()
             traced = task.warmup and task.repeat > 0
             peak = math.nan
+            key = (task.method, task.level)
+            if not traced and key not in _WARM:
+                # no warm-up asked (sweeps), but the first solve of a method in a process loads its
+                # modules and compiled kernels: solve once untimed, so that no run's timing holds it
+                solve(task.scene, task.method, task.level, task.options, validate=False)
+            _WARM.add(key)
+            phases["warmup"] = time.perf_counter() - t0
+            t0 = time.perf_counter()
             if traced:
                 tracemalloc.start()
                 try:
@@ -573,8 +623,11 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
               "workers": workers, "runs_total": len(records),
               "cpu_main": time.process_time() - c0, "cpu_local_workers": _children_cpu() - w0,
               "cpu_count": os.cpu_count(), "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None}
-    write_atomic_bytes(out / "study.json", json.dumps({"study": study.name, "path": study.path,
-                                                      "argv": sys.argv, "timing": timing,
+    env = {k: os.environ.get(k) for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+                                          "NUMBA_NUM_THREADS")}
+    path = str(Path(study.path).resolve()) if study.path else None
+    write_atomic_bytes(out / "study.json", json.dumps({"study": study.name, "path": path,
+                                                      "argv": sys.argv, "timing": timing, "environment": env,
                                                       "records": [r.to_dict() for r in records]},
                                                      indent=1, default=str).encode())
     if report:

@@ -1,0 +1,355 @@
+"""Executors: processes and dask.distributed give the serial results bit for bit; faults lose nothing.
+
+* a sweep of 100 runs on local processes and on a dask LocalCluster, every data variable of every
+  run file compared byte for byte with a serial run (attributes such as wall_time may differ);
+* a worker killed in the middle of a study (SIGKILL of a worker process: found with psutil for local
+  processes, with ``client.run(os.getpid)`` on a scheduler and workers on loopback): files written
+  before stay untouched, the killed run is retried, ``resume`` rewrites nothing;
+* a run whose worker dies every time is recorded ``failed`` and ``resume`` completes the study;
+* a run stuck past its time limit in a call that ignores the limit ends with its worker, ``failed``
+  (local processes and dask); the limit inside a thread (dask) is raised asynchronously;
+* the direct netCDF writer writes what ``xarray.Dataset.to_netcdf`` writes.
+
+Workers are separate processes: they rebuild the plugin host of the test (fixture plugins sent by
+reference, with this folder on their ``sys.path``; see :func:`railtherm.executors.host_spec`).
+"""
+from __future__ import annotations
+
+import logging
+import os
+import signal
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import railtherm
+from railtherm import Method, Option, hookimpl
+from railtherm.runner import RunTimeout, _time_limit, execute_run, make_tasks, run_path, run_tasks
+
+from fixture_plugins import FlatPlugin, FlatTemperature
+
+psutil = pytest.importorskip("psutil")
+pytest.importorskip("distributed")
+
+
+class SleepyTemperature(FlatTemperature):
+    """Test fixture: the flat temperature after a pause; can end its own process or ignore signals."""
+
+    name = "sleepy"
+    description = "test fixture: flat temperature after a pause; dies or hangs at chosen speeds"
+    options = {**FlatTemperature.options,
+               "sleep": Option(0.0, "pause before computing [s]", minimum=0.0),
+               "die_at_speed": Option(-1.0, "SIGKILL its own process at this speed [m/s]"),
+               "stuck_at_speed": Option(-1.0, "block SIGALRM and sleep 60 s at this speed [m/s]")}
+
+    def compute_temperature(self, scene, source, level, options):
+        if scene.speed == options["die_at_speed"]:
+            os.kill(os.getpid(), signal.SIGKILL)
+        if scene.speed == options["stuck_at_speed"]:
+            signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGALRM})  # like a long C call
+            time.sleep(60)
+        time.sleep(options["sleep"])
+        return super().compute_temperature(scene, source, level, options)
+
+
+class SleepyPlugin:
+    @hookimpl
+    def railtherm_register_models(self):
+        return [SleepyTemperature]
+
+    @hookimpl
+    def railtherm_register_methods(self):
+        return [Method("sleepy", {"contact": ("hertz",), "heat_source": ("full-sliding",), "temperature": ("sleepy",)})]
+
+
+SWEEP = """
+schema_version = 1
+[study]
+name = "sweep100"
+methods = {methods}
+levels = [0, 1]
+reference = "finest"
+repeat = 1
+warmup = false
+timeout = {timeout}
+{options}
+[defaults.wheel]
+shear_modulus = 82e9
+poisson_ratio = 0.28
+[defaults.rail]
+shear_modulus = 82e9
+bulk_temperature = 20.0
+[[scene]]
+name = "map"
+normal_force = 100e3
+contact = {{ shape = "ellipse", curvatures = [1.015, 0.4215] }}
+speed = {speeds}
+sliding_speed = {sliding}
+friction = 0.3
+heat_partition = "equal-temperature"
+outputs = ["max_surface_temperature", "mean_contact_temperature", "surface_temperature", "frictional_power"]
+"""
+
+
+def sweep(path: Path, methods='["flat"]', speeds=None, timeout=60, options="", sliding="[0.5, 2.0]"):
+    speeds = speeds if speeds is not None else [float(v) for v in range(10, 35)]
+    path.write_text(SWEEP.format(methods=methods, speeds=speeds, timeout=timeout, options=options, sliding=sliding))
+    return path
+
+
+@pytest.fixture(scope="module")
+def hosts():
+    """Core + the flat and sleepy fixture plugins, installed for this module's tests."""
+    from railtherm import plugins
+    saved = plugins._HOST
+    host = plugins.new_host([("flat", FlatPlugin()), ("sleepy", SleepyPlugin())], autoload=False, strict=True)
+    plugins.set_host(host)
+    yield host
+    plugins.set_host(saved)
+
+
+@pytest.fixture(scope="module")
+def serial_sweep(hosts, tmp_path_factory):
+    d = tmp_path_factory.mktemp("serial")
+    study = sweep(d / "sweep.toml")
+    m = railtherm.run_study(study, d / "out", report=False)
+    assert m.sizes["run"] == 100 and set(m["status"].values) == {"ok"}
+    return study, d / "out"
+
+
+def assert_same_runs(a: Path, b: Path):
+    """Every data variable (and coordinate) of every run file equal byte for byte."""
+    fa = sorted(p.relative_to(a) for p in a.glob("runs/*/*/level-*.nc"))
+    fb = sorted(p.relative_to(b) for p in b.glob("runs/*/*/level-*.nc"))
+    assert fa == fb and len(fa) >= 100
+    for rel in fa:
+        with xr.open_dataset(a / rel) as x, xr.open_dataset(b / rel) as y:
+            assert sorted(x.variables) == sorted(y.variables), rel
+            for name in x.variables:
+                vx, vy = x[name].values, y[name].values
+                assert vx.dtype == vy.dtype and vx.shape == vy.shape, (rel, name)
+                assert vx.tobytes() == vy.tobytes(), f"{rel}: {name} differs"
+            for key in ("scene", "method", "level", "scene_hash"):
+                assert x.attrs[key] == y.attrs[key]
+
+
+def test_processes_match_serial_bit_for_bit(serial_sweep, tmp_path):
+    study, ref = serial_sweep
+    m = railtherm.run_study(study, tmp_path / "out", executor="processes", workers=2, report=False)
+    assert set(m["status"].values) == {"ok"}
+    assert_same_runs(ref, tmp_path / "out")
+
+
+def test_dask_local_cluster_matches_serial_bit_for_bit(serial_sweep, tmp_path):
+    """executor="dask" without a scheduler starts a LocalCluster (2 worker processes), one task per run."""
+    import json
+    study, ref = serial_sweep
+    m = railtherm.run_study(study, tmp_path / "out", executor="dask", workers=2, report=False)
+    assert set(m["status"].values) == {"ok"}
+    assert_same_runs(ref, tmp_path / "out")
+    recs = json.loads((tmp_path / "out" / "study.json").read_text())["records"]
+    assert len({r["pid"] for r in recs}) == 2 and os.getpid() not in {r["pid"] for r in recs}
+
+
+def _workers_of_this_process():
+    """Worker processes spawned by this process (not multiprocessing's resource tracker)."""
+    out = []
+    for c in psutil.Process().children(recursive=False):
+        try:
+            cmd = " ".join(c.cmdline())
+        except psutil.Error:
+            continue
+        if "spawn_main" in cmd and "resource_tracker" not in cmd:
+            out.append(c)
+    return out
+
+
+def _kill_one_worker_midway(out: Path, pids, wait_files=4, timeout=60.0):
+    """Wait until ``wait_files`` runs are written, SIGKILL one worker, return (pid, {file: mtime})."""
+    deadline = time.time() + timeout
+    while time.time() < deadline and len(list(out.glob("runs/*/*/level-*.nc"))) < wait_files:
+        time.sleep(0.02)
+    victims = pids()
+    assert victims, "no worker process found"
+    pid = victims[0]
+    os.kill(pid, signal.SIGKILL)
+    written = {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/level-*.nc")}
+    return pid, written
+
+
+def _run_in_thread(**kw):
+    box = {}
+
+    def target():
+        try:
+            box["metrics"] = railtherm.run_study(**kw)
+        except BaseException as exc:  # noqa: BLE001
+            box["error"] = exc
+    th = threading.Thread(target=target, daemon=True)
+    th.start()
+    return th, box
+
+
+OPTS_SLEEP = "[study.options.sleepy]\nsleep = 0.15\n"
+
+
+def _check_after_kill(study, out, written, m):
+    assert set(m["status"].values) == {"ok"}, list(zip(m["scene"].values, m["message"].values))
+    for f, t in written.items():
+        assert f.stat().st_mtime_ns == t, f"{f} was rewritten after the kill"
+    assert len(list(out.glob("runs/*/sleepy/level-*.nc"))) == m.sizes["run"]
+    assert not list(out.glob("runs/**/.*.tmp"))
+    before = {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/level-*.nc")}
+    m2 = railtherm.run_study(study, out, resume=True, report=False)
+    assert set(m2["status"].values) == {"ok"}
+    assert {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/level-*.nc")} == before
+
+
+def test_processes_worker_killed_mid_study(hosts, tmp_path):
+    study = sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0, 12.0, 13.0],
+                  options=OPTS_SLEEP)
+    out = tmp_path / "out"
+    th, box = _run_in_thread(study_or_path=study, out=out, executor="processes", workers=2, report=False)
+    pid, written = _kill_one_worker_midway(out, lambda: [p.pid for p in _workers_of_this_process()], wait_files=3)
+    th.join(120)
+    assert not th.is_alive() and "error" not in box, box.get("error")
+    assert 3 <= len(written) < 16
+    _check_after_kill(study, out, written, box["metrics"])
+
+
+def test_runs_whose_worker_dies_or_hangs_are_failed_then_resume_completes(hosts, tmp_path):
+    """Speed 11 kills its worker every time (recorded failed after the retry); speed 12 hangs in a
+    call that ignores SIGALRM (its worker is ended after the time limit and the grace period)."""
+    from railtherm.executors import ProcessExecutor
+    path = sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0, 12.0], sliding="0.5", timeout=1.0,
+                 options="[study.options.sleepy]\ndie_at_speed = 11.0\nstuck_at_speed = 12.0\n")
+    out = tmp_path / "out"
+    tasks = make_tasks(railtherm.load_study(path), out, levels=[0])
+    for t in tasks:
+        t.run_id, t.run_started = "faults", time.time()
+    t0 = time.time()
+    by = {tasks[i].scene.speed: r for i, r in ProcessExecutor(2, grace=0.5).map(execute_run, tasks)}
+    assert time.time() - t0 < 60
+    assert by[10.0].status == "ok"
+    assert by[11.0].status == "failed" and "worker process died (killed by SIGKILL) in each of 2 attempts" \
+        in by[11.0].message
+    assert by[12.0].status == "failed" and "time limit of 1 s" in by[12.0].message \
+        and "worker process was ended" in by[12.0].message
+    for speed in (11.0, 12.0):  # the failure is stored beside the run, and no result file
+        p = next(t.path for t in tasks if t.scene.speed == speed)
+        assert not p.exists() and p.with_name("level-0.status.json").exists()
+    written = {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/level-*.nc")}
+    assert len(written) == 1
+    sweep(path, methods='["sleepy"]', speeds=[10.0, 11.0, 12.0], sliding="0.5")  # the causes are gone
+    m = railtherm.run_study(path, out, levels=[0], resume=True, report=False)
+    assert set(m["status"].values) == {"ok"} and m.sizes["run"] == 3
+    for f, t in written.items():
+        assert f.stat().st_mtime_ns == t
+
+
+def test_time_limit_in_a_thread_raises_in_that_thread():
+    """dask runs tasks in threads, where SIGALRM cannot reach: the limit is raised asynchronously."""
+    box = {}
+
+    def target():
+        t0 = time.perf_counter()
+        try:
+            with _time_limit(0.2):
+                while time.perf_counter() - t0 < 10:
+                    time.sleep(0.01)
+        except RunTimeout:
+            box["after"] = time.perf_counter() - t0
+        # a later, finished block is never hit by a stale timer
+        with _time_limit(0.05):
+            pass
+        time.sleep(0.1)
+        box["clean"] = True
+    th = threading.Thread(target=target)
+    th.start()
+    th.join(15)
+    assert 0.2 <= box["after"] < 1.0 and box.get("clean")
+
+
+@pytest.fixture(scope="module")
+def loopback_cluster(hosts):
+    """A scheduler and two worker processes on loopback, one retry after a worker death."""
+    import dask
+    from distributed import Client, LocalCluster
+    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address=None, silence_logs=logging.ERROR)
+    client = Client(cluster)
+    yield cluster, client
+    client.close()
+    cluster.close()
+
+
+def test_dask_worker_killed_mid_study(loopback_cluster, tmp_path):
+    cluster, client = loopback_cluster
+    study = sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0, 12.0, 13.0],
+                  options=OPTS_SLEEP)
+    out = tmp_path / "out"
+    th, box = _run_in_thread(study_or_path=study, out=out, executor="dask", scheduler=cluster.scheduler_address,
+                             report=False)
+
+    def worker_pids():
+        return sorted(client.run(os.getpid).values())
+    pid, written = _kill_one_worker_midway(out, worker_pids)
+    th.join(120)
+    assert not th.is_alive() and "error" not in box, box.get("error")
+    assert 4 <= len(written) < 16
+    _check_after_kill(study, out, written, box["metrics"])
+
+
+def test_dask_stuck_run_ends_with_its_worker(loopback_cluster, tmp_path):
+    """A run stuck in a call that the soft (asynchronous) limit cannot interrupt ends its worker."""
+    from railtherm.executors import DaskExecutor
+    cluster, client = loopback_cluster
+    study = railtherm.load_study(sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0], timeout=1.0,
+                                       sliding="0.5", options="[study.options.sleepy]\nstuck_at_speed = 11.0\n"))
+    tasks = make_tasks(study, tmp_path / "out", levels=[0])
+    for t in tasks:
+        t.run_id, t.run_started = "dstuck", time.time()
+    t0 = time.time()
+    recs = dict(DaskExecutor(cluster.scheduler_address, grace=0.5).map(execute_run, tasks))
+    assert time.time() - t0 < 40
+    by = {tasks[i].scene.speed: r for i, r in recs.items()}
+    assert by[10.0].status == "ok"
+    assert by[11.0].status == "failed" and "time limit of 1 s" in by[11.0].message
+    assert "dask worker process was ended" in by[11.0].message
+    client.wait_for_workers(2, timeout=30)  # the nanny has replaced the worker
+
+
+def test_direct_netcdf_writer_matches_xarray(hosts, tmp_path):
+    import netCDF4
+
+    from railtherm.runner import _direct_writable, write_dataset_atomic
+    from railtherm.testing import canonical
+    for name in ("ellipse-full-sliding", "line-full-sliding", "line-given-flux"):
+        ds = railtherm.solve(canonical(name), "flat", 1)
+        ds.attrs.update(peak_memory=float("nan"), run_id="abc", timing_runs=3)
+        assert _direct_writable(ds)
+        write_dataset_atomic(ds, tmp_path / f"{name}-direct.nc")
+        ds.to_netcdf(tmp_path / f"{name}-xarray.nc", engine="netcdf4")
+        with xr.open_dataset(tmp_path / f"{name}-direct.nc") as a, xr.open_dataset(tmp_path / f"{name}-xarray.nc") as b:
+            assert a.identical(b)
+        with netCDF4.Dataset(tmp_path / f"{name}-direct.nc") as a, netCDF4.Dataset(tmp_path / f"{name}-xarray.nc") as b:
+            assert a.data_model == b.data_model == "NETCDF4"
+            for v in b.variables:
+                assert a[v].dtype == b[v].dtype and a[v].dimensions == b[v].dimensions
+                assert {k: repr(a[v].getncattr(k)) for k in a[v].ncattrs()} == \
+                       {k: repr(b[v].getncattr(k)) for k in b[v].ncattrs()}
+            assert {k: repr(a.getncattr(k)) for k in a.ncattrs()} == {k: repr(b.getncattr(k)) for k in b.ncattrs()}
+    # anything unusual goes through xarray
+    ds = railtherm.solve(canonical("ellipse-full-sliding"), "flat", 0)
+    ds = ds.assign_coords(label=("x", np.array([f"c{i}" for i in range(ds.sizes["x"])])))
+    assert not _direct_writable(ds)
+
+
+def test_scheduler_needs_the_dask_executor():
+    with pytest.raises(railtherm.SceneError, match="scheduler"):
+        run_tasks([], executor="processes", scheduler="tcp://127.0.0.1:8786")

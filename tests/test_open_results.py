@@ -1,0 +1,204 @@
+"""railtherm.open_results: one Dataset of a study's scalar results, swept parameters as coordinates."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import railtherm
+from railtherm.runner import run_path
+
+STUDY = """
+schema_version = 1
+[study]
+name = "maps"
+methods = {methods}
+levels = [0, 1]
+reference = "finest"
+repeat = 1
+warmup = false
+timeout = 5
+[defaults.wheel]
+shear_modulus = 82e9
+[defaults.rail]
+shear_modulus = 82e9
+[[scene]]
+name = "map"
+normal_force = [80e3, 100e3]
+contact = {{ shape = "ellipse", semi_axes = [5.88e-3, 10.54e-3] }}
+speed = {speeds}
+sliding_speed = 1.0
+friction = 0.3
+heat_partition = 0.5
+wheel = {{ bulk_temperature = [0.0, 20.0] }}
+outputs = ["max_surface_temperature", "mean_contact_temperature", "frictional_power"]
+{extra}
+"""
+
+CREEP = """
+[[scene]]
+name = "creep"
+normal_force = 80e3
+contact = { shape = "ellipse", semi_axes = [5.88e-3, 10.54e-3] }
+speed = 30.0
+creepage = { longitudinal = -1e-3 }
+friction = 0.3
+"""
+
+
+def run(tmp_path, methods='["flat"]', speeds="[30.0, 60.0]", extra=""):
+    p = tmp_path / "study.toml"
+    p.write_text(STUDY.format(methods=methods, speeds=speeds, extra=extra))
+    out = tmp_path / "out"
+    railtherm.run_study(p, out, report=False)
+    return railtherm.load_study(p), out
+
+
+def test_sweep_becomes_coordinates(flat_host, tmp_path):
+    study, out = run(tmp_path)
+    ds = railtherm.open_results(out)
+    assert dict(ds.sizes) == {"scene": 8, "method_name": 1, "level": 2, "body": 2}
+    # swept keys as coordinates along scene; a key that is also a result variable gets the sweep_ prefix
+    assert {"speed", "sweep_normal_force", "wheel_bulk_temperature"} <= set(ds.coords)
+    assert ds.attrs["swept_parameters"].split() == ["sweep_normal_force", "speed", "wheel_bulk_temperature"]
+    assert ds["speed"].attrs == {"units": "m s-1", "long_name": "swept study key 'speed'"}
+    assert ds["sweep_normal_force"].attrs["units"] == "N"
+    assert ds["wheel_bulk_temperature"].attrs == {"units": "degC",
+                                                  "long_name": "swept study key 'wheel.bulk_temperature'"}
+    for name in list(ds.data_vars) + list(ds.coords):
+        assert ds[name].attrs.get("units") and ds[name].attrs.get("long_name"), name
+    assert set(ds["status"].values.ravel()) == {"ok"}
+    for sc in study.scenes:
+        sel = ds.sel(scene=sc.name)
+        assert float(sel["speed"]) == sc.speed and float(sel["sweep_normal_force"]) == sc.normal_force
+        assert float(sel["wheel_bulk_temperature"]) == sc.wheel.bulk_temperature
+        for k in (0, 1):
+            with xr.open_dataset(run_path(out, sc.name, "flat", k)) as f:
+                np.testing.assert_array_equal(sel["max_surface_temperature"].sel(method_name="flat", level=k).values,
+                                              f["max_surface_temperature"].values)
+                assert float(sel["normal_force"].sel(method_name="flat", level=k)) == float(f["normal_force"])
+                assert float(sel["wall_time"].sel(method_name="flat", level=k)) == f.attrs["wall_time"]
+
+
+def test_unstack_gives_one_dimension_per_swept_parameter(flat_host, tmp_path):
+    _, out = run(tmp_path)
+    g = railtherm.open_results(out, unstack=True)
+    assert g["max_surface_temperature"].sizes == {"method_name": 1, "level": 2, "body": 2, "sweep_normal_force": 2,
+                                                  "speed": 2, "wheel_bulk_temperature": 2}
+    flat = railtherm.open_results(out)
+    pick = (flat["speed"] == 60.0) & (flat["sweep_normal_force"] == 100e3) & (flat["wheel_bulk_temperature"] == 20.0)
+    one = flat.isel(scene=int(np.flatnonzero(pick.values)[0]))
+    np.testing.assert_array_equal(
+        g["max_surface_temperature"].sel(sweep_normal_force=100e3, speed=60.0, wheel_bulk_temperature=20.0).values,
+        one["max_surface_temperature"].values)
+    assert str(g["scene_name"].sel(sweep_normal_force=100e3, speed=60.0, wheel_bulk_temperature=20.0).values) == \
+        str(one["scene"].values)
+    assert g["speed"].attrs["units"] == "m s-1"
+    # the wheel heats more at the higher bulk temperature by exactly the bulk difference (flat model)
+    d = (g["max_surface_temperature"].sel(wheel_bulk_temperature=20.0, body="wheel")
+         - g["max_surface_temperature"].sel(wheel_bulk_temperature=0.0, body="wheel"))
+    np.testing.assert_allclose(d.values, 20.0, rtol=0, atol=1e-9)
+
+
+def test_refused_and_failed_runs_are_nan_with_their_status(flat_host, tmp_path):
+    _, out = run(tmp_path, methods='["broken", "flat"]', speeds="[13.0, 30.0]", extra=CREEP)
+    ds = railtherm.open_results(out)
+    assert set(ds["method_name"].values) == {"broken", "flat"} and ds.sizes["scene"] == 9
+    name = "map--wheel.bulk_temperature=0,normal_force=80000,speed={}"
+    failed = ds.sel(scene=name.format(13), method_name="broken")
+    assert set(failed["status"].values) == {"failed"}
+    assert np.isnan(failed["max_surface_temperature"].values).all()
+    assert float(failed["speed"]) == 13.0  # placed by the status record's sweep
+    creep = ds.sel(scene="creep")
+    assert set(creep["status"].values.ravel()) == {"refused"}
+    assert np.isnan(creep["max_surface_temperature"].values).all() and np.isnan(float(creep["speed"]))
+    ok = ds.sel(scene=name.format(30), method_name="flat")
+    assert set(ok["status"].values) == {"ok"} and np.isfinite(ok["max_surface_temperature"].values).all()
+    with pytest.raises(ValueError, match="unstack"):
+        railtherm.open_results(out, unstack=True)  # the creep scene has no swept values
+
+
+def test_variables_filter_and_missing_folder(flat_host, tmp_path):
+    _, out = run(tmp_path, speeds="[30.0]")
+    ds = railtherm.open_results(out, variables=["frictional_power"])
+    assert set(ds.data_vars) == {"frictional_power", "wall_time", "status"}
+    with pytest.raises(FileNotFoundError, match="railtherm run"):
+        railtherm.open_results(tmp_path / "nowhere")
+
+
+# ---------------------------------------------------------------------------------------------
+# the sweep of studies/sweep_10k.toml: 200 of its scenes in the default suite, all 10 000 as a slow test
+SWEEP_FILE = __import__("pathlib").Path(__file__).resolve().parents[1] / "studies" / "sweep_10k.toml"
+
+
+def _sweep_study(**lists):
+    import tomllib
+    from railtherm.study import parse_study
+    doc = tomllib.loads(SWEEP_FILE.read_text())
+    doc["scene"][0].update(lists)
+    return parse_study(doc, path=str(SWEEP_FILE))
+
+
+def _green_or_skip():
+    import warnings
+    from railtherm.plugins import get_host
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if "green" not in get_host().methods:
+            pytest.skip("method 'green' is not installed")
+
+
+def _check_sweep(out, study, shape):
+    import json
+    files = sorted(out.glob("runs/*/green/level-0.nc"))  # the runs/ layout of DESIGN.md
+    assert len(files) == len(study.scenes)
+    recs = json.loads((out / "study.json").read_text())["records"]
+    assert {r["status"] for r in recs} == {"ok"} and all(r["summary"] for r in recs)
+    g = railtherm.open_results(out, unstack=True)
+    assert tuple(g.sizes[k] for k in ("sweep_normal_force", "speed", "sliding_speed", "friction")) == shape
+    t = g["max_surface_temperature"].sel(method_name="green", level=0, body="wheel")
+    assert np.isfinite(t.values).all()
+    # physics sanity across the map: at fixed load, speed and friction the flash temperature rises
+    # with the sliding speed (frictional power mu N v_s)
+    assert (t.diff("sliding_speed") > 0).all()
+    p = g["frictional_power"].sel(method_name="green", level=0)
+    expected = (g["friction"] * g["sweep_normal_force"] * g["sliding_speed"]).broadcast_like(p).transpose(*p.dims)
+    np.testing.assert_allclose(p.values, expected.values, rtol=1e-12)
+    return g
+
+
+def test_sweep_of_200_scenes_on_two_processes(tmp_path):
+    _green_or_skip()
+    study = _sweep_study(normal_force=[80e3, 120e3], friction=[0.3])
+    assert len(study.scenes) == 200
+    railtherm.run_study(study, tmp_path / "out", executor="processes", workers=2, report=False)
+    _check_sweep(tmp_path / "out", study, (2, 10, 10, 1))
+
+
+@pytest.mark.slow
+def test_sweep_10k_within_3_minutes_on_2_cores(tmp_path):
+    """The whole studies/sweep_10k.toml (10 000 runs of method green) on 2 worker processes.
+
+    The requirement is 3 minutes on 2 cores. The CPU time of the study (main process and workers)
+    divided by 2 is what 2 dedicated cores need; the wall time equals it only on an otherwise idle
+    machine, so it is asserted only when the load average before the run was below 1.
+    """
+    import json
+    import os
+    import time
+    _green_or_skip()
+    study = railtherm.load_study(SWEEP_FILE)
+    load = os.getloadavg()[0]
+    t0 = time.perf_counter()
+    railtherm.run_study(study, tmp_path / "out", executor="processes", workers=2, report=False)
+    wall = time.perf_counter() - t0
+    timing = json.loads((tmp_path / "out" / "study.json").read_text())["timing"]
+    cpu = timing["cpu_main"] + timing["cpu_local_workers"]
+    print(f"10k sweep: wall {wall:.1f} s (load average before {load:.2f}), CPU {cpu:.1f} s "
+          f"(main {timing['cpu_main']:.1f}, workers {timing['cpu_local_workers']:.1f}) -> {cpu / 2:.1f} s on 2 cores")
+    assert cpu / 2 <= 180.0
+    if load < 1.0:
+        assert wall <= 180.0
+    t1 = time.perf_counter()
+    _check_sweep(tmp_path / "out", study, (10, 10, 10, 10))
+    print(f"open_results of 10 000 runs: {time.perf_counter() - t1:.1f} s")
