@@ -33,7 +33,7 @@ def test_conformance(host):
     out = check_method("fastsim-fdm")
     assert out["ellipse-full-sliding"] == "ok" and out["ellipse-creepage"] == "ok"
     assert out["ellipse-given-flux"] == "ok"
-    assert out["line-full-sliding"].startswith("refused") and out["line-given-flux"].startswith("refused")
+    assert out["line-full-sliding"] == "ok" and out["line-given-flux"] == "ok"       # 2-D FASTSIM and FDM
 
 
 def test_seed_scene_against_exact_moving_source(host):
@@ -96,8 +96,10 @@ def test_full_sliding_high_speed_runs_the_steady_scheme(host):
         assert float(ds.max_surface_temperature.sel(body=body)) == pytest.approx(ref, rel=0.02)
 
 
-def test_bad_option_and_line_contact(host):
+def test_bad_option_and_lateral_creepage_on_a_line(host):
     with pytest.raises(SceneError, match="bound"):
         railtherm.solve(canonical("ellipse-creepage"), "fastsim-fdm", options={"bound": "square"})
+    line = canonical("line-full-sliding")
+    del line["sliding_speed"]
     with pytest.raises(Refused):
-        railtherm.solve(canonical("line-full-sliding"), "fastsim-fdm")
+        railtherm.solve({**line, "creepage": {"longitudinal": -1e-4, "lateral": 1e-3}}, "fastsim-fdm")

@@ -12,6 +12,10 @@ are reported: ``frictional_power`` is the local integral, ``diagnostics["global_
 the global one. Sign convention (CONTACT's): tractions and forces act on the wheel (body 1); a
 positive creepage gives a negative force; the dissipated powers are positive.
 
+Line contacts (2-D rolling) run one strip with the flexibility L = 4 a (1 - nu)/(pi G), which
+reproduces Carter's linear creep law; the strip solution is integrated exactly over the cells
+(:mod:`railtherm_fastsim.fastsim_line`); forces and powers are then per unit width.
+
 References
 ----------
 .. [1] J.J. Kalker, A fast algorithm for the simplified theory of rolling contact, Vehicle System
@@ -37,6 +41,8 @@ __all__ = ["FastsimResult", "fastsim", "fastsim_flexibilities", "ellipse_cell_in
 BOUNDS = ("elliptic", "parabolic")
 FLEXIBILITIES = ("three", "one", "contact")
 LEADING_EDGES = ("exact", "contact")
+#: outputs that a line contact does not have
+LINE_ABSENT = frozenset({"traction_y", "slip_velocity_y", "creep_force_y", "spin_moment", "semi_axis_b"})
 
 
 def fastsim_flexibilities(a, b, G, nu, xi, eta, phi, mu, normal_force, kind="three"):
@@ -255,14 +261,15 @@ class FastsimHeatSource(HeatSourceModel):
     Creepages come from ``scene.creepage``, from full sliding (``scene.sliding_speed`` v_s taken as
     the longitudinal creepage xi = -v_s/V: the wheel surface moves at V + v_s, seed eqs. 32-33), or
     from the wheelset kinematics of seed section 6.1 when the scene describes a conical wheelset.
-    The wheel surface moves at V (1 - xi) relative to the contact, the rail at V.
+    The wheel surface moves at V (1 - xi) relative to the contact, the rail at V. Line contacts
+    (longitudinal creepage or full sliding only): :meth:`_compute_line`.
     """
 
     name = "fastsim"
     description = ("Kalker's FASTSIM (simplified theory, elliptic or parabolic bound): tractions, slip, "
                    "creep forces and the local frictional power density -p.s (seed 6.2)")
     capabilities = Capabilities(
-        contacts=frozenset({"ellipse"}), sources=frozenset({"computed"}),
+        contacts=frozenset({"ellipse", "line"}), sources=frozenset({"computed"}),
         tangential=frozenset({"creepage", "full-sliding"}),
         provides=frozenset({"traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick",
                             "creep_force_x", "creep_force_y", "spin_moment", "heat_flux", "frictional_power",
@@ -287,6 +294,20 @@ class FastsimHeatSource(HeatSourceModel):
             return "model 'fastsim' needs creepages, a sliding speed or a wheelset"
         if getattr(scene.wheel, "rigid", False) and getattr(scene.rail, "rigid", False):
             return "model 'fastsim' needs at least one elastic body (both are rigid)"
+        if scene.contact_shape == "line":
+            lateral = [o for o in (getattr(scene, "outputs", ()) or ()) if o in LINE_ABSENT]
+            if lateral:
+                return (f"model 'fastsim': a line contact (2-D rolling) has no lateral traction, slip, force or "
+                        f"spin moment; the scene asks for {lateral}: remove them from 'outputs' or use an "
+                        "elliptical contact")
+            c = scene.creepage
+            if c is not None and (float(c.lateral) != 0.0 or float(c.spin) != 0.0):
+                return (f"model 'fastsim': a line contact (2-D rolling) has only longitudinal creepage; the scene "
+                        f"gives lateral = {float(c.lateral):g}, spin = {float(c.spin):g} 1/m: set them to 0 or "
+                        "use an elliptical contact")
+            if c is None and scene.sliding_speed is None:
+                return ("model 'fastsim': the wheelset kinematics (seed 6.1) needs an elliptical contact; a line "
+                        "contact needs a creepage or a sliding speed")
         return None
 
     def creepages(self, scene, patch):
@@ -302,8 +323,7 @@ class FastsimHeatSource(HeatSourceModel):
         opts = {**{k: o.default for k, o in self.options.items()}, **(options or {})}
         fs_opts = {k: opts[k] for k in ("bound", "flexibility", "leading_edge")}
         if patch.b is None:
-            raise Refused("model 'fastsim' needs an elliptical patch (a line contact has no lateral axis); "
-                          "use the full-sliding heat source for line contacts")
+            return self._compute_line(scene, patch, opts)
         kin = {}
         if scene.creepage is None and scene.sliding_speed is None and getattr(scene, "wheelset", None) is not None:
             # seed 6.1: creepages and the normal force of this contact (wheel 1) from the wheelset
@@ -344,6 +364,43 @@ class FastsimHeatSource(HeatSourceModel):
             traction_x=res.traction_x, traction_y=res.traction_y, slip_velocity_x=res.slip_velocity_x,
             slip_velocity_y=res.slip_velocity_y, stick=res.stick, creep_force_x=res.creep_force_x,
             creep_force_y=res.creep_force_y, spin_moment=res.spin_moment,
+            diagnostics={**(patch.diagnostics or {}), **{f"fastsim_{k}": v for k, v in diag.items()}}, **extra)
+        return HeatSource(grid=patch.grid, power_density=res.power_density, heat_partition=eps,
+                          body_speed=(v_w, v_r), frictional_power=res.local_power, patch=new_patch,
+                          diagnostics=diag)
+
+    def _compute_line(self, scene, patch, opts):
+        """Line contact: one strip, flexibility L = 4 a (1 - nu)/(pi G) (:mod:`railtherm_fastsim.fastsim_line`).
+
+        Forces and powers are per unit width ([N/m], [W/m]); the option ``flexibility`` does not
+        apply (one creepage, one flexibility).
+        """
+        from .fastsim_line import fastsim_line
+
+        if scene.creepage is None and scene.sliding_speed is None:
+            raise Refused(f"scene {scene.name!r}: a line contact needs a creepage or a sliding speed for FASTSIM "
+                          "(the wheelset kinematics needs an elliptical contact)")
+        xi, eta, phi = self.creepages(scene, patch)
+        if eta != 0.0 or phi != 0.0:
+            raise Refused(f"model 'fastsim': a line contact has only longitudinal creepage (lateral = {eta:g}, "
+                          f"spin = {phi:g} 1/m given); use an elliptical contact")
+        try:
+            G, nu = combined_elastic(scene.wheel, scene.rail)
+        except ValueError as exc:
+            raise Refused(f"model 'fastsim': {exc}") from exc
+        V = float(scene.speed)
+        res = fastsim_line(patch.grid, patch.pressure, a=patch.a, normal_force=patch.normal_force,
+                           friction=float(scene.friction), shear_modulus=G, poisson_ratio=nu, xi=xi, speed=V,
+                           bound=opts["bound"], leading_edge=opts["leading_edge"])
+        v_w, v_r = V * (1.0 - xi), V
+        eps = scene_heat_partition(scene, v_w, v_r)
+        extra = {}
+        if opts["bound"] == "parabolic":
+            extra = {"pressure": res.pressure, "max_pressure": 0.75 * patch.normal_force / patch.a}
+        diag = {**res.diagnostics, "combined_shear_modulus": G, "combined_poisson_ratio": nu}
+        new_patch = patch.with_tangential(
+            traction_x=res.traction_x, slip_velocity_x=res.slip_velocity_x, stick=res.stick,
+            creep_force_x=res.creep_force_x,
             diagnostics={**(patch.diagnostics or {}), **{f"fastsim_{k}": v for k, v in diag.items()}}, **extra)
         return HeatSource(grid=patch.grid, power_density=res.power_density, heat_partition=eps,
                           body_speed=(v_w, v_r), frictional_power=res.local_power, patch=new_patch,

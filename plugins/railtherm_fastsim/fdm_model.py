@@ -1,5 +1,8 @@
 """Temperature model "fdm": the 3-D finite-difference rail block of seed section 6.3.
 
+Line contacts run the 2-D (x-z) block of :mod:`railtherm_fastsim.fdm_line` (the 3-D block with a
+laterally uniform source, exactly), see :meth:`FDMTemperature._compute_line`.
+
 Each body (wheel and rail) is treated as the seed treats the rail: a block whose top face carries
 the body's share of the heat source moving at the body's speed relative to the contact. (For the
 wheel this is its flash temperature in one pass of the contact; the heating over revolutions is not
@@ -33,6 +36,27 @@ def _body(scene, i):
     return scene.wheel if i == 0 else scene.rail
 
 SCHEMES = ("auto", "explicit", "implicit", "steady")
+
+
+def _depth_field(scene, nx, zs, depth):
+    """Temperature against depth at y = 0 for both bodies on one depth grid [degC].
+
+    The rail's depths (else the wheel's) are used; the other body is interpolated onto them (bulk
+    temperature below its own block). A body without heat is at its bulk temperature; when neither
+    body is heated the field is the bulk temperature at z = 0.
+    """
+    ref = 1 if zs[1] is not None else 0
+    z = zs[ref] if zs[ref] is not None else np.zeros(1)
+    temp = np.empty((2, nx, z.size))
+    for i in range(2):
+        bulk = _body(scene, i).bulk_temperature
+        if depth[i] is None:
+            temp[i] = bulk
+        elif i == ref:
+            temp[i] = depth[i]
+        else:
+            temp[i] = np.array([np.interp(z, zs[i], row, right=bulk) for row in depth[i]])
+    return z, temp
 
 
 def explicit_cost(a, b, speed, kappa, d, dt):
@@ -70,13 +94,15 @@ def choose_scheme(requested, mode, a, b, speed, kappa, d, budget, *, time_step=N
 
 
 class FDMTemperature(TemperatureModel):
-    """3-D finite differences in a rail block with a moving surface heat source (seed 6.3)."""
+    """Finite differences in a rail block with a moving surface heat source (seed 6.3): 3-D for an
+    elliptical patch, 2-D (x-z, per unit width) for a line contact."""
 
     name = "fdm"
-    description = ("3-D finite-difference block per body (seed 6.3): explicit transient as the paper, "
-                   "implicit, or moving-frame steady for stiff cases; insulated sides, fixed far faces, convection")
+    description = ("finite-difference block per body (seed 6.3; 3-D, or 2-D for line contacts): explicit "
+                   "transient as the paper, implicit, or moving-frame steady for stiff cases; insulated sides, "
+                   "fixed far faces, convection")
     capabilities = Capabilities(
-        contacts=frozenset({"ellipse"}), sources=frozenset({"computed", "given"}),
+        contacts=frozenset({"ellipse", "line"}), sources=frozenset({"computed", "given"}),
         tangential=frozenset({"full-sliding", "creepage"}), convection=True,
         modes=frozenset({"steady", "transient"}),
         provides=frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature",
@@ -91,6 +117,9 @@ class FDMTemperature(TemperatureModel):
         "threads": Option(0, "numba threads for the explicit stencil (0: numba's default)", minimum=0),
         "max_nodes": Option(5e7, "transient schemes: largest node count of the block (refused above)", minimum=1),
         "max_cells": Option(4e6, "steady scheme: largest cell count of the graded grid (refused above)", minimum=1),
+        "line_x_scheme": Option("upwind2", "line contacts, steady scheme: fluxes along x 'upwind2' (second-order "
+                                           "upwind, default) or 'exponential' (as the 3-D block)",
+                                choices=("upwind2", "exponential")),
     }
 
     # -- helpers -------------------------------------------------------------------------------
@@ -117,7 +146,7 @@ class FDMTemperature(TemperatureModel):
                 f"use a step <= {lim:.4g} s, or scheme 'implicit' or 'steady'")
 
     def supports(self, scene, level):
-        """Ellipses only (a line contact has no lateral extent). A forced explicit step beyond the
+        """Ellipses (3-D block) and line contacts (2-D block). A forced explicit step beyond the
         stability limit is refused by :meth:`compute_temperature`, which knows the cell size
         (a method option)."""
         return super().supports(scene, level)
@@ -128,8 +157,7 @@ class FDMTemperature(TemperatureModel):
         opts = {**{k: o.default for k, o in self.options.items()}, **(options or {})}
         grid = source.grid
         if grid.line:
-            raise Refused("model 'fdm' is three-dimensional: a line contact has no lateral extent; "
-                          "use method 'green' or 'fipy' for line contacts")
+            return self._compute_line(scene, source, level, opts)
         threads = int(opts.get("threads") or 0)
         if threads > 0:
             import numba
@@ -185,16 +213,90 @@ class FDMTemperature(TemperatureModel):
             diag["residual"] = float(max(diag.get(f"{bd}_residual", 0.0) for bd in ("wheel", "rail")))
         z = temp = None
         if "temperature" in tuple(getattr(scene, "outputs", ()) or ()):
-            ref = 1 if zs[1] is not None else 0
-            if zs[ref] is not None:
-                z = zs[ref]
-                temp = np.empty((2, nxp, z.size))
-                for i in range(2):
-                    bulk = _body(scene, i).bulk_temperature
-                    if depth[i] is None:
-                        temp[i] = bulk
-                    elif i == ref:
-                        temp[i] = depth[i]
-                    else:
-                        temp[i] = np.array([np.interp(z, zs[i], row, right=bulk) for row in depth[i]])
+            z, temp = _depth_field(scene, grid.shape[0], zs, depth)
+        return TemperatureField.from_surface(grid, surf, z=z, temperature=temp, diagnostics=diag)
+
+    # -- line contacts (2-D block) ----------------------------------------------------------------
+    def _compute_line(self, scene, source, level, opts):
+        """The 2-D (x-z) block of :mod:`railtherm_fastsim.fdm_line` for each body.
+
+        Cells: along x over the band ``cell_size`` (default 2a/16) halved per level (steady scheme,
+        graded depth grid from ``min(cell, delta/4/2**level)``); the transient schemes use a uniform
+        node spacing ``min(cell_size, delta/2) / 2**level`` that resolves the contact-time
+        penetration depth delta = sqrt(2 a kappa / V) from level 0 on. ``"auto"``: the steady
+        scheme for ``scene.mode == "steady"`` (the quantity asked for, directly); for transient
+        scenes the explicit scheme when its cost is within ``budget`` node updates, else the
+        implicit one.
+        """
+        from .fdm_line import line_extent, line_stability_limit, steady_line, transient_line
+        grid = source.grid
+        a = float(grid.a)
+        cell0 = float(opts.get("cell_size") or 0.0) or 2.0 * a / 16.0
+        cell = cell0 / 2 ** int(level)
+        num = dict(scene.numerics or {})
+        ts = num.get("time_step")
+        ts = float(ts) if ts is not None else None
+        requested = self._requested(scene, opts)
+        mode = getattr(scene, "mode", "steady")
+        h = float(scene.convection or 0.0)
+        cover = grid.inside().astype(float)
+        surf = np.zeros((2, grid.shape[0]))
+        depth, zs = [None, None], [None, None]
+        diag = {"cell_size": cell, "requested_scheme": requested, "dimension": 2}
+        for i, body in enumerate(("wheel", "rail")):
+            m = _body(scene, i)
+            q = np.asarray(source.flux(i), dtype=float)
+            surf[i] = m.bulk_temperature
+            if not np.any(q > 0):
+                diag[f"{body}_scheme"] = "none (no heat)"
+                continue
+            V = float(source.body_speed[i])
+            if not V > 0.0:
+                raise Refused(f"model 'fdm' ({body}, line): the {body} surface moves at {V:g} m/s relative to the "
+                              "contact; the 2-D block needs a body moving through the contact (speed > 0): a "
+                              "line source at rest on a half-plane has no steady state")
+            rc = m.density * m.specific_heat
+            kappa = m.conductivity / rc
+            delta = math.sqrt(2.0 * a * kappa / V)
+            d = min(cell0, 0.5 * delta) / 2 ** int(level)
+            lim = line_stability_limit(d, kappa, h, rc)
+            scheme = requested
+            if scheme == "auto":
+                if ts is not None and ts > lim * (1.0 + 1e-12):
+                    scheme = "implicit"
+                elif mode != "transient":
+                    scheme = "steady"
+                else:
+                    ext = line_extent(a, V, kappa)
+                    dt = ts if ts is not None else min(lim, float(opts["courant"]) * d / V)
+                    cost = ((ext.behind + 2 * a + ext.travel + ext.ahead) / d) * (ext.depth / d) * (ext.travel / (V * dt))
+                    scheme = "explicit" if cost <= float(opts["budget"]) else "implicit"
+            if scheme == "explicit" and ts is not None and ts > lim * (1.0 + 1e-12):
+                raise Refused(
+                    f"model 'fdm' ({body}, line): the forced explicit time step {ts:.4g} s exceeds the 2-D stability "
+                    f"limit 1/(4 kappa/d^2 + 2 h/(rho c d)) = {lim:.4g} s (d = {d:.4g} m, kappa = {kappa:.4g} m^2/s, "
+                    f"h = {h:g} W/m^2K); use a step <= {lim:.4g} s, or scheme 'implicit' or 'steady'")
+            args = (grid, q, cover, V, m.conductivity, m.density, m.specific_heat, h)
+            if scheme == "steady":
+                res = steady_line(*args, cell, level=level, x_scheme=opts["line_x_scheme"],
+                                  max_cells=float(opts["max_cells"]))
+            else:
+                res = transient_line(*args, d, scheme=scheme, time_step=ts, courant=float(opts["courant"]),
+                                     max_nodes=float(opts["max_nodes"]))
+            surf[i] = res.surface + m.bulk_temperature
+            depth[i] = res.depth + m.bulk_temperature
+            zs[i] = res.z
+            diag[f"{body}_peclet"] = V * a / (2.0 * kappa)
+            diag[f"{body}_scheme"] = scheme
+            for k, v in res.diagnostics.items():
+                if k != "scheme":
+                    diag[f"{body}_{k}"] = v
+        diag["scheme"] = diag.get("rail_scheme", diag.get("wheel_scheme"))
+        conv = [diag[f"{bd}_converged"] for bd in ("wheel", "rail") if f"{bd}_converged" in diag]
+        if conv:
+            diag["converged"] = bool(all(conv))
+            diag["residual"] = float(max(diag.get(f"{bd}_residual", 0.0) for bd in ("wheel", "rail")))
+        z = temp = None
+        if "temperature" in tuple(getattr(scene, "outputs", ()) or ()):
+            z, temp = _depth_field(scene, grid.shape[0], zs, depth)
         return TemperatureField.from_surface(grid, surf, z=z, temperature=temp, diagnostics=diag)

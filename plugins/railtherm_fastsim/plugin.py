@@ -15,8 +15,9 @@ def railtherm_register_models():
 
 @hookimpl
 def railtherm_register_methods():
-    """Method ``fastsim-fdm``: Hertz patch -> FASTSIM power density -> 3-D finite-difference block."""
+    """Method ``fastsim-fdm``: Hertz patch -> FASTSIM power density -> finite-difference block
+    (3-D for an ellipse, 2-D for a line contact)."""
     return [Method("fastsim-fdm", {"contact": ("hertz",), "heat_source": ("fastsim",), "temperature": ("fdm",)},
-                   description="Kalker's FASTSIM power density (seed 6.2) and the 3-D finite-difference "
-                               "rail block (seed 6.3)",
+                   description="Kalker's FASTSIM power density (seed 6.2) and the finite-difference "
+                               "rail block (seed 6.3; 3-D, or 2-D for line contacts)",
                    default_cells=16)]
