@@ -103,3 +103,9 @@ def test_bad_option_and_lateral_creepage_on_a_line(host):
     del line["sliding_speed"]
     with pytest.raises(Refused):
         railtherm.solve({**line, "creepage": {"longitudinal": -1e-4, "lateral": 1e-3}}, "fastsim-fdm")
+
+
+def test_steady_block_refuses_diffusion_dominated_scenes(host):
+    """Péclet 0.02: the steady 3-D block's GMRES does not converge there; refused with the number."""
+    with pytest.raises(Refused, match=r"Péclet number .* = 0.0198 < 0.1"):
+        railtherm.solve(canonical("ellipse-given-flux", speed=1.4e-4), "fastsim-fdm", 0)
