@@ -28,7 +28,7 @@ import xarray as xr
 
 import railtherm
 from railtherm import Method, Option, hookimpl
-from railtherm.runner import RunTimeout, _time_limit, execute_run, make_tasks, run_path, run_tasks
+from railtherm.runner import RunTimeout, _time_limit, execute_run, make_tasks, run_tasks
 
 from fixture_plugins import FlatPlugin, FlatTemperature
 

@@ -450,6 +450,19 @@ def test_line_refusals(host):
         railtherm.solve(forced, "fastsim-fdm")
 
 
+def test_transient_mode_picks_explicit_or_refuses(host):
+    """mode = "transient", scheme "auto": the explicit 2-D run when it costs at most ``budget`` node
+    updates (Ertz & Knothe strip at level 0: 1.2e8), else the implicit one, else refused with the
+    cost (level 3: 6e10 explicit updates) -- steady mode runs the moving-frame scheme instead."""
+    sc = {**LINE_GIVEN, "mode": "transient", "outputs": ["max_surface_temperature"]}
+    ds = railtherm.solve(sc, "fastsim-fdm", level=0)
+    assert ds.attrs["fdm_rail_scheme"] == "explicit" and ds.attrs["fdm_rail_quasi_steady"] == 1
+    ref = reference_values(load_scene(sc))["max_surface_temperature"]
+    assert np.all(np.abs(ds.max_surface_temperature.values / ref - 1) < 0.02)
+    with pytest.raises(railtherm.Refused, match="budget"):
+        railtherm.solve(sc, "fastsim-fdm", level=3)
+
+
 @pytest.mark.benchmark
 @pytest.mark.parametrize("scene", LINE_SCENES, ids=lambda s: s["name"])
 def test_benchmark_line_scene_level3(benchmark, host, scene):

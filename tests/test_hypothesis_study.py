@@ -170,3 +170,12 @@ def test_a_sweep_of_millions_of_scenes_is_refused_before_expanding():
     with pytest.raises(railtherm.SceneError, match="3200000 scenes"):
         parse_study({**VALID, "scene": [scene]})
     assert time.perf_counter() - t0 < 1.0
+
+
+@pytest.mark.parametrize("output", ["semi_axis_b", "traction_y", "slip_velocity_y", "creep_force_y", "spin_moment"])
+def test_a_line_contact_cannot_ask_lateral_outputs(output):
+    """Found by the method hypothesis test: a line contact has no lateral direction, so asking for a
+    lateral output is invalid input (before: the result came back without it and no error)."""
+    from railtherm.testing import canonical
+    with pytest.raises(railtherm.SceneError, match=output):
+        load_scene(canonical("line-full-sliding", outputs=["max_pressure", output]))

@@ -116,8 +116,13 @@ def host_spec() -> bytes:
         raise PluginError(f"plugins {[n for n, _ in extra]} registered in this process cannot be sent to worker "
                           f"processes ({type(exc).__name__}: {exc}); register them through the entry-point group "
                           "'railtherm.plugins' or use the serial executor") from exc
-    return pickle.dumps({"pid": os.getpid(), "sys_path": [p for p in sys.path if p], "autoload": autoload,
+    return pickle.dumps({"origin": _origin(), "sys_path": [p for p in sys.path if p], "autoload": autoload,
                          "extra": payload})
+
+
+def _origin() -> tuple[str, int]:
+    import socket
+    return socket.gethostname(), os.getpid()
 
 
 _INSTALLED: bytes | None = None
@@ -133,7 +138,7 @@ def install_host(spec: bytes | None) -> None:
         if spec == _INSTALLED:
             return
         d = pickle.loads(spec)
-        if d["pid"] == os.getpid():  # a thread of the calling process: its host is already there
+        if tuple(d["origin"]) == _origin():  # a thread of the calling process: its host is already there
             _INSTALLED = spec
             return
         for p in d["sys_path"]:

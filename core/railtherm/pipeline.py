@@ -18,14 +18,13 @@ from .errors import PluginError, Refused, SolverError
 from .grid import BASE_CELLS
 from .models.sliding import given_heat_source as _given
 from .plugins import MethodInfo, PluginHost, get_host
-from .scene import Scene, load_scene
+from .scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
 from .schema import STAGE_OF_GROUP, VARIABLES, build_dataset, history_line, validate_dataset
 from .stages import STAGES, CoupledModel, StageModel
 
 __all__ = ["solve", "plan", "given_heat_source", "Plan"]
 
-#: outputs that a line contact does not have
-LATERAL = {"traction_y", "slip_velocity_y", "creep_force_y", "spin_moment", "semi_axis_b"}
+
 
 
 def given_heat_source(scene: Scene, level: int, cells: int | None = None):

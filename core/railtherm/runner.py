@@ -100,7 +100,8 @@ class RunRecord:
     values: dict = field(default_factory=dict)
     #: True when heat_balance and values were filled from the result (metrics need not open the file)
     summary: bool = False
-    #: where the time of this run went [s]: solve, compute, repeats, memory, write, total
+    #: where the time of this run went [s] (wall): warmup, solve (of which compute: the stages), repeats,
+    #: memory, write, total; and cpu: CPU time of the thread that ran it
     phases: dict = field(default_factory=dict)
     #: process id of the worker that ran it
     pid: int = 0
@@ -392,15 +393,28 @@ def _written_since(task: RunTask, since: float) -> bool:
 
 
 def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
-    """Run one (scene, method, level): solve, time, write atomically.
+    """Run one (scene, method, level): solve, time, write atomically (the same in every executor).
 
-    Never raises for a problem of the run itself: the returned record carries the status and message.
+    Parameters
+    ----------
+    task : RunTask
+        The run; ``task.run_id`` identifies the study invocation (a retry after a worker died
+        returns what this invocation already wrote instead of running again).
+    resume : bool
+        Return the record of a result already on disk for the same scene hash (or a refusal).
+
+    Returns
+    -------
+    RunRecord
+        Status (ok | refused | failed) and message, best wall time [s], peak memory [bytes],
+        heat balance and scalar values of the result, and ``phases``: where the time went [s].
+        Never raises for a problem of the run itself.
     """
     from .metrics import heat_balance
     from .pipeline import solve
     from .schema import history_line
 
-    t_begin = time.perf_counter()
+    t_begin, cpu_begin = time.perf_counter(), time.thread_time()
     if resume:
         rec = _existing(task)
         if rec is not None:
@@ -479,6 +493,7 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         if sp.exists():
             sp.unlink()
         phases["total"] = time.perf_counter() - t_begin
+        phases["cpu"] = time.thread_time() - cpu_begin
         return rec
     except Refused as exc:
         rec.status, rec.message = "refused", str(exc)
@@ -497,6 +512,7 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         task.path.unlink()
     write_atomic_bytes(sp, json.dumps(rec.to_dict(), indent=1).encode())
     phases["total"] = time.perf_counter() - t_begin
+    phases["cpu"] = time.thread_time() - cpu_begin
     return rec
 
 

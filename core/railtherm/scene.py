@@ -17,6 +17,9 @@ from .materials import Material
 
 SCHEMA_VERSION = 1
 
+#: outputs that only a 3-D (ellipse) contact has
+LATERAL_OUTPUTS = frozenset({"traction_y", "slip_velocity_y", "creep_force_y", "spin_moment", "semi_axis_b"})
+
 #: outputs asked when a scene names none
 DEFAULT_OUTPUTS = ("max_surface_temperature", "mean_contact_temperature", "surface_temperature",
                    "heat_flux", "frictional_power")
@@ -459,6 +462,12 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
     for k in ("heat_partition", "convection", "outputs", "mode", "reference"):
         if k in c:
             kw[k] = c[k]
+    if kw["contact_shape"] == "line" and "outputs" in kw:
+        lateral = [o for o in kw["outputs"] if o in LATERAL_OUTPUTS]
+        if lateral:
+            raise SceneError.bad_value(name, "outputs", lateral[0],
+                                       "a variable of a 2-D (line) contact: it has no lateral direction, so not "
+                                       + ", ".join(sorted(LATERAL_OUTPUTS)))
     kw["wheel"] = _material(name, "wheel", c.get("wheel", {}))
     kw["rail"] = _material(name, "rail", c.get("rail", {}))
     _require(name, not kw["rail"].rigid, "rail.rigid", "the rail cannot be rigid (only the wheel, paper section 4)")

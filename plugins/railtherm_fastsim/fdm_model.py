@@ -36,6 +36,8 @@ def _body(scene, i):
     return scene.wheel if i == 0 else scene.rail
 
 SCHEMES = ("auto", "explicit", "implicit", "steady")
+#: cost of one implicit step of the 2-D block in explicit node updates per node (CG or LU solve)
+IMPLICIT_COST_FACTOR = 50.0
 
 
 def _depth_field(scene, nx, zs, depth):
@@ -236,7 +238,8 @@ class FDMTemperature(TemperatureModel):
         penetration depth delta = sqrt(2 a kappa / V) from level 0 on. ``"auto"``: the steady
         scheme for ``scene.mode == "steady"`` (the quantity asked for, directly); for transient
         scenes the explicit scheme when its cost is within ``budget`` node updates, else the
-        implicit one.
+        implicit one (one step counted as :data:`IMPLICIT_COST_FACTOR` updates per node, measured),
+        else refused.
         """
         from .fdm_line import line_extent, line_stability_limit, steady_line, transient_line
         grid = source.grid
@@ -278,9 +281,24 @@ class FDMTemperature(TemperatureModel):
                     scheme = "steady"
                 else:
                     ext = line_extent(a, V, kappa)
+                    nodes = ((ext.behind + 2 * a + ext.travel + ext.ahead) / d) * (ext.depth / d)
                     dt = ts if ts is not None else min(lim, float(opts["courant"]) * d / V)
-                    cost = ((ext.behind + 2 * a + ext.travel + ext.ahead) / d) * (ext.depth / d) * (ext.travel / (V * dt))
-                    scheme = "explicit" if cost <= float(opts["budget"]) else "implicit"
+                    cost_exp = nodes * ext.travel / (V * dt)
+                    dt_imp = ts if ts is not None else float(opts["courant"]) * d / V
+                    cost_imp = IMPLICIT_COST_FACTOR * nodes * ext.travel / (V * dt_imp)
+                    budget = float(opts["budget"])
+                    if cost_exp <= budget:
+                        scheme = "explicit"
+                    elif cost_imp <= budget:
+                        scheme = "implicit"
+                    else:
+                        raise Refused(
+                            f"model 'fdm' ({body}, line): a transient 2-D run at level {level} costs about "
+                            f"{min(cost_exp, cost_imp):.3g} node updates (explicit {cost_exp:.3g}, implicit "
+                            f"~{cost_imp:.3g}), above the option budget = {budget:.3g} (Péclet number "
+                            f"{V * a / (2 * kappa):.3g}, cells {d:.3g} m resolving the flash layer); use "
+                            "mode 'steady' or scheme 'steady' (the moving-frame quasi-steady state), a lower "
+                            "level, or a larger budget")
             if scheme == "explicit" and ts is not None and ts > lim * (1.0 + 1e-12):
                 raise Refused(
                     f"model 'fdm' ({body}, line): the forced explicit time step {ts:.4g} s exceeds the 2-D stability "
