@@ -19,7 +19,7 @@ from railtherm.references.flash import flash_max_hertz_coefficient, flash_temper
 from railtherm_green import steady, validity
 from railtherm_green.model import GreenTemperature
 
-PUBLISHED = Path(__file__).resolve().parents[2] / "shared" / "reference" / "published.toml"
+PUBLISHED = Path(__file__).resolve().parent / "data" / "published.toml"
 
 
 def _published():

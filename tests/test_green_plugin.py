@@ -52,7 +52,7 @@ def test_transient_mode_refused():
 
 def test_study_file_matches_published_inputs_and_runs():
     import tomllib
-    pub_path = Path(__file__).resolve().parents[2] / "shared" / "reference" / "published.toml"
+    pub_path = Path(__file__).resolve().parent / "data" / "published.toml"
     if not pub_path.exists():
         pytest.skip("published.toml not found")
     with open(pub_path, "rb") as f:
