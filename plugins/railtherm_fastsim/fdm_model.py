@@ -209,20 +209,8 @@ class FDMTemperature(TemperatureModel):
                 res = transient_block(grid, q, cover, V, m.conductivity, m.density, m.specific_heat, h, d,
                                       scheme=scheme, time_step=ts, courant=float(opts["courant"]),
                                       max_nodes=float(opts["max_nodes"]))
-            surf[i] = res.surface + m.bulk_temperature
-            depth[i] = res.depth + m.bulk_temperature
-            zs[i] = res.z
-            diag[f"{body}_peclet"] = V * a / (2.0 * kappa)
-            diag[f"{body}_scheme"] = scheme
-            for k, v in res.diagnostics.items():
-                if k != "scheme":
-                    diag[f"{body}_{k}"] = v
-        diag["scheme"] = diag.get("rail_scheme", diag.get("wheel_scheme"))
-        conv = [diag[f"{bd}_converged"] for bd in ("wheel", "rail") if f"{bd}_converged" in diag]
-        if conv:
-            diag["converged"] = bool(all(conv))
-            diag["iterations"] = int(sum(diag.get(f"{bd}_gmres_iterations", 0) for bd in ("wheel", "rail")))
-            diag["residual"] = float(max(diag.get(f"{bd}_residual", 0.0) for bd in ("wheel", "rail")))
+            _record_body(diag, surf, depth, zs, i, body, m, res, V * a / (2.0 * kappa), scheme)
+        _summarise(diag)
         z = temp = None
         if "temperature" in tuple(getattr(scene, "outputs", ()) or ()):
             z, temp = _depth_field(scene, grid.shape[0], zs, depth)
@@ -311,20 +299,33 @@ class FDMTemperature(TemperatureModel):
             else:
                 res = transient_line(*args, d, scheme=scheme, time_step=ts, courant=float(opts["courant"]),
                                      max_nodes=float(opts["max_nodes"]))
-            surf[i] = res.surface + m.bulk_temperature
-            depth[i] = res.depth + m.bulk_temperature
-            zs[i] = res.z
-            diag[f"{body}_peclet"] = V * a / (2.0 * kappa)
-            diag[f"{body}_scheme"] = scheme
-            for k, v in res.diagnostics.items():
-                if k != "scheme":
-                    diag[f"{body}_{k}"] = v
-        diag["scheme"] = diag.get("rail_scheme", diag.get("wheel_scheme"))
-        conv = [diag[f"{bd}_converged"] for bd in ("wheel", "rail") if f"{bd}_converged" in diag]
-        if conv:
-            diag["converged"] = bool(all(conv))
-            diag["residual"] = float(max(diag.get(f"{bd}_residual", 0.0) for bd in ("wheel", "rail")))
+            _record_body(diag, surf, depth, zs, i, body, m, res, V * a / (2.0 * kappa), scheme)
+        _summarise(diag)
         z = temp = None
         if "temperature" in tuple(getattr(scene, "outputs", ()) or ()):
             z, temp = _depth_field(scene, grid.shape[0], zs, depth)
         return TemperatureField.from_surface(grid, surf, z=z, temperature=temp, diagnostics=diag)
+
+
+def _record_body(diag, surf, depth, zs, i, body, m, res, peclet, scheme):
+    """Store body ``i``'s absolute surface and depth fields and its prefixed solver diagnostics."""
+    surf[i] = res.surface + m.bulk_temperature
+    depth[i] = res.depth + m.bulk_temperature
+    zs[i] = res.z
+    diag[f"{body}_peclet"] = peclet
+    diag[f"{body}_scheme"] = scheme
+    for k, v in res.diagnostics.items():
+        if k != "scheme":
+            diag[f"{body}_{k}"] = v
+
+
+def _summarise(diag):
+    """Overall scheme, convergence, iterations and residual from the per-body diagnostics."""
+    diag["scheme"] = diag.get("rail_scheme", diag.get("wheel_scheme"))
+    conv = [diag[f"{bd}_converged"] for bd in ("wheel", "rail") if f"{bd}_converged" in diag]
+    if conv:
+        diag["converged"] = bool(all(conv))
+        its = [diag[f"{bd}_gmres_iterations"] for bd in ("wheel", "rail") if f"{bd}_gmres_iterations" in diag]
+        if its:
+            diag["iterations"] = int(sum(its))
+        diag["residual"] = float(max(diag.get(f"{bd}_residual", 0.0) for bd in ("wheel", "rail")))
