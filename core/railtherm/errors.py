@@ -30,7 +30,27 @@ class Refused(RailthermError):
 
     The message names the limit (e.g. the Péclet number) and what would work instead.
     A refused run is recorded with status ``refused``; it is not an error of the study.
+
+    Parameters
+    ----------
+    message : str
+        The limit and what would work instead.
+    kind : {"validity", "budget"}
+        ``validity``: the scene lies outside the model's physics or numerics (Péclet number, shape);
+        ``budget``: the model could compute it but the work (cells, memory, estimated time) exceeds
+        the budget that core or the model sets, so it is refused before it starts.
     """
+
+    KINDS = ("validity", "budget")
+
+    def __init__(self, message: str = "", *, kind: str = "validity"):
+        if kind not in self.KINDS:
+            raise ValueError(f"Refused kind must be one of {self.KINDS}, got {kind!r}")
+        self.kind = kind
+        super().__init__(message)
+
+    def __reduce__(self):  # picklable with its kind (processes and dask executors)
+        return (_refused, (str(self), self.kind))
 
 
 class PluginError(RailthermError):
@@ -39,3 +59,7 @@ class PluginError(RailthermError):
 
 class SolverError(RailthermError):
     """A solver did not converge or produced non-finite numbers; the run is recorded as failed."""
+
+
+def _refused(message: str, kind: str) -> Refused:
+    return Refused(message, kind=kind)
