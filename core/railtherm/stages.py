@@ -326,9 +326,14 @@ class Method:
     For each stage the chain lists candidate model names; the first candidate whose
     :meth:`StageModel.supports` accepts the scene runs. A coupled model is named in each stage
     it covers. ``default_cells`` sets the surface grid's cells along 2a at level 0.
+
+    ``orders`` declares the theoretical convergence order of the method per error metric
+    (``{"max_surface_temperature": 2.0, ...}``; metric names of :data:`railtherm.metrics.METRICS`):
+    the report prints it beside each fitted order. Undeclared metrics have no stated order.
     """
 
     name: str
     chain: Mapping[str, tuple[str, ...]]
     description: str = ""
     default_cells: int | None = None
+    orders: Mapping[str, float] = field(default_factory=dict)
