@@ -242,6 +242,9 @@ class StageModel:
     capabilities: ClassVar[Capabilities] = Capabilities()
     #: declared options: name -> Option
     options: ClassVar[Mapping[str, Option]] = {}
+    #: tag of core's exact reference that this model *is* (``"hertz"`` for the Hertz patch): its
+    #: outputs equal that reference by construction, so metrics never count them as a verification
+    exact_reference: ClassVar[str | None] = None
     #: version string reported in results' ``source`` (defaults to the plugin's distribution version)
     version: ClassVar[str | None] = None
 

@@ -49,6 +49,7 @@ class HertzContact(ContactModel):
     """
 
     name = "hertz"
+    exact_reference = "hertz"
     description = "analytic Hertz contact patch (ellipse from semi-axes or curvatures; line contact)"
     capabilities = Capabilities(provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b",
                                                     "max_pressure"}))

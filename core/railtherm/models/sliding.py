@@ -19,6 +19,7 @@ class FullSlidingHeat(HeatSourceModel):
     """
 
     name = "full-sliding"
+    exact_reference = "full-sliding"
     description = "full sliding heat source mu p v_s, split by the scene's heat partition"
     capabilities = Capabilities(tangential=frozenset({"full-sliding"}), sources=frozenset({"computed"}),
                                 provides=frozenset({"heat_flux", "frictional_power", "heat_partition", "traction_x",
@@ -63,6 +64,7 @@ class GivenHeat(HeatSourceModel):
     """The scene's own heat source (paper section 6.4); run automatically when a scene gives one."""
 
     name = "given"
+    exact_reference = "given-source"
     description = "heat source given by the scene (uniform or Hertz-shaped flux on an ellipse or band)"
     capabilities = Capabilities(sources=frozenset({"given"}),
                                 provides=frozenset({"heat_flux", "frictional_power", "heat_partition"}))
