@@ -226,11 +226,29 @@ def load_study(path: str | Path) -> Study:
         including TOML syntax errors and a missing file.
     """
     p = Path(path)
+    name = str(p)
+    if p.is_dir():
+        raise SceneError(f"study file {name!r} is a folder, not a study file: give the path of a .toml file",
+                         key="study", value=name, allowed="a TOML file") from None
     try:
         with open(p, "rb") as fh:
-            doc = tomllib.load(fh)
+            data = fh.read()
     except FileNotFoundError:
-        raise SceneError(f"study file {str(p)!r} does not exist") from None
+        raise SceneError(f"study file {name!r} does not exist", key="study", value=name,
+                         allowed="an existing TOML file") from None
+    except OSError as exc:  # permission denied, a folder on some systems, ...
+        raise SceneError(f"study file {name!r} cannot be read: {exc.strerror or exc}", key="study", value=name,
+                         allowed="a readable TOML file") from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise SceneError(f"study file {name!r} is not UTF-8 text (byte {data[exc.start]:#04x} on line {line}); "
+                         "TOML files must be UTF-8: save it as UTF-8", key="study", value=name,
+                         allowed="a UTF-8 TOML file") from None
+    try:
+        doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"study file {str(p)!r} is not valid TOML: {exc}") from None
-    return parse_study(doc, path=str(p))
+        raise SceneError(f"study file {name!r} is not valid TOML: {exc}", key="study", value=name,
+                         allowed="TOML syntax") from None
+    return parse_study(doc, path=name)
