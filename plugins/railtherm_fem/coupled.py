@@ -29,6 +29,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from railtherm.errors import Refused, SolverError
+
 from .contact import ContactSolution, solve_contact
 from .elastic import ElasticStrip
 from .mesh import graded_strip_mesh
@@ -174,6 +176,46 @@ def contact_edges(x, p):
     return float(left), float(right)
 
 
+#: largest Hertz half-width relative to the wheel radius, a / r0 [1]: the strip is linear (small-strain)
+#: elastic and the surface strain of a Hertz line contact is p0 / E* = a / (2 r0), 5 % at this limit
+MAX_HALF_WIDTH_OVER_RADIUS = 0.1
+#: largest Hertz half-width relative to the strip length, a / L [1]: the patch (and the condensed window
+#: of 1.25 a that carries the contact unknowns) must lie well inside the clamped ends x = +-L/2, which
+#: are then at least 2 a from the patch centre
+MAX_HALF_WIDTH_OVER_LENGTH = 0.25
+
+
+def fem_limits(prob: FemProblem) -> str | None:
+    """Why the FEM cannot solve ``prob`` (the patch does not fit the strip or breaks small strain), or None.
+
+    The half-width is Hertz's for a half-plane under the normal force (or, under a prescribed
+    penetration, the geometric overlap half-width sqrt(2 r0 delta)); both are upper bounds of the
+    strip's patch (a strip on a rigid foundation is stiffer than the half-plane), so the check may
+    refuse a load the strip would just have carried, never the reverse. Checked before any mesh is built.
+    """
+    a = _estimate_half_width(prob)
+    R = float(prob.radius)
+    if prob.normal_force is not None:
+        what = f"normal_force = {prob.normal_force:g} N/m"
+        fix = lambda lim: f"normal_force <= {prob.normal_force * (lim / a) ** 2:.3g} N/m"
+    else:
+        what = f"penetration = {prob.penetration:g} m"
+        fix = lambda lim: f"penetration <= {lim ** 2 / (2.0 * R):.3g} m"
+    if a > MAX_HALF_WIDTH_OVER_RADIUS * R:
+        lim = MAX_HALF_WIDTH_OVER_RADIUS * R
+        return (f"model 'fem': {what} gives a Hertz half-width a = {a:.4g} m = {a / R:.3g} x wheel_radius "
+                f"{R:g} m, above the small-strain limit a/r0 <= {MAX_HALF_WIDTH_OVER_RADIUS:g} (surface strain "
+                f"p0/E* = a/(2 r0) <= 5 %) of the linear elastic strip; use {fix(lim)}")
+    L = prob.strip_length
+    if L is not None and a > MAX_HALF_WIDTH_OVER_LENGTH * L:
+        lim = MAX_HALF_WIDTH_OVER_LENGTH * L
+        return (f"model 'fem': {what} gives a Hertz half-width a = {a:.4g} m, above the limit "
+                f"a <= L/{1 / MAX_HALF_WIDTH_OVER_LENGTH:g} = {lim:.4g} m of the strip (length L = {L:g} m): the "
+                f"patch would reach the strip's clamped ends; use strip length >= {a / MAX_HALF_WIDTH_OVER_LENGTH:.4g} m "
+                f"or {fix(lim)}")
+    return None
+
+
 def _estimate_half_width(prob: FemProblem) -> float:
     e_inv = (1 - prob.rail.poisson_ratio ** 2) / _youngs(prob.rail)
     if not getattr(prob.wheel, "rigid", False):
@@ -274,6 +316,9 @@ def clear_cache() -> None:
 def solve_fem(prob: FemProblem) -> FemSolution:
     """Solve the (coupled) FEM problem: mechanics on a graded mesh, then the Steps 1-4 loop."""
     t_start = time.perf_counter()
+    why = fem_limits(prob)
+    if why:
+        raise Refused(why, kind="validity")
     a_ref = _estimate_half_width(prob)
     length = prob.strip_length or 80.0 * a_ref
     depth = prob.strip_depth or 40.0 * a_ref
@@ -297,9 +342,11 @@ def solve_fem(prob: FemProblem) -> FemSolution:
         l0, r0 = contact_edges(s0.x, s0.pressure)
         a_est = max(0.5 * (r0 - l0), 4 * win0 / 40.0)
     window = prob.window * a_est
+    h = a_est / (10.0 * 2 ** prob.level)
+    # the window must stay inside the strip (its surface nodes uniformly spaced, two spare cells to the ends)
+    window_max = 0.5 * length - 2.0 * h
     for attempt in range(4):
-        h = a_est / (10.0 * 2 ** prob.level)
-        window_n = max(window, 4 * h)
+        window_n = min(max(window, 4 * h), window_max)
         mech = _mechanics(prob, length, depth, window_n, h)
         common = dict(friction=prob.friction if frictional else 0.0, creepage=xi, regularization=eps,
                       normal_force=prob.normal_force, penetration=prob.penetration)
@@ -307,9 +354,17 @@ def solve_fem(prob: FemProblem) -> FemSolution:
         inside = np.nonzero(sol.pressure > 0)[0]
         if inside.size and inside[0] >= 2 and inside[-1] <= mech.x.size - 3:
             break
+        if window_n >= window_max:
+            attempt = 3
+            break
         window *= 1.5
-    else:
-        raise RuntimeError(f"contact reaches the edge of the condensed window ({window:g} m) after enlarging it")
+    if not (inside.size and inside[0] >= 2 and inside[-1] <= mech.x.size - 3):
+        raise SolverError(
+            f"model 'fem': the contact reaches the edge of the condensed window (half-length {window_n:g} m, "
+            f"{mech.x.size} nodes at {h:g} m; strip length {length:g} m) after {attempt + 1} attempts: "
+            f"{inside.size} nodes in contact, from x = {mech.x[inside[0]] if inside.size else float('nan'):g} to "
+            f"{mech.x[inside[-1]] if inside.size else float('nan'):g} m; contact Newton converged={sol.converged}, "
+            f"residual={sol.residual:.3g}")
     t_mech = time.perf_counter()
 
     V = prob.speed
@@ -326,6 +381,8 @@ def solve_fem(prob: FemProblem) -> FemSolution:
     it = 0
     converged = True
     thermal_unknowns = 0
+    thermal_residual = 0.0
+    coupling_residual = 0.0
     if prob.thermal:
         rail, wheel = prob.rail, prob.wheel
         rb = ThermalBody(rail.conductivity, rail.density * rail.specific_heat, body_speed[1], prob.convection)
@@ -370,6 +427,7 @@ def solve_fem(prob: FemProblem) -> FemSolution:
             else:
                 new = solver.solve([eps_part * load - cond, (1 - eps_part) * load + cond])
             thermal_unknowns = solver.unknowns
+            thermal_residual = max(thermal_residual, solver.residual)
             # Step 4: convergence test on the rail temperature (the field that loads the strip)
             r = [new[0] - theta[0], new[1] - theta[1]]
             rn = max(np.abs(r[0]).max(), np.abs(r[1]).max())
@@ -387,8 +445,13 @@ def solve_fem(prob: FemProblem) -> FemSolution:
             omegas.append(omega)
             theta = [theta[j] + omega * r[j] for j in range(2)]
             r_prev = r
-            if history[-1] <= prob.coupling_tolerance or not (prob.rail.thermal_expansion or
-                                                               (mech.wheel is not None and prob.wheel.thermal_expansion)):
+            coupling_residual = history[-1]
+            one_way = not (prob.rail.thermal_expansion or (mech.wheel is not None and prob.wheel.thermal_expansion))
+            if one_way:
+                # nothing couples back (no thermal expansion): T(theta) does not depend on theta, so one
+                # pass is the fixed point and its residual is exactly 0
+                coupling_residual = 0.0
+            if history[-1] <= prob.coupling_tolerance or one_way:
                 converged = True
                 break
             # Step 2: contact with the thermal expansion of theta^{k+1}
@@ -398,8 +461,6 @@ def solve_fem(prob: FemProblem) -> FemSolution:
             sol = solve_contact(mech.x, mech.w, mech.h0, *mech.blocks, W0=W0, U0=U0, initial=sol, **common)
             left, right = contact_edges(sol.x, sol.pressure)
             a = 0.5 * (right - left)
-        if not converged:
-            pass
     # final full displacement field (contact forces + thermal expansion)
     m = mech.mesh.window.size
     f = mech.rail.window_load(-sol.traction * mech.w, -sol.pressure * mech.w)
@@ -413,7 +474,9 @@ def solve_fem(prob: FemProblem) -> FemSolution:
                 contact_converged=bool(sol.converged), regularization=eps,
                 regularization_over_slip=float(eps_ratio),
                 mechanics_time=float(t_mech - t_start), total_time=float(time.perf_counter() - t_start),
-                thermal_unknowns=int(thermal_unknowns), factor_fill=int(mech.rail.condensed.fill))
+                thermal_unknowns=int(thermal_unknowns), thermal_residual=float(thermal_residual),
+                coupling_residual=float(coupling_residual),
+                factor_fill=int(mech.rail.condensed.fill))
     return FemSolution(contact=sol, half_width=float(a), centre=float(0.5 * (left + right)),
                        heat_power_density=power, heat_partition=float(eps_part),
                        frictional_power=float(np.sum(power * mech.w)), thermal_grid=grid, theta=theta,

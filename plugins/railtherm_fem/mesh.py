@@ -76,6 +76,14 @@ def _coarse_nodes(half: float, s0: float) -> np.ndarray:
     return np.concatenate([-pos[:0:-1], pos])
 
 
+def _uniform_half(half: float, s0: float) -> float:
+    """Half-length [m] covered by the coarse cells of exactly s0 in :func:`_coarse_nodes` (half, s0 in m)."""
+    n = max(1, int(math.floor(half / s0 + 1e-9)))
+    if half - s0 * n > 0.25 * s0:
+        return s0 * n
+    return s0 * (n - 1) if abs(half - s0 * n) > 1e-9 * s0 else half
+
+
 def _balance_violations(ix, iy, lev, kmax, keys):
     """Leaves with a node of the tree at a quarter point of one of their edges (2:1 balance broken)."""
     size = (1 << (kmax - lev)).astype(np.int64)
@@ -137,6 +145,15 @@ def graded_strip_mesh(length: float, depth: float, window: float, spacing: float
     h = float(spacing)
     k = max(0, int(math.ceil(math.log2(max(depth, h) / h))) - 1)
     s0 = h * 2.0 ** k  # coarse cell: about half the depth, an exact power-of-two multiple of h
+    # the window must lie in coarse cells of exactly s0 (the last cell on each side absorbs the remainder
+    # of L/2 and is not a power-of-two multiple of h): on a short strip (L/2 < 1.25 s0) halve s0 until
+    # it does, else the window's surface nodes would not have the spacing h
+    while k > 0 and _uniform_half(0.5 * length, s0) < window * (1.0 + 1e-9):
+        k -= 1
+        s0 = h * 2.0 ** k
+    if _uniform_half(0.5 * length, s0) < window * (1.0 + 1e-9):
+        raise ValueError(f"contact window {window:g} m and spacing {h:g} m do not fit in the strip of length "
+                         f"{length:g} m")
     xs = _coarse_nodes(0.5 * length, s0)
     ny = max(1, int(round(depth / s0)))
     ys = np.linspace(-depth, 0.0, ny + 1)

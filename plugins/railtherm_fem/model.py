@@ -24,10 +24,10 @@ import math
 
 import numpy as np
 
-from railtherm import (Capabilities, ContactPatch, CoupledModel, HeatSource, Option, Refused, TemperatureField,
-                       surface_grid)
+from railtherm import (Capabilities, ContactPatch, CoupledModel, HeatSource, Option, Refused, SolverError,
+                       TemperatureField, surface_grid)
 
-from .coupled import FemProblem, _interpolator, solve_fem
+from .coupled import FemProblem, _interpolator, fem_limits, solve_fem
 from .thermal import ThermalBody, ThermalSolver, hat_load, thermal_grid
 
 __all__ = ["FemModel"]
@@ -39,6 +39,30 @@ PROVIDES = frozenset({
     "creep_force_x", "heat_flux", "frictional_power", "heat_partition", "surface_temperature", "temperature",
     "max_surface_temperature", "mean_contact_temperature",
 })
+
+
+#: a direct (LU) thermal solve whose relative residual ||A theta - b|| / ||b|| exceeds this is reported as
+#: not converged [1] (round-off of a sound factorisation is ~1e-14; a singular or ill-conditioned one is not)
+THERMAL_RESIDUAL_LIMIT = 1e-8
+
+
+def verdict_diagnostics(sol, thermal: bool) -> dict:
+    """``converged``, ``iterations`` and ``residual`` of a FEM solve (docs/verdicts.md).
+
+    With the thermal part, the outer solver is the Steps 1-4 coupling loop: its iterations and its last
+    relative change max|theta^{k+1} - theta^k| / max|theta^{k+1}| [1]; it has converged when that met the
+    ``coupling_tolerance`` (or when nothing couples back: no thermal expansion) *and* the last contact
+    solve converged *and* the thermal LU solves are sound. Without it, the outer solver is the contact
+    problem's semismooth Newton: its iterations and its residual relative to the mean pressure [1].
+    """
+    c = sol.contact
+    contact_ok = bool(c.converged)
+    if thermal:
+        tres = float(sol.diagnostics.get("thermal_residual", 0.0))
+        residual = float(sol.diagnostics.get("coupling_residual", 0.0))
+        return dict(converged=bool(sol.coupling_converged and contact_ok and tres < THERMAL_RESIDUAL_LIMIT),
+                    iterations=int(sol.coupling_iterations), residual=residual)
+    return dict(converged=contact_ok, iterations=int(c.iterations), residual=float(c.residual))
 
 
 def cell_average(x_nodes, values, edges):
@@ -139,7 +163,15 @@ class FemModel(CoupledModel):
         # thermal part whenever the scene asks for a temperature output
         thermal = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
         prob = self._problem(scene, level, options, thermal)
-        sol = solve_fem(prob)
+        why = fem_limits(prob)
+        if why:
+            raise Refused(f"scene {scene.name!r}: {why}", kind="validity")
+        try:
+            sol = solve_fem(prob)
+        except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
+            # an internal failure on valid input (mesh, factorisation): a failed run with the solver's words
+            raise SolverError(f"scene {scene.name!r}, level {level}: model 'fem' failed: "
+                              f"{type(exc).__name__}: {exc}") from exc
         c = sol.contact
         a, xc = sol.half_width, sol.centre
         grid = surface_grid(a, None, level, cells)
@@ -155,6 +187,7 @@ class FemModel(CoupledModel):
         near = loaded[np.argmin(np.abs(c.x[loaded][None, :] - (grid.x + xc)[:, None]), axis=1)]
         stick = np.where(grid.inside(), c.stick[near].astype(float), np.nan)
         diag = dict(sol.diagnostics)
+        diag.update(verdict_diagnostics(sol, thermal))
         diag.update(patch_centre=float(xc), coupling_iterations=int(sol.coupling_iterations),
                     coupling_converged=bool(sol.coupling_converged),
                     coupling_history=",".join(f"{h:.3e}" for h in sol.history),
@@ -229,7 +262,10 @@ class FemModel(CoupledModel):
         eps = float(np.mean(eps)) if np.ndim(eps) else float(eps)
         solver = ThermalSolver(tgrid, bodies, two_d)
         theta = solver.solve([eps * load, (1 - eps) * load])
-        diag = dict(thermal_unknowns=int(solver.unknowns), thermal_model="2d" if two_d else "1d")
+        # one sparse LU solve: a direct stage (0 iterations), its relative residual ||A theta - b|| / ||b||
+        diag = dict(converged=bool(np.isfinite(solver.residual) and solver.residual < THERMAL_RESIDUAL_LIMIT),
+                    iterations=0, residual=float(solver.residual),
+                    thermal_unknowns=int(solver.unknowns), thermal_model="2d" if two_d else "1d")
         return self._temperature_from(tgrid, theta, grid, 0.0, scene, diag)
 
 

@@ -248,9 +248,12 @@ class ThermalSolver:
         fixed[:, -1] = True   # bottom of the layer: bulk temperature
         self.free = ~np.tile(fixed.ravel(), self.nb)
         A = A.tocsr()
-        self.lu = spla.splu(A[self.free][:, self.free].tocsc(), permc_spec="COLAMD")
+        self.A = A[self.free][:, self.free].tocsc()
+        self.lu = spla.splu(self.A, permc_spec="COLAMD")
         self.N = N
         self.unknowns = int(self.free.sum())
+        #: relative residual ||A theta - b|| / ||b|| of the last :meth:`solve` (worst over its loads) [1]
+        self.residual = 0.0
 
     def solve(self, loads):
         """theta of each body, shape (nx, nz) [K], for the nodal surface heat inputs ``loads`` [W/m]."""
@@ -259,7 +262,10 @@ class ThermalSolver:
         for j, load in enumerate(loads):
             b[j * self.N + np.arange(nx) * nz] = load
         theta = np.zeros(self.nb * self.N)
-        theta[self.free] = self.lu.solve(b[self.free])
+        bf = b[self.free]
+        theta[self.free] = self.lu.solve(bf)
+        nb = float(np.linalg.norm(bf))
+        self.residual = float(np.linalg.norm(self.A @ theta[self.free] - bf) / nb) if nb > 0 else 0.0
         return [theta[j * self.N:(j + 1) * self.N].reshape(nx, nz) for j in range(self.nb)]
 
 
