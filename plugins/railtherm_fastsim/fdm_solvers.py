@@ -239,7 +239,7 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     if nx * ny * nz > max_nodes:
         raise Refused(f"model 'fdm' ({scheme}): the rail block needs {nx}x{ny}x{nz} = {nx * ny * nz:.3g} nodes "
                       f"at d = {d:.3g} m, above the limit {max_nodes:.3g} ({16 * nx * ny * nz / 1e9:.1f} GB); "
-                      "use a lower level, a larger cell_size, or scheme 'steady' (graded moving-frame grid)")
+                      "use a lower level, a larger cell_size, or scheme 'steady' (graded moving-frame grid)", kind="budget")
     xn = d * np.arange(nx)
     yn = d * np.arange(ny)
     zn = d * np.arange(nz)
@@ -311,6 +311,7 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
         work = [np.zeros((nx, ny, nz)) for _ in range(4)]
         cg_iters = 0
         cg_worst = 0.0
+        cg_failed = 0
 
     def patch_field(Tarr, xs):
         surf = _bilinear(xn - xs, yn - Yc, Tarr[:, :, 0], grid.x, grid.y)
@@ -375,6 +376,7 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
                 it, res = _cg(coef, rhs, T, work)
                 cg_iters += it
                 cg_worst = max(cg_worst, res)
+                cg_failed += res > CG_RTOL
                 e_dir += losses(T, hls[0])[0]                  # implicit: fixed-face losses at level n+1
             n += 1
         if n == ncheck:
@@ -384,7 +386,8 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     vol = d * wy[:, None] * wz[None, :]
     stored = rc * float((vol[None, :, :] * T).sum())
     lost = e_dir + e_conv
-    balance = (e_in - stored - lost) / e_in if e_in > 0 else 0.0
+    # (heat carried by the field: stored + lost - heat put in) / heat put in (docs/verdicts.md)
+    balance = (stored + lost - e_in) / e_in if e_in > 0 else 0.0
     smax = float(np.max(np.abs(surf))) or 1.0
     qs_change = float(np.max(np.abs(surf - fields.get("check", surf)))) / smax
     diag = {
@@ -398,7 +401,13 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
         "fourier_number": r, "wall_time_solver": time.perf_counter() - t0,
     }
     if scheme == "implicit":
-        diag.update({"cg_iterations": cg_iters, "cg_worst_residual": cg_worst})
+        # one CG solve per step, each to its own tolerance CG_RTOL: converged when every step met it
+        diag.update({"cg_iterations": cg_iters, "cg_worst_residual": cg_worst, "cg_tolerance": CG_RTOL,
+                     "cg_failed_steps": int(cg_failed), "converged": bool(cg_failed == 0),
+                     "iterations": int(cg_iters), "residual": float(cg_worst)})
+    else:
+        # explicit time stepping: no iterative solve (0 iterations, residual 0)
+        diag.update({"converged": True, "iterations": 0, "residual": 0.0})
     return BlockResult(surf, zn.copy(), dep, diag)
 
 
@@ -441,8 +450,17 @@ def _implicit_coefficients(nx, ny, nz, d, wy, wz, lam, rc, dt):
     return {"aP": aP, "aE": aE, "aW": aW, "aN": aN, "aS": aS, "aT": aT, "aB": aB, "mass": mass}
 
 
-def _cg(coef, rhs, x, work, rtol=1e-12, maxiter=500):
-    """Preconditioned conjugate gradients (z-line SGS) for the SPD implicit operator, in place on x."""
+#: relative residual ||r|| / ||b|| to which each implicit step's CG solve is iterated [1]; a step that
+#: stops above it (after ``maxiter`` iterations) makes the run not converged
+CG_RTOL = 1e-12
+
+
+def _cg(coef, rhs, x, work, rtol=CG_RTOL, maxiter=500):
+    """Preconditioned conjugate gradients (z-line SGS) for the SPD implicit operator, in place on x.
+
+    Returns (iterations, final relative residual ||rhs - A x|| / ||rhs||); converged when the residual
+    is <= ``rtol``.
+    """
     r, z, p, Ap = work
     c = (coef["aP"], coef["aE"], coef["aW"], coef["aN"], coef["aS"], coef["aT"], coef["aB"])
     f = lambda arr: arr.reshape(-1)  # noqa: E731
@@ -571,7 +589,7 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
     if nx * ny * nz > max_cells:
         raise Refused(f"model 'fdm' (steady): the graded grid needs {nx}x{ny}x{nz} = {nx * ny * nz:.3g} cells at "
                       f"level {level} (cell {cell:.3g} m), above the limit {max_cells:.3g} "
-                      f"(~{350 * nx * ny * nz / 1e9:.1f} GB); use a lower level or a larger cell_size")
+                      f"(~{350 * nx * ny * nz / 1e9:.1f} GB); use a lower level or a larger cell_size", kind="budget")
 
     # source on the top faces: exact overlap of the FV cells with the patch cells
     Wx = box_overlap(xe[:-1, None], xe[1:, None], grid.x_edges[None, :-1], grid.x_edges[None, 1:])
@@ -658,7 +676,8 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
     out_inflow = float((ab[0] * T[-1]).sum())
     out_bottom = float((Dbot * T[:, :, -1]).sum())
     out_conv = float((hA * T[:, :, 0]).sum())
-    balance = (e_in - out_adv - out_inflow - out_bottom - out_conv) / e_in if e_in > 0 else 0.0
+    # (heat carried out by the field - heat put in) / heat put in (docs/verdicts.md)
+    balance = (out_adv + out_inflow + out_bottom + out_conv - e_in) / e_in if e_in > 0 else 0.0
 
     # surface temperature: quadratic through the two top cells with the surface flux as slope
     qcell = Q / Az
@@ -675,7 +694,7 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
     diag = {
         "scheme": "steady", "cell_size": float(cell), "first_depth_cell": float(dz[0]),
         "growth_ratio": rk, "cells": int(n), "cell_shape": f"{nx}x{ny}x{nz}",
-        "gmres_iterations": int(its), "residual": float(resid),
+        "gmres_iterations": int(its), "iterations": int(its), "residual": float(resid), "gmres_tolerance": rtol,
         "converged": bool(info == 0),
         "energy_in": e_in, "energy_out_advected": out_adv, "energy_lost_fixed_faces": out_inflow + out_bottom,
         "energy_lost_convection": out_conv, "heat_balance_error": balance,
