@@ -10,8 +10,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import Refused
+
 #: cells along 2a at level 0
 BASE_CELLS = 8
+
+#: Budget of the surface grid [cells]: :func:`surface_grid` refuses (``Refused``, kind "budget") a
+#: grid with more cells, before anything is allocated. One float64 field on it is 32 MB; a run holds
+#: about 20 such fields at once (pressure, tractions, slips, stick, power density, fluxes, the two
+#: surface temperatures, coordinates, masks and the result Dataset's copies), i.e. ~0.7 GB, and the
+#: temperature models add their own work arrays on top. At level 8 the Ertz & Knothe ellipse
+#: (a = 5.88 mm, b = 10.54 mm, 32 cells at level 0) would need 8192 x 14684 = 1.2e8 cells (~1 GB per
+#: field) and the process was killed by the OOM killer; within this budget its finest level is 5
+#: (1024 x 1836 = 1.9e6 cells).
+MAX_SURFACE_CELLS = 4_000_000
 
 
 @dataclass(frozen=True)
@@ -98,12 +110,39 @@ def surface_grid(a: float, b: float | None, level: int, cells: int | None = None
         Resolution level k >= 0: ``cells * 2**k`` cells along x.
     cells : int, optional
         Cells along x at level 0 (default :data:`BASE_CELLS`).
+
+    Raises
+    ------
+    railtherm.Refused
+        (kind "budget") when the grid would have more than :data:`MAX_SURFACE_CELLS` cells.
     """
-    n = int(cells or BASE_CELLS) * 2 ** int(level)
+    base = int(cells or BASE_CELLS)
+    n = base * 2 ** int(level)
+    ny = None if b is None else min(max(4, int(round(n * b / a))), 4 * n)
+    total = n * (ny or 1)
+    if total > MAX_SURFACE_CELLS:
+        finest = min(int(level), 64)
+        while finest > 0 and _cells(base * 2 ** finest, a, b) > MAX_SURFACE_CELLS:
+            finest -= 1
+        within = (f"the finest level within it is {finest}" if _cells(base * 2 ** finest, a, b) <= MAX_SURFACE_CELLS
+                  else "no level is within it: use fewer cells at level 0")
+        raise Refused(
+            f"the surface grid of level {level} needs {_shape(n, ny)} = {total:.3g} cells "
+            f"({base} cells along 2a at level 0, a = {a:.4g} m" + (f", b = {b:.4g} m" if b is not None else "")
+            + f"), above the budget railtherm.grid.MAX_SURFACE_CELLS = {MAX_SURFACE_CELLS:.3g} cells "
+            f"({8 * total / 1e6:.0f} MB per field, about 20 fields per run); {within} with {base} cells at "
+            "level 0", kind="budget")
     x_edges = np.linspace(-a, a, n + 1)
     if b is None:
         return SurfaceGrid(x_edges, None, float(a), None)
-    ny = max(4, int(round(n * b / a)))
-    ny = min(ny, 4 * n)
     y_edges = np.linspace(-b, b, ny + 1)
     return SurfaceGrid(x_edges, y_edges, float(a), float(b))
+
+
+def _cells(n: int, a: float, b: float | None) -> int:
+    """Cells of a grid with n cells along x (as :func:`surface_grid` lays them out)."""
+    return n if b is None else n * min(max(4, int(round(n * b / a))), 4 * n)
+
+
+def _shape(n: int, ny: int | None) -> str:
+    return f"{n}" if ny is None else f"{n} x {ny}"

@@ -57,6 +57,12 @@ class HertzContact(ContactModel):
 
     def compute_patch(self, scene, level, options):
         a, b, p0, n = hertz_geometry(scene)
-        grid = surface_grid(a, b, level, int(options.get("cells") or BASE_CELLS))
+        try:
+            grid = surface_grid(a, b, level, int(options.get("cells") or BASE_CELLS))
+        except Refused as exc:  # over the cell budget: name the scene
+            raise Refused(f"scene {scene.name!r}, model 'hertz': {exc}", kind=exc.kind) from None
         pressure = p0 * cell_average(grid, "hertz", a, b)
-        return ContactPatch(grid=grid, normal_force=n, a=a, b=b, max_pressure=p0, pressure=pressure)
+        # closed form (the eccentricity's root is found to round-off by brentq, which raises otherwise)
+        diag = {"converged": True, "iterations": 0, "residual": 0.0}
+        return ContactPatch(grid=grid, normal_force=n, a=a, b=b, max_pressure=p0, pressure=pressure,
+                            diagnostics=diag)

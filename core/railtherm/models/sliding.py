@@ -3,10 +3,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import Refused
 from ..grid import BASE_CELLS, surface_grid
 from ..stages import Capabilities, HeatSource, HeatSourceModel, Option
 from .partition import scene_partition
 from .shapes import cell_average, exact_total
+
+
+#: the verdict keys of a closed-form stage (docs/verdicts.md): converged, no iterations, no residual
+CLOSED_FORM = {"converged": True, "iterations": 0, "residual": 0.0}
 
 
 class FullSlidingHeat(HeatSourceModel):
@@ -37,8 +42,9 @@ class FullSlidingHeat(HeatSourceModel):
             stick=np.where(patch.pressure > 0, 0.0, np.nan),
             creep_force_x=np.sign(vs) * scene.friction * patch.normal_force)
         power = scene.friction * vs * patch.normal_force
+        # closed form: converged, no iterations, no residual (docs/verdicts.md)
         return HeatSource(grid=patch.grid, power_density=q, heat_partition=eps, body_speed=(v0 + vs, v0),
-                          frictional_power=power, patch=patch)
+                          frictional_power=power, patch=patch, diagnostics=dict(CLOSED_FORM))
 
 
 def given_heat_source(scene, level: int, cells: int | None = None) -> HeatSource:
@@ -52,12 +58,16 @@ def given_heat_source(scene, level: int, cells: int | None = None) -> HeatSource
         a, b = hs.semi_axes
     else:
         a, b = hs.half_width, None
-    grid = surface_grid(a, b, level, cells or BASE_CELLS)
+    try:
+        grid = surface_grid(a, b, level, cells or BASE_CELLS)
+    except Refused as exc:  # over the cell budget: name the scene
+        raise Refused(f"scene {scene.name!r}, given heat source: {exc}", kind=exc.kind) from None
     q = hs.flux * cell_average(grid, hs.shape, a, b)
     v = scene.speed
     eps = scene_partition(scene, v, v)
     return HeatSource(grid=grid, power_density=q, heat_partition=eps, body_speed=(v, v),
-                      frictional_power=hs.flux * exact_total(hs.shape, a, b), shape=hs.shape, peak_flux=hs.flux)
+                      frictional_power=hs.flux * exact_total(hs.shape, a, b), shape=hs.shape, peak_flux=hs.flux,
+                      diagnostics=dict(CLOSED_FORM))
 
 
 class GivenHeat(HeatSourceModel):
