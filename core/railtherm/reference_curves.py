@@ -129,7 +129,8 @@ def _pure_longitudinal(scene) -> bool:
 
 
 def _creepage_range(scene, group_values: list[float]) -> np.ndarray:
-    """Creepages [1] of the curve: the span of the sweep (5 % margin), else 0 to 1.5 xi; 0 included inside."""
+    """Creepages [1] of the curve: the span of the sweep (5 % margin), else 0 to 1.5 xi; the swept values
+    and 0 (when inside) are points of it."""
     values = list(group_values) or [scene.creepage.longitudinal]
     lo, hi = min(values), max(values)
     if lo == hi:
@@ -138,9 +139,8 @@ def _creepage_range(scene, group_values: list[float]) -> np.ndarray:
             lo, hi = -1e-3, 1e-3
     pad = 0.05 * (hi - lo)
     xs = np.linspace(lo - pad, hi + pad, CREEP_POINTS)
-    if xs[0] < 0 < xs[-1]:
-        xs = np.unique(np.concatenate([xs, [0.0]]))
-    return xs
+    extra = [float(v) for v in values] + ([0.0] if xs[0] < 0 < xs[-1] else [])
+    return np.unique(np.concatenate([xs, extra]))  # the swept values themselves are points of the curve
 
 
 def _creep(scene, group_values: list[float]) -> tuple[dict, dict, list[str]]:

@@ -1,0 +1,118 @@
+"""The study report: ``report.md``, ``report.html`` and ``figures/*.png`` of a study output folder.
+
+:func:`write_report` reads what ``railtherm run`` wrote (``metrics.nc``, ``study.json``, the run files
+and ``references.nc``) and writes, in this order:
+
+1. the **verdict**: a scorecard (scenes × methods: the cheapest level within the tolerance of an
+   independent reference on the scene's headline quantity, or the best available with its status),
+   key findings computed from the metrics, and a work-precision figure with one panel per scene;
+2. one section per scene: inputs, references, refusals and failures (one line per reason), the runs
+   with a result (collapsible table: status, timing min/median, peak RSS growth, energy balance,
+   errors), published values beside the results, convergence orders beside the theoretical ones,
+   differences between methods, and the temperature and traction figures with the exact curves;
+3. one section per sweep (scenes generated from one list value): one table and one curve;
+4. benchmarks (a pytest-benchmark JSON file) and the environment.
+
+The report is a pure reader: it computes no physics (the exact curves come from ``references.nc``,
+written by :func:`railtherm.reference_curves.write_reference_curves`). A figure that cannot be drawn
+becomes a sentence in its place.
+
+Modules: :mod:`.load` (reading), :mod:`.verdict` (scorecard and findings), :mod:`.tables` (table
+rows), :mod:`.figures` (matplotlib), :mod:`.sections` (page order), :mod:`.document` (Markdown and
+HTML), :mod:`.format` (numbers).
+"""
+from __future__ import annotations
+
+import os
+import time
+import uuid
+from pathlib import Path
+
+from .document import Document
+from .figures import Palette, method_colour
+from .load import load
+from .sections import Context, benchmark_section, environment_section, scene_section, sweep_section, verdict_section
+from .verdict import rows, sweep_groups
+
+__all__ = ["write_report", "MAX_SCENE_SECTIONS", "method_colour"]
+
+#: scenes beyond this number get a row in the scorecard but no section of their own
+MAX_SCENE_SECTIONS = 40
+
+
+def _write_atomic(path: Path, text: str):
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}.tmp")
+    try:
+        tmp.write_text(text, encoding="utf-8")
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def write_report(out, study=None, benchmarks=None) -> list[Path]:
+    """Write ``report.md``, ``report.html`` and ``figures/*.png`` for a study output folder.
+
+    Parameters
+    ----------
+    out : path
+        Output folder of ``railtherm run`` (holds ``metrics.nc``, ``study.json``, ``runs/`` and
+        ``references.nc``).
+    study : railtherm.study.Study, optional
+        The study that was run; when None it is re-loaded from the path recorded in ``study.json``
+        (if that file still exists). It supplies the scene inputs, the sweeps and the published
+        values; without it the report is written from the output folder alone.
+    benchmarks : path, optional
+        A pytest-benchmark JSON file (``--benchmark-json``); ``out/benchmarks.json`` is used when it
+        exists and none is given.
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``report.md``, ``report.html`` and every figure written.
+
+    Raises
+    ------
+    FileNotFoundError
+        When ``out/metrics.nc`` does not exist.
+    """
+    out = Path(out)
+    t0 = time.perf_counter()
+    data = load(out, study)
+    fig_dir = out / "figures"
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    for old in list(fig_dir.glob("*.png")) + list(fig_dir.glob("*.svg")):  # an earlier report's figures
+        old.unlink()
+    ctx = Context(data, fig_dir, Palette(data.methods))
+    doc = Document()
+    doc.heading(1, f"railtherm report: study `{data.name}`")
+    groups = sweep_groups(data)
+    table_rows = rows(data, groups)
+    limit = MAX_SCENE_SECTIONS
+    singles = [r for r in table_rows if r.group is None]
+    left_out = singles[limit:]
+    for row in left_out:  # no section: the scorecard row links nowhere
+        row.anchor = ""
+    verdict_section(doc, ctx, table_rows)
+    idx = 0
+    for row in table_rows:
+        if row in left_out:
+            continue
+        idx += 1
+        if row.group is None:
+            scene_section(doc, ctx, idx, row.scenes[0])
+        else:
+            sweep_section(doc, ctx, idx, row.group, row.anchor)
+    if left_out:
+        doc.paragraph(f"{len(left_out)} further scenes have no section of their own (limit {limit}); the "
+                      "scorecard lists them: " + ", ".join(f"`{r.label}`" for r in left_out[:20])
+                      + (" …" if len(left_out) > 20 else "") + ".", note=True)
+    bench = Path(benchmarks) if benchmarks else out / "benchmarks.json"
+    if benchmarks or bench.exists():
+        benchmark_section(doc, bench)
+    environment_section(doc, data, [f"Note: {n}" for n in data.notes]
+                        + [f"Report generated in {time.perf_counter() - t0:.1f} s"])
+    md_path, html_path = out / "report.md", out / "report.html"
+    _write_atomic(md_path, doc.markdown())
+    _write_atomic(html_path, doc.html(f"railtherm report: {data.name}"))
+    return [md_path, html_path] + ctx.figures

@@ -1,0 +1,478 @@
+"""The report's figures (matplotlib, PNG at twice the CSS size for HiDPI screens).
+
+Every method has one colour and marker in every figure: green is green, fipy blue,
+fastsim-fdm orange, fem purple; other methods take colours of a neutral palette in sorted order.
+Markers have one size for every method. Exact references are a wide light-grey band under the
+methods' lines; stick/slip is drawn in grey and black, never in a method's colour.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["METHOD_COLOURS", "Palette", "method_colour", "save", "CSS_DPI"]
+
+METHOD_COLOURS = {"green": "#2ca02c", "fipy": "#1f77b4", "fastsim-fdm": "#ff7f0e", "fem": "#9467bd"}
+NEUTRAL_COLOURS = ("#8c564b", "#17becf", "#7f7f7f", "#bcbd22", "#e377c2", "#393b79", "#637939", "#843c39")
+METHOD_MARKERS = {"green": "o", "fipy": "s", "fastsim-fdm": "^", "fem": "D"}
+OTHER_MARKERS = ("v", "P", "X", "h", "<", ">", "p", "*")
+MARKER_SIZE = 5.5
+LINE_WIDTH = 1.6
+STICK_COLOUR, SLIP_COLOUR = "0.15", "0.78"
+REFERENCE_STYLE = {"color": "0.6", "lw": 6.0, "alpha": 0.5, "solid_capstyle": "butt"}
+#: CSS pixels per inch of figure; the PNG is written at twice this resolution
+CSS_DPI = 96
+PNG_DPI = 2 * CSS_DPI
+BODIES = ("wheel", "rail")
+
+
+class Palette:
+    """Colour, marker and line style of each method (fixed for the four built-in methods)."""
+
+    def __init__(self, methods=()):
+        others = sorted(m for m in set(methods) if m not in METHOD_COLOURS)
+        self._colour = dict(METHOD_COLOURS)
+        self._marker = dict(METHOD_MARKERS)
+        for i, m in enumerate(others):
+            self._colour[m] = NEUTRAL_COLOURS[i % len(NEUTRAL_COLOURS)]
+            self._marker[m] = OTHER_MARKERS[i % len(OTHER_MARKERS)]
+
+    def colour(self, method: str) -> str:
+        return self._colour.get(method, "#555555")
+
+    def marker(self, method: str) -> str:
+        return self._marker.get(method, "o")
+
+    def line(self, method: str) -> str:
+        """Solid for every method (dotted lines mean self-convergence in the work-precision figure)."""
+        return "-"
+
+    def style(self, method: str, filled: bool = True) -> dict:
+        c = self.colour(method)
+        return {"color": c, "marker": self.marker(method), "ms": MARKER_SIZE, "lw": LINE_WIDTH,
+                "ls": self.line(method), "mec": c, "mfc": c if filled else "white", "mew": 1.2}
+
+
+def method_colour(method: str, methods=()) -> str:
+    """The colour of ``method`` in every figure of the report (hex)."""
+    return Palette(methods).colour(method)
+
+
+def figure(w: float, h: float):
+    from matplotlib.figure import Figure
+    fig = Figure(figsize=(w, h), layout="constrained")
+    return fig
+
+
+def save(fig, path: Path) -> tuple[Path, int]:
+    """Write ``fig`` as PNG at 2x and return (path, CSS width [px])."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    width = int(round(fig.get_figwidth() * CSS_DPI))
+    fig.savefig(path, dpi=PNG_DPI)
+    fig.clear()
+    return path, width
+
+
+def log_ticks(axis, lo: float, hi: float):
+    """Readable ticks on a log axis: plain '%g' labels; 1-2-5 steps below about two decades."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+    decades = math.log10(hi / lo) if lo > 0 and hi > 0 else 99
+    subs = (1.0, 2.0, 5.0) if decades < 2.2 else (1.0,)
+    axis.set_major_locator(LogLocator(base=10.0, subs=subs))
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def pad_log(ax):
+    """Widen log axes that span less than a decade (so that labelled ticks appear)."""
+    for axis, get, set_ in ((ax.xaxis, ax.get_xlim, ax.set_xlim), (ax.yaxis, ax.get_ylim, ax.set_ylim)):
+        lo, hi = get()
+        if lo > 0 and hi > 0 and hi / lo < 12:
+            mid = math.sqrt(lo * hi)
+            lo, hi = mid / 3.5, mid * 3.5
+            set_(lo, hi)
+        log_ticks(axis, lo, hi)
+
+
+# ------------------------------------------------------------------------------------------------------
+@dataclass
+class Point:
+    error: float
+    time: float
+    level: int
+    status: str
+    self_referenced: bool = False
+
+
+@dataclass
+class Panel:
+    title: str
+    series: dict = field(default_factory=dict)  # method -> [Point]
+    note: str = ""
+
+
+def work_precision(panels: list[Panel], palette: Palette, tol: float | None, *, path: Path, methods: list[str]):
+    """Small multiples: headline error (x) against wall time (y), log-log, one panel per scene."""
+    from matplotlib.lines import Line2D
+    n = len(panels)
+    ncol = min(3, n)
+    nrow = math.ceil(n / ncol)
+    fig = figure(10.0, 2.75 * nrow + 0.9)
+    axes = np.atleast_1d(fig.subplots(nrow, ncol, squeeze=False)).ravel()
+    used_self = used_hollow = used_zero = False
+    drawn = set()
+    for ax, panel in zip(axes, panels):
+        pos = [p.error for pts in panel.series.values() for p in pts if math.isfinite(p.error) and p.error > 0]
+        floor = min(pos) / 10.0 if pos else 1e-6
+        any_pt = False
+        for meth in methods:
+            pts = [p for p in panel.series.get(meth, []) if math.isfinite(p.error) and math.isfinite(p.time)]
+            for self_ref in (False, True):
+                sel = sorted((p for p in pts if p.self_referenced == self_ref), key=lambda p: p.level)
+                if not sel:
+                    continue
+                st = palette.style(meth)
+                if self_ref:
+                    st.update(ls=":", lw=1.1)
+                    used_self = True
+                ex = [max(p.error, floor) for p in sel]
+                ax.plot(ex, [p.time for p in sel], **{**st, "marker": None})
+                for p, e in zip(sel, ex):
+                    hollow = p.status != "ok"
+                    used_hollow |= hollow and not self_ref
+                    if p.error <= 0:
+                        used_zero = True
+                    ax.plot([e], [p.time], ls="", **{k: v for k, v in palette.style(meth, not hollow).items()
+                                                   if k not in ("ls", "lw")})
+                any_pt = True
+                drawn.add(meth)
+        if tol is not None and math.isfinite(tol) and any_pt:
+            ax.axvline(tol, color="firebrick", lw=0.9, ls="--")
+        ax.set_title(panel.title, fontsize=9)
+        if any_pt:
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            pad_log(ax)
+            ax.grid(True, which="major", alpha=0.3)
+        else:
+            ax.set_xticks([])
+            ax.set_yticks([])
+            ax.text(0.5, 0.5, panel.note or "no error against a reference", ha="center", va="center",
+                    fontsize=8, color="0.4", wrap=True, transform=ax.transAxes)
+        ax.tick_params(labelsize=7.5)
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    for ax in axes[:n]:
+        if ax.get_subplotspec().is_last_row() or not axes[min(n - 1, list(axes).index(ax) + ncol)].get_visible():
+            ax.set_xlabel("relative error of the headline quantity [1]", fontsize=8)
+        if ax.get_subplotspec().is_first_col():
+            ax.set_ylabel("wall time [s]", fontsize=8)
+    handles = [Line2D([], [], **{**palette.style(m), "ls": palette.line(m)}, label=m) for m in methods if m in drawn]
+    handles.append(Line2D([], [], ls="", marker="o", mfc="white", mec="0.3", ms=MARKER_SIZE,
+                          label="hollow: inaccurate / unverified"))
+    if used_self:
+        handles.append(Line2D([], [], color="0.3", ls=":", lw=1.1, label="dotted: self-convergence (no reference)"))
+    if tol is not None and math.isfinite(tol):
+        handles.append(Line2D([], [], color="firebrick", lw=0.9, ls="--", label=f"tolerance {tol:g}"))
+    if used_zero:
+        handles.append(Line2D([], [], ls="", label="error 0: drawn at a tenth of the smallest"))
+    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 4), fontsize=8, frameon=False)
+    return save(fig, path)
+
+
+# ------------------------------------------------------------------------------------------------------
+def _line_y0(da):
+    return da.sel(y=0.0, method="nearest") if "y" in da.dims else da
+
+
+def surface(finest: dict, curve, palette: Palette, title: str, path: Path):
+    """Surface temperature along y = 0 of both bodies, with the exact curve and the difference from it."""
+    from matplotlib.lines import Line2D
+    have = {m: ds for m, ds in finest.items() if "surface_temperature" in ds}
+    if not have:
+        return None
+    ref = curve if curve is not None and "surface_temperature" in curve else None
+    if ref is not None:
+        from scipy.interpolate import PchipInterpolator
+        xr_ = ref["x"].values
+        ref_at = [PchipInterpolator(xr_, ref["surface_temperature"].values[i]) for i in (0, 1)]
+        fig = figure(10, 5.6)
+        grid = fig.subplots(2, 2, sharex=True, height_ratios=[2.2, 1])
+        axes, daxes = grid[0], grid[1]
+    else:
+        fig = figure(10, 3.8)
+        axes, daxes = fig.subplots(1, 2), (None, None)
+    a = next((float(ds["semi_axis_a"]) for ds in have.values() if "semi_axis_a" in ds), None)
+    for body, (ax, dax) in enumerate(zip(axes, daxes)):
+        if ref is not None:
+            ax.plot(xr_ * 1e3, ref["surface_temperature"].values[body], "-", **REFERENCE_STYLE)
+        for m, ds in have.items():
+            da = _line_y0(ds["surface_temperature"]).isel(body=body)
+            x = da["x"].values
+            st = palette.style(m)
+            if da.size > 40:
+                st["marker"] = None
+            ax.plot(x * 1e3, da.values, **st)
+            if dax is not None:
+                inside = (x >= xr_[0]) & (x <= xr_[-1])
+                dax.plot(x[inside] * 1e3, da.values[inside] - ref_at[body](x[inside]), **st)
+        for a_ in (ax, dax):
+            if a_ is None:
+                continue
+            if a:
+                for s_ in (-a, a):
+                    a_.axvline(s_ * 1e3, color="0.6", lw=0.8, ls=":")
+            a_.grid(True, alpha=0.3)
+        ax.set_ylabel("surface temperature [°C]")
+        ax.set_title(BODIES[body] + (" (y = 0)" if any("y" in ds.dims for ds in have.values()) else ""), fontsize=10)
+        last = ax
+        if dax is not None:
+            dax.axhline(0.0, color="0.4", lw=0.8)
+            dax.set_ylabel("T − T$_{exact}$ [K]")
+            last = dax
+        last.set_xlabel("x [mm] (leading edge at +a)")
+    handles = [Line2D([], [], **palette.style(m), label=f"{m} (level {int(ds.attrs.get('level', -1))})")
+               for m, ds in have.items()]
+    if ref is not None:
+        handles.insert(0, Line2D([], [], **REFERENCE_STYLE, label=f"exact: {ref['surface_temperature'].attrs.get('reference', '')}"))
+    if a:
+        handles.append(Line2D([], [], color="0.6", lw=0.8, ls=":", label="patch edges x = ±a"))
+    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 3), fontsize=8, frameon=False)
+    fig.suptitle(title, fontsize=10)
+    return save(fig, path)
+
+
+def _heated_depth(z, t, bulk) -> float:
+    """Depth [m] below which the temperature rise stays under 1 % of its maximum."""
+    rise = np.abs(np.asarray(t, float) - bulk)
+    if rise.size == 0 or not np.isfinite(rise).any() or np.nanmax(rise) == 0:
+        return float(np.max(z)) if np.size(z) else 0.0
+    above = np.nonzero(rise > 0.01 * np.nanmax(rise))[0]
+    return float(z[min(above[-1] + 1, z.size - 1)])
+
+
+def depth(finest: dict, curve, bulk: tuple | None, palette: Palette, title: str, path: Path):
+    """Temperature against depth through the hottest surface point (the exact profile's point when known)."""
+    from matplotlib.lines import Line2D
+    have = {m: ds for m, ds in finest.items() if "temperature" in ds and "z" in ds.dims}
+    if not have:
+        return None
+    ref = curve if curve is not None and "temperature" in curve and "hottest_x" in curve else None
+    fig = figure(10, 3.9)
+    axes = fig.subplots(1, 2)
+    zmax = max(float(ds["z"].max()) for ds in have.values())
+    for body, ax in enumerate(axes):
+        if ref is not None:
+            x0 = float(ref["hottest_x"].values[body])
+        else:
+            t0 = next(iter(have.values()))["temperature"].isel(body=body, z=0)
+            x0 = float(t0["x"].values[int(np.argmax(t0.values))])
+        zlim = 0.0
+        profiles = {}
+        for m, ds in have.items():
+            da = ds["temperature"].isel(body=body).sel(x=x0, method="nearest")
+            z, t = da["z"].values, da.values
+            b = bulk[body] if bulk else float(t[np.argmax(z)])
+            profiles[m] = (z, t)
+            zlim = max(zlim, _heated_depth(z, t, b))
+        zlim = min(1.3 * zlim, zmax) if zlim > 0 else zmax
+        if ref is not None:
+            zr = ref["z"].values
+            sel = zr <= zlim * 1.001
+            ax.plot(ref["temperature"].values[body][sel], zr[sel] * 1e6, "-", **REFERENCE_STYLE)
+        for m, (z, t) in profiles.items():
+            st = palette.style(m)
+            if int(np.sum(z <= zlim)) > 30:
+                st["marker"] = None
+            ax.plot(t, z * 1e6, **st)
+        ax.set_ylim(zlim * 1e6, 0.0)
+        ax.set_xlabel("temperature [°C]")
+        ax.set_ylabel("depth z [µm]")
+        ax.set_title(f"{BODIES[body]}: x = {x0 * 1e3:.3g} mm, y = 0", fontsize=10)
+        ax.grid(True, alpha=0.3)
+    handles = [Line2D([], [], **palette.style(m), label=f"{m} (level {int(ds.attrs.get('level', -1))})")
+               for m, ds in have.items()]
+    if ref is not None:
+        handles.insert(0, Line2D([], [], **REFERENCE_STYLE, label=f"exact: {ref['temperature'].attrs.get('reference', '')}"))
+    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 3), fontsize=8, frameon=False)
+    fig.suptitle(title, fontsize=10)
+    return save(fig, path)
+
+
+# ------------------------------------------------------------------------------------------------------
+def traction(finest: dict, curve, friction: float | None, palette: Palette, title: str, path: Path):
+    have = {m: ds for m, ds in finest.items() if "traction_x" in ds or "stick" in ds}
+    if not have:
+        return None
+    if all("y" not in ds.dims for ds in have.values()):
+        return _traction_line(have, curve, friction, palette, title, path)
+    return _traction_maps({m: ds for m, ds in have.items() if "y" in ds.dims}, title, path)
+
+
+def _bands(ax, x, stick, row: int):
+    dx = float(np.median(np.diff(x))) if x.size > 1 else 1.0
+    for val, col in ((1.0, STICK_COLOUR), (0.0, SLIP_COLOUR)):
+        sel = np.isfinite(stick) & (np.abs(stick - val) < 0.5)
+        ax.broken_barh([(xi - dx / 2, dx) for xi in x[sel]], (row - 0.35, 0.7), facecolors=col, edgecolor="none")
+
+
+def _traction_line(have: dict, curve, mu, palette: Palette, title: str, path: Path):
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+    car = curve if curve is not None and "carter_traction_x" in curve else None
+    rows = [(m, ds) for m, ds in have.items() if "stick" in ds]
+    fig = figure(10, 4.0)
+    ax, ax2 = fig.subplots(1, 2, width_ratios=[3, 2]) if rows else (fig.subplots(), None)
+    handles = []
+    if car is not None:
+        xp = car["x_patch"].values
+        handles += ax.plot(xp * 1e3, car["carter_traction_x"].values / 1e6, "-", **REFERENCE_STYLE,
+                           label="Carter (exact)")
+    for m, ds in have.items():
+        if "traction_x" in ds:
+            st = palette.style(m)
+            if ds.sizes["x"] > 40:
+                st["marker"] = None
+            handles += ax.plot(ds["x"].values * 1e3, ds["traction_x"].values / 1e6, **st,
+                               label=f"{m} (level {int(ds.attrs.get('level', -1))})")
+    ds0 = next(iter(have.values()))
+    if mu and "pressure" in ds0:
+        bound = mu * ds0["pressure"].values / 1e6
+        handles += ax.plot(ds0["x"].values * 1e3, bound, ":", color="0.35", lw=1, label="±μ p (traction bound)")
+        ax.plot(ds0["x"].values * 1e3, -bound, ":", color="0.35", lw=1)
+    ax.set_xlabel("x [mm] (leading edge at +a)")
+    ax.set_ylabel("traction on the wheel $q_x$ [MPa]")
+    ax.set_title("tangential traction", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    if ax2 is not None:
+        labels = []
+        for i, (m, ds) in enumerate(rows):
+            _bands(ax2, ds["x"].values * 1e3, ds["stick"].values, i)
+            labels.append(f"{m} (level {int(ds.attrs.get('level', -1))})")
+        if car is not None and "carter_stick" in car:
+            _bands(ax2, car["x_patch"].values * 1e3, car["carter_stick"].values.astype(float), len(labels))
+            labels.append("Carter (exact)")
+        ax2.set_yticks(range(len(labels)))
+        ax2.set_yticklabels(labels, fontsize=8)
+        ax2.set_ylim(len(labels) - 0.5, -0.5)
+        ax2.set_xlim(ax.get_xlim())
+        ax2.set_xlabel("x [mm] (leading edge at +a)")
+        ax2.set_title("stick / slip", fontsize=10)
+        handles += [Patch(color=STICK_COLOUR, label="stick"), Patch(color=SLIP_COLOUR, label="slip")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 4), fontsize=8, frameon=False)
+    fig.suptitle(title, fontsize=10)
+    return save(fig, path)
+
+
+def _traction_maps(have: dict, title: str, path: Path):
+    """Ellipse: traction q_x and stick/slip maps of each method (finest level)."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    items = list(have.items())[:4]
+    if not items:
+        return None
+    n = len(items)
+    ds0 = items[0][1]
+    span = lambda v: float(v.max() - v.min()) or 1.0
+    asp = span(ds0["y"].values) / span(ds0["x"].values)
+    w = 9.0 / n
+    h = min(w * asp, 3.6)
+    fig = figure(10, 2 * (h + 0.7) + 0.5)
+    grid = fig.subplots(2, n, squeeze=False, sharex=True, sharey=True)
+    tmax = max((float(np.nanmax(np.abs(ds["traction_x"].values))) for _, ds in items if "traction_x" in ds),
+               default=0.0) / 1e6 or 1.0
+    cmap_st = ListedColormap([SLIP_COLOUR, STICK_COLOUR])
+    pc = pc2 = None
+    for i, (m, ds) in enumerate(items):
+        ax, ax2 = grid[0][i], grid[1][i]
+        x, y = ds["x"].values * 1e3, ds["y"].values * 1e3
+        lv = int(ds.attrs.get("level", -1))
+        if "traction_x" in ds:
+            t = ds["traction_x"].values / 1e6
+            inside = ds["pressure"].values > 0 if "pressure" in ds else np.ones(t.shape, bool)
+            pc = ax.pcolormesh(x, y, np.ma.masked_where(~inside, t).T, cmap="RdBu_r", vmin=-tmax, vmax=tmax,
+                               shading="nearest", rasterized=True)
+        ax.set_title(f"{m} (level {lv}): $q_x$", fontsize=9)
+        if "stick" in ds:
+            st = ds["stick"].values
+            pc2 = ax2.pcolormesh(x, y, np.ma.masked_invalid(st).T, cmap=cmap_st,
+                                 norm=BoundaryNorm([-0.5, 0.5, 1.5], 2), shading="nearest", rasterized=True)
+            ax2.set_title(f"{m}: stick / slip", fontsize=9)
+        for a_ in (ax, ax2):
+            a_.set_aspect("equal")
+            a_.set_xlabel("x [mm]")
+            a_.set_ylabel("y [mm]")
+            a_.label_outer()
+    if pc is not None:
+        fig.colorbar(pc, ax=list(grid[0]), label="$q_x$ on the wheel [MPa]", shrink=0.9)
+    if pc2 is not None:
+        cb = fig.colorbar(pc2, ax=list(grid[1]), ticks=[0, 1], shrink=0.9)
+        cb.ax.set_yticklabels(["slip", "stick"])
+    fig.suptitle(title, fontsize=10)
+    return save(fig, path)
+
+
+# ------------------------------------------------------------------------------------------------------
+@dataclass
+class SweepSeries:
+    """Per method: swept value -> (headline value, headline error, status)."""
+
+    key: str
+    quantity_label: str
+    values: dict = field(default_factory=dict)  # method -> [(x, value, error, status)]
+    reference: tuple | None = None  # (xs, ys, label, linear?)
+
+
+def sweep(series: SweepSeries, palette: Palette, tol: float | None, title: str, *, path: Path, methods: list[str]):
+    """A sweep: the headline quantity (left) and its error (right) against the swept value."""
+    from matplotlib.lines import Line2D
+    fig = figure(10, 3.9)
+    ax, ax2 = fig.subplots(1, 2)
+    handles = []
+    if series.reference is not None:
+        xs, ys, label, linear = series.reference
+        if linear:
+            handles += ax.plot(xs, ys, "--", color="black", lw=1.1, label=label)
+        else:
+            handles += ax.plot(xs, ys, "-", **REFERENCE_STYLE, label=label)
+    any_err = False
+    for m in methods:
+        pts = sorted(series.values.get(m, []))
+        if not pts:
+            continue
+        st = palette.style(m)
+        handles += ax.plot([p[0] for p in pts], [p[1] for p in pts], **st, label=m)
+        e = [(p[0], p[2], p[3]) for p in pts if math.isfinite(p[2]) and p[2] > 0]
+        if e:
+            any_err = True
+            ax2.plot([p[0] for p in e], [p[1] for p in e], **{**st, "marker": None})
+            for x, err, status in e:
+                ax2.plot([x], [err], ls="", **{k: v for k, v in palette.style(m, status == "ok").items()
+                                             if k not in ("ls", "lw")})
+    if series.key == "creepage.longitudinal":
+        for s in (-1, 1):
+            ax.axhline(s, color="0.45", lw=0.8, ls=":")
+        ax.axhline(0, color="0.5", lw=0.6)
+    ax.set_xlabel(series.key)
+    ax.set_ylabel(series.quantity_label)
+    ax.grid(True, alpha=0.3)
+    ax.set_title("value (finest successful level)", fontsize=9)
+    if any_err:
+        ax2.set_yscale("log")
+        if tol is not None and math.isfinite(tol):
+            ax2.axhline(tol, color="firebrick", lw=0.9, ls="--")
+            handles.append(Line2D([], [], color="firebrick", lw=0.9, ls="--", label=f"tolerance {tol:g}"))
+        lo, hi = ax2.get_ylim()
+        log_ticks(ax2.yaxis, lo, hi)
+    else:
+        ax2.text(0.5, 0.5, "no error against a reference", ha="center", va="center", transform=ax2.transAxes,
+                 color="0.4")
+    ax2.set_xlabel(series.key)
+    ax2.set_ylabel("relative error [1]")
+    ax2.set_title("error against the reference (hollow: > tolerance)", fontsize=9)
+    ax2.grid(True, alpha=0.3)
+    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 4), fontsize=8, frameon=False)
+    fig.suptitle(title, fontsize=10)
+    return save(fig, path)

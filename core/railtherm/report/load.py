@@ -1,0 +1,425 @@
+"""Everything the report reads, in one place: ``metrics.nc``, ``study.json``, the study file, the run
+files' attributes and ``references.nc``. The report is a pure reader: it computes no physics.
+
+``metrics.nc`` is read as ``docs/verdicts.md`` describes it; every column of the second release
+(``reason_kind``, ``wall_time_median``, ``timing_runs``, ``peak_rss``, ``reference_<metric>``,
+``energy_balance``, ``headline_error``, per-scene ``headline`` ... ) is optional. Without
+``reference_<metric>`` (metrics of the first release) the reference of each error is read from the
+run's combined ``reference`` text, and a run whose errors are all against its own finest level is
+shown as ``unverified``, as the second release defines it.
+"""
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["HEADLINE_ORDER", "RESULT_STATUSES", "Run", "Order", "SceneInfo", "StudyData", "load"]
+
+#: the quantity a verdict is given on: the first of these that the scene asks for (docs/verdicts.md)
+HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
+                  "semi_axis_a", "frictional_power")
+#: statuses of runs that produced a result
+RESULT_STATUSES = ("ok", "inaccurate", "unverified")
+STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
+
+
+@dataclass
+class Run:
+    """One row of metrics.nc."""
+
+    scene: str
+    method: str
+    level: int
+    status: str
+    message: str = ""
+    reason_kind: str = ""
+    wall_time: float = math.nan
+    wall_time_median: float = math.nan
+    timing_runs: float = math.nan
+    memory: float = math.nan
+    errors: dict = field(default_factory=dict)
+    references: dict = field(default_factory=dict)
+    energy_balance: float = math.nan
+    energy_reference: str = ""
+    headline_error: float = math.nan
+    headline_reference: str = ""
+
+    @property
+    def has_result(self) -> bool:
+        return self.status in RESULT_STATUSES
+
+
+@dataclass
+class Order:
+    """Convergence of one method's ladder on one metric of one scene."""
+
+    method: str
+    metric: str
+    order: float
+    theoretical: float = math.nan
+    reference: str = ""
+    richardson: float = math.nan
+    richardson_uncertainty: float = math.nan
+
+
+@dataclass
+class SceneInfo:
+    name: str
+    headline: str = ""
+    reference_kind: str = ""
+    sweep: dict = field(default_factory=dict)
+    base: str = ""
+    scene: object = None  # railtherm Scene when the study is at hand
+    published: dict = field(default_factory=dict)
+    analytic: dict = field(default_factory=dict)
+
+
+@dataclass
+class StudyData:
+    """What the report knows about one study output folder."""
+
+    out: Path
+    name: str
+    tolerance: float | None
+    runs: list[Run]
+    scenes: list[str]
+    methods: list[str]
+    levels: list[int]
+    info: dict
+    study: object
+    scene: dict[str, SceneInfo]
+    orders: dict[str, list[Order]]
+    cross: dict[str, dict]
+    curves: dict | None
+    memory_label: str
+    legacy: bool
+    notes: list[str] = field(default_factory=list)
+    _files: dict = field(default_factory=dict, repr=False)
+    _attrs: dict = field(default_factory=dict, repr=False)
+
+    def runs_of(self, scene: str, method: str | None = None) -> list[Run]:
+        return [r for r in self.runs if r.scene == scene and (method is None or r.method == method)]
+
+    def finest_result(self, scene: str, method: str) -> Run | None:
+        ok = [r for r in self.runs_of(scene, method) if r.has_result]
+        return max(ok, key=lambda r: r.level) if ok else None
+
+    def run_file(self, scene: str, method: str, level: int):
+        """The run's Dataset (loaded, cached), or None when it has no file."""
+        key = (scene, method, level)
+        if key not in self._files:
+            self._files[key] = _open_run(self.out, scene, method, level)
+        return self._files[key]
+
+    def run_attrs(self, scene: str, method: str, level: int) -> dict:
+        """Global attributes of a run file ({} when there is none), read without loading the data."""
+        key = (scene, method, level)
+        if key not in self._attrs:
+            p = run_path(self.out, scene, method, level)
+            attrs = {}
+            if p.exists():
+                try:
+                    import netCDF4
+                    with netCDF4.Dataset(p, "r") as nc:
+                        attrs = {k: nc.getncattr(k) for k in nc.ncattrs()}
+                except Exception as exc:  # noqa: BLE001
+                    warnings.warn(f"railtherm report: cannot read {p}: {exc}", RuntimeWarning, stacklevel=2)
+            self._attrs[key] = attrs
+        return self._attrs[key]
+
+    def stages(self, scene: str, method: str) -> dict[str, str]:
+        """Stage -> model of the method's chain on this scene (from the run file's ``stages`` attribute)."""
+        for r in sorted(self.runs_of(scene, method), key=lambda r: -r.level):
+            if r.has_result:
+                text = str(self.run_attrs(scene, method, r.level).get("stages", ""))
+                if text:
+                    return dict(part.split(":", 1) for part in text.split() if ":" in part)
+        return {}
+
+
+def run_path(out: Path, scene: str, method: str, level: int) -> Path:
+    return Path(out) / "runs" / scene / method / f"level-{level}.nc"
+
+
+def _open_run(out: Path, scene: str, method: str, level: int):
+    import xarray as xr
+    p = run_path(out, scene, method, level)
+    if not p.exists():
+        return None
+    try:
+        with xr.open_dataset(p, engine="netcdf4") as ds:
+            return ds.load()
+    except Exception as exc:  # noqa: BLE001
+        warnings.warn(f"railtherm report: cannot read {p}: {exc}", RuntimeWarning, stacklevel=3)
+        return None
+
+
+def _str(v) -> str:
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return ""
+    s = str(v)
+    return "" if s == "nan" else s
+
+
+def _float(v) -> float:
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def parse_sweep(name: str) -> tuple[str, dict]:
+    """Base name and sweep of a scene name ``base--k=v,k=v`` (used when neither study nor records say)."""
+    if "--" not in name:
+        return name, {}
+    base, rest = name.split("--", 1)
+    sweep = {}
+    for part in rest.split(","):
+        if "=" in part:
+            k, v = part.split("=", 1)
+            try:
+                sweep[k] = float(v)
+            except ValueError:
+                sweep[k] = v
+    return base, sweep
+
+
+# -- legacy (first release) metrics: reference of each error from the combined text ------------------
+_LEGACY_ANALYTIC = {  # words of the combined reference text -> metrics that reference gives
+    "Hertz": ("max_pressure", "semi_axis_a", "pressure_l2", "frictional_power"),
+    "Carter": ("creep_force_x",),
+    "full sliding": ("creep_force_x", "frictional_power"),
+    "moving surface source": ("max_surface_temperature", "mean_contact_temperature", "surface_temperature_l2",
+                              "frictional_power"),
+    "Jaeger": ("max_surface_temperature", "mean_contact_temperature", "surface_temperature_l2",
+               "frictional_power"),
+}
+
+
+_LEGACY_NAME = {"Hertz": "hertz", "Carter": "carter", "full sliding": "full-sliding",
+                "moving surface source": "moving-source", "Jaeger": "jaeger"}
+
+
+def _legacy_references(text: str, method: str, metrics) -> dict[str, str]:
+    import re
+    out = {}
+    fallback = ""
+    for part in (p.strip() for p in text.split(";")):
+        m = re.match(r"finest level of (\S+)", part) or re.match(r"(\S+) level \d+", part)
+        if m:
+            fallback = "self:finest" if m.group(1) == method else f"method:{m.group(1)}"
+    for met in metrics:
+        ref = next((f"analytic:{_LEGACY_NAME[word]}" for word, mets in _LEGACY_ANALYTIC.items()
+                    if word in text and met in mets), "")
+        out[met] = ref or fallback
+    return out
+
+
+def independent(reference: str) -> bool:
+    """True for an error against something other than the run's own method (analytic or another method)."""
+    return bool(reference) and not reference.startswith("self")
+
+
+# ------------------------------------------------------------------------------------------------------
+def load_metrics(out: Path):
+    import xarray as xr
+    path = Path(out) / "metrics.nc"
+    if not path.exists():
+        raise FileNotFoundError(f"{path} does not exist: write it with `railtherm run STUDY.toml --out {out}` first")
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        return ds.load()
+
+
+def _runs(m, metrics: list[str], legacy: bool) -> list[Run]:
+    n = m.sizes.get("run", 0)
+
+    def col(k, default=math.nan):
+        return m[k].values if k in m else np.full(n, default, dtype=object)
+
+    scene, method, status, level = col("scene"), col("method"), col("status"), col("level", 0)
+    message, reason = col("message", ""), col("reason_kind", "")
+    wall, median, nruns = col("wall_time"), col("wall_time_median"), col("timing_runs")
+    mem = col("peak_rss") if "peak_rss" in m else col("peak_memory")
+    energy = col("energy_balance") if "energy_balance" in m else col("heat_balance")
+    energy_ref = col("energy_reference", "")
+    h_err, h_ref = col("headline_error"), col("headline_reference", "")
+    legacy_ref = col("reference", "")
+    errs = {k: col(f"error_{k}") for k in metrics}
+    refs = {k: col(f"reference_{k}", "") for k in metrics}
+    runs = []
+    for i in range(n):
+        errors = {k: _float(v[i]) for k, v in errs.items() if math.isfinite(_float(v[i]))}
+        if legacy:
+            references = {k: v for k, v in _legacy_references(_str(legacy_ref[i]), str(method[i]), errors).items()}
+        else:
+            references = {k: _str(refs[k][i]) for k in errors}
+        runs.append(Run(str(scene[i]), str(method[i]), int(level[i]), str(status[i]), _str(message[i]),
+                        _str(reason[i]), _float(wall[i]), _float(median[i]), _float(nruns[i]), _float(mem[i]),
+                        errors, references, _float(energy[i]), _str(energy_ref[i]), _float(h_err[i]),
+                        _str(h_ref[i])))
+    return runs
+
+
+def _per_scene(m, var: str, scene: str):
+    if var not in m or "scene_name" not in m[var].dims or scene not in list(map(str, m["scene_name"].values)):
+        return None
+    return m[var].sel(scene_name=scene)
+
+
+def _orders(m, scene: str) -> list[Order]:
+    co = _per_scene(m, "convergence_order", scene)
+    if co is None:
+        return []
+    extra = {k: _per_scene(m, k, scene) for k in ("order_reference", "theoretical_order", "richardson_error",
+                                                  "richardson_uncertainty")}
+    out = []
+    for meth in map(str, co["method_name"].values):
+        for met in map(str, co["metric"].values):
+            def at(da, default=math.nan):
+                return default if da is None else da.sel(method_name=meth, metric=met).values.item()
+            o = _float(at(co))
+            rich = _float(at(extra["richardson_error"]))
+            if not math.isfinite(o) and not math.isfinite(rich):
+                continue
+            out.append(Order(meth, met, o, _float(at(extra["theoretical_order"])),
+                             _str(at(extra["order_reference"], "")), rich,
+                             _float(at(extra["richardson_uncertainty"]))))
+    return out
+
+
+def _cross(m, scene: str) -> dict:
+    cd = _per_scene(m, "cross_difference", scene)
+    if cd is None:
+        return {}
+    methods = [str(x) for x in cd["method_name"].values]
+    out = {}
+    for q in map(str, cd["quantity"].values):
+        mat = np.asarray(cd.sel(quantity=q).values, float)
+        off = mat.copy()
+        np.fill_diagonal(off, np.nan)
+        keep = [i for i in range(len(methods)) if np.isfinite(off[i]).any() or np.isfinite(off[:, i]).any()]
+        if len(keep) >= 2:
+            out[q] = ([methods[i] for i in keep], mat[np.ix_(keep, keep)])
+    return out
+
+
+def _load_info(out: Path) -> dict:
+    p = out / "study.json"
+    if p.exists():
+        try:
+            return json.loads(p.read_text())
+        except Exception as exc:  # noqa: BLE001 - the report goes on without it
+            warnings.warn(f"railtherm report: {p} is unreadable ({exc})", RuntimeWarning, stacklevel=3)
+    return {}
+
+
+def _load_study(info: dict, out: Path):
+    path = info.get("path")
+    if path and not Path(path).is_absolute() and not Path(path).exists():
+        for base in (out.parent, out):  # a relative path recorded by a run started elsewhere
+            if (base / path).exists():
+                path = str(base / path)
+                break
+    if not path or not Path(path).exists():
+        return None, (f"study file {path!r} not found: scene inputs and published values are left out" if path else
+                      "no study given and no study path in study.json: scene inputs and published values are left out")
+    try:
+        from ..study import load_study
+        return load_study(path), None
+    except Exception as exc:  # noqa: BLE001
+        return None, f"study file {path!r} could not be loaded ({exc}): scene inputs and published values are left out"
+
+
+def _load_curves(out: Path):
+    from ..reference_curves import FILE_NAME, read_reference_curves
+    p = out / FILE_NAME
+    if not p.exists():
+        return None, (f"`{FILE_NAME}` not found in the output folder: the exact reference curves are not drawn "
+                      "(`railtherm run` writes it)")
+    try:
+        return read_reference_curves(p), None
+    except Exception as exc:  # noqa: BLE001
+        return None, f"`{FILE_NAME}` could not be read ({exc}): the exact reference curves are not drawn"
+
+
+def load(out, study=None) -> StudyData:
+    """Read a study output folder for the report."""
+    out = Path(out)
+    m = load_metrics(out)
+    info = _load_info(out)
+    notes = []
+    if study is None:
+        study, note = _load_study(info, out)
+        if note:
+            notes.append(note)
+    metrics = [k[len("error_"):] for k in m.data_vars if k.startswith("error_")]
+    legacy = not any(k.startswith("reference_") for k in m.data_vars)
+    runs = _runs(m, metrics, legacy)
+    if legacy:  # first-release metrics: "ok" against nothing independent is unverified (docs/verdicts.md)
+        for r in runs:
+            if r.status == "ok" and not any(independent(r.references.get(k, "")) for k in r.errors):
+                r.status = "unverified"
+                r.message = r.message or "no independent reference: errors only against its own finest level"
+    memory_label = "peak RSS growth" if "peak_rss" in m else "peak traced memory"
+
+    scenes_obj = {s.name: s for s in study.scenes} if study is not None else {}
+    names = list(scenes_obj)
+    for nm in (list(map(str, m["scene_name"].values)) if "scene_name" in m.coords else []) + [r.scene for r in runs]:
+        if nm not in names:
+            names.append(nm)
+    present = {r.scene for r in runs}
+    names = [n for n in names if n in present]
+    record_sweeps = {rec.get("scene"): rec.get("sweep") for rec in info.get("records", []) if isinstance(rec, dict)}
+    published = getattr(study, "published", None) or {}
+
+    scene_info = {}
+    for nm in names:
+        sc = scenes_obj.get(nm)
+        base, parsed = parse_sweep(nm)
+        sweep = dict(getattr(sc, "sweep", {}) or {}) if sc is not None else (record_sweeps.get(nm) or parsed)
+        si = SceneInfo(nm, sweep=dict(sweep or {}), base=base, scene=sc, published=dict(published.get(nm, {})))
+        h = _per_scene(m, "headline", nm)
+        si.headline = _str(h.values.item()) if h is not None else ""
+        rk = _per_scene(m, "reference_kind", nm)
+        si.reference_kind = _str(rk.values.item()) if rk is not None else ""
+        for var in m.data_vars:
+            if var.startswith("analytic_"):
+                da = _per_scene(m, var, nm)
+                if da is not None:
+                    si.analytic[var[len("analytic_"):]] = np.asarray(da.values, float)
+        if not si.headline:
+            si.headline = _legacy_headline(sc, [r for r in runs if r.scene == nm])
+        scene_info[nm] = si
+    if not any(h in m for h in ("headline_error",)):  # derive the headline error of each run
+        for r in runs:
+            h = scene_info[r.scene].headline if r.scene in scene_info else ""
+            ref = r.references.get(h, "")
+            if h and independent(ref) and h in r.errors:
+                r.headline_error, r.headline_reference = r.errors[h], ref
+
+    curves, note = _load_curves(out)
+    if note:
+        notes.append(note)
+    tol = float(m.attrs["tolerance"]) if "tolerance" in m.attrs else getattr(study, "tolerance", None)
+    return StudyData(
+        out=out, name=str(info.get("study") or m.attrs.get("study") or getattr(study, "name", out.name)),
+        tolerance=tol, runs=runs, scenes=names, methods=sorted({r.method for r in runs}),
+        levels=sorted({r.level for r in runs}), info=info, study=study, scene=scene_info,
+        orders={nm: _orders(m, nm) for nm in names}, cross={nm: _cross(m, nm) for nm in names},
+        curves=curves, memory_label=memory_label, legacy=legacy, notes=notes)
+
+
+def _legacy_headline(sc, runs: list[Run]) -> str:
+    outputs = set(getattr(sc, "outputs", ()) or ())
+    for q in HEADLINE_ORDER:
+        if q in outputs:
+            return q
+    for q in HEADLINE_ORDER:
+        if any(q in r.errors for r in runs):
+            return q
+    return ""

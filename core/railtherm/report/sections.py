@@ -1,0 +1,520 @@
+"""The report's sections, in page order: verdict, one section per scene, one per sweep, benchmarks,
+environment. Each writes into a :class:`~.document.Document`; a figure that cannot be drawn is replaced
+by a sentence saying why (and a warning), never by an exception.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import platform
+import shlex
+import time
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import figures as F
+from .document import Cell, Document
+from .format import duration, exact, finite, level_range, num, pct, short, slug
+from .load import StudyData
+from .tables import (METRIC_SHORT, cross_tables, message_lines, order_table, published_table, reference_words,
+                     refusal_lines, run_table)
+from .verdict import (QUANTITY, Row, SweepGroup, anchor_of, cell, choose, creep_force_source, findings, scorecard)
+
+PACKAGES = ("railtherm", "numpy", "scipy", "xarray", "netCDF4", "numba", "fipy", "scikit-fem", "matplotlib",
+            "pluggy", "dask", "pytest-benchmark")
+THREAD_ENV = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
+STATUS_LEGEND = ("**ok**: within the tolerance of an independent reference (exact solution or another method); "
+                 "**inaccurate**: above it; **unverified**: ran, but nothing independent to compare with "
+                 "(e.g. only its own finest level); **refused**: declined before starting (validity or budget); "
+                 "**failed**: error, time-out, NaN or no convergence.")
+
+
+@dataclass
+class Context:
+    """What every section needs besides the document: the data, where figures go, the palette."""
+
+    data: StudyData
+    fig_dir: Path
+    palette: F.Palette
+    figures: list = field(default_factory=list)
+
+    def draw(self, doc: Document, name: str, caption: str, fn, *args, **kwargs):
+        """Draw one figure into ``fig_dir/name.png`` and add it with ``caption``; a failure becomes a sentence."""
+        t0 = time.perf_counter()
+        try:
+            res = fn(*args, path=self.fig_dir / f"{name}.png", **kwargs)
+        except Exception as exc:  # noqa: BLE001 - one figure never stops the report
+            msg = f"Figure '{caption}' could not be drawn: {type(exc).__name__}: {short(exc, 300)}"
+            warnings.warn(f"railtherm report: {msg}", RuntimeWarning, stacklevel=2)
+            doc.paragraph(msg, note=True)
+            return None
+        if res is None:
+            return None
+        path, width = res
+        self.figures.append(path)
+        doc.figure(f"figures/{path.name}", caption, width)
+        took = time.perf_counter() - t0
+        if took > 20:
+            doc.paragraph(f"(drawing this figure took {took:.0f} s)", note=True)
+        return path
+
+
+# -- verdict -------------------------------------------------------------------------------------------
+def verdict_section(doc: Document, ctx: Context, table_rows: list[Row], max_rows: int = 200):
+    data = ctx.data
+    tol = data.tolerance
+    doc.heading(2, "Verdict", "verdict")
+    cards = scorecard(data, table_rows)
+    shown = table_rows[:max_rows]
+    body = []
+    for row in shown:
+        what = METRIC_SHORT.get(row.headline, row.headline) or "–"
+        label = (f"[{row.label}](#{row.anchor})" if row.anchor else row.label) \
+            + (f" ({len(row.scenes)} scenes)" if row.group else "")
+        body.append([f"{label} · {what}"] + [cell(cards[(row.label, m)]) for m in data.methods])
+    doc.table(f"Scorecard. Each cell: the cheapest level (smallest wall time) whose headline quantity is within "
+              f"{pct(tol) if tol is not None else 'the tolerance'} of an independent reference (ok), with its "
+              "error, best wall time and level (L); when no level is ok, the best available with its status. "
+              "A sweep is one row: its worst member's status, the largest error and time (≤).",
+              ["scene · headline"] + data.methods, body, css="scorecard")
+    if len(table_rows) > len(shown):
+        doc.paragraph(f"{len(table_rows) - len(shown)} further rows are left out of the scorecard.", note=True)
+    doc.paragraph(STATUS_LEGEND, note=True)
+    items = findings(data, table_rows, cards)
+    if items:
+        doc.heading(3, "Key findings")
+        doc.bullets(items)
+    reasons = _cell_reasons(data, table_rows, cards)
+    if reasons:
+        with doc.details(f"Why cells are refused, failed or unverified ({len(reasons)} reasons)"):
+            doc.bullets(reasons)
+    panels = [_panel(data, row) for row in shown[:24]]
+    if panels:
+        ctx.draw(doc, "000-work-precision", "Work-precision of every scene: relative error of the headline "
+                 "quantity against an independent reference (x) and best wall time (y), one line per method from "
+                 "the coarsest to the finest level; filled markers are ok, hollow ones above the tolerance "
+                 "(dashed red line); a dotted line is a self-convergence ladder (no independent reference). A sweep's "
+                 "panel shows, per level, the largest error and time over its scenes.",
+                 F.work_precision, panels, ctx.palette, tol, methods=_methods_with_results(data))
+    counts = {s: sum(r.status == s for r in data.runs) for s in ("ok", "inaccurate", "unverified", "refused", "failed")}
+    doc.paragraph(f"{len(data.runs)} runs: {len(data.scenes)} scenes × {len(data.methods)} methods "
+                  f"({', '.join(data.methods)}) × levels {level_range(data.levels) or '–'}; "
+                  + ", ".join(f"{v} {k}" for k, v in counts.items() if v) + ". Output folder: `"
+                  + str(data.out) + "`.", note=True)
+
+
+def _methods_with_results(data: StudyData) -> list[str]:
+    return [m for m in data.methods if any(r.method == m and r.has_result for r in data.runs)]
+
+
+def _cell_reasons(data: StudyData, table_rows, cards) -> list[str]:
+    """One line per distinct reason a cell is refused, failed or unverified, naming its cells."""
+    by: dict = {}
+    for row in table_rows:
+        for m in data.methods:
+            v = cards[(row.label, m)]
+            if v.status not in ("refused", "failed", "unverified"):
+                continue
+            msgs = {x.message for x in v.members} if v.members else {v.message}
+            for msg in msgs:
+                text = msg.replace(f"scene '{row.scenes[0]}': ", "") if msg else "no message"
+                by.setdefault((v.status, v.reason_kind, text), []).append(f"{m} on {row.label}")
+    return [f"**{st}**" + (f" ({kind})" if kind else "") + f" — {', '.join(cells[:6])}"
+            + (f" and {len(cells) - 6} more" if len(cells) > 6 else "") + f": {short(msg, 200)}"
+            for (st, kind, msg), cells in by.items()]
+
+
+def _panel(data: StudyData, row: Row) -> F.Panel:
+    title = f"{row.label}: {METRIC_SHORT.get(row.headline, row.headline)}"
+    if row.group:
+        title += " (sweep, worst)"
+    panel = F.Panel(short(title, 48))
+    h = row.headline
+    for m in data.methods:
+        by_level: dict = {}
+        for s in row.scenes:
+            for r in data.runs_of(s, m):
+                if not r.has_result:
+                    continue
+                err, self_ref = r.headline_error, False
+                if not finite(err) and r.references.get(h, "").startswith("self") and h in r.errors:
+                    err, self_ref = r.errors[h], True
+                if not finite(err):
+                    continue
+                p = by_level.get(r.level)
+                worse = p is None or err > p.error
+                status = r.status if p is None or r.status == "ok" and p.status == "ok" else \
+                    (p.status if p.status != "ok" else r.status)
+                by_level[r.level] = F.Point(err if worse else p.error,
+                                            max(r.wall_time, p.time if p else -math.inf), r.level, status, self_ref)
+        if by_level:
+            panel.series[m] = list(by_level.values())
+    if not panel.series:
+        panel.note = "no error against a reference" if any(r.has_result for s in row.scenes for r in data.runs_of(s)) \
+            else "no run produced a result"
+    return panel
+
+
+# -- one scene -----------------------------------------------------------------------------------------
+def describe_scene(sc) -> str:
+    if sc is None:
+        return ""
+    parts = []
+    try:
+        if sc.heat_source is not None:
+            hs = sc.heat_source
+            size = (f"semi-axes {hs.semi_axes[0] * 1e3:.3g} × {hs.semi_axes[1] * 1e3:.3g} mm" if hs.semi_axes is not None
+                    else f"half-width {hs.half_width * 1e3:.3g} mm")
+            parts.append(f"given heat source {hs.shape}, flux {hs.flux:.3g} W/m², {size}")
+        else:
+            geo = sc.contact_shape
+            if sc.semi_axes is not None:
+                geo += f", semi-axes {sc.semi_axes[0] * 1e3:.4g} × {sc.semi_axes[1] * 1e3:.4g} mm"
+            elif sc.curvatures is not None:
+                geo += f", curvatures {sc.curvatures[0]:.4g}, {sc.curvatures[1]:.4g} 1/m"
+            elif sc.contact_shape == "line":
+                geo += f", wheel radius {sc.wheel_radius:.3g} m"
+            parts.append(geo + " contact")
+            if sc.normal_force is not None:
+                parts.append(f"normal force {sc.normal_force:.4g} {'N/m' if sc.contact_shape == 'line' else 'N'}")
+            elif sc.penetration is not None:
+                parts.append(f"penetration {sc.penetration:.3g} m")
+            if sc.creepage is not None:
+                c = sc.creepage
+                parts.append(f"creepage ξ = {c.longitudinal:.4g}, η = {c.lateral:.4g}, φ = {c.spin:.4g} 1/m")
+            elif sc.sliding_speed is not None:
+                parts.append(f"sliding speed {sc.sliding_speed:.4g} m/s")
+            if sc.friction is not None:
+                parts.append(f"μ = {sc.friction:.3g}")
+        parts.append(f"speed {sc.speed:.4g} m/s")
+        hp = sc.heat_partition
+        parts.append(f"heat partition {hp if isinstance(hp, str) else format(hp, '.3g')}")
+        if sc.convection:
+            parts.append(f"convection {sc.convection:.3g} W/(m² K)")
+        if sc.wheel.rigid:
+            parts.append("rigid wheel")
+        if sc.mode != "steady":
+            parts.append(f"mode {sc.mode}")
+    except Exception:  # noqa: BLE001 - a description is optional
+        pass
+    return "; ".join(parts)
+
+
+def _references(data: StudyData, scenes: list[str]) -> list[str]:
+    refs = []
+    for s in scenes:
+        for r in data.runs_of(s):
+            for met, ref in sorted(r.references.items()):
+                if ref:
+                    refs.append(ref)
+    return list(dict.fromkeys(refs))
+
+
+def _finest(data: StudyData, scene: str) -> dict:
+    out = {}
+    for m in data.methods:
+        r = data.finest_result(scene, m)
+        if r is not None:
+            ds = data.run_file(scene, m, r.level)
+            if ds is not None:
+                out[m] = ds
+    return out
+
+
+def _creep_sources(data: StudyData, scene: str) -> str:
+    si = data.scene[scene]
+    asked = "creep_force_x" in (getattr(si.scene, "outputs", ()) or ())
+    if not (asked or si.headline == "creep_force_x") or not any("creep_force_x" in r.errors
+                                                                 for r in data.runs_of(scene)):
+        return ""
+    parts = []
+    for m in data.methods:
+        st = data.stages(scene, m)
+        src = creep_force_source(st)
+        if src:
+            stage = next(k for k, v in st.items() if v == src)
+            parts.append(f"{m} ← {src} ({stage} stage)" if src != m else f"{m} ← {m}")
+    return "Creep force computed by: " + "; ".join(parts) + "." if parts else ""
+
+
+def _status_counts(runs) -> str:
+    counts = {}
+    for r in runs:
+        counts[r.status] = counts.get(r.status, 0) + 1
+    return ", ".join(f"{v} {k}" for k, v in sorted(counts.items(), key=lambda kv: ["ok", "inaccurate", "unverified",
+                                                                                     "refused", "failed"].index(kv[0])
+                                                       if kv[0] in ("ok", "inaccurate", "unverified", "refused",
+                                                                    "failed") else 9))
+
+
+def scene_section(doc: Document, ctx: Context, idx: int, scene: str):
+    data = ctx.data
+    si = data.scene[scene]
+    runs = data.runs_of(scene)
+    doc.heading(2, f"{idx}. Scene `{scene}`", anchor_of(scene))
+    desc = describe_scene(si.scene)
+    if desc:
+        doc.paragraph(desc + ".")
+    refs = _references(data, [scene])
+    head = QUANTITY.get(si.headline, si.headline) or "none"
+    ref_text = "; ".join(reference_words(r) for r in refs) or "none"
+    if si.reference_kind:
+        ref_text = f"{si.reference_kind} ({ref_text})" if refs else si.reference_kind
+    doc.paragraph(f"Headline quantity: **{head}**. Errors taken against: {ref_text}. "
+                  f"{len(runs)} runs: {_status_counts(runs)}.")
+    doc.bullets(refusal_lines(runs))
+    src = _creep_sources(data, scene)
+    if src:
+        doc.paragraph(src)
+    _run_details(doc, data, scene)
+    finest = _finest(data, scene)
+    _published(doc, data, scene, finest)
+    _orders(doc, data, scene)
+    _cross(doc, data, scene)
+    _scene_figures(doc, ctx, idx, scene, finest)
+
+
+def _run_details(doc: Document, data: StudyData, scene: str):
+    header, rows, dropped, notes = run_table(data, scene)
+    if not rows:
+        return
+    msgs = message_lines(data.runs_of(scene))
+    with doc.details(f"Runs with a result ({len(rows)}): status, time, memory, errors"):
+        doc.table(f"Runs of `{scene}` with a result. Time: best / median of the timed solves (number of solves); "
+                  f"errors relative, in %.", header, rows)
+        if dropped:
+            doc.paragraph("Columns left out (missing or zero in every run): " + ", ".join(dropped) + ".", note=True)
+        for n in notes:
+            doc.paragraph(n + ".", note=True)
+        if msgs:
+            doc.bullets(msgs)
+
+
+def _published(doc: Document, data: StudyData, scene: str, finest: dict):
+    header, rows, source = published_table(data, scene, finest)
+    if rows:
+        doc.table(f"Published values (as given; source: {source}) beside each method's finest result and its "
+                  "difference Δ from them.", header, rows)
+
+
+def _orders(doc: Document, data: StudyData, scene: str):
+    header, rows, notes = order_table(data, scene)
+    if rows:
+        doc.table("Fitted convergence order (slope of log error against log h, h = 2^-level), with the method's "
+                  "theoretical order (th.) where it declares one.", header, rows)
+    for n in notes:
+        doc.paragraph(n + ".", note=True)
+
+
+def _cross(doc: Document, data: StudyData, scene: str):
+    tables = cross_tables(data, scene)
+    if not tables:
+        return
+    with doc.details(f"Differences between methods at their finest levels ({len(tables)} quantities)"):
+        for q, header, rows in tables:
+            doc.table(f"{QUANTITY.get(q, q)}: relative difference |row − column| / |column| [%].", header, rows)
+
+
+def _bulk(si) -> tuple | None:
+    sc = si.scene
+    if sc is None:
+        return None
+    return (sc.wheel.bulk_temperature, sc.rail.bulk_temperature)
+
+
+def _scene_figures(doc: Document, ctx: Context, idx: int, scene: str, finest: dict):
+    data = ctx.data
+    si = data.scene[scene]
+    curve = (data.curves or {}).get(scene)
+    base = f"{idx:03d}-{slug(scene)}"
+    missing = data.curves is None
+    wants_curve = any("surface_temperature" in ds or "temperature" in ds or "traction_x" in ds
+                      for ds in finest.values())
+    if finest and wants_curve and missing:
+        doc.paragraph("Exact reference curves are not drawn: `references.nc` is missing from the output folder.",
+                      note=True)
+    ref_name = curve.attrs.get("reference", "") if curve is not None else ""
+    ctx.draw(doc, f"{base}-surface", f"`{scene}`: surface temperature along y = 0 of each method's finest "
+             "successful level" + (f", with the exact solution ({ref_name}, grey band) and each method's "
+                                   "difference from it" if curve is not None and "surface_temperature" in curve else
+                                   "") + ".", F.surface, finest, curve, ctx.palette, f"{scene}: surface temperature")
+    ctx.draw(doc, f"{base}-depth", f"`{scene}`: temperature against depth through the hottest surface point "
+             "(heated layer)" + (", exact profile as a grey band" if curve is not None and "temperature" in curve
+                                 else "") + ".", F.depth, finest, curve, _bulk(si), ctx.palette,
+             f"{scene}: depth profile")
+    mu = getattr(si.scene, "friction", None) if si.scene is not None else None
+    outputs = set(getattr(si.scene, "outputs", ()) or ())
+    if si.scene is not None and not outputs & {"traction_x", "stick"}:
+        return  # traction the scene did not ask for (e.g. full sliding: slip everywhere) is not drawn
+    ctx.draw(doc, f"{base}-traction", f"`{scene}`: tangential traction and stick (black) / slip (grey) of each "
+             "method's finest level" + (", with Carter's exact solution" if curve is not None
+                                        and "carter_traction_x" in curve else "") + ".",
+             F.traction, finest, curve, mu, ctx.palette, f"{scene}: traction and stick/slip")
+
+
+# -- sweeps --------------------------------------------------------------------------------------------
+def _headline_value(data: StudyData, scene: str, method: str, headline: str, normalise: bool):
+    """(value of the headline quantity at the method's finest result, its error, status) or None."""
+    r = data.finest_result(scene, method)
+    if r is None:
+        return None
+    ds = data.run_file(scene, method, r.level)
+    if ds is None or headline not in ds:
+        return None
+    v = float(np.nanmax(np.asarray(ds[headline].values, float)))
+    if normalise:
+        sc = data.scene[scene].scene
+        mu = getattr(sc, "friction", None)
+        n = float(ds["normal_force"]) if "normal_force" in ds else getattr(sc, "normal_force", None)
+        if not mu or not n:
+            return None
+        v = v / (mu * n)
+    return v, r.headline_error, r.status
+
+
+def sweep_section(doc: Document, ctx: Context, idx: int, group: SweepGroup, anchor: str):
+    data = ctx.data
+    names = [n for _, n in group.members]
+    first = data.scene[names[0]]
+    h = first.headline
+    doc.heading(2, f"{idx}. Sweep `{group.label}` over {group.key} ({len(names)} scenes)", anchor)
+    desc = describe_scene(first.scene)
+    if desc:
+        doc.paragraph(desc + f"; swept: `{group.key}` = " + ", ".join(num(v, 4) for v, _ in group.members) + ".")
+    runs = [r for s in names for r in data.runs_of(s)]
+    refs = _references(data, names)
+    doc.paragraph(f"Headline quantity: **{QUANTITY.get(h, h) or 'none'}**. Errors taken against: "
+                  f"{'; '.join(reference_words(r) for r in refs) or 'none'}. {len(runs)} runs: {_status_counts(runs)}.")
+    doc.bullets(refusal_lines(runs))
+    src = _creep_sources(data, names[0])
+    if src:
+        doc.paragraph(src)
+    creep = h == "creep_force_x" and group.key == "creepage.longitudinal"
+    normalise = creep and first.scene is not None
+    label = "creep force Fx / (μ N) [1]" if normalise else QUANTITY.get(h, h)
+    series = F.SweepSeries(group.key, label)
+    methods = _methods_with_results(data)
+    ref_col = {}
+    if creep:
+        curve = (data.curves or {}).get(names[0])
+        if curve is not None and "creep_force_ratio" in curve and normalise:
+            xs, ys = curve["creepage"].values, curve["creep_force_ratio"].values
+            series.reference = (xs, ys, "Carter (exact, 2-D)", False)
+            ref_col = {v: float(ys[np.argmin(np.abs(xs - v))]) for v, _ in group.members}
+        elif curve is not None and "creep_force_ratio_linear" in curve and normalise:
+            xs, ys = curve["creepage"].values, curve["creep_force_ratio_linear"].values
+            series.reference = (xs, ys, "Kalker linear theory (initial slope)", True)
+    rows = []
+    for v, s in group.members:
+        row = [num(v, 4)] + ([num(ref_col[v], 4)] if ref_col else [])
+        for m in methods:
+            got = _headline_value(data, s, m, h, normalise)
+            if got is None:
+                st = choose(data, s, m).status
+                row.append(Cell(st if st != "none" else "–", st if st != "none" else ""))
+                continue
+            val, err, status = got
+            series.values.setdefault(m, []).append((v, val, err, status))
+            row.append(Cell(num(val, 4) + (f" ({pct(err)})" if finite(err) else ""), status))
+        rows.append(row)
+    doc.table(f"{label} of each method's finest successful level over the sweep, its error against the "
+              "reference in brackets (cell colour: status of that level).",
+              [group.key] + (["exact"] if ref_col else []) + methods, rows)
+    if series.values:
+        ctx.draw(doc, f"{idx:03d}-sweep-{slug(group.label)}", f"Sweep `{group.label}`: {label} against "
+                 f"{group.key} (left) and its relative error (right), each method at its finest successful level"
+                 + ("; the exact curve as a grey band" if series.reference and not series.reference[3] else
+                    "; Kalker's linear theory dashed" if series.reference else "") + ".",
+                 F.sweep, series, ctx.palette, data.tolerance, group.label, methods=methods)
+    if creep and data.curves is None:
+        doc.paragraph("The exact creep-force curve is not drawn: `references.nc` is missing from the output folder.",
+                      note=True)
+    msgs = message_lines(runs)
+    if msgs:
+        with doc.details(f"Messages of runs with a result ({len(msgs)} distinct)"):
+            doc.bullets(msgs)
+
+
+# -- benchmarks, environment ---------------------------------------------------------------------------
+def benchmark_section(doc: Document, path: Path):
+    doc.heading(2, "Benchmarks", "benchmarks")
+    try:
+        data = json.loads(Path(path).read_text())
+    except Exception as exc:  # noqa: BLE001
+        doc.paragraph(f"Benchmark file `{path}` could not be read: {exc}.")
+        return
+    mi = data.get("machine_info", {})
+    cpu = mi.get("cpu", {}) if isinstance(mi.get("cpu"), dict) else {}
+    when = data.get("datetime", "")
+    rows = []
+    for b in data.get("benchmarks", []):
+        st = b.get("stats", {})
+        extra = b.get("extra_info", {}) or {}
+        info = ", ".join(f"{k}={num(v, 4) if isinstance(v, (int, float)) and not isinstance(v, bool) else v}"
+                         for k, v in extra.items())
+        rows.append([b.get("name", b.get("fullname", "?")), duration(st.get("mean")), duration(st.get("min")),
+                     duration(st.get("stddev")), str(st.get("rounds", "–")), short(info, 160)])
+    if not doc.table(f"pytest-benchmark results from `{path}`" + (f", {when}" if when else "")
+                     + (f", CPU {cpu.get('brand_raw')}" if cpu.get("brand_raw") else "")
+                     + "; `extra_info` holds the error of the timed run.",
+                     ["benchmark", "mean", "min", "stddev", "rounds", "extra_info"], rows):
+        doc.paragraph("The file holds no benchmarks.")
+
+
+def _cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.lower().startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine() or "unknown"
+
+
+def environment_section(doc: Document, data: StudyData, notes: list[str]):
+    import importlib.metadata as md
+    doc.heading(2, "Environment", "environment")
+    versions = []
+    for pkg in PACKAGES:
+        try:
+            versions.append(f"{pkg} {md.version(pkg)}")
+        except md.PackageNotFoundError:
+            versions.append(f"{pkg} (not installed)")
+    info = data.info
+    items = [f"Python {platform.python_version()} on {platform.platform()}",
+             "Packages: " + ", ".join(versions),
+             f"CPU: {_cpu_model()}; os.cpu_count() = {os.cpu_count()}"
+             + (f"; usable by this process: {len(os.sched_getaffinity(0))}" if hasattr(os, "sched_getaffinity") else "")]
+    env = info.get("environment") if isinstance(info.get("environment"), dict) else None
+    if env:
+        items.append("Threads during the run: " + ", ".join(f"{k}={env.get(k) or 'unset'}" for k in THREAD_ENV))
+    else:
+        items.append("Threads (of the process writing this report; the run did not record its own): "
+                     + ", ".join(f"{k}={os.environ.get(k, 'unset')}" for k in THREAD_ENV))
+    timing = info.get("timing") if isinstance(info.get("timing"), dict) else {}
+    if timing:
+        parts = [f"executor {timing.get('executor', '?')}"]
+        if timing.get("workers"):
+            parts.append(f"{timing['workers']} workers")
+        for k in ("setup", "runs", "metrics"):
+            if isinstance(timing.get(k), (int, float)):
+                parts.append(f"{k} {timing[k]:.3g} s")
+        items.append("Study run: " + ", ".join(parts))
+    study_path = info.get("path") or getattr(data.study, "path", None)
+    items.append(f"Study `{data.name}`, file `{study_path or 'unknown'}`; tolerance "
+                 f"{pct(data.tolerance) if data.tolerance is not None else 'unknown'}")
+    argv = info.get("argv")
+    if argv:
+        items.append("Command line of the run: `" + " ".join(shlex.quote(str(a)) for a in argv) + "`")
+    if data.legacy:
+        items.append("metrics.nc of the first release (no per-metric references): each error's reference is read "
+                     "from the run's reference text, and runs compared with nothing independent are shown as "
+                     "unverified")
+    items += notes
+    items.append(f"Report written {time.strftime('%Y-%m-%d %H:%M:%S %Z')} by railtherm.report.write_report")
+    doc.bullets(items)
+

@@ -1,0 +1,291 @@
+"""The verdict: one scorecard cell per scene (or sweep) × method, and key findings in words.
+
+A cell shows the cheapest level (smallest wall time) whose status is ``ok`` (the headline quantity
+within the tolerance of an independent reference), with its error, time and level. When no level is
+ok, the best available is shown with its status: ``inaccurate`` (the level with the smallest headline
+error), ``unverified`` (the finest level: nothing independent to compare with), ``failed`` or
+``refused``. A sweep is one row: the cell summarises its members' cells.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from .document import Cell
+from .format import duration, level_range, pct, short
+from .load import RESULT_STATUSES, Run, StudyData, independent
+
+__all__ = ["SweepGroup", "Row", "Verdict", "sweep_groups", "rows", "choose", "scorecard", "findings",
+           "creep_force_source"]
+
+#: keys preferred as the swept axis when a scene sweeps several
+SWEEP_AXES = ("creepage.longitudinal", "sliding_speed")
+#: worst first: the status a sweep's cell takes
+SEVERITY = ("failed", "inaccurate", "unverified", "refused", "ok", "none")
+
+QUANTITY = {"max_surface_temperature": "max. surface temperature", "mean_contact_temperature":
+            "mean contact temperature", "creep_force_x": "creep force", "max_pressure": "max. pressure",
+            "semi_axis_a": "semi-axis a", "frictional_power": "frictional power",
+            "surface_temperature_l2": "surface temperature (L2)", "pressure_l2": "pressure (L2)",
+            "steady_wheel_temperature": "steady wheel temperature",
+            "steady_mean_contact_temperature": "steady mean contact temperature"}
+
+
+@dataclass
+class SweepGroup:
+    base: str
+    key: str
+    others: tuple
+    members: list  # [(value, scene name)], sorted by value
+
+    @property
+    def label(self) -> str:
+        return self.base + (f" ({', '.join(f'{k}={v}' for k, v in self.others)})" if self.others else "")
+
+
+@dataclass
+class Row:
+    label: str
+    anchor: str
+    scenes: list[str]
+    headline: str
+    group: SweepGroup | None = None
+
+
+@dataclass
+class Verdict:
+    method: str
+    status: str  # ok | inaccurate | unverified | refused | failed | none
+    run: Run | None = None
+    error: float = math.nan
+    time: float = math.nan
+    reason_kind: str = ""
+    message: str = ""
+    richardson: float = math.nan
+    members: list = field(default_factory=list)  # a sweep's member verdicts
+
+
+def _numeric(v) -> bool:
+    try:
+        float(v)
+        return True
+    except (TypeError, ValueError):
+        return False
+
+
+def sweep_groups(data: StudyData) -> list[SweepGroup]:
+    """Scenes generated from one list value: same base name, same other swept values (2 members or more)."""
+    groups: dict = {}
+    for nm in data.scenes:
+        sweep = data.scene[nm].sweep
+        keys = [k for k in SWEEP_AXES if k in sweep] + [k for k in sweep if k not in SWEEP_AXES and _numeric(sweep[k])]
+        if not keys:
+            continue
+        key = keys[0]
+        others = tuple(sorted((k, str(v)) for k, v in sweep.items() if k != key))
+        groups.setdefault((data.scene[nm].base, key, others), []).append((float(sweep[key]), nm))
+    return [SweepGroup(b, k, o, sorted(v)) for (b, k, o), v in groups.items() if len(v) >= 2]
+
+
+def rows(data: StudyData, groups: list[SweepGroup]) -> list[Row]:
+    """Scorecard rows in study order: each scene, a sweep where its first member stands."""
+    in_group = {nm: g for g in groups for _, nm in g.members}
+    out, seen = [], set()
+    for i, nm in enumerate(data.scenes):
+        g = in_group.get(nm)
+        if g is None:
+            out.append(Row(nm, f"scene-{_anchor(nm)}", [nm], data.scene[nm].headline))
+        elif id(g) not in seen:
+            seen.add(id(g))
+            names = [n for _, n in g.members]
+            out.append(Row(g.label, f"sweep-{_anchor(g.label)}", names, data.scene[names[0]].headline, g))
+    return out
+
+
+def _anchor(text: str) -> str:
+    import re
+    return re.sub(r"[^A-Za-z0-9]+", "-", text).strip("-").lower() or "x"
+
+
+def anchor_of(scene: str) -> str:
+    return f"scene-{_anchor(scene)}"
+
+
+def choose(data: StudyData, scene: str, method: str) -> Verdict:
+    """The scorecard verdict of one method on one scene."""
+    runs = data.runs_of(scene, method)
+    if not runs:
+        return Verdict(method, "none")
+    ok = [r for r in runs if r.status == "ok"]
+    if ok:
+        r = min(ok, key=lambda r: (r.wall_time if math.isfinite(r.wall_time) else math.inf, r.level))
+        return Verdict(method, "ok", r, r.headline_error, r.wall_time)
+    bad = [r for r in runs if r.status == "inaccurate"]
+    if bad:
+        def key(r):
+            e = r.headline_error if math.isfinite(r.headline_error) else math.inf
+            return (e, r.wall_time if math.isfinite(r.wall_time) else math.inf)
+        r = min(bad, key=key)
+        return Verdict(method, "inaccurate", r, r.headline_error, r.wall_time, message=r.message)
+    unv = [r for r in runs if r.status == "unverified"]
+    if unv:
+        r = max(unv, key=lambda r: r.level)
+        h = data.scene[scene].headline
+        rich = next((o.richardson for o in data.orders.get(scene, []) if o.method == method and o.metric == h),
+                    math.nan)
+        return Verdict(method, "unverified", r, math.nan, r.wall_time, message=r.message, richardson=rich)
+    failed = [r for r in runs if r.status == "failed"]
+    pick = failed or [r for r in runs if r.status == "refused"] or runs
+    r = pick[0]
+    kinds = sorted({x.reason_kind for x in pick if x.reason_kind})
+    return Verdict(method, r.status if r.status in ("failed", "refused") else "none", None,
+                   reason_kind=", ".join(kinds), message=r.message)
+
+
+def group_verdict(verdicts: list[Verdict], method: str) -> Verdict:
+    present = [v for v in verdicts if v.status != "none"]
+    if not present:
+        return Verdict(method, "none")
+    worst = min(present, key=lambda v: SEVERITY.index(v.status))
+    errs = [v.error for v in present if math.isfinite(v.error)]
+    times = [v.time for v in present if math.isfinite(v.time)]
+    kinds = sorted({v.reason_kind for v in present if v.reason_kind})
+    return Verdict(method, worst.status, None, max(errs) if errs else math.nan, max(times) if times else math.nan,
+                   reason_kind=", ".join(kinds), message=worst.message, members=verdicts)
+
+
+def scorecard(data: StudyData, table_rows: list[Row]) -> dict:
+    """(row label, method) -> Verdict."""
+    out = {}
+    for row in table_rows:
+        for m in data.methods:
+            if row.group is None:
+                out[(row.label, m)] = choose(data, row.scenes[0], m)
+            else:
+                out[(row.label, m)] = group_verdict([choose(data, s, m) for s in row.scenes], m)
+    return out
+
+
+def cell(v: Verdict) -> Cell:
+    """The text of a scorecard cell (its status also colours the HTML cell)."""
+    if v.status == "none":
+        return Cell("–")
+    if v.members:
+        n = len(v.members)
+        k = sum(1 for x in v.members if x.status == v.status)
+        count = f" {k}/{n}" if k < n else f" ({n}/{n})" if v.status == "ok" else ""
+        parts = [v.status + count]
+        if math.isfinite(v.error):
+            parts.append("≤" + pct(v.error))
+        if math.isfinite(v.time):
+            parts.append("≤" + duration(v.time))
+        if v.reason_kind and v.status in ("refused", "failed"):
+            parts[0] += f" ({v.reason_kind})"
+        return Cell(" · ".join(parts), v.status)
+    if v.status in ("refused", "failed"):
+        return Cell(v.status + (f" ({v.reason_kind})" if v.reason_kind else ""), v.status)
+    parts = [v.status]
+    if v.status == "unverified":
+        parts.append("no reference")
+    elif math.isfinite(v.error):
+        parts.append(pct(v.error))
+    if math.isfinite(v.time):
+        parts.append(duration(v.time))
+    if v.run is not None:
+        parts.append(f"L{v.run.level}")
+    if v.status == "unverified" and math.isfinite(v.richardson):
+        parts.append(f"Richardson ≈{pct(v.richardson)}")
+    return Cell(" · ".join(parts), v.status)
+
+
+def creep_force_source(stages: dict[str, str]) -> str:
+    """The stage model that computed the creep force of a chain: its tangential stage, else its heat
+    source (which computes traction and slip when the chain has no tangential stage), else its contact."""
+    for stage in ("tangential", "heat_source", "contact", "normal"):
+        if stage in stages:
+            return stages[stage]
+    return ""
+
+
+def _names(items: list[str]) -> str:
+    items = list(dict.fromkeys(items))
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+
+
+def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5) -> list[str]:
+    """3-5 sentences computed from the metrics: who is fastest at the tolerance, what misses it, what is
+    unverified, what failed."""
+    tol = data.tolerance
+    tol_text = pct(tol) if tol is not None else "the tolerance"
+    compare, misses, unverified = [], [], []
+    for row in table_rows:
+        vs = [cards[(row.label, m)] for m in data.methods]
+        what = QUANTITY.get(row.headline, row.headline or "headline quantity")
+        where = f"the `{row.label}` sweep" if row.group else f"`{row.label}`"
+        ok = sorted((v for v in vs if v.status == "ok" and math.isfinite(v.time)), key=lambda v: v.time)
+        if len(ok) >= 2:
+            fast, slow = ok[0], ok[-1]
+            ratio = slow.time / fast.time if fast.time > 0 else math.inf
+            pre = "≤" if row.group else ""
+            text = (f"For {where} ({what}), {fast.method} reaches {pre}{pct(fast.error)} error in {pre}"
+                    f"{duration(fast.time)}; {slow.method} needs {pre}{duration(slow.time)} for {pre}{pct(slow.error)}"
+                    + (f" ({ratio:.0f}× slower)." if ratio >= 10 else "."))
+            compare.append((ratio, text, (fast.method, slow.method)))
+        elif len(ok) == 1 and len([v for v in vs if v.status != "none"]) > 1:
+            v = ok[0]
+            compare.append((0.0, f"For {where} ({what}), only {v.method} is within {tol_text}: {pct(v.error)} "
+                                 f"in {duration(v.time)}.", (v.method,)))
+        bad = [v for v in vs if v.status == "inaccurate"]
+        if bad:
+            worst = max((v.error for v in bad if math.isfinite(v.error)), default=math.nan)
+            if row.group:
+                counts = [sum(1 for x in v.members if x.status == "inaccurate") for v in bad]
+                at = f" at {max(counts)} of {len(row.scenes)} {row.group.key} values"
+            else:
+                at = ""
+            tail = ""
+            if row.headline == "creep_force_x":
+                src = {v.method: creep_force_source(data.stages(row.scenes[0], v.method)) for v in bad}
+                foreign = {m: s for m, s in src.items() if s and s != m}
+                if foreign:
+                    tail = (f"; the creep force of {_names(list(foreign))} is computed by "
+                            f"{_names(sorted(set(foreign.values())))}")
+            misses.append(f"No level of {_names([v.method for v in bad])} is within {tol_text} on {where}{at} "
+                          f"(worst {pct(worst)}){tail}.")
+        for v in vs:
+            if v.status == "unverified":
+                rich = f"; Richardson estimate of its finest level's error {pct(v.richardson)}" \
+                    if math.isfinite(v.richardson) else ""
+                unverified.append(f"{v.method} is unverified on {where}: no independent reference, "
+                                  f"only self-convergence{rich}.")
+    failed = [r for r in data.runs if r.status == "failed"]
+    out = []
+    if failed:
+        by = {}
+        for r in failed:
+            by.setdefault((r.method, r.scene), []).append(r)
+        parts = [f"{m} on `{s}` (level {level_range(x.level for x in rs)}"
+                 + (f", {rs[0].reason_kind}" if rs[0].reason_kind else "") + f": {short(rs[0].message, 70)})"
+                 for (m, s), rs in list(by.items())[:3]]
+        more = f" and {len(by) - 3} more" if len(by) > 3 else ""
+        out.append(f"{len(failed)} run{'s' if len(failed) > 1 else ''} failed: " + "; ".join(parts) + more + ".")
+    compare.sort(key=lambda t: -t[0])
+    pairs, first, rest = set(), [], []
+    for _, text, pair in compare:  # one sentence per pair of methods first
+        (rest if pair in pairs else first).append(text)
+        pairs.add(pair)
+    out += first[:2]
+    out += misses[:1]
+    out += unverified[:1]
+    out += (first[2:] + rest)[:1] + misses[1:2]
+    refused = [r for r in data.runs if r.status == "refused"]
+    if refused and len(out) < limit:
+        kinds = {}
+        for r in refused:
+            kinds[r.reason_kind or "reason not classified"] = kinds.get(r.reason_kind or "reason not classified", 0) + 1
+        out.append(f"{len(refused)} of {len(data.runs)} runs were refused before they started ("
+                   + ", ".join(f"{v} {k}" for k, v in sorted(kinds.items())) + "); each scene's section says why.")
+    if not failed and len(out) < limit:
+        out.append(f"No run failed ({len(data.runs)} runs).")
+    return out[:limit]
+
