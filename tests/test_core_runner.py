@@ -28,8 +28,11 @@ def test_run_writes_every_run_with_units(flat_host, write_study, tmp_path):
             assert ds.attrs["method"] == "flat" and "railtherm" in ds.attrs["source"]
     with xr.open_dataset(tmp_path / "out" / "metrics.nc") as mm:
         assert mm["wall_time"].attrs["units"] == "s"
-        hb = mm["heat_balance"].values
-        assert np.all(np.abs(hb[np.isfinite(hb)]) < 1e-12)  # cell-averaged Hertz flux integrates exactly
+        # the energy check takes the computed surface temperature (Péclet > 100 here): the flat fixture
+        # (temperature proportional to the flux, not physics) is caught by it, 0.62 off
+        assert set(mm["energy_reference"].values) == {"analytic:half-space-1d"}
+        assert np.all(np.abs(mm["energy_balance"].values) > 0.3)
+        assert set(mm["status"].values) == {"inaccurate"}
 
 
 def test_failures_are_recorded_and_the_study_goes_on(flat_host, write_study, tmp_path):

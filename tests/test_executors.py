@@ -15,6 +15,10 @@ reference, with this folder on their ``sys.path``; see :func:`railtherm.executor
 """
 from __future__ import annotations
 
+#: statuses of runs that ran and converged (the fixture methods are not physics: their verdict is not
+#: what these executor tests check)
+RAN = {"ok", "inaccurate", "unverified"}
+
 import logging
 import os
 import signal
@@ -117,7 +121,7 @@ def serial_sweep(hosts, tmp_path_factory):
     d = tmp_path_factory.mktemp("serial")
     study = sweep(d / "sweep.toml")
     m = railtherm.run_study(study, d / "out", report=False)
-    assert m.sizes["run"] == 100 and set(m["status"].values) == {"ok"}
+    assert m.sizes["run"] == 100 and set(m["status"].values) <= RAN
     return study, d / "out"
 
 
@@ -140,7 +144,7 @@ def assert_same_runs(a: Path, b: Path):
 def test_processes_match_serial_bit_for_bit(serial_sweep, tmp_path):
     study, ref = serial_sweep
     m = railtherm.run_study(study, tmp_path / "out", executor="processes", workers=2, report=False)
-    assert set(m["status"].values) == {"ok"}
+    assert set(m["status"].values) <= RAN
     assert_same_runs(ref, tmp_path / "out")
 
 
@@ -149,7 +153,7 @@ def test_dask_local_cluster_matches_serial_bit_for_bit(serial_sweep, tmp_path):
     import json
     study, ref = serial_sweep
     m = railtherm.run_study(study, tmp_path / "out", executor="dask", workers=2, report=False)
-    assert set(m["status"].values) == {"ok"}
+    assert set(m["status"].values) <= RAN
     assert_same_runs(ref, tmp_path / "out")
     recs = json.loads((tmp_path / "out" / "study.json").read_text())["records"]
     assert len({r["pid"] for r in recs}) == 2 and os.getpid() not in {r["pid"] for r in recs}
@@ -198,14 +202,14 @@ OPTS_SLEEP = "[study.options.sleepy]\nsleep = 0.15\n"
 
 
 def _check_after_kill(study, out, written, m):
-    assert set(m["status"].values) == {"ok"}, list(zip(m["scene"].values, m["message"].values))
+    assert set(m["status"].values) <= RAN, list(zip(m["scene"].values, m["message"].values))
     for f, t in written.items():
         assert f.stat().st_mtime_ns == t, f"{f} was rewritten after the kill"
     assert len(list(out.glob("runs/*/sleepy/level-*.nc"))) == m.sizes["run"]
     assert not list(out.glob("runs/**/.*.tmp"))
     before = {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/level-*.nc")}
     m2 = railtherm.run_study(study, out, resume=True, report=False)
-    assert set(m2["status"].values) == {"ok"}
+    assert set(m2["status"].values) <= RAN
     assert {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/level-*.nc")} == before
 
 
@@ -246,7 +250,7 @@ def test_runs_whose_worker_dies_or_hangs_are_failed_then_resume_completes(hosts,
     assert len(written) == 1
     sweep(path, methods='["sleepy"]', speeds=[10.0, 11.0, 12.0], sliding="0.5")  # the causes are gone
     m = railtherm.run_study(path, out, levels=[0], resume=True, report=False)
-    assert set(m["status"].values) == {"ok"} and m.sizes["run"] == 3
+    assert set(m["status"].values) <= RAN and m.sizes["run"] == 3
     for f, t in written.items():
         assert f.stat().st_mtime_ns == t
 

@@ -20,7 +20,12 @@ from .models.partition import scene_partition
 
 _NAME = {"contact": "Hertz (elliptic integrals)", "carter": "Carter 2-D rolling",
          "ms": "moving surface source on a half-space (point-source superposition)",
-         "jaeger": "Jaeger moving band source (K0 kernel)"}
+         "jaeger": "Jaeger moving band source (K0 kernel)",
+         "sliding": "full sliding: F = mu N, P = mu N v_s (exact)",
+         "given": "given heat source: P = integral of the flux (exact)"}
+#: short tag of each reference, as stored in metrics.nc (``analytic:<tag>``)
+TAG = {"contact": "hertz", "carter": "carter", "ms": "moving-source", "jaeger": "jaeger",
+       "sliding": "full-sliding", "given": "given-source"}
 
 
 def _thermal_case(scene):
@@ -68,7 +73,8 @@ def _scalars(scene):
 
 def _scalars_uncached(scene):
     """Scalar references of a scene: name -> value (temperatures absolute [degC])."""
-    out: dict[str, object] = {"_names": []}
+    out: dict[str, object] = {"_names": [], "_sources": {}}
+    src = out["_sources"]
     from .errors import Refused
     if scene.heat_source is None:
         try:
@@ -77,17 +83,22 @@ def _scalars_uncached(scene):
         except Refused:
             return out
         out.update(semi_axis_a=a, max_pressure=p0, normal_force=n)
+        src.update(semi_axis_a="hertz", max_pressure="hertz", normal_force="hertz", pressure="hertz")
         if b is not None:
             out["semi_axis_b"] = b
+            src["semi_axis_b"] = "hertz"
         out["_names"].append(_NAME["contact"])
         if scene.tangential == "full-sliding":
             out["frictional_power"] = scene.friction * scene.sliding_speed * n
             out["creep_force_x"] = math.copysign(scene.friction * n, scene.sliding_speed) if scene.sliding_speed else 0.0
+            src.update(frictional_power="full-sliding", creep_force_x="full-sliding")
+            out["_names"].append(_NAME["sliding"])
         elif (b is None and scene.creepage is not None and scene.creepage.lateral == 0 and scene.creepage.spin == 0
               and _identical_elastic(scene.wheel, scene.rail) and scene.friction > 0):
             from .references.carter import carter_2d
             c = carter_2d(scene.creepage.longitudinal, a, scene.friction, scene.wheel_radius)
             out["creep_force_x"] = c.force_ratio * scene.friction * n
+            src["creep_force_x"] = "carter"
             out["_names"].append(_NAME["carter"])
     case = _thermal_case(scene)
     if case is not None:
@@ -96,6 +107,7 @@ def _scalars_uncached(scene):
         if scene.heat_source is not None:
             from .models.shapes import exact_total
             out["frictional_power"] = q * exact_total(shape, a, b)
+            src["frictional_power"] = "given-source"
         tmax, tmean = [], []
         for body in (0, 1):
             bulk = scene.body(body).bulk_temperature
@@ -124,6 +136,9 @@ def _scalars_uncached(scene):
                 tmean.append(bulk + float(np.sum(W * T) / np.sum(W)))
         out["max_surface_temperature"] = np.array(tmax)
         out["mean_contact_temperature"] = np.array(tmean)
+        tag = "jaeger" if b is None else "moving-source"
+        src.update(max_surface_temperature=tag, mean_contact_temperature=tag, surface_temperature=tag,
+                   heat_partition=tag)
         out["_names"].append(_NAME["jaeger" if b is None else "ms"])
     return out
 
@@ -135,9 +150,15 @@ def _identical_elastic(wheel, rail) -> bool:
 
 
 def reference_values(scene) -> dict:
-    """Scalar references of ``scene`` (name -> float or (2,) array) and ``"_names"`` (list of str)."""
+    """Scalar references of ``scene``: name -> float or (2,) array [SI, temperatures in degC].
+
+    Also ``"_names"`` (list of str: the references used, in words) and ``"_sources"`` (quantity ->
+    short tag of its reference, e.g. ``"hertz"``, ``"carter"``, ``"moving-source"``; fields
+    ``pressure`` and ``surface_temperature`` included).
+    """
     out = dict(_scalars(scene))
     out["_names"] = list(out.get("_names", []))
+    out["_sources"] = dict(out.get("_sources", {}))
     return out
 
 

@@ -1,12 +1,27 @@
-"""Cross-method error metrics of a study: errors against the reference, heat balance, convergence
-orders, cross-method differences, wall times and the status of every run.
+"""Cross-method error metrics of a study: errors against named references, energy balance of the
+computed temperature field, convergence orders with Richardson estimates, cross-method differences,
+timings and the verdict (status) of every run. The contract is ``docs/verdicts.md``.
 
 Errors are relative and named after the quantity: ``max_surface_temperature``,
-``mean_contact_temperature``, ``surface_temperature_l2`` (relative L2 of the temperature *rise* over
-the grid), ``pressure_l2``, ``max_pressure``, ``semi_axis_a``, ``creep_force_x``,
-``frictional_power``. The reference of a scene is its own ``reference`` key or the study's:
-"analytic" (core's exact references, falling back to the method's finest level for quantities
-without one), a method name (that method's finest level) or "finest".
+``mean_contact_temperature`` and the steady temperatures (relative error of the *rise above the
+bulk temperature*, so that a hot wheel does not hide an error), ``surface_temperature_l2``
+(relative L2 of the rise), ``pressure_l2``, ``max_pressure``, ``semi_axis_a``, ``creep_force_x``,
+``frictional_power``. Each error records what it was taken against:
+
+* ``analytic:<tag>``: core's exact reference (:mod:`railtherm.analytic`), when the scene's
+  reference is "analytic" and one exists for the quantity;
+* ``method:<name>``: another method's finest successful level (scene or study ``reference`` names a
+  method);
+* ``self:finest``: the run's own method at its finest level (``reference = "finest"``, or an
+  "analytic" scene for quantities without an exact value). Such errors estimate discretisation
+  error; they never verify a run.
+
+An error is not counted at all when the run's chain contains the model that *is* the reference
+(the Hertz patch against Hertz, full sliding against μN): that is a comparison with itself.
+
+Verdicts (``status``): ``ok`` when at least one independent error exists and every error and the
+energy balance are within the tolerance, ``inaccurate`` when one is not, ``unverified`` when the run
+converged but nothing independent was compared; ``refused`` and ``failed`` come from the runner.
 """
 from __future__ import annotations
 
@@ -19,10 +34,21 @@ SCALARS = ("max_surface_temperature", "mean_contact_temperature", "max_pressure"
            "creep_force_x", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
 FIELDS = ("surface_temperature", "pressure")
 METRICS = SCALARS + tuple(f + "_l2" for f in FIELDS)
-#: quantity compared across methods
+#: quantities whose relative error is taken on the rise above the bulk temperature
+RISES = ("max_surface_temperature", "mean_contact_temperature", "surface_temperature",
+         "steady_wheel_temperature", "steady_mean_contact_temperature")
+#: the quantity a scene's verdict is given on: the first of these that the scene asks for
+HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
+                  "semi_axis_a", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
 #: cells at which an analytic field reference is evaluated per run (a regular subsample of the grid)
 MAX_FIELD_POINTS = 1500
+#: quantities compared across methods
 CROSS = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure")
+#: Péclet number V a / (2 kappa) above which the 1-D half-space energy identity is applied. Its own
+#: error, measured on the exact moving-source field (circular uniform source, level 3 grid): 1.0 % at
+#: Pe 81, 0.29 % at Pe 407, 0.06 % at Pe 2444; Jaeger's band: 0.02 % from Pe 100 up.
+ENERGY_MIN_PECLET = 100.0
+STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
 
 
 def _open(path):
@@ -31,25 +57,47 @@ def _open(path):
         return ds.load()
 
 
-def _rel(v, r):
-    v, r = np.asarray(v, dtype=float), np.asarray(r, dtype=float)
+# ----------------------------------------------------------------------------------------------
+# relative errors
+def _bulk(scene, name: str, shape: tuple) -> np.ndarray | float:
+    """Bulk temperature [degC] to subtract from quantity ``name`` of the given shape (0 if none)."""
+    if name not in RISES:
+        return 0.0
+    if name.startswith("steady"):
+        return scene.wheel.bulk_temperature
+    bulk = np.array([scene.wheel.bulk_temperature, scene.rail.bulk_temperature])
+    if len(shape) == 0:
+        return scene.wheel.bulk_temperature
+    return bulk.reshape((2,) + (1,) * (len(shape) - 1)) if shape[0] == 2 else 0.0
+
+
+def rel_error(scene, name: str, value, reference) -> float:
+    """Max-norm relative error of ``value`` against ``reference`` [1]; temperatures on their rise.
+
+    Parameters
+    ----------
+    scene : Scene
+        For the bulk temperatures of the bodies [degC].
+    name : str
+        Quantity name (decides whether the rise above bulk is compared).
+    value, reference : array_like
+        Same shape.
+    """
+    v, r = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
     if v.shape != r.shape or v.size == 0:
         return math.nan
+    b = _bulk(scene, name, v.shape)
+    v, r = v - b, r - b
     scale = np.max(np.abs(r))
     if not np.isfinite(scale) or scale == 0:
         return math.nan if np.max(np.abs(v)) > 0 else 0.0
     return float(np.max(np.abs(v - r)) / scale)
 
 
-def _rise(scene, name, arr):
-    if name == "surface_temperature":
-        bulk = np.array([scene.wheel.bulk_temperature, scene.rail.bulk_temperature])
-        return arr - bulk.reshape((2,) + (1,) * (arr.ndim - 1))
-    return arr
-
-
 def _rel_l2(scene, name, v, r):
-    v, r = _rise(scene, name, np.asarray(v, float)), _rise(scene, name, np.asarray(r, float))
+    v, r = np.asarray(v, float), np.asarray(r, float)
+    b = _bulk(scene, name, v.shape)
+    v, r = v - b, r - b
     den = np.sqrt(np.sum(r ** 2))
     if den == 0 or not np.isfinite(den):
         return math.nan
@@ -63,49 +111,194 @@ def _interp_to(ref, ds, name):
     return da.interp(kw, kwargs={"fill_value": "extrapolate"}).values
 
 
-def heat_balance(ds) -> float:
-    """(integrated heat flux into both bodies - frictional power) / frictional power [1]."""
-    if "heat_flux" not in ds or "frictional_power" not in ds:
-        return math.nan
-    p = float(ds["frictional_power"])
-    if p == 0:
-        return math.nan
-    dx = float(np.diff(ds["x"].values).mean()) if ds.sizes["x"] > 1 else 1.0
-    dy = float(np.diff(ds["y"].values).mean()) if "y" in ds.dims and ds.sizes["y"] > 1 else 1.0
-    total = float(ds["heat_flux"].sum()) * dx * dy
-    return (total - p) / p
+# ----------------------------------------------------------------------------------------------
+# energy balance of the computed temperature field
+def body_speeds(scene) -> tuple[float, float]:
+    """Speeds [m/s] at which wheel and rail material passes through the patch."""
+    if scene.heat_source is None and scene.tangential == "full-sliding":
+        return scene.speed + scene.sliding_speed, scene.speed
+    return scene.speed, scene.speed
 
 
-def run_errors(scene, ds, ref_values: dict, ref_ds=None) -> dict[str, float]:
-    """Relative errors of one result against analytic values and/or a reference run."""
+def half_space_energy(theta: np.ndarray, t_edges: np.ndarray) -> np.ndarray:
+    """Heat per unit area [J/m^2] that entered a 1-D half-space, from its surface temperature rise.
+
+    For a half-space initially at its bulk temperature, the surface rise θ(t) and the entering
+    flux q(t) satisfy θ = (1/(β√π)) ∫ q(τ) (t − τ)^(-1/2) dτ (β = √(λρc), the effusivity);
+    applying the same Abel operator once more gives the energy that entered up to T:
+
+        E(T) = ∫_0^T q dτ = (β/√π) ∫_0^T θ(τ) (T − τ)^(-1/2) dτ,
+
+    here without β/√π (the caller multiplies). θ is taken piecewise linear between cell centres
+    (zero at the first edge, constant over the last half cell) and integrated exactly against the
+    kernel, so the quadrature is second order in the cell size.
+
+    Parameters
+    ----------
+    theta : ndarray, shape (..., n)
+        Surface temperature rise at the cell centres, in time order [K].
+    t_edges : ndarray, shape (n + 1,)
+        Times of the cell edges, increasing from 0 [s]; T = t_edges[-1].
+
+    Returns
+    -------
+    ndarray, shape (...)
+        ∫_0^T θ(τ) (T − τ)^(-1/2) dτ [K s^(1/2)].
+    """
+    theta = np.asarray(theta, float)
+    t_edges = np.asarray(t_edges, float)
+    T = t_edges[-1]
+    tc = 0.5 * (t_edges[:-1] + t_edges[1:])
+    # nodes: first edge (theta 0), centres, last edge (theta of the last centre)
+    tn = np.concatenate([[t_edges[0]], tc, [T]])
+    zero = np.zeros(theta.shape[:-1] + (1,))
+    th = np.concatenate([zero, theta, theta[..., -1:]], axis=-1)
+    t0, t1 = tn[:-1], tn[1:]
+    h = t1 - t0
+    s = np.divide(th[..., 1:] - th[..., :-1], h, out=np.zeros_like(th[..., 1:]), where=h > 0)
+    u0, u1 = T - t0, np.maximum(T - t1, 0.0)
+    A = th[..., :-1] + s * (T - t0)  # theta(tau) = A - s (T - tau)
+    part = 2.0 * A * (np.sqrt(u0) - np.sqrt(u1)) - (2.0 / 3.0) * s * (u0 ** 1.5 - u1 ** 1.5)
+    return part.sum(axis=-1)
+
+
+def energy_balance(scene, ds) -> tuple[float, str]:
+    """Energy balance of a result's computed temperature field [1] and how it was obtained.
+
+    Core's check (``analytic:half-space-1d``): at Péclet numbers above
+    :data:`ENERGY_MIN_PECLET`, conduction along the surface is negligible during the passage, and
+    each strip of each body is a 1-D half-space; the heat that entered it follows from its computed
+    surface temperature alone (:func:`half_space_energy`). Summed over strips and bodies
+    (power = V × energy per area × strip width) it must equal the frictional power. The
+    temperature solution enters; the heat source is only the yardstick. Its own error is of the
+    order of 1/√Pe (neglected conduction along x) plus the quadrature error.
+
+    Otherwise the temperature solver's own balance (global attribute ``<model>_heat_balance_error``,
+    reference ``solver``) is used when it reports one; else NaN with an empty reference.
+
+    Returns
+    -------
+    (float, str)
+        ((heat entering through the surface − frictional power) / frictional power, reference).
+    """
+    power = float(ds["frictional_power"]) if "frictional_power" in ds.variables else math.nan
+    if "heat_flux" in ds.variables and not math.isfinite(power):
+        hf = ds["heat_flux"].values
+        dx = float(np.diff(ds["x"].values).mean())
+        dy = float(np.diff(ds["y"].values).mean()) if "y" in ds.dims else 1.0
+        power = float(np.nansum(hf)) * dx * dy
+    if "surface_temperature" in ds.variables and math.isfinite(power) and power > 0:
+        speeds = body_speeds(scene)
+        a = float(ds.attrs.get("semi_axis_a", math.nan))
+        if "semi_axis_a" in ds.variables:
+            a = float(ds["semi_axis_a"])
+        if not math.isfinite(a):
+            a = 0.5 * float(np.ptp(ds["x"].values))
+        pe = min(abs(v) * a / (2.0 * scene.body(i).diffusivity) for i, v in enumerate(speeds))
+        if pe >= ENERGY_MIN_PECLET and min(speeds) > 0:
+            x = ds["x"].values
+            if x.size >= 2:
+                dx = float(np.diff(x).mean())
+                edges = np.concatenate([[x[0] - dx / 2], 0.5 * (x[1:] + x[:-1]), [x[-1] + dx / 2]])
+                dy = float(np.diff(ds["y"].values).mean()) if "y" in ds.dims and ds.sizes["y"] > 1 else 1.0
+                total = 0.0
+                ts = ds["surface_temperature"].transpose("body", "x", ...).values
+                for i, v in enumerate(speeds):
+                    mat = scene.body(i)
+                    theta = ts[i] - mat.bulk_temperature  # (x, [y])
+                    if not np.all(np.isfinite(theta)):
+                        return math.nan, ""
+                    theta = np.moveaxis(theta, 0, -1)[..., ::-1]  # time order: leading edge (+x) first
+                    t_edges = (edges[-1] - edges[::-1]) / v
+                    e = half_space_energy(theta, t_edges) * mat.effusivity / math.sqrt(math.pi)
+                    total += v * float(np.sum(e)) * dy
+                return (total - power) / power, "analytic:half-space-1d"
+    own = [float(v) for k, v in ds.attrs.items() if k.endswith("heat_balance_error")
+           and isinstance(v, (int, float, np.integer, np.floating))]
+    if own:
+        return max(own, key=abs), "solver"
+    return math.nan, ""
+
+
+# ----------------------------------------------------------------------------------------------
+def _chain_references(ds) -> set[str]:
+    """Tags of core's exact references that a model of the run's chain reproduces by construction."""
+    from .plugins import get_host
+    host = get_host()
+    tags = set()
+    for part in str(ds.attrs.get("stages", "")).split():
+        name = part.split(":", 1)[-1]
+        info = host.models.get(name)
+        tag = getattr(info.cls, "exact_reference", None) if info is not None else None
+        if tag:
+            tags.add(tag)
+    return tags
+
+
+def run_errors(scene, ds, ref_values: dict, ref_ds=None, *, ref_tag: str = "", sources: dict | None = None
+               ) -> dict[str, tuple[float, str]]:
+    """Relative errors of one result: metric -> (error, reference tag).
+
+    Parameters
+    ----------
+    scene : Scene
+    ds : xarray.Dataset
+        The result.
+    ref_values : dict
+        Exact values (:func:`railtherm.analytic.reference_values`); ``"_sources"`` (quantity -> tag)
+        names them, or ``sources``.
+    ref_ds : xarray.Dataset, optional
+        A reference run for quantities without an exact value.
+    ref_tag : str
+        Tag of ``ref_ds`` (``method:<name>`` or ``self:finest``).
+    """
     from .analytic import reference_fields
-    err = {}
+    sources = dict(sources if sources is not None else ref_values.get("_sources", {}))
+    values = {k: v for k, v in ref_values.items() if not k.startswith("_")}
+    same = _chain_references(ds) if values else set()
+    if scene.heat_source is not None:  # every method takes a given source as it is
+        same.add("given-source")
+    err: dict[str, tuple[float, str]] = {}
     # the analytic field is evaluated on at most ~MAX_FIELD_POINTS cells (a regular subsample of the grid)
-    if ref_values:
+    if values:
         n = ds.sizes["x"] * ds.sizes.get("y", 1)
         stride = max(1, int(math.ceil(math.sqrt(n / MAX_FIELD_POINTS))))
         sub = ds.isel({d: slice(stride // 2, None, stride) for d in ("x", "y") if d in ds.dims})
         fields = reference_fields(scene, sub)
     else:
         sub, fields = ds, {}
+
+    def exact(name):
+        tag = sources.get(name, "analytic")
+        return None if tag in same else f"analytic:{tag}"
+
     for name in SCALARS:
         if name not in ds:
             continue
-        if name in ref_values:
-            err[name] = _rel(ds[name].values, ref_values[name])
+        if name in values:
+            tag = exact(name)
+            if tag:
+                err[name] = (rel_error(scene, name, ds[name].values, values[name]), tag)
         elif ref_ds is not None and name in ref_ds:
-            err[name] = _rel(ds[name].values, ref_ds[name].values)
+            err[name] = (rel_error(scene, name, ds[name].values, ref_ds[name].values), ref_tag)
     for name in FIELDS:
         if name not in ds:
             continue
         if name in fields:
-            err[name + "_l2"] = _rel_l2(scene, name, sub[name].values, fields[name])
+            tag = exact(name)
+            if tag:
+                err[name + "_l2"] = (_rel_l2(scene, name, sub[name].values, fields[name]), tag)
         elif ref_ds is not None and name in ref_ds:
             try:
-                err[name + "_l2"] = _rel_l2(scene, name, ds[name].values, _interp_to(ref_ds, ds, name))
+                err[name + "_l2"] = (_rel_l2(scene, name, ds[name].values, _interp_to(ref_ds, ds, name)), ref_tag)
             except Exception:  # noqa: BLE001 - incompatible grids: no field error
                 pass
     return err
+
+
+def independent(tag: str) -> bool:
+    """Whether an error taken against ``tag`` verifies a run (an exact reference or another method)."""
+    return tag.startswith("analytic:") or tag.startswith("method:")
 
 
 def convergence_order(levels, errors) -> float:
@@ -119,8 +312,81 @@ def convergence_order(levels, errors) -> float:
     return float(np.polyfit(np.log(h), np.log(e[ok]), 1)[0])
 
 
+def richardson(levels, values, theoretical: float = math.nan) -> tuple[float, float, float]:
+    """Richardson estimate of the error of the finest level of a refinement ladder.
+
+    With values Q_k on levels k (h halving), the observed order from the three finest levels is
+    p = log2((Q_{K-2} − Q_{K-1}) / (Q_{K-1} − Q_K)) and the error of Q_K is estimated as
+    (Q_K − Q_{K-1}) / (2^p − 1). Its uncertainty is the spread of that estimate over the orders at
+    hand (the previous triple's order, the theoretical order), or the estimate itself when there is
+    no second order (or the ladder is not in its asymptotic range).
+
+    Returns
+    -------
+    (estimate, uncertainty, p)
+        Absolute error estimate and uncertainty [units of Q], and the observed order [1]; NaN when
+        fewer than three consecutive levels or no monotone convergence.
+    """
+    lv = np.asarray(levels, int)
+    q = np.asarray(values, float)
+    order = np.argsort(lv)
+    lv, q = lv[order], q[order]
+    if q.size < 3 or not np.all(np.isfinite(q[-3:])) or not np.all(np.diff(lv[-3:]) == 1):
+        return math.nan, math.nan, math.nan
+
+    def observed(q3):
+        d1, d2 = q3[1] - q3[0], q3[2] - q3[1]
+        if d1 == 0 or d2 == 0 or d1 * d2 < 0:
+            return math.nan
+        return math.log2(abs(d1 / d2))
+
+    p = observed(q[-3:])
+    last = q[-1] - q[-2]
+    if not math.isfinite(p) or p <= 0:
+        return math.nan, math.nan, p
+    est = last / (2.0 ** p - 1.0)
+    others = []
+    if q.size >= 4 and np.all(np.diff(lv[-4:]) == 1):
+        p0 = observed(q[-4:-1])
+        if math.isfinite(p0) and p0 > 0:
+            others.append(last / (2.0 ** p0 - 1.0))
+    if math.isfinite(theoretical) and theoretical > 0:
+        others.append(last / (2.0 ** theoretical - 1.0))
+    unc = max((abs(o - est) for o in others), default=abs(est))
+    return abs(est), unc, p
+
+
+# ----------------------------------------------------------------------------------------------
+def _scalar(scene, name, v) -> float:
+    """One number for a quantity that may be per body: the entry with the largest |rise|."""
+    a = np.atleast_1d(np.asarray(v, float))
+    b = np.atleast_1d(_bulk(scene, name, a.shape if a.size > 1 else ()))
+    rise = a - b.ravel()[: a.size] if b.size > 1 else a - b
+    return float(a[int(np.nanargmax(np.abs(rise)))]) if np.any(np.isfinite(rise)) else math.nan
+
+
+def _theoretical_orders(method: str) -> dict:
+    from .errors import SceneError
+    from .plugins import get_host
+    try:
+        return dict(get_host().method(method).method.orders)
+    except (SceneError, KeyError):
+        return {}
+
+
+def headline(scene) -> str:
+    """The quantity a scene's verdict is given on (see :data:`HEADLINE_ORDER`)."""
+    for q in HEADLINE_ORDER:
+        if q in scene.outputs:
+            return q
+    return ""
+
+
 def compute_metrics(study, out, records, tolerance: float | None = None):
-    """Build the metrics Dataset of a study from its run records (and the run files)."""
+    """Build the metrics Dataset of a study from its run records (and the run files).
+
+    See ``docs/verdicts.md`` for every variable.
+    """
     import xarray as xr
     from .analytic import reference_values
 
@@ -134,7 +400,7 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
             cache[rec.path] = _open(rec.path)
         return cache[rec.path]
 
-    # finest ok level of each (scene, method), in one pass (O(runs))
+    # finest successful level of each (scene, method), in one pass (O(runs))
     finest_of: dict = {}
     for r in records:
         if r.status == "ok":
@@ -142,118 +408,218 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
             if k not in finest_of or r.level > finest_of[k].level:
                 finest_of[k] = r
 
-    def finest(scene, method):
-        return finest_of.get((scene, method))
-
     def summary(rec):
-        """(heat balance, scalar values) of a run: from its record when the worker filled them."""
+        """(energy balance, its reference, scalar values) of a run, from its record when filled."""
         if getattr(rec, "summary", False):
-            return rec.heat_balance, rec.values
+            return rec.energy_balance, rec.energy_reference, rec.values
         ds = load(rec)
-        return heat_balance(ds), {q: ds[q].values for q in CROSS if q in ds}
+        e, ref = energy_balance(scenes[rec.scene], ds)
+        return e, ref, {q: ds[q].values for q in set(CROSS) | set(SCALARS) if q in ds}
+
+    analytic_cache: dict = {}
+
+    def analytic(scene):
+        if scene.name not in analytic_cache:
+            try:
+                analytic_cache[scene.name] = reference_values(scene)
+            except Exception as exc:  # noqa: BLE001 - recorded, the run is then unverified
+                analytic_cache[scene.name] = {"_names": [f"analytic reference failed: {exc}"], "_sources": {}}
+        return analytic_cache[scene.name]
 
     rows = []
     for rec in records:
         row = {"scene": rec.scene, "method": rec.method, "level": rec.level, "status": rec.status,
-               "message": rec.message, "wall_time": rec.wall_time, "peak_memory": rec.peak_memory,
-               "reference": "", "heat_balance": math.nan}
+               "message": rec.message, "reason_kind": getattr(rec, "reason_kind", ""),
+               "wall_time": rec.wall_time, "wall_time_median": getattr(rec, "wall_time_median", math.nan),
+               "timing_runs": getattr(rec, "timing_runs", 0), "peak_rss": getattr(rec, "peak_rss", math.nan),
+               "energy_balance": math.nan, "energy_reference": "", "headline_error": math.nan,
+               "headline_reference": ""}
         if rec.status == "ok":
             scene = scenes[rec.scene]
             kind = scene.reference or study.reference
-            ref_values, ref_ds, names = {}, None, []
+            ref_values, ref_ds, ref_tag, why = {}, None, "", ""
             if kind == "analytic":
-                try:
-                    rv = reference_values(scene)
-                except Exception as exc:  # noqa: BLE001
-                    rv = {"_names": [f"analytic reference failed: {exc}"]}
-                names = list(rv.pop("_names", []))
-                ref_values = rv
-                fr = finest(rec.scene, rec.method)
+                ref_values = analytic(scene)
+                fr = finest_of.get((rec.scene, rec.method))
                 if fr is not None and fr.level != rec.level:
-                    ref_ds = load(fr)
-                    names.append(f"finest level of {rec.method} (level {fr.level}) where no analytic value")
+                    ref_ds, ref_tag = load(fr), "self:finest"
+                elif fr is not None:
+                    why = "finest level of its method"
             else:
                 target = rec.method if kind == "finest" else kind
-                fr = finest(rec.scene, target)
-                if fr is not None and (target != rec.method or fr.level != rec.level):
-                    ref_ds = load(fr)
-                    names.append(f"{target} level {fr.level}")
-            row["reference"] = "; ".join(names)
-            if ref_values or ref_ds is not None:  # (the run itself is not cached: only finest levels are reused)
+                fr = finest_of.get((rec.scene, target))
+                if fr is None:
+                    why = f"the reference method {target!r} has no successful run of this scene"
+                elif target != rec.method:
+                    ref_ds, ref_tag = load(fr), f"method:{target}"
+                elif fr.level != rec.level:
+                    ref_ds, ref_tag = load(fr), "self:finest"
+                else:
+                    why = "finest level of a self-referenced ladder"
+            if {k for k in ref_values if not k.startswith("_")} or ref_ds is not None:
                 own = cache.get(rec.path) or _open(rec.path)
-                errs = run_errors(scene, own, ref_values, ref_ds)
-            else:  # nothing to compare with: the file is not opened again
+                errs = run_errors(scene, own, ref_values, ref_ds, ref_tag=ref_tag)
+            else:
                 errs = {}
-            row.update({f"error_{k}": v for k, v in errs.items()})
-            row["heat_balance"] = summary(rec)[0]
-            finite = [v for v in errs.values() if np.isfinite(v)]
-            if finite and max(finite) > tol:
+            for k, (v, tag) in errs.items():
+                row[f"error_{k}"], row[f"reference_{k}"] = v, tag
+            e, eref, _ = summary(rec)
+            row["energy_balance"], row["energy_reference"] = e, eref
+            hq = headline(scene)
+            if hq in errs and independent(errs[hq][1]):
+                row["headline_error"], row["headline_reference"] = errs[hq][0], errs[hq][1]
+            finite = {k: v for k, (v, t) in errs.items() if np.isfinite(v)}
+            indep = {k: v for k, (v, t) in errs.items() if np.isfinite(v) and independent(t)}
+            bad = {k: v for k, v in finite.items() if v > tol}
+            if math.isfinite(e) and abs(e) > tol:
+                bad["energy_balance"] = abs(e)
+            if bad:
+                worst = max(bad, key=bad.get)
+                against = errs[worst][1] if worst in errs else eref
                 row["status"] = "inaccurate"
-                worst = max(errs, key=lambda k: errs[k] if np.isfinite(errs[k]) else -1)
-                row["message"] = f"relative error {errs[worst]:.3g} in {worst} exceeds the tolerance {tol:g}"
+                row["message"] = (f"relative error {bad[worst]:.3g} in {worst} (against {against}) exceeds "
+                                  f"the tolerance {tol:g}")
+            elif indep:
+                worst = max(indep, key=indep.get)
+                row["message"] = (f"checked against {', '.join(sorted({errs[k][1] for k in indep}))}; largest "
+                                  f"error {indep[worst]:.3g} in {worst}")
+            else:
+                row["status"] = "unverified"
+                if finite:
+                    row["message"] = ("compared only with its own finest level (self-convergence): "
+                                      "no independent reference for " + ", ".join(sorted(finite)))
+                else:
+                    row["message"] = "nothing independent to compare with" + (f": {why}" if why else "")
         rows.append(row)
 
     n = len(rows)
     data = {}
-    str_cols = ("scene", "method", "status", "message", "reference")
+    str_cols = ("scene", "method", "status", "message", "reason_kind", "energy_reference", "headline_reference") \
+        + tuple(f"reference_{m}" for m in METRICS)
     for col in str_cols:
-        data[col] = ("run", np.array([r[col] for r in rows], dtype=object))
+        data[col] = ("run", np.array([r.get(col, "") for r in rows], dtype=object))
     data["level"] = ("run", np.array([r["level"] for r in rows], dtype="int32"))
-    for col in ("wall_time", "peak_memory", "heat_balance") + tuple(f"error_{m}" for m in METRICS):
+    data["timing_runs"] = ("run", np.array([int(r["timing_runs"] or 0) for r in rows], dtype="int32"))
+    for col in ("wall_time", "wall_time_median", "peak_rss", "energy_balance", "headline_error") \
+            + tuple(f"error_{m}" for m in METRICS):
         data[col] = ("run", np.array([r.get(col, math.nan) for r in rows], dtype=float))
     ds = xr.Dataset(data, coords={"run": np.arange(n)})
     attrs = {"scene": ("1", "scene name"), "method": ("1", "method name"), "level": ("1", "resolution level"),
-             "status": ("1", "run status: ok | inaccurate | refused | failed"), "message": ("1", "reason for the status"),
-             "reference": ("1", "what the run was compared with"), "wall_time": ("s", "best wall time of the solve"),
-             "peak_memory": ("bytes", "peak traced memory of the solve"),
-             "heat_balance": ("1", "(integrated heat flux - frictional power) / frictional power")}
+             "status": ("1", "run status: " + " | ".join(STATUSES)), "message": ("1", "reason for the status"),
+             "reason_kind": ("1", "refused: validity | budget; failed: error | not-converged | timeout | invalid-input"),
+             "wall_time": ("s", "best (minimum) wall time of the timed solves"),
+             "wall_time_median": ("s", "median wall time of the timed solves"),
+             "timing_runs": ("1", "number of timed solves after the warm-up"),
+             "peak_rss": ("bytes", "growth of the process's peak resident set size during one untimed solve"),
+             "energy_balance": ("1", "(heat entering through the surface of the computed temperature field "
+                                     "- frictional power) / frictional power"),
+             "energy_reference": ("1", "how energy_balance was obtained: analytic:half-space-1d | solver"),
+             "headline_error": ("1", "relative error of the scene's headline quantity against an independent reference"),
+             "headline_reference": ("1", "reference of headline_error")}
     for k, (u, ln) in attrs.items():
         ds[k].attrs.update(units=u, long_name=ln)
     for m in METRICS:
-        ds[f"error_{m}"].attrs.update(units="1", long_name=f"relative error of {m} against the reference")
+        ds[f"error_{m}"].attrs.update(units="1", long_name=f"relative error of {m} against reference_{m}")
+        ds[f"reference_{m}"].attrs.update(units="1", long_name=f"reference of error_{m}: analytic:<name> | "
+                                                               "method:<name> | self:finest")
     ds["run"].attrs.update(units="1", long_name="run index")
 
-    # convergence orders and cross-method differences
+    # per scene: headline, reference kind, analytic values used
     snames = [s.name for s in study.scenes]
     mnames = sorted({r.method for r in records})
+    heads = [headline(scenes[s]) for s in snames]
+    ds = ds.assign_coords(scene_name=("scene_name", np.array(snames, dtype=object)),
+                          method_name=("method_name", np.array(mnames, dtype=object)),
+                          other_method=("other_method", np.array(mnames, dtype=object)),
+                          metric=("metric", np.array(METRICS, dtype=object)),
+                          quantity=("quantity", np.array(CROSS, dtype=object)),
+                          body=("body", np.array(["wheel", "rail"], dtype=object)))
+    ds["headline"] = ("scene_name", np.array(heads, dtype=object),
+                      {"units": "1", "long_name": "quantity the scene's verdict is given on"})
+    ds["reference_kind"] = ("scene_name", np.array([scenes[s].reference or study.reference for s in snames],
+                                                   dtype=object), {"units": "1", "long_name": "reference of the scene"})
+    from .schema import VARIABLES
+    used = {s: analytic(scenes[s]) for s in snames if (scenes[s].reference or study.reference) == "analytic"}
+    for q in SCALARS + ("normal_force", "semi_axis_b", "heat_partition"):
+        if not any(q in v for v in used.values()):
+            continue
+        per_body = "body" in VARIABLES[q].dims
+        arr = np.full((len(snames), 2) if per_body else (len(snames),), np.nan)
+        for i, s in enumerate(snames):
+            if s in used and q in used[s]:
+                arr[i] = used[s][q]
+        var = VARIABLES[q]
+        a = {"units": var.units, "long_name": f"exact reference value of {q} ({var.long_name})"}
+        if var.temperature:
+            a["units_metadata"] = "temperature: on_scale"
+        ds[f"analytic_{q}"] = (("scene_name", "body") if per_body else ("scene_name",), arr, a)
+
+    # convergence orders, Richardson estimates and cross-method differences
     order = np.full((len(snames), len(mnames), len(METRICS)), np.nan)
+    order_ref = np.full((len(snames), len(mnames), len(METRICS)), "", dtype=object)
+    theo = np.full((len(snames), len(mnames), len(METRICS)), np.nan)
+    rich = np.full((len(snames), len(mnames), len(METRICS)), np.nan)
+    rich_u = np.full((len(snames), len(mnames), len(METRICS)), np.nan)
     cross = np.full((len(snames), len(CROSS), len(mnames), len(mnames)), np.nan)
     by_sm: dict = {}
+    rec_of = {(r.scene, r.method, r.level): r for r in records}
     for r in rows:
-        if r["status"] in ("ok", "inaccurate"):
+        if r["status"] in ("ok", "inaccurate", "unverified"):
             by_sm.setdefault((r["scene"], r["method"]), []).append(r)
+    orders_of = {m: _theoretical_orders(m) for m in mnames}
     for i, s in enumerate(snames):
         vals = {}
         for j, m in enumerate(mnames):
-            sel = by_sm.get((s, m), [])
+            sel = sorted(by_sm.get((s, m), []), key=lambda r: r["level"])
+            for k, met in enumerate(METRICS):
+                theo[i, j, k] = float(orders_of[m].get(met, math.nan))
             if len(sel) >= 2:  # (one level: no order)
                 for k, met in enumerate(METRICS):
-                    order[i, j, k] = convergence_order([r["level"] for r in sel],
-                                                       [r.get(f"error_{met}", math.nan) for r in sel])
-            fr = finest(s, m)
+                    errs = [r.get(f"error_{met}", math.nan) for r in sel]
+                    tags = sorted({r.get(f"reference_{met}", "") for r, e in zip(sel, errs) if np.isfinite(e)})
+                    order[i, j, k] = convergence_order([r["level"] for r in sel], errs)
+                    order_ref[i, j, k] = "; ".join(t for t in tags if t)
+            if len(sel) >= 3:
+                for k, met in enumerate(METRICS):
+                    if met not in SCALARS:
+                        continue
+                    lv, qs = [], []
+                    for r in sel:
+                        v = summary(rec_of[(s, m, r["level"])])[2].get(met)
+                        if v is not None:
+                            lv.append(r["level"])
+                            qs.append(_scalar(scenes[s], met, v))
+                    est, unc, _ = richardson(lv, qs, theo[i, j, k])
+                    if math.isfinite(est):
+                        scale = abs(qs[-1] - np.ravel(_bulk(scenes[s], met, ()))[0]) or math.nan
+                        rich[i, j, k], rich_u[i, j, k] = est / scale, unc / scale
+            fr = finest_of.get((s, m))
             if fr is not None:
-                v = summary(fr)[1]
+                v = summary(fr)[2]
                 vals[m] = {q: np.asarray(v[q], float) for q in CROSS if q in v}
         for q_i, q in enumerate(CROSS):
             for j, m1 in enumerate(mnames):
                 for k, m2 in enumerate(mnames):
                     if m1 in vals and m2 in vals and q in vals[m1] and q in vals[m2]:
-                        cross[i, q_i, j, k] = _rel(vals[m1][q], vals[m2][q])
-    ds = ds.assign_coords(scene_name=("scene_name", np.array(snames, dtype=object)),
-                          method_name=("method_name", np.array(mnames, dtype=object)),
-                          other_method=("other_method", np.array(mnames, dtype=object)),
-                          metric=("metric", np.array(METRICS, dtype=object)),
-                          quantity=("quantity", np.array(CROSS, dtype=object)))
-    ds["convergence_order"] = (("scene_name", "method_name", "metric"), order,
-                               {"units": "1", "long_name": "fitted slope of log(error) against log(h), h = 2^-level"})
+                        cross[i, q_i, j, k] = rel_error(scenes[s], q, vals[m1][q], vals[m2][q])
+    dims3 = ("scene_name", "method_name", "metric")
+    ds["convergence_order"] = (dims3, order, {"units": "1", "long_name": "fitted slope of log(error) against "
+                                                                       "log(h), h = 2^-level"})
+    ds["order_reference"] = (dims3, order_ref, {"units": "1", "long_name": "reference of the errors the order was "
+                                                                         "fitted to (self:finest = self-convergence)"})
+    ds["theoretical_order"] = (dims3, theo, {"units": "1", "long_name": "convergence order declared by the method"})
+    ds["richardson_error"] = (dims3, rich, {"units": "1", "long_name": "Richardson estimate of the relative error "
+                                                                     "of the finest level"})
+    ds["richardson_uncertainty"] = (dims3, rich_u, {"units": "1", "long_name": "uncertainty of richardson_error"})
     ds["cross_difference"] = (("scene_name", "quantity", "method_name", "other_method"), cross,
-                              {"units": "1", "long_name": "relative difference |q_m - q_o| / |q_o| at the finest levels"})
+                              {"units": "1", "long_name": "relative difference |q_m - q_o| / |q_o| at the finest "
+                                                          "levels (temperatures: rises above bulk)"})
     for c, ln in (("scene_name", "scene"), ("method_name", "method"), ("other_method", "method compared with"),
-                  ("metric", "error metric"), ("quantity", "compared quantity")):
+                  ("metric", "error metric"), ("quantity", "compared quantity"), ("body", "body")):
         ds[c].attrs.update(units="1", long_name=ln)
     from . import __version__
     from .schema import history_line
     ds.attrs.update({"Conventions": "CF-1.11", "title": f"railtherm metrics of study {study.name}",
                      "source": f"railtherm {__version__}", "history": history_line("railtherm metrics"),
-                     "study": study.name, "tolerance": tol})
+                     "study": study.name, "tolerance": tol, "energy_min_peclet": ENERGY_MIN_PECLET})
     return ds

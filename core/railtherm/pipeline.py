@@ -14,7 +14,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .errors import PluginError, Refused, SolverError
+from .errors import PluginError, Refused, SceneError, SolverError
 from .grid import BASE_CELLS
 from .models.sliding import given_heat_source as _given
 from .plugins import MethodInfo, PluginHost, get_host
@@ -25,6 +25,28 @@ from .stages import STAGES, CoupledModel, StageModel
 __all__ = ["solve", "plan", "given_heat_source", "Plan"]
 
 
+
+
+def check_level(level, *, where: str = "") -> int:
+    """``level`` as an int, or :class:`railtherm.SceneError` unless it is a non-negative integer."""
+    ok = (isinstance(level, (int, np.integer)) and not isinstance(level, bool)) or (
+        isinstance(level, (float, np.floating)) and float(level).is_integer())
+    if not ok or int(level) < 0:
+        raise SceneError(f"{where}key 'level' = {level!r} is not allowed: an integer >= 0",
+                         key="level", value=level, allowed="an integer >= 0")
+    return int(level)
+
+
+def _check_options(mi: MethodInfo, options, scene: str) -> dict:
+    """Validate method options: unknown keys and bad values are :class:`railtherm.SceneError`."""
+    from .options import check_options
+    try:
+        return check_options(mi, dict(options or {}), method=mi.name)
+    except SceneError as exc:
+        if exc.scene is None and scene:
+            raise SceneError(f"scene {scene!r}, method {mi.name!r}: {exc}", scene=scene, key=exc.key,
+                             value=exc.value, allowed=exc.allowed) from None
+        raise
 
 
 def given_heat_source(scene: Scene, level: int, cells: int | None = None):
@@ -193,13 +215,10 @@ def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options
     """
     host = host or get_host()
     scene = load_scene(scene)
-    level = int(level)
-    if level < 0:
-        raise ValueError(f"level must be >= 0, got {level}")
-    options = dict(options or {})
+    level = check_level(level, where=f"scene {scene.name!r}: ")
+    mi = host.method(method)  # SceneError for an unknown method, naming the installed ones
+    options = _check_options(mi, options, scene.name)
     pl = plan(scene, method, level, host)
-    for s in pl.stages:  # validate options early (SceneError names the key)
-        pl.models[s].resolve_options(options)
     t0 = time.perf_counter()
     patch, source, temp = _run(pl, scene, level, options)
     wall = time.perf_counter() - t0
@@ -212,7 +231,7 @@ def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options
                             (temp, pl.models.get("temperature"))):
         if obj is not None and model_name is not None:
             _flat_diagnostics(model_name.name, obj.diagnostics, diag)
-            if obj.diagnostics.get("converged") is False:
+            if "converged" in obj.diagnostics and not bool(obj.diagnostics["converged"]):
                 converged = False
     attrs = {
         "title": f"railtherm result: scene {scene.name}, method {method}, level {level}",

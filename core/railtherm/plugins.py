@@ -159,7 +159,7 @@ class PluginHost:
         if "temperature" not in chain and "heat_source" not in chain and "contact" not in chain:
             self._problem(f"plugin {plugin!r}: method {m.name!r} has an empty chain; skipped")
             return
-        method = Method(m.name, chain, m.description, m.default_cells)
+        method = Method(m.name, chain, m.description, m.default_cells, dict(getattr(m, "orders", {}) or {}))
         self.methods[m.name] = MethodInfo(method, plugin, self._versions.get(plugin, "0"),
                                           tuple(self.models[n] for n in used))
 
@@ -168,8 +168,11 @@ class PluginHost:
         try:
             return self.methods[name]
         except KeyError:
-            raise KeyError(f"unknown method {name!r}; installed methods: {', '.join(sorted(self.methods)) or 'none'}"
-                           + (f" (plugin problems: {'; '.join(self.problems)})" if self.problems else "")) from None
+            from .errors import SceneError
+            allowed = ", ".join(sorted(self.methods)) or "none"
+            raise SceneError(f"unknown method {name!r}; installed methods: {allowed}"
+                             + (f" (plugin problems: {'; '.join(self.problems)})" if self.problems else ""),
+                             key="method", value=name, allowed=allowed) from None
 
     def model(self, name: str) -> ModelInfo:
         return self.models[name]

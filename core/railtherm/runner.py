@@ -12,15 +12,16 @@ Every invocation of :func:`run_tasks` has a ``run_id``; each file and status rec
 ``run_id`` that wrote it. A run that is executed again within the same invocation (its worker died
 after writing but before reporting back) finds its own result and does not write it again.
 
-Timing (DESIGN.md): with ``warmup`` the first solve is a warm-up (compile time excluded) traced with
-:mod:`tracemalloc` for the peak memory, then the best of ``repeat`` untraced solves is the wall time
-(a first solve slower than 2 s is its own timing, unless it was the first of its method and level
-in the process and under 30 s: imports and compilation are then excluded by one more solve). Without ``warmup`` (sweeps) one untraced solve is
-the result and its timing (best of ``repeat`` with the further solves), and peak memory is measured
-by one extra traced solve on the runs marked ``trace_memory`` only (a sample; NaN elsewhere):
-tracemalloc makes a small xarray-heavy solve about three times slower. Even then, the first run of a
-(method, level) in a process is preceded by one untimed solve, so that no timing holds the loading of
-modules and compiled kernels (about 2 s for a numba method), whichever worker runs it.
+Timing and memory (see :func:`execute_run`): an untimed warm-up of the same code path, then the
+best (and median) of at least 3 timed solves (2 for solves over 2 s), then a separate solve whose
+resident-set growth is the peak memory (:class:`RSSPeak`; native allocations included). Sweeps
+(``warmup = false``) warm up once per method and level in each process and measure the memory of
+one run in :data:`MEMORY_SAMPLE`. ``--resume`` compares the run hash (scene, method, level,
+options and code versions, :func:`run_hash`), not the scene alone.
+
+Statuses written here are ``ok`` (ran and converged: metrics then decides ok, inaccurate or
+unverified), ``refused`` (with ``reason_kind`` validity or budget) and ``failed`` (``reason_kind``
+error, not-converged, timeout or invalid-input).
 """
 from __future__ import annotations
 
@@ -33,7 +34,6 @@ import sys
 import threading
 import time
 import traceback
-import tracemalloc
 import uuid
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
@@ -45,7 +45,7 @@ from .errors import Refused, SceneError
 from .scene import Scene
 from .study import Study, load_study
 
-STATUSES = ("ok", "inaccurate", "refused", "failed")
+STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
 
 #: a run-sweep study (``warmup = false``) traces the memory of one run in this many per (method, level)
 MEMORY_SAMPLE = 100
@@ -77,6 +77,15 @@ class RunTask:
     def path(self) -> Path:
         return run_path(self.out, self.scene.name, self.method, self.level)
 
+    @property
+    def run_hash(self) -> str:
+        """Hash of what decides the result: scene, method, level, method options and code versions.
+
+        ``--resume`` reuses a result only when this matches (a result computed with other options
+        or another version of railtherm or of the method's plugins is computed again).
+        """
+        return run_hash(self.scene, self.method, self.level, self.options)
+
 
 @dataclass
 class RunRecord:
@@ -88,17 +97,28 @@ class RunRecord:
     status: str
     message: str = ""
     wall_time: float = float("nan")
-    peak_memory: float = float("nan")
+    #: growth of the process's resident set during one solve [bytes] (native allocations included)
+    peak_rss: float = float("nan")
     timing_runs: int = 0
     path: str = ""
     scene_hash: str = ""
+    #: :func:`run_hash` of the run (what --resume compares)
+    run_hash: str = ""
+    #: median of the timed solves [s]
+    wall_time_median: float = float("nan")
+    #: refused: "validity" | "budget"; failed: "error" | "not-converged" | "timeout" | "invalid-input"
+    reason_kind: str = ""
+    #: solver diagnostics of the result (global attributes ``<model>_converged`` etc.)
+    diagnostics: dict = field(default_factory=dict)
     resumed: bool = False
     run_id: str = ""
-    #: (integrated heat flux - frictional power) / frictional power of the result [1]
-    heat_balance: float = float("nan")
+    #: (heat entering through the surface of the computed temperature field - frictional power)
+    #: / frictional power [1], and how it was obtained (see :func:`railtherm.metrics.energy_balance`)
+    energy_balance: float = float("nan")
+    energy_reference: str = ""
     #: scalar results (RECORD_VALUES present in the result): name -> float or [wheel, rail]
     values: dict = field(default_factory=dict)
-    #: True when heat_balance and values were filled from the result (metrics need not open the file)
+    #: True when energy_balance and values were filled from the result (metrics need not open the file)
     summary: bool = False
     #: where the time of this run went [s] (wall): warmup, solve (of which compute: the stages), repeats,
     #: memory, write, total; and cpu: CPU time of the thread that ran it
@@ -115,6 +135,27 @@ class RunRecord:
     def from_dict(cls, d: Mapping[str, Any]) -> "RunRecord":
         names = {f.name for f in fields(cls)}
         return cls(**{k: v for k, v in d.items() if k in names})
+
+
+def code_versions(method: str) -> str:
+    """railtherm's version and the versions of the plugins behind ``method`` (name and models)."""
+    from . import __version__
+    from .plugins import get_host
+    try:
+        mi = get_host().method(method)
+    except SceneError:
+        return f"railtherm {__version__}"
+    parts = {f"{mi.plugin} {mi.version}"} | {f"{m.plugin} {m.version} {m.cls.name} {m.cls.version or ''}"
+                                             for m in mi.models}
+    return "; ".join([f"railtherm {__version__}", *sorted(parts)])
+
+
+def run_hash(scene: Scene, method: str, level: int, options: Mapping[str, Any]) -> str:
+    """Hash [hex] of the scene, method, level, method options and code versions of one run."""
+    import hashlib
+    doc = {"scene": scene.hash, "method": method, "level": int(level),
+           "options": {k: options[k] for k in sorted(options)}, "versions": code_versions(method)}
+    return hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
 def run_path(out, scene: str, method: str, level: int) -> Path:
@@ -330,38 +371,58 @@ def _values(ds) -> dict:
     return out
 
 
+#: global attributes of a result that are solver diagnostics (the documented vocabulary)
+DIAGNOSTIC_KEYS = ("converged", "iterations", "residual", "heat_balance_error")
+
+
+def _diagnostics(attrs: Mapping[str, Any]) -> dict:
+    out = {}
+    for k, v in attrs.items():
+        if k.rsplit("_", 1)[-1] in ("converged", "iterations", "residual") or k.endswith("heat_balance_error"):
+            if isinstance(v, (int, float, np.integer, np.floating)):
+                out[k] = float(v)
+    return out
+
+
+def _summarise(rec: RunRecord, scene: Scene, ds) -> None:
+    """Fill the record's energy balance, scalar values and diagnostics from the result ``ds``."""
+    from .metrics import energy_balance
+    rec.energy_balance, rec.energy_reference = energy_balance(scene, ds)
+    rec.values, rec.diagnostics, rec.summary = _values(ds), _diagnostics(ds.attrs), True
+
+
 def _record_from_file(task: RunTask, p: Path, attrs: Mapping[str, Any], resumed: bool) -> RunRecord:
     rec = RunRecord(task.scene.name, task.method, task.level, "ok", "",
-                    float(attrs.get("wall_time", math.nan)), float(attrs.get("peak_memory", math.nan)),
-                    int(attrs.get("timing_runs", 0)), str(p), task.scene.hash, resumed=resumed,
+                    float(attrs.get("wall_time", math.nan)), float(attrs.get("peak_rss", math.nan)),
+                    int(attrs.get("timing_runs", 0)), str(p), task.scene.hash, run_hash=str(attrs.get("run_hash", "")),
+                    wall_time_median=float(attrs.get("wall_time_median", math.nan)), resumed=resumed,
                     run_id=str(attrs.get("run_id", "")), pid=os.getpid(), sweep=dict(task.scene.sweep))
     try:  # the summary metrics need, read here (in the worker) rather than by metrics (serially)
         import xarray as xr
-
-        from .metrics import heat_balance
         with xr.open_dataset(p, engine="netcdf4") as ds:
             ds.load()
-            rec.heat_balance, rec.values, rec.summary = float(heat_balance(ds)), _values(ds), True
+            _summarise(rec, task.scene, ds)
     except Exception:  # noqa: BLE001 - metrics will open the file itself
         pass
     return rec
 
 
 def _existing(task: RunTask, *, same_invocation: bool = False) -> RunRecord | None:
-    """A record of a run already on disk for the same scene hash, else None.
+    """A record of a run already on disk with the same :attr:`RunTask.run_hash`, else None.
 
     ``same_invocation``: only what this invocation (``task.run_id``) wrote, success or failure
     (a retried run never repeats itself); otherwise (``--resume``) any result file and any
-    refusal, but not failures (they are retried).
+    refusal, but not failures (they are retried). A result of the same scene computed with other
+    options or another code version has another run hash and is computed again.
     """
     p = task.path
+    h = task.run_hash
     if p.exists():
         try:
             attrs = read_attrs(p)
         except Exception:  # noqa: BLE001 - an unreadable file is recomputed
             attrs = {}
-        if attrs.get("scene_hash") == task.scene.hash and (
-                not same_invocation or attrs.get("run_id") == task.run_id):
+        if attrs.get("run_hash") == h and (not same_invocation or attrs.get("run_id") == task.run_id):
             return _record_from_file(task, p, attrs, resumed=True)
     sp = status_path(p)
     if sp.exists():
@@ -369,7 +430,7 @@ def _existing(task: RunTask, *, same_invocation: bool = False) -> RunRecord | No
             rec = RunRecord.from_dict(json.loads(sp.read_text()))
         except Exception:  # noqa: BLE001
             return None
-        if rec.scene_hash != task.scene.hash:
+        if rec.run_hash != h:
             return None
         if (same_invocation and rec.run_id == task.run_id) or (not same_invocation and rec.status == "refused"):
             rec.resumed = True
@@ -392,8 +453,94 @@ def _written_since(task: RunTask, since: float) -> bool:
     return False
 
 
+class RSSPeak:
+    """Growth of this process's resident set size during a block [bytes], native allocations included.
+
+    On Linux the kernel's high-water mark (``VmHWM``) is reset by writing ``5`` to
+    ``/proc/self/clear_refs`` before the block and read after it; where that is not possible, a
+    thread samples the RSS (psutil) every millisecond. The value counts everything the process
+    allocates (numpy, numba, SuperLU, FiPy), unlike :mod:`tracemalloc`; it does not slow the code.
+    Under a threaded executor (dask workers run several tasks in one process) it includes what the
+    other threads allocate meanwhile.
+    """
+
+    def __init__(self):
+        self.peak = math.nan
+
+    @staticmethod
+    def _status(key: str) -> float:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith(key + ":"):
+                    return float(line.split()[1]) * 1024.0
+        raise OSError(key)
+
+    def __enter__(self):
+        self._sampler = None
+        try:
+            with open("/proc/self/clear_refs", "w") as fh:
+                fh.write("5")
+            self._base = self._status("VmRSS")
+            self._mode = "hwm"
+        except OSError:
+            import psutil
+            proc = psutil.Process()
+            self._base = float(proc.memory_info().rss)
+            self._mode = "sample"
+            self._max = self._base
+            self._stop = threading.Event()
+
+            def sample():
+                while not self._stop.wait(0.001):
+                    self._max = max(self._max, float(proc.memory_info().rss))
+            self._sampler = threading.Thread(target=sample, daemon=True)
+            self._sampler.start()
+        return self
+
+    def __exit__(self, *exc):
+        if self._mode == "hwm":
+            self.peak = max(0.0, self._status("VmHWM") - self._base)
+        else:
+            self._stop.set()
+            self._sampler.join()
+            self.peak = max(0.0, self._max - self._base)
+        return False
+
+
+def timed_solves(first: float) -> int:
+    """How many timed solves a run gets after its warm-up: 3 under 2 s, else 2."""
+    return 3 if first < 2.0 else 2
+
+
+def _failure(exc: BaseException, timeout: float) -> tuple[str, str, str]:
+    """(status, reason kind, message) of a run that raised ``exc``."""
+    from .errors import SolverError
+    if isinstance(exc, Refused):
+        return "refused", getattr(exc, "kind", "validity"), str(exc)
+    if isinstance(exc, SceneError):
+        return "failed", "invalid-input", f"invalid input: {exc}"
+    if isinstance(exc, RunTimeout):
+        return "failed", "timeout", f"run exceeded the per-run time limit of {timeout:g} s"
+    if isinstance(exc, MemoryError):
+        return "failed", "error", "out of memory"
+    if isinstance(exc, SolverError):
+        return "failed", "not-converged", str(exc)
+    tb = traceback.extract_tb(exc.__traceback__)
+    where = f" at {tb[-1].filename.rsplit('/', 1)[-1]}:{tb[-1].lineno}" if tb else ""
+    return "failed", "error", f"{type(exc).__name__}: {exc}{where}"
+
+
 def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
-    """Run one (scene, method, level): solve, time, write atomically (the same in every executor).
+    """Run one (scene, method, level): warm up, time, measure memory, write atomically.
+
+    The same function runs in every executor, so results are identical bit for bit.
+
+    Timing: one untimed warm-up solve of the same code path (with ``task.warmup``: the same
+    scene; without, for sweeps: the first run of the method and level in this process), then the
+    best of n timed solves, n = max(``task.repeat``, 3) when a solve takes under 2 s and
+    max(``task.repeat``, 2) otherwise (fewer only when the per-run time limit would be exceeded).
+    Memory: :class:`RSSPeak` around the warm-up's twin, a separate untimed solve (with
+    ``task.trace_memory``), so that neither pass perturbs the other.
 
     Parameters
     ----------
@@ -401,16 +548,16 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         The run; ``task.run_id`` identifies the study invocation (a retry after a worker died
         returns what this invocation already wrote instead of running again).
     resume : bool
-        Return the record of a result already on disk for the same scene hash (or a refusal).
+        Return the record of a result already on disk with the same run hash (or a refusal).
 
     Returns
     -------
     RunRecord
-        Status (ok | refused | failed) and message, best wall time [s], peak memory [bytes],
-        heat balance and scalar values of the result, and ``phases``: where the time went [s].
-        Never raises for a problem of the run itself.
+        Status (ok | refused | failed; metrics later decides ok, inaccurate or unverified) and
+        message, best and median wall time [s], peak RSS growth [bytes], energy balance and
+        scalar values of the result, and ``phases``: where the time went [s]. Never raises for a
+        problem of the run itself.
     """
-    from .metrics import heat_balance
     from .pipeline import solve
     from .schema import history_line
 
@@ -424,67 +571,46 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         if rec is not None:
             return rec
     rec = RunRecord(task.scene.name, task.method, task.level, "failed", path=str(task.path),
-                    scene_hash=task.scene.hash, run_id=task.run_id, pid=os.getpid(), sweep=dict(task.scene.sweep))
+                    scene_hash=task.scene.hash, run_hash=task.run_hash, run_id=task.run_id, pid=os.getpid(),
+                    sweep=dict(task.scene.sweep))
     sp = status_path(task.path)
     phases: dict[str, float] = {}
     rec.phases = phases
     try:
         with _time_limit(task.timeout):
             t0 = time.perf_counter()
-            traced = task.warmup and task.repeat > 0
-            peak = math.nan
             key = (task.method, task.level)
-            first_in_process = key not in _WARM  # its first solve holds imports and compilation
-            if not traced and key not in _WARM:
-                # no warm-up asked (sweeps), but the first solve of a method in a process loads its
-                # modules and compiled kernels: solve once untimed, so that no run's timing holds it
+            if task.warmup or key not in _WARM:
+                # untimed warm-up of the same code path: imports, numba compilation, caches
                 solve(task.scene, task.method, task.level, task.options, validate=False)
             _WARM.add(key)
             phases["warmup"] = time.perf_counter() - t0
             t0 = time.perf_counter()
-            if traced:
-                tracemalloc.start()
-                try:
-                    ds = solve(task.scene, task.method, task.level, task.options)
-                    peak = float(tracemalloc.get_traced_memory()[1])
-                finally:
-                    tracemalloc.stop()
-            else:
-                ds = solve(task.scene, task.method, task.level, task.options)
+            ds = solve(task.scene, task.method, task.level, task.options)
             phases["solve"] = time.perf_counter() - t0
             phases["compute"] = float(ds.attrs["wall_time"])
             times = [float(ds.attrs["wall_time"])]
             t1 = time.perf_counter()
-            if task.repeat > 0 and (times[0] < 2.0 or (traced and first_in_process and times[0] < 30.0)):
-                if traced:  # best of n after the warm-up (compile time excluded)
-                    times = []
-                    n = task.repeat
-                else:  # no warm-up: the first solve counts
-                    n = task.repeat - 1
-                budget = max(0.0, task.timeout - (time.perf_counter() - t0)) / 2
-                for _ in range(n):
-                    again = solve(task.scene, task.method, task.level, task.options, validate=False)
-                    times.append(float(again.attrs["wall_time"]))
-                    if sum(times) > min(budget, 5.0):
-                        break
+            n = max(task.repeat, timed_solves(times[0]))
+            budget = max(0.0, task.timeout - (time.perf_counter() - t_begin)) / 2
+            while len(times) < n and sum(times) + times[0] < budget:
+                again = solve(task.scene, task.method, task.level, task.options, validate=False)
+                times.append(float(again.attrs["wall_time"]))
             phases["repeats"] = time.perf_counter() - t1
-            if not traced and task.trace_memory:
+            if task.trace_memory:
                 t2 = time.perf_counter()
-                tracemalloc.start()
-                try:
+                with RSSPeak() as mem:
                     solve(task.scene, task.method, task.level, task.options, validate=False)
-                    peak = float(tracemalloc.get_traced_memory()[1])
-                finally:
-                    tracemalloc.stop()
+                rec.peak_rss = mem.peak
                 phases["memory"] = time.perf_counter() - t2
         rec.wall_time = min(times)
+        rec.wall_time_median = float(np.median(times))
         rec.timing_runs = len(times)
-        rec.peak_memory = peak
-        rec.heat_balance, rec.values, rec.summary = float(heat_balance(ds)), _values(ds), True
-        ds.attrs.update({"wall_time": rec.wall_time, "peak_memory": rec.peak_memory,
-                         "timing_runs": rec.timing_runs, "status": "ok", "run_id": task.run_id})
-        how = (f"best of {len(times)} timed solves after a warm-up" if traced
-               else f"best of {len(times)} timed solves without a warm-up")
+        _summarise(rec, task.scene, ds)
+        ds.attrs.update({"wall_time": rec.wall_time, "wall_time_median": rec.wall_time_median,
+                         "peak_rss": rec.peak_rss, "timing_runs": rec.timing_runs, "status": "ok",
+                         "run_id": task.run_id, "run_hash": rec.run_hash})
+        how = f"best and median of {len(times)} timed solves after an untimed warm-up"
         ds.attrs["history"] = ds.attrs["history"] + "\n" + history_line(f"railtherm run: {how}")
         t3 = time.perf_counter()
         write_dataset_atomic(ds, task.path)
@@ -495,19 +621,9 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         phases["total"] = time.perf_counter() - t_begin
         phases["cpu"] = time.thread_time() - cpu_begin
         return rec
-    except Refused as exc:
-        rec.status, rec.message = "refused", str(exc)
-    except SceneError as exc:
-        rec.status, rec.message = "failed", f"invalid input: {exc}"
-    except RunTimeout:
-        rec.status, rec.message = "failed", f"run exceeded the per-run time limit of {task.timeout:g} s"
-    except MemoryError:
-        rec.status, rec.message = "failed", "out of memory"
     except Exception as exc:  # noqa: BLE001 - a failing plugin never takes the study down
-        tb = traceback.extract_tb(exc.__traceback__)
-        where = f" at {tb[-1].filename.rsplit('/', 1)[-1]}:{tb[-1].lineno}" if tb else ""
-        rec.status, rec.message = "failed", f"{type(exc).__name__}: {exc}{where}"
-    rec.values, rec.heat_balance, rec.summary = {}, math.nan, False
+        rec.status, rec.reason_kind, rec.message = _failure(exc, task.timeout)
+    rec.values, rec.energy_balance, rec.summary = {}, math.nan, False
     if task.path.exists():
         task.path.unlink()
     write_atomic_bytes(sp, json.dumps(rec.to_dict(), indent=1).encode())
@@ -543,7 +659,8 @@ def make_tasks(study: Study, out, methods: Iterable[str] | None = None, levels: 
         for m in names:
             for k in lv:
                 tasks.append(RunTask(scene, m, k, dict(study.options.get(m, {})), str(out), study.repeat,
-                                     study.warmup, study.timeout, trace_memory=(i % MEMORY_SAMPLE == 0)))
+                                     study.warmup, study.timeout,
+                                     trace_memory=study.warmup or i % MEMORY_SAMPLE == 0))
     return tasks
 
 
@@ -627,7 +744,13 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
 
     t0, c0, w0 = time.perf_counter(), time.process_time(), _children_cpu()
     study = study_or_path if isinstance(study_or_path, Study) else load_study(study_or_path)
+    from .options import check_study
+    from .plugins import get_host
+    check_study(study, get_host(), methods=methods, levels=levels)  # everything, before the first task
     out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise SceneError(f"output folder {str(out)!r} is an existing file, not a folder", key="out",
+                         value=str(out), allowed="a folder (created if missing)")
     out.mkdir(parents=True, exist_ok=True)
     tasks = make_tasks(study, out, methods, levels)
     t1 = time.perf_counter()
@@ -636,6 +759,8 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     t2 = time.perf_counter()
     metrics = compute_metrics(study, out, records)
     write_dataset_atomic(metrics, out / "metrics.nc")
+    from .reference_curves import write_reference_curves
+    write_reference_curves(study, out)  # the exact curves the report overlays (it never recomputes physics)
     t3 = time.perf_counter()
     timing = {"setup": t1 - t0, "runs": t2 - t1, "metrics": t3 - t2, "executor": executor,
               "workers": workers, "runs_total": len(records),
