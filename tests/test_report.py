@@ -1,8 +1,9 @@
-"""The study report: report.md, report.html and figures/*.png from a study output folder.
+"""The study report of a small study run end to end: report.md, report.html and figures/*.png.
 
 A small study is run with inline dummy methods (registered through the plugin host exactly like a
-plugin): one that computes, one that fails and one that refuses on the finer level, and one that gives Carter's traction
-(perturbed by level) on a creepage sweep, so that every part of the report is drawn.
+plugin): one that computes, one that fails and one that refuses on the finer level, and one that gives
+Carter's traction (perturbed by level) on a creepage sweep, so that every part of the report is drawn.
+The report's pieces on synthetic metrics are tested in tests/test_report_verdict.py.
 """
 from __future__ import annotations
 
@@ -172,18 +173,19 @@ class DummyPlugin:
 
 @pytest.fixture(scope="module")
 def study_out(tmp_path_factory):
-    """Run the dummy study once (report written by run_study with a section limit of 3)."""
+    """Run the dummy study once, write its reference curves and its report."""
     import railtherm.report as report
+    from railtherm.reference_curves import write_reference_curves
+    from railtherm.study import load_study
     tmp = tmp_path_factory.mktemp("report")
     path = tmp / "study.toml"
     path.write_text(STUDY)
     old = get_host()
     set_host(new_host([("report-dummy", DummyPlugin())], autoload=False, strict=True))
-    limit = report.MAX_SCENE_SECTIONS
-    report.MAX_SCENE_SECTIONS = 3
     try:
         out = tmp / "out"
         railtherm.run_study(str(path), out, report=False)
+        write_reference_curves(load_study(path), out)
         bench = {"datetime": "2026-01-01T00:00:00", "machine_info": {"cpu": {"brand_raw": "Test CPU"}},
                  "benchmarks": [{"name": "test_green_speed", "stats": {"mean": 0.0123, "min": 0.0101, "stddev": 1e-4,
                                                                        "rounds": 7},
@@ -192,7 +194,6 @@ def study_out(tmp_path_factory):
         paths = report.write_report(out)
         yield out, paths
     finally:
-        report.MAX_SCENE_SECTIONS = limit
         set_host(old)
 
 
@@ -211,84 +212,120 @@ def test_files_written_and_listed(study_out):
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and p.stat().st_size > 5000, p
 
 
-def test_report_sections(study_out):
+def test_verdict_comes_first(study_out):
     out, _ = study_out
     md = (out / "report.md").read_text()
     assert "could not be drawn" not in md and "not drawn" not in md
-    sec = _sections(md)
-    # one section per scene (first 3), then the summary of the others
+    assert re.findall(r"^## (.*)$", md, flags=re.M)[0] == "Verdict"
+    verdict = _sections(md)["Verdict"]
+    assert "**Table 1.** Scorecard" in verdict
+    assert "Key findings" in verdict and "**Figure 1.** Work-precision" in verdict
+    header = next(line for line in verdict.splitlines() if line.startswith("| scene"))
+    assert [c.strip() for c in header.strip("|").split("|")] == ["scene · headline", "alpha", "broken", "creep",
+                                                                 "picky"]
+    text = (out / "report.html").read_text()
+    body = text.split("<body>", 1)[1]
+    assert body.index("<h2") == body.index('<h2 id="verdict">')
+    assert body.index("<table") > body.index('<h2 id="verdict">')
+    assert "Table 1.</b> Scorecard" in body.split("</table>")[0]
+
+
+def test_scorecard_cells(study_out):
+    """line-sliding: the dummies' errors (20 % and 10 %) exceed the 5 % tolerance, so each cell shows its most
+    accurate level as inaccurate (alpha: level 1; broken and picky: level 0, the only one they ran); creep
+    is refused (its contact model needs creepage)."""
+    out, _ = study_out
+    verdict = _sections((out / "report.md").read_text())["Verdict"]
+    row = next(line for line in verdict.splitlines() if line.startswith("| [line-sliding]"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    assert cells[0] == "[line-sliding](#scene-line-sliding) · max T"
+    assert cells[1].startswith("inaccurate · ") and cells[1].endswith("· L1")
+    assert cells[2].startswith("inaccurate · ") and cells[2].endswith("· L0")
+    assert cells[4].startswith("inaccurate · ") and cells[4].endswith("· L0")
+    assert cells[3].startswith("refused")
+    sweep = next(line for line in verdict.splitlines() if line.startswith("| [carter]"))
+    assert "(5 scenes) · Fx" in sweep
+
+
+def test_scene_sections(study_out):
+    out, _ = study_out
+    sec = _sections((out / "report.md").read_text())
     assert "1. Scene `line-sliding`" in sec and "2. Scene `ellipse-convective`" in sec
-    assert "3. Scene `carter--creepage.longitudinal=-0.001`" in sec
-    assert "Summary of further scenes" in sec
-    assert "carter--creepage.longitudinal=0.001" in sec["Summary of further scenes"]
     line = sec["1. Scene `line-sliding`"]
-    # reference named, every status shown with its message, heat balance, errors, convergence orders
-    assert "Reference: " in line and "Jaeger" in line and "Hertz" in line
-    assert "| broken | 1 | failed |" in line and "dummy solver diverged on purpose" in line
-    assert "| picky | 1 | refused |" in line and "refuses fine grids" in line
-    assert "| creep | 0–1 | refused |" in line  # levels refused for the same reason share a row
-    assert "heat balance [1]" in line and "err max_surface_temperature" in line
+    assert "Headline quantity: **max. surface temperature**" in line and "jaeger" in line.lower()
+    # refused and failed runs are one line each, not table rows
+    assert "**broken failed level 1**" in line and "dummy solver diverged on purpose" in line
+    assert "**picky refused level 1**" in line and "refuses fine grids" in line
+    assert "**creep refused levels 0–1**" in line
+    assert "| broken | 1 |" not in line and "| creep |" not in line
+    assert "<details><summary>Runs with a result" in line
     assert "Fitted convergence order" in line
-    assert "max_surface_temperature: method \\ compared with" in line  # cross-method matrix
-    for kind in ("work-precision", "cross", "surface", "depth", "traction"):
+    for kind in ("surface", "depth"):
         assert f"figures/001-line-sliding-{kind}.png" in line, kind
+    assert "Exact reference curves are not drawn" not in line
     ell = sec["2. Scene `ellipse-convective`"]
     assert "figures/002-ellipse-convective-traction.png" in ell
     assert "convection 10 W/(m² K)" in ell
+
+
+def test_sweep_is_one_section(study_out):
+    out, paths = study_out
+    md = (out / "report.md").read_text()
+    sec = _sections(md)
+    assert not any(t.startswith(tuple(f"{i}. Scene `carter" for i in range(10))) for t in sec)
+    title = next(t for t in sec if "Sweep `carter`" in t)
+    assert "over creepage.longitudinal (5 scenes)" in title
+    body = sec[title]
+    assert body.count("**Table ") == 1 and body.count("**Figure ") == 1
+    assert any(p.name.startswith("003-sweep-carter") for p in paths)
+    # Fx/(mu N) of the finest level: Carter's ratio times (1 + delta(1)), beside the exact ratio
+    from railtherm.models.hertz import hertz_geometry
+    from railtherm.references.carter import carter_2d
+    from railtherm.study import load_study
+    sc = load_study(out.parent / "study.toml").scene("carter--creepage.longitudinal=-0.0004")
+    ratio = carter_2d(-4e-4, hertz_geometry(sc)[0], sc.friction, sc.wheel_radius).force_ratio
+    assert 0.3 < ratio < 0.95  # partial slip: the curve is not trivially saturated here
+    header = next(line for line in body.splitlines() if line.startswith("| creepage.longitudinal |"))
+    header = [c.strip() for c in header.strip("|").split("|")]
+    row = next(line for line in body.splitlines() if line.startswith("| -0.0004 |"))
+    cells = dict(zip(header, (c.strip() for c in row.strip("|").split("|"))))
+    assert float(cells["exact"]) == pytest.approx(ratio, rel=1e-3)
+    assert float(cells["creep"].split()[0]) == pytest.approx(ratio * (1 + _delta(1)), rel=2e-3)
+    assert cells["alpha"] == "refused"
+    assert "Creep force computed by: creep ← report-carter-contact (contact stage)" in body
+
+
+def test_convergence_order_in_report(study_out):
+    """The dummies' errors are first order in h, so the fitted order must be close to 1."""
+    out, _ = study_out
+    sec = _sections((out / "report.md").read_text())["1. Scene `line-sliding`"]
+    table = sec.split("Fitted convergence order")[1]
+    header = next(line for line in table.splitlines() if line.startswith("| method |"))
+    row = next(line for line in table.splitlines() if line.startswith("| alpha |"))
+    col = [c.strip() for c in header.split("|")].index("max T")
+    assert float(row.split("|")[col].split()[0]) == pytest.approx(1.0, abs=0.15)
 
 
 def test_markdown_tables_are_rectangular(study_out):
     out, _ = study_out
     md = (out / "report.md").read_text()
     tables = re.findall(r"((?:^\|.*\|\n)+)", md, flags=re.M)
-    assert len(tables) >= 8
+    assert len(tables) >= 6
     for block in tables:
         rows = block.strip("\n").split("\n")
         assert re.fullmatch(r"\|(---\|)+", rows[1]), rows[1]
         widths = {len(re.split(r"(?<!\\)\|", r)) for r in rows}
         assert len(widths) == 1, rows[0]
-
-
-def test_convergence_order_in_report(study_out):
-    """The dummies' errors are first order in h, so the fitted orders must be close to 1."""
-    out, _ = study_out
-    import xarray as xr
-    with xr.open_dataset(out / "metrics.nc") as m:
-        order = float(m["convergence_order"].sel(scene_name="carter--creepage.longitudinal=-0.001",
-                                                 method_name="creep", metric="creep_force_x"))
-    assert order == pytest.approx(1.0, abs=0.05)
-    sec = _sections((out / "report.md").read_text())["3. Scene `carter--creepage.longitudinal=-0.001`"]
-    table = sec.split("Fitted convergence order")[1]
-    header = next(line for line in table.splitlines() if line.startswith("| method |"))
-    row = next(line for line in table.splitlines() if line.startswith("| creep |"))
-    col = [c.strip() for c in header.split("|")].index("creep_force_x")
-    assert float(row.split("|")[col]) == pytest.approx(order, rel=1e-3)
-
-
-def test_creep_force_curves(study_out):
-    out, paths = study_out
-    sec = _sections((out / "report.md").read_text())["Creep-force curves"]
-    assert "`carter`: creep force against creepage.longitudinal" in sec
-    assert any(p.name.startswith("creep-01-carter") for p in paths)
-    # the table holds Fx/(mu N) of the finest level: Carter's ratio times (1 + delta(1))
-    from railtherm.references.carter import carter_2d
-    from railtherm.study import load_study
-    st = load_study(out.parent / "study.toml")
-    sc = st.scene("carter--creepage.longitudinal=-0.0004")
-    from railtherm.models.hertz import hertz_geometry
-    a = hertz_geometry(sc)[0]
-    ratio = carter_2d(-4e-4, a, sc.friction, sc.wheel_radius).force_ratio
-    assert 0.3 < ratio < 0.95  # partial slip: the curve is not trivially saturated here
-    want = ratio * (1 + _delta(1))
-    row = next(line for line in sec.splitlines() if line.startswith("| -0.0004 |"))
-    assert float(row.split("|")[2]) == pytest.approx(want, rel=2e-3)
+    numbers = [int(n) for n in re.findall(r"\*\*Table (\d+)\.\*\*", md)]
+    assert numbers == list(range(1, len(numbers) + 1)) and len(numbers) == len(tables)
+    figures = [int(n) for n in re.findall(r"\*\*Figure (\d+)\.\*\*", md)]
+    assert figures == list(range(1, len(figures) + 1))
 
 
 def test_benchmarks_and_footer(study_out):
     out, _ = study_out
-    md = (out / "report.md").read_text()
-    sec = _sections(md)
-    assert "| test_green_speed | 0.0123 | 0.0101 |" in sec["Benchmarks"]
+    sec = _sections((out / "report.md").read_text())
+    assert "| test_green_speed | 12 ms | 10 ms |" in sec["Benchmarks"]
     assert "error_max_surface_temperature=0.001234" in sec["Benchmarks"]
     env = sec["Environment"]
     for word in ("numpy", "scipy", "xarray", "numba", "fipy", "scikit-fem", "OMP_NUM_THREADS",
@@ -300,15 +337,20 @@ def test_html_self_contained(study_out):
     out, paths = study_out
     text = (out / "report.html").read_text()
     assert text.startswith("<!DOCTYPE html>") and text.rstrip().endswith("</html>")
-    srcs = re.findall(r'<img src="([^"]+)"', text)
-    assert sorted(srcs) == sorted(f"figures/{p.name}" for p in paths[2:])
-    assert all((out / s).exists() for s in srcs)
-    assert text.count("<table>") == (out / "report.md").read_text().count("\n|---")
+    imgs = re.findall(r'<img src="([^"]+)" width="(\d+)"', text)
+    assert sorted(s for s, _ in imgs) == sorted(f"figures/{p.name}" for p in paths[2:])
+    assert all((out / s).exists() for s, _ in imgs)
+    from PIL import Image
+    for src, width in imgs:  # HiDPI: the PNG holds twice the CSS width, which fits the page
+        assert Image.open(out / src).size[0] == pytest.approx(2 * int(width), abs=2)
+        assert int(width) <= 980
+    assert text.count("<table") == (out / "report.md").read_text().count("\n|---")
     assert "<script" not in text and "http" not in text.split("<body>")[1].split("Environment")[0]
 
 
-def test_report_without_study(study_out, tmp_path):
-    """`railtherm report DIR` re-loads the study from study.json; without it the report still works."""
+def test_report_without_study_or_curves(study_out, tmp_path):
+    """`railtherm report DIR` re-loads the study from study.json; without it, and without
+    references.nc, the report is still written (overlays left out with a note)."""
     import shutil
 
     import railtherm.report as report
@@ -319,16 +361,14 @@ def test_report_without_study(study_out, tmp_path):
     info["path"] = str(tmp_path / "missing.toml")
     (copy / "study.json").write_text(json.dumps(info))
     (copy / "benchmarks.json").unlink()
-    report.MAX_SCENE_SECTIONS, limit = 0, report.MAX_SCENE_SECTIONS
-    try:
-        paths = report.write_report(copy)
-    finally:
-        report.MAX_SCENE_SECTIONS = limit
+    (copy / "references.nc").unlink()
+    paths = report.write_report(copy)
     md = paths[0].read_text()
     assert "missing.toml" in md and "not found" in md
     assert "Benchmarks" not in md
-    # scene sweep parsed from the names: the creep-force curves are still drawn (without Carter)
-    assert "Creep-force curves" in md and "could not be drawn" not in md
+    assert "Exact reference curves are not drawn: `references.nc` is missing" in md
+    # the sweep is still one section (from the run records), without the exact curve
+    assert "Sweep `carter` over creepage.longitudinal (5 scenes)" in md and "could not be drawn" not in md
 
 
 def test_missing_metrics(tmp_path):
