@@ -1,7 +1,10 @@
 """Command line: ``railtherm run | validate | methods | report``.
 
-User errors (invalid study, unknown method) print one message and exit with status 2, without a
-traceback. FiPy parses ``sys.argv`` when imported; the FiPy plugin shields it from our arguments,
+User errors (invalid study or option, unknown method, a path that cannot be used, a bad command-line
+value) print one ``railtherm: error: ...`` line and exit with status 2, without a traceback.
+``railtherm run`` checks the whole study before the first run and exits 0 when no run failed (ok,
+inaccurate, unverified and refused runs), 3 when a run failed. ``railtherm validate`` exits 1 on any
+error. FiPy parses ``sys.argv`` when imported; the FiPy plugin shields it from our arguments,
 and none of our options collides with FiPy's (``--petsc``, ``--scipy``, ``--trilinos``, ``--inline``).
 """
 from __future__ import annotations
@@ -12,26 +15,39 @@ import warnings
 
 from .errors import SceneError
 
+#: run statuses (docs/verdicts.md), in the order they are counted
+STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
+
+
+class _UsageError(Exception):
+    """A command-line usage error (argparse's), reported like every other user error."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # argparse would print usage and exit; main() prints one line
+        raise _UsageError(f"{self.prog}: {message}")
+
 
 def _levels(text: str) -> list[int]:
     try:
         return [int(t) for t in text.replace(" ", "").split(",") if t]
     except ValueError:
-        raise argparse.ArgumentTypeError(f"--levels takes integers separated by commas, got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"--levels takes integers >= 0 separated by commas, got {text!r}") from None
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="railtherm", description="Compare numerical methods for thermoelastic "
-                                "wheel-rail rolling contact with friction.")
-    sub = p.add_subparsers(dest="command", required=True)
-    r = sub.add_parser("run", help="run a study and write runs/, metrics.nc and the report")
+    p = _Parser(prog="railtherm", description="Compare numerical methods for thermoelastic "
+                "wheel-rail rolling contact with friction.")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    r = sub.add_parser("run", help="run a study and write runs/, metrics.nc and the report (exit 0: no run "
+                       "failed; 3: a run failed; 2: invalid input)")
     r.add_argument("study", help="study TOML file")
     r.add_argument("--out", default=None, help="output folder (default: out/<study name>)")
     r.add_argument("--methods", default=None, help="comma-separated methods (default: the study's)")
     r.add_argument("--levels", type=_levels, default=None, help="comma-separated levels (default: the study's)")
     r.add_argument("--executor", choices=("serial", "processes", "dask"), default="serial")
     r.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (with --executor dask)")
-    r.add_argument("--workers", type=int, default=None, help="local workers (processes / LocalCluster)")
+    r.add_argument("--workers", type=int, default=None, help="local workers >= 1 (processes / LocalCluster)")
     r.add_argument("--resume", action="store_true", help="skip runs already written for the same scene hash")
     r.add_argument("--no-report", action="store_true", help="do not write the report")
     v = sub.add_parser("validate", help="check a study without running it (exit 1 on any error)")
@@ -43,55 +59,110 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _error(message) -> int:
+    print(f"railtherm: error: {message}", file=sys.stderr)
+    return 2
+
+
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
     try:
+        args = build_parser().parse_args(argv)
         return _dispatch(args)
+    except _UsageError as exc:
+        return _error(f"{exc} (see railtherm --help)")
     except SceneError as exc:
-        print(f"railtherm: error: {exc}", file=sys.stderr)
-        return 2
+        return _error(exc)
+    except OSError as exc:  # a path the user gave: missing, a file for a folder, no permission
+        where = f" {str(exc.filename)!r}" if exc.filename else ""
+        return _error(f"{exc.strerror or exc}{where}")
     except KeyboardInterrupt:
         print("railtherm: interrupted; runs written so far are kept (use --resume)", file=sys.stderr)
         return 130
 
 
+def _host():
+    from .plugins import get_host
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return get_host()
+
+
+def _validate(paths) -> int:
+    from .options import check_study
+    from .study import load_study
+    host = _host()
+    bad = 0
+    for path in paths:
+        try:
+            st = load_study(path)
+            check_study(st, host)
+        except SceneError as exc:
+            print(f"{path}: error: {exc}", file=sys.stderr)
+            bad += 1
+            continue
+        print(f"{path}: ok: study {st.name!r}, {len(st.scenes)} scenes, methods {st.method_names(host.methods)}, "
+              f"levels {st.levels}")
+    return 1 if bad else 0
+
+
+def _run(args) -> int:
+    from pathlib import Path
+
+    from .options import check_study
+    from .runner import run_study
+    from .study import load_study
+    if args.workers is not None and args.workers < 1:
+        raise SceneError(f"--workers {args.workers} is not allowed: an integer >= 1 (local worker processes)",
+                         key="workers", value=args.workers, allowed="an integer >= 1")
+    methods = None
+    if args.methods is not None:
+        methods = [m.strip() for m in args.methods.split(",") if m.strip()]
+        if not methods:
+            raise SceneError(f"--methods {args.methods!r} names no method", key="methods", value=args.methods,
+                             allowed="comma-separated method names")
+    st = load_study(args.study)
+    check_study(st, _host(), methods=methods, levels=args.levels)  # everything, before the first task
+    out = Path(args.out or Path("out") / st.name)
+    if out.exists() and not out.is_dir():
+        raise SceneError(f"--out {str(out)!r} is an existing file, not a folder: name a folder (created if missing)",
+                         key="out", value=str(out), allowed="a folder")
+    m = run_study(st, out, executor=args.executor, scheduler=args.scheduler, methods=methods,
+                  levels=args.levels, resume=args.resume, report=not args.no_report, workers=args.workers)
+    status = [str(s) for s in m["status"].values]
+    counts = {k: status.count(k) for k in STATUSES}
+    other = len(status) - sum(counts.values())
+    print(f"study {st.name!r}: {len(status)} runs: " + ", ".join(f"{v} {k}" for k, v in counts.items())
+          + (f", {other} of unknown status" if other else "") + f"; results in {out}")
+    return 3 if counts["failed"] or other else 0
+
+
+def _report(args) -> int:
+    from pathlib import Path
+
+    from .report import write_report
+    out = Path(args.out)
+    if not out.exists():
+        raise SceneError(f"output folder {str(out)!r} does not exist: give the --out folder of `railtherm run`",
+                         key="out", value=str(out), allowed="an output folder of railtherm run")
+    if not out.is_dir():
+        raise SceneError(f"{str(out)!r} is not a folder: give the --out folder of `railtherm run`",
+                         key="out", value=str(out), allowed="an output folder of railtherm run")
+    if not (out / "metrics.nc").is_file():
+        raise SceneError(f"folder {str(out)!r} holds no metrics.nc: run `railtherm run STUDY --out {out}` first",
+                         key="out", value=str(out), allowed="an output folder of railtherm run")
+    if args.benchmarks is not None and not Path(args.benchmarks).is_file():
+        raise SceneError(f"--benchmarks {args.benchmarks!r} is not a file (a pytest-benchmark JSON file)",
+                         key="benchmarks", value=args.benchmarks, allowed="a pytest-benchmark JSON file")
+    for p in write_report(out, benchmarks=args.benchmarks):
+        print(p)
+    return 0
+
+
 def _dispatch(args) -> int:
     if args.command == "validate":
-        from .plugins import get_host
-        from .study import load_study
-        bad = 0
-        for path in args.study:
-            try:
-                st = load_study(path)
-            except SceneError as exc:
-                print(f"{path}: error: {exc}", file=sys.stderr)
-                bad += 1
-                continue
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                host = get_host()
-            names = st.method_names(host.methods)
-            unknown = [m for m in names if m not in host.methods]
-            if unknown:
-                print(f"{path}: error: key 'study.methods': unknown method(s) {unknown}; installed: "
-                      f"{sorted(host.methods)}", file=sys.stderr)
-                bad += 1
-                continue
-            for m in names:  # options are validated by the method's models
-                opts = st.options.get(m, {})
-                for s in host.methods[m].models:
-                    try:
-                        s.cls.resolve_options(opts)
-                    except SceneError as exc:
-                        print(f"{path}: error: study.options.{m}: {exc}", file=sys.stderr)
-                        bad += 1
-            print(f"{path}: ok: study {st.name!r}, {len(st.scenes)} scenes, methods {names}, levels {st.levels}")
-        return 1 if bad else 0
+        return _validate(args.study)
     if args.command == "methods":
-        from .plugins import get_host
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            host = get_host()
+        host = _host()
         for name in sorted(host.methods):
             print(host.methods[name].describe())
         if host.problems:
@@ -100,26 +171,9 @@ def _dispatch(args) -> int:
                 print(f"  - {p}")
         return 0
     if args.command == "run":
-        from pathlib import Path
-
-        from .runner import run_study
-        from .study import load_study
-        st = load_study(args.study)
-        out = Path(args.out or Path("out") / st.name)
-        methods = [m.strip() for m in args.methods.split(",")] if args.methods else None
-        m = run_study(st, out, executor=args.executor, scheduler=args.scheduler, methods=methods,
-                      levels=args.levels, resume=args.resume, report=not args.no_report, workers=args.workers)
-        status = [str(s) for s in m["status"].values]
-        counts = {k: status.count(k) for k in ("ok", "inaccurate", "refused", "failed")}
-        print(f"study {st.name!r}: {len(status)} runs: " + ", ".join(f"{v} {k}" for k, v in counts.items())
-              + f"; results in {out}")
-        return 0
+        return _run(args)
     if args.command == "report":
-        from .report import write_report
-        paths = write_report(args.out, benchmarks=args.benchmarks)
-        for p in paths:
-            print(p)
-        return 0
+        return _report(args)
     return 2
 
 
