@@ -144,9 +144,9 @@ def _order_words(o) -> str:
     if not finite(o.order):
         return "–"
     if o.order < 0:
-        return f"no convergence ({num(o.order, 2)})"
+        return f"no convergence ({num(o.order, 2).replace('-', '−')})"
     if abs(o.order) < 0.1:
-        return f"error floor ({num(o.order, 2)})"
+        return f"error floor ({num(o.order, 2).replace('-', '−')})"
     return num(o.order, 3)
 
 

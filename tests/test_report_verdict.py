@@ -1,0 +1,346 @@
+"""The report's verdict, tables and style on synthetic metrics (no solver runs).
+
+metrics.nc is built by hand following docs/verdicts.md, once with every column of the second release
+and once as the first release wrote it (no reason_kind, per-metric references, headline, ...): the
+report must work with both.
+"""
+from __future__ import annotations
+
+import json
+import math
+import re
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+STUDY = """
+schema_version = 1
+[study]
+name = "synthetic"
+methods = ["fem", "fipy", "green"]
+levels = [0, 1, 2, 3]
+reference = "analytic"
+tolerance = 0.05
+
+[study.published."ek"]
+max_surface_temperature = 149.7
+source = "seed Table 1"
+
+[defaults.wheel]
+shear_modulus = 82e9
+poisson_ratio = 0.28
+density = 7850.0
+specific_heat = 450.0
+conductivity = 50.0
+[defaults.rail]
+shear_modulus = 82e9
+poisson_ratio = 0.28
+density = 7850.0
+specific_heat = 450.0
+conductivity = 50.0
+
+[[scene]]
+name = "ek"
+normal_force = 100e3
+contact = { shape = "ellipse", curvatures = [1.015, 0.4215] }
+speed = 30.0
+sliding_speed = 1.0
+friction = 0.3
+outputs = ["max_surface_temperature", "surface_temperature"]
+
+[[scene]]
+name = "strip"
+speed = 30.0
+heat_source = { flux = 2.3e8, shape = "hertz", half_width = 5.9e-3 }
+outputs = ["max_surface_temperature", "surface_temperature"]
+"""
+
+FEM_ELLIPSE = "model 'fem' handles ['line'] contacts, not 'ellipse'"
+FIPY_BUDGET = "model 'fipy': 81920 cells > max_cells = 50000 (raise max_cells or use level 2)"
+METRICS = ("max_surface_temperature", "creep_force_x", "pressure_l2")
+
+#: (scene, method, level, status, reason_kind, message, wall_time, headline error, reference)
+RUNS = [
+    ("ek", "green", 0, "ok", "", "", 1.0e-3, 0.004, "analytic:moving-source"),
+    ("ek", "green", 1, "ok", "", "", 2.0e-3, 0.001, "analytic:moving-source"),
+    ("ek", "green", 2, "ok", "", "", 5.0e-3, 1e-4, "analytic:moving-source"),
+    ("ek", "fipy", 0, "inaccurate", "", "relative error 0.08 in max_surface_temperature exceeds the tolerance 0.05",
+     0.05, 0.08, "analytic:moving-source"),
+    ("ek", "fipy", 1, "ok", "", "", 0.9, 0.012, "analytic:moving-source"),
+    ("ek", "fipy", 2, "ok", "", "", 0.4, 0.004, "analytic:moving-source"),  # cheaper than level 1
+    ("ek", "fipy", 3, "refused", "budget", FIPY_BUDGET, math.nan, math.nan, ""),
+    ("ek", "fem", 0, "refused", "validity", FEM_ELLIPSE, math.nan, math.nan, ""),
+    ("ek", "fem", 1, "refused", "validity", FEM_ELLIPSE, math.nan, math.nan, ""),
+    ("ek", "fem", 2, "refused", "validity", FEM_ELLIPSE, math.nan, math.nan, ""),
+    ("strip", "fem", 0, "unverified", "", "no independent reference", 0.2, 0.03, "self:finest"),
+    ("strip", "fem", 1, "unverified", "", "no independent reference", 0.7, 0.01, "self:finest"),
+    ("strip", "fem", 2, "unverified", "", "no independent reference", 2.7, 0.0, "self:finest"),
+    ("strip", "green", 0, "failed", "timeout", "timed out after 120 s", math.nan, math.nan, ""),
+    ("strip", "fipy", 0, "refused", "validity", "model 'fipy' handles ellipses only", math.nan, math.nan, ""),
+]
+
+
+def _metrics(new: bool):
+    """A metrics Dataset of RUNS, with (new=True) or without the columns of the second release."""
+    import xarray as xr
+    n = len(RUNS)
+    col = lambda i: [r[i] for r in RUNS]
+    has = [r[3] in ("ok", "inaccurate", "unverified") for r in RUNS]
+    err = np.array([r[7] if h else np.nan for r, h in zip(RUNS, has)])
+    data = {"scene": ("run", np.array(col(0), dtype=object)), "method": ("run", np.array(col(1), dtype=object)),
+            "level": ("run", np.array(col(2), dtype="int32")), "message": ("run", np.array(col(5), dtype=object)),
+            "wall_time": ("run", np.array(col(6), float)),
+            "error_max_surface_temperature": ("run", err),
+            "error_creep_force_x": ("run", np.where(has, 0.0, np.nan)),  # zero in every run: dropped
+            "error_pressure_l2": ("run", np.full(n, np.nan))}  # missing in every run: dropped
+    scenes, methods = ["ek", "strip"], ["fem", "fipy", "green"]
+    order = np.full((2, 3, len(METRICS)), np.nan)
+    order[0, 2, 0], order[0, 1, 0], order[1, 0, 0] = 2.1, -0.4, 1.6
+    if new:
+        data.update({
+            "status": ("run", np.array(col(3), dtype=object)),
+            "reason_kind": ("run", np.array(col(4), dtype=object)),
+            "wall_time_median": ("run", np.array(col(6), float) * 1.1),
+            "timing_runs": ("run", np.where(has, 5, 0).astype("int32")),
+            "peak_rss": ("run", np.where(has, 12e6, np.nan)),
+            "energy_balance": ("run", np.where(has, 1e-3, np.nan)),
+            "energy_reference": ("run", np.array(["solver" if h else "" for h in has], dtype=object)),
+            "reference_max_surface_temperature": ("run", np.array(col(8), dtype=object)),
+            "reference_creep_force_x": ("run", np.array(["analytic:full-sliding" if h else "" for h in has],
+                                                        dtype=object)),
+            "reference_pressure_l2": ("run", np.array([""] * n, dtype=object)),
+            "headline_error": ("run", np.array([r[7] if r[8].startswith("analytic") else np.nan for r in RUNS])),
+            "headline_reference": ("run", np.array([r[8] if r[8].startswith("analytic") else "" for r in RUNS],
+                                                   dtype=object)),
+            "headline": ("scene_name", np.array(["max_surface_temperature"] * 2, dtype=object)),
+            "reference_kind": ("scene_name", np.array(["analytic", "analytic"], dtype=object)),
+            "analytic_max_surface_temperature": (("scene_name", "body"), np.array([[149.5, 149.5], [np.nan] * 2])),
+        })
+        theo = np.full_like(order, np.nan)
+        theo[0, 2, 0], theo[0, 1, 0], theo[1, 0, 0] = 2.0, 2.0, 2.0
+        oref = np.full(order.shape, "", dtype=object)
+        oref[0, 2, 0] = oref[0, 1, 0] = "analytic:moving-source"
+        oref[1, 0, 0] = "self:finest"
+        rich = np.full_like(order, np.nan)
+        rich[1, 0, 0] = 0.003
+        unc = np.full_like(order, np.nan)
+        unc[1, 0, 0] = 0.001
+        data.update({"order_reference": (("scene_name", "method_name", "metric"), oref),
+                     "theoretical_order": (("scene_name", "method_name", "metric"), theo),
+                     "richardson_error": (("scene_name", "method_name", "metric"), rich),
+                     "richardson_uncertainty": (("scene_name", "method_name", "metric"), unc)})
+    else:  # first release: ok/inaccurate/refused/failed and one combined reference text
+        legacy_status = ["ok" if s == "unverified" else s for s in col(3)]
+        text = {"analytic:moving-source": "moving surface source on a half-space (point-source superposition)",
+                "self:finest": "finest level of fem (level 2) where no analytic value", "": ""}
+        data.update({"status": ("run", np.array(legacy_status, dtype=object)),
+                     "reference": ("run", np.array([text[r[8]] for r in RUNS], dtype=object)),
+                     "peak_memory": ("run", np.where(has, 3e6, np.nan)),
+                     "heat_balance": ("run", np.where(has, 2e-3, np.nan))})
+    data["convergence_order"] = (("scene_name", "method_name", "metric"), order)
+    data["cross_difference"] = (("scene_name", "quantity", "method_name", "other_method"), np.full((2, 1, 3, 3), np.nan))
+    ds = xr.Dataset(data, coords={"run": np.arange(n), "scene_name": np.array(scenes, dtype=object),
+                                  "method_name": np.array(methods, dtype=object),
+                                  "other_method": np.array(methods, dtype=object),
+                                  "metric": np.array(METRICS, dtype=object),
+                                  "quantity": np.array(["max_surface_temperature"], dtype=object),
+                                  "body": np.array(["wheel", "rail"], dtype=object)})
+    ds.attrs.update(study="synthetic", tolerance=0.05)
+    return ds
+
+
+def _folder(tmp_path: Path, new: bool) -> Path:
+    """An output folder: study file, study.json, metrics.nc and one run file (green's finest on ek)."""
+    import xarray as xr
+    out = tmp_path / ("new" if new else "legacy")
+    out.mkdir()
+    (tmp_path / "study.toml").write_text(STUDY)
+    (out / "study.json").write_text(json.dumps({"study": "synthetic", "path": str(tmp_path / "study.toml"),
+                                                "argv": ["railtherm", "run"], "records": []}))
+    _metrics(new).to_netcdf(out / "metrics.nc", engine="netcdf4")
+    run = out / "runs" / "ek" / "green"
+    run.mkdir(parents=True)
+    xr.Dataset({"max_surface_temperature": ("body", [149.1, 149.1])}, coords={"body": ["wheel", "rail"]},
+               attrs={"level": 2, "stages": "contact:hertz heat_source:full-sliding temperature:green"}
+               ).to_netcdf(run / "level-2.nc", engine="netcdf4")
+    return out
+
+
+@pytest.fixture(scope="module", params=[True, False], ids=["second-release", "first-release"])
+def report(request, tmp_path_factory):
+    from railtherm.report import write_report
+    out = _folder(tmp_path_factory.mktemp("synthetic"), request.param)
+    paths = write_report(out)
+    return request.param, out, paths[0].read_text(), paths[1].read_text()
+
+
+def _section(md: str, title: str) -> str:
+    parts = re.split(r"^## ", md, flags=re.M)
+    return next(p for p in parts[1:] if p.startswith(title))
+
+
+def _scorecard(md: str) -> dict:
+    """(scene, method) -> cell text of the scorecard."""
+    verdict = _section(md, "Verdict")
+    lines = [line for line in verdict.splitlines() if line.startswith("|")]
+    header = [c.strip() for c in lines[0].strip("|").split("|")]
+    out = {}
+    for line in lines[2:]:
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        scene = re.match(r"\[?([^\]·]+)", cells[0]).group(1).strip()
+        out.update({(scene, m): c for m, c in zip(header[1:], cells[1:])})
+    return out
+
+
+def test_verdict_first(report):
+    _, _, md, html = report
+    assert re.findall(r"^## (.*)$", md, flags=re.M)[0] == "Verdict"
+    body = html.split("<body>", 1)[1]
+    assert body.index("<h2") == body.index('<h2 id="verdict">')
+
+
+def test_scorecard_cheapest_ok_level(report):
+    """fipy on ek: level 0 is inaccurate, levels 1 and 2 are ok and level 2 is the cheaper one."""
+    _, _, md, html = report
+    card = _scorecard(md)
+    assert card[("ek", "fipy")] == "ok · 0.40 % · 0.40 s · L2"
+    assert card[("ek", "green")] == "ok · 0.40 % · 1.0 ms · L0"
+    assert card[("ek", "fem")].startswith("refused")
+    assert card[("strip", "fem")].startswith("unverified · no reference")
+    assert card[("strip", "green")].startswith("failed")
+    assert '<td class="ok">ok · 0.40 % · 1.0 ms · L0</td>' in html
+    assert '<td class="unverified">unverified' in html
+
+
+def test_second_release_columns(report):
+    new, _, md, _ = report
+    if not new:
+        pytest.skip("second release only")
+    card = _scorecard(md)
+    assert card[("ek", "fem")] == "refused (validity)" and card[("strip", "green")] == "failed (timeout)"
+    assert "Richardson ≈0.30 %" in card[("strip", "fem")]
+    ek = _section(md, "1. Scene `ek`")
+    assert "time min / median (n)" in ek and "1.0 ms / 1.1 ms (5)" in ek
+    assert "peak RSS growth" in ek and "12 MB" in ek
+    assert "2.1 (th. 2)" in ek and "no convergence (−0.4) (th. 2)" in ek
+    strip = _section(md, "2. Scene `strip`")
+    assert "1.6 (th. 2) †" in strip and "self-convergence" in strip
+    assert "Richardson estimate of the finest level's error 0.30 % ± 0.10 %" in strip
+
+
+def test_refusals_are_one_line_per_reason(report):
+    new, _, md, _ = report
+    ek = _section(md, "1. Scene `ek`")
+    kind = " (validity)" if new else ""
+    assert f"- **fem refused levels 0–2**{kind}: {FEM_ELLIPSE}" in ek
+    assert f"- **fipy refused level 3**{' (budget)' if new else ''}: {FIPY_BUDGET}" in ek
+    assert ek.count(FEM_ELLIPSE) == 1
+    strip = _section(md, "2. Scene `strip`")
+    assert "**green failed level 0**" in strip and "timed out after 120 s" in strip
+    assert "| green | 0 | failed" not in strip
+
+
+def test_all_zero_and_missing_columns_dropped(report):
+    _, _, md, _ = report
+    ek = _section(md, "1. Scene `ek`")
+    table = next(line for line in ek.splitlines() if line.startswith("| method | level |"))
+    assert "err max T [%]" in table and "err Fx" not in table and "err p L2" not in table
+    note = next(line for line in ek.splitlines() if line.startswith("Columns left out"))
+    assert "err Fx [%]" in note  # zero in every run (a metric no run computed is not a column at all)
+
+
+def test_published_value_printed_exactly(report):
+    _, _, md, _ = report
+    ek = _section(md, "1. Scene `ek`")
+    row = next(line for line in ek.splitlines() if line.startswith("| `max_surface_temperature` |"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    assert cells[1] == "149.7"
+    assert cells[2] == "149.1 (Δ −0.40 %)"
+
+
+def test_findings(report):
+    _, _, md, _ = report
+    verdict = _section(md, "Verdict")
+    findings = verdict.split("### Key findings")[1].split("\n\n")[1]
+    items = [line for line in findings.splitlines() if line.startswith("- ")]
+    assert 3 <= len(items) <= 5
+    assert any(i.startswith("- 1 run failed: green on `strip`") for i in items)
+    assert any("fem is unverified on `strip`" in i for i in items)
+    assert any("green reaches 0.40 % error in 1.0 ms; fipy needs" in i for i in items)
+
+
+def test_legacy_status_of_self_referenced_runs(tmp_path):
+    """First-release metrics: fem's 'ok' against its own finest level is shown as unverified."""
+    from railtherm.report.load import load
+    data = load(_folder(tmp_path, new=False))
+    fem = [r for r in data.runs if r.scene == "strip" and r.method == "fem"]
+    assert {r.status for r in fem} == {"unverified"}
+    green = [r for r in data.runs if r.scene == "ek" and r.method == "green"]
+    assert {r.status for r in green} == {"ok"}
+    assert green[0].references["max_surface_temperature"] == "analytic:moving-source"
+    assert green[0].headline_error == pytest.approx(0.004)
+    assert data.memory_label == "peak traced memory"
+
+
+def test_method_colours():
+    from matplotlib.colors import to_rgb
+
+    from railtherm.report import method_colour
+    r, g, b = to_rgb(method_colour("green"))
+    assert g > 0.5 and g > r + 0.3 and g > b + 0.3
+    r, g, b = to_rgb(method_colour("fipy"))
+    assert b > r and b > g
+    r, g, b = to_rgb(method_colour("fastsim-fdm"))
+    assert r > 0.9 and 0.3 < g < 0.7 and b < 0.2
+    r, g, b = to_rgb(method_colour("fem"))
+    assert r > g and b > g
+    # other methods: a neutral palette in sorted order, independent of the others present
+    assert method_colour("zeta", ["zeta", "alpha"]) != method_colour("alpha", ["zeta", "alpha"])
+    assert method_colour("green", ["alpha", "green"]) == method_colour("green")
+
+
+def test_stick_slip_colours_are_neutral():
+    from matplotlib.colors import to_rgb
+
+    from railtherm.report.figures import METHOD_COLOURS, SLIP_COLOUR, STICK_COLOUR
+    for c in (STICK_COLOUR, SLIP_COLOUR):
+        r, g, b = to_rgb(c)
+        assert r == g == b  # grey
+    assert not {STICK_COLOUR, SLIP_COLOUR} & set(METHOD_COLOURS.values())
+
+
+def test_number_formats():
+    from railtherm.report.format import duration, exact, level_range, memory, pct
+    assert exact(149.7) == "149.7" and exact(55.0) == "55.0" and exact(3) == "3"
+    assert pct(0.0038) == "0.38 %" and pct(-0.0041) == "−0.41 %" and pct(1e-15, floor=1e-9) == "≈0 %"
+    assert duration(7.6e-4) == "760 µs" and duration(0.0123) == "12 ms" and duration(13.76) == "14 s"
+    assert memory(1.2e8) == "120 MB" and level_range([0, 1, 2, 5]) == "0–2, 5"
+
+
+def test_report_imports_no_physics(tmp_path):
+    """The report is a pure reader: writing one imports neither railtherm.analytic, railtherm.references
+    nor any stage model beyond what `import railtherm` itself loads."""
+    out = _folder(tmp_path, new=True)
+    code = textwrap.dedent(f"""
+        import sys
+        import railtherm
+        before = {{m for m in sys.modules if m.startswith("railtherm.models")}}
+        from railtherm.report import write_report
+        write_report({str(out)!r})
+        mods = set(sys.modules)
+        bad = sorted(m for m in mods if m.startswith(("railtherm.analytic", "railtherm.references"))
+                     or m.startswith("railtherm.models") and m not in before)
+        print("BAD", bad)
+    """)
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300,
+                         env={**__import__("os").environ, "MPLBACKEND": "Agg"})
+    assert res.returncode == 0, res.stderr
+    assert "BAD []" in res.stdout, res.stdout
+    src = Path(__import__("railtherm.report", fromlist=["x"]).__file__).parent
+    for p in src.glob("*.py"):
+        text = p.read_text()
+        assert not re.search(r"(from|import)\s+(\.\.|railtherm\.)(analytic|references|models)\b", text), p
