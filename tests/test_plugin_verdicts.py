@@ -275,3 +275,50 @@ def test_methods_declare_orders(method):
     assert orders, method
     assert set(orders) <= set(METRICS), set(orders) - set(METRICS)
     assert all(0.0 < float(v) <= 4.0 for v in orders.values())
+
+
+def _pe_scene(pe, a=2e-3):
+    kappa = STEEL["conductivity"] / (STEEL["density"] * STEEL["specific_heat"])
+    return {"name": "pe", "speed": 2.0 * kappa * pe / a, "heat_partition": 0.5, "wheel": dict(STEEL),
+            "rail": dict(STEEL), "heat_source": {"flux": 1e6, "shape": "uniform", "semi_axes": [a, a]},
+            "outputs": ["max_surface_temperature"]}
+
+
+def test_fipy_refuses_a_3d_solve_estimated_over_its_time_budget():
+    """Pe 0.1 on a circle at level 1: two 3-D meshes of 224 640 cells (measured 35 s for both, 373 GMRES
+    iterations); the estimate 2 x 224 640 x 400 x 5e-7 s = 90 s exceeds max_seconds = 60 s: refused
+    (budget) before any mesh is solved, naming cells, Péclet number, estimate and option."""
+    import time
+    from railtherm_fipy.model import estimate_seconds_3d
+    assert estimate_seconds_3d(224_640, 0.1, 2) == pytest.approx(89.856)
+    t0 = time.perf_counter()
+    with pytest.raises(railtherm.Refused, match=r"224640 cells.*estimated at 89.9 s.*max_seconds = 60") as err:
+        railtherm.solve(_pe_scene(0.1), "fipy", 1, {"dimension": 3, "max_cells_low_peclet": 300_000})
+    assert time.perf_counter() - t0 < 5.0
+    assert err.value.kind == "budget"
+    with pytest.raises(railtherm.Refused, match="max_cells") as err:   # the cell caps are budgets too
+        railtherm.solve(_pe_scene(0.1), "fipy", 1, {"dimension": 3})
+    assert err.value.kind == "budget"
+
+
+def test_fipy_estimate_accepts_what_it_measured_fast():
+    """Pe 0.01 at level 0 (70 560 cells, measured 10 s for both bodies) is estimated at 28 s, Pe 0.1 at
+    level 1 on a = 1 mm (121 600 cells, ~17 s) at 49 s: accepted under the default max_seconds = 60 s."""
+    from railtherm_fipy.model import FipyTemperature, estimate_seconds_3d
+    limit = FipyTemperature.options["max_seconds"].default
+    assert estimate_seconds_3d(70_560, 0.01, 2) < limit and estimate_seconds_3d(121_600, 0.1, 2) < limit
+    assert estimate_seconds_3d(6_732, 1.0, 2) < 1.0        # LU: measured 0.22 s
+
+
+def test_fipy_refuses_a_transient_with_too_many_fixed_steps():
+    """A fixed time step of 1 ms over 8 lumped time constants is millions of implicit steps (35 us each
+    measured): refused as a budget before the first step, naming the steps and a step that would fit."""
+    import time
+    sc = scene(EK, mode="transient", numerics={"time_step": 1e-3}, outputs=["steady_wheel_temperature"])
+    t0 = time.perf_counter()
+    with pytest.raises(railtherm.Refused, match=r"implicit steps, estimated at .* > max_seconds = 60 s; use "
+                                                 r"time_step >=") as err:
+        railtherm.solve(sc, "fipy", 0)
+    assert time.perf_counter() - t0 < 5.0 and err.value.kind == "budget"
+    ok = railtherm.solve(scene(sc, numerics={"time_step": 0.01, "duration": 20.0}), "fipy", 0)
+    assert ok.attrs["fipy_transient_steps"] == 2000 and ok.attrs["fipy_converged"] == 1

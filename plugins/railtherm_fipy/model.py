@@ -18,6 +18,12 @@ the contact (:mod:`railtherm_fipy.steady`) on a mesh graded from the scene's sca
 * ``dimension = "auto"``: line -> 2-D; ellipse -> strips where valid, else 3-D if it fits in
   ``max_cells``, else refused with both reasons.
 
+Budgets (refused before any mesh is solved, ``Refused(kind="budget")``): the cell caps ``max_cells`` /
+``max_cells_low_peclet`` and an estimated wall time ``max_seconds`` (default 60 s): for the 3-D solves
+cells x expected GMRES iterations x a calibrated cost (:func:`estimate_seconds_3d`, measurements in
+the comment above it), for a fixed-step transient the number of steps x 4e-5 s
+(:data:`railtherm_fipy.transient.SECONDS_PER_STEP`).
+
 Transient mode (``scene.mode = "transient"``): the heating of the wheel over many revolutions,
 :mod:`railtherm_fipy.transient` (radial FiPy conduction in the wheel with the revolution-averaged
 tread balance), on top of the steady flash field. In steady mode the long-term values
@@ -43,6 +49,39 @@ from railtherm import Capabilities, Option, Refused, TemperatureField, Temperatu
 
 from .mesh import moving_frame_mesh, thermal_scales
 from .steady import SCHEMES, MovingFrameSolver
+
+#: Cost model of a 3-D solve per body, calibrated on the development machine (FiPy 4.0.3, SciPy suite,
+#: OPENBLAS_NUM_THREADS=1; uniform or Hertz flux on a circle a = 2 mm or ellipses 0.5 x 10 mm, both bodies
+#: heated, time per body = solve_time / 2). Measured (cells, Pe, reported iterations, s per body):
+#: GMRES + ILU: (28 080, 0.1, 105, 0.77), (53 856, 1, 82, 2.1), (59 972, 0.05, 166, 6.3), (70 560, 0.01, 400,
+#: 5.2), (79 920, 0.007, 198, 4.9), (97 344, 0.0035, 129, 4.4), (115 200, 100, 42, 4.1), (152 064, 10, 72,
+#: 5.2), (224 640, 0.1, 373, 17.7); i.e. 1.9e-7 .. 8.5e-7 s per cell and iteration. LU (3-D meshes up to
+#: LU_MAX_CELLS_3D): (6 732, 1, 0.11), (15 180, 0.3, 0.88), (18 768, 0.2, 0.50): up to 6e-5 s per cell.
+#: Commands: /tmp scripts calling ``railtherm.solve(scene, "fipy", level, {"dimension": 3, ...})`` and reading
+#: ``fipy_max_cells``, ``fipy_iterations``, ``fipy_solve_time`` (see the report of the verdicts work).
+#: The estimate takes the upper ends: it over-predicts by 1.3-2.7x, so it refuses only what is surely slow.
+SECONDS_PER_CELL_ITERATION = 5e-7
+SECONDS_PER_CELL_LU = 6e-5
+
+
+def expected_iterations(peclet: float) -> int:
+    """Envelope of the GMRES + ILU iterations measured above [1]: up to 82 at Pe >= 1, up to 400 below."""
+    return 100 if peclet >= 1.0 else 400
+
+
+def estimate_seconds_3d(cells: int, peclet: float, bodies: int) -> float:
+    """Estimated wall time [s] of the 3-D solves: ``bodies`` meshes of ``cells`` cells at Péclet number ``peclet``.
+
+    LU up to :data:`railtherm_fipy.steady.LU_MAX_CELLS_3D` cells (``SECONDS_PER_CELL_LU`` x cells), else
+    GMRES + ILU (``SECONDS_PER_CELL_ITERATION`` x cells x :func:`expected_iterations`).
+    """
+    from .steady import LU_MAX_CELLS_3D
+    if cells <= LU_MAX_CELLS_3D:
+        per_body = SECONDS_PER_CELL_LU * cells
+    else:
+        per_body = SECONDS_PER_CELL_ITERATION * cells * expected_iterations(peclet)
+    return float(bodies) * per_body
+
 
 #: result variables this model fills
 PROVIDES = frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature", "temperature"})
@@ -101,6 +140,10 @@ class FipyTemperature(TemperatureModel):
         "max_cells": Option(400_000, "largest 3-D mesh per body [cells]", minimum=1000),
         "max_cells_low_peclet": Option(100_000, "largest 3-D mesh per body when Pe < 1 [cells]", minimum=1000),
         "max_strip_delta": Option(0.02, "largest delta/b accepted for strip-wise 2-D solves", minimum=0.0),
+        "max_seconds": Option(60.0, "largest estimated wall time [s] of the 3-D solves of both bodies "
+                                    "(estimate_seconds_3d: cells x expected iterations, calibrated; it over-predicts "
+                                    "up to 2.7x) or of a fixed-step transient (steps x 4e-5 s); refused above",
+                              minimum=0.0),
     }
 
     def supports(self, scene, level):
@@ -136,6 +179,9 @@ class FipyTemperature(TemperatureModel):
         cells = FipyTemperature.cells_3d(scene, source, level, options)
         pe = min(thermal_scales(grid.a, source.body_speed[i], scene.body(i).diffusivity)["peclet"] for i in (0, 1))
         size_why = None
+        bodies = sum(bool(np.any(np.asarray(source.flux(i)) != 0)) for i in (0, 1))
+        seconds = estimate_seconds_3d(cells, pe, bodies)
+        limit = float(options.get("max_seconds", 60.0))
         if cells > options["max_cells"]:
             size_why = (f"a 3-D mesh would need {cells} cells per body > max_cells = {options['max_cells']} "
                         f"(lower the level or raise the option max_cells)")
@@ -143,19 +189,24 @@ class FipyTemperature(TemperatureModel):
             size_why = (f"a 3-D mesh would need {cells} cells per body > max_cells_low_peclet = "
                         f"{options['max_cells_low_peclet']} at Peclet number {pe:.3g} < 1 (diffusion-dominated: "
                         f"GMRES + ILU needs hundreds of iterations; lower the level or raise the option)")
+        elif seconds > limit:
+            size_why = (f"a 3-D solve of {bodies} bod{'y' if bodies == 1 else 'ies'} with {cells} cells each at Peclet "
+                        f"number {pe:.3g} is estimated at {seconds:.3g} s ({expected_iterations(pe)} GMRES iterations "
+                        f"expected) > max_seconds = {limit:g} s (lower the level or raise the option max_seconds)")
         if dim == 2:
             if strip_why:
                 raise Refused(f"model 'fipy', dimension 2: {strip_why}; use dimension 3 or 'auto'")
             return 2, "strips"
         if dim == 3:
             if size_why:
-                raise Refused(f"model 'fipy', dimension 3: {size_why}")
+                raise Refused(f"model 'fipy', dimension 3: {size_why}", kind="budget")
             return 3, "3-D"
         if strip_why is None:
             return 2, "strips"
         if size_why is None:
             return 3, "3-D"
-        raise Refused(f"model 'fipy': {strip_why}, and {size_why}")
+        # the strips are invalid, the 3-D mesh is valid but over the budget: a budget refusal
+        raise Refused(f"model 'fipy': {strip_why}, and {size_why}", kind="budget")
 
     @staticmethod
     def strip_limit(scene, source, options) -> str | None:
