@@ -207,6 +207,13 @@ def surface(finest: dict, curve, palette: Palette, title: str, path: Path):
         axes, daxes = fig.subplots(1, 2), (None, None)
     a = next((float(ds["semi_axis_a"]) for ds in have.values() if "semi_axis_a" in ds), None)
     for body, (ax, dax) in enumerate(zip(axes, daxes)):
+        if not _heated(body, have, "surface_temperature", ref):
+            for a_ in (ax, dax):
+                if a_ is not None:
+                    a_.set_visible(False)
+            ax.figure.text(0.27 + 0.5 * body, 0.5, f"{BODIES[body]}: not heated (no heat enters it)",
+                           ha="center", color="0.4", fontsize=9)
+            continue
         if ref is not None:
             ax.plot(xr_ * 1e3, ref["surface_temperature"].values[body], "-", **REFERENCE_STYLE)
         for m, ds in have.items():
@@ -245,6 +252,14 @@ def surface(finest: dict, curve, palette: Palette, title: str, path: Path):
     return save(fig, path)
 
 
+def _heated(body: int, have: dict, var: str, ref) -> bool:
+    """False when neither a method nor the exact curve has any temperature variation in ``body``."""
+    vals = [np.asarray(ds[var].isel(body=body).values, float) for ds in have.values()]
+    if ref is not None and var in ref:
+        vals.append(np.asarray(ref[var].values[body], float))
+    return any(np.nanmax(v) - np.nanmin(v) > 0 for v in vals if np.isfinite(v).any())
+
+
 def _heated_depth(z, t, bulk) -> float:
     """Depth [m] below which the temperature rise stays under 1 % of its maximum."""
     rise = np.abs(np.asarray(t, float) - bulk)
@@ -265,6 +280,10 @@ def depth(finest: dict, curve, bulk: tuple | None, palette: Palette, title: str,
     axes = fig.subplots(1, 2)
     zmax = max(float(ds["z"].max()) for ds in have.values())
     for body, ax in enumerate(axes):
+        if not _heated(body, have, "temperature", ref):
+            ax.set_visible(False)
+            fig.text(0.27 + 0.5 * body, 0.5, f"{BODIES[body]}: not heated", ha="center", color="0.4", fontsize=9)
+            continue
         if ref is not None:
             x0 = float(ref["hottest_x"].values[body])
         else:
