@@ -149,7 +149,8 @@ h1{font-size:1.5em;margin:0.3em 0}h2{border-bottom:1px solid #ccc;margin-top:1.8
 h3{font-size:1.05em}
 table{border-collapse:collapse;margin:0.5em 0 0.9em;font-size:0.82em;max-width:100%}
 caption{caption-side:top;text-align:left;font-size:0.95em;color:#333;padding:2px 0}
-th,td{border:1px solid #bbb;padding:2px 5px;text-align:left;vertical-align:top;overflow-wrap:anywhere}
+th,td{border:1px solid #bbb;padding:2px 5px;text-align:left;vertical-align:top;overflow-wrap:break-word}
+table.runs td{white-space:nowrap}
 th{background:#eee}
 td.ok{background:#dff0d8}td.inaccurate{background:#fbe3c8}td.unverified{background:#eeeeee;font-style:italic}
 td.refused{background:#f7f7f7;color:#666}td.failed{background:#f5c6c6}

@@ -285,7 +285,7 @@ def _run_details(doc: Document, data: StudyData, scene: str):
     msgs = message_lines(data.runs_of(scene))
     with doc.details(f"Runs with a result ({len(rows)}): status, time, memory, errors"):
         doc.table(f"Runs of `{scene}` with a result. Time: best / median of the timed solves (number of solves); "
-                  f"errors relative, in %.", header, rows)
+                  f"errors relative, in %.", header, rows, css="runs")
         if dropped:
             doc.paragraph("Columns left out (missing or zero in every run): " + ", ".join(dropped) + ".", note=True)
         for n in notes:
