@@ -7,7 +7,7 @@ interfaces (ContactModel, HeatSourceModel, TemperatureModel, CoupledModel, Metho
 """
 from __future__ import annotations
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 from .errors import PluginError, Refused, SceneError, SolverError
 from .grid import SurfaceGrid, surface_grid

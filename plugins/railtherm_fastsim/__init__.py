@@ -13,4 +13,4 @@ Stage models
 Method ``fastsim-fdm`` chains Hertz -> fastsim -> fdm. The stages stay composable: other methods
 may name ``fastsim`` as their heat source.
 """
-__version__ = "0.1.0"
+__version__ = "0.2.0"

@@ -5,4 +5,4 @@ moving-frame term and thermal expansion), :mod:`.condense` (compliance of the co
 :mod:`.contact` (Signorini + Coulomb, semismooth Newton), :mod:`.thermal` (moving-frame conduction,
 1-D-in-depth and 2-D), :mod:`.coupled` (Steps 1-4), :mod:`.model` (the CoupledModel "fem").
 """
-__version__ = "0.1.0"
+__version__ = "0.2.0"

@@ -6,4 +6,4 @@ that plugin is installed) -> FiPy temperatures. FiPy itself is imported only whe
 (:func:`railtherm_fipy.solvers.import_fipy`), with the SciPy solver suite and with ``sys.argv``
 hidden from FiPy's command-line parsing.
 """
-__version__ = "0.1.0"
+__version__ = "0.2.0"

@@ -5,4 +5,4 @@ and the method ``green`` = Hertz patch -> full-sliding (or FASTSIM) heat -> gree
 Heavy work lives in :mod:`railtherm_green.kernel` (strip quadrature), :mod:`railtherm_green.steady`
 (long-term wheel temperature) and :mod:`railtherm_green.validity` (Péclet limits, model error).
 """
-__version__ = "0.1.0"
+__version__ = "0.2.0"
