@@ -18,7 +18,7 @@ import numpy as np
 
 from . import figures as F
 from .document import Cell, Document
-from .format import duration, exact, finite, level_range, num, pct, short, slug
+from .format import duration, finite, level_range, num, pct, short, slug
 from .load import StudyData
 from .tables import (METRIC_SHORT, cross_tables, message_lines, order_table, published_table, reference_words,
                      refusal_lines, run_table)

@@ -12,7 +12,7 @@ import numpy as np
 
 from .document import Cell
 from .format import duration, exact, finite, level_range, memory, num, pct, short
-from .load import Run, StudyData, independent
+from .load import Run, StudyData
 
 __all__ = ["METRIC_SHORT", "run_table", "refusal_lines", "message_lines", "order_table", "published_table",
            "cross_tables", "reference_words"]

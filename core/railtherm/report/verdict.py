@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 from .document import Cell
 from .format import duration, level_range, pct, short
-from .load import RESULT_STATUSES, Run, StudyData, independent
+from .load import Run, StudyData
 
 __all__ = ["SweepGroup", "Row", "Verdict", "sweep_groups", "rows", "choose", "scorecard", "findings",
            "creep_force_source"]
@@ -250,8 +250,12 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
                 if foreign:
                     tail = (f"; the creep force of {_names(list(foreign))} is computed by "
                             f"{_names(sorted(set(foreign.values())))}")
-            misses.append(f"No level of {_names([v.method for v in bad])} is within {tol_text} on {where}{at} "
-                          f"(worst {pct(worst)}){tail}.")
+            who = _names([v.method for v in bad])
+            if row.group:
+                misses.append(f"On {where}, {who} miss the {tol_text} tolerance at every level for{at[3:]} "
+                              f"(worst {pct(worst)}){tail}.")
+            else:
+                misses.append(f"No level of {who} is within {tol_text} on {where} (worst {pct(worst)}){tail}.")
         for v in vs:
             if v.status == "unverified":
                 rich = f"; Richardson estimate of its finest level's error {pct(v.richardson)}" \
