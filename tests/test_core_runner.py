@@ -29,9 +29,9 @@ def test_run_writes_every_run_with_units(flat_host, write_study, tmp_path):
     with xr.open_dataset(tmp_path / "out" / "metrics.nc") as mm:
         assert mm["wall_time"].attrs["units"] == "s"
         # the energy check takes the computed surface temperature (Péclet > 100 here): the flat fixture
-        # (temperature proportional to the flux, not physics) is caught by it, 0.62 off
+        # (temperature proportional to the flux, not physics) is caught by it beyond the tolerance
         assert set(mm["energy_reference"].values) == {"analytic:half-space-1d"}
-        assert np.all(np.abs(mm["energy_balance"].values) > 0.3)
+        assert np.all(np.abs(mm["energy_balance"].values) > mm.attrs["tolerance"])
         assert set(mm["status"].values) == {"inaccurate"}
 
 
@@ -137,6 +137,6 @@ def test_validator_names_plugin_and_variable(flat_host):
 
 def test_conformance_kit_on_fixture(flat_host):
     from railtherm.testing import check_method
-    outcome = check_method("flat")
-    assert outcome["ellipse-full-sliding"] == "ok"
-    assert outcome["ellipse-creepage"].startswith("refused")  # full-sliding model handles no creepage
+    # the flat fixture (temperature proportional to the flux) is not physics: the kit says so
+    with pytest.raises(AssertionError, match="on no scene"):
+        check_method("flat")

@@ -248,11 +248,18 @@ def test_runs_whose_worker_dies_or_hangs_are_failed_then_resume_completes(hosts,
         assert not p.exists() and p.with_name("level-0.status.json").exists()
     written = {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/level-*.nc")}
     assert len(written) == 1
-    sweep(path, methods='["sleepy"]', speeds=[10.0, 11.0, 12.0], sliding="0.5")  # the causes are gone
+    # resumed with the same study: what is done is kept, the failures are retried (and fail again)
+    again = make_tasks(railtherm.load_study(path), out, levels=[0])
+    recs = {again[i].scene.speed: r for i, r in ProcessExecutor(2, grace=0.5).map(execute_run, again, resume=True)}
+    assert recs[10.0].resumed and recs[11.0].status == recs[12.0].status == "failed"
+    for f, t in written.items():
+        assert f.stat().st_mtime_ns == t
+    # the causes are gone, and with them the options: the run hash changes, every run is computed anew
+    sweep(path, methods='["sleepy"]', speeds=[10.0, 11.0, 12.0], sliding="0.5")
     m = railtherm.run_study(path, out, levels=[0], resume=True, report=False)
     assert set(m["status"].values) <= RAN and m.sizes["run"] == 3
     for f, t in written.items():
-        assert f.stat().st_mtime_ns == t
+        assert f.stat().st_mtime_ns != t
 
 
 def test_time_limit_in_a_thread_raises_in_that_thread():

@@ -41,11 +41,15 @@ GRACE = 10.0
 MAX_ATTEMPTS = 2
 
 
-def _crash_record(task, message):
-    """Record (and store beside the run) a run whose worker could not report a result."""
+def _crash_record(task, message, kind: str = "error"):
+    """Record (and store beside the run) a run whose worker could not report a result.
+
+    ``kind``: the failure's reason kind, "error" (the worker died) or "timeout" (it was ended).
+    """
     from .runner import RunRecord, status_path, write_atomic_bytes
     rec = RunRecord(task.scene.name, task.method, task.level, "failed", message, path=str(task.path),
-                    scene_hash=task.scene.hash, run_id=task.run_id, sweep=dict(task.scene.sweep))
+                    scene_hash=task.scene.hash, run_hash=task.run_hash, run_id=task.run_id,
+                    sweep=dict(task.scene.sweep), reason_kind=kind)
     if task.path.exists():  # the worker died after writing: the run is complete after all
         from .runner import _existing
         done = _existing(task, same_invocation=True)
@@ -320,7 +324,7 @@ class ProcessExecutor:
                         done += 1
                         pool[k] = _Worker(ctx, spec, fn) if pending else None
                         yield i, _crash_record(tasks[i], f"run exceeded the per-run time limit of {limit:g} s and "
-                                               f"did not stop; its worker process was ended after {self.grace:g} s more")
+                                               f"did not stop; its worker process was ended after {self.grace:g} s more", "timeout")
                 pool = [w for w in pool if w is not None]
                 self.pids = [w.proc.pid for w in pool]
         finally:
@@ -338,7 +342,7 @@ def _dask_run(task, *, spec, fn, kw, grace):  # pragma: no cover - runs on a das
             # the run ignored its time limit (stuck in a C call): record it, then end this worker
             # process; the nanny starts a new one, and the retried task finds this record
             _crash_record(task, f"run exceeded the per-run time limit of {limit:g} s and did not stop; its "
-                                f"dask worker process was ended after {grace:g} s more")
+                                f"dask worker process was ended after {grace:g} s more", "timeout")
             os._exit(70)
         token = WATCHDOG.add(limit + grace, end_worker)
     try:
