@@ -461,7 +461,9 @@ class RSSPeak:
     thread samples the RSS (psutil) every millisecond. The value counts everything the process
     allocates (numpy, numba, SuperLU, FiPy), unlike :mod:`tracemalloc`; it does not slow the code.
     Under a threaded executor (dask workers run several tasks in one process) it includes what the
-    other threads allocate meanwhile.
+    other threads allocate meanwhile. Memory the process already holds is not counted: freed heap
+    memory is handed back to the OS first (``malloc_trim``), but pools that a library keeps to itself
+    (numba, FiPy caches) are reused without growth.
     """
 
     def __init__(self):
@@ -475,8 +477,18 @@ class RSSPeak:
                     return float(line.split()[1]) * 1024.0
         raise OSError(key)
 
+    @staticmethod
+    def _trim() -> None:
+        """Return freed heap memory to the OS (glibc ``malloc_trim``), so that a solve reusing it counts."""
+        try:
+            import ctypes
+            ctypes.CDLL("libc.so.6").malloc_trim(0)
+        except (OSError, AttributeError):  # pragma: no cover - not glibc
+            pass
+
     def __enter__(self):
         self._sampler = None
+        self._trim()
         try:
             with open("/proc/self/clear_refs", "w") as fh:
                 fh.write("5")
