@@ -225,7 +225,7 @@ def test_second_release_columns(report):
     assert "Richardson ≈0.30 %" in card[("strip", "fem")]
     ek = _section(md, "1. Scene `ek`")
     assert "time min / median (n)" in ek and "1.0 ms / 1.1 ms (5)" in ek
-    assert "peak RSS growth" in ek and "12 MB" in ek
+    assert "peak RSS" in ek and "12 MB" in ek
     assert "2.1 (th. 2)" in ek and "no convergence (−0.4) (th. 2)" in ek
     strip = _section(md, "2. Scene `strip`")
     assert "1.6 (th. 2) †" in strip and "self-convergence" in strip

@@ -432,6 +432,7 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
                "message": rec.message, "reason_kind": getattr(rec, "reason_kind", ""),
                "wall_time": rec.wall_time, "wall_time_median": getattr(rec, "wall_time_median", math.nan),
                "timing_runs": getattr(rec, "timing_runs", 0), "peak_rss": getattr(rec, "peak_rss", math.nan),
+               "rss_growth": getattr(rec, "rss_growth", math.nan),
                "energy_balance": math.nan, "energy_reference": "", "headline_error": math.nan,
                "headline_reference": ""}
         if rec.status == "ok":
@@ -500,7 +501,7 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
         data[col] = ("run", np.array([r.get(col, "") for r in rows], dtype=object))
     data["level"] = ("run", np.array([r["level"] for r in rows], dtype="int32"))
     data["timing_runs"] = ("run", np.array([int(r["timing_runs"] or 0) for r in rows], dtype="int32"))
-    for col in ("wall_time", "wall_time_median", "peak_rss", "energy_balance", "headline_error") \
+    for col in ("wall_time", "wall_time_median", "peak_rss", "rss_growth", "energy_balance", "headline_error") \
             + tuple(f"error_{m}" for m in METRICS):
         data[col] = ("run", np.array([r.get(col, math.nan) for r in rows], dtype=float))
     ds = xr.Dataset(data, coords={"run": np.arange(n)})
@@ -510,7 +511,8 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
              "wall_time": ("s", "best (minimum) wall time of the timed solves"),
              "wall_time_median": ("s", "median wall time of the timed solves"),
              "timing_runs": ("1", "number of timed solves after the warm-up"),
-             "peak_rss": ("bytes", "growth of the process's peak resident set size during one untimed solve"),
+             "peak_rss": ("bytes", "peak resident set size of the process during one untimed solve (absolute)"),
+             "rss_growth": ("bytes", "growth of the resident set during that solve"),
              "energy_balance": ("1", "(heat entering through the surface of the computed temperature field "
                                      "- frictional power) / frictional power"),
              "energy_reference": ("1", "how energy_balance was obtained: analytic:half-space-1d | solver"),

@@ -14,7 +14,7 @@ after writing but before reporting back) finds its own result and does not write
 
 Timing and memory (see :func:`execute_run`): an untimed warm-up of the same code path, then the
 best (and median) of at least 3 timed solves (2 for solves over 2 s), then a separate solve whose
-resident-set growth is the peak memory (:class:`RSSPeak`; native allocations included). Sweeps
+process peak resident set size and its growth are the memory (:class:`RSSPeak`; native allocations included). Sweeps
 (``warmup = false``) warm up once per method and level in each process and measure the memory of
 one run in :data:`MEMORY_SAMPLE`. ``--resume`` compares the run hash (scene, method, level,
 options and code versions, :func:`run_hash`), not the scene alone.
@@ -97,8 +97,10 @@ class RunRecord:
     status: str
     message: str = ""
     wall_time: float = float("nan")
-    #: growth of the process's resident set during one solve [bytes] (native allocations included)
+    #: peak resident set size of the process during one untimed solve [bytes] (absolute)
     peak_rss: float = float("nan")
+    #: growth of the resident set during that solve [bytes]
+    rss_growth: float = float("nan")
     timing_runs: int = 0
     path: str = ""
     scene_hash: str = ""
@@ -454,7 +456,11 @@ def _written_since(task: RunTask, since: float) -> bool:
 
 
 class RSSPeak:
-    """Growth of this process's resident set size during a block [bytes], native allocations included.
+    """Peak resident set size of this process during a block, and its growth [bytes].
+
+    ``peak`` is the process's absolute high-water mark during the block (interpreter, libraries and
+    whatever the solver keeps between calls included: what a machine must hold to run it);
+    ``growth`` is that peak minus the resident set at the start (what the block itself took).
 
     On Linux the kernel's high-water mark (``VmHWM``) is reset by writing ``5`` to
     ``/proc/self/clear_refs`` before the block and read after it; where that is not possible, a
@@ -468,6 +474,7 @@ class RSSPeak:
 
     def __init__(self):
         self.peak = math.nan
+        self.growth = math.nan
 
     @staticmethod
     def _status(key: str) -> float:
@@ -511,11 +518,12 @@ class RSSPeak:
 
     def __exit__(self, *exc):
         if self._mode == "hwm":
-            self.peak = max(0.0, self._status("VmHWM") - self._base)
+            self.peak = max(self._status("VmHWM"), self._base)
         else:
             self._stop.set()
             self._sampler.join()
-            self.peak = max(0.0, self._max - self._base)
+            self.peak = max(self._max, self._base)
+        self.growth = self.peak - self._base
         return False
 
 
@@ -566,7 +574,7 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
     -------
     RunRecord
         Status (ok | refused | failed; metrics later decides ok, inaccurate or unverified) and
-        message, best and median wall time [s], peak RSS growth [bytes], energy balance and
+        message, best and median wall time [s], peak RSS and its growth [bytes], energy balance and
         scalar values of the result, and ``phases``: where the time went [s]. Never raises for a
         problem of the run itself.
     """
@@ -613,14 +621,14 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
                 t2 = time.perf_counter()
                 with RSSPeak() as mem:
                     solve(task.scene, task.method, task.level, task.options, validate=False)
-                rec.peak_rss = mem.peak
+                rec.peak_rss, rec.rss_growth = mem.peak, mem.growth
                 phases["memory"] = time.perf_counter() - t2
         rec.wall_time = min(times)
         rec.wall_time_median = float(np.median(times))
         rec.timing_runs = len(times)
         _summarise(rec, task.scene, ds)
         ds.attrs.update({"wall_time": rec.wall_time, "wall_time_median": rec.wall_time_median,
-                         "peak_rss": rec.peak_rss, "timing_runs": rec.timing_runs, "status": "ok",
+                         "peak_rss": rec.peak_rss, "rss_growth": rec.rss_growth, "timing_runs": rec.timing_runs, "status": "ok",
                          "run_id": task.run_id, "run_hash": rec.run_hash})
         how = f"best and median of {len(times)} timed solves after an untimed warm-up"
         ds.attrs["history"] = ds.attrs["history"] + "\n" + history_line(f"railtherm run: {how}")

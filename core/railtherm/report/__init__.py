@@ -7,7 +7,7 @@ and ``references.nc``) and writes, in this order:
    independent reference on the scene's headline quantity, or the best available with its status),
    key findings computed from the metrics, and a work-precision figure with one panel per scene;
 2. one section per scene: inputs, references, refusals and failures (one line per reason), the runs
-   with a result (collapsible table: status, timing min/median, peak RSS growth, energy balance,
+   with a result (collapsible table: status, timing min/median, peak RSS, energy balance,
    errors), published values beside the results, convergence orders beside the theoretical ones,
    differences between methods, and the temperature and traction figures with the exact curves;
 3. one section per sweep (scenes generated from one list value): one table and one curve;

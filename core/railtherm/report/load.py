@@ -365,7 +365,7 @@ def load(out, study=None) -> StudyData:
             if r.status == "ok" and not any(independent(r.references.get(k, "")) for k in r.errors):
                 r.status = "unverified"
                 r.message = r.message or "no independent reference: errors only against its own finest level"
-    memory_label = "peak RSS growth" if "peak_rss" in m else "peak traced memory"
+    memory_label = "peak RSS" if "peak_rss" in m else "peak traced memory"
 
     scenes_obj = {s.name: s for s in study.scenes} if study is not None else {}
     names = list(scenes_obj)
