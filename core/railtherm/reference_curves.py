@@ -37,6 +37,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import Refused
+
 __all__ = ["reference_curves", "write_reference_curves", "read_reference_curves", "FILE_NAME"]
 
 #: file written by :func:`write_reference_curves` in the study output folder
@@ -252,6 +254,8 @@ def reference_curves(study) -> dict:
     for sc in study.scenes:
         try:
             ds = scene_reference_curves(sc, groups.get(sc.name))
+        except Refused:  # no exact theory for this scene (e.g. a line contact given by penetration)
+            continue
         except Exception as exc:  # noqa: BLE001 - one scene's reference never stops the others
             warnings.warn(f"reference curves of scene {sc.name!r} left out: {type(exc).__name__}: {exc}",
                           RuntimeWarning, stacklevel=2)
