@@ -30,6 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .physics import body_speeds  # noqa: F401  (also importable from here for one release)
+
 SCALARS = ("max_surface_temperature", "mean_contact_temperature", "max_pressure", "semi_axis_a",
            "creep_force_x", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
 FIELDS = ("surface_temperature", "pressure")
@@ -113,53 +115,39 @@ def _interp_to(ref, ds, name):
 
 # ----------------------------------------------------------------------------------------------
 # energy balance of the computed temperature field
-def body_speeds(scene) -> tuple[float, float]:
-    """Speeds [m/s] at which wheel and rail material passes through the patch."""
-    if scene.heat_source is None and scene.tangential == "full-sliding":
-        return scene.speed + scene.sliding_speed, scene.speed
-    return scene.speed, scene.speed
-
-
 def half_space_energy(theta: np.ndarray, t_edges: np.ndarray) -> np.ndarray:
     """Heat per unit area [J/m^2] that entered a 1-D half-space, from its surface temperature rise.
 
     For a half-space initially at its bulk temperature, the surface rise θ(t) and the entering
-    flux q(t) satisfy θ = (1/(β√π)) ∫ q(τ) (t − τ)^(-1/2) dτ (β = √(λρc), the effusivity);
-    applying the same Abel operator once more gives the energy that entered up to T:
-
-        E(T) = ∫_0^T q dτ = (β/√π) ∫_0^T θ(τ) (T − τ)^(-1/2) dτ,
-
-    here without β/√π (the caller multiplies). θ is taken piecewise linear between cell centres
-    (zero at the first edge, constant over the last half cell) and integrated exactly against the
-    kernel, so the quadrature is second order in the cell size.
+    flux q(t) satisfy θ(t) = (1/(β√π)) ∫_0^t q(τ) (t − τ)^(-1/2) dτ (β = √(λρc), the
+    effusivity). With q constant on each cell, θ at the cell centres t_i is a lower-triangular
+    system θ_i = (1/(β√π)) Σ_k K_ik q_k, K_ik = 2 (√(t_i − t_k0)₊ − √(t_i − t_k1)₊), exact for
+    such a flux; solving it (Abel inversion by forward substitution) gives the cell fluxes, and the
+    energy is E = Σ q_k Δt_k = β√π Σ (K⁻¹θ)_k Δt_k. Returned as π Σ (K⁻¹θ)_k Δt_k, which equals
+    ∫_0^T θ(τ) (T − τ)^(-1/2) dτ (E = (β/√π) times it; the caller multiplies).
 
     Parameters
     ----------
     theta : ndarray, shape (..., n)
         Surface temperature rise at the cell centres, in time order [K].
     t_edges : ndarray, shape (n + 1,)
-        Times of the cell edges, increasing from 0 [s]; T = t_edges[-1].
+        Times of the cell edges, increasing from 0 [s].
 
     Returns
     -------
     ndarray, shape (...)
-        ∫_0^T θ(τ) (T − τ)^(-1/2) dτ [K s^(1/2)].
+        π Σ_k (K⁻¹ θ)_k Δt_k [K s^(1/2)]; times β/√π it is the energy per area [J/m^2].
     """
+    from scipy.linalg import solve_triangular
     theta = np.asarray(theta, float)
     t_edges = np.asarray(t_edges, float)
-    T = t_edges[-1]
     tc = 0.5 * (t_edges[:-1] + t_edges[1:])
-    # nodes: first edge (theta 0), centres, last edge (theta of the last centre)
-    tn = np.concatenate([[t_edges[0]], tc, [T]])
-    zero = np.zeros(theta.shape[:-1] + (1,))
-    th = np.concatenate([zero, theta, theta[..., -1:]], axis=-1)
-    t0, t1 = tn[:-1], tn[1:]
-    h = t1 - t0
-    s = np.divide(th[..., 1:] - th[..., :-1], h, out=np.zeros_like(th[..., 1:]), where=h > 0)
-    u0, u1 = T - t0, np.maximum(T - t1, 0.0)
-    A = th[..., :-1] + s * (T - t0)  # theta(tau) = A - s (T - tau)
-    part = 2.0 * A * (np.sqrt(u0) - np.sqrt(u1)) - (2.0 / 3.0) * s * (u0 ** 1.5 - u1 ** 1.5)
-    return part.sum(axis=-1)
+    gap0 = tc[:, None] - t_edges[None, :-1]
+    gap1 = tc[:, None] - t_edges[None, 1:]
+    K = 2.0 * (np.sqrt(np.clip(gap0, 0.0, None)) - np.sqrt(np.clip(gap1, 0.0, None)))
+    flat = theta.reshape(-1, theta.shape[-1]).T  # (n, strips)
+    q = solve_triangular(K, flat, lower=True, check_finite=False)
+    return math.pi * (np.diff(t_edges) @ q).reshape(theta.shape[:-1])
 
 
 def energy_balance(scene, ds) -> tuple[float, str]:
@@ -168,7 +156,7 @@ def energy_balance(scene, ds) -> tuple[float, str]:
     Core's check (``analytic:half-space-1d``): at Péclet numbers above
     :data:`ENERGY_MIN_PECLET`, conduction along the surface is negligible during the passage, and
     each strip of each body is a 1-D half-space; the heat that entered it follows from its computed
-    surface temperature alone (:func:`half_space_energy`). Summed over strips and bodies
+    surface temperature alone (:func:`half_space_energy`, an Abel inversion). Summed over strips and bodies
     (power = V × energy per area × strip width) it must equal the frictional power. The
     temperature solution enters; the heat source is only the yardstick. Its own error is of the
     order of 1/√Pe (neglected conduction along x) plus the quadrature error.

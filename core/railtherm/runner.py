@@ -395,8 +395,10 @@ def _summarise(rec: RunRecord, scene: Scene, ds) -> None:
 
 def _record_from_file(task: RunTask, p: Path, attrs: Mapping[str, Any], resumed: bool) -> RunRecord:
     rec = RunRecord(task.scene.name, task.method, task.level, "ok", "",
-                    float(attrs.get("wall_time", math.nan)), float(attrs.get("peak_rss", math.nan)),
-                    int(attrs.get("timing_runs", 0)), str(p), task.scene.hash, run_hash=str(attrs.get("run_hash", "")),
+                    wall_time=float(attrs.get("wall_time", math.nan)), peak_rss=float(attrs.get("peak_rss", math.nan)),
+                    rss_growth=float(attrs.get("rss_growth", math.nan)),
+                    timing_runs=int(attrs.get("timing_runs", 0)), path=str(p), scene_hash=task.scene.hash,
+                    run_hash=str(attrs.get("run_hash", "")),
                     wall_time_median=float(attrs.get("wall_time_median", math.nan)), resumed=resumed,
                     run_id=str(attrs.get("run_id", "")), pid=os.getpid(), sweep=dict(task.scene.sweep))
     try:  # the summary metrics need, read here (in the worker) rather than by metrics (serially)

@@ -138,10 +138,9 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
     * on at least one scene it is *verified*: the scene's headline quantity (docs/verdicts.md) has
       an exact reference in core (:func:`railtherm.analytic.reference_values`) and every scalar
       with an exact reference is within ``tolerance`` (10 %) of it;
-    * on every scene that is not inaccurate (verified, or with no exact headline to compare with),
-      the energy balance of the computed temperature field
-      (:func:`railtherm.metrics.energy_balance`) is within ``energy_tolerance`` (25 %) where it
-      can be evaluated. A scene whose headline is off by more than ``tolerance`` is reported, and
+    * on every verified scene, the energy balance of the computed temperature field
+      (:func:`railtherm.metrics.energy_balance`) is within ``energy_tolerance`` (10 %) where it
+      can be evaluated (a field right at its maximum but wrong elsewhere fails here). A scene whose headline is off by more than ``tolerance`` is reported, and
       tolerated, as long as another scene is verified (coarse levels may be inaccurate).
 
     Raises
@@ -217,7 +216,10 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
                 notes.append(note)
                 continue  # inaccurate at this level: its energy is not held against it
         else:
+            # no exact reference: the heat source itself may be unresolved at this level (FASTSIM's
+            # slip power in one trailing cell), so its energy balance measures resolution, not physics
             notes.append(f"scene {sc.name!r}: no exact reference for its headline {head!r}")
+            continue
         if energy is not None:
             eb, ref = energy(sc, ds)
             if np.isfinite(eb):
