@@ -1,0 +1,36 @@
+"""Speeds of the two bodies' surfaces through the contact patch."""
+from __future__ import annotations
+
+__all__ = ["body_speeds"]
+
+
+def body_speeds(scene) -> tuple[float, float]:
+    """Speeds at which wheel and rail material passes through the patch.
+
+    Full sliding: the wheel surface moves at ``v_w = V + v_s`` and the rail at ``v_r = V`` (seed
+    eqs. 32-33). A given heat source, and a creepage scene, move both bodies at the rolling speed V
+    (the creepage's ``V xi`` is of the order of the creepage, 1e-3, and is left out here; the FASTSIM
+    heat source reports its own ``V (1 - xi)``).
+
+    Parameters
+    ----------
+    scene : Scene-like
+        With ``speed`` V [m/s], ``sliding_speed`` v_s [m/s] (None unless full sliding),
+        ``heat_source`` (None unless given) and ``tangential`` ("full-sliding" or "creepage").
+
+    Returns
+    -------
+    wheel, rail : float
+        Surface speeds relative to the contact [m/s].
+
+    References
+    ----------
+    .. [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation
+       of temperatures in wheel/rail contact, Wear 253 (2002) 498-508.
+    """
+    v0 = float(scene.speed)
+    sliding = getattr(scene, "sliding_speed", None)
+    tangential = getattr(scene, "tangential", "full-sliding" if sliding is not None else None)
+    if getattr(scene, "heat_source", None) is None and tangential == "full-sliding":
+        return v0 + float(sliding or 0.0), v0
+    return v0, v0
