@@ -58,12 +58,13 @@ def test_sweep_becomes_coordinates(flat_host, tmp_path):
     study, out = run(tmp_path)
     ds = railtherm.open_results(out)
     assert dict(ds.sizes) == {"scene": 8, "method_name": 1, "level": 2, "body": 2}
-    # swept keys as coordinates along scene; a key that is also a result variable gets the sweep_ prefix
-    assert {"speed", "sweep_normal_force", "wheel_bulk_temperature"} <= set(ds.coords)
-    assert ds.attrs["swept_parameters"].split() == ["sweep_normal_force", "speed", "wheel_bulk_temperature"]
+    # swept keys as coordinates along scene, named by their dotted study key; a key that is also a result
+    # variable gets the sweep_ prefix
+    assert {"speed", "sweep_normal_force", "wheel.bulk_temperature"} <= set(ds.coords)
+    assert ds.attrs["swept_parameters"].split() == ["sweep_normal_force", "speed", "wheel.bulk_temperature"]
     assert ds["speed"].attrs == {"units": "m s-1", "long_name": "swept study key 'speed'"}
     assert ds["sweep_normal_force"].attrs["units"] == "N"
-    assert ds["wheel_bulk_temperature"].attrs == {"units": "degC",
+    assert ds["wheel.bulk_temperature"].attrs == {"units": "degC",
                                                   "long_name": "swept study key 'wheel.bulk_temperature'"}
     for name in list(ds.data_vars) + list(ds.coords):
         assert ds[name].attrs.get("units") and ds[name].attrs.get("long_name"), name
@@ -71,7 +72,7 @@ def test_sweep_becomes_coordinates(flat_host, tmp_path):
     for sc in study.scenes:
         sel = ds.sel(scene=sc.name)
         assert float(sel["speed"]) == sc.speed and float(sel["sweep_normal_force"]) == sc.normal_force
-        assert float(sel["wheel_bulk_temperature"]) == sc.wheel.bulk_temperature
+        assert float(sel["wheel.bulk_temperature"]) == sc.wheel.bulk_temperature
         for k in (0, 1):
             with xr.open_dataset(run_path(out, sc.name, "flat", k)) as f:
                 np.testing.assert_array_equal(sel["max_surface_temperature"].sel(method_name="flat", level=k).values,
@@ -84,19 +85,19 @@ def test_unstack_gives_one_dimension_per_swept_parameter(flat_host, tmp_path):
     _, out = run(tmp_path)
     g = railtherm.open_results(out, unstack=True)
     assert g["max_surface_temperature"].sizes == {"method_name": 1, "level": 2, "body": 2, "sweep_normal_force": 2,
-                                                  "speed": 2, "wheel_bulk_temperature": 2}
+                                                  "speed": 2, "wheel.bulk_temperature": 2}
     flat = railtherm.open_results(out)
-    pick = (flat["speed"] == 60.0) & (flat["sweep_normal_force"] == 100e3) & (flat["wheel_bulk_temperature"] == 20.0)
+    pick = (flat["speed"] == 60.0) & (flat["sweep_normal_force"] == 100e3) & (flat["wheel.bulk_temperature"] == 20.0)
     one = flat.isel(scene=int(np.flatnonzero(pick.values)[0]))
     np.testing.assert_array_equal(
-        g["max_surface_temperature"].sel(sweep_normal_force=100e3, speed=60.0, wheel_bulk_temperature=20.0).values,
+        g["max_surface_temperature"].sel({"sweep_normal_force": 100e3, "speed": 60.0, "wheel.bulk_temperature": 20.0}).values,
         one["max_surface_temperature"].values)
-    assert str(g["scene_name"].sel(sweep_normal_force=100e3, speed=60.0, wheel_bulk_temperature=20.0).values) == \
+    assert str(g["scene_name"].sel({"sweep_normal_force": 100e3, "speed": 60.0, "wheel.bulk_temperature": 20.0}).values) == \
         str(one["scene"].values)
     assert g["speed"].attrs["units"] == "m s-1"
     # the wheel heats more at the higher bulk temperature by exactly the bulk difference (flat model)
-    d = (g["max_surface_temperature"].sel(wheel_bulk_temperature=20.0, body="wheel")
-         - g["max_surface_temperature"].sel(wheel_bulk_temperature=0.0, body="wheel"))
+    d = (g["max_surface_temperature"].sel({"wheel.bulk_temperature": 20.0, "body": "wheel"})
+         - g["max_surface_temperature"].sel({"wheel.bulk_temperature": 0.0, "body": "wheel"}))
     np.testing.assert_allclose(d.values, 20.0, rtol=0, atol=1e-9)
 
 
@@ -202,3 +203,59 @@ def test_sweep_10k_within_3_minutes_on_2_cores(tmp_path):
     t1 = time.perf_counter()
     _check_sweep(tmp_path / "out", study, (10, 10, 10, 10))
     print(f"open_results of 10 000 runs: {time.perf_counter() - t1:.1f} s")
+
+
+# ---------------------------------------------------------------------------------------------
+# one sweep encoding: the JSON attribute ``sweep`` of every run file (docs/DESIGN.md, result schema)
+
+def test_run_file_carries_its_sweep_as_json(flat_host, tmp_path):
+    import json
+    study, out = run(tmp_path, speeds="[30.0]", extra=CREEP.replace("longitudinal = -1e-3",
+                                                                     "longitudinal = [-1e-3, -2e-3]"))
+    creep = [sc for sc in study.scenes if sc.name.startswith("creep")]
+    assert len(creep) == 2
+    for sc in study.scenes:
+        for k in (0, 1):
+            p = run_path(out, sc.name, "flat", k)
+            if not p.exists():
+                continue  # the flat model refuses creepage scenes
+            with xr.open_dataset(p) as f:
+                assert not any(a.startswith("sweep_") for a in f.attrs)
+                assert json.loads(f.attrs["sweep"]) == dict(sc.sweep)
+    m = study.scenes[0]
+    with xr.open_dataset(run_path(out, m.name, "flat", 0)) as f:
+        assert json.loads(f.attrs["sweep"]) == {"normal_force": m.normal_force, "speed": 30.0,
+                                                 "wheel.bulk_temperature": m.wheel.bulk_temperature}
+
+
+def test_sweep_json_round_trip_and_release_01_attributes():
+    from railtherm.results import encode_sweep, sweep_of
+    sw = {"creepage.longitudinal": -1e-3, "wheel.bulk_temperature": 20.0, "heat_partition": "equal-temperature"}
+    assert sweep_of({"sweep": encode_sweep(sw)}) == sw
+    assert sweep_of({"sweep": "{}"}) == {} and sweep_of({"scene": "x"}) == {}
+    # files of railtherm 0.1: sweep_<key with dots replaced>, decoded against the scene vocabulary
+    old = {"sweep_creepage_longitudinal": np.float64(-1e-3), "sweep_wheel_bulk_temperature": 20.0,
+           "sweep_speed": 30.0, "sweep_normal_force": 8e4}
+    assert sweep_of(old) == {"creepage.longitudinal": -1e-3, "wheel.bulk_temperature": 20.0,
+                             "speed": 30.0, "normal_force": 8e4}
+    with pytest.raises(ValueError, match="not JSON"):
+        sweep_of({"sweep": "creepage.longitudinal=-1e-3"})
+
+
+def test_open_results_names_a_dotted_sweep_coordinate_and_reads_release_01_files(flat_host, tmp_path):
+    import netCDF4
+    _, out = run(tmp_path, speeds="[30.0]")
+    ds = railtherm.open_results(out)
+    assert "wheel.bulk_temperature" in ds.coords and "wheel_bulk_temperature" not in ds.coords
+    assert ds["wheel.bulk_temperature"].attrs["long_name"] == "swept study key 'wheel.bulk_temperature'"
+    # rewrite the run files as railtherm 0.1 wrote them: same coordinates
+    for f in out.glob("runs/*/*/level-*.nc"):
+        with netCDF4.Dataset(f, "a") as nc:
+            import json
+            sw = json.loads(nc.getncattr("sweep"))
+            nc.delncattr("sweep")
+            for k, v in sw.items():
+                nc.setncattr("sweep_" + k.replace(".", "_"), v)
+    old = railtherm.open_results(out)
+    assert set(old.coords) == set(ds.coords)
+    np.testing.assert_array_equal(old["wheel.bulk_temperature"].values, ds["wheel.bulk_temperature"].values)

@@ -375,3 +375,36 @@ def test_missing_metrics(tmp_path):
     from railtherm.report import write_report
     with pytest.raises(FileNotFoundError, match="metrics.nc"):
         write_report(tmp_path)
+
+
+def test_report_groups_a_sweep_from_the_run_files_json_not_the_name(study_out, tmp_path):
+    """Without the study and without the run records' sweeps, the report reads each run file's
+    ``sweep`` attribute (JSON with dotted study keys); the scene name is never parsed for values."""
+    import shutil
+
+    import netCDF4
+
+    from railtherm.report.load import load
+    from railtherm.report.verdict import sweep_groups
+    out, _ = study_out
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy)
+    info = json.loads((copy / "study.json").read_text())
+    info["path"] = str(tmp_path / "missing.toml")
+    for rec in info.get("records", []):
+        rec.pop("sweep", None)
+    (copy / "study.json").write_text(json.dumps(info))
+    # the JSON says 10x the creepage the scene name says: the report must follow the JSON
+    for f in copy.glob("runs/carter--*/*/level-*.nc"):
+        with netCDF4.Dataset(f, "a") as nc:
+            sw = json.loads(nc.getncattr("sweep"))
+            assert list(sw) == ["creepage.longitudinal"]
+            nc.setncattr("sweep", json.dumps({"creepage.longitudinal": 10 * sw["creepage.longitudinal"]}))
+    data = load(copy)
+    assert data.study is None
+    groups = [g for g in sweep_groups(data) if g.base == "carter"]
+    assert len(groups) == 1 and groups[0].key == "creepage.longitudinal"
+    values = [v for v, _ in groups[0].members]
+    assert len(values) == 5 and -4e-3 in values          # the name says -0.0004
+    for v, nm in groups[0].members:
+        assert data.scene[nm].sweep == {"creepage.longitudinal": v}

@@ -18,6 +18,7 @@ from .errors import PluginError, Refused, SceneError, SolverError
 from .grid import BASE_CELLS
 from .models.sliding import given_heat_source as _given
 from .plugins import MethodInfo, PluginHost, get_host
+from .results import encode_sweep
 from .scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
 from .schema import STAGE_OF_GROUP, VARIABLES, build_dataset, history_line, validate_dataset
 from .stages import STAGES, CoupledModel, StageModel
@@ -242,7 +243,7 @@ def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options
         "stages": " ".join(f"{s}:{pl.models[s].name}" for s in pl.stages),
         "outputs": " ".join(scene.outputs),
         "wall_time": wall, "converged": int(converged),
-        **{"sweep_" + k.replace(".", "_"): v for k, v in scene.sweep.items()},
+        "sweep": encode_sweep(scene.sweep),
         **diag,
     }
     ds = build_dataset(grid, patch, source, temp, outputs=scene.outputs, attrs=attrs)

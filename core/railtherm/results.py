@@ -4,7 +4,11 @@
 and the status records of runs without a file (``level-<k>.status.json``: refused or failed), and
 gathers the scalar results on dimensions ``scene``, ``method_name``, ``level`` (and ``body``). The swept
 parameters of the study become coordinates along ``scene``; ``unstack=True`` turns a cartesian sweep
-into one dimension per swept parameter. Files are read with netCDF4-python directly (about 2 ms per
+into one dimension per swept parameter.
+
+A run file names its swept study keys in one global attribute, ``sweep``: a JSON object of the dotted
+study keys and their values (``{"creepage.longitudinal": -0.001}``); :func:`sweep_of` decodes it (and the
+``sweep_<key>`` attributes written by railtherm 0.1, whose dots were lost, for one release). Files are read with netCDF4-python directly (about 2 ms per
 run file, 20 s for a sweep of 10 000 scenes; xarray's ``open_dataset`` takes five times longer).
 """
 from __future__ import annotations
@@ -47,6 +51,55 @@ def _sweep_coord_attrs(key: str) -> dict:
     return {"units": unit, "long_name": f"swept study key '{key}'"}
 
 
+#: global attribute of a run file holding its sweep as JSON
+SWEEP_ATTR = "sweep"
+
+
+def encode_sweep(sweep) -> str:
+    """The ``sweep`` attribute of a run file: JSON of the swept study keys (dotted) and their values."""
+    def plain(v):
+        return v.item() if hasattr(v, "item") else v
+    return json.dumps({str(k): plain(v) for k, v in dict(sweep or {}).items()}, separators=(", ", ": "))
+
+
+def sweep_of(attrs) -> dict:
+    """The sweep of a run from its global attributes: ``{dotted study key: value}``.
+
+    Reads the JSON attribute ``sweep``; files written by railtherm 0.1 carry ``sweep_<key>`` attributes
+    instead (dots replaced by underscores), decoded against the scene vocabulary (kept for one release).
+    """
+    raw = attrs.get(SWEEP_ATTR) if hasattr(attrs, "get") else None
+    if raw is not None:
+        raw = raw.decode() if isinstance(raw, bytes) else str(raw)
+        try:
+            out = json.loads(raw)
+        except ValueError as exc:
+            raise ValueError(f"run attribute 'sweep' is not JSON ({raw!r}): {exc}") from None
+        if not isinstance(out, dict):
+            raise ValueError(f"run attribute 'sweep' is not a JSON object: {raw!r}")
+        return out
+    return {_dotted(k[len("sweep_"):]): (v.item() if hasattr(v, "item") else v)   # railtherm 0.1
+            for k, v in attrs.items() if k.startswith("sweep_")}
+
+
+def run_sweeps(out) -> dict:
+    """Scene name -> sweep of a study output folder, from the first run file of each scene."""
+    import netCDF4
+    found = {}
+    root = Path(out) / "runs"
+    for f in sorted(root.glob("*/*/level-*.nc")) if root.is_dir() else ():
+        if f.parent.parent.name in found:
+            continue
+        try:
+            with netCDF4.Dataset(f, "r") as nc:
+                attrs = {k: nc.getncattr(k) for k in nc.ncattrs()}
+        except OSError:
+            continue
+        if "scene" in attrs:
+            found[str(attrs["scene"])] = sweep_of(attrs)
+    return found
+
+
 def _read_run(path: Path, variables):
     """(scene, method, level, {name: value}, {sweep key: value}, wall_time, status) of one run file."""
     import netCDF4
@@ -59,8 +112,7 @@ def _read_run(path: Path, variables):
                 continue
             if var.dimensions in ((), ("body",)):
                 vals[name] = np.asarray(var[...], dtype=float)
-    sweep = {k[len("sweep_"):]: (v.item() if hasattr(v, "item") else v)
-             for k, v in attrs.items() if k.startswith("sweep_")}
+    sweep = sweep_of(attrs)
     return (str(attrs["scene"]), str(attrs["method"]), int(attrs["level"]), vals, sweep,
             float(attrs.get("wall_time", np.nan)), str(attrs.get("status", "ok")))
 
@@ -87,8 +139,9 @@ def open_results(out, *, variables=None, unstack: bool = False):
         (as in ``metrics.nc``). Variables: the
         scalar results with the units of the result schema, ``wall_time`` [s] and ``status``
         (ok | refused | failed | missing). Refused, failed and missing runs are NaN. Each swept
-        parameter is a coordinate along ``scene`` named after its study key (dots become
-        underscores: ``creepage_longitudinal``; its long_name gives the study key); a swept key that is also the name of a result
+        parameter is a coordinate along ``scene`` named after its dotted study key
+        (``creepage.longitudinal``, ``wheel.bulk_temperature``; select with
+        ``ds.sel({"creepage.longitudinal": -1e-3})``); a swept key that is also the name of a result
         variable (``normal_force``) is called ``sweep_<key>``.
 
     Examples
@@ -153,7 +206,7 @@ def open_results(out, *, variables=None, unstack: bool = False):
     for r in records:
         sweeps.setdefault(r[0], r[4])
     for s in statuses:
-        sweeps.setdefault(s[0], {k.replace(".", "_"): v for k, v in s[4].items()})
+        sweeps.setdefault(s[0], dict(s[4]))
     keys = sorted({k for sw in sweeps.values() for k in sw})  # (netCDF does not keep attribute order)
     sweep_names = {}
     for key in keys:

@@ -173,20 +173,29 @@ def _float(v) -> float:
         return math.nan
 
 
-def parse_sweep(name: str) -> tuple[str, dict]:
-    """Base name and sweep of a scene name ``base--k=v,k=v`` (used when neither study nor records say)."""
-    if "--" not in name:
-        return name, {}
-    base, rest = name.split("--", 1)
-    sweep = {}
-    for part in rest.split(","):
-        if "=" in part:
-            k, v = part.split("=", 1)
-            try:
-                sweep[k] = float(v)
-            except ValueError:
-                sweep[k] = v
-    return base, sweep
+def base_name(name: str) -> str:
+    """The study's scene name a swept scene was generated from (``base--k=v,...`` -> ``base``)."""
+    return name.split("--", 1)[0]
+
+
+def _sweeps(out: Path, names, scenes_obj: dict, info: dict) -> dict:
+    """Scene name -> sweep ({dotted study key: value}), never guessed from the scene name.
+
+    In order: the study's scene, the JSON attribute ``sweep`` of the scene's run files (railtherm 0.1
+    files: their ``sweep_<key>`` attributes), the run records of ``study.json``.
+    """
+    out_sweeps = {nm: dict(getattr(scenes_obj[nm], "sweep", {}) or {}) for nm in names if nm in scenes_obj}
+    rest = [nm for nm in names if nm not in out_sweeps]
+    if rest:
+        from ..results import run_sweeps
+        files = run_sweeps(out)
+        records = {rec.get("scene"): rec.get("sweep") for rec in info.get("records", []) if isinstance(rec, dict)}
+        for nm in rest:
+            sweep = files.get(nm)
+            if sweep is None:
+                sweep = records.get(nm)
+            out_sweeps[nm] = dict(sweep or {})
+    return out_sweeps
 
 
 # -- legacy (first release) metrics: reference of each error from the combined text ------------------
@@ -374,15 +383,13 @@ def load(out, study=None) -> StudyData:
             names.append(nm)
     present = {r.scene for r in runs}
     names = [n for n in names if n in present]
-    record_sweeps = {rec.get("scene"): rec.get("sweep") for rec in info.get("records", []) if isinstance(rec, dict)}
+    sweeps = _sweeps(out, names, scenes_obj, info)
     published = getattr(study, "published", None) or {}
 
     scene_info = {}
     for nm in names:
         sc = scenes_obj.get(nm)
-        base, parsed = parse_sweep(nm)
-        sweep = dict(getattr(sc, "sweep", {}) or {}) if sc is not None else (record_sweeps.get(nm) or parsed)
-        si = SceneInfo(nm, sweep=dict(sweep or {}), base=base, scene=sc, published=dict(published.get(nm, {})))
+        si = SceneInfo(nm, sweep=sweeps[nm], base=base_name(nm), scene=sc, published=dict(published.get(nm, {})))
         h = _per_scene(m, "headline", nm)
         si.headline = _str(h.values.item()) if h is not None else ""
         rk = _per_scene(m, "reference_kind", nm)
