@@ -159,7 +159,7 @@ class FemModel(CoupledModel):
             source = railtherm.given_heat_source(scene, level, cells)
             wanted = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
             return None, None, self._given(scene, level, options, source) if wanted else None
-        # the pipeline may plan only ("contact",) for a coupled model (see /work/requests/fem.md): run the
+        # the pipeline may plan only ("contact",) for a coupled model (docs/DESIGN.md, "Stages"): run the
         # thermal part whenever the scene asks for a temperature output
         thermal = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
         prob = self._problem(scene, level, options, thermal)

@@ -120,9 +120,9 @@ class FipyTemperature(TemperatureModel):
     ----------
     .. [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation
        of temperatures in wheel/rail contact, Wear 253 (2002) 498-508.
-       doi:10.1016/S0043-1648(02)00140-6
-    .. [2] D. Wheeler, J.E. Guyer, J.A. Warren, FiPy: Partial differential equations with Python,
-       Computing in Science & Engineering 11 (2009) 63-72. doi:10.1109/MCSE.2009.52
+       (DOI not verified, see docs/references.md)
+    .. [2] J.E. Guyer, D. Wheeler, J.A. Warren, FiPy: Partial differential equations with Python,
+       Computing in Science & Engineering 11(3) (2009) 6-15. doi:10.1109/MCSE.2009.52
     .. [3] S.V. Patankar, Numerical Heat Transfer and Fluid Flow, Hemisphere, 1980 (power-law
        scheme). ISBN 978-0891165224
     """

@@ -25,7 +25,7 @@ Notes on the seed's formulas (what is implemented instead)
 References
 ----------
 .. [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
-   temperatures in wheel/rail contact, Wear 253 (2002) 498-508. doi:10.1016/S0043-1648(02)00120-3
+   temperatures in wheel/rail contact, Wear 253 (2002) 498-508 (DOI not verified, see docs/references.md)
 .. [2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, sections 2.5, 2.9.
 """
 from __future__ import annotations
