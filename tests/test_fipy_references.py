@@ -146,7 +146,7 @@ def test_jaeger_2d_uniform_band():
 
 @pytest.mark.parametrize("scheme", ["upwind", "exponential", "hybrid"])
 def test_schemes_agree_at_high_peclet(scheme):
-    """NOTES.md: at cell Péclet numbers in the hundreds the monotone schemes give the same answer."""
+    """docs/NOTES.md: at cell Péclet numbers in the hundreds the monotone schemes give the same answer."""
     e_pl = error_2d(1e4, 3)[0]
     e = error_2d(1e4, 3, scheme=scheme)[0]
     assert abs(e - e_pl) < 1e-3

@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from railtherm import SolverError
-from railtherm_fipy.mesh import geometric_edges, moving_frame_mesh, thermal_scales
+from railtherm.physics import geometric_edges, thermal_scales
+from railtherm_fipy.mesh import moving_frame_mesh
 from railtherm_fipy.solvers import import_fipy, make_solver, solve_checked, solver_suite
 from railtherm_fipy.steady import SCHEMES, convection_term
 
@@ -94,7 +95,7 @@ def test_exponential1d_other_schemes(scheme, tol):
 
 
 def test_central_scheme_oscillates_at_high_cell_peclet():
-    """Central differencing at cell Péclet number 10 over- and undershoots (NOTES.md): values leave [0, 1]
+    """Central differencing at cell Péclet number 10 over- and undershoots (docs/NOTES.md): values leave [0, 1]
     and the profile is not monotone."""
     phi, exact, _ = _exponential1d("central", ours=True)
     assert phi.max() > 1.0 + 1e-3 or phi.min() < -1e-3
@@ -134,14 +135,14 @@ def test_schemes_known():
 
 # ------------------------------------------------------------------ meshes
 def test_thermal_scales_ertz_knothe():
-    """Péclet ~ 6 200 at 30 m/s (NOTES.md), delta = a / sqrt(Pe) ~ 75 um."""
+    """Péclet ~ 6 200 at 30 m/s (docs/NOTES.md), delta = a / sqrt(Pe) ~ 75 um."""
     kappa = 50.0 / (7850.0 * 450.0)
     sc = thermal_scales(5.88e-3, 30.0, kappa)
-    assert sc["peclet"] == pytest.approx(30.0 * 5.88e-3 / (2 * kappa))
-    assert 6000 < sc["peclet"] < 6400
-    assert sc["delta"] == pytest.approx(5.88e-3 / math.sqrt(sc["peclet"]))
-    assert 70e-6 < sc["delta"] < 80e-6
-    assert sc["ell"] == pytest.approx(2 * kappa / 30.0)
+    assert sc.peclet == pytest.approx(30.0 * 5.88e-3 / (2 * kappa))
+    assert 6000 < sc.peclet < 6400
+    assert sc.thermal_depth == pytest.approx(5.88e-3 / math.sqrt(sc.peclet))
+    assert 70e-6 < sc.thermal_depth < 80e-6
+    assert sc.wake_length == pytest.approx(2 * kappa / 30.0)
 
 
 def test_geometric_edges_nested_and_graded():
@@ -164,10 +165,10 @@ def test_mesh_follows_the_scene_scales(pe):
     m0 = moving_frame_mesh(xp, a, v, kappa, 0)
     sc = thermal_scales(a, v, kappa)
     dz = np.diff(m0.z_edges)
-    assert dz[0] <= min(sc["delta"], a) / 4.0 * (1 + 1e-12)        # first cell resolves delta
+    assert dz[0] <= min(sc.thermal_depth, a) / 4.0 * (1 + 1e-12)        # first cell resolves delta
     length = m0.x_edges[-1] - m0.x_edges[0]
     assert m0.z_edges[-1] == pytest.approx(max(6.0 * math.sqrt(kappa * length / v), dz[0] * 4))
-    assert m0.x_edges[-1] - a == pytest.approx(max(4 * sc["ell"], a / 4))   # inflow margin
+    assert m0.x_edges[-1] - a == pytest.approx(max(4 * sc.wake_length, a / 4))   # inflow margin
     assert np.allclose(m0.x_edges[(m0.x_edges >= -a) & (m0.x_edges <= a)], xp)  # patch cells = grid cells
     m1 = moving_frame_mesh(np.linspace(-a, a, 33), a, v, kappa, 1)
     assert np.diff(m1.z_edges)[0] == pytest.approx(dz[0] * (1.3 ** 0.5 - 1) / (1.3 - 1), rel=1e-9)

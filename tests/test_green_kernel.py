@@ -156,7 +156,7 @@ def test_convergence_rate_of_tmax():
 
 
 def test_contact_double_count_bias_is_not_present():
-    """CONTACT's strip sum appears to add a cell's own heat twice (NOTES.md): counting the own-cell
+    """CONTACT's strip sum appears to add a cell's own heat twice (docs/NOTES.md): counting the own-cell
     weight sqrt(2 dx) twice makes the maximum 9.4 % high at dx = 0.2 mm; ours is within 0.1 % of
     the exact maximum on that grid (59 cells along 2a)."""
     n = int(round(2 * A / 0.2e-3))

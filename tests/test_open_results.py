@@ -151,7 +151,7 @@ def _green_or_skip():
 
 def _check_sweep(out, study, shape):
     import json
-    files = sorted(out.glob("runs/*/green/level-0.nc"))  # the runs/ layout of DESIGN.md
+    files = sorted(out.glob("runs/*/green/level-0.nc"))  # the runs/ layout of docs/DESIGN.md
     assert len(files) == len(study.scenes)
     recs = json.loads((out / "study.json").read_text())["records"]
     assert {r["status"] for r in recs} == {"ok"} and all(r["summary"] for r in recs)

@@ -31,7 +31,7 @@ from railtherm.references.moving_source import (moving_source_temperature, stati
                                                 static_circle_uniform)
 
 _HERE = Path(__file__).resolve().parent
-_PUBLISHED = [_HERE / "data" / "published.toml", Path("/work/shared/reference/published.toml")]
+_PUBLISHED = [_HERE / "data" / "published.toml"]
 
 STEEL = Material()                       # G 82 GPa, nu 0.28, rho 7850, c 450, lambda 50
 LAM = STEEL.conductivity
@@ -267,7 +267,7 @@ def test_hertz_band_integral_exact():
 
 
 def test_flash_max_coefficients():
-    """Hertz band: C = 1.2346 at x = -0.652 a (NOTES.md; seed eq. 39 quotes 1.253, 1.5 % high).
+    """Hertz band: C = 1.2346 at x = -0.652 a (docs/NOTES.md; seed eq. 39 quotes 1.253, 1.5 % high).
     Independent: brute-force maximum of the eq. (30) quadrature on a fine grid."""
     c = flash_max_hertz_coefficient()
     loc = flash_max_hertz_location()

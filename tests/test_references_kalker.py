@@ -13,7 +13,7 @@ from railtherm.references.kalker import (KALKER_TABLE, flexibilities, kalker_coe
                                          weighted_flexibility)
 
 _HERE = Path(__file__).resolve().parent
-_CANDIDATES = [_HERE / "data" / "published.toml", Path("/work/shared/reference/published.toml")]
+_CANDIDATES = [_HERE / "data" / "published.toml"]
 NAMES = ("C11", "C22", "C23", "C33")
 NU = (0.0, 0.25, 0.5)
 

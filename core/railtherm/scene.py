@@ -1,6 +1,6 @@
 """Scenes: the physical case every method runs on, parsed and validated from the study vocabulary.
 
-A scene is given as a mapping in the vocabulary of DESIGN.md (TOML tables, SI units, temperatures in
+A scene is given as a mapping in the vocabulary of docs/DESIGN.md (TOML tables, SI units, temperatures in
 degC). :func:`load_scene` validates it and returns a frozen :class:`Scene`; every error is a
 :class:`railtherm.SceneError` naming the scene, the key, the value and what is allowed.
 """
@@ -277,7 +277,7 @@ class Wheelset:
 class Scene:
     """A validated scene. Build with :func:`load_scene`; attributes in SI units.
 
-    See DESIGN.md "Scene vocabulary" for the meaning of every key.
+    See docs/DESIGN.md "Scene vocabulary" for the meaning of every key.
     """
 
     name: str
@@ -359,7 +359,7 @@ def load_scene(mapping: Mapping[str, Any] | "Scene", *, name: str | None = None,
     Parameters
     ----------
     mapping : mapping or Scene
-        Scene keys as in DESIGN.md. Lists are not expanded here (see :func:`railtherm.study.expand_sweeps`):
+        Scene keys as in docs/DESIGN.md. Lists are not expanded here (see :func:`railtherm.study.expand_sweeps`):
         a list where a scalar belongs is an error.
     name : str, optional
         Scene name when the mapping has none.

@@ -26,7 +26,7 @@ __all__ = ["KALKER_TABLE", "kalker_coefficients", "kalker_linear_forces", "flexi
            "weighted_flexibility"]
 
 # --------------------------------------------------------------------------------------------------
-# Copy of /work/shared/reference/published.toml [kalker_coefficients] (Kalker 1990 table E.3 as
+# Copy of tests/data/published.toml [kalker_coefficients] (Kalker 1990 table E.3 as
 # tabulated in CONTACT src/m_hertz.f90 linrol; C33 from OpenVSD WRcontForce.cpp, single source).
 # Each row: [nu = 0, nu = 0.25, nu = 0.5]. tests/test_references_kalker.py compares this copy with
 # published.toml when that file exists.
