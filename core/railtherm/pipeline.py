@@ -203,7 +203,7 @@ def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options
     Returns
     -------
     xarray.Dataset
-        The result in the schema of DESIGN.md (CF-1.11 attributes), already validated.
+        The result in the schema of docs/DESIGN.md ("Result schema") (CF-1.11 attributes), already validated.
 
     Raises
     ------
