@@ -18,7 +18,7 @@ NAMES = ("C11", "C22", "C23", "C33")
 NU = (0.0, 0.25, 0.5)
 
 
-@pytest.mark.parametrize("path", _CANDIDATES, ids=["tests-data", "shared"])
+@pytest.mark.parametrize("path", _CANDIDATES, ids=["tests-data"])
 def test_module_copy_equals_published(path):
     """The module-level copy of Kalker's table equals published.toml [kalker_coefficients] exactly."""
     if not path.exists():
