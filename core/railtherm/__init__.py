@@ -12,8 +12,8 @@ __version__ = "0.2.0"
 from .errors import PluginError, Refused, SceneError, SolverError
 from .grid import SurfaceGrid, surface_grid
 from .hookspec import hookimpl
-from .materials import Material, combined_elastic
-from .models.partition import equal_temperature_partition, scene_partition
+from .materials import Material
+from .physics import combined_elastic, equal_temperature_partition, scene_partition
 from .stages import (BODIES, STAGES, Capabilities, ContactModel, ContactPatch, CoupledModel, HeatSource,
                      HeatSourceModel, Method, Option, StageModel, TemperatureField, TemperatureModel)
 

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .models.partition import scene_partition
+from .physics import scene_partition
 
 _NAME = {"contact": "Hertz (elliptic integrals)", "carter": "Carter 2-D rolling",
          "ms": "moving surface source on a half-space (point-source superposition)",

@@ -4,6 +4,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, asdict
 
+from .physics.elastic import combined_elastic  # noqa: F401  (moved; kept here for one release)
+
 
 @dataclass(frozen=True)
 class Material:
@@ -64,32 +66,3 @@ class Material:
 
     def as_dict(self) -> dict:
         return asdict(self)
-
-
-def combined_elastic(wheel: Material, rail: Material) -> tuple[float, float]:
-    """Combined shear modulus and Poisson's ratio of two bodies (Kalker) [Pa], [1].
-
-    ``1/G = (1/G1 + 1/G2)/2`` and ``nu = G (nu1/G1 + nu2/G2)/2``; a rigid body contributes no
-    compliance. Equal materials give G = G1, nu = nu1.
-
-    Raises
-    ------
-    ValueError
-        When both bodies are rigid.
-
-    References
-    ----------
-    .. [1] J.J. Kalker, Three-dimensional elastic bodies in rolling contact, Kluwer 1990.
-       doi:10.1007/978-94-015-7889-9
-    """
-    comp = 0.0
-    nug = 0.0
-    for m in (wheel, rail):
-        if getattr(m, "rigid", False):
-            continue
-        comp += 0.5 / m.shear_modulus
-        nug += 0.5 * m.poisson_ratio / m.shear_modulus
-    if comp == 0.0:
-        raise ValueError("both bodies are rigid: no tangential compliance")
-    g = 1.0 / comp
-    return g, g * nug

@@ -1,65 +1,9 @@
-"""Cell averages of the analytic surface distributions (Hertz semi-ellipsoid, uniform ellipse).
+"""Cell averages of the analytic surface distributions: moved to :mod:`railtherm.physics.averaging`.
 
-Both are integrated exactly along x in each cell and with Gauss-Legendre points across y, so the
-sampled field integrates to the exact total (the square-root edge of the Hertz pressure would
-otherwise cost a first-order error at the patch boundary).
+This module re-exports them for one release; import from :mod:`railtherm.physics`.
 """
 from __future__ import annotations
 
-import numpy as np
+from ..physics.averaging import cell_average, exact_total
 
-from ..grid import SurfaceGrid
-
-_GAUSS = 8
-
-
-def _hertz_x_integral(x0, x1, c, a):
-    """Integral of sqrt(c^2 - (x/a)^2) dx over [x0, x1] ∩ [-c a, c a] (c >= 0), vectorised."""
-    lim = c * a
-    lo = np.clip(x0, -lim, lim)
-    hi = np.clip(x1, -lim, lim)
-
-    def F(x):
-        with np.errstate(invalid="ignore", divide="ignore"):
-            s = np.where(lim > 0, x / np.where(lim > 0, lim, 1.0), 0.0)
-            s = np.clip(s, -1.0, 1.0)
-            return 0.5 * a * c ** 2 * (s * np.sqrt(1.0 - s ** 2) + np.arcsin(s))
-
-    return F(hi) - F(lo)
-
-
-def _uniform_x_integral(x0, x1, c, a):
-    lim = c * a
-    return np.clip(np.minimum(x1, lim) - np.maximum(x0, -lim), 0.0, None)
-
-
-def cell_average(grid: SurfaceGrid, shape: str, a: float, b: float | None) -> np.ndarray:
-    """Cell averages of the unit-peak distribution ``shape`` ("hertz" or "uniform") [1].
-
-    Parameters
-    ----------
-    grid : SurfaceGrid
-    shape : {"hertz", "uniform"}
-        ``sqrt(1 - x^2/a^2 - y^2/b^2)`` or 1 on the ellipse (interval for a line contact).
-    a, b : float
-        Semi-axes [m] (b None for a line contact).
-    """
-    fx = _hertz_x_integral if shape == "hertz" else _uniform_x_integral
-    x0, x1 = grid.x_edges[:-1], grid.x_edges[1:]
-    if grid.line:
-        return fx(x0, x1, np.ones_like(x0), a) / grid.dx
-    g, w = np.polynomial.legendre.leggauss(_GAUSS)
-    y0, y1 = grid.y_edges[:-1], grid.y_edges[1:]
-    out = np.zeros(grid.shape)
-    for gi, wi in zip(g, w):
-        yy = 0.5 * (y0 + y1) + 0.5 * (y1 - y0) * gi  # (ny,)
-        c = np.sqrt(np.clip(1.0 - (yy / b) ** 2, 0.0, None))  # (ny,)
-        out += 0.5 * wi * fx(x0[:, None], x1[:, None], c[None, :], a)
-    return out / grid.dx
-
-
-def exact_total(shape: str, a: float, b: float | None) -> float:
-    """Integral of the unit-peak distribution over the patch [m^2] ([m] for a line contact)."""
-    if b is None:
-        return np.pi * a / 2.0 if shape == "hertz" else 2.0 * a
-    return 2.0 * np.pi * a * b / 3.0 if shape == "hertz" else np.pi * a * b
+__all__ = ["cell_average", "exact_total"]

@@ -6,8 +6,9 @@ import numpy as np
 from ..errors import Refused
 from ..grid import BASE_CELLS, surface_grid
 from ..stages import Capabilities, HeatSource, HeatSourceModel, Option
-from .partition import scene_partition
-from .shapes import cell_average, exact_total
+from ..physics.averaging import cell_average, exact_total
+from ..physics.kinematics import body_speeds
+from ..physics.partition import scene_partition
 
 
 #: the verdict keys of a closed-form stage (docs/verdicts.md): converged, no iterations, no residual
@@ -31,9 +32,10 @@ class FullSlidingHeat(HeatSourceModel):
                                                     "slip_velocity_x", "stick", "creep_force_x"}))
 
     def compute_source(self, scene, patch, level, options):
-        vs, v0 = scene.sliding_speed, scene.speed
+        vs = scene.sliding_speed
+        v_w, v_r = body_speeds(scene)
         q = scene.friction * vs * patch.pressure
-        eps = scene_partition(scene, v0 + vs, v0)
+        eps = scene_partition(scene, v_w, v_r)
         mu_p = scene.friction * patch.pressure
         # material flows in -x: the wheel surface moves at -(V + v_s), the rail at -V, so the wheel
         # slips at -v_s relative to the rail and friction pushes it forward (+x) for v_s > 0
@@ -43,7 +45,7 @@ class FullSlidingHeat(HeatSourceModel):
             creep_force_x=np.sign(vs) * scene.friction * patch.normal_force)
         power = scene.friction * vs * patch.normal_force
         # closed form: converged, no iterations, no residual (docs/verdicts.md)
-        return HeatSource(grid=patch.grid, power_density=q, heat_partition=eps, body_speed=(v0 + vs, v0),
+        return HeatSource(grid=patch.grid, power_density=q, heat_partition=eps, body_speed=(v_w, v_r),
                           frictional_power=power, patch=patch, diagnostics=dict(CLOSED_FORM))
 
 
@@ -63,9 +65,9 @@ def given_heat_source(scene, level: int, cells: int | None = None) -> HeatSource
     except Refused as exc:  # over the cell budget: name the scene
         raise Refused(f"scene {scene.name!r}, given heat source: {exc}", kind=exc.kind) from None
     q = hs.flux * cell_average(grid, hs.shape, a, b)
-    v = scene.speed
-    eps = scene_partition(scene, v, v)
-    return HeatSource(grid=grid, power_density=q, heat_partition=eps, body_speed=(v, v),
+    v_w, v_r = body_speeds(scene)
+    eps = scene_partition(scene, v_w, v_r)
+    return HeatSource(grid=grid, power_density=q, heat_partition=eps, body_speed=(v_w, v_r),
                       frictional_power=hs.flux * exact_total(hs.shape, a, b), shape=hs.shape, peak_flux=hs.flux,
                       diagnostics=dict(CLOSED_FORM))
 

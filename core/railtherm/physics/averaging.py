@@ -92,7 +92,10 @@ def exact_total(shape: str, a: float, b: float | None) -> float:
 
 
 def nodal_cell_average(x_nodes, values, edges) -> np.ndarray:
-    """Cell averages over ``edges`` of the piecewise-linear interpolant of nodal values (0 outside).
+    """Cell averages over ``edges`` of the piecewise-linear interpolant of nodal values.
+
+    Beyond the first and last node the interpolant runs linearly to 0 at the next cell edge (the
+    values at edges outside the nodes are 0).
 
     Parameters
     ----------
