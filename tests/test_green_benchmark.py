@@ -18,7 +18,7 @@ import pytest
 from railtherm import HeatSource, Material, SurfaceGrid
 from railtherm.references.flash import flash_max_hertz_coefficient
 from railtherm_green.model import GreenTemperature
-from railtherm_green.steady import blok_partition
+from railtherm.physics import equal_temperature_partition
 
 
 @pytest.mark.benchmark
@@ -29,7 +29,7 @@ def test_benchmark_ertz_knothe_patch_216x45(benchmark):
     X, Y = grid.mesh()
     q = 0.3 * 1.0 * p0 * np.sqrt(np.clip(1 - (X / a) ** 2 - (Y / b) ** 2, 0, None))
     steel = Material()
-    eps = blok_partition(steel.effusivity, steel.effusivity, 31.0, 30.0)
+    eps = equal_temperature_partition(steel, steel, 31.0, 30.0)
     source = HeatSource(grid, q, eps, (31.0, 30.0), 0.3 * n)
     scene = SimpleNamespace(name="ek", wheel=steel, rail=steel, convection=0.0, wheel_radius=0.46,
                             outputs=("max_surface_temperature", "mean_contact_temperature", "surface_temperature"))

@@ -16,6 +16,7 @@ import pytest
 import railtherm
 from railtherm import HeatSource, Material, Refused, SurfaceGrid
 from railtherm.references.flash import flash_max_hertz_coefficient, flash_temperature_1d
+from railtherm.physics import equal_temperature_partition
 from railtherm_green import steady, validity
 from railtherm_green.model import GreenTemperature
 
@@ -78,7 +79,7 @@ def test_table1_max_equals_closed_form_and_converges():
     p0 = 3 * ek["normal_force"] / (2 * math.pi * a * b)
     m = Material(**STEEL)
     v_w, v_r = 31.0, 30.0
-    eps = steady.blok_partition(m.effusivity, m.effusivity, v_w, v_r)
+    eps = equal_temperature_partition(m, m, v_w, v_r)
     exact = flash_max_hertz_coefficient() * eps * 0.3 * 1.0 * p0 / m.effusivity * math.sqrt(a / v_w)
     assert exact == pytest.approx(149.065, abs=0.01)
     h, err = [], []
@@ -211,7 +212,7 @@ def test_warm_wheel_on_cold_rail_contact_temperature():
 def test_warm_wheel_superposes_on_flash():
     cold = railtherm.solve(ek_scene(), "green", level=2)
     warm = railtherm.solve(ek_scene(wheel={"bulk_temperature": 150.0}), "green", level=2)
-    eps_c = steady.blok_partition(1, 1, 31.0, 30.0)
+    eps_c = equal_temperature_partition(Material(**STEEL), Material(**STEEL), 31.0, 30.0)
     inside = np.asarray((warm.x / 5.88e-3) ** 2 + (warm.y / 10.54e-3) ** 2 < 1)
     d = (warm.surface_temperature - cold.surface_temperature).values
     np.testing.assert_allclose(d[0][inside], eps_c * 150.0, rtol=1e-12)
@@ -266,7 +267,7 @@ def test_line_contact_solve():
     m = Material(**STEEL)
     a = ds.attrs["green_cell_size_x"] * ds.sizes["x"] / 2
     p0 = 2 * 1e6 / (math.pi * a)
-    eps = steady.blok_partition(m.effusivity, m.effusivity, 31.0, 30.0)
+    eps = equal_temperature_partition(m, m, 31.0, 30.0)
     exact = flash_max_hertz_coefficient() * eps * 0.3 * p0 / m.effusivity * math.sqrt(a / 31.0)
     assert float(ds.max_surface_temperature[0]) == pytest.approx(exact, rel=1e-4)
     assert np.isfinite(float(ds.steady_wheel_temperature))

@@ -26,7 +26,7 @@ from scipy import integrate
 
 import railtherm
 from railtherm import Material
-from railtherm_green import steady
+from railtherm import physics
 from test_green_model import STEEL, _published, ek_scene
 
 STEADY_OUTS = ["max_surface_temperature", "mean_contact_temperature", "steady_wheel_temperature",
@@ -48,8 +48,8 @@ def test_conduction_conductance_matches_integral_of_eq42():
         a_y = a * math.sqrt(1 - (y / b) ** 2)
         return eps * m.effusivity * math.sqrt(v / math.pi) * 2 * math.sqrt(2 * a_y)
     total = integrate.quad(per_y, -b, b, epsabs=0, epsrel=1e-12)[0]
-    assert steady.conduction_conductance(m.effusivity, v, eps, a, b) == pytest.approx(total, rel=1e-9)
-    assert steady.ELLIPSE_SQRT_WIDTH == pytest.approx(1.74804, abs=1e-5)
+    assert physics.conduction_conductance(m.effusivity, v, eps, a, b) == pytest.approx(total, rel=1e-9)
+    assert physics.ELLIPSE_SQRT_WIDTH == pytest.approx(1.74804, abs=1e-5)
 
 
 @pytest.mark.parametrize("case", ["low_speed", "high_speed"])
@@ -66,13 +66,14 @@ def test_steady_without_convection_matches_table(case):
     m = Material(**STEEL)
     q0 = pub["friction"] * pub["sliding_speed"] * p0
     eq52 = q0 / m.effusivity * math.sqrt(math.pi ** 3 * a / (32 * pub["speed"]))
-    assert eq52 / theta == pytest.approx((4 / 3) ** -1 * steady.ELLIPSE_SQRT_WIDTH, rel=5e-3)
+    assert eq52 / theta == pytest.approx((4 / 3) ** -1 * physics.ELLIPSE_SQRT_WIDTH, rel=5e-3)
 
 
 @pytest.mark.parametrize("case", ["low_speed", "high_speed"])
 def test_eq54_consistency_ours_and_published(case):
     pub = _published()[case]
-    eps_c = steady.blok_partition(1.0, 1.0, pub["speed"] + pub["sliding_speed"], pub["speed"])
+    eps_c = physics.equal_temperature_partition(Material(**STEEL), Material(**STEEL), pub["speed"] + pub["sliding_speed"],
+                                                pub["speed"])
     for alpha in ALPHAS:
         ds = _run(case, alpha, level=2)
         mean = float(ds.mean_contact_temperature.mean())
@@ -112,7 +113,7 @@ def test_published_rows_imply_one_convective_area():
     assert areas.min() > 1.56 and areas.max() < 1.60, areas
     assert np.ptp(areas) / areas.mean() < 0.015
     # seed eq. 48's running band (2 pi r0 2b) is 25x smaller: convection would be negligible
-    assert steady.convective_area(0.4926, 10.54e-3, "tread") < areas.min() / 20
+    assert physics.convective_area(0.4926, 10.54e-3, "tread") < areas.min() / 20
 
 
 @pytest.mark.parametrize("case", ["low_speed", "high_speed"])
@@ -129,8 +130,8 @@ def test_steady_rows_with_lumped_wheel_surface(case):
 
 def test_steady_line_contact_per_unit_width():
     m = Material(**STEEL)
-    st = steady.steady_state(1000.0, 10.0, effusivity_wheel=m.effusivity, effusivity_rail=m.effusivity,
-                             speed_wheel=30.0, speed_rail=30.0, a=1e-3, b=None, radius=0.5, heat_transfer=50.0)
+    st = physics.lumped_wheel(1000.0, 10.0, wheel=m, rail=m,
+                              speed_wheel=30.0, speed_rail=30.0, a=1e-3, b=None, radius=0.5, heat_transfer=50.0)
     g = 0.5 * m.effusivity * math.sqrt(8 * 1e-3 * 30 / math.pi)
     assert st.conduction == pytest.approx(g)
     assert st.area == pytest.approx(2 * math.pi * 0.5)

@@ -47,7 +47,7 @@ import numpy as np
 from scipy.special import erfc
 
 __all__ = ["surface_weights", "toeplitz_weights", "surface_rise", "depth_rise", "strip_prefactor",
-           "thermal_layer", "upper_matmul", "toeplitz_matmul"]
+           "upper_matmul", "toeplitz_matmul"]
 
 _CACHE: "OrderedDict[bytes, np.ndarray]" = OrderedDict()
 _CACHE_BYTES = 64 * 2 ** 20
@@ -243,16 +243,3 @@ def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity:
     return out * strip_prefactor(effusivity, speed)
 
 
-def thermal_layer(a: float, speed: float, diffusivity: float) -> float:
-    """Thermal penetration depth delta = a / sqrt(L) = sqrt(2 kappa a / v) [m] (seed eq. 24).
-
-    Parameters
-    ----------
-    a : float
-        Semi-axis along the rolling direction [m].
-    speed : float
-        Body surface speed [m/s].
-    diffusivity : float
-        kappa [m^2/s].
-    """
-    return math.sqrt(2.0 * diffusivity * a / speed)

@@ -20,7 +20,7 @@ Notes on the seed's formulas (what is implemented instead)
 * Eq. 41's interface temperature eps theta_w0 uses Blok's fraction with the bodies' speeds (for
   equal speeds beta_w/(beta_w + beta_r)); eq. 52 balances per an effective width b* = 4b/3 that the
   strips of the ellipse do not have (31 % high for Table 1); eq. 53 is garbled and not used. See
-  :mod:`railtherm_green.steady`.
+  :func:`railtherm.physics.lumped_wheel` and :mod:`railtherm_green.steady`.
 
 References
 ----------
@@ -35,6 +35,9 @@ import math
 import numpy as np
 
 from railtherm import Capabilities, Option, Refused, TemperatureField, TemperatureModel
+from railtherm.physics import (CONVECTIVE_AREA, body_speeds, equal_temperature_partition, lumped_wheel,
+                               peclet_number, scene_semi_axis, thermal_scales)
+from railtherm.physics.lumped_wheel import CONVECTIVE_AREAS
 
 from . import kernel, steady, validity
 
@@ -108,7 +111,7 @@ class GreenTemperature(TemperatureModel):
                             "beta_r sqrt(v_r)), which equalises the two surface temperatures at every point "
                             "(a per-strip or per-cell equal-temperature split is the same constant here)",
                             choices=("source", "equal-temperature")),
-        "convective_area": Option("wheel", "convective surface A [m^2] through which the lumped wheel loses heat "
+        "convective_area": Option(CONVECTIVE_AREA, "convective surface A [m^2] through which the lumped wheel loses heat "
                                   "to the air in the steady state (alpha A theta_inf): 'wheel' = the whole wheel "
                                   "as a solid disc of the wheel radius, both faces and the band (2 pi r^2 + "
                                   "2 pi r 2b); 'tread' = only the running band swept by the contact (2 pi r 2b, "
@@ -116,8 +119,9 @@ class GreenTemperature(TemperatureModel):
                                   "The default 'wheel' was FITTED, not derived: inverting the steady rows of "
                                   "Ertz & Knothe (2002) Table 1 (tests/data/published.toml) gives A = 1.57-1.59 "
                                   "m^2 for every alpha and both speeds, the disc of r = 0.49 m; agreement with "
-                                  "those rows is therefore a consistency check, not a verification",
-                                  choices=("wheel", "tread")),
+                                  "those rows is therefore a consistency check, not a verification "
+                                  "(railtherm.physics.lumped_wheel, the one documented choice)",
+                                  choices=CONVECTIVE_AREAS),
         "depth_points": Option(41, "points of the graded depth coordinate z [1]", minimum=2),
         "depth_layers": Option(5.0, "depth of the depth field in thermal layers sqrt(2 kappa a/v) [1]",
                                minimum=0.1),
@@ -131,10 +135,10 @@ class GreenTemperature(TemperatureModel):
         if getattr(scene, "mode", "steady") not in self.capabilities.modes:
             return (f"model 'green' computes the quasi-steady flash temperature (mode 'steady'), not "
                     f"{scene.mode!r}; use 'fastsim-fdm' or 'fipy' for transients")
-        a = validity.scene_semi_axis(scene)
+        a = scene_semi_axis(scene)
         if a is None:
             return None  # not known before the contact stage; checked again in compute_temperature
-        speeds = validity.scene_body_speeds(scene)
+        speeds = body_speeds(scene)
         return validity.refusal(a, speeds, (scene.wheel, scene.rail))
 
     # ------------------------------------------------------------------------------------------
@@ -156,7 +160,7 @@ class GreenTemperature(TemperatureModel):
         shape = q.shape
         q2 = q.reshape(shape[0], -1)                                        # (nx, ny); ny = 1 for a line
         if opts["partition"] == "equal-temperature":
-            eps = steady.blok_partition(beta[0], beta[1], v_w, v_r)
+            eps = equal_temperature_partition(wheel, rail, v_w, v_r)
         else:
             eps = source.heat_partition
         eps_arr = np.asarray(eps, dtype=float)
@@ -167,7 +171,7 @@ class GreenTemperature(TemperatureModel):
         # warm wheel against cold rail (or vice versa): conduction through the patch, eqs. 40-44
         t_bulk = np.array([wheel.bulk_temperature, rail.bulk_temperature], dtype=float)
         d_bulk = float(t_bulk[0] - t_bulk[1])
-        eps_c = steady.blok_partition(beta[0], beta[1], v_w, v_r)
+        eps_c = equal_temperature_partition(wheel, rail, v_w, v_r)
         surface = rise + t_bulk[:, None, None]
         if d_bulk != 0.0:
             half = _strip_half_lengths(grid)
@@ -176,7 +180,7 @@ class GreenTemperature(TemperatureModel):
             surface[1] += d_bulk * cr
         field = TemperatureField.from_surface(grid, surface.reshape((2,) + shape))
 
-        pe = [validity.peclet(v, a, m.diffusivity) for v, m in zip(speeds, (wheel, rail))]
+        pe = [peclet_number(v, a, m.diffusivity) for v, m in zip(speeds, (wheel, rail))]
         diag = {
             "converged": True, "iterations": 0, "residual": 0.0,   # closed form (docs/verdicts.md)
             "peclet_wheel": pe[0], "peclet_rail": pe[1],
@@ -195,9 +199,9 @@ class GreenTemperature(TemperatureModel):
 
         if want_all or any(o in outputs for o in _STEADY):
             mean_rise = [float(rise[i][grid.inside().reshape(q2.shape)].mean()) for i in range(2)]
-            st = steady.steady_state(
+            st = lumped_wheel(
                 grid.integrate(flux[0]), 0.5 * (mean_rise[0] + mean_rise[1]),
-                effusivity_wheel=beta[0], effusivity_rail=beta[1], speed_wheel=v_w, speed_rail=v_r,
+                wheel=wheel, rail=rail, speed_wheel=v_w, speed_rail=v_r,
                 a=a, b=b, radius=float(scene.wheel_radius), heat_transfer=float(scene.convection or 0.0),
                 area_kind=opts["convective_area"])
             field.steady_wheel_temperature = float(t_bulk[1] + st.wheel_rise)
@@ -220,7 +224,7 @@ class GreenTemperature(TemperatureModel):
     def _depth(grid, flux, beta, speeds, bodies, d_bulk, eps_c, t_bulk, opts):
         """Depth field at y = 0: (z, T) with T of shape (2, nx, nz) [m], [degC]."""
         a = grid.a
-        layers = [kernel.thermal_layer(a, v, m.diffusivity) for v, m in zip(speeds, bodies)]
+        layers = [thermal_scales(a, v, m.diffusivity).thermal_depth for v, m in zip(speeds, bodies)]
         n = int(opts["depth_points"])
         z = float(opts["depth_layers"]) * max(layers) * (np.arange(n) / (n - 1)) ** 2
         if grid.line:

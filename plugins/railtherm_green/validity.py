@@ -13,8 +13,9 @@ import math
 
 import numpy as np
 
-__all__ = ["PECLET_MIN", "PECLET_ACCURATE", "peclet", "refusal", "model_error", "scene_semi_axis",
-           "scene_body_speeds", "ERROR_TABLE", "ERROR_NOTE"]
+from railtherm.physics import peclet_number
+
+__all__ = ["PECLET_MIN", "PECLET_ACCURATE", "refusal", "model_error", "ERROR_TABLE", "ERROR_NOTE"]
 
 #: below this body Péclet number the scene is refused
 PECLET_MIN = 10.0
@@ -51,21 +52,6 @@ ERROR_NOTE = ("model_error_* = measured relative error of the 1-D model (1-D min
               "(a/b = 0.558) or a band, interpolated in log L; 0 reported above L = 1000 (error < 0.06 %)")
 
 
-def peclet(speed: float, a: float, diffusivity: float) -> float:
-    """Péclet number L = V a / (2 kappa) [1] (seed eq. 25).
-
-    Parameters
-    ----------
-    speed : float
-        Speed of the body surface through the patch [m/s].
-    a : float
-        Semi-axis along the rolling direction [m].
-    diffusivity : float
-        kappa = lambda/(rho c) [m^2/s].
-    """
-    return float(speed) * float(a) / (2.0 * float(diffusivity))
-
-
 def refusal(a: float, speeds, bodies) -> str | None:
     """Reason to refuse (a string naming the limit with numbers), or None when the model applies.
 
@@ -84,7 +70,7 @@ def refusal(a: float, speeds, bodies) -> str | None:
             return (f"model 'green': the {name} surface does not move through the patch (speed {v:g} m/s), so "
                     f"the 1-D moving Green function has no steady state; use method 'fipy' or the exact "
                     f"railtherm.references.moving_source")
-        pe = peclet(v, a, kappa)
+        pe = peclet_number(v, a, kappa)
         if pe < PECLET_MIN:
             return (f"model 'green': Péclet number of the {name} L = V a/(2 kappa) = {v:g} m/s x {a:.4g} m / "
                     f"(2 x {kappa:.3g} m^2/s) = {pe:.3g} is below {PECLET_MIN:g}; heat conduction along the "
@@ -123,40 +109,6 @@ def model_error(pe: float, *, line: bool = False, shape: str | None = None) -> d
         sign = np.sign(e[0])
         out[name] = float(sign * np.exp(np.interp(math.log(max(pe, PECLET_MIN)), lx, np.log(np.abs(e)))))
     return out
-
-
-def scene_semi_axis(scene) -> float | None:
-    """Semi-axis a along rolling [m] known from the scene before the contact stage (None if not)."""
-    hs = getattr(scene, "heat_source", None)
-    if hs is not None:
-        if getattr(hs, "semi_axes", None) is not None:
-            return float(hs.semi_axes[0])
-        return float(hs.half_width)
-    if getattr(scene, "semi_axes", None) is not None:
-        return float(scene.semi_axes[0])
-    try:
-        from railtherm.references import hertz
-        e_star = hertz.contact_modulus(scene.wheel, scene.rail)
-        if scene.contact_shape == "line":
-            if scene.normal_force is None:
-                return None
-            return hertz.hertz_line(scene.normal_force, scene.wheel_radius, e_star)[0]
-        if scene.curvatures is None:
-            return None
-        if scene.normal_force is not None:
-            return hertz.hertz_from_curvatures(*scene.curvatures, scene.normal_force, e_star).a
-        return hertz.hertz_from_penetration(*scene.curvatures, scene.penetration, e_star).a
-    except (ValueError, TypeError, AttributeError, ZeroDivisionError):
-        return None
-
-
-def scene_body_speeds(scene) -> tuple[float, float]:
-    """Surface speeds (wheel, rail) through the patch [m/s]: (V + v_s, V); (V, V) for a given source."""
-    v0 = float(scene.speed)
-    if getattr(scene, "heat_source", None) is not None:
-        return v0, v0
-    vs = getattr(scene, "sliding_speed", None)
-    return v0 + float(vs or 0.0), v0
 
 
 # --------------------------------------------------------------------------------------------------
