@@ -21,7 +21,8 @@ import pytest
 
 from railtherm import Material, surface_grid
 from railtherm.references.jaeger import jaeger_band_temperature
-from railtherm_fipy.mesh import MovingFrameMesh, moving_frame_mesh, thermal_scales
+from railtherm.physics import thermal_scales
+from railtherm_fipy.mesh import MovingFrameMesh, moving_frame_mesh
 from railtherm_fipy.solvers import import_fipy
 from railtherm_fipy.steady import MovingFrameSolver
 
@@ -40,11 +41,11 @@ def _mesh_400x200():
     out *= margin / out[-1]
     x = np.concatenate([-A - out[::-1], patch, A + out])
     depth = 6.0 * math.sqrt(STEEL.diffusivity * (x[-1] - x[0]) / V)
-    first = sc["delta"] / 40.0
+    first = sc.thermal_depth / 40.0
     rz = _ratio(first, depth, 200)
     z = np.concatenate([[0.0], first * np.cumsum(rz ** np.arange(200))])
     z *= depth / z[-1]
-    return MovingFrameMesh(x, None, z, sc["peclet"], sc["delta"], sc["ell"])
+    return MovingFrameMesh(x, None, z, sc.peclet, sc.thermal_depth, sc.wake_length)
 
 
 def _ratio(first, length, n):

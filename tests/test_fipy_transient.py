@@ -21,7 +21,8 @@ from scipy.special import erfcx
 
 import railtherm
 from railtherm import HeatSource, Material, surface_grid
-from railtherm_fipy.transient import conduction_conductance, wheel_heating
+from railtherm.physics import conduction_conductance, equal_temperature_partition
+from railtherm_fipy.transient import wheel_heating
 
 STEEL = Material()
 PUBLISHED = Path(__file__).parent / "data" / "published.toml"
@@ -59,7 +60,8 @@ def test_late_state_is_the_lumped_steady_state():
     h = wheel_heating(_scene(0.05, {}, convection=50.0), src, 0, {})
     tau = h["tau"]
     h = wheel_heating(_scene(0.05, {"duration": 30 * tau}, convection=50.0), src, 0, {})
-    g = conduction_conductance(5e-3, 5e-3, STEEL, STEEL, 30.0, 30.0) + 50.0 * h["area"]
+    eps_c = equal_temperature_partition(STEEL, STEEL, 30.0, 30.0)
+    g = conduction_conductance(STEEL.effusivity, 30.0, eps_c, 5e-3, 5e-3) + 50.0 * h["convective_area"]
     assert h["t_inf"] == pytest.approx(h["power"] / g, rel=1e-12)
     assert h["tread"][-1] == pytest.approx(h["t_inf"], rel=2e-3)
     assert h["mean"][-1] == pytest.approx(h["t_inf"], rel=5e-3)

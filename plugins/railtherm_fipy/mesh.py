@@ -1,6 +1,7 @@
 """Graded finite-volume meshes for the moving-frame heat conduction problem.
 
-Everything here is derived from the scene's scales, not from hand-tuned lengths:
+Everything here is derived from the scene's scales (:func:`railtherm.physics.thermal_scales`), not
+from hand-tuned lengths:
 
 * Péclet number ``Pe = V a / (2 kappa)`` [1];
 * thermal layer under the patch ``delta = a / sqrt(Pe) = sqrt(2 kappa a / V)`` [m] (seed eq. 24);
@@ -19,7 +20,7 @@ Lateral mesh (3-D): the grid's cells on ``[-b, b]``, then geometric growth to ``
 
 Refinement: level ``k`` subdivides every level-0 cell into ``2**k`` cells along the same smooth
 geometric map (the growth ratio becomes ``ratio**(1/2**k)``), so meshes are nested and every cell
-size halves per level -- what the convergence-rate fits assume.
+size halves per level -- what the convergence-rate fits assume (:func:`railtherm.physics.geometric_edges`).
 """
 from __future__ import annotations
 
@@ -28,63 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from railtherm.physics import geometric_edges, thermal_scales
 
-def thermal_scales(a: float, speed: float, diffusivity: float) -> dict:
-    """Scales of the moving heat source problem.
-
-    Parameters
-    ----------
-    a : float
-        Semi-axis of the patch along the rolling direction [m].
-    speed : float
-        Speed of the body's surface relative to the contact [m/s], > 0.
-    diffusivity : float
-        Thermal diffusivity kappa [m^2/s].
-
-    Returns
-    -------
-    dict
-        ``peclet`` [1] = V a / (2 kappa), ``delta`` [m] = a / sqrt(Pe), ``ell`` [m] = 2 kappa / V.
-    """
-    if not speed > 0:
-        raise ValueError(f"speed must be > 0 for a moving-frame solve, got {speed!r}")
-    pe = speed * a / (2.0 * diffusivity)
-    return {"peclet": pe, "delta": a / math.sqrt(pe), "ell": 2.0 * diffusivity / speed}
-
-
-def geometric_edges(length: float, first: float, ratio: float, level: int) -> np.ndarray:
-    """Edges ``0 = e_0 < ... < e_n = length`` of cells growing geometrically from ``first``.
-
-    Level 0 has ``n0 = ceil(log(1 + length (ratio - 1) / first) / log(ratio))`` cells along the map
-    ``e(s) = length (ratio**s - 1) / (ratio**n0 - 1)`` at ``s = 0, 1, ..., n0`` (so the first cell is
-    at most ``first``); level k samples the same map at ``s = j / 2**k``: nested meshes.
-
-    Parameters
-    ----------
-    length : float
-        Total length [m], > 0.
-    first : float
-        Largest admissible first cell at level 0 [m], > 0.
-    ratio : float
-        Growth ratio of neighbouring cells at level 0 [1], > 1.
-    level : int
-        Refinement level k >= 0.
-
-    Returns
-    -------
-    ndarray, shape (n0 * 2**k + 1,)
-        Edges [m].
-    """
-    if length <= 0 or first <= 0 or ratio <= 1.0:
-        raise ValueError(f"geometric_edges needs length > 0, first > 0, ratio > 1; got {length}, {first}, {ratio}")
-    if first >= length:
-        n0 = 1
-    else:
-        n0 = max(1, math.ceil(math.log(1.0 + length * (ratio - 1.0) / first) / math.log(ratio) - 1e-9))
-    s = np.arange(n0 * 2 ** level + 1) / 2 ** level
-    e = length * (ratio ** s - 1.0) / (ratio ** n0 - 1.0)
-    e[-1] = length
-    return e
+__all__ = ["MovingFrameMesh", "moving_frame_mesh", "subdivide"]
 
 
 def subdivide(edges: np.ndarray, refine: int) -> np.ndarray:
@@ -111,7 +58,7 @@ class MovingFrameMesh:
     z_edges : ndarray
         Depth edges [m], ``z_edges[0] = 0`` is the surface.
     peclet, delta, ell : float
-        Scales from :func:`thermal_scales` ([1], [m], [m]).
+        Scales from :func:`railtherm.physics.thermal_scales` ([1], [m], [m]).
     half : bool
         3-D only: the mesh covers ``y >= 0`` (symmetric source).
     """
@@ -134,10 +81,6 @@ class MovingFrameMesh:
     @property
     def cells(self) -> int:
         return int(np.prod(self.shape))
-
-
-def _outer(length: float, first: float, ratio: float, level: int) -> np.ndarray:
-    return geometric_edges(length, first, ratio, level)
 
 
 def moving_frame_mesh(x_patch_edges: np.ndarray, a: float, speed: float, diffusivity: float, level: int, *,
@@ -177,12 +120,12 @@ def moving_frame_mesh(x_patch_edges: np.ndarray, a: float, speed: float, diffusi
     MovingFrameMesh
     """
     sc = thermal_scales(a, speed, diffusivity)
-    ell, delta = sc["ell"], sc["delta"]
+    ell, delta = sc.wake_length, sc.thermal_depth
     xp = subdivide(x_patch_edges, refine)
     dx = float(xp[1] - xp[0])
     dx0 = dx * 2 ** level  # the patch cell of level 0: grading continues it smoothly
     margin = max(4.0 * ell, 0.25 * a)
-    out = _outer(margin, dx0, ratio, level)
+    out = geometric_edges(margin, dx0, ratio, level)
     x_edges = np.concatenate([-a - out[::-1], xp[1:-1], a + out])
     x_edges[out.size - 1] = -a
     x_edges[-out.size] = a
@@ -196,11 +139,11 @@ def moving_frame_mesh(x_patch_edges: np.ndarray, a: float, speed: float, diffusi
         yp = subdivide(y_patch_edges, refine)
         dy0 = float(yp[1] - yp[0]) * 2 ** level
         lat = max(5.0 * ell, 0.25 * b)
-        yout = _outer(lat, dy0, ratio, level)
+        yout = geometric_edges(lat, dy0, ratio, level)
         if half:
             yin = yp[yp >= -1e-12 * b]
             yin[0] = 0.0
             y_edges = np.concatenate([yin[:-1], b + yout])
         else:
             y_edges = np.concatenate([-b - yout[::-1], yp[1:-1], b + yout])
-    return MovingFrameMesh(x_edges, y_edges, z_edges, sc["peclet"], delta, ell, half)
+    return MovingFrameMesh(x_edges, y_edges, z_edges, sc.peclet, delta, ell, half)

@@ -47,7 +47,9 @@ import numpy as np
 
 from railtherm import Capabilities, Option, Refused, TemperatureField, TemperatureModel
 
-from .mesh import moving_frame_mesh, thermal_scales
+from railtherm.physics import lumped_wheel, thermal_scales
+
+from .mesh import moving_frame_mesh
 from .steady import SCHEMES, MovingFrameSolver
 
 #: Cost model of a 3-D solve per body, calibrated on the development machine (FiPy 4.0.3, SciPy suite,
@@ -177,7 +179,7 @@ class FipyTemperature(TemperatureModel):
             return 2, "line"
         strip_why = FipyTemperature.strip_limit(scene, source, options)
         cells = FipyTemperature.cells_3d(scene, source, level, options)
-        pe = min(thermal_scales(grid.a, source.body_speed[i], scene.body(i).diffusivity)["peclet"] for i in (0, 1))
+        pe = min(thermal_scales(grid.a, source.body_speed[i], scene.body(i).diffusivity).peclet for i in (0, 1))
         size_why = None
         bodies = sum(bool(np.any(np.asarray(source.flux(i)) != 0)) for i in (0, 1))
         seconds = estimate_seconds_3d(cells, pe, bodies)
@@ -216,10 +218,10 @@ class FipyTemperature(TemperatureModel):
         for i in (0, 1):
             v = source.body_speed[i]
             sc = thermal_scales(grid.a, v, scene.body(i).diffusivity)
-            worst = max(worst, sc["delta"] / grid.b)
+            worst = max(worst, sc.thermal_depth / grid.b)
         lim = options["max_strip_delta"]
         if worst > lim:
-            pe = min(thermal_scales(grid.a, source.body_speed[i], scene.body(i).diffusivity)["peclet"] for i in (0, 1))
+            pe = min(thermal_scales(grid.a, source.body_speed[i], scene.body(i).diffusivity).peclet for i in (0, 1))
             return (f"strip-wise 2-D solves neglect lateral conduction, valid only for a thin thermal layer: "
                     f"delta/b = a/(b sqrt(Pe)) = {worst:.3g} > max_strip_delta = {lim:g} (Peclet number {pe:.3g})")
         return None
@@ -257,25 +259,23 @@ class FipyTemperature(TemperatureModel):
 
     @staticmethod
     def _lumped_steady(scene, source, flash):
-        """Steady mode: the long-term values of the lumped balance (no time integration).
+        """Steady mode: the long-term values of Ertz & Knothe's lumped wheel (no time integration).
 
         ``T_inf = eps P / (G_cond + alpha A)`` and ``T_mean_inf = T_mean + eps_c T_inf`` (seed eqs.
-        50-54; :mod:`railtherm_fipy.transient` for G_cond, A and eps_c), the state the transient mode
-        converges to.
+        50-54), with core's :func:`railtherm.physics.lumped_wheel` and its documented convective area
+        A (the same as the "green" method's default); the state the transient mode converges to.
         """
-        from .transient import blok_fraction, conduction_conductance
         grid = source.grid
         v_w, v_r = (float(v) for v in source.body_speed)
         power = float(grid.integrate(np.asarray(source.flux(0), dtype=float) * np.ones(grid.shape)))
-        g = conduction_conductance(grid.a, None if grid.line else grid.b, scene.wheel, scene.rail, v_w, v_r)
-        width = 1.0 if grid.line else 2.0 * grid.b
         R = getattr(scene, "wheel_radius", None) or scene.wheel.radius
-        g_tot = g + float(scene.convection or 0.0) * 2.0 * math.pi * R * width
-        t_inf = power / g_tot if g_tot > 0 else 0.0
+        st = lumped_wheel(power, 0.0, wheel=scene.wheel, rail=scene.rail, speed_wheel=v_w, speed_rail=v_r,
+                          a=grid.a, b=None if grid.line else grid.b, radius=float(R),
+                          heat_transfer=float(scene.convection or 0.0))
         bulk_w = scene.wheel.bulk_temperature
-        flash.steady_wheel_temperature = bulk_w + t_inf
+        flash.steady_wheel_temperature = bulk_w + st.wheel_rise
         flash.steady_mean_contact_temperature = (float(flash.mean_contact_temperature[0])
-                                                 + blok_fraction(scene.wheel, scene.rail, v_w, v_r) * t_inf)
+                                                 + st.contact_fraction * st.wheel_rise)
         return flash
 
     def _transient(self, scene, source, level, opts, flash):

@@ -15,15 +15,18 @@ so on the time scale of the warm-up the tread sees the revolution-averaged heat 
   ``eps_c beta_r sqrt(8 a_y v_r / pi)`` per unit width (eq. 43); integrated over the ellipse's strips
   ``a_y = a sqrt(1 - y^2/b^2)``: ``G_cond = eps_c beta_r sqrt(8 a v_r / pi) b B(1/2, 5/4)`` [W/K]
   (per unit width of a line contact: ``eps_c beta_r sqrt(8 a v_r / pi)`` [W/(m K)]);
-* convection ``alpha T_s`` on the running band (seed eqs. 45-48).
+* convection ``alpha A_c T_s`` through the lumped wheel's convective area A_c (seed eqs. 45-48), the
+  one documented choice of :func:`railtherm.physics.convective_area` (the whole wheel as a disc,
+  ``2 pi R^2 + 2 pi R 2b``; per unit width ``2 pi R`` for a line contact).
 
 The wheel is a disc of the rolling radius R and of the width of the running band ``w = 2 b`` (1 m
 per unit width for a line contact), heated through its tread ``A = 2 pi R w``; FiPy solves the radial
 conduction ``rho c dT/dt = (1/r) d/dr (lambda r dT/dr)`` on a ``CylindricalGrid1D`` graded towards
-the tread, with the tread flux ``(eps P - G_cond T_s) / A - alpha T_s`` (implicit in ``T_s``). Its
-steady state is the uniform ``T_inf = eps P / (G_cond + alpha A)`` -- the "green" method's lumped
-steady state (seed eq. 52 in its 3-D form); the transient says how fast the tread and the bulk of
-the wheel get there.
+the tread, with the tread flux ``(eps P - (G_cond + alpha A_c) T_s) / A`` (implicit in ``T_s``; the
+losses are lumped onto the tread). Its steady state is the uniform
+``T_inf = eps P / (G_cond + alpha A_c)`` -- :func:`railtherm.physics.lumped_wheel`, the same as the
+steady mode and the "green" method (seed eq. 52 in its 3-D form); the transient says how fast the
+tread and the bulk of the wheel get there.
 
 Reported (``TemperatureField``): ``steady_wheel_temperature`` = tread temperature at the end of the
 simulated time (+ bulk), ``steady_mean_contact_temperature`` = the cold-wheel mean flash
@@ -38,47 +41,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.special import beta as beta_fn
 
-from .mesh import geometric_edges
 from railtherm import Refused, SolverError
+from railtherm.physics import (conduction_conductance, convective_area, equal_temperature_partition,
+                               geometric_edges)
 
 from .solvers import assemble, import_fipy, lu_factor
-
-#: int_{-1}^{1} (1 - eta^2)^{1/4} d eta = B(1/2, 5/4): effective width of the strip conduction / b
-ELLIPSE_SQRT_WIDTH = float(beta_fn(0.5, 1.25))
-
-
-def blok_fraction(wheel, rail, v_wheel: float, v_rail: float) -> float:
-    """``eps_c = beta_w sqrt(v_w) / (beta_w sqrt(v_w) + beta_r sqrt(v_r))`` [1] (seed eq. 41, Blok)."""
-    w = wheel.effusivity * math.sqrt(v_wheel)
-    r = rail.effusivity * math.sqrt(v_rail)
-    return w / (w + r)
-
-
-def conduction_conductance(a: float, b: float | None, wheel, rail, v_wheel: float, v_rail: float) -> float:
-    """Conductance from the warm wheel into the cold rail through the patch (seed eqs. 42-43).
-
-    Parameters
-    ----------
-    a : float
-        Semi-axis along the rolling direction [m].
-    b : float or None
-        Lateral semi-axis [m]; None for a line contact (result per unit width).
-    wheel, rail : railtherm.Material
-        Bodies (``effusivity`` [W s^0.5 / (m^2 K)]).
-    v_wheel, v_rail : float
-        Surface speeds through the patch [m/s].
-
-    Returns
-    -------
-    float
-        ``G_cond`` [W/K] ([W/(m K)] for a line contact).
-    """
-    eps_c = blok_fraction(wheel, rail, v_wheel, v_rail)
-    per_width = eps_c * rail.effusivity * math.sqrt(8.0 * a * v_rail / math.pi)
-    return per_width if b is None else per_width * b * ELLIPSE_SQRT_WIDTH
-
 
 #: wall time of one implicit step of the radial wheel problem [s]: measured 35 us per step at 28 radial
 #: cells (E&K scene, transient mode, numerics.time_step = 0.01 s over 200 s: 20 000 steps in 0.71 s,
@@ -140,10 +108,13 @@ def wheel_heating(scene, source, level: int, options: dict, flash=None) -> dict:
     R = float(getattr(scene, "wheel_radius", None) or scene.wheel.radius)
     width = 1.0 if grid.line else 2.0 * grid.b
     area = 2.0 * math.pi * R * width
+    b = None if grid.line else grid.b
     power = float(grid.integrate(np.asarray(source.flux(0), dtype=float) * np.ones(grid.shape)))
-    g_cond = conduction_conductance(grid.a, None if grid.line else grid.b, wheel, rail, v_w, v_r)
+    eps_c = equal_temperature_partition(wheel, rail, v_w, v_r)
+    g_cond = conduction_conductance(rail.effusivity, v_r, eps_c, grid.a, b)
     alpha = float(scene.convection or 0.0)
-    g_tot = g_cond + alpha * area
+    area_c = convective_area(R, b)
+    g_tot = g_cond + alpha * area_c
     t_inf = power / g_tot
     rho_c = wheel.density * wheel.specific_heat
     lam = wheel.conductivity
@@ -219,6 +190,6 @@ def wheel_heating(scene, source, level: int, options: dict, flash=None) -> dict:
         mean.append(float(np.sum(x * vol) / np.sum(vol)))
     T.value = x
     return {"t": np.array(ts), "tread": np.array(tr), "mean": np.array(mean), "t_inf": t_inf, "tau": tau,
-            "eps_c": blok_fraction(wheel, rail, v_w, v_r), "g_cond": g_cond, "power": power,
+            "eps_c": eps_c, "g_cond": g_cond, "power": power, "convective_area": area_c,
             "iterations": 1, "residual": res, "converged": True, "steps": len(dts), "duration": t,
             "radial_cells": int(mesh.numberOfCells), "first_cell": float(dr1), "area": area}
