@@ -16,7 +16,8 @@ import pytest
 
 from railtherm import ContactPatch, Material
 from railtherm_fastsim.fastsim_model import FastsimHeatSource
-from railtherm_fastsim.kinematics import hertz_patch_for, hertz_pressure_grid, wheelset_contacts
+from railtherm.physics import hertz_pressure_grid, rescale_hertz_patch
+from railtherm_fastsim.kinematics import PRESSURE_GAUSS, wheelset_contacts
 
 BASE = dict(conicity=0.05, lateral_shift=0.0, yaw_angle=0.0, vertical_load=200e3, wheel_radius=0.46, gauge=1.5,
             speed=30.0, friction=0.3, shear_modulus=82e9, poisson_ratio=0.28, ref_normal_force=100e3,
@@ -66,11 +67,11 @@ def test_equilibrium_residuals_vanish(changes):
 
 
 def test_patch_scaling():
-    a, b, p0 = hertz_patch_for(800.0, 100.0, 2e-3, 3e-3, "curvatures")
+    a, b, p0 = rescale_hertz_patch(800.0, 100.0, 2e-3, 3e-3, "curvatures")
     assert (a, b) == (pytest.approx(4e-3), pytest.approx(6e-3))
-    g, p = hertz_pressure_grid(a, b, p0, 0, 32)
+    g, p = hertz_pressure_grid(a, b, p0, 0, 32, gauss=PRESSURE_GAUSS)
     assert g.integrate(p) == pytest.approx(800.0, rel=1e-4)
-    assert hertz_patch_for(800.0, 100.0, 2e-3, 3e-3, "semi_axes")[:2] == (2e-3, 3e-3)
+    assert rescale_hertz_patch(800.0, 100.0, 2e-3, 3e-3, "semi_axes")[:2] == (2e-3, 3e-3)
 
 
 def test_model_uses_the_kinematics_for_a_wheelset_scene():
@@ -80,8 +81,8 @@ def test_model_uses_the_kinematics_for_a_wheelset_scene():
     scene = SimpleNamespace(name="ws", speed=30.0, friction=0.3, creepage=None, sliding_speed=None, wheelset=ws,
                             heat_partition=0.5, wheel=steel, rail=steel, contact_shape="ellipse", heat_source=None,
                             tangential="creepage", semi_axes=None, normal_force=100e3)
-    a, b, p0 = hertz_patch_for(100e3, 100e3, 5.88e-3, 10.54e-3)
-    g, p = hertz_pressure_grid(a, b, p0, 0, 16)
+    a, b, p0 = rescale_hertz_patch(100e3, 100e3, 5.88e-3, 10.54e-3)
+    g, p = hertz_pressure_grid(a, b, p0, 0, 16, gauss=PRESSURE_GAUSS)
     patch = ContactPatch(grid=g, normal_force=100e3, a=a, b=b, max_pressure=p0, pressure=p)
     src = FastsimHeatSource().compute_source(scene, patch, 0, {})
     sol = wheelset_contacts(**{**BASE, "lateral_shift": 3e-3, "yaw_angle": 1e-3})

@@ -33,8 +33,8 @@ from railtherm import Capabilities, HeatSource, HeatSourceModel, Option, Refused
 from railtherm.references.kalker import flexibilities as _flexibilities
 from railtherm.references.kalker import kalker_coefficients, weighted_flexibility
 
-from railtherm import combined_elastic
-from railtherm import scene_partition as scene_heat_partition
+from railtherm.physics import combined_elastic, hertz_pressure_grid, rescale_hertz_patch
+from railtherm.physics import scene_partition as scene_heat_partition
 
 __all__ = ["FastsimResult", "fastsim", "fastsim_flexibilities", "ellipse_cell_integrals", "FastsimHeatSource"]
 
@@ -324,11 +324,11 @@ class FastsimHeatSource(HeatSourceModel):
         kin = {}
         if scene.creepage is None and scene.sliding_speed is None and getattr(scene, "wheelset", None) is not None:
             # seed 6.1: creepages and the normal force of this contact (wheel 1) from the wheelset
-            from .kinematics import hertz_patch_for, hertz_pressure_grid, scene_wheelset_contact
+            from .kinematics import PRESSURE_GAUSS, scene_wheelset_contact
             xi, eta, phi, n1, sol = scene_wheelset_contact(scene, patch, **fs_opts)
             scaling = "semi_axes" if getattr(scene, "semi_axes", None) is not None else "curvatures"
-            a1, b1, p01 = hertz_patch_for(n1, patch.normal_force, patch.a, patch.b, scaling)
-            g1, pr1 = hertz_pressure_grid(a1, b1, p01, 0, patch.grid.shape[0])
+            a1, b1, p01 = rescale_hertz_patch(n1, patch.normal_force, patch.a, patch.b, scaling)
+            g1, pr1 = hertz_pressure_grid(a1, b1, p01, 0, patch.grid.shape[0], gauss=PRESSURE_GAUSS)
             patch = type(patch)(grid=g1, normal_force=n1, a=a1, b=b1, max_pressure=p01, pressure=pr1,
                                 diagnostics=dict(patch.diagnostics or {}))
             kin = {"wheelset_normal_force_1": float(sol.normal_force[0]),

@@ -42,6 +42,7 @@ import numba
 import numpy as np
 
 from railtherm import Refused
+from railtherm.physics import thermal_scales
 
 from .fdm_solvers import (CG_RTOL, BlockResult, _cg, _graded, _graded_depth, _implicit_coefficients, _linear_rows,
                           block_extent, box_overlap)
@@ -355,7 +356,7 @@ def steady_line(grid, flux, cover, speed, conductivity, density, specific_heat, 
     rk = ratio ** (1.0 / 2 ** level)
     nxa = max(2, int(round(2 * a / cell)))
     xe = _graded(-a, a, nxa, -a - ext.behind, a + ext.ahead, rk)
-    delta = math.sqrt(2.0 * a * kappa / V)
+    delta = thermal_scales(a, V, kappa).thermal_depth
     dz1 = min(cell, delta / surface_layers / 2 ** level)
     ze = _graded_depth(dz1, ext.depth, rk)
     dx, dz = np.diff(xe), np.diff(ze)

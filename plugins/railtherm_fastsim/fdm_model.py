@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 from railtherm import Capabilities, Option, Refused, TemperatureField, TemperatureModel
+from railtherm.physics import peclet_number, thermal_scales
 
 
 __all__ = ["FDMTemperature", "choose_scheme", "explicit_cost"]
@@ -87,7 +88,7 @@ def choose_scheme(requested, mode, a, b, speed, kappa, d, budget, *, time_step=N
         return requested
     if time_step is not None and time_step > dt_limit * (1.0 + 1e-12):
         return "implicit"
-    delta = math.sqrt(2.0 * a * kappa / speed)
+    delta = thermal_scales(a, speed, kappa).thermal_depth
     dres = min(d, 0.5 * delta)
     dt = time_step if time_step is not None else min(dres ** 2 / (6.0 * kappa), courant * dres / speed)
     if explicit_cost(a, b, speed, kappa, dres, dt) <= budget:
@@ -195,7 +196,7 @@ class FDMTemperature(TemperatureModel):
                                    float(opts["budget"]), time_step=ts, dt_limit=lim,
                                    courant=float(opts["courant"]))
             self._check_step(scheme, ts, d, kappa, h, rc, body)
-            pe = V * a / (2.0 * kappa)
+            pe = peclet_number(V, a, kappa)
             if scheme == "steady" and pe < self.STEADY_PECLET_MIN:
                 raise Refused(
                     f"model 'fdm' ({body}): Péclet number V a/(2 kappa) = {pe:.3g} < {self.STEADY_PECLET_MIN:g}: the "
@@ -209,7 +210,7 @@ class FDMTemperature(TemperatureModel):
                 res = transient_block(grid, q, cover, V, m.conductivity, m.density, m.specific_heat, h, d,
                                       scheme=scheme, time_step=ts, courant=float(opts["courant"]),
                                       max_nodes=float(opts["max_nodes"]))
-            _record_body(diag, surf, depth, zs, i, body, m, res, V * a / (2.0 * kappa), scheme, grid.integrate(q))
+            _record_body(diag, surf, depth, zs, i, body, m, res, peclet_number(V, a, kappa), scheme, grid.integrate(q))
         _summarise(diag)
         z = temp = None
         if "temperature" in tuple(getattr(scene, "outputs", ()) or ()):
@@ -258,7 +259,7 @@ class FDMTemperature(TemperatureModel):
                               "line source at rest on a half-plane has no steady state")
             rc = m.density * m.specific_heat
             kappa = m.conductivity / rc
-            delta = math.sqrt(2.0 * a * kappa / V)
+            delta = thermal_scales(a, V, kappa).thermal_depth
             d = min(cell0, 0.5 * delta) / 2 ** int(level)
             lim = line_stability_limit(d, kappa, h, rc)
             scheme = requested
@@ -284,7 +285,7 @@ class FDMTemperature(TemperatureModel):
                             f"model 'fdm' ({body}, line): a transient 2-D run at level {level} costs about "
                             f"{min(cost_exp, cost_imp):.3g} node updates (explicit {cost_exp:.3g}, implicit "
                             f"~{cost_imp:.3g}), above the option budget = {budget:.3g} (Péclet number "
-                            f"{V * a / (2 * kappa):.3g}, cells {d:.3g} m resolving the flash layer); use "
+                            f"{peclet_number(V, a, kappa):.3g}, cells {d:.3g} m resolving the flash layer); use "
                             "mode 'steady' or scheme 'steady' (the moving-frame quasi-steady state), a lower "
                             "level, or a larger budget")
             if scheme == "explicit" and ts is not None and ts > lim * (1.0 + 1e-12):
@@ -299,7 +300,7 @@ class FDMTemperature(TemperatureModel):
             else:
                 res = transient_line(*args, d, scheme=scheme, time_step=ts, courant=float(opts["courant"]),
                                      max_nodes=float(opts["max_nodes"]))
-            _record_body(diag, surf, depth, zs, i, body, m, res, V * a / (2.0 * kappa), scheme, grid.integrate(q))
+            _record_body(diag, surf, depth, zs, i, body, m, res, peclet_number(V, a, kappa), scheme, grid.integrate(q))
         _summarise(diag)
         z = temp = None
         if "temperature" in tuple(getattr(scene, "outputs", ()) or ()):

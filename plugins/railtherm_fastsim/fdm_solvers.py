@@ -48,6 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from railtherm import Refused
+from railtherm.physics import thermal_scales
 
 from . import fdm_kernel as K
 
@@ -135,8 +136,8 @@ def block_extent(a: float, b: float, speed: float, kappa: float, *, scale: float
     max(a, 8 l, 6 delta), travel = 2 a + max(2 a, 40 kappa/V) (the deficit of the field near the
     source is then below exp(-10)). ``scale`` multiplies all margins (for domain-size checks).
     """
-    ell = 2.0 * kappa / speed
-    delta = math.sqrt(2.0 * a * kappa / speed)
+    sc = thermal_scales(a, speed, kappa)
+    ell, delta = sc.wake_length, sc.thermal_depth
     return Extent(ahead=scale * max(0.5 * a, 6.0 * ell), behind=scale * max(a, 6.0 * ell),
                   lateral=scale * max(a, 0.5 * b, 8.0 * ell), depth=scale * max(a, 8.0 * ell, 6.0 * delta),
                   travel=2.0 * a + scale * max(2.0 * a, 40.0 * kappa / speed))
@@ -579,7 +580,7 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
     nyb = max(2, int(round(2 * b / cell)))
     xe = _graded(-a, a, nxa, -a - ext.behind, a + ext.ahead, rk)
     ye = _graded(-b, b, nyb, -b - ext.lateral, b + ext.lateral, rk)
-    delta = math.sqrt(2.0 * a * kappa / V)
+    delta = thermal_scales(a, V, kappa).thermal_depth
     dz1 = min(cell, delta / surface_layers / 2 ** level)
     ze = _graded_depth(dz1, ext.depth, rk)
     dx, dy, dz = np.diff(xe), np.diff(ye), np.diff(ze)

@@ -41,10 +41,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from railtherm import surface_grid
+from railtherm.physics import combined_elastic, hertz_pressure_grid, rescale_hertz_patch
 from scipy.optimize import brentq
 
-__all__ = ["WheelsetSolution", "wheelset_contacts", "hertz_patch_for", "scene_wheelset_contact"]
+__all__ = ["WheelsetSolution", "wheelset_contacts", "scene_wheelset_contact", "PRESSURE_GAUSS"]
 
 
 @dataclass
@@ -64,41 +64,9 @@ class WheelsetSolution:
     residuals: dict = field(default_factory=dict)
 
 
-def hertz_patch_for(normal_force, ref_normal_force, ref_a, ref_b, scaling="curvatures"):
-    """Semi-axes and peak pressure of a Hertz patch at another normal force.
-
-    ``scaling="curvatures"``: a, b ~ N^(1/3) (fixed gap curvatures); ``"semi_axes"``: a, b fixed.
-    Returns (a, b, p0) [m, m, Pa].
-    """
-    s = (normal_force / ref_normal_force) ** (1.0 / 3.0) if scaling == "curvatures" else 1.0
-    a, b = ref_a * s, ref_b * s
-    return a, b, 3.0 * normal_force / (2.0 * math.pi * a * b)
-
-
-def _hertz_cell_average(grid, a, b, n_gauss=12):
-    """Cell averages of sqrt(1 - x^2/a^2 - y^2/b^2) (exact in x, Gauss-Legendre in y)."""
-    x0, x1 = grid.x_edges[:-1, None], grid.x_edges[1:, None]
-    y0, y1 = grid.y_edges[:-1], grid.y_edges[1:]
-    t, w = np.polynomial.legendre.leggauss(n_gauss)
-    out = np.zeros(grid.shape)
-    for ti, wi in zip(t, w):
-        yy = 0.5 * (y0 + y1) + 0.5 * (y1 - y0) * ti
-        c = np.sqrt(np.clip(1.0 - (yy / b) ** 2, 0.0, None))[None, :]
-        lim = a * c
-        safe = np.where(lim > 0, lim, 1.0)
-
-        def F(u):
-            s = np.clip(u / safe, -1.0, 1.0)
-            return 0.5 * a * c ** 2 * (s * np.sqrt(1.0 - s * s) + np.arcsin(s))
-
-        out += 0.5 * wi * (F(np.clip(x1, -lim, lim)) - F(np.clip(x0, -lim, lim)))
-    return out / grid.dx
-
-
-def hertz_pressure_grid(a, b, p0, level=0, cells=16):
-    """Patch grid and cell-averaged Hertz pressure [Pa] for semi-axes a, b [m] and peak p0 [Pa]."""
-    g = surface_grid(a, b, level, cells)
-    return g, p0 * _hertz_cell_average(g, a, b)
+#: Gauss-Legendre points across each cell in y of the wheelset's Hertz pressure grids [1]
+#: (railtherm.physics.hertz_pressure_grid; 12 since the first release, the core default is 8)
+PRESSURE_GAUSS = 12
 
 
 def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, wheel_radius, gauge, speed,
@@ -131,7 +99,7 @@ def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, whee
     ref_semi_axes : tuple of float
         Hertz semi-axes (a, b) at ``ref_normal_force`` [m].
     scaling : {"curvatures", "semi_axes"}
-        How the patch changes with the normal force (:func:`hertz_patch_for`).
+        How the patch changes with the normal force (:func:`railtherm.physics.rescale_hertz_patch`).
     cells : int
         FASTSIM cells along 2a [1].
     rtol : float
@@ -166,8 +134,8 @@ def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, whee
         fx = np.zeros(2)
         fy = np.zeros(2)
         for i in range(2):
-            a, b, p0 = hertz_patch_for(Nv[i], ref_normal_force, *ref_semi_axes, scaling)
-            g, p = hertz_pressure_grid(a, b, p0, 0, cells)
+            a, b, p0 = rescale_hertz_patch(Nv[i], ref_normal_force, *ref_semi_axes, scaling)
+            g, p = hertz_pressure_grid(a, b, p0, 0, cells, gauss=PRESSURE_GAUSS)
             r = fastsim(g, p, a=a, b=b, normal_force=Nv[i], friction=friction, shear_modulus=shear_modulus,
                         poisson_ratio=poisson_ratio, xi=xi[i], eta=eta[i], phi=phi[i], speed=speed,
                         **fastsim_options)
@@ -216,7 +184,6 @@ def scene_wheelset_contact(scene, patch=None, **fastsim_options):
     -------
     xi, eta, phi, normal_force, solution
     """
-    from railtherm import combined_elastic
     ws = scene.wheelset
     G, nu = combined_elastic(scene.wheel, scene.rail)
     if patch is not None:

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from railtherm.errors import Refused, SolverError
+from railtherm import Refused, SolverError
 
 from .contact import ContactSolution, solve_contact
 from .elastic import ElasticStrip

@@ -26,6 +26,7 @@ import numpy as np
 
 from railtherm import (Capabilities, ContactPatch, CoupledModel, HeatSource, Option, Refused, SolverError,
                        TemperatureField, surface_grid)
+from railtherm.physics import nodal_cell_average
 
 from .coupled import FemProblem, _interpolator, fem_limits, solve_fem
 from .thermal import ThermalBody, ThermalSolver, hat_load, thermal_grid
@@ -63,17 +64,6 @@ def verdict_diagnostics(sol, thermal: bool) -> dict:
         return dict(converged=bool(sol.coupling_converged and contact_ok and tres < THERMAL_RESIDUAL_LIMIT),
                     iterations=int(sol.coupling_iterations), residual=residual)
     return dict(converged=contact_ok, iterations=int(c.iterations), residual=float(c.residual))
-
-
-def cell_average(x_nodes, values, edges):
-    """Cell averages over ``edges`` of the piecewise-linear interpolant of nodal ``values`` (0 outside)."""
-    x_nodes = np.asarray(x_nodes, float)
-    v = np.asarray(values, float)
-    xs = np.unique(np.concatenate([x_nodes, edges]))
-    vs = np.interp(xs, x_nodes, v, left=0.0, right=0.0)
-    cum = np.concatenate([[0.0], np.cumsum(0.5 * (vs[1:] + vs[:-1]) * np.diff(xs))])
-    F = np.interp(edges, xs, cum)
-    return np.diff(F) / np.diff(edges)
 
 
 class FemModel(CoupledModel):
@@ -177,9 +167,9 @@ class FemModel(CoupledModel):
         grid = surface_grid(a, None, level, cells)
         edges = grid.x_edges + xc
         V = prob.speed
-        pressure = cell_average(c.x, c.pressure, edges)
-        traction = cell_average(c.x, c.traction, edges)
-        slip = cell_average(c.x, V * np.nan_to_num(c.slip), edges)
+        pressure = nodal_cell_average(c.x, c.pressure, edges)
+        traction = nodal_cell_average(c.x, c.traction, edges)
+        slip = nodal_cell_average(c.x, V * np.nan_to_num(c.slip), edges)
         # stick: the state of the nearest node in contact (the patch edges lie between the outermost
         # contact nodes and the next, open ones, whose state would read "slip")
         loaded = np.nonzero(c.pressure > 0)[0]
@@ -201,7 +191,7 @@ class FemModel(CoupledModel):
                              stick=stick if frictional else None,
                              creep_force_x=float(c.tangential_force) if frictional else None,
                              diagnostics=diag)
-        power = cell_average(c.x, sol.heat_power_density, edges)
+        power = nodal_cell_average(c.x, sol.heat_power_density, edges)
         source = HeatSource(grid=grid, power_density=power, heat_partition=float(sol.heat_partition),
                             body_speed=tuple(float(v) for v in sol.body_speed),
                             frictional_power=float(sol.frictional_power), patch=patch, diagnostics=diag)
