@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .physics import scene_partition
+from .physics import body_speeds, scene_partition
 
 _NAME = {"contact": "Hertz (elliptic integrals)", "carter": "Carter 2-D rolling",
          "ms": "moving surface source on a half-space (point-source superposition)",
@@ -35,14 +35,14 @@ def _thermal_case(scene):
     if scene.heat_source is not None:
         hs = scene.heat_source
         a, b = hs.semi_axes if hs.semi_axes is not None else (hs.half_width, None)
-        v = scene.speed
-        return a, b, hs.shape, hs.flux, (v, v), scene_partition(scene, v, v)
+        speeds = body_speeds(scene)
+        return a, b, hs.shape, hs.flux, speeds, scene_partition(scene, *speeds)
     if scene.tangential != "full-sliding":
         return None
     from .models.hertz import hertz_geometry
     a, b, p0, _ = hertz_geometry(scene)
-    v0, vs = scene.speed, scene.sliding_speed
-    return a, b, "hertz", scene.friction * vs * p0, (v0 + vs, v0), scene_partition(scene, v0 + vs, v0)
+    speeds = body_speeds(scene)
+    return a, b, "hertz", scene.friction * scene.sliding_speed * p0, speeds, scene_partition(scene, *speeds)
 
 
 def _surface_rise(scene, case, x, y, body):
