@@ -169,6 +169,7 @@ def energy_balance(scene, ds) -> tuple[float, str]:
     (float, str)
         ((heat entering through the surface − frictional power) / frictional power, reference).
     """
+    from .physics import peclet_number
     power = float(ds["frictional_power"]) if "frictional_power" in ds.variables else math.nan
     if "heat_flux" in ds.variables and not math.isfinite(power):
         hf = ds["heat_flux"].values
@@ -182,7 +183,7 @@ def energy_balance(scene, ds) -> tuple[float, str]:
             a = float(ds["semi_axis_a"])
         if not math.isfinite(a):
             a = 0.5 * float(np.ptp(ds["x"].values))
-        pe = min(abs(v) * a / (2.0 * scene.body(i).diffusivity) for i, v in enumerate(speeds))
+        pe = min(peclet_number(abs(v), a, scene.body(i).diffusivity) for i, v in enumerate(speeds))
         if pe >= ENERGY_MIN_PECLET and min(speeds) > 0:
             x = ds["x"].values
             if x.size >= 2:
