@@ -47,8 +47,9 @@ MAX_FIELD_POINTS = 1500
 #: quantities compared across methods
 CROSS = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure")
 #: Péclet number V a / (2 kappa) above which the 1-D half-space energy identity is applied. Its own
-#: error, measured on the exact moving-source field (circular uniform source, level 3 grid): 1.0 % at
-#: Pe 81, 0.29 % at Pe 407, 0.06 % at Pe 2444; Jaeger's band: 0.02 % from Pe 100 up.
+#: error, measured on the exact moving-source field of a circular uniform source (level-3 grid, the
+#: Abel inversion of :func:`half_space_energy`): 0.87 % at Pe 102, 0.51 % at Pe 204, 0.30 % at Pe 407,
+#: 0.07 % at Pe 2444 (conduction along the surface, ~1/Pe); Jaeger's band: 0.01 % from Pe 100 up.
 ENERGY_MIN_PECLET = 100.0
 STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
 
