@@ -87,10 +87,18 @@ def test_model_error_estimate_from_table():
 
 
 def test_refusal_message_names_numbers():
+    # the refusal comes from core (the declared Péclet range) with green's advice appended
+    from types import SimpleNamespace
+    from railtherm_green.model import GreenTemperature
     m = Material()
-    why = validity.refusal(1e-3, (30.0, 0.1), (m, m))
+    scene = SimpleNamespace(wheel=m, rail=m)
+
+    def source(speeds):
+        return SimpleNamespace(grid=SimpleNamespace(a=1e-3), body_speed=speeds)
+
+    why = GreenTemperature().supports_source(scene, source((30.0, 0.1)))
     assert why is not None and "rail" in why and "3.53" in why and "fipy" in why
-    assert validity.refusal(1e-3, (30.0, 30.0), (m, m)) is None
+    assert GreenTemperature().supports_source(scene, source((30.0, 30.0))) is None
 
 
 @pytest.mark.slow

@@ -89,8 +89,10 @@ class DummyTemperature(TemperatureModel):
 
     name = "report-dummy-temperature"
     description = "test stand-in: a 1-D flash temperature with a level-dependent error"
-    capabilities = railtherm.Capabilities(provides=frozenset({"surface_temperature", "max_surface_temperature",
-                                                             "mean_contact_temperature", "temperature"}))
+    # convection declared so that core lets the stand-in run the scene "ellipse-convective" (it ignores it)
+    capabilities = railtherm.Capabilities(convection=True,
+                                          provides=frozenset({"surface_temperature", "max_surface_temperature",
+                                                              "mean_contact_temperature", "temperature"}))
     factor = 1.0
 
     def compute_temperature(self, scene, source, level, options):

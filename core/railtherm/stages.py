@@ -172,9 +172,18 @@ class TemperatureField:
         return cls(surface, tmax, tmean, **kw)
 
 
+#: values of :attr:`Capabilities.convection`
+CONVECTION_KINDS = (False, True, "long-term")
+
+
 @dataclass(frozen=True)
 class Capabilities:
-    """What a stage model can do; used by :meth:`StageModel.supports` and ``railtherm methods``.
+    """What a stage model can do; enforced by :meth:`StageModel.supports` and listed by ``railtherm methods``.
+
+    Core checks every declared field once, for every model (built-in or third-party), before the
+    model runs; a model's own ``supports`` adds only the limits of its method. ``modes``,
+    ``convection``, ``peclet`` and ``moving_surface`` concern the temperature, so they are checked
+    for models that implement the temperature stage.
 
     Attributes
     ----------
@@ -182,28 +191,63 @@ class Capabilities:
     sources : frozenset of {"computed", "given"}
         Whether the model takes a patch computed by an earlier stage and/or a given heat source.
     tangential : frozenset of {"full-sliding", "creepage"}
-    convection : bool
-        Honours the scene's convection coefficient.
+    convection : {False, True, "long-term"}
+        Whether the model honours the scene's convection coefficient [W/m^2K]: False refuses a scene
+        with convection > 0 (the model would silently ignore it); True honours it in every output;
+        "long-term" honours it only in the long-term (steady) wheel temperature, the flash
+        temperatures ignoring it (it is negligible over one contact time).
     modes : frozenset of {"steady", "transient"}
+        Scene modes the model computes (the scene's ``mode``).
     peclet : (float, float)
-        Péclet range (V a / 2 kappa) in which the model is valid.
+        Péclet range [lo, hi] (L = V a / 2 kappa, :func:`railtherm.physics.peclet_number`) in which
+        the model is valid; each body's number, from the semi-axis along rolling and the body's
+        surface speed (:func:`railtherm.physics.body_speeds`), must lie in it. Checked in
+        :meth:`StageModel.supports` when the scene gives the semi-axis (``semi_axes`` or a given heat
+        source), else on the heat source by :meth:`StageModel.supports_source` (a Hertz patch from the
+        load is known only after the contact stage).
+    moving_surface : bool
+        The model works in the frame moving with the contact and needs both bodies' surfaces to
+        move through the patch (surface speed > 0).
     provides : frozenset of str
         Result variables the model fills (names of :data:`railtherm.schema.VARIABLES`).
+    advice : tuple of (str, str)
+        Optional method-specific reason and alternative appended to a refusal, per capability
+        ("modes", "convection", "peclet", "moving_surface"); a mapping is accepted. Without it core
+        says which declaration would work (``railtherm methods`` lists each model's).
     """
 
     contacts: frozenset = frozenset({"ellipse", "line"})
     sources: frozenset = frozenset({"computed", "given"})
     tangential: frozenset = frozenset({"full-sliding", "creepage"})
-    convection: bool = False
+    convection: bool | str = False
     modes: frozenset = frozenset({"steady"})
     peclet: tuple[float, float] = (0.0, float("inf"))
+    moving_surface: bool = False
     provides: frozenset = frozenset()
+    advice: tuple = ()
+
+    def __post_init__(self):
+        if self.convection not in CONVECTION_KINDS or not isinstance(self.convection, (bool, str)):
+            raise ValueError(f"Capabilities.convection must be one of {CONVECTION_KINDS}, got {self.convection!r}")
+        if isinstance(self.advice, Mapping):
+            object.__setattr__(self, "advice", tuple(sorted(self.advice.items())))
+        unknown = {k for k, _ in self.advice} - {"modes", "convection", "peclet", "moving_surface"}
+        if unknown:
+            raise ValueError(f"Capabilities.advice has unknown keys {sorted(unknown)}")
+
+    def advice_for(self, key: str) -> str | None:
+        """The declared advice for capability ``key``, or None."""
+        return dict(self.advice).get(key)
 
     def describe(self) -> str:
+        """One line for ``railtherm methods``: every field core enforces (the temperature ones apply
+        to models of the temperature stage)."""
         lo, hi = self.peclet
-        return (f"contacts={'/'.join(sorted(self.contacts))}; sources={'/'.join(sorted(self.sources))}; "
-                f"tangential={'/'.join(sorted(self.tangential))}; convection={'yes' if self.convection else 'no'}; "
-                f"modes={'/'.join(sorted(self.modes))}; Peclet {lo:g}..{hi:g}")
+        conv = {True: "yes", False: "no", "long-term": "long-term wheel temperature only"}[self.convection]
+        return (f"enforced by core: contacts={'/'.join(sorted(self.contacts))}; sources={'/'.join(sorted(self.sources))}; "
+                f"tangential={'/'.join(sorted(self.tangential))}; if a temperature model: "
+                f"modes={'/'.join(sorted(self.modes))}; convection={conv}; Peclet {lo:g}..{hi:g}; "
+                f"moving surfaces needed={'yes' if self.moving_surface else 'no'}")
 
 
 @dataclass(frozen=True)
@@ -224,6 +268,20 @@ class Option:
                 raise SceneError(f"option {key!r} of model {model!r} = {value!r} is not allowed: a number >= {self.minimum}",
                                  key=key, value=value, allowed=f">= {self.minimum}")
         return value
+
+
+def _given_semi_axis(scene) -> float | None:
+    """Semi-axis along rolling [m] that the scene gives (its heat source's ``semi_axes`` or
+    ``half_width``, or the contact's ``semi_axes``), else None: a Hertz patch computed from the load
+    is known only after the contact stage, where :meth:`StageModel.supports_source` checks it.
+    (``railtherm.physics.scene_semi_axis`` would compute it, but ``railtherm.physics.hertz`` builds a
+    :class:`ContactPatch` and importing it here would close an import circle.)"""
+    hs = getattr(scene, "heat_source", None)
+    if hs is not None:
+        axes = getattr(hs, "semi_axes", None)
+        return float(axes[0]) if axes is not None else float(hs.half_width)
+    axes = getattr(scene, "semi_axes", None)
+    return float(axes[0]) if axes is not None else None
 
 
 class StageModel:
@@ -251,10 +309,13 @@ class StageModel:
     def supports(self, scene: "Scene", level: int) -> str | None:
         """Return None when the model can run ``scene`` at ``level``, else the reason it cannot.
 
-        The default checks the contact shape, the heat source kind and the tangential regime
-        against :attr:`capabilities`; override to add limits (Péclet number, stability...) and call
-        ``super().supports``. The reason becomes the message of a ``refused`` run: name the limit
-        and what would work instead.
+        The default enforces :attr:`capabilities`, for every model: contact shape, heat source
+        kind and tangential regime; for a model of the temperature stage also the scene's mode, its
+        convection, moving surfaces and each body's Péclet number (when the scene gives the
+        semi-axis; :meth:`supports_source` checks the last two on the heat source itself). Override only to add the limits of the method (stability, budgets...) and
+        call ``super().supports`` first; never re-check a declared capability. The reason becomes
+        the message of a ``refused`` run (:class:`railtherm.Refused`, kind "validity"): it names the
+        limit, the value and what would work instead.
         """
         caps = self.capabilities
         if scene.contact_shape not in caps.contacts:
@@ -264,6 +325,63 @@ class StageModel:
             return f"model {self.name!r} needs a {'/'.join(sorted(caps.sources))} heat source, scene gives a {kind} one"
         if scene.heat_source is None and scene.tangential not in caps.tangential:
             return f"model {self.name!r} handles {sorted(caps.tangential)}, not {scene.tangential!r}"
+        if "temperature" not in self.stages:
+            return None
+        mode = getattr(scene, "mode", "steady") or "steady"
+        if mode not in caps.modes:
+            other = sorted({"steady", "transient"} - set(caps.modes))
+            return (f"model {self.name!r} computes mode {'/'.join(sorted(caps.modes))}, not the scene's mode {mode!r}; "
+                    + (caps.advice_for("modes") or f"use a model that declares mode {'/'.join(other) or mode!r} "
+                       "(railtherm methods lists each model's modes)"))
+        h = float(getattr(scene, "convection", 0.0) or 0.0)
+        if h > 0 and not caps.convection:
+            return (f"model {self.name!r} ignores convection (it declares convection=no) but scene "
+                    f"{getattr(scene, 'name', '?')!r} has convection = {h:g} W/m^2K; set convection = 0 or "
+                    + (caps.advice_for("convection") or "use a temperature model that declares convection=yes "
+                       "(railtherm methods lists them)"))
+        if not (caps.moving_surface or caps.peclet != (0.0, float("inf"))):
+            return None
+        from .physics.kinematics import body_speeds
+        speeds = (0.0, 0.0) if getattr(scene, "speed", None) is None else body_speeds(scene)
+        return self._flow_refusal(_given_semi_axis(scene), speeds, (scene.wheel, scene.rail))
+
+    def supports_source(self, scene: "Scene", source: HeatSource) -> str | None:
+        """The checks of :meth:`supports` that need the heat source (moving surfaces and Péclet
+        numbers from the source's semi-axis ``grid.a`` and ``body_speed``): None, or the reason.
+
+        For a temperature model whose patch is known only after the contact stage (e.g. FASTSIM's
+        surface speeds V (1 - xi)); call it at the top of ``compute_temperature`` and raise
+        ``railtherm.Refused(reason, kind="validity")``.
+        """
+        return self._flow_refusal(float(source.grid.a), tuple(float(v) for v in source.body_speed),
+                                  (scene.wheel, scene.rail))
+
+    def _flow_refusal(self, a: float | None, speeds, bodies) -> str | None:
+        """Moving-surface and Péclet checks of :attr:`capabilities` for semi-axis ``a`` [m] (None:
+        unknown, Péclet not checked), body surface speeds [m/s] and materials (wheel, rail)."""
+        caps = self.capabilities
+        lo, hi = (float(x) for x in caps.peclet)
+        check_pe = (lo, hi) != (0.0, float("inf"))
+        for body, v in zip(BODIES, speeds):
+            v = float(v)
+            if caps.moving_surface and not v > 0.0:
+                return (f"model {self.name!r}: the {body} moves at {v:g} m/s, so its surface does not move through "
+                        f"the patch (the model works in the frame moving with the contact and needs speed > 0); "
+                        + (caps.advice_for("moving_surface") or "use a model that does not need moving surfaces "
+                           "(railtherm methods lists them)"))
+        if not check_pe or a is None:
+            return None
+        from .physics.scales import peclet_number
+        for body, v, m in zip(BODIES, speeds, bodies):
+            kappa = m.diffusivity
+            pe = peclet_number(v, a, kappa)
+            if lo <= pe <= hi:
+                continue
+            side = f"is below {lo:g}" if pe < lo else f"is above {hi:g}"
+            return (f"model {self.name!r}: Péclet number of the {body} L = V a/(2 kappa) = {float(v):g} m/s x {a:.4g} m / "
+                    f"(2 x {kappa:.3g} m^2/s) = {pe:.3g} {side} (the model's declared range is {lo:g}..{hi:g}); "
+                    + (caps.advice_for("peclet") or f"use a model whose declared Péclet range contains {pe:.3g} "
+                       "(railtherm methods lists each model's range)"))
         return None
 
     @classmethod

@@ -74,7 +74,10 @@ class FemModel(CoupledModel):
                    "regularised Coulomb by semismooth Newton, moving-frame conduction, Steps 1-4 coupling (seed section 4)")
     capabilities = Capabilities(contacts=frozenset({"line"}), sources=frozenset({"computed", "given"}),
                                 tangential=frozenset({"full-sliding", "creepage"}), convection=True,
-                                modes=frozenset({"steady"}), provides=PROVIDES)
+                                modes=frozenset({"steady"}), moving_surface=True, provides=PROVIDES,
+                                advice={"modes": "it is quasistatic (steady in the moving frame); use a transient "
+                                                 "method (e.g. fastsim-fdm or fipy)",
+                                        "moving_surface": "it needs a positive rolling speed (steady moving frame)"})
     options = {
         "thermal_model": Option("2d", "conduction along x included ('2d') or dropped (seed eq. 16, '1d')",
                                 choices=("2d", "1d")),
@@ -93,8 +96,6 @@ class FemModel(CoupledModel):
         why = super().supports(scene, level)
         if why:
             return why
-        if getattr(scene, "mode", "steady") != "steady":
-            return "model 'fem' is quasistatic (steady in the moving frame); use a transient method"
         cr = getattr(scene, "creepage", None)
         if cr is not None and (cr.lateral or cr.spin):
             return (f"model 'fem' is 2-D (longitudinal creepage only); lateral={cr.lateral!r}, spin={cr.spin!r} "
@@ -107,8 +108,6 @@ class FemModel(CoupledModel):
             if scene.normal_force is not None and not scene.normal_force > 0:
                 return (f"model 'fem': normal_force = {scene.normal_force!r} N/m presses nothing into the strip "
                         "(no contact, no heat); give a load > 0 or a penetration")
-        if scene.speed is None or not scene.speed > 0:
-            return "model 'fem' needs a positive rolling speed (steady moving frame)"
         return None
 
     # ------------------------------------------------------------------------------------------

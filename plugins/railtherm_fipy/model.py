@@ -131,7 +131,9 @@ class FipyTemperature(TemperatureModel):
 
     name = "fipy"
     description = "finite-volume heat conduction with FiPy: steady moving frame (2-D/3-D) and wheel heating"
-    capabilities = Capabilities(convection=True, modes=frozenset({"steady", "transient"}),
+    capabilities = Capabilities(convection=True, modes=frozenset({"steady", "transient"}), moving_surface=True,
+                                advice={"moving_surface": "e.g. a locked wheel v0 + v_s = 0; use a method with a static "
+                                                          "source"},
                                 provides=PROVIDES | {"steady_wheel_temperature", "steady_mean_contact_temperature"})
     options = {
         "scheme": Option("power-law", "convection scheme", choices=tuple(SCHEMES)),
@@ -147,15 +149,6 @@ class FipyTemperature(TemperatureModel):
                                     "up to 2.7x) or of a fixed-step transient (steps x 4e-5 s); refused above",
                               minimum=0.0),
     }
-
-    def supports(self, scene, level):
-        why = super().supports(scene, level)
-        if why is not None:
-            return why
-        if not scene.speed > 0:
-            return (f"model 'fipy' solves in the frame moving with the contact and needs speed > 0, "
-                    f"scene {scene.name!r} has speed {scene.speed!r}; use a static method instead")
-        return None
 
     # ------------------------------------------------------------------ helpers
     @staticmethod
@@ -308,11 +301,9 @@ class FipyTemperature(TemperatureModel):
 
     def _steady(self, scene, source, level, opts):
         """Steady moving-frame flash temperatures of both bodies (absolute)."""
-        for i, v in enumerate(source.body_speed):
-            if not v > 0:
-                raise Refused(f"model 'fipy' solves each body in the frame moving with the contact and needs its "
-                              f"surface to move through the patch: the {('wheel', 'rail')[i]} moves at {v:g} m/s "
-                              f"(<= 0, e.g. a locked wheel v0 + v_s = 0); use a method with a static source")
+        why = self.supports_source(scene, source)   # core's moving-surface check on the source's body speeds
+        if why is not None:
+            raise Refused(why, kind="validity")
         dim, how = self.choose_dimension(scene, source, level, opts)
         grid = source.grid
         t0 = time.perf_counter()

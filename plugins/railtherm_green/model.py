@@ -35,8 +35,8 @@ import math
 import numpy as np
 
 from railtherm import Capabilities, Option, Refused, TemperatureField, TemperatureModel
-from railtherm.physics import (CONVECTIVE_AREA, body_speeds, equal_temperature_partition, lumped_wheel,
-                               peclet_number, scene_semi_axis, thermal_scales)
+from railtherm.physics import (CONVECTIVE_AREA, equal_temperature_partition, lumped_wheel, peclet_number,
+                               thermal_scales)
 from railtherm.physics.lumped_wheel import CONVECTIVE_AREAS
 
 from . import kernel, steady, validity
@@ -99,9 +99,11 @@ class GreenTemperature(TemperatureModel):
         contacts=frozenset({"ellipse", "line"}),
         sources=frozenset({"computed", "given"}),
         tangential=frozenset({"full-sliding", "creepage"}),
-        convection=True,
+        convection="long-term",   # the flash temperatures ignore it; the lumped steady wheel honours it
         modes=frozenset({"steady"}),
         peclet=(validity.PECLET_MIN, math.inf),
+        moving_surface=True,
+        advice=validity.ADVICE,
         provides=frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature",
                             "temperature", *_STEADY}),
     )
@@ -128,28 +130,14 @@ class GreenTemperature(TemperatureModel):
     }
 
     # ------------------------------------------------------------------------------------------
-    def supports(self, scene, level):
-        why = super().supports(scene, level)
-        if why is not None:
-            return why
-        if getattr(scene, "mode", "steady") not in self.capabilities.modes:
-            return (f"model 'green' computes the quasi-steady flash temperature (mode 'steady'), not "
-                    f"{scene.mode!r}; use 'fastsim-fdm' or 'fipy' for transients")
-        a = scene_semi_axis(scene)
-        if a is None:
-            return None  # not known before the contact stage; checked again in compute_temperature
-        speeds = body_speeds(scene)
-        return validity.refusal(a, speeds, (scene.wheel, scene.rail))
-
-    # ------------------------------------------------------------------------------------------
     def compute_temperature(self, scene, source, level, options):
         grid = source.grid
         a, b = grid.a, grid.b
         wheel, rail = scene.wheel, scene.rail
         v_w, v_r = (float(v) for v in source.body_speed)
-        why = validity.refusal(a, (v_w, v_r), (wheel, rail))
+        why = self.supports_source(scene, source)   # core's Péclet / moving-surface check on the actual source
         if why is not None:
-            raise Refused(why)
+            raise Refused(why, kind="validity")
         opts = self.resolve_options(options)
         outputs = tuple(getattr(scene, "outputs", ()) or ())
         want_all = not outputs

@@ -15,7 +15,7 @@ import numpy as np
 
 from railtherm.physics import peclet_number
 
-__all__ = ["PECLET_MIN", "PECLET_ACCURATE", "refusal", "model_error", "ERROR_TABLE", "ERROR_NOTE"]
+__all__ = ["PECLET_MIN", "PECLET_ACCURATE", "ADVICE", "model_error", "ERROR_TABLE", "ERROR_NOTE"]
 
 #: below this body Péclet number the scene is refused
 PECLET_MIN = 10.0
@@ -52,32 +52,16 @@ ERROR_NOTE = ("model_error_* = measured relative error of the 1-D model (1-D min
               "(a/b = 0.558) or a band, interpolated in log L; 0 reported above L = 1000 (error < 0.06 %)")
 
 
-def refusal(a: float, speeds, bodies) -> str | None:
-    """Reason to refuse (a string naming the limit with numbers), or None when the model applies.
-
-    Parameters
-    ----------
-    a : float
-        Semi-axis along rolling [m].
-    speeds : (float, float)
-        Surface speeds of wheel and rail through the patch [m/s].
-    bodies : (Material, Material)
-        Wheel and rail.
-    """
-    for name, v, m in zip(("wheel", "rail"), speeds, bodies):
-        kappa = m.diffusivity
-        if not v > 0.0:
-            return (f"model 'green': the {name} surface does not move through the patch (speed {v:g} m/s), so "
-                    f"the 1-D moving Green function has no steady state; use method 'fipy' or the exact "
-                    f"railtherm.references.moving_source")
-        pe = peclet_number(v, a, kappa)
-        if pe < PECLET_MIN:
-            return (f"model 'green': Péclet number of the {name} L = V a/(2 kappa) = {v:g} m/s x {a:.4g} m / "
-                    f"(2 x {kappa:.3g} m^2/s) = {pe:.3g} is below {PECLET_MIN:g}; heat conduction along the "
-                    f"rolling direction is no longer negligible and the 1-D model is invalid. Use method "
-                    f"'fipy' (or 'fastsim-fdm'), or the exact railtherm.references.moving_source "
-                    f"(jaeger for a line contact)")
-    return None
+#: what the refusals of core (the declared ``peclet`` range, ``moving_surface``, ``modes``; see
+#: :meth:`railtherm.StageModel.supports`) add for this model: why the limit holds and what works instead
+ADVICE = {
+    "peclet": ("heat conduction along the rolling direction is no longer negligible and the 1-D model is "
+               "invalid. Use method 'fipy' (or 'fastsim-fdm'), or the exact railtherm.references.moving_source "
+               "(jaeger for a line contact)"),
+    "moving_surface": ("the 1-D moving Green function has no steady state without motion; use the exact "
+                       "railtherm.references.moving_source"),
+    "modes": "it computes the quasi-steady flash temperature; use 'fastsim-fdm' or 'fipy' for transients",
+}
 
 
 def model_error(pe: float, *, line: bool = False, shape: str | None = None) -> dict[str, float]:
