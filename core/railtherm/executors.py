@@ -5,6 +5,8 @@ Every executor calls the same :func:`railtherm.runner.execute_run` on each task 
 them. Workers rebuild the plugin host of the calling process (:func:`host_spec`): entry points when
 the caller loaded them, and every plugin registered in memory (``new_host([...])``, the conformance
 kit's ``railtherm_register``), sent by reference (cloudpickle) with the caller's ``sys.path``.
+Crash records are written through :mod:`railtherm.store`; this module never imports the runner (a
+task's ``existing()`` finds what a worker wrote before it died).
 
 Faults
 ------
@@ -12,7 +14,7 @@ Faults
   is executed once more on a fresh worker and recorded as ``failed`` if its worker dies again. What
   was already written stays on disk (atomic writes); a result written just before the death is
   found by the retry and not written again (same ``run_id``); ``--resume`` completes the study.
-* A run past its time limit is stopped inside the worker (:func:`railtherm.runner._time_limit`);
+* A run past its time limit is stopped inside the worker (:func:`railtherm.timelimit._time_limit`);
   a run stuck in a C call that ignores it is ended with its worker ``grace`` seconds later and
   recorded as ``failed`` (not retried).
 
@@ -23,7 +25,6 @@ uses its own setting; a task that exhausts them is recorded ``failed`` (KilledWo
 """
 from __future__ import annotations
 
-import json
 import os
 import pickle
 import sys
@@ -32,6 +33,8 @@ import time
 import warnings
 from collections import deque
 from typing import Callable, Iterator
+
+from . import store
 
 EXECUTORS = ("serial", "processes", "dask")
 
@@ -46,17 +49,11 @@ def _crash_record(task, message, kind: str = "error"):
 
     ``kind``: the failure's reason kind, "error" (the worker died) or "timeout" (it was ended).
     """
-    from .runner import RunRecord, status_path, write_atomic_bytes
-    rec = RunRecord(task.scene.name, task.method, task.level, "failed", message, path=str(task.path),
-                    scene_hash=task.scene.hash, run_hash=task.run_hash, run_id=task.run_id,
-                    sweep=dict(task.scene.sweep), reason_kind=kind)
     if task.path.exists():  # the worker died after writing: the run is complete after all
-        from .runner import _existing
-        done = _existing(task, same_invocation=True)
+        done = task.existing(same_invocation=True)
         if done is not None and done.status == "ok":
             return done
-    write_atomic_bytes(status_path(task.path), json.dumps(rec.to_dict(), indent=1).encode())
-    return rec
+    return store.crash_record(task, message, kind)
 
 
 def _exit_text(code) -> str:
@@ -333,7 +330,7 @@ class ProcessExecutor:
 
 
 def _dask_run(task, *, spec, fn, kw, grace):  # pragma: no cover - runs on a dask worker
-    from .runner import WATCHDOG
+    from .timelimit import WATCHDOG
     install_host(spec)
     limit = task.timeout
     token = None

@@ -6,7 +6,8 @@ exceeds the per-run time limit or returns NaN is recorded as ``failed`` with its
 outside a method's validity is ``refused``; neither stops the study. Results go to
 ``<out>/runs/<scene>/<method>/level-<k>.nc`` (temporary file, then rename); refusals and failures
 are recorded beside them as ``level-<k>.status.json``. ``resume`` skips runs whose file exists for
-the same scene hash (failed runs are retried).
+the same scene hash (failed runs are retried). :mod:`railtherm.store` owns the folder's layout, its
+atomic writes and the run records; :mod:`railtherm.timelimit` the per-run time limit.
 
 Every invocation of :func:`run_tasks` has a ``run_id``; each file and status record carries the
 ``run_id`` that wrote it. A run that is executed again within the same invocation (its worker died
@@ -29,21 +30,27 @@ import contextlib
 import json
 import math
 import os
-import signal
 import sys
 import threading
 import time
 import traceback
 import uuid
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
 import numpy as np
 
+from . import store
 from .errors import Refused, SceneError
 from .scene import Scene
+# re-exported for one release: the output folder moved to railtherm.store, time limits to railtherm.timelimit
+from .store import (RunRecord, _direct_writable, _write_netcdf4, read_attrs, run_path,  # noqa: F401
+                    status_path, write_atomic_bytes, write_dataset_atomic)
 from .study import Study, load_study
+from .timelimit import WATCHDOG, RunTimeout, Watchdog, _async_raise, _time_limit  # noqa: F401
+
+_remove_stale_tmp = store.remove_stale_tmp  # re-exported for one release
 
 STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
 
@@ -75,7 +82,7 @@ class RunTask:
 
     @property
     def path(self) -> Path:
-        return run_path(self.out, self.scene.name, self.method, self.level)
+        return store.run_path(self.out, self.scene.name, self.method, self.level)
 
     @property
     def run_hash(self) -> str:
@@ -86,57 +93,12 @@ class RunTask:
         """
         return run_hash(self.scene, self.method, self.level, self.options)
 
+    def existing(self, *, same_invocation: bool = False) -> "RunRecord | None":
+        """The record of this run already on disk with the same run hash, else None (:func:`_existing`).
 
-@dataclass
-class RunRecord:
-    """Outcome of one run, as returned by every executor (and stored in ``study.json``)."""
-
-    scene: str
-    method: str
-    level: int
-    status: str
-    message: str = ""
-    wall_time: float = float("nan")
-    #: peak resident set size of the process during one untimed solve [bytes] (absolute)
-    peak_rss: float = float("nan")
-    #: growth of the resident set during that solve [bytes]
-    rss_growth: float = float("nan")
-    timing_runs: int = 0
-    path: str = ""
-    scene_hash: str = ""
-    #: :func:`run_hash` of the run (what --resume compares)
-    run_hash: str = ""
-    #: median of the timed solves [s]
-    wall_time_median: float = float("nan")
-    #: refused: "validity" | "budget"; failed: "error" | "not-converged" | "timeout" | "invalid-input"
-    reason_kind: str = ""
-    #: solver diagnostics of the result (global attributes ``<model>_converged`` etc.)
-    diagnostics: dict = field(default_factory=dict)
-    resumed: bool = False
-    run_id: str = ""
-    #: (heat entering through the surface of the computed temperature field - frictional power)
-    #: / frictional power [1], and how it was obtained (see :func:`railtherm.metrics.energy_balance`)
-    energy_balance: float = float("nan")
-    energy_reference: str = ""
-    #: scalar results (RECORD_VALUES present in the result): name -> float or [wheel, rail]
-    values: dict = field(default_factory=dict)
-    #: True when energy_balance and values were filled from the result (metrics need not open the file)
-    summary: bool = False
-    #: where the time of this run went [s] (wall): warmup, solve (of which compute: the stages), repeats,
-    #: memory, write, total; and cpu: CPU time of the thread that ran it
-    phases: dict = field(default_factory=dict)
-    #: process id of the worker that ran it
-    pid: int = 0
-    #: swept parameters of the scene (study key -> value), so that a status record places the run
-    sweep: dict = field(default_factory=dict)
-
-    def to_dict(self) -> dict:
-        return asdict(self)
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any]) -> "RunRecord":
-        names = {f.name for f in fields(cls)}
-        return cls(**{k: v for k, v in d.items() if k in names})
+        Executors call it on a task whose worker died (they never import the runner).
+        """
+        return _existing(self, same_invocation=same_invocation)
 
 
 def code_versions(method: str) -> str:
@@ -158,207 +120,6 @@ def run_hash(scene: Scene, method: str, level: int, options: Mapping[str, Any]) 
     doc = {"scene": scene.hash, "method": method, "level": int(level),
            "options": {k: options[k] for k in sorted(options)}, "versions": code_versions(method)}
     return hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode()).hexdigest()[:16]
-
-
-def run_path(out, scene: str, method: str, level: int) -> Path:
-    return Path(out) / "runs" / scene / method / f"level-{level}.nc"
-
-
-def status_path(nc: Path) -> Path:
-    return nc.with_name(nc.stem + ".status.json")
-
-
-def _tmp_name(path: Path) -> Path:
-    return path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
-
-
-def write_atomic_bytes(path: Path, data: bytes) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _tmp_name(path)
-    try:
-        with open(tmp, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-
-
-# ----------------------------------------------------------------------------------------------
-# netCDF output
-def _attr_ok(v) -> bool:
-    if isinstance(v, (bool, np.bool_)):
-        return False
-    if isinstance(v, (str, int, float, np.integer, np.floating)):
-        return True
-    return isinstance(v, np.ndarray) and v.ndim == 1 and v.dtype.kind in "if"
-
-
-def _direct_writable(ds) -> bool:
-    """True when :func:`_write_netcdf4` writes ``ds`` exactly as ``xarray.Dataset.to_netcdf`` would."""
-    if set(ds.coords) - set(ds.dims):  # non-index coordinates need xarray's 'coordinates' attribute
-        return False
-    for v in ds.variables.values():
-        if v.encoding or "_FillValue" in v.attrs or v.dtype.kind not in "fiU":
-            return False
-        if not all(_attr_ok(a) for a in v.attrs.values()):
-            return False
-    return all(_attr_ok(a) for a in ds.attrs.values())
-
-
-def _write_netcdf4(ds, path) -> None:
-    """Write a result with netCDF4-python directly: the file xarray writes, in half the CPU time.
-
-    Float variables get ``_FillValue = NaN`` and strings become variable-length strings, as in
-    :meth:`xarray.Dataset.to_netcdf` (engine netcdf4, format NETCDF4); only datasets of those
-    dtypes without encodings or non-index coordinates take this path (see :func:`_direct_writable`).
-    """
-    import netCDF4
-
-    nc = netCDF4.Dataset(path, "w", format="NETCDF4")
-    try:
-        for d, n in ds.sizes.items():
-            nc.createDimension(d, n)
-        for name, v in ds.variables.items():
-            kind = v.dtype.kind
-            if kind == "U":
-                var = nc.createVariable(name, str, v.dims)
-                var.set_auto_maskandscale(False)
-                var.setncatts(dict(v.attrs))
-                if v.size:
-                    var[...] = np.asarray(v.values, dtype=object)
-                continue
-            var = nc.createVariable(name, v.dtype, v.dims, fill_value=np.nan if kind == "f" else None)
-            var.set_auto_maskandscale(False)
-            var.setncatts(dict(v.attrs))
-            if v.ndim == 0:
-                var.assignValue(v.values)
-            elif v.size:
-                var[...] = v.values
-        nc.setncatts(dict(ds.attrs))
-    finally:
-        nc.close()
-
-
-def write_dataset_atomic(ds, path: Path) -> None:
-    """Write a Dataset as netCDF4 to a temporary file in the same folder, then rename it into place."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _tmp_name(path)
-    try:
-        if _direct_writable(ds):
-            _write_netcdf4(ds, tmp)
-        else:
-            ds.to_netcdf(tmp, engine="netcdf4")
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-
-
-def read_attrs(path: Path) -> dict:
-    """Global attributes of a netCDF file (netCDF4-python; ten times cheaper than xarray)."""
-    import netCDF4
-    with netCDF4.Dataset(path, "r") as nc:
-        return {k: nc.getncattr(k) for k in nc.ncattrs()}
-
-
-# ----------------------------------------------------------------------------------------------
-# time limits
-class RunTimeout(Exception):
-    """A run exceeded its per-run time limit."""
-
-    def __init__(self, message: str = "run exceeded the per-run time limit"):
-        super().__init__(message)
-
-
-def _async_raise(tid: int, exc: type | None) -> None:
-    """Raise ``exc`` in thread ``tid`` at its next bytecode (None clears a pending one)."""
-    import ctypes
-    ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(tid), ctypes.py_object(exc) if exc else None)
-
-
-class Watchdog:
-    """One daemon thread per process that runs actions at deadlines (time limits of runs in threads).
-
-    A thread per run would cost more than a small run itself (starting a thread waits for it to
-    run, which under a busy dask worker takes milliseconds). Actions run under the watchdog's lock,
-    so :meth:`cancel` returning False means the action has completed.
-    """
-
-    def __init__(self):
-        self._cond = threading.Condition()
-        self._entries: dict[int, tuple[float, Any]] = {}
-        self._count = 0
-        self._thread: threading.Thread | None = None
-
-    def add(self, seconds: float, action) -> int:
-        """Run ``action()`` in ``seconds`` unless cancelled; returns a token for :meth:`cancel`."""
-        with self._cond:
-            self._count += 1
-            self._entries[self._count] = (time.monotonic() + seconds, action)
-            if self._thread is None or not self._thread.is_alive():
-                self._thread = threading.Thread(target=self._loop, daemon=True, name="railtherm-watchdog")
-                self._thread.start()
-            self._cond.notify()
-            return self._count
-
-    def cancel(self, token: int) -> bool:
-        """True if the action was cancelled before it ran."""
-        with self._cond:
-            return self._entries.pop(token, None) is not None
-
-    def _loop(self):
-        with self._cond:
-            while True:
-                now = time.monotonic()
-                due = [k for k, (d, _) in self._entries.items() if d <= now]
-                for k in due:
-                    _, action = self._entries.pop(k)
-                    try:
-                        action()
-                    except Exception:  # noqa: BLE001 - a failing action must not end the watchdog
-                        pass
-                nxt = min((d for d, _ in self._entries.values()), default=None)
-                self._cond.wait(None if nxt is None else max(0.0, nxt - time.monotonic()))
-
-
-WATCHDOG = Watchdog()
-
-
-@contextlib.contextmanager
-def _time_limit(seconds: float):
-    """Raise :class:`RunTimeout` in the calling thread after ``seconds``.
-
-    In the main thread of a POSIX process: SIGALRM (interrupts sleeps and waits). In another thread
-    (dask workers run tasks in threads): the process's :data:`WATCHDOG` raises the exception
-    asynchronously in the thread, which takes effect at its next Python bytecode; a run stuck inside
-    one C call is ended by its executor (the processes and dask executors end the worker after a
-    grace period).
-    """
-    if not (seconds and seconds > 0 and math.isfinite(seconds)):
-        yield
-        return
-    if threading.current_thread() is threading.main_thread() and hasattr(signal, "SIGALRM"):
-        def handler(signum, frame):
-            raise RunTimeout(f"run exceeded the per-run time limit of {seconds:g} s")
-
-        old = signal.signal(signal.SIGALRM, handler)
-        signal.setitimer(signal.ITIMER_REAL, seconds)
-        try:
-            yield
-        finally:
-            signal.setitimer(signal.ITIMER_REAL, 0)
-            signal.signal(signal.SIGALRM, old)
-        return
-    tid = threading.get_ident()
-    token = WATCHDOG.add(seconds, lambda: _async_raise(tid, RunTimeout))
-    try:
-        yield
-    finally:
-        if not WATCHDOG.cancel(token):
-            _async_raise(tid, None)  # fired: clear the exception if it was not delivered yet
 
 
 # ----------------------------------------------------------------------------------------------
@@ -402,10 +163,7 @@ def _record_from_file(task: RunTask, p: Path, attrs: Mapping[str, Any], resumed:
                     wall_time_median=float(attrs.get("wall_time_median", math.nan)), resumed=resumed,
                     run_id=str(attrs.get("run_id", "")), pid=os.getpid(), sweep=dict(task.scene.sweep))
     try:  # the summary metrics need, read here (in the worker) rather than by metrics (serially)
-        import xarray as xr
-        with xr.open_dataset(p, engine="netcdf4") as ds:
-            ds.load()
-            _summarise(rec, task.scene, ds)
+        _summarise(rec, task.scene, store.open_dataset(p))
     except Exception:  # noqa: BLE001 - metrics will open the file itself
         pass
     return rec
@@ -423,15 +181,15 @@ def _existing(task: RunTask, *, same_invocation: bool = False) -> RunRecord | No
     h = task.run_hash
     if p.exists():
         try:
-            attrs = read_attrs(p)
+            attrs = store.read_attrs(p)
         except Exception:  # noqa: BLE001 - an unreadable file is recomputed
             attrs = {}
         if attrs.get("run_hash") == h and (not same_invocation or attrs.get("run_id") == task.run_id):
             return _record_from_file(task, p, attrs, resumed=True)
-    sp = status_path(p)
+    sp = store.status_path(p)
     if sp.exists():
         try:
-            rec = RunRecord.from_dict(json.loads(sp.read_text()))
+            rec = store.read_status(p)
         except Exception:  # noqa: BLE001
             return None
         if rec.run_hash != h:
@@ -448,7 +206,7 @@ _WARM: set = set()
 
 def _written_since(task: RunTask, since: float) -> bool:
     """Whether the run's file or status record was written after ``since`` (a stat, not an open)."""
-    for p in (task.path, status_path(task.path)):
+    for p in (task.path, store.status_path(task.path)):
         try:
             if p.stat().st_mtime >= since:
                 return True
@@ -595,7 +353,7 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
     rec = RunRecord(task.scene.name, task.method, task.level, "failed", path=str(task.path),
                     scene_hash=task.scene.hash, run_hash=task.run_hash, run_id=task.run_id, pid=os.getpid(),
                     sweep=dict(task.scene.sweep))
-    sp = status_path(task.path)
+    sp = store.status_path(task.path)
     phases: dict[str, float] = {}
     rec.phases = phases
     try:
@@ -635,7 +393,7 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         how = f"best and median of {len(times)} timed solves after an untimed warm-up"
         ds.attrs["history"] = ds.attrs["history"] + "\n" + history_line(f"railtherm run: {how}")
         t3 = time.perf_counter()
-        write_dataset_atomic(ds, task.path)
+        store.write_dataset_atomic(ds, task.path)
         phases["write"] = time.perf_counter() - t3
         rec.status = "ok"
         if sp.exists():
@@ -648,7 +406,7 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
     rec.values, rec.energy_balance, rec.summary = {}, math.nan, False
     if task.path.exists():
         task.path.unlink()
-    write_atomic_bytes(sp, json.dumps(rec.to_dict(), indent=1).encode())
+    store.write_status(rec, task.path)
     phases["total"] = time.perf_counter() - t_begin
     phases["cpu"] = time.thread_time() - cpu_begin
     return rec
@@ -707,7 +465,7 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
             if bar is not None:
                 bar.update(1)
                 bar.set_postfix_str(f"{rec.scene[:24]} {rec.method} L{rec.level} {rec.status}", refresh=False)
-    _remove_stale_tmp({Path(t.path).parent for t in tasks})
+    store.remove_stale_tmp({Path(t.path).parent for t in tasks})
     return [r for r in records if r is not None]
 
 
@@ -719,16 +477,6 @@ def _children_cpu() -> float:
         return r.ru_utime + r.ru_stime
     except (ImportError, OSError):  # pragma: no cover
         return math.nan
-
-
-def _remove_stale_tmp(folders) -> None:
-    """Remove temporary files left by workers killed in the middle of a write (no writer is left)."""
-    for d in folders:
-        try:
-            for p in d.glob(".*.tmp"):
-                p.unlink(missing_ok=True)
-        except OSError:
-            pass
 
 
 def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike = "out", *, executor: str = "serial",
@@ -780,7 +528,7 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
                         desc=study.name)
     t2 = time.perf_counter()
     metrics = compute_metrics(study, out, records)
-    write_dataset_atomic(metrics, out / "metrics.nc")
+    store.write_dataset_atomic(metrics, store.metrics_path(out))
     from .reference_curves import write_reference_curves
     write_reference_curves(study, out)  # the exact curves the report overlays (it never recomputes physics)
     t3 = time.perf_counter()
@@ -791,10 +539,10 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     env = {k: os.environ.get(k) for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
                                           "NUMBA_NUM_THREADS")}
     path = str(Path(study.path).resolve()) if study.path else None
-    write_atomic_bytes(out / "study.json", json.dumps({"study": study.name, "path": path,
-                                                      "argv": sys.argv, "timing": timing, "environment": env,
-                                                      "records": [r.to_dict() for r in records]},
-                                                     indent=1, default=str).encode())
+    store.write_json_atomic(store.study_path(out), {"study": study.name, "path": path, "argv": sys.argv,
+                                                    "timing": timing, "environment": env,
+                                                    "records": [r.to_dict() for r in records]},
+                            indent=1, default=str)
     if report:
         from .report import write_report
         write_report(out, study=study)
