@@ -139,6 +139,7 @@ def _run(args) -> int:
 def _report(args) -> int:
     from pathlib import Path
 
+    from . import store
     from .report import write_report
     out = Path(args.out)
     if not out.exists():
@@ -147,7 +148,7 @@ def _report(args) -> int:
     if not out.is_dir():
         raise SceneError(f"{str(out)!r} is not a folder: give the --out folder of `railtherm run`",
                          key="out", value=str(out), allowed="an output folder of railtherm run")
-    if not (out / "metrics.nc").is_file():
+    if not store.metrics_path(out).is_file():
         raise SceneError(f"folder {str(out)!r} holds no metrics.nc: run `railtherm run STUDY --out {out}` first",
                          key="out", value=str(out), allowed="an output folder of railtherm run")
     if args.benchmarks is not None and not Path(args.benchmarks).is_file():

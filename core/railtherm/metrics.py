@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import store
 from .physics import body_speeds  # noqa: F401  (also importable from here for one release)
 
 SCALARS = ("max_surface_temperature", "mean_contact_temperature", "max_pressure", "semi_axis_a",
@@ -55,9 +56,8 @@ STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
 
 
 def _open(path):
-    import xarray as xr
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        return ds.load()
+    """A run's Dataset, read through the output folder's owner (:func:`railtherm.store.open_dataset`)."""
+    return store.open_dataset(path)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -29,20 +29,19 @@ References
 from __future__ import annotations
 
 import math
-import os
 import re
-import uuid
 import warnings
 from pathlib import Path
 
 import numpy as np
 
+from . import store
 from .errors import Refused
 
 __all__ = ["reference_curves", "write_reference_curves", "read_reference_curves", "FILE_NAME"]
 
 #: file written by :func:`write_reference_curves` in the study output folder
-FILE_NAME = "references.nc"
+FILE_NAME = store.REFERENCES
 
 NAME_JAEGER = "Jaeger moving band source (K0 kernel)"
 NAME_MOVING_SOURCE = "moving surface source on a half-space (point-source superposition)"
@@ -276,34 +275,13 @@ def write_reference_curves(study, out) -> Path:
     written even when no scene has a reference (then it holds none), so that a reader can tell
     "no reference" from "not computed".
     """
-    import netCDF4
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / FILE_NAME
-    tmp = out / f".{FILE_NAME}.{uuid.uuid4().hex[:8]}.tmp"
     curves = reference_curves(study)
-    try:
-        with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
-            nc.setncatts({"Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}",
-                          "study": study.name, "scenes": len(curves)})
-        for i, (name, ds) in enumerate(curves.items()):
-            ds.to_netcdf(tmp, mode="a", group=_group_name(i, name), engine="netcdf4")
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
+    attrs = {"Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}",
+             "study": study.name, "scenes": len(curves)}
+    groups = {_group_name(i, name): ds for i, (name, ds) in enumerate(curves.items())}
+    return store.write_references(store.references_path(out), attrs, groups)
 
 
 def read_reference_curves(path) -> dict:
     """Scene name -> Dataset of a file written by :func:`write_reference_curves` (loaded into memory)."""
-    import netCDF4
-    import xarray as xr
-    with netCDF4.Dataset(path, "r") as nc:
-        groups = list(nc.groups)
-    out = {}
-    for g in groups:
-        with xr.open_dataset(path, group=g, engine="netcdf4") as ds:
-            ds = ds.load()
-        out[str(ds.attrs.get("scene", g))] = ds
-    return out
+    return store.read_references(path)

@@ -13,27 +13,17 @@ run file, 20 s for a sweep of 10 000 scenes; xarray's ``open_dataset`` takes fiv
 """
 from __future__ import annotations
 
-import json
 import re
 from pathlib import Path
 
 import numpy as np
 
+from . import store
+# the sweep attribute is part of the run file's format: railtherm.store owns it (importable from here)
+from .store import SWEEP_ATTR, _dotted, encode_sweep, run_sweeps, sweep_of  # noqa: F401
+
 #: units of swept study keys whose checker states none in UDUNITS form
 _UNIT_FIX = {"N or N/m": "N", "W/m^2": "W m-2", "m/s": "m s-1", "1/m": "m-1", "kg m-3": "kg m-3"}
-
-
-def _dotted(key: str) -> str:
-    """The study key of a swept attribute name: ``creepage_longitudinal`` -> ``creepage.longitudinal``."""
-    from .scene import SCENE_KEYS, Table
-    if key in SCENE_KEYS or "." in key:
-        return key
-    for i, ch in enumerate(key):
-        if ch == "_":
-            head, rest = key[:i], key[i + 1:]
-            if isinstance(SCENE_KEYS.get(head), Table) and rest in SCENE_KEYS[head].keys:
-                return f"{head}.{rest}"
-    return key
 
 
 def _sweep_coord_attrs(key: str) -> dict:
@@ -51,67 +41,9 @@ def _sweep_coord_attrs(key: str) -> dict:
     return {"units": unit, "long_name": f"swept study key '{key}'"}
 
 
-#: global attribute of a run file holding its sweep as JSON
-SWEEP_ATTR = "sweep"
-
-
-def encode_sweep(sweep) -> str:
-    """The ``sweep`` attribute of a run file: JSON of the swept study keys (dotted) and their values."""
-    def plain(v):
-        return v.item() if hasattr(v, "item") else v
-    return json.dumps({str(k): plain(v) for k, v in dict(sweep or {}).items()}, separators=(", ", ": "))
-
-
-def sweep_of(attrs) -> dict:
-    """The sweep of a run from its global attributes: ``{dotted study key: value}``.
-
-    Reads the JSON attribute ``sweep``; files written by railtherm 0.1 carry ``sweep_<key>`` attributes
-    instead (dots replaced by underscores), decoded against the scene vocabulary (kept for one release).
-    """
-    raw = attrs.get(SWEEP_ATTR) if hasattr(attrs, "get") else None
-    if raw is not None:
-        raw = raw.decode() if isinstance(raw, bytes) else str(raw)
-        try:
-            out = json.loads(raw)
-        except ValueError as exc:
-            raise ValueError(f"run attribute 'sweep' is not JSON ({raw!r}): {exc}") from None
-        if not isinstance(out, dict):
-            raise ValueError(f"run attribute 'sweep' is not a JSON object: {raw!r}")
-        return out
-    return {_dotted(k[len("sweep_"):]): (v.item() if hasattr(v, "item") else v)   # railtherm 0.1
-            for k, v in attrs.items() if k.startswith("sweep_")}
-
-
-def run_sweeps(out) -> dict:
-    """Scene name -> sweep of a study output folder, from the first run file of each scene."""
-    import netCDF4
-    found = {}
-    root = Path(out) / "runs"
-    for f in sorted(root.glob("*/*/level-*.nc")) if root.is_dir() else ():
-        if f.parent.parent.name in found:
-            continue
-        try:
-            with netCDF4.Dataset(f, "r") as nc:
-                attrs = {k: nc.getncattr(k) for k in nc.ncattrs()}
-        except OSError:
-            continue
-        if "scene" in attrs:
-            found[str(attrs["scene"])] = sweep_of(attrs)
-    return found
-
-
 def _read_run(path: Path, variables):
     """(scene, method, level, {name: value}, {sweep key: value}, wall_time, status) of one run file."""
-    import netCDF4
-    with netCDF4.Dataset(path, "r") as nc:
-        nc.set_auto_maskandscale(False)
-        attrs = {k: nc.getncattr(k) for k in nc.ncattrs()}
-        vals = {}
-        for name, var in nc.variables.items():
-            if name in nc.dimensions or (variables is not None and name not in variables):
-                continue
-            if var.dimensions in ((), ("body",)):
-                vals[name] = np.asarray(var[...], dtype=float)
+    attrs, vals = store.read_run_scalars(path, variables)
     sweep = sweep_of(attrs)
     return (str(attrs["scene"]), str(attrs["method"]), int(attrs["level"]), vals, sweep,
             float(attrs.get("wall_time", np.nan)), str(attrs.get("status", "ok")))
@@ -154,16 +86,16 @@ def open_results(out, *, variables=None, unstack: bool = False):
 
     from .schema import VARIABLES, variable_attrs
 
-    root = Path(out) / "runs"
+    root = Path(out) / store.RUNS
     if not root.is_dir():
         raise FileNotFoundError(f"{str(root)!r} does not exist: give the output folder of 'railtherm run'")
     wanted = set(variables) if variables is not None else None
-    records = [_read_run(f, wanted) for f in sorted(root.glob("*/*/level-*.nc"))]
+    records = [_read_run(f, wanted) for f in store.run_files(out)]
     have = {(r[0], r[1], r[2]) for r in records}
     statuses = []  # runs without a file: refused or failed
-    for f in sorted(root.glob("*/*/level-*.status.json")):
+    for f in store.status_files(out):
         try:
-            rec = json.loads(f.read_text())
+            rec = store.read_json(f)
         except (OSError, ValueError):
             continue
         key = (str(rec.get("scene")), str(rec.get("method")), int(rec.get("level", -1)))

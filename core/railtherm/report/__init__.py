@@ -23,11 +23,10 @@ HTML), :mod:`.format` (numbers).
 """
 from __future__ import annotations
 
-import os
 import time
-import uuid
 from pathlib import Path
 
+from .. import store
 from .document import Document
 from .figures import Palette, method_colour
 from .load import load
@@ -41,13 +40,7 @@ MAX_SCENE_SECTIONS = 40
 
 
 def _write_atomic(path: Path, text: str):
-    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}.tmp")
-    try:
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+    store.write_text_atomic(path, text)
 
 
 def write_report(out, study=None, benchmarks=None) -> list[Path]:
@@ -79,7 +72,7 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     out = Path(out)
     t0 = time.perf_counter()
     data = load(out, study)
-    fig_dir = out / "figures"
+    fig_dir = store.figures_dir(out)
     fig_dir.mkdir(parents=True, exist_ok=True)
     for old in list(fig_dir.glob("*.png")) + list(fig_dir.glob("*.svg")):  # an earlier report's figures
         old.unlink()
@@ -112,7 +105,7 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
         benchmark_section(doc, bench)
     environment_section(doc, data, [f"Note: {n}" for n in data.notes]
                         + [f"Report generated in {time.perf_counter() - t0:.1f} s"])
-    md_path, html_path = out / "report.md", out / "report.html"
+    md_path, html_path = out / store.REPORT_MD, out / store.REPORT_HTML
     _write_atomic(md_path, doc.markdown())
     _write_atomic(html_path, doc.html(f"railtherm report: {data.name}"))
     return [md_path, html_path] + ctx.figures

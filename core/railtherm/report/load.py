@@ -1,5 +1,6 @@
 """Everything the report reads, in one place: ``metrics.nc``, ``study.json``, the study file, the run
-files' attributes and ``references.nc``. The report is a pure reader: it computes no physics.
+files' attributes and ``references.nc``, all through :mod:`railtherm.store` (the output folder's owner).
+The report is a pure reader: it computes no physics.
 
 ``metrics.nc`` is read as ``docs/verdicts.md`` describes it; every column of the second release
 (``reason_kind``, ``wall_time_median``, ``timing_runs``, ``peak_rss``, ``reference_<metric>``,
@@ -10,13 +11,14 @@ shown as ``unverified``, as the second release defines it.
 """
 from __future__ import annotations
 
-import json
 import math
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from .. import store
 
 __all__ = ["HEADLINE_ORDER", "RESULT_STATUSES", "Run", "Order", "SceneInfo", "StudyData", "load"]
 
@@ -120,13 +122,11 @@ class StudyData:
         """Global attributes of a run file ({} when there is none), read without loading the data."""
         key = (scene, method, level)
         if key not in self._attrs:
-            p = run_path(self.out, scene, method, level)
+            p = store.run_path(self.out, scene, method, level)
             attrs = {}
             if p.exists():
                 try:
-                    import netCDF4
-                    with netCDF4.Dataset(p, "r") as nc:
-                        attrs = {k: nc.getncattr(k) for k in nc.ncattrs()}
+                    attrs = store.read_attrs(p)
                 except Exception as exc:  # noqa: BLE001
                     warnings.warn(f"railtherm report: cannot read {p}: {exc}", RuntimeWarning, stacklevel=2)
             self._attrs[key] = attrs
@@ -142,18 +142,15 @@ class StudyData:
         return {}
 
 
-def run_path(out: Path, scene: str, method: str, level: int) -> Path:
-    return Path(out) / "runs" / scene / method / f"level-{level}.nc"
+run_path = store.run_path  # importable from here for one release
 
 
 def _open_run(out: Path, scene: str, method: str, level: int):
-    import xarray as xr
-    p = run_path(out, scene, method, level)
+    p = store.run_path(out, scene, method, level)
     if not p.exists():
         return None
     try:
-        with xr.open_dataset(p, engine="netcdf4") as ds:
-            return ds.load()
+        return store.open_dataset(p)
     except Exception as exc:  # noqa: BLE001
         warnings.warn(f"railtherm report: cannot read {p}: {exc}", RuntimeWarning, stacklevel=3)
         return None
@@ -187,8 +184,7 @@ def _sweeps(out: Path, names, scenes_obj: dict, info: dict) -> dict:
     out_sweeps = {nm: dict(getattr(scenes_obj[nm], "sweep", {}) or {}) for nm in names if nm in scenes_obj}
     rest = [nm for nm in names if nm not in out_sweeps]
     if rest:
-        from ..results import run_sweeps
-        files = run_sweeps(out)
+        files = store.run_sweeps(out)
         records = {rec.get("scene"): rec.get("sweep") for rec in info.get("records", []) if isinstance(rec, dict)}
         for nm in rest:
             sweep = files.get(nm)
@@ -236,12 +232,7 @@ def independent(reference: str) -> bool:
 
 # ------------------------------------------------------------------------------------------------------
 def load_metrics(out: Path):
-    import xarray as xr
-    path = Path(out) / "metrics.nc"
-    if not path.exists():
-        raise FileNotFoundError(f"{path} does not exist: write it with `railtherm run STUDY.toml --out {out}` first")
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        return ds.load()
+    return store.read_metrics(out)
 
 
 def _runs(m, metrics: list[str], legacy: bool) -> list[Run]:
@@ -318,10 +309,10 @@ def _cross(m, scene: str) -> dict:
 
 
 def _load_info(out: Path) -> dict:
-    p = out / "study.json"
+    p = store.study_path(out)
     if p.exists():
         try:
-            return json.loads(p.read_text())
+            return store.read_json(p)
         except Exception as exc:  # noqa: BLE001 - the report goes on without it
             warnings.warn(f"railtherm report: {p} is unreadable ({exc})", RuntimeWarning, stacklevel=3)
     return {}
@@ -345,13 +336,13 @@ def _load_study(info: dict, out: Path):
 
 
 def _load_curves(out: Path):
-    from ..reference_curves import FILE_NAME, read_reference_curves
-    p = out / FILE_NAME
+    FILE_NAME = store.REFERENCES
+    p = store.references_path(out)
     if not p.exists():
         return None, (f"`{FILE_NAME}` not found in the output folder: the exact reference curves are not drawn "
                       "(`railtherm run` writes it)")
     try:
-        return read_reference_curves(p), None
+        return store.read_references(p), None
     except Exception as exc:  # noqa: BLE001
         return None, f"`{FILE_NAME}` could not be read ({exc}): the exact reference curves are not drawn"
 
