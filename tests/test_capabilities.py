@@ -213,3 +213,9 @@ def test_no_plugin_hand_rolls_the_peclet_or_moving_surface_refusal():
         text = path.read_text()
         assert "def refusal(" not in text, path
         assert "needs its surface to move through the patch" not in text, path
+
+
+def test_no_plugin_re_resolves_its_options():
+    # core's pipeline hands compute methods the options resolved by StageModel.resolve_options
+    for path in sorted((ROOT / "plugins").glob("*/**/*.py")):
+        assert "resolve_options(" not in path.read_text(), path

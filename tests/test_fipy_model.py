@@ -75,7 +75,7 @@ def test_refused_when_strips_invalid_and_3d_too_large():
     m = FipyTemperature()
     src = _uniform_source(a, a, 3, v)
     with pytest.raises(Refused) as info:
-        m.compute_temperature(_scene(v), src, 3, {"max_cells": 1000})
+        m.compute_temperature(_scene(v), src, 3, FipyTemperature.resolve_options({"max_cells": 1000}))
     msg = str(info.value)
     assert "delta/b" in msg and "max_cells = 1000" in msg and "cells per body" in msg
 
@@ -101,8 +101,8 @@ def test_bulk_temperature_added_and_speeds_per_body():
     a = 1e-3
     hot = dataclasses.replace(STEEL, bulk_temperature=150.0)
     src = _uniform_source(a, None, 2, 30.0, eps=0.5, speeds=(40.0, 10.0))
-    tf = FipyTemperature().compute_temperature(_scene(30.0, "line", wheel=hot), src, 2, {})
-    cold = FipyTemperature().compute_temperature(_scene(30.0, "line"), src, 2, {})
+    tf = FipyTemperature().compute_temperature(_scene(30.0, "line", wheel=hot), src, 2, FipyTemperature.resolve_options({}))
+    cold = FipyTemperature().compute_temperature(_scene(30.0, "line"), src, 2, FipyTemperature.resolve_options({}))
     assert np.allclose(tf.surface_temperature[0] - 150.0, cold.surface_temperature[0])
     assert np.allclose(tf.surface_temperature[1], cold.surface_temperature[1])
     # 1-D high-Péclet scaling: T ~ q / sqrt(V): the faster wheel is cooler by about sqrt(10/40)
@@ -116,7 +116,7 @@ def test_line_contact_near_1d_flash_at_high_peclet():
     """At Pe ~ 1e4 the 2-D solution approaches the 1-D flash temperature (max within 1 %)."""
     a, v = 1e-3, _pe_speed(1e4, 1e-3)
     src = _uniform_source(a, None, 4, v, eps=1.0)
-    tf = FipyTemperature().compute_temperature(_scene(v, "line"), src, 4, {})
+    tf = FipyTemperature().compute_temperature(_scene(v, "line"), src, 4, FipyTemperature.resolve_options({}))
     g = src.grid
     exact = flash_temperature_1d(g.x, 0 * g.x, a, v, STEEL, 1e8, "uniform")
     assert tf.max_surface_temperature[0] == pytest.approx(exact.max(), rel=0.01)
@@ -148,8 +148,8 @@ def test_strips_with_convection_group_by_contact_mask():
     v = _pe_speed(1e4, a)
     src = _uniform_source(a, b, 0, v)
     m = FipyTemperature()
-    t0 = m.compute_temperature(_scene(v), src, 0, {})
-    t1 = m.compute_temperature(_scene(v, convection=1e4), src, 0, {})
+    t0 = m.compute_temperature(_scene(v), src, 0, FipyTemperature.resolve_options({}))
+    t1 = m.compute_temperature(_scene(v, convection=1e4), src, 0, FipyTemperature.resolve_options({}))
     assert t0.diagnostics["wheel_factorisations"] == 1
     assert t1.diagnostics["wheel_factorisations"] > 1
     assert np.all(t1.surface_temperature <= t0.surface_temperature + 1e-9)
@@ -163,12 +163,12 @@ def test_3d_half_domain_matches_full_domain():
     src = _uniform_source(a, b, 0, v, eps=1.0)
     m = FipyTemperature()
     assert m._half(src)
-    t_half = m.compute_temperature(_scene(v), src, 0, {"dimension": 3})
+    t_half = m.compute_temperature(_scene(v), src, 0, FipyTemperature.resolve_options({"dimension": 3}))
     q = src.power_density.copy()
     q[4, 2] *= 1 + 1e-9
     src2 = dataclasses.replace(src, power_density=q)
     assert not m._half(src2)
-    t_full = m.compute_temperature(_scene(v), src2, 0, {"dimension": 3})
+    t_full = m.compute_temperature(_scene(v), src2, 0, FipyTemperature.resolve_options({"dimension": 3}))
     assert t_full.diagnostics["max_cells"] > 1.8 * t_half.diagnostics["max_cells"]
     assert np.allclose(t_half.surface_temperature, t_full.surface_temperature, rtol=1e-6, atol=1e-6)
 
@@ -235,7 +235,7 @@ def test_refine_option_subdivides_patch_cells():
     exact = jaeger_band_temperature(g.x, 0 * g.x, a, v, STEEL, 1e8, "uniform")
     errs = []
     for refine in (1, 2):
-        tf = FipyTemperature().compute_temperature(_scene(v, "line"), src, 2, {"refine": refine})
+        tf = FipyTemperature().compute_temperature(_scene(v, "line"), src, 2, FipyTemperature.resolve_options({"refine": refine}))
         errs.append(np.max(np.abs(tf.surface_temperature[0] - exact)) / exact.max())
         assert tf.diagnostics["refine"] == refine
     assert errs[1] < 0.8 * errs[0]
@@ -254,7 +254,7 @@ def test_locked_wheel_refused():
     a = 1e-3
     src = _uniform_source(a, None, 0, 30.0, speeds=(0.0, 30.0))
     with pytest.raises(Refused, match="wheel moves at 0 m/s"):
-        FipyTemperature().compute_temperature(_scene(30.0, "line"), src, 0, {})
+        FipyTemperature().compute_temperature(_scene(30.0, "line"), src, 0, FipyTemperature.resolve_options({}))
 
 
 def test_low_peclet_3d_budget():

@@ -69,7 +69,7 @@ def error_2d(pe: float, level: int, shape: str = "hertz", scheme: str = "power-l
     g = surface_grid(A, None, level, CELLS)
     q = Q * (_cell_average_hertz_1d(g) if shape == "hertz" else np.ones(g.x.size))
     src = HeatSource(grid=g, power_density=q, heat_partition=1.0, body_speed=(v, v), frictional_power=0.0)
-    tf = FipyTemperature().compute_temperature(_scene(v, contact_shape="line"), src, level, {"scheme": scheme})
+    tf = FipyTemperature().compute_temperature(_scene(v, contact_shape="line"), src, level, FipyTemperature.resolve_options({"scheme": scheme}))
     exact = jaeger_band_temperature(g.x, np.zeros_like(g.x), A, v, STEEL, Q, shape)
     ts = tf.surface_temperature[0]
     assert tf.diagnostics["converged"] and tf.diagnostics["residual"] < 1e-9
@@ -88,8 +88,8 @@ def error_3d(pe: float, level: int, dimension: int = 3, stride: int = 1) -> tupl
     q = Q * _cell_average_hertz_2d(g)
     src = HeatSource(grid=g, power_density=q, heat_partition=1.0, body_speed=(v, v), frictional_power=0.0)
     tf = FipyTemperature().compute_temperature(_scene(v), src, level,
-                                               {"dimension": dimension, "max_cells": 2_000_000, "max_cells_low_peclet": 2_000_000,
-                                                "max_strip_delta": 1.0})
+                                               FipyTemperature.resolve_options({"dimension": dimension, "max_cells": 2_000_000, "max_cells_low_peclet": 2_000_000,
+                                                "max_strip_delta": 1.0}))
     X, Y = g.mesh()
     rows = np.unique(np.r_[np.arange(0, g.y.size, stride), g.y.size - 1])
     X, Y = X[:, rows], Y[:, rows]

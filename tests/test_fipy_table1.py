@@ -59,7 +59,7 @@ def _direct(case, level=LEVEL):
                             outputs=("max_surface_temperature", "mean_contact_temperature"),
                             body=lambda i: STEEL)
     assert abs(g.integrate(q) / (c["friction"] * vs * N) - 1) < 2e-3      # 30 kW on the grid
-    return FipyTemperature().compute_temperature(scene, src, level, {"cells": 16})
+    return FipyTemperature().compute_temperature(scene, src, level, FipyTemperature.resolve_options({"cells": 16}))
 
 
 @pytest.mark.parametrize("case", CASES)

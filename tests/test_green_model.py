@@ -177,8 +177,8 @@ def test_per_cell_partition_array():
     src_arr = HeatSource(src.grid, src.power_density, np.full(src.grid.shape, 0.3), src.body_speed,
                          src.frictional_power)
     model = GreenTemperature()
-    f1 = model.compute_temperature(_scene(), src, 0, {})
-    f2 = model.compute_temperature(_scene(), src_arr, 0, {})
+    f1 = model.compute_temperature(_scene(), src, 0, model.resolve_options({}))
+    f2 = model.compute_temperature(_scene(), src_arr, 0, model.resolve_options({}))
     np.testing.assert_allclose(f1.surface_temperature, f2.surface_temperature, rtol=1e-13)
     assert f2.diagnostics["heat_partition"] == pytest.approx(0.3)
 

@@ -152,12 +152,6 @@ class FipyTemperature(TemperatureModel):
 
     # ------------------------------------------------------------------ helpers
     @staticmethod
-    def _opts(options) -> dict:
-        o = FipyTemperature.resolve_options(options)
-        o["refine"] = int(o["refine"])
-        return o
-
-    @staticmethod
     def choose_dimension(scene, source, level, options) -> tuple[int, str]:
         """Return (2 or 3, how) for this scene and source; raise :class:`railtherm.Refused` when neither works.
 
@@ -244,7 +238,7 @@ class FipyTemperature(TemperatureModel):
     # ------------------------------------------------------------------ compute
     def compute_temperature(self, scene, source, level, options):
         """Surface (and depth at y = 0) temperatures of wheel and rail [degC], absolute."""
-        opts = self._opts(options)
+        opts = {**options, "refine": int(options["refine"])}   # resolved by core (pipeline)
         flash = self._steady(scene, source, level, opts)
         if getattr(scene, "mode", "steady") != "transient":
             return self._lumped_steady(scene, source, flash)

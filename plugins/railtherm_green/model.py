@@ -138,7 +138,7 @@ class GreenTemperature(TemperatureModel):
         why = self.supports_source(scene, source)   # core's Péclet / moving-surface check on the actual source
         if why is not None:
             raise Refused(why, kind="validity")
-        opts = self.resolve_options(options)
+        opts = options                                  # resolved by core (pipeline)
         outputs = tuple(getattr(scene, "outputs", ()) or ())
         want_all = not outputs
 
