@@ -226,7 +226,7 @@ def test_model_fills_patch_and_heat_source():
     model = FastsimHeatSource()
     scene = _scene()
     assert model.supports(scene, 0) is None
-    src = model.compute_source(scene, _patch(), 0, {})
+    src = model.compute_source(scene, _patch(), 0, model.resolve_options({}))
     pt = src.patch
     for k in ("traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick"):
         assert getattr(pt, k).shape == pt.grid.shape
@@ -242,7 +242,7 @@ def test_model_full_sliding_gives_mu_n_vs():
     model = FastsimHeatSource()
     vs = 1.0
     scene = _scene(creepage=None, sliding_speed=vs, tangential="full-sliding", heat_partition="equal-temperature")
-    src = model.compute_source(scene, _patch(128), 0, {})
+    src = model.compute_source(scene, _patch(128), 0, model.resolve_options({}))
     # xi = -1/30 is finite: a thin adhesion zone at the leading edge keeps Fx 0.14 % below mu N
     assert src.patch.creep_force_x < MU * N
     assert src.patch.creep_force_x == pytest.approx(MU * N, rel=3e-3)
@@ -255,7 +255,7 @@ def test_model_full_sliding_gives_mu_n_vs():
 
 def test_model_parabolic_bound_redistributes_load():
     model = FastsimHeatSource()
-    src = model.compute_source(_scene(), _patch(64), 0, {"bound": "parabolic"})
+    src = model.compute_source(_scene(), _patch(64), 0, model.resolve_options({"bound": "parabolic"}))
     pt = src.patch
     assert pt.grid.integrate(pt.pressure) == pytest.approx(N, rel=1e-4)
     assert pt.max_pressure == pytest.approx(2 * N / (math.pi * A * B))

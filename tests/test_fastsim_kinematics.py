@@ -84,7 +84,7 @@ def test_model_uses_the_kinematics_for_a_wheelset_scene():
     a, b, p0 = rescale_hertz_patch(100e3, 100e3, 5.88e-3, 10.54e-3)
     g, p = hertz_pressure_grid(a, b, p0, 0, 16, gauss=PRESSURE_GAUSS)
     patch = ContactPatch(grid=g, normal_force=100e3, a=a, b=b, max_pressure=p0, pressure=p)
-    src = FastsimHeatSource().compute_source(scene, patch, 0, {})
+    src = FastsimHeatSource().compute_source(scene, patch, 0, FastsimHeatSource.resolve_options({}))
     sol = wheelset_contacts(**{**BASE, "lateral_shift": 3e-3, "yaw_angle": 1e-3})
     d = src.diagnostics
     assert d["converged"] and src.patch.normal_force == pytest.approx(sol.normal_force[0], rel=1e-9)

@@ -239,7 +239,7 @@ def _given(q=Q, cells=32, eps=0.0):
 def test_q1_to_q10_scaling_is_exactly_linear(scheme):
     """The seed's q = 1 -> 10 W/mm^2 scaling: the rise scales by exactly 10 (relative 1e-12)."""
     m = FDMTemperature()
-    opts = {"cell_size": CELL0, "scheme": scheme}
+    opts = m.resolve_options({"cell_size": CELL0, "scheme": scheme})
     t1 = m.compute_temperature(_scene(), _given(Q), 1, opts)
     t10 = m.compute_temperature(_scene(), _given(10 * Q), 1, opts)
     rise1 = t1.surface_temperature[1] - RAIL.bulk_temperature
@@ -252,7 +252,7 @@ def test_model_reports_absolute_temperatures_and_depth_field():
     m = FDMTemperature()
     warm = Material(density=7680.0, conductivity=54.0, specific_heat=460.0, bulk_temperature=20.0)
     t = m.compute_temperature(_scene(rail=warm, wheel=warm, heat_partition=0.5), _given(eps=0.5), 2,
-                              {"cell_size": CELL0, "scheme": "steady"})
+                              m.resolve_options({"cell_size": CELL0, "scheme": "steady"}))
     assert t.surface_temperature.shape == (2, 32, 32)
     assert np.all(t.surface_temperature >= 20.0 - 1e-9)
     assert t.max_surface_temperature[1] == pytest.approx(20.0 + 0.5 * exact(1.0).max(), rel=0.03)
@@ -268,12 +268,12 @@ def test_forced_explicit_step_beyond_stability_is_refused():
     assert lim == pytest.approx(d * d / (6 * KAPPA))
     scene = _scene(numerics={"scheme": "explicit", "time_step": 1.5 * lim})
     with pytest.raises(Refused, match="stability limit") as info:
-        m.compute_temperature(scene, _given(), 0, {"cell_size": d})
+        m.compute_temperature(scene, _given(), 0, m.resolve_options({"cell_size": d}))
     msg = str(info.value)
     assert f"{lim:.4g}" in msg and f"{1.5 * lim:.4g}" in msg and "implicit" in msg
     # a step at the limit runs and stays bounded
     ok = m.compute_temperature(_scene(numerics={"scheme": "explicit", "time_step": lim}), _given(), 0,
-                               {"cell_size": d})
+                               m.resolve_options({"cell_size": d}))
     assert np.isfinite(ok.surface_temperature).all() and ok.max_surface_temperature[1] < 2 * exact(1.0).max()
 
 

@@ -317,7 +317,7 @@ class FastsimHeatSource(HeatSourceModel):
         raise Refused(f"scene {scene.name!r}: no creepage, sliding speed or wheelset for FASTSIM")
 
     def compute_source(self, scene, patch, level, options):
-        opts = {**{k: o.default for k, o in self.options.items()}, **(options or {})}
+        opts = options                                  # resolved by core (pipeline)
         fs_opts = {k: opts[k] for k in ("bound", "flexibility", "leading_edge")}
         if patch.b is None:
             return self._compute_line(scene, patch, opts)

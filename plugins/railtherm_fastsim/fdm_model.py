@@ -160,7 +160,7 @@ class FDMTemperature(TemperatureModel):
     # -- compute -------------------------------------------------------------------------------
     def compute_temperature(self, scene, source, level, options):
         from .fdm_solvers import explicit_stability_limit, steady_block, transient_block   # numba on first use
-        opts = {**{k: o.default for k, o in self.options.items()}, **(options or {})}
+        opts = options                                  # resolved by core (pipeline)
         grid = source.grid
         if grid.line:
             return self._compute_line(scene, source, level, opts)
