@@ -16,7 +16,7 @@ import warnings
 from .errors import SceneError
 
 #: run statuses (docs/verdicts.md), in the order they are counted
-STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
+from .store import STATUSES
 
 
 class _UsageError(Exception):

@@ -52,7 +52,7 @@ CROSS = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x",
 #: Abel inversion of :func:`half_space_energy`): 0.87 % at Pe 102, 0.51 % at Pe 204, 0.30 % at Pe 407,
 #: 0.07 % at Pe 2444 (conduction along the surface, ~1/Pe); Jaeger's band: 0.01 % from Pe 100 up.
 ENERGY_MIN_PECLET = 100.0
-STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
+from .store import STATUSES
 
 
 def _open(path):

@@ -52,7 +52,7 @@ from .timelimit import WATCHDOG, RunTimeout, Watchdog, _async_raise, _time_limit
 
 _remove_stale_tmp = store.remove_stale_tmp  # re-exported for one release
 
-STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
+from .store import STATUSES  # noqa: F401 - re-exported
 
 #: a run-sweep study (``warmup = false``) traces the memory of one run in this many per (method, level)
 MEMORY_SAMPLE = 100
@@ -141,7 +141,7 @@ DIAGNOSTIC_KEYS = ("converged", "iterations", "residual", "heat_balance_error")
 def _diagnostics(attrs: Mapping[str, Any]) -> dict:
     out = {}
     for k, v in attrs.items():
-        if k.rsplit("_", 1)[-1] in ("converged", "iterations", "residual") or k.endswith("heat_balance_error"):
+        if any(k.endswith(key) for key in DIAGNOSTIC_KEYS):
             if isinstance(v, (int, float, np.integer, np.floating)):
                 out[k] = float(v)
     return out

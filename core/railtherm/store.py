@@ -29,7 +29,10 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
-__all__ = ["RUNS", "METRICS", "REFERENCES", "STUDY", "REPORT_MD", "REPORT_HTML", "FIGURES",
+#: run statuses, in the order reports list them (docs/verdicts.md): the one vocabulary
+STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
+
+__all__ = ["STATUSES", "RUNS", "METRICS", "REFERENCES", "STUDY", "REPORT_MD", "REPORT_HTML", "FIGURES",
            "run_path", "status_path", "metrics_path", "references_path", "study_path", "figures_dir",
            "run_files", "status_files",
            "write_atomic", "write_atomic_bytes", "write_text_atomic", "write_json_atomic",

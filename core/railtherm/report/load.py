@@ -27,7 +27,7 @@ HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_
                   "semi_axis_a", "frictional_power")
 #: statuses of runs that produced a result
 RESULT_STATUSES = ("ok", "inaccurate", "unverified")
-STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
+from ..store import STATUSES
 
 
 @dataclass
