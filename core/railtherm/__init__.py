@@ -15,7 +15,7 @@ from .hookspec import hookimpl
 from .materials import Material
 from .physics import combined_elastic, equal_temperature_partition, scene_partition
 from .stages import (BODIES, STAGES, Capabilities, ContactModel, ContactPatch, CoupledModel, HeatSource,
-                     HeatSourceModel, Method, Option, StageModel, TemperatureField, TemperatureModel)
+                     HeatSourceModel, Method, Option, StageModel, BodyTemperature, TemperatureField, TemperatureModel)
 
 _LAZY = {
     "Scene": "scene", "load_scene": "scene",
@@ -38,4 +38,4 @@ def __getattr__(name):  # lazy: keep `railtherm validate` / `methods` fast
 __all__ = ["__version__", "PluginError", "Refused", "SceneError", "SolverError", "SurfaceGrid", "surface_grid",
            "hookimpl", "Material", "combined_elastic", "equal_temperature_partition", "scene_partition", "BODIES", "STAGES", "Capabilities", "ContactModel", "ContactPatch",
            "CoupledModel", "HeatSource", "HeatSourceModel", "Method", "Option", "StageModel",
-           "TemperatureField", "TemperatureModel", *_LAZY]
+           "TemperatureField", "BodyTemperature", "TemperatureModel", *_LAZY]

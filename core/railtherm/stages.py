@@ -164,12 +164,105 @@ class TemperatureField:
 
     @classmethod
     def from_surface(cls, grid: SurfaceGrid, surface: np.ndarray, **kw) -> "TemperatureField":
-        """Fill max and patch-mean from a (2, *grid.shape) surface field [degC]."""
+        """Fill max and patch-mean from a (2, *grid.shape) surface field [degC] (absolute).
+
+        Prefer :meth:`from_bodies`, which also adds the bulk temperatures, a body without heat and
+        the common depth axis in one place.
+        """
         surface = np.asarray(surface, dtype=float)
         inside = grid.inside()
         tmax = surface.reshape(2, -1).max(axis=1)
         tmean = np.array([surface[i][inside].mean() for i in range(2)])
         return cls(surface, tmax, tmean, **kw)
+
+    @classmethod
+    def from_bodies(cls, grid: SurfaceGrid, bulk, wheel: "BodyTemperature | None" = None,
+                    rail: "BodyTemperature | None" = None, *, z: np.ndarray | None = None,
+                    steady_wheel_temperature: float | None = None,
+                    steady_mean_contact_temperature: float | None = None,
+                    diagnostics: Mapping[str, Any] | None = None) -> "TemperatureField":
+        """Assemble the two-body result from each body's rise above its bulk temperature.
+
+        Parameters
+        ----------
+        grid : SurfaceGrid
+            Surface grid of the heat source.
+        bulk : (float, float)
+            Bulk temperatures of wheel and rail [degC].
+        wheel, rail : BodyTemperature or None
+            Each body's rises [K]; None for a body without heat (it stays at its bulk temperature).
+        z : ndarray, optional
+            Common depth axis [m]. Default: the rail's depths, else the wheel's. Each body's depth
+            profile is interpolated linearly onto it (a body is at its bulk temperature below its own
+            deepest point, and everywhere if it has no depth profile). Give ``z`` to get a depth
+            field even when no body has one (all bulk).
+        steady_wheel_temperature, steady_mean_contact_temperature : float, optional
+            Long-term values [degC] (absolute).
+        diagnostics : mapping, optional
+            The model's diagnostics; each body's own are added with the body's name as prefix
+            (``wheel_iterations``, ``rail_residual``, ...).
+
+        Returns
+        -------
+        TemperatureField
+            Absolute temperatures [degC]; the arrays are new (the inputs are not kept or changed).
+        """
+        bodies = (wheel, rail)
+        t_bulk = np.asarray(bulk, dtype=float).reshape(2)
+        surface = np.empty((2,) + tuple(grid.shape))
+        for i, body in enumerate(bodies):
+            rise = 0.0 if body is None else np.asarray(body.surface_rise, dtype=float).reshape(grid.shape)
+            surface[i] = t_bulk[i] + rise
+        if z is None:
+            for body in (rail, wheel):
+                if body is not None and body.z is not None:
+                    z = body.z
+                    break
+        depth = None
+        if z is not None:
+            z = np.array(z, dtype=float)
+            nx = grid.shape[0]
+            depth = np.empty((2, nx, z.size))
+            for i, body in enumerate(bodies):
+                depth[i] = t_bulk[i]
+                if body is None or body.z is None:
+                    continue
+                rise = np.asarray(body.depth_rise, dtype=float).reshape(nx, -1)
+                bz = np.asarray(body.z, dtype=float)
+                if bz.shape == z.shape and np.array_equal(bz, z):
+                    depth[i] += rise
+                else:
+                    depth[i] += np.array([np.interp(z, bz, row, right=0.0) for row in rise])
+        diag = dict(diagnostics or {})
+        for name, body in zip(BODIES, bodies):
+            if body is not None:
+                diag.update({f"{name}_{k}": v for k, v in (body.diagnostics or {}).items()})
+        return cls.from_surface(grid, surface, z=z, temperature=depth,
+                                steady_wheel_temperature=steady_wheel_temperature,
+                                steady_mean_contact_temperature=steady_mean_contact_temperature,
+                                diagnostics=diag)
+
+
+@dataclass(frozen=True)
+class BodyTemperature:
+    """One body's temperature rise above its bulk temperature, for :meth:`TemperatureField.from_bodies`.
+
+    Attributes
+    ----------
+    surface_rise : ndarray, shape grid.shape
+        Surface temperature rise on the patch grid [K].
+    z : ndarray or None
+        The body's own depth axis [m], z >= 0 (None: no depth profile).
+    depth_rise : ndarray or None, shape (nx, nz)
+        Rise at y = 0 against depth [K].
+    diagnostics : dict
+        The body's solver diagnostics (prefixed with the body's name in the field).
+    """
+
+    surface_rise: np.ndarray
+    z: np.ndarray | None = None
+    depth_rise: np.ndarray | None = None
+    diagnostics: Mapping[str, Any] = field(default_factory=dict)
 
 
 #: values of :attr:`Capabilities.convection`
