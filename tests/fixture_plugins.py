@@ -57,9 +57,9 @@ class FlatPlugin:
 
     @hookimpl
     def railtherm_register_methods(self):
-        return [Method("flat", {"contact": ("hertz",), "heat_source": ("full-sliding",), "temperature": ("flat",)},
+        return [Method("flat", {"normal": ("hertz",), "tangential": ("full-sliding",), "temperature": ("flat",)},
                        description="Hertz, full sliding, flat temperature (test fixture)"),
-                Method("broken", {"contact": ("hertz",), "heat_source": ("full-sliding",), "temperature": ("broken",)})]
+                Method("broken", {"normal": ("hertz",), "tangential": ("full-sliding",), "temperature": ("broken",)})]
 
 
 class RaisingPlugin:

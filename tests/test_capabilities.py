@@ -46,7 +46,7 @@ def _plugin(*models):
 
     @railtherm.hookimpl
     def railtherm_register_methods():
-        return [railtherm.Method(m.name, {"contact": ("hertz",), "heat_source": ("full-sliding",),
+        return [railtherm.Method(m.name, {"normal": ("hertz",), "tangential": ("full-sliding",),
                                           "temperature": (m.name,)}) for m in models]
 
     mod.railtherm_register_models = railtherm_register_models

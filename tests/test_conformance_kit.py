@@ -33,6 +33,9 @@ class RefuseAll(TemperatureModel):
     def supports(self, scene, level):
         return f"model {self.name!r} refuses scene {scene.name!r} (test fake)"
 
+    def compute_temperature(self, scene, source, level, options):
+        raise AssertionError("never called: supports() refuses every scene")
+
 
 class Hot(TemperatureModel):
     """Test fake: 1e6 degC everywhere."""
@@ -93,7 +96,7 @@ class FakePlugin:
 
     @hookimpl
     def railtherm_register_methods(self):
-        return [Method(n, {"contact": ("hertz",), "heat_source": ("full-sliding",), "temperature": (n,)})
+        return [Method(n, {"normal": ("hertz",), "tangential": ("full-sliding",), "temperature": (n,)})
                 for n in FAKES]
 
 

@@ -12,7 +12,8 @@ from fixture_plugins import DuplicatePlugin, FlatPlugin, RaisingPlugin
 def test_core_models_and_fixture_method(flat_host):
     assert {"hertz", "full-sliding", "given", "flat"} <= set(flat_host.models)
     info = flat_host.method("flat")
-    assert info.stages == {"contact": ("hertz",), "heat_source": ("full-sliding",), "temperature": ("flat",)}
+    assert info.stages == {"normal": ("hertz",), "tangential": ("full-sliding",), "heat_source": ("frictional",),
+                           "temperature": ("flat",)}
     assert "flat" in info.describe() and "Peclet" in info.describe()
 
 
@@ -69,7 +70,7 @@ def test_entry_point_failure_does_not_stop_others(monkeypatch):
 def test_autoload_can_be_disabled(monkeypatch):
     monkeypatch.setenv(plugins.DISABLE_ENV, "1")
     host = plugins.new_host()
-    assert set(host.models) == {"hertz", "full-sliding", "given"} and not host.problems
+    assert set(host.models) == {"hertz", "full-sliding", "frictional", "given"} and not host.problems
 
 
 HOOKS = [name for name, f in inspect.getmembers(hookspec, inspect.isfunction) if name.startswith("railtherm_")]

@@ -67,7 +67,7 @@ class SleepyPlugin:
 
     @hookimpl
     def railtherm_register_methods(self):
-        return [Method("sleepy", {"contact": ("hertz",), "heat_source": ("full-sliding",), "temperature": ("sleepy",)})]
+        return [Method("sleepy", {"normal": ("hertz",), "tangential": ("full-sliding",), "temperature": ("sleepy",)})]
 
 
 SWEEP = """

@@ -20,8 +20,9 @@ from railtherm import ContactPatch, Material, SurfaceGrid, surface_grid
 from railtherm.models.shapes import cell_average
 from railtherm.references.kalker import kalker_coefficients, kalker_linear_forces
 from railtherm_fastsim.fastsim_kernel import fastsim_sweep
-from railtherm_fastsim.fastsim_model import (FastsimHeatSource, ellipse_cell_integrals, fastsim,
-                                             fastsim_flexibilities)
+from railtherm.models.sliding import frictional_heat_source
+from railtherm_fastsim.simplified_theory import (ellipse_cell_integrals, fastsim, fastsim_flexibilities)
+from railtherm_fastsim.tangential import FastsimTangential
 from railtherm import combined_elastic, equal_temperature_partition
 
 PUBLISHED = tomllib.loads((Path(__file__).parent / "data" / "published.toml").read_text())
@@ -222,47 +223,63 @@ def _patch(n=64):
     return ContactPatch(grid=g, normal_force=N, a=A, b=B, max_pressure=P0, pressure=p)
 
 
+def _tangential(scene, patch, **opts):
+    """FASTSIM as the tangential stage, then core's frictional heat source."""
+    model = FastsimTangential()
+    pt = model.compute_tangential(scene, patch, 0, model.resolve_options(opts))
+    return pt, frictional_heat_source(scene, pt)
+
+
 def test_model_fills_patch_and_heat_source():
-    model = FastsimHeatSource()
+    model = FastsimTangential()
     scene = _scene()
     assert model.supports(scene, 0) is None
-    src = model.compute_source(scene, _patch(), 0, model.resolve_options({}))
-    pt = src.patch
+    patch = _patch()
+    pt, src = _tangential(scene, patch)
     for k in ("traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick"):
         assert getattr(pt, k).shape == pt.grid.shape
+    assert pt.pressure is patch.pressure and patch.traction_x is None      # a new patch; the given one untouched
     assert src.frictional_power == pytest.approx(src.integrated_power(), rel=1e-12)
-    d = src.diagnostics
+    d = pt.diagnostics
     assert d["global_power"] == pytest.approx(-V * (ETA * pt.creep_force_y + PHI * pt.spin_moment))
     assert d["power_difference"] == pytest.approx(src.frictional_power - d["global_power"])
+    # the heat is the local dissipation -(traction . slip) FASTSIM integrated per cell
+    q = -(pt.traction_x * pt.slip_velocity_x + pt.traction_y * pt.slip_velocity_y)
+    np.testing.assert_allclose(src.power_density, q, rtol=1e-12, atol=1e-9 * q.max())
     assert src.heat_partition == 0.5 and src.body_speed == (V, V)
 
 
 def test_model_full_sliding_gives_mu_n_vs():
     """Full sliding as creepage xi = -v_s/V: power -> mu N v_s, force +mu N on the wheel, equal-temperature eps."""
-    model = FastsimHeatSource()
     vs = 1.0
     scene = _scene(creepage=None, sliding_speed=vs, tangential="full-sliding", heat_partition="equal-temperature")
-    src = model.compute_source(scene, _patch(128), 0, model.resolve_options({}))
+    pt, src = _tangential(scene, _patch(128))
     # xi = -1/30 is finite: a thin adhesion zone at the leading edge keeps Fx 0.14 % below mu N
-    assert src.patch.creep_force_x < MU * N
-    assert src.patch.creep_force_x == pytest.approx(MU * N, rel=3e-3)
-    assert src.diagnostics["global_power"] == pytest.approx(MU * N * vs, rel=3e-3)
+    assert pt.creep_force_x < MU * N
+    assert pt.creep_force_x == pytest.approx(MU * N, rel=3e-3)
+    assert pt.diagnostics["global_power"] == pytest.approx(MU * N * vs, rel=3e-3)
     assert src.frictional_power == pytest.approx(MU * N * vs, rel=5e-3)
     assert src.body_speed == (pytest.approx(V + vs), V)
     steel = Material()
     assert src.heat_partition == pytest.approx(equal_temperature_partition(steel, steel, V + vs, V))
 
 
-def test_model_parabolic_bound_redistributes_load():
-    model = FastsimHeatSource()
-    src = model.compute_source(_scene(), _patch(64), 0, model.resolve_options({"bound": "parabolic"}))
-    pt = src.patch
-    assert pt.grid.integrate(pt.pressure) == pytest.approx(N, rel=1e-4)
-    assert pt.max_pressure == pytest.approx(2 * N / (math.pi * A * B))
+def test_model_parabolic_bound_bounds_traction_not_pressure():
+    """Kalker's parabolic bound mu p_par (same load) bounds the tractions; the pressure stays the
+    normal stage's (a tangential model never rewrites it)."""
+    patch = _patch(64)
+    scene = _scene(creepage=SimpleNamespace(longitudinal=-0.05, lateral=0.0, spin=0.0))   # near full sliding
+    pt, _ = _tangential(scene, patch, bound="parabolic")
+    assert pt.pressure is patch.pressure and pt.max_pressure == patch.max_pressure
+    frac, par = ellipse_cell_integrals(patch.grid, A, B)
+    p_par = 2 * N / (math.pi * A * B) * par
+    t = np.hypot(pt.traction_x, pt.traction_y)
+    assert np.all(t <= MU * p_par * (1 + 1e-9) + 1e-9)
+    assert np.any(t > MU * patch.pressure * 1.05)          # above the Hertz bound near the centre
 
 
 def test_model_refuses_without_friction_or_creepage():
-    model = FastsimHeatSource()
+    model = FastsimTangential()
     assert "friction" in model.supports(_scene(friction=None), 0)
     assert "creepage" in model.supports(_scene(creepage=None, sliding_speed=None), 0)
 

@@ -15,7 +15,10 @@ import numpy as np
 import pytest
 
 from railtherm import ContactPatch, Material
-from railtherm_fastsim.fastsim_model import FastsimHeatSource
+import railtherm_fastsim.wheelset_normal as wheelset_normal
+from railtherm.models.sliding import frictional_heat_source
+from railtherm_fastsim.tangential import FastsimTangential
+from railtherm_fastsim.wheelset_normal import WheelsetNormal
 from railtherm.physics import hertz_pressure_grid, rescale_hertz_patch
 from railtherm_fastsim.kinematics import PRESSURE_GAUSS, wheelset_contacts
 
@@ -74,7 +77,9 @@ def test_patch_scaling():
     assert rescale_hertz_patch(800.0, 100.0, 2e-3, 3e-3, "semi_axes")[:2] == (2e-3, 3e-3)
 
 
-def test_model_uses_the_kinematics_for_a_wheelset_scene():
+def test_model_uses_the_kinematics_for_a_wheelset_scene(monkeypatch):
+    """Normal model "wheelset" finds the contact's normal force and creepages; FASTSIM (tangential)
+    then uses the patch's creepages; neither changes the other's result."""
     steel = Material()
     ws = SimpleNamespace(conicity=0.05, lateral_shift=3e-3, yaw_angle=1e-3, vertical_load=200e3,
                          wheel_radius=0.46, gauge=1.5)
@@ -83,12 +88,20 @@ def test_model_uses_the_kinematics_for_a_wheelset_scene():
                             tangential="creepage", semi_axes=None, normal_force=100e3)
     a, b, p0 = rescale_hertz_patch(100e3, 100e3, 5.88e-3, 10.54e-3)
     g, p = hertz_pressure_grid(a, b, p0, 0, 16, gauss=PRESSURE_GAUSS)
-    patch = ContactPatch(grid=g, normal_force=100e3, a=a, b=b, max_pressure=p0, pressure=p)
-    src = FastsimHeatSource().compute_source(scene, patch, 0, FastsimHeatSource.resolve_options({}))
+    ref = ContactPatch(grid=g, normal_force=100e3, a=a, b=b, max_pressure=p0, pressure=p)
+    monkeypatch.setattr(wheelset_normal, "hertz_patch", lambda *args, **kw: ref)
+    model = WheelsetNormal()
+    patch = model.compute_patch(scene, 0, {"cells": 16, **model.resolve_options({})})
     sol = wheelset_contacts(**{**BASE, "lateral_shift": 3e-3, "yaw_angle": 1e-3})
-    d = src.diagnostics
-    assert d["converged"] and src.patch.normal_force == pytest.approx(sol.normal_force[0], rel=1e-9)
+    assert patch.diagnostics["converged"] and patch.normal_force == pytest.approx(sol.normal_force[0], rel=1e-9)
+    assert patch.creepage == pytest.approx((sol.xi[0], sol.eta[0], sol.phi[0]), rel=1e-9)
+    assert patch.a == pytest.approx(5.88e-3 * (sol.normal_force[0] / 100e3) ** (1 / 3))
+    tang = FastsimTangential()
+    pt = tang.compute_tangential(scene, patch, 0, tang.resolve_options({}))
+    d = pt.diagnostics
     assert d["creepage_longitudinal"] == pytest.approx(sol.xi[0], rel=1e-9)
     assert d["creepage_lateral"] == pytest.approx(sol.eta[0]) and d["creepage_spin"] == pytest.approx(sol.phi[0])
-    assert src.patch.creep_force_x == pytest.approx(sol.creep_force_x[0], rel=1e-6)
-    assert src.patch.a == pytest.approx(5.88e-3 * (sol.normal_force[0] / 100e3) ** (1 / 3))
+    assert pt.creep_force_x == pytest.approx(sol.creep_force_x[0], rel=1e-6)
+    assert pt.pressure is patch.pressure and pt.normal_force == patch.normal_force
+    src = frictional_heat_source(scene, pt)
+    assert src.body_speed == (pytest.approx(30.0 * (1 - sol.xi[0])), 30.0)

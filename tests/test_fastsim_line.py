@@ -432,7 +432,7 @@ def test_other_methods_use_fastsim_for_line_creepage():
         out = check_method(method, scenes=LINE_SCENES)
         assert all(v == "ok" for v in out.values()), out
         ds = railtherm.solve({**LINE_CREEP, "outputs": outs}, method, level=1)
-        assert "heat_source:fastsim" in ds.attrs["stages"]
+        assert "tangential:fastsim heat_source:frictional" in ds.attrs["stages"]
         assert float(ds.creep_force_x) == pytest.approx(float(base.creep_force_x), rel=1e-12)
         assert float(ds.frictional_power) == pytest.approx(float(base.frictional_power), rel=1e-12)
 

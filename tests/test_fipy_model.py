@@ -178,8 +178,8 @@ def test_registered_method_and_model():
     info = {m.name: m for m in railtherm.methods()}
     assert "fipy" in info
     chain = info["fipy"].method.chain
-    assert chain["contact"] == ("hertz",) and chain["temperature"] == ("fipy",)
-    assert chain["heat_source"] == ("full-sliding", "fastsim")
+    assert chain["normal"] == ("wheelset", "hertz") and chain["temperature"] == ("fipy",)
+    assert chain["tangential"] == ("full-sliding", "fastsim") and chain["heat_source"] == ("frictional",)
 
 
 def test_solve_given_heat_source_line_contact():

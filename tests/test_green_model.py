@@ -279,12 +279,12 @@ def test_fastsim_power_density_if_registered():
     of the strip quadrature (checked directly against the kernel)."""
     from railtherm.plugins import get_host
     if "fastsim" not in get_host().models:
-        pytest.skip("heat-source model 'fastsim' not registered")
+        pytest.skip("tangential model 'fastsim' not registered")
     from railtherm.testing import canonical
     from railtherm_green import kernel
     sc = canonical("ellipse-creepage", outputs=["surface_temperature", "heat_flux", "steady_wheel_temperature"])
     ds = railtherm.solve(sc, "green", level=1)
-    assert ds.attrs["stages"].endswith("heat_source:fastsim temperature:green")
+    assert ds.attrs["stages"].endswith("tangential:fastsim heat_source:frictional temperature:green")
     flux = ds.heat_flux.values
     dx, dy = float(ds.x[1] - ds.x[0]), float(ds.y[1] - ds.y[0])
     assert ds.attrs["green_steady_wheel_power"] == pytest.approx(flux[0].sum() * dx * dy, rel=1e-12)

@@ -20,7 +20,8 @@ def test_hooks_register_model_and_method():
     assert green_plugin.railtherm_register_models() == [GreenTemperature]
     (m,) = green_plugin.railtherm_register_methods()
     assert m.name == "green"
-    assert m.chain == {"contact": ("hertz",), "heat_source": ("full-sliding", "fastsim"), "temperature": ("green",)}
+    assert m.chain == {"normal": ("wheelset", "hertz"), "tangential": ("full-sliding", "fastsim"),
+                       "heat_source": ("frictional",), "temperature": ("green",)}
     assert green_plugin.railtherm_register_models.__doc__ and green_plugin.railtherm_register_methods.__doc__
     check_model_class(GreenTemperature)
 

@@ -72,16 +72,16 @@ def _verdict_keys(ds):
 # 1. diagnostics vocabulary
 # ---------------------------------------------------------------------------------------------
 CASES = [
-    ("green", EK, 0, {}, {"hertz", "full-sliding", "green"}),
-    ("green", CREEP, 0, {}, {"hertz", "fastsim", "green"}),
+    ("green", EK, 0, {}, {"hertz", "full-sliding", "frictional", "green"}),
+    ("green", CREEP, 0, {}, {"hertz", "fastsim", "frictional", "green"}),
     ("green", GIVEN, 0, {}, {"given", "green"}),
-    ("fipy", EK, 0, {}, {"hertz", "full-sliding", "fipy"}),
-    ("fipy", LINE, 0, {}, {"hertz", "full-sliding", "fipy"}),
-    ("fastsim-fdm", EK, 0, {}, {"hertz", "fastsim", "fdm"}),
-    ("fastsim-fdm", LINE, 0, {}, {"hertz", "fastsim", "fdm"}),
-    ("fastsim-fdm", scene(LINE, mode="transient", numerics={"scheme": "implicit"}), 0, {}, {"hertz", "fastsim", "fdm"}),
+    ("fipy", EK, 0, {}, {"hertz", "full-sliding", "frictional", "fipy"}),
+    ("fipy", LINE, 0, {}, {"hertz", "full-sliding", "frictional", "fipy"}),
+    ("fastsim-fdm", EK, 0, {}, {"hertz", "fastsim", "frictional", "fdm"}),
+    ("fastsim-fdm", LINE, 0, {}, {"hertz", "fastsim", "frictional", "fdm"}),
+    ("fastsim-fdm", scene(LINE, mode="transient", numerics={"scheme": "implicit"}), 0, {}, {"hertz", "fastsim", "frictional", "fdm"}),
     ("fem", FEM, 0, {}, {"fem"}),
-    ("fem", GIVEN_LINE, 0, {}, {"fem"}),   # a coupled model: its thermal part runs as the given source's stages
+    ("fem", GIVEN_LINE, 0, {}, {"given", "fem"}),   # API 2: the plan's given source is passed to the coupled model
 ]
 
 
@@ -142,8 +142,8 @@ def test_fem_coupling_cut_short_is_not_converged():
     sc = load_scene(FEM)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        patch, source, temp = model.compute(sc, 0, {**model.resolve_options(opts)}, ("contact", "heat_source",
-                                                                                     "temperature"))
+        patch, source, temp = model.compute(sc, 0, {**model.resolve_options(opts)}, ("normal", "tangential", "heat_source",
+                                                                                     "temperature"), railtherm.Upstream())
     for obj in (patch, source, temp):
         d = obj.diagnostics
         assert d["converged"] is False and d["iterations"] == 1 and d["residual"] == pytest.approx(1.0)

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import railtherm
-from railtherm import ContactModel, ContactPatch, TemperatureField, TemperatureModel
+from railtherm import ContactPatch, TangentialContactModel, TemperatureField, TemperatureModel
 from railtherm.plugins import get_host, new_host, set_host
 
 STUDY = """
@@ -135,20 +135,16 @@ class PickyTemperature(DummyTemperature):
         return super().supports(scene, level)
 
 
-class CarterContact(ContactModel):
-    """Hertz line patch with Carter's traction, creep force off by delta(level)."""
+class CarterContact(TangentialContactModel):
+    """Carter's traction on the Hertz line patch, creep force off by delta(level)."""
 
     name = "report-carter-contact"
     description = "test stand-in: Carter's 2-D traction with a level-dependent error"
     capabilities = railtherm.Capabilities(contacts=frozenset({"line"}), tangential=frozenset({"creepage"}),
-                                          provides=frozenset({"pressure", "normal_force", "semi_axis_a",
-                                                              "max_pressure", "traction_x", "stick",
-                                                              "creep_force_x"}))
+                                          provides=frozenset({"traction_x", "stick", "creep_force_x"}))
 
-    def compute_patch(self, scene, level, options):
-        from railtherm.models.hertz import HertzContact
+    def compute_tangential(self, scene, patch, level, options):
         from railtherm.references.carter import carter_2d
-        patch = HertzContact().compute_patch(scene, level, options)
         c = carter_2d(scene.creepage.longitudinal, patch.a, scene.friction, scene.wheel_radius,
                       max_pressure=patch.max_pressure)
         x = patch.grid.x
@@ -166,11 +162,11 @@ class DummyPlugin:
 
     @railtherm.hookimpl
     def railtherm_register_methods(self):
-        chain = lambda t: {"contact": ("hertz",), "heat_source": ("full-sliding",), "temperature": (t,)}
+        chain = lambda t: {"normal": ("hertz",), "tangential": ("full-sliding",), "temperature": (t,)}
         return [railtherm.Method("alpha", chain("report-dummy-temperature"), default_cells=16),
                 railtherm.Method("broken", chain("report-broken-temperature"), default_cells=16),
                 railtherm.Method("picky", chain("report-picky-temperature"), default_cells=16),
-                railtherm.Method("creep", {"contact": ("report-carter-contact",)}, default_cells=16)]
+                railtherm.Method("creep", {"normal": ("hertz",), "tangential": ("report-carter-contact",)}, default_cells=16)]
 
 
 @pytest.fixture(scope="module")
@@ -294,7 +290,7 @@ def test_sweep_is_one_section(study_out):
     assert float(cells["exact"]) == pytest.approx(ratio, rel=1e-3)
     assert float(cells["creep"].split()[0]) == pytest.approx(ratio * (1 + _delta(1)), rel=2e-3)
     assert cells["alpha"] == "refused"
-    assert "Creep force computed by: creep ← report-carter-contact (contact stage)" in body
+    assert "Creep force computed by: creep ← report-carter-contact (tangential stage)" in body
 
 
 def test_convergence_order_in_report(study_out):

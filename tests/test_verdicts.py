@@ -81,7 +81,7 @@ class FixturePlugin:
 
     @hookimpl
     def railtherm_register_methods(self):
-        chain = {"contact": ("hertz",), "heat_source": ("full-sliding",)}
+        chain = {"normal": ("hertz",), "tangential": ("full-sliding",)}
         return [Method("stuck", {**chain, "temperature": ("stuck",)}),
                 Method("hot", {**chain, "temperature": ("hot",)})]
 

@@ -14,8 +14,9 @@ from .grid import SurfaceGrid, surface_grid
 from .hookspec import hookimpl
 from .materials import Material
 from .physics import combined_elastic, equal_temperature_partition, scene_partition
-from .stages import (BODIES, STAGES, Capabilities, ContactModel, ContactPatch, CoupledModel, HeatSource,
-                     HeatSourceModel, Method, Option, StageModel, BodyTemperature, TemperatureField, TemperatureModel)
+from .stages import (BODIES, STAGES, BodyTemperature, Capabilities, ContactModel, ContactPatch, CoupledModel,
+                     HeatSource, HeatSourceModel, Method, NormalContactModel, Option, StageModel,
+                     TangentialContactModel, TemperatureField, TemperatureModel, Upstream)
 
 _LAZY = {
     "Scene": "scene", "load_scene": "scene",
@@ -37,5 +38,6 @@ def __getattr__(name):  # lazy: keep `railtherm validate` / `methods` fast
 
 __all__ = ["__version__", "PluginError", "Refused", "SceneError", "SolverError", "SurfaceGrid", "surface_grid",
            "hookimpl", "Material", "combined_elastic", "equal_temperature_partition", "scene_partition", "BODIES", "STAGES", "Capabilities", "ContactModel", "ContactPatch",
-           "CoupledModel", "HeatSource", "HeatSourceModel", "Method", "Option", "StageModel",
+           "CoupledModel", "HeatSource", "HeatSourceModel", "Method", "NormalContactModel", "Option", "StageModel",
+           "TangentialContactModel", "Upstream",
            "TemperatureField", "BodyTemperature", "TemperatureModel", *_LAZY]

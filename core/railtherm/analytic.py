@@ -76,6 +76,10 @@ def _scalars_uncached(scene):
     out: dict[str, object] = {"_names": [], "_sources": {}}
     src = out["_sources"]
     from .errors import Refused
+    if getattr(scene, "wheelset", None) is not None and scene.creepage is None and scene.sliding_speed is None:
+        # the contact's load comes from the wheelset's equilibrium (normal model "wheelset"), not from
+        # the scene's nominal load: Hertz of the scene is no reference for it
+        return out
     if scene.heat_source is None:
         try:
             from .models.hertz import hertz_geometry

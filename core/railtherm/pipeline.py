@@ -1,12 +1,14 @@
 """Run one scene through one method at one level: plan the stages the outputs need, run them, build
 and validate the result Dataset.
 
-Planning: each requested output is produced by the first stage of the method's chain whose selected
-model declares it in ``capabilities.provides``; the stages up to the last one needed run, no others.
-A scene that gives its heat source runs no contact stage (core model "given" supplies the source).
+Planning (:func:`plan`): each requested output belongs to one of the four stages (normal,
+tangential, heat source, temperature; :data:`railtherm.schema.VARIABLES`); the stages up to the last
+one needed run, no others. A scene that gives its heat source runs no normal or tangential stage
+(core model "given" supplies the source, also to a coupled model).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -21,7 +23,7 @@ from .plugins import MethodInfo, PluginHost, get_host
 from .results import encode_sweep
 from .scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
 from .schema import STAGE_OF_GROUP, VARIABLES, build_dataset, history_line, validate_dataset
-from .stages import STAGES, CoupledModel, StageModel
+from .stages import STAGES, ContactPatch, CoupledModel, StageModel, Upstream
 
 __all__ = ["solve", "plan", "given_heat_source", "Plan"]
 
@@ -81,48 +83,36 @@ def _select(host: PluginHost, mi: MethodInfo, stage: str, scene: Scene, level: i
 
 
 def plan(scene: Scene, method: str, level: int = 0, host: PluginHost | None = None) -> Plan:
-    """Choose the models and the stages to run; raises :class:`railtherm.Refused` when impossible."""
+    """Choose the models and the stages to run; raises :class:`railtherm.Refused` when impossible.
+
+    Each output belongs to one stage (:data:`railtherm.schema.VARIABLES`); the stages up to the last
+    one an output needs run, no others, and the model selected for an output's stage must declare
+    it in ``capabilities.provides``. A scene that gives its heat source runs no normal or
+    tangential stage: core's ``given`` is its heat-source stage.
+    """
     host = host or get_host()
     mi = host.method(method)
     given = scene.heat_source is not None
-    models: dict[str, StageModel] = {}
     order = [s for s in STAGES if s in mi.method.chain]
     if given:
-        order = [s for s in order if s != "contact"]
+        order = [s for s in order if s not in ("normal", "tangential")]
         if "heat_source" not in order and "temperature" in order:
             order.insert(0, "heat_source")
+    models: dict[str, StageModel] = {}
     for stage in order:
-        if given and stage == "heat_source":
-            coupled = [n for n in mi.method.chain.get("heat_source", ()) if issubclass(host.model(n).cls, CoupledModel)]
-            models[stage] = host.model(coupled[0]).cls() if coupled else host.model("given").cls()
-            continue
-        models[stage] = _select(host, mi, stage, scene, level)
-    # which stages do the outputs need?
+        models[stage] = host.model("given").cls() if given and stage == "heat_source" else \
+            _select(host, mi, stage, scene, level)
     last = -1
     for out in scene.outputs:
-        found = None
-        for i, stage in enumerate(order):
-            m = models[stage]
-            if isinstance(m, CoupledModel):
-                # one capability set for several stages: the schema says which stage a variable belongs to
-                if out in m.capabilities.provides and STAGE_OF_GROUP[VARIABLES[out].stage] == stage:
-                    found = i
-                    break
-                continue
-            if out in m.capabilities.provides or (given and stage == "heat_source"
-                                                  and out in {"heat_flux", "frictional_power", "heat_partition"}):
-                found = i
-                break
-        if found is None and any(isinstance(m, CoupledModel) for m in models.values()):
-            stage = STAGE_OF_GROUP[VARIABLES[out].stage]
-            cm = next(m for m in models.values() if isinstance(m, CoupledModel))
-            if out in cm.capabilities.provides and stage in order:
-                found = order.index(stage)
-        if found is None:
-            extra = " (the scene gives its heat source, so no contact stage runs)" if given else ""
-            raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}{extra}; "
-                          f"its models provide: {sorted(set().union(*(m.capabilities.provides for m in models.values())))}")
-        last = max(last, found)
+        stage = STAGE_OF_GROUP[VARIABLES[out].stage]
+        if stage not in order or out not in models[stage].capabilities.provides:
+            extra = (" (the scene gives its heat source, so no normal or tangential stage runs)"
+                     if given and stage in ("normal", "tangential") else "")
+            who = f"its {stage} model {models[stage].name!r}" if stage in models else f"it has no {stage} stage"
+            raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}{extra}: "
+                          f"{who}; its models provide: "
+                          f"{sorted(set().union(*(m.capabilities.provides for m in models.values())))}")
+        last = max(last, order.index(stage))
     stages = tuple(order[: last + 1])
     return Plan(mi, stages, {s: models[s] for s in stages})
 
@@ -140,36 +130,79 @@ def _flat_diagnostics(prefix: str, diag: Mapping[str, Any], out: dict) -> None:
             out[key] = str(v)
 
 
+_NORMAL_FIELDS = ("grid", "normal_force", "a", "b", "max_pressure", "pressure", "creepage")
+
+
+def _check_untouched(model: StageModel, before: ContactPatch, after: ContactPatch) -> None:
+    """A tangential model returns a new patch and leaves the normal stage's fields as they were."""
+    if after is before:
+        raise PluginError(f"tangential model {model.name!r} returned the patch it was given; return "
+                          "patch.with_tangential(...) (a new patch)")
+    for name in _NORMAL_FIELDS:
+        x, y = getattr(before, name), getattr(after, name)
+        same = x is y or (np.array_equal(x, y) if isinstance(x, np.ndarray) else x == y)
+        if not same:
+            raise PluginError(f"tangential model {model.name!r} changed the normal stage's {name!r}; a stage "
+                              "never rewrites another's result")
+
+
+def _freeze(result) -> None:
+    """Make the arrays of a stage's result read-only: a later stage that writes into them (instead of
+    returning a new result) fails at once with numpy's "assignment destination is read-only"."""
+    if result is None or not dataclasses.is_dataclass(result):
+        return
+    for f in dataclasses.fields(result):
+        value = getattr(result, f.name)
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+
+
+@dataclass
+class StageRecord:
+    """What one stage (or one coupled model) returned: the model and its diagnostics."""
+
+    model: StageModel
+    diagnostics: Mapping[str, Any]
+
+
 def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
     patch = source = temp = None
+    records: list[StageRecord] = []
     cells = options.get("cells") or pl.method.method.default_cells or BASE_CELLS
     done: set[int] = set()
     for stage in pl.stages:
         model = pl.models[stage]
         if id(model) in done:
             continue
-        opts = {"cells": cells, **model.resolve_options(options)}
-        opts["cells"] = options.get("cells") or cells
+        opts = {**model.resolve_options(options), "cells": cells}
         if isinstance(model, CoupledModel):
             same = tuple(s for s in pl.stages if type(pl.models[s]) is type(model))
-            for s in same:
-                done.add(id(pl.models[s]))
-            if scene.heat_source is not None:  # a given source: the coupled model runs its thermal part only
-                same = tuple(s for s in same if s == "temperature")
-                source = given_heat_source(scene, level, cells)
-            patch, source_c, temp = model.compute(scene, level, opts, same)
-            source = source_c if source_c is not None else source
+            done.update(id(pl.models[s]) for s in same)
+            out = model.compute(scene, level, opts, same, Upstream(patch=patch, source=source))
+            p, s, t = out
+            for obj in out:
+                _freeze(obj)
+            patch, source, temp = (p if p is not None else patch, s if s is not None else source,
+                                   t if t is not None else temp)
+            diag = {}
+            for obj in (p, s, t):
+                diag.update(getattr(obj, "diagnostics", None) or {})
+            records.append(StageRecord(model, diag))
             continue
-        if stage == "contact":
-            patch = model.compute_patch(scene, level, opts)
+        if stage == "normal":
+            patch = result = model.compute_patch(scene, level, opts)
+        elif stage == "tangential":
+            result = model.compute_tangential(scene, patch, level, opts)
+            _check_untouched(model, patch, result)
+            patch = result
         elif stage == "heat_source":
-            source = model.compute_source(scene, patch, level, opts)
-            if source.patch is not None:
-                patch = source.patch
+            source = result = model.compute_source(scene, patch, level, opts)
         else:
-            temp = model.compute_temperature(scene, source, level, opts)
+            temp = result = model.compute_temperature(scene, source, level, opts)
+        _freeze(result)
+        records.append(StageRecord(model, result.diagnostics or {}))
         done.add(id(model))
-    return patch, source, temp
+    return patch, source, temp, records
 
 
 def _versions(pl: Plan, host: PluginHost) -> str:
@@ -221,19 +254,17 @@ def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options
     options = _check_options(mi, options, scene.name)
     pl = plan(scene, method, level, host)
     t0 = time.perf_counter()
-    patch, source, temp = _run(pl, scene, level, options)
+    patch, source, temp, records = _run(pl, scene, level, options)
     wall = time.perf_counter() - t0
     grid = (source.grid if source is not None else patch.grid if patch is not None else None)
     if grid is None:
         raise PluginError(f"method {method!r}: no stage returned a result for scene {scene.name!r}")
     diag: dict[str, Any] = {}
     converged = True
-    for obj, model_name in ((patch, pl.models.get("contact")), (source, pl.models.get("heat_source")),
-                            (temp, pl.models.get("temperature"))):
-        if obj is not None and model_name is not None:
-            _flat_diagnostics(model_name.name, obj.diagnostics, diag)
-            if "converged" in obj.diagnostics and not bool(obj.diagnostics["converged"]):
-                converged = False
+    for rec in records:
+        _flat_diagnostics(rec.model.name, rec.diagnostics, diag)
+        if "converged" in rec.diagnostics and not bool(rec.diagnostics["converged"]):
+            converged = False
     attrs = {
         "title": f"railtherm result: scene {scene.name}, method {method}, level {level}",
         "source": _versions(pl, host),

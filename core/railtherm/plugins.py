@@ -43,6 +43,8 @@ class MethodInfo:
     plugin: str
     version: str
     models: tuple[ModelInfo, ...] = ()
+    #: how the host translated a plugin API 1 chain (empty for an API 2 chain)
+    api1: tuple[str, ...] = ()
 
     @property
     def name(self) -> str:
@@ -139,10 +141,11 @@ class PluginHost:
             self._problem(f"plugin {plugin!r}: method {m.name!r} is already registered by plugin "
                           f"{self.methods[m.name].plugin!r}; skipped")
             return
+        raw, api1 = self._api2_chain(plugin, m)
         chain = {}
         used = []
         for stage in STAGES:
-            names = tuple(m.chain.get(stage, ()))
+            names = tuple(raw.get(stage, ()))
             known = tuple(n for n in names if n in self.models)
             if names and not known:
                 self._problem(f"plugin {plugin!r}: method {m.name!r} names {stage} models {list(names)}, "
@@ -156,12 +159,45 @@ class PluginHost:
             if known:
                 chain[stage] = known
                 used.extend(k for k in known if k not in used)
-        if "temperature" not in chain and "heat_source" not in chain and "contact" not in chain:
+        if not chain:
             self._problem(f"plugin {plugin!r}: method {m.name!r} has an empty chain; skipped")
             return
         method = Method(m.name, chain, m.description, m.default_cells, dict(getattr(m, "orders", {}) or {}))
         self.methods[m.name] = MethodInfo(method, plugin, self._versions.get(plugin, "0"),
-                                          tuple(self.models[n] for n in used))
+                                          tuple(self.models[n] for n in used), tuple(api1))
+
+    def _api2_chain(self, plugin: str, m: Method) -> tuple[dict, list[str]]:
+        """The method's chain in plugin API 2 stages, and what was translated (empty for API 2).
+
+        An API 1 chain (stage ``contact``; tangential models such as ``full-sliding`` or ``fastsim``
+        listed under ``heat_source``) is translated, with a warning, for one release: ``contact``
+        becomes ``normal`` and tangential models move to ``tangential``. A chain with tangential and
+        temperature stages but no heat source gets core's ``frictional`` (traction x slip).
+        """
+        chain = {k: tuple(v) for k, v in dict(m.chain).items()}
+        notes: list[str] = []
+        unknown = set(chain) - set(STAGES) - {"contact"}
+        if unknown:
+            self._problem(f"plugin {plugin!r}: method {m.name!r} names stages {sorted(unknown)}; allowed {STAGES}")
+        if "contact" in chain:
+            warnings.warn(f"plugin {plugin!r}: method {m.name!r} uses the plugin API 1 stage 'contact'; "
+                          "read as 'normal' (API 2 stages: normal, tangential, heat_source, temperature)",
+                          DeprecationWarning, stacklevel=2)
+            chain.setdefault("normal", chain.pop("contact"))
+            notes.append("stage 'contact' read as 'normal'")
+        heat = chain.get("heat_source", ())
+        moved = tuple(n for n in heat if n in self.models and "tangential" in self.models[n].cls.stages
+                      and "heat_source" not in self.models[n].cls.stages)
+        if moved:
+            warnings.warn(f"plugin {plugin!r}: method {m.name!r} lists tangential models {list(moved)} under "
+                          "'heat_source' (plugin API 1); moved to 'tangential', heat source 'frictional'",
+                          DeprecationWarning, stacklevel=2)
+            chain["tangential"] = tuple(dict.fromkeys(chain.get("tangential", ()) + moved))
+            chain["heat_source"] = tuple(n for n in heat if n not in moved) or ("frictional",)
+            notes.append(f"tangential models {list(moved)} moved from 'heat_source' to 'tangential'")
+        if "tangential" in chain and "temperature" in chain and "heat_source" not in chain:
+            chain["heat_source"] = ("frictional",)
+        return chain, notes
 
     # -- lookup -----------------------------------------------------------------------
     def method(self, name: str) -> MethodInfo:

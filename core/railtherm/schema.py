@@ -22,13 +22,13 @@ class Var:
     dims: tuple[str, ...]
     units: str
     long_name: str
-    stage: str  # stage that produces it: contact | tangential | heat_source | temperature | steady
+    stage: str  # stage that produces it: normal | tangential | heat_source | temperature | steady
     temperature: bool = False
 
 
 #: name -> Var. ``y`` is dropped from dims for line contacts.
 VARIABLES: dict[str, Var] = {
-    "pressure": Var(("x", "y"), "Pa", "normal contact pressure", "contact"),
+    "pressure": Var(("x", "y"), "Pa", "normal contact pressure", "normal"),
     "traction_x": Var(("x", "y"), "Pa", "tangential traction on the wheel, rolling direction", "tangential"),
     "traction_y": Var(("x", "y"), "Pa", "tangential traction on the wheel, lateral", "tangential"),
     "slip_velocity_x": Var(("x", "y"), "m s-1", "local slip velocity of wheel relative to rail, rolling direction", "tangential"),
@@ -37,10 +37,10 @@ VARIABLES: dict[str, Var] = {
     "heat_flux": Var(("body", "x", "y"), "W m-2", "frictional heat flux entering the body", "heat_source"),
     "surface_temperature": Var(("body", "x", "y"), "degC", "surface temperature", "temperature", True),
     "temperature": Var(("body", "x", "z"), "degC", "temperature at y = 0", "temperature", True),
-    "normal_force": Var((), "N", "normal force (per unit width [N m-1] for a line contact)", "contact"),
-    "semi_axis_a": Var((), "m", "contact semi-axis along the rolling direction", "contact"),
-    "semi_axis_b": Var((), "m", "lateral contact semi-axis", "contact"),
-    "max_pressure": Var((), "Pa", "maximum contact pressure", "contact"),
+    "normal_force": Var((), "N", "normal force (per unit width [N m-1] for a line contact)", "normal"),
+    "semi_axis_a": Var((), "m", "contact semi-axis along the rolling direction", "normal"),
+    "semi_axis_b": Var((), "m", "lateral contact semi-axis", "normal"),
+    "max_pressure": Var((), "Pa", "maximum contact pressure", "normal"),
     "creep_force_x": Var((), "N", "longitudinal creep force on the wheel", "tangential"),
     "creep_force_y": Var((), "N", "lateral creep force on the wheel", "tangential"),
     "spin_moment": Var((), "N m", "spin moment on the wheel", "tangential"),
@@ -60,7 +60,7 @@ COORDS = {
 }
 
 #: which pipeline stage produces the variables of each Var.stage group
-STAGE_OF_GROUP = {"contact": "contact", "tangential": "contact", "heat_source": "heat_source",
+STAGE_OF_GROUP = {"normal": "normal", "tangential": "tangential", "heat_source": "heat_source",
                   "temperature": "temperature", "steady": "temperature"}
 
 

@@ -1,13 +1,20 @@
-"""Stage interfaces: contact patch, heat source, temperature field.
+"""Stage interfaces (plugin API 2): normal contact, tangential contact, heat source, temperature.
 
-A scene flows through up to three stages. Each stage hands the next a small container:
+A scene flows through up to four stages, in this order. Each stage hands the next a small container
+and never changes what it was given (it returns a new object):
 
-* :class:`ContactPatch` -- geometry, normal pressure, tangential traction, slip, stick/slip;
-* :class:`HeatSource` -- frictional power density on the patch, split between wheel and rail;
-* :class:`TemperatureField` -- surface temperature of each body, optionally a depth field.
+* normal contact (:class:`NormalContactModel`) -> :class:`ContactPatch`: geometry, normal force
+  and pressure (and, for a model that solves the kinematics, the rigid creepages);
+* tangential contact (:class:`TangentialContactModel`) -> a new :class:`ContactPatch` with the
+  tangential traction, slip velocity, stick/slip, creep forces and the surface speeds filled;
+* heat source (:class:`HeatSourceModel`; core's ``frictional`` is traction x slip) ->
+  :class:`HeatSource`: frictional power density on the patch, split between wheel and rail;
+* temperature (:class:`TemperatureModel`) -> :class:`TemperatureField`: surface temperature of
+  each body, optionally a depth field.
 
-A *stage model* implements one stage (subclass :class:`ContactModel`, :class:`HeatSourceModel` or
-:class:`TemperatureModel`); a *coupled model* (:class:`CoupledModel`) implements several at once.
+A *stage model* implements one stage; a *coupled model* (:class:`CoupledModel`) implements several
+at once and receives what the plan gives it (:class:`Upstream`: the results of the stages before
+its first one, a given heat source included); it never calls back into the pipeline.
 Each model declares what it can do (:class:`Capabilities`) and answers :meth:`StageModel.supports`
 before it runs. Plugins register model classes and :class:`Method` chains through the hooks in
 :mod:`railtherm.hookspec`.
@@ -31,7 +38,7 @@ from .grid import SurfaceGrid
 if TYPE_CHECKING:  # pragma: no cover
     from .scene import Scene
 
-STAGES = ("contact", "heat_source", "temperature")
+STAGES = ("normal", "tangential", "heat_source", "temperature")
 BODIES = ("wheel", "rail")
 
 
@@ -59,6 +66,16 @@ class ContactPatch:
         1 where the cell sticks, 0 where it slips, NaN outside the patch [1].
     creep_force_x, creep_force_y, spin_moment : float or None
         Total tangential forces on the wheel [N] and spin moment [N m].
+    creepage : (float, float, float) or None
+        Rigid creepages (xi [1], eta [1], phi [1/m]) when the normal model determines them (the
+        wheelset kinematics of seed section 6.1); None: the scene's.
+    body_speed : (float, float) or None
+        Surface speed of wheel and rail relative to the contact [m/s], set by the tangential stage
+        (seed eqs. 32-33); None: :func:`railtherm.physics.body_speeds` of the scene.
+    dissipation : ndarray or None
+        Local frictional power density -(traction . slip velocity) [W/m^2], cell-averaged, when the
+        tangential model integrates it exactly over each cell; None: core's heat source forms it from
+        the traction and slip fields.
     diagnostics : dict
         Solver diagnostics (iterations, residual, converged, ...).
     """
@@ -77,10 +94,23 @@ class ContactPatch:
     creep_force_x: float | None = None
     creep_force_y: float | None = None
     spin_moment: float | None = None
+    creepage: tuple[float, float, float] | None = None
+    body_speed: tuple[float, float] | None = None
+    dissipation: np.ndarray | None = None
     diagnostics: dict = field(default_factory=dict)
 
+    #: fields a tangential model fills (:meth:`with_tangential`)
+    TANGENTIAL_FIELDS: ClassVar[frozenset] = frozenset({
+        "traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick", "creep_force_x",
+        "creep_force_y", "spin_moment", "body_speed", "dissipation", "diagnostics"})
+
     def with_tangential(self, **fields) -> "ContactPatch":
-        """Return a copy with tangential fields filled (used by heat-source models such as FASTSIM)."""
+        """A new patch with the tangential fields filled (the tangential stage's result); the normal
+        fields (geometry, force, pressure) are the normal stage's and cannot be changed here."""
+        bad = set(fields) - self.TANGENTIAL_FIELDS
+        if bad:
+            raise ValueError(f"a tangential model may fill only {sorted(self.TANGENTIAL_FIELDS)}; "
+                             f"it tried to set {sorted(bad)} (the normal stage owns them)")
         return replace(self, **fields)
 
 
@@ -487,23 +517,40 @@ class StageModel:
         return out
 
 
-class ContactModel(StageModel):
-    """Contact-patch stage: patch geometry, pressure and (optionally) tangential fields."""
+class NormalContactModel(StageModel):
+    """Normal-contact stage: patch geometry, normal force and pressure (e.g. core's ``hertz``)."""
 
-    stages = ("contact",)
+    stages = ("normal",)
 
     def compute_patch(self, scene: "Scene", level: int, options: dict) -> ContactPatch:
-        """Return the contact patch of ``scene`` on the grid of ``level``."""
+        """Return the contact patch of ``scene`` on the grid of ``level`` (normal fields only)."""
+        raise NotImplementedError
+
+
+#: plugin API 1 name of :class:`NormalContactModel` (kept for one release)
+ContactModel = NormalContactModel
+
+
+class TangentialContactModel(StageModel):
+    """Tangential-contact stage: traction, slip, stick/slip and creep forces on a given patch
+    (core's ``full-sliding``; FASTSIM)."""
+
+    stages = ("tangential",)
+
+    def compute_tangential(self, scene: "Scene", patch: ContactPatch, level: int, options: dict) -> ContactPatch:
+        """Return a new patch with the tangential fields filled (:meth:`ContactPatch.with_tangential`);
+        ``patch`` is the normal stage's and is not changed."""
         raise NotImplementedError
 
 
 class HeatSourceModel(StageModel):
-    """Heat-source stage: frictional power density and its split between the bodies."""
+    """Heat-source stage: frictional power density and its split between the bodies (core's
+    ``frictional``: traction x slip; ``given``: the scene's own source)."""
 
     stages = ("heat_source",)
 
     def compute_source(self, scene: "Scene", patch: ContactPatch, level: int, options: dict) -> HeatSource:
-        """Return the heat source for ``patch``; may fill the patch's tangential fields (FASTSIM)."""
+        """Return the heat source of the tangential stage's ``patch`` (None for a given source)."""
         raise NotImplementedError
 
 
@@ -517,29 +564,51 @@ class TemperatureModel(StageModel):
         raise NotImplementedError
 
 
+@dataclass(frozen=True)
+class Upstream:
+    """What the plan hands a coupled model: the results of the stages before its first one.
+
+    Attributes
+    ----------
+    patch : ContactPatch or None
+        The normal (or tangential) stage's patch, when another model computed it.
+    source : HeatSource or None
+        The heat source, when another model computed it or the scene gives it (core's ``given``).
+    """
+
+    patch: ContactPatch | None = None
+    source: HeatSource | None = None
+
+
 class CoupledModel(StageModel):
     """A model that computes several stages together (e.g. the thermoelastic FEM)."""
 
     stages = STAGES
 
-    def compute(self, scene: "Scene", level: int, options: dict, stages: tuple[str, ...]
+    def compute(self, scene: "Scene", level: int, options: dict, stages: tuple[str, ...], upstream: Upstream
                 ) -> tuple[ContactPatch | None, HeatSource | None, TemperatureField | None]:
         """Compute the requested ``stages`` (a subset of :attr:`stages`, in pipeline order).
 
-        When the scene gives its heat source, ``stages`` is ("temperature",) and the given source
-        is available as ``railtherm.given_heat_source(scene, level)``.
+        ``upstream`` holds what earlier stages produced: when the scene gives its heat source,
+        ``stages`` is ("temperature",) and ``upstream.source`` is that source (core's ``given``).
+        Returns (patch, source, temperature), None for what was not requested; the patch carries
+        the tangential fields when "tangential" is among ``stages``.
         """
         raise NotImplementedError
 
 
 @dataclass(frozen=True)
 class Method:
-    """A named chain of stage models, e.g. ``Method("green", {"contact": ("hertz",),
-    "heat_source": ("full-sliding", "fastsim"), "temperature": ("green",)})``.
+    """A named chain of stage models, e.g. ``Method("green", {"normal": ("hertz",),
+    "tangential": ("full-sliding", "fastsim"), "temperature": ("green",)})``.
 
     For each stage the chain lists candidate model names; the first candidate whose
     :meth:`StageModel.supports` accepts the scene runs. A coupled model is named in each stage
-    it covers. ``default_cells`` sets the surface grid's cells along 2a at level 0.
+    it covers. A chain without a ``heat_source`` stage gets core's ``frictional`` (traction x slip)
+    when it has a tangential and a temperature stage. A plugin API 1 chain (stage ``contact``; a
+    tangential model such as ``full-sliding`` listed under ``heat_source``) is translated by the
+    plugin host, with a warning, for one release. ``default_cells`` sets the surface grid's cells
+    along 2a at level 0.
 
     ``orders`` declares the theoretical convergence order of the method per error metric
     (``{"max_surface_temperature": 2.0, ...}``; metric names of :data:`railtherm.metrics.METRICS`):

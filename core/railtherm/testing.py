@@ -76,6 +76,22 @@ def check_model_class(cls) -> None:
     assert not unknown, f"model {cls.name!r} provides unknown variables {unknown}"
     for k, opt in cls.options.items():
         assert isinstance(opt, Option) and opt.doc, f"model {cls.name!r}: option {k!r} needs an Option with doc"
+    # plugin API 2: the model implements the compute method of its stage (a coupled model: compute
+    # with the plan's Upstream)
+    import inspect
+    from .stages import (CoupledModel, HeatSourceModel, NormalContactModel, TangentialContactModel,
+                         TemperatureModel)
+    for base, meth in ((CoupledModel, "compute"), (NormalContactModel, "compute_patch"),
+                       (TangentialContactModel, "compute_tangential"), (HeatSourceModel, "compute_source"),
+                       (TemperatureModel, "compute_temperature")):
+        if issubclass(cls, base):
+            assert getattr(cls, meth) is not getattr(base, meth), f"model {cls.name!r} does not implement {meth}"
+            if base is CoupledModel:
+                params = list(inspect.signature(cls.compute).parameters)
+                assert len(params) >= 6, (f"coupled model {cls.name!r}: compute{tuple(params)} lacks the plan's "
+                                          "'upstream' argument (plugin API 2: compute(scene, level, options, stages, "
+                                          "upstream))")
+            break
 
 
 #: relative error of a scene's headline quantity (and of every scalar with an exact reference) within
@@ -129,8 +145,9 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
     Form: for every scene the method either returns a valid result (schema validated, asked outputs
     present, finite, deterministic, the heat flux integrating to the frictional power within 2 %
     where both are reported) or raises :class:`railtherm.Refused` with a non-empty message and a
-    kind in ``Refused.KINDS`` ("validity", "budget"). A scene asking only for contact outputs must
-    not run a temperature stage.
+    kind in ``Refused.KINDS`` ("validity", "budget"). A scene asking only for a normal-contact output
+    runs the normal stage only. The method's chain is plugin API 2 (stages normal, tangential,
+    heat_source, temperature) and each model implements its stage's compute method.
 
     Physics (on the results at ``level``):
 
@@ -156,6 +173,8 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
 
     host = get_host()
     info = host.method(method)
+    assert not info.api1, (f"method {method!r} is registered with a plugin API 1 chain ({'; '.join(info.api1)}); "
+                           "name the stages normal, tangential, heat_source, temperature (docs/plugins.md)")
     for m in info.models:
         check_model_class(m.cls)
     outcome = {}
@@ -193,8 +212,8 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
                 pl = plan(only, method, level)
             except Refused:
                 continue
-            assert "temperature" not in pl.stages, \
-                f"method {method!r} would run a temperature stage for contact outputs only ({pl.describe()})"
+            assert pl.stages == ("normal",), \
+                f"method {method!r} would run {pl.stages} for a normal-contact output only ({pl.describe()})"
 
     assert solved, (f"method {method!r} refused every one of the {len(raws)} scenes it was given at level "
                     f"{level}; a method must solve at least one: " + "; ".join(refusals))

@@ -200,7 +200,7 @@ def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offse
 
 @numba.njit(cache=True, fastmath=False, boundscheck=False)
 def ellipse_cell_kernel(xe, ye, a, b, t, w, frac, par):  # pragma: no cover - compiled
-    """Cell averages of the ellipse indicator and parabola (see ``fastsim_model.ellipse_cell_integrals``).
+    """Cell averages of the ellipse indicator and parabola (see ``simplified_theory.ellipse_cell_integrals``).
 
     Exact along x, Gauss-Legendre nodes ``t`` / weights ``w`` (on [-1, 1]) across y.
     """

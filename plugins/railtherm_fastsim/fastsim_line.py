@@ -229,7 +229,7 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
         ``creep_force_y`` and ``spin_moment`` are 0.
     """
     from .fastsim_kernel import fastsim_sweep
-    from .fastsim_model import BOUNDS, LEADING_EDGES, FastsimResult
+    from .simplified_theory import BOUNDS, LEADING_EDGES, FastsimResult
 
     if not grid.line:
         raise ValueError("fastsim_line needs a line grid (y_edges None)")

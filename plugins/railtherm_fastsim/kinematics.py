@@ -105,13 +105,13 @@ def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, whee
     rtol : float
         Convergence tolerance of the normal forces [1].
     **fastsim_options
-        bound, flexibility, leading_edge of :func:`railtherm_fastsim.fastsim_model.fastsim`.
+        bound, flexibility, leading_edge of :func:`railtherm_fastsim.simplified_theory.fastsim`.
 
     Returns
     -------
     WheelsetSolution
     """
-    from .fastsim_model import fastsim
+    from .simplified_theory import fastsim
 
     gam = float(conicity)
     delta = math.atan(gam)

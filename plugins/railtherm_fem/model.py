@@ -24,8 +24,8 @@ import math
 
 import numpy as np
 
-from railtherm import (Capabilities, ContactPatch, CoupledModel, HeatSource, Option, Refused, SolverError,
-                       TemperatureField, surface_grid)
+from railtherm import (BodyTemperature, Capabilities, ContactPatch, CoupledModel, HeatSource, Option, Refused,
+                       SolverError, TemperatureField, surface_grid)
 from railtherm.physics import nodal_cell_average
 
 from .coupled import FemProblem, _interpolator, fem_limits, solve_fem
@@ -138,17 +138,15 @@ class FemModel(CoupledModel):
             coupling_tolerance=float(options.get("coupling_tolerance", 1e-6)),
             coupling_max_iterations=int(options.get("coupling_max_iterations", 30)))
 
-    def compute(self, scene, level, options, stages):
+    def compute(self, scene, level, options, stages, upstream):
         why = self.supports(scene, level)
         if why:
             raise Refused(why)
         cells = options.get("cells")
-        if scene.heat_source is not None:
-            import railtherm
-            source = railtherm.given_heat_source(scene, level, cells)
+        if upstream.source is not None:   # a given heat source (core's "given", run by the plan)
             wanted = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
-            return None, None, self._given(scene, level, options, source) if wanted else None
-        # the pipeline may plan only ("contact",) for a coupled model (docs/DESIGN.md, "Stages"): run the
+            return None, None, self._given(scene, level, options, upstream.source) if wanted else None
+        # the pipeline may plan only ("normal",) for a coupled model (docs/DESIGN.md, "Stages"): run the
         # thermal part whenever the scene asks for a temperature output
         thermal = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
         prob = self._problem(scene, level, options, thermal)
@@ -196,19 +194,21 @@ class FemModel(CoupledModel):
                             frictional_power=float(sol.frictional_power), patch=patch, diagnostics=diag)
         temp = None
         if thermal:
-            temp = self._temperature_from(sol.thermal_grid, sol.theta, grid, xc, scene, diag)
-            temp.diagnostics.update(self._stresses(sol, grid, xc))
-        return (patch if "contact" in stages else None, source if "heat_source" in stages or thermal else None, temp)
+            temp = self._temperature_from(sol.thermal_grid, sol.theta, grid, xc, scene,
+                                          {**diag, **self._stresses(sol, grid, xc)})
+        return (patch if {"normal", "tangential"} & set(stages) else None,
+                source if "heat_source" in stages or thermal else None, temp)
 
     # ------------------------------------------------------------------------------------------
     @staticmethod
     def _temperature_from(tgrid, theta, grid, xc, scene, diag):
-        bulk = np.array([scene.wheel.bulk_temperature, scene.rail.bulk_temperature])
         xs = grid.x + xc
-        surface = np.stack([np.interp(xs, tgrid.x, theta[j][:, 0]) for j in range(2)]) + bulk[:, None]
-        depth = np.stack([np.stack([np.interp(xs, tgrid.x, theta[j][:, k]) for k in range(tgrid.z.size)], axis=1)
-                          for j in range(2)]) + bulk[:, None, None]
-        return TemperatureField.from_surface(grid, surface, z=tgrid.z.copy(), temperature=depth, diagnostics=dict(diag))
+        bodies = [BodyTemperature(np.interp(xs, tgrid.x, theta[j][:, 0]), z=tgrid.z,
+                                  depth_rise=np.stack([np.interp(xs, tgrid.x, theta[j][:, k])
+                                                       for k in range(tgrid.z.size)], axis=1))
+                  for j in range(2)]
+        return TemperatureField.from_bodies(grid, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
+                                            *bodies, z=tgrid.z, diagnostics=diag)
 
     @staticmethod
     def _stresses(sol, grid, xc):

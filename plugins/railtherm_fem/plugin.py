@@ -12,7 +12,7 @@ def railtherm_register_models():
 
 @hookimpl
 def railtherm_register_methods():
-    return [Method("fem", {"contact": ("fem",), "heat_source": ("fem",), "temperature": ("fem",)},
+    return [Method("fem", {"normal": ("fem",), "tangential": ("fem",), "heat_source": ("fem",), "temperature": ("fem",)},
                    description="2-D quasistatic thermoelastic FEM rolling contact (seed section 4)",
                    orders={
                        # P1 pressures on uniform surface nodes: the square-root edge of the pressure costs

@@ -12,7 +12,8 @@ def railtherm_register_models():
 
 @hookimpl
 def railtherm_register_methods():
-    return [Method("fipy", {"contact": ("hertz",), "heat_source": ("full-sliding", "fastsim"),
+    return [Method("fipy", {"normal": ("wheelset", "hertz"), "tangential": ("full-sliding", "fastsim"),
+                            "heat_source": ("frictional",),
                             "temperature": ("fipy",)},
                    description="Hertz patch, full-sliding (or FASTSIM) heat, FiPy finite-volume temperatures "
                                "(steady moving frame 2-D/3-D; transient wheel heating)",

@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from railtherm import Capabilities, Option, Refused, TemperatureField, TemperatureModel
+from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
 from railtherm.physics import (CONVECTIVE_AREA, equal_temperature_partition, lumped_wheel, peclet_number,
                                thermal_scales)
 from railtherm.physics.lumped_wheel import CONVECTIVE_AREAS
@@ -157,16 +157,14 @@ class GreenTemperature(TemperatureModel):
         rise = kernel.surface_rise(grid.x_edges, flux, beta, speeds)          # one matmul, both bodies
 
         # warm wheel against cold rail (or vice versa): conduction through the patch, eqs. 40-44
-        t_bulk = np.array([wheel.bulk_temperature, rail.bulk_temperature], dtype=float)
-        d_bulk = float(t_bulk[0] - t_bulk[1])
+        t_bulk = (float(wheel.bulk_temperature), float(rail.bulk_temperature))
+        d_bulk = t_bulk[0] - t_bulk[1]
         eps_c = equal_temperature_partition(wheel, rail, v_w, v_r)
-        surface = rise + t_bulk[:, None, None]
+        surface_rise = rise
         if d_bulk != 0.0:
             half = _strip_half_lengths(grid)
             cw, cr = steady.contact_conduction_surface(grid.x[:, None], half[None, :], eps_c)
-            surface[0] += d_bulk * cw
-            surface[1] += d_bulk * cr
-        field = TemperatureField.from_surface(grid, surface.reshape((2,) + shape))
+            surface_rise = rise + d_bulk * np.stack([cw, cr])
 
         pe = [peclet_number(v, a, m.diffusivity) for v, m in zip(speeds, (wheel, rail))]
         diag = {
@@ -181,10 +179,11 @@ class GreenTemperature(TemperatureModel):
         diag.update({f"model_error_{k}": v for k, v in err.items()})
         diag["model_error_note"] = validity.ERROR_NOTE
 
+        z = depth_rise = None
         if want_all or "temperature" in outputs:
-            z, depth = self._depth(grid, flux, beta, speeds, (wheel, rail), d_bulk, eps_c, t_bulk, opts)
-            field.z, field.temperature = z, depth
+            z, depth_rise = self._depth(grid, flux, beta, speeds, (wheel, rail), d_bulk, eps_c, opts)
 
+        steady_wheel = steady_mean = None
         if want_all or any(o in outputs for o in _STEADY):
             mean_rise = [float(rise[i][grid.inside().reshape(q2.shape)].mean()) for i in range(2)]
             st = lumped_wheel(
@@ -192,8 +191,8 @@ class GreenTemperature(TemperatureModel):
                 wheel=wheel, rail=rail, speed_wheel=v_w, speed_rail=v_r,
                 a=a, b=b, radius=float(scene.wheel_radius), heat_transfer=float(scene.convection or 0.0),
                 area_kind=opts["convective_area"])
-            field.steady_wheel_temperature = float(t_bulk[1] + st.wheel_rise)
-            field.steady_mean_contact_temperature = float(t_bulk[1] + st.mean_contact_rise)
+            steady_wheel = float(t_bulk[1] + st.wheel_rise)
+            steady_mean = float(t_bulk[1] + st.mean_contact_rise)
             diag.update({
                 "steady_wheel_power": st.wheel_power, "steady_conduction_conductance": st.conduction,
                 "steady_convection_conductance": st.convection, "steady_convective_area": st.area,
@@ -204,13 +203,24 @@ class GreenTemperature(TemperatureModel):
                                       " b B(1/2,5/4) + alpha A); ")
                                    + "theta_mean_inf = theta_mean + eps_c theta_inf; air at rail bulk temperature"),
             })
-        field.diagnostics.update(diag)
-        return field
+
+        # each body's rise above its bulk temperature; a body that gets neither frictional heat nor
+        # heat conducted from the other body's bulk temperature stays at its bulk temperature (None)
+        bodies = []
+        for i in range(2):
+            if d_bulk == 0.0 and not np.any(flux[i] != 0):
+                bodies.append(None)
+                continue
+            bodies.append(BodyTemperature(surface_rise[i].reshape(shape), z=z,
+                                          depth_rise=None if depth_rise is None else depth_rise[i]))
+        return TemperatureField.from_bodies(grid, t_bulk, *bodies, z=z, steady_wheel_temperature=steady_wheel,
+                                            steady_mean_contact_temperature=steady_mean, diagnostics=diag)
 
     # ------------------------------------------------------------------------------------------
     @staticmethod
-    def _depth(grid, flux, beta, speeds, bodies, d_bulk, eps_c, t_bulk, opts):
-        """Depth field at y = 0: (z, T) with T of shape (2, nx, nz) [m], [degC]."""
+    def _depth(grid, flux, beta, speeds, bodies, d_bulk, eps_c, opts):
+        """Depth field at y = 0 on the common graded depth axis: (z, rise) with the rise above each
+        body's bulk temperature of shape (2, nx, nz) [m], [K]."""
         a = grid.a
         layers = [thermal_scales(a, v, m.diffusivity).thermal_depth for v, m in zip(speeds, bodies)]
         n = int(opts["depth_points"])
@@ -224,7 +234,7 @@ class GreenTemperature(TemperatureModel):
             qc = (1.0 - w1) * flux[:, :, j] + w1 * flux[:, :, j + 1]      # linear in y at y = 0
         out = np.empty((2, grid.x.size, n))
         for i, (bt, v, m) in enumerate(zip(beta, speeds, bodies)):
-            out[i] = kernel.depth_rise(grid.x_edges, qc[i], z, bt, v, m.diffusivity) + t_bulk[i]
+            out[i] = kernel.depth_rise(grid.x_edges, qc[i], z, bt, v, m.diffusivity)
         if d_bulk != 0.0:
             cw, cr = steady.contact_conduction_depth(grid.x, z, a, eps_c, speeds[0], speeds[1],
                                                       bodies[0].diffusivity, bodies[1].diffusivity)

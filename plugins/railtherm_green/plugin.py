@@ -14,7 +14,8 @@ def railtherm_register_models():
 @hookimpl
 def railtherm_register_methods():
     """Method ``green``: Hertz patch, full-sliding (or FASTSIM) heat source, 1-D Green temperatures."""
-    return [Method("green", {"contact": ("hertz",), "heat_source": ("full-sliding", "fastsim"),
+    return [Method("green", {"normal": ("wheelset", "hertz"), "tangential": ("full-sliding", "fastsim"),
+                            "heat_source": ("frictional",),
                              "temperature": ("green",)},
                    description="Ertz & Knothe (2002) analytic flash temperatures: Hertz patch, full-sliding or "
                                "FASTSIM heat, 1-D moving Green function strip by strip (Péclet >= 10)",

@@ -7,8 +7,8 @@ from ..hookspec import hookimpl
 @hookimpl
 def railtherm_register_models():
     from .hertz import HertzContact
-    from .sliding import FullSlidingHeat, GivenHeat
-    return [HertzContact, FullSlidingHeat, GivenHeat]
+    from .sliding import FrictionalHeat, FullSlidingTangential, GivenHeat
+    return [HertzContact, FullSlidingTangential, FrictionalHeat, GivenHeat]
 
 
 @hookimpl

@@ -1,11 +1,12 @@
-"""Core heat-source models: "full-sliding" (mu p v_s on a Hertz patch) and "given" (scene.heat_source)."""
+"""Core models of the tangential and heat-source stages: "full-sliding" (traction mu p against the slip v_s),
+"frictional" (heat = -traction . slip) and "given" (the scene's own heat source)."""
 from __future__ import annotations
 
 import numpy as np
 
 from ..errors import Refused
 from ..grid import BASE_CELLS, surface_grid
-from ..stages import Capabilities, HeatSource, HeatSourceModel, Option
+from ..stages import Capabilities, HeatSource, HeatSourceModel, Option, TangentialContactModel
 from ..physics.averaging import cell_average, exact_total
 from ..physics.kinematics import body_speeds
 from ..physics.partition import scene_partition
@@ -15,38 +16,83 @@ from ..physics.partition import scene_partition
 CLOSED_FORM = {"converged": True, "iterations": 0, "residual": 0.0}
 
 
-class FullSlidingHeat(HeatSourceModel):
-    """Full sliding: the whole patch slips at v_s, power density q = mu p v_s [W/m^2] (seed eq. 37).
+class FullSlidingTangential(TangentialContactModel):
+    """Full sliding: the whole patch slips at v_s, traction mu p against the slip (seed eq. 37).
 
     The wheel surface moves at v_w = V + v_s relative to the contact, the rail at v_r = V
-    (seed eqs. 32-33); the partition is the scene's number or the equal-temperature fraction.
-    ``frictional_power`` is the exact mu v_s N; the grid integral of the cell-averaged density
-    equals it to round-off, which the runner's heat-balance check confirms.
+    (seed eqs. 32-33). The local dissipation -(traction . slip) = mu p |v_s| is exact per cell (the
+    pressure is cell-averaged and mu |v_s| constant), so core's heat source integrates it to
+    mu |v_s| N to round-off.
     """
 
     name = "full-sliding"
     exact_reference = "full-sliding"
-    description = "full sliding heat source mu p v_s, split by the scene's heat partition"
+    description = "full sliding: traction mu p opposing the slip v_s over the whole patch"
     capabilities = Capabilities(tangential=frozenset({"full-sliding"}), sources=frozenset({"computed"}),
-                                provides=frozenset({"heat_flux", "frictional_power", "heat_partition", "traction_x",
-                                                    "slip_velocity_x", "stick", "creep_force_x"}))
+                                provides=frozenset({"traction_x", "slip_velocity_x", "stick", "creep_force_x"}))
 
-    def compute_source(self, scene, patch, level, options):
+    def compute_tangential(self, scene, patch, level, options):
         vs = scene.sliding_speed
-        v_w, v_r = body_speeds(scene)
-        q = scene.friction * vs * patch.pressure
-        eps = scene_partition(scene, v_w, v_r)
         mu_p = scene.friction * patch.pressure
         # material flows in -x: the wheel surface moves at -(V + v_s), the rail at -V, so the wheel
         # slips at -v_s relative to the rail and friction pushes it forward (+x) for v_s > 0
-        patch = patch.with_tangential(
+        return patch.with_tangential(
             traction_x=np.sign(vs) * mu_p, slip_velocity_x=np.where(patch.pressure > 0, -vs, 0.0),
             stick=np.where(patch.pressure > 0, 0.0, np.nan),
-            creep_force_x=np.sign(vs) * scene.friction * patch.normal_force)
-        power = scene.friction * vs * patch.normal_force
-        # closed form: converged, no iterations, no residual (docs/verdicts.md)
-        return HeatSource(grid=patch.grid, power_density=q, heat_partition=eps, body_speed=(v_w, v_r),
-                          frictional_power=power, patch=patch, diagnostics=dict(CLOSED_FORM))
+            creep_force_x=np.sign(vs) * scene.friction * patch.normal_force,
+            body_speed=body_speeds(scene), dissipation=scene.friction * abs(vs) * patch.pressure,
+            diagnostics=dict(CLOSED_FORM))
+
+
+def frictional_heat_source(scene, patch) -> HeatSource:
+    """The heat source of a tangential patch: power density -(traction . slip velocity) [W/m^2].
+
+    Uses the patch's ``dissipation`` when the tangential model integrated it exactly over each cell,
+    else the product of the traction and slip fields (a missing component counts as zero). The
+    bodies move at the patch's ``body_speed`` (else :func:`railtherm.physics.body_speeds`); the
+    partition is the scene's number or the equal-temperature fraction.
+
+    Parameters
+    ----------
+    scene : Scene
+    patch : ContactPatch
+        The tangential stage's patch.
+
+    Returns
+    -------
+    HeatSource
+        ``frictional_power`` is the grid integral of the power density [W] ([W/m] for a line).
+    """
+    if patch.dissipation is not None:
+        q = np.asarray(patch.dissipation, dtype=float)
+    else:
+        if patch.traction_x is None and patch.traction_y is None:
+            raise Refused(f"scene {scene.name!r}: the heat source needs the tangential traction and slip; "
+                          "the method's chain has no tangential stage")
+        q = np.zeros(patch.pressure.shape)
+        for t, s in ((patch.traction_x, patch.slip_velocity_x), (patch.traction_y, patch.slip_velocity_y)):
+            if t is not None and s is not None:
+                q = q - np.asarray(t, dtype=float) * np.asarray(s, dtype=float)
+    v_w, v_r = patch.body_speed if patch.body_speed is not None else body_speeds(scene)
+    eps = scene_partition(scene, v_w, v_r)
+    return HeatSource(grid=patch.grid, power_density=q, heat_partition=eps, body_speed=(float(v_w), float(v_r)),
+                      frictional_power=patch.grid.integrate(q), patch=patch, diagnostics=dict(CLOSED_FORM))
+
+
+class FrictionalHeat(HeatSourceModel):
+    """Core's heat source: the local frictional power -(traction . slip) of the tangential stage.
+
+    Full sliding gives mu p v_s (seed eq. 37); FASTSIM gives the "modified FASTSIM" power density
+    -p . s of seed section 6.2. See :func:`frictional_heat_source`.
+    """
+
+    name = "frictional"
+    description = "frictional heat: power density -(traction . slip velocity), split by the heat partition"
+    capabilities = Capabilities(sources=frozenset({"computed"}),
+                                provides=frozenset({"heat_flux", "frictional_power", "heat_partition"}))
+
+    def compute_source(self, scene, patch, level, options):
+        return frictional_heat_source(scene, patch)
 
 
 def given_heat_source(scene, level: int, cells: int | None = None) -> HeatSource:

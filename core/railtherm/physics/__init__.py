@@ -27,6 +27,7 @@ Elastic constants (:mod:`railtherm.physics.elastic`)
         Hertz's plane-strain contact modulus [Pa].
 Kinematics (:mod:`railtherm.physics.kinematics`)
     body_speeds(scene) -> (v_wheel, v_rail)
+    creep_speeds(V, xi) -> (V (1 - xi), V)
         Surface speeds through the patch [m/s].
 Heat partition (:mod:`railtherm.physics.partition`)
     equal_temperature_partition(wheel, rail, v_wheel, v_rail) -> eps
@@ -59,7 +60,7 @@ from .averaging import cell_average, exact_total, nodal_cell_average
 from .elastic import combined_elastic, contact_modulus
 from .grading import geometric_edges
 from .hertz import hertz_geometry, hertz_patch, hertz_pressure_grid, rescale_hertz_patch, scene_semi_axis
-from .kinematics import body_speeds
+from .kinematics import body_speeds, creep_speeds
 from .lumped_wheel import (CONVECTIVE_AREA, ELLIPSE_SQRT_WIDTH, LumpedWheel, conduction_conductance,
                            convective_area, lumped_wheel)
 from .partition import equal_temperature_partition, scene_partition
@@ -67,6 +68,6 @@ from .scales import ThermalScales, peclet_number, thermal_scales
 
 __all__ = ["hertz_geometry", "hertz_patch", "hertz_pressure_grid", "rescale_hertz_patch", "scene_semi_axis",
            "cell_average", "exact_total", "nodal_cell_average", "combined_elastic", "contact_modulus",
-           "body_speeds", "equal_temperature_partition", "scene_partition", "ThermalScales", "thermal_scales",
+           "body_speeds", "creep_speeds", "equal_temperature_partition", "scene_partition", "ThermalScales", "thermal_scales",
            "peclet_number", "geometric_edges", "CONVECTIVE_AREA", "ELLIPSE_SQRT_WIDTH", "LumpedWheel",
            "conduction_conductance", "convective_area", "lumped_wheel"]

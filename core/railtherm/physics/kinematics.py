@@ -1,7 +1,7 @@
 """Speeds of the two bodies' surfaces through the contact patch."""
 from __future__ import annotations
 
-__all__ = ["body_speeds"]
+__all__ = ["body_speeds", "creep_speeds"]
 
 
 def body_speeds(scene) -> tuple[float, float]:
@@ -34,3 +34,27 @@ def body_speeds(scene) -> tuple[float, float]:
     if getattr(scene, "heat_source", None) is None and tangential == "full-sliding":
         return v0 + float(sliding or 0.0), v0
     return v0, v0
+
+
+def creep_speeds(speed: float, xi: float) -> tuple[float, float]:
+    """Surface speeds of wheel and rail relative to the contact for a longitudinal creepage ``xi``.
+
+    With the creepage defined as the rigid slip of the wheel relative to the rail per unit rolling
+    distance (Kalker's convention, positive when the wheel surface is slower), the wheel surface moves
+    at ``V (1 - xi)`` and the rail at ``V``. Full sliding at v_s is ``xi = -v_s / V``, which gives
+    :func:`body_speeds`' ``V + v_s``.
+
+    Parameters
+    ----------
+    speed : float
+        Rolling speed V [m/s].
+    xi : float
+        Longitudinal creepage [1].
+
+    Returns
+    -------
+    wheel, rail : float
+        Surface speeds relative to the contact [m/s].
+    """
+    v0 = float(speed)
+    return v0 * (1.0 - float(xi)), v0

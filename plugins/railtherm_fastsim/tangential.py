@@ -1,0 +1,123 @@
+"""Tangential model "fastsim": Kalker's FASTSIM on the normal stage's patch (seed section 6.2).
+
+The model fills the tangential fields of the patch (tractions, slip velocity, stick/slip, creep
+forces, spin moment), the surface speeds V (1 - xi) and V, and the local dissipation -p . s per cell
+(the seed's "modified FASTSIM" power density), which core's heat source ``frictional`` turns into the
+heat flux. It never changes the normal stage's geometry or pressure: Kalker's parabolic traction bound
+(option ``bound = "parabolic"``) bounds the tractions by mu p_par, but the reported pressure stays the
+normal model's.
+
+Creepages: the patch's own (the wheelset kinematics of seed section 6.1, normal model
+:class:`railtherm_fastsim.wheelset_normal.WheelsetNormal`), else ``scene.creepage``, else full sliding
+(``scene.sliding_speed`` v_s as the longitudinal creepage xi = -v_s/V: the wheel surface moves at
+V + v_s, seed eqs. 32-33).
+
+References
+----------
+.. [1] J.J. Kalker, A fast algorithm for the simplified theory of rolling contact, Vehicle System
+   Dynamics 11 (1982) 1-13. doi:10.1080/00423118208968684
+"""
+from __future__ import annotations
+
+from railtherm import Capabilities, Option, Refused, TangentialContactModel
+from railtherm.physics import combined_elastic, creep_speeds
+
+from .simplified_theory import BOUNDS, FLEXIBILITIES, LEADING_EDGES, fastsim
+
+__all__ = ["FastsimTangential", "FASTSIM_OPTIONS", "ONE_SWEEP", "scene_creepages"]
+
+#: verdict keys of one FASTSIM sweep (docs/verdicts.md): a marching of the strips from their leading
+#: edges, exact for the simplified theory's discretisation -- nothing is iterated
+ONE_SWEEP = {"converged": True, "iterations": 0, "residual": 0.0}
+
+#: FASTSIM's options (also declared by the wheelset normal model, which runs FASTSIM in its iteration)
+FASTSIM_OPTIONS = {
+    "bound": Option("elliptic", "traction bound: 'elliptic' (Hertz pressure, CONTACT's advice) or "
+                                "'parabolic' (Kalker's FASTSIM: mu times the parabola of the same load)", choices=BOUNDS),
+    "flexibility": Option("three", "'three' (L1, L2, L3 from Kalker's coefficients), 'one' (Kalker's "
+                                   "weighted single flexibility) or 'contact' (CONTACT's blend)",
+                          choices=FLEXIBILITIES),
+    "leading_edge": Option("exact", "'exact' (integrate from the true leading edge) or 'contact' "
+                                    "(CONTACT's cell discretisation)", choices=LEADING_EDGES),
+}
+
+
+def scene_creepages(scene, patch) -> tuple[float, float, float]:
+    """(xi [1], eta [1], phi [1/m]) for FASTSIM: the patch's (wheelset kinematics), the scene's
+    creepage, or full sliding xi = -v_s / V."""
+    if patch.creepage is not None:
+        return tuple(float(c) for c in patch.creepage)
+    if scene.creepage is not None:
+        c = scene.creepage
+        return float(c.longitudinal), float(c.lateral), float(c.spin)
+    if scene.sliding_speed is not None:
+        return -float(scene.sliding_speed) / float(scene.speed), 0.0, 0.0
+    raise Refused(f"scene {scene.name!r}: no creepage or sliding speed for FASTSIM, and the normal model did not "
+                  "solve a wheelset's kinematics (method chains list 'wheelset' before 'hertz' for that)")
+
+
+class FastsimTangential(TangentialContactModel):
+    """Kalker's FASTSIM on the patch: tractions, slip, stick/slip, creep forces, spin moment and the
+    local frictional power density -p.s (:func:`railtherm_fastsim.simplified_theory.fastsim`).
+
+    Line contacts (longitudinal creepage or full sliding only): one strip with Carter's
+    flexibility (:func:`railtherm_fastsim.fastsim_line.fastsim_line`); forces and powers per unit width.
+    """
+
+    name = "fastsim"
+    description = ("Kalker's FASTSIM (simplified theory, elliptic or parabolic bound): tractions, slip, "
+                   "creep forces and the local frictional power density -p.s (seed 6.2)")
+    capabilities = Capabilities(
+        contacts=frozenset({"ellipse", "line"}), sources=frozenset({"computed"}),
+        tangential=frozenset({"creepage", "full-sliding"}),
+        provides=frozenset({"traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick",
+                            "creep_force_x", "creep_force_y", "spin_moment"}))
+    options = FASTSIM_OPTIONS
+
+    def supports(self, scene, level):
+        why = super().supports(scene, level)
+        if why:
+            return why
+        if scene.friction is None:
+            return "model 'fastsim' needs the friction coefficient (key 'friction')"
+        if scene.creepage is None and scene.sliding_speed is None and getattr(scene, "wheelset", None) is None:
+            return "model 'fastsim' needs creepages, a sliding speed or a wheelset"
+        if getattr(scene.wheel, "rigid", False) and getattr(scene.rail, "rigid", False):
+            return "model 'fastsim' needs at least one elastic body (both are rigid)"
+        if scene.contact_shape == "line":  # lateral outputs of a line contact are rejected by the scene parser
+            c = scene.creepage
+            if c is not None and (float(c.lateral) != 0.0 or float(c.spin) != 0.0):
+                return (f"model 'fastsim': a line contact (2-D rolling) has only longitudinal creepage; the scene "
+                        f"gives lateral = {float(c.lateral):g}, spin = {float(c.spin):g} 1/m: set them to 0 or "
+                        "use an elliptical contact")
+            if c is None and scene.sliding_speed is None:
+                return ("model 'fastsim': the wheelset kinematics (seed 6.1) needs an elliptical contact; a line "
+                        "contact needs a creepage or a sliding speed")
+        return None
+
+    def compute_tangential(self, scene, patch, level, options):
+        xi, eta, phi = scene_creepages(scene, patch)
+        try:
+            G, nu = combined_elastic(scene.wheel, scene.rail)
+        except ValueError as exc:
+            raise Refused(f"model 'fastsim': {exc}") from exc
+        V = float(scene.speed)
+        common = dict(normal_force=patch.normal_force, friction=float(scene.friction), shear_modulus=G,
+                      poisson_ratio=nu, xi=xi, speed=V, bound=options["bound"], leading_edge=options["leading_edge"])
+        if patch.b is None:
+            from .fastsim_line import fastsim_line
+            if eta != 0.0 or phi != 0.0:
+                raise Refused(f"model 'fastsim': a line contact has only longitudinal creepage (lateral = {eta:g}, "
+                              f"spin = {phi:g} 1/m given); use an elliptical contact")
+            res = fastsim_line(patch.grid, patch.pressure, a=patch.a, **common)
+        else:
+            res = fastsim(patch.grid, patch.pressure, a=patch.a, b=patch.b, eta=eta, phi=phi,
+                          flexibility=options["flexibility"], **common)
+        diag = {**res.diagnostics, "combined_shear_modulus": G, "combined_poisson_ratio": nu, **ONE_SWEEP}
+        fields = dict(traction_x=res.traction_x, slip_velocity_x=res.slip_velocity_x, stick=res.stick,
+                      creep_force_x=res.creep_force_x)
+        if patch.b is not None:
+            fields.update(traction_y=res.traction_y, slip_velocity_y=res.slip_velocity_y,
+                          creep_force_y=res.creep_force_y, spin_moment=res.spin_moment)
+        return patch.with_tangential(**fields, body_speed=creep_speeds(V, xi), dissipation=res.power_density,
+                                     diagnostics=diag)

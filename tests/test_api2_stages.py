@@ -1,0 +1,122 @@
+"""Plugin API 2: four stages, no stage rewrites another's result, API 1 chains translated for one release.
+
+* an API 1 chain (stage ``contact``, tangential models under ``heat_source``) is read as API 2 with a
+  DeprecationWarning, listed in ``MethodInfo.api1``, and solves as the API 2 chain would (bit for bit);
+* a tangential model that returns the patch it was given, changes a normal field, or writes into the
+  normal stage's arrays is a PluginError / fails at once;
+* the heat source of a chain with tangential and temperature stages is core's ``frictional``: q = the
+  tangential stage's dissipation, integrating to its frictional power.
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import railtherm
+from railtherm import Capabilities, Method, PluginError, TangentialContactModel, hookimpl
+from railtherm.testing import canonical
+
+FULL = {"normal": ("hertz",), "tangential": ("full-sliding",), "heat_source": ("frictional",),
+        "temperature": ("green",)}
+
+
+class Returns(TangentialContactModel):
+    """Test fake: returns the patch it was given."""
+
+    name = "api2-returns-input"
+    description = "test fake: returns its input patch"
+    capabilities = Capabilities(provides=frozenset({"traction_x"}))
+
+    def compute_tangential(self, scene, patch, level, options):
+        return patch
+
+
+class Rescales(TangentialContactModel):
+    """Test fake: returns a patch with a doubled pressure."""
+
+    name = "api2-rescales"
+    description = "test fake: changes the normal pressure"
+    capabilities = Capabilities(provides=frozenset({"traction_x"}))
+
+    def compute_tangential(self, scene, patch, level, options):
+        import dataclasses
+        return dataclasses.replace(patch, pressure=2 * patch.pressure)
+
+
+class Writes(TangentialContactModel):
+    """Test fake: writes into the normal stage's pressure array."""
+
+    name = "api2-writes"
+    description = "test fake: writes into the normal stage's pressure"
+    capabilities = Capabilities(provides=frozenset({"traction_x"}))
+
+    def compute_tangential(self, scene, patch, level, options):
+        patch.pressure[...] = 0.0
+        return patch.with_tangential(traction_x=np.zeros_like(patch.pressure))
+
+
+class Plugin:
+    @hookimpl
+    def railtherm_register_models(self):
+        return [Returns, Rescales, Writes]
+
+    @hookimpl
+    def railtherm_register_methods(self):
+        return [Method("api1-green", {"contact": ("hertz",), "heat_source": ("full-sliding",),
+                                      "temperature": ("green",)}),
+                Method("api2-green", FULL)] + [
+            Method(m.name, {"normal": ("hertz",), "tangential": (m.name,), "heat_source": ("frictional",),
+                            "temperature": ("green",)}) for m in (Returns, Rescales, Writes)]
+
+
+@pytest.fixture
+def host(railtherm_register):
+    if "green" not in {m.name for m in railtherm.methods()}:
+        pytest.skip("method 'green' is not installed")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        h = railtherm_register("api2", Plugin(), autoload=True)
+    return h, caught
+
+
+def test_api1_chain_is_translated_with_a_warning(host):
+    h, caught = host
+    assert any(issubclass(w.category, DeprecationWarning) and "api1-green" in str(w.message) for w in caught)
+    info = h.methods["api1-green"]
+    assert info.method.chain == {**FULL}
+    assert info.api1 and any("contact" in n for n in info.api1) and any("tangential" in n for n in info.api1)
+    assert not h.methods["api2-green"].api1
+
+
+def test_api1_chain_solves_as_api2(host):
+    sc = canonical("ellipse-full-sliding", outputs=["max_surface_temperature", "frictional_power"])
+    a = railtherm.solve(sc, "api1-green", 0)
+    b = railtherm.solve(sc, "api2-green", 0)
+    assert a.attrs["stages"] == b.attrs["stages"] == (
+        "normal:hertz tangential:full-sliding heat_source:frictional temperature:green")
+    assert float(a.max_surface_temperature.max()) == float(b.max_surface_temperature.max())
+
+
+def test_frictional_heat_is_the_tangential_dissipation(host):
+    """q = mu p |v_s| in full sliding; its grid integral is the frictional power, which equals the
+    exact mu N |v_s| up to the cell averaging of the Hertz pressure (exact totals: round-off)."""
+    sc = canonical("ellipse-full-sliding", outputs=["heat_flux", "frictional_power"])
+    ds = railtherm.solve(sc, "api2-green", 1)
+    scene = railtherm.load_scene(sc)
+    from railtherm.physics import body_speeds
+    vw, vr = body_speeds(scene)
+    exact = scene.friction * scene.normal_force * abs(vw - vr)
+    assert float(ds.frictional_power) == pytest.approx(exact, rel=1e-12)
+
+
+@pytest.mark.parametrize("name, message", [
+    ("api2-returns-input", "returned the patch it was given"),
+    ("api2-rescales", "changed the normal stage's 'pressure'"),
+    ("api2-writes", "read-only"),
+])
+def test_a_tangential_model_never_rewrites_the_normal_result(host, name, message):
+    sc = canonical("ellipse-full-sliding", outputs=["max_surface_temperature"])
+    with pytest.raises((PluginError, ValueError), match=message):
+        railtherm.solve(sc, name, 0)
