@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from railtherm import Method, hookimpl
 
-from .fdm_model import FDMTemperature
+from railtherm_fdm.model import FDMTemperature
 from .tangential import FastsimTangential
 from .wheelset_normal import WheelsetNormal
 
