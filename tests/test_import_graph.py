@@ -1,12 +1,34 @@
-"""Core's import graph (read with :mod:`ast`, function-level imports included): no circle; the output
-folder has one owner (:mod:`railtherm.store`) that imports nothing above it; the report reads only
-through the store; the executors and the time limits never import the runner."""
+"""Core's import graph (read with :mod:`ast`, function-level imports included): no circle; the layers
+import one way (cli/testing -> run -> report -> analysis -> solve -> output -> input -> models ->
+physics -> contract -> references); the output folder has one owner (:mod:`railtherm.output.store`)
+that imports nothing above it; the report reads only through the store; nothing but the cli and the
+kit imports the runner; plugins import only the public API (tests/test_physics.py)."""
 import ast
 from pathlib import Path
 
 import railtherm
 
 CORE = Path(railtherm.__file__).parent
+
+
+#: bottom to top; a module imports only its own layer and layers below it
+LAYERS = ("_version", "references", "contract", "physics", "models", "input", "output", "solving", "analysis",
+          "report", "run", "top")
+#: the one upward edge: the contract's capability checks (StageModel.supports) use the Péclet number and
+#: the body speeds, from physics modules that import nothing of railtherm themselves
+EXCEPTIONS = {("railtherm.contract.stages", "railtherm.physics.kinematics"),
+              ("railtherm.contract.stages", "railtherm.physics.scales")}
+#: the flat module paths of 0.1, kept for one release as aliases of the moved modules
+SHIMS = {f"railtherm.{n}" for n in ("errors", "grid", "hookspec", "stages", "schema", "options", "scene", "study",
+                                    "materials", "store", "plugins", "pipeline", "metrics", "results",
+                                    "reference_curves", "analytic", "runner", "executors", "timelimit")}
+
+
+def layer(mod: str) -> str:
+    parts = mod.split(".")
+    if len(parts) == 1 or parts[1] in ("cli", "testing"):
+        return "top"
+    return parts[1]
 
 
 def _module_name(path: Path) -> str:
@@ -28,7 +50,7 @@ def _type_checking_only(tree) -> set:
 
 def import_graph() -> dict[str, set[str]]:
     """Module -> railtherm modules it imports (module level and inside functions)."""
-    files = {_module_name(p): p for p in CORE.rglob("*.py")}
+    files = {_module_name(p): p for p in CORE.rglob("*.py") if _module_name(p) not in SHIMS}
     graph = {}
     for mod, path in files.items():
         tree = ast.parse(path.read_text(encoding="utf-8"))
@@ -88,13 +110,40 @@ def cycles(graph) -> list[list[str]]:
 
 def test_graph_sees_function_level_imports():
     graph = import_graph()
-    assert "railtherm.store" in graph["railtherm.runner"]           # module level
-    assert "railtherm.executors" in graph["railtherm.runner"]       # inside run_tasks
-    assert "railtherm.report" in graph["railtherm.runner"]          # inside run_study
+    runner = graph["railtherm.run.runner"]
+    assert "railtherm.output.store" in runner              # module level
+    assert "railtherm.run.executors" in runner             # inside run_tasks
+    assert "railtherm.report" in runner                    # inside run_study
+
+
+def test_every_core_module_is_in_a_layer():
+    assert {layer(m) for m in import_graph()} <= set(LAYERS)
 
 
 def test_core_has_no_import_cycle():
     assert cycles(import_graph()) == []
+
+
+def test_layers_import_one_way():
+    graph = import_graph()
+    rank = {name: i for i, name in enumerate(LAYERS)}
+    upward = sorted(f"{m} -> {d}" for m, deps in graph.items() for d in deps
+                    if rank[layer(d)] > rank[layer(m)] and (m, d) not in EXCEPTIONS)
+    assert upward == [], upward
+
+
+def test_the_exceptions_import_nothing_of_railtherm():
+    graph = import_graph()
+    for _, target in EXCEPTIONS:
+        assert graph[target] == set(), target
+
+
+def test_shims_alias_the_moved_modules():
+    import importlib
+    for old in sorted(SHIMS):
+        mod = importlib.import_module(old)
+        assert mod.__name__ != old and mod.__name__.endswith(old.rsplit(".", 1)[1]), old
+        assert importlib.import_module(mod.__name__) is mod
 
 
 def test_report_reads_only_through_the_store():
@@ -103,13 +152,14 @@ def test_report_reads_only_through_the_store():
                if not d.startswith("railtherm.report")}
     # the store (the output folder) and the study file that study.json names; no runner, executors,
     # metrics, physics or reference computations
-    assert outside <= {"railtherm.store", "railtherm.study"}, outside
+    assert outside <= {"railtherm.output.store", "railtherm.input.study"}, outside
 
 
 def test_store_and_time_limits_import_nothing_above_them():
     graph = import_graph()
     # the store decodes railtherm 0.1's sweep attributes against the scene vocabulary, nothing more
-    assert graph["railtherm.store"] <= {"railtherm.scene"}, graph["railtherm.store"]
-    assert graph["railtherm.timelimit"] == set()
-    for mod in ("railtherm.executors", "railtherm.metrics", "railtherm.results", "railtherm.reference_curves"):
-        assert "railtherm.runner" not in graph[mod], mod
+    assert graph["railtherm.output.store"] <= {"railtherm.input.scene"}, graph["railtherm.output.store"]
+    assert graph["railtherm.run.timelimit"] == set()
+    for mod, deps in graph.items():
+        if layer(mod) != "top" and mod != "railtherm.run.runner":
+            assert "railtherm.run.runner" not in deps, mod

@@ -3,28 +3,47 @@
 Public API
 ----------
 load_study, solve, run_study, methods, open_results, SceneError, Refused, hookimpl, and the stage
-interfaces (ContactModel, HeatSourceModel, TemperatureModel, CoupledModel, Method, ...).
+interfaces of plugin API 2 (NormalContactModel, TangentialContactModel, HeatSourceModel,
+TemperatureModel, CoupledModel, Method, ...).
+
+Layout (imports run one way, top to bottom; tests/test_import_graph.py checks it)
+------------------------------------------------------------------------------
+cli, testing     the command line and the plugin conformance kit
+run/             running a study: runner, executors, time limits
+report/          the study report (reads the output folder through the store)
+analysis/        exact reference values of a scene, metrics, result collections, reference curves
+solving/         one scene with one method: plugin host and stage pipeline
+output/          the output folder's one owner (store)
+input/           scenes, studies, materials (the study vocabulary)
+models/          core's own stage models (hertz, full-sliding, frictional, given)
+physics/         shared physics toolkit (Hertz, partition, thermal scales, lumped wheel, ...)
+contract/        what a plugin implements: stages, hooks, errors, grid, result schema, options
+references/      exact and published solutions (pure functions)
+
+Plugins import ``railtherm`` (this module), ``railtherm.physics`` and ``railtherm.references`` only.
+The old flat module paths (``railtherm.stages``, ``railtherm.runner``, ...) are aliases of the new ones
+for one release.
 """
 from __future__ import annotations
 
-__version__ = "0.2.0"
+from ._version import __version__
 
-from .errors import PluginError, Refused, SceneError, SolverError
-from .grid import SurfaceGrid, surface_grid
-from .hookspec import hookimpl
-from .materials import Material
+from .contract.errors import PluginError, Refused, SceneError, SolverError
+from .contract.grid import SurfaceGrid, surface_grid
+from .contract.hookspec import hookimpl
+from .input.materials import Material
 from .physics import combined_elastic, equal_temperature_partition, scene_partition
-from .stages import (BODIES, STAGES, BodyTemperature, Capabilities, ContactModel, ContactPatch, CoupledModel,
+from .contract.stages import (BODIES, STAGES, BodyTemperature, Capabilities, ContactModel, ContactPatch, CoupledModel,
                      HeatSource, HeatSourceModel, Method, NormalContactModel, Option, StageModel,
                      TangentialContactModel, TemperatureField, TemperatureModel, Upstream)
 
 _LAZY = {
-    "Scene": "scene", "load_scene": "scene",
-    "Study": "study", "load_study": "study",
-    "solve": "pipeline", "given_heat_source": "pipeline",
-    "methods": "plugins", "get_host": "plugins",
-    "run_study": "runner",
-    "open_results": "results",
+    "Scene": "input.scene", "load_scene": "input.scene",
+    "Study": "input.study", "load_study": "input.study",
+    "solve": "solving.pipeline", "given_heat_source": "solving.pipeline",
+    "methods": "solving.plugins", "get_host": "solving.plugins",
+    "run_study": "run.runner",
+    "open_results": "analysis.results",
 }
 
 

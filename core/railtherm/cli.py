@@ -13,10 +13,10 @@ import argparse
 import sys
 import warnings
 
-from .errors import SceneError
+from .contract.errors import SceneError
 
 #: run statuses (docs/verdicts.md), in the order they are counted
-from .store import STATUSES
+from .output.store import STATUSES
 
 
 class _UsageError(Exception):
@@ -81,15 +81,15 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _host():
-    from .plugins import get_host
+    from .solving.plugins import get_host
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return get_host()
 
 
 def _validate(paths) -> int:
-    from .options import check_study
-    from .study import load_study
+    from .contract.options import check_study
+    from .input.study import load_study
     host = _host()
     bad = 0
     for path in paths:
@@ -108,9 +108,9 @@ def _validate(paths) -> int:
 def _run(args) -> int:
     from pathlib import Path
 
-    from .options import check_study
-    from .runner import run_study
-    from .study import load_study
+    from .contract.options import check_study
+    from .run.runner import run_study
+    from .input.study import load_study
     if args.workers is not None and args.workers < 1:
         raise SceneError(f"--workers {args.workers} is not allowed: an integer >= 1 (local worker processes)",
                          key="workers", value=args.workers, allowed="an integer >= 1")
@@ -139,7 +139,7 @@ def _run(args) -> int:
 def _report(args) -> int:
     from pathlib import Path
 
-    from . import store
+    from .output import store
     from .report import write_report
     out = Path(args.out)
     if not out.exists():

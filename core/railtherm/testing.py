@@ -28,7 +28,7 @@ import copy
 
 import numpy as np
 
-from .errors import Refused
+from .contract.errors import Refused
 
 _MAT = {"shear_modulus": 82e9, "poisson_ratio": 0.28, "density": 7850.0, "specific_heat": 450.0,
         "conductivity": 50.0, "thermal_expansion": 12e-6, "bulk_temperature": 0.0}
@@ -64,8 +64,8 @@ def canonical(name: str, **changes) -> dict:
 
 def check_model_class(cls) -> None:
     """Static checks of a stage-model class: name, description, stages, capabilities, options."""
-    from .schema import VARIABLES
-    from .stages import STAGES, Capabilities, Option, StageModel
+    from .contract.schema import VARIABLES
+    from .contract.stages import STAGES, Capabilities, Option, StageModel
     assert isinstance(cls, type) and issubclass(cls, StageModel), f"{cls!r} is not a StageModel"
     assert cls.name and isinstance(cls.name, str), f"{cls!r} has no name"
     assert cls.description, f"model {cls.name!r} has no description"
@@ -79,7 +79,7 @@ def check_model_class(cls) -> None:
     # plugin API 2: the model implements the compute method of its stage (a coupled model: compute
     # with the plan's Upstream)
     import inspect
-    from .stages import (CoupledModel, HeatSourceModel, NormalContactModel, TangentialContactModel,
+    from .contract.stages import (CoupledModel, HeatSourceModel, NormalContactModel, TangentialContactModel,
                          TemperatureModel)
     for base, meth in ((CoupledModel, "compute"), (NormalContactModel, "compute_patch"),
                        (TangentialContactModel, "compute_tangential"), (HeatSourceModel, "compute_source"),
@@ -116,7 +116,7 @@ def _flux_balance(ds) -> float:
 
 
 def _headline(scene) -> str:
-    from .metrics import headline
+    from .analysis.metrics import headline
     return headline(scene)
 
 
@@ -126,8 +126,8 @@ def _exact_errors(scene, ds) -> dict[str, tuple[float, str]]:
     Quantities that a model of the chain reproduces by construction (e.g. Hertz's pressure from the
     ``hertz`` model) are not errors (see :func:`railtherm.metrics.run_errors`).
     """
-    from .analytic import reference_values
-    from .metrics import SCALARS, run_errors
+    from .analysis.analytic import reference_values
+    from .analysis.metrics import SCALARS, run_errors
     ref = reference_values(scene)
     ref.pop("_names", None)
     out = {}
@@ -165,11 +165,11 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
     AssertionError
         Naming the method, the scene, the quantity, its error and the reference.
     """
-    from . import metrics
-    from .pipeline import plan, solve
-    from .plugins import get_host
-    from .scene import load_scene
-    from .schema import validate_dataset
+    from .analysis import metrics
+    from .solving.pipeline import plan, solve
+    from .solving.plugins import get_host
+    from .input.scene import load_scene
+    from .contract.schema import validate_dataset
 
     host = get_host()
     info = host.method(method)
@@ -263,7 +263,7 @@ if pytest is not None:
     @pytest.fixture
     def railtherm_register():
         """Install a fresh plugin host with core plus inline plugins for one test."""
-        from . import plugins as _p
+        from .solving import plugins as _p
         saved = _p._HOST
 
         def register(name, obj, autoload=False, strict=True):

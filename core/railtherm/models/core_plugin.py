@@ -1,7 +1,7 @@
 """railtherm's own plugin: the core stage models, registered like any other plugin."""
 from __future__ import annotations
 
-from ..hookspec import hookimpl
+from ..contract.hookspec import hookimpl
 
 
 @hookimpl

@@ -1,9 +1,9 @@
 """Core contact model "hertz": the analytic Hertz patch (ellipse or line)."""
 from __future__ import annotations
 
-from ..grid import BASE_CELLS
+from ..contract.grid import BASE_CELLS
 from ..physics.hertz import hertz_geometry, hertz_patch
-from ..stages import Capabilities, ContactModel, Option
+from ..contract.stages import Capabilities, ContactModel, Option
 
 __all__ = ["HertzContact", "hertz_geometry"]  # hertz_geometry: moved to railtherm.physics, kept for one release
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import Refused
-from ..grid import BASE_CELLS, surface_grid
-from ..stages import Capabilities, HeatSource, HeatSourceModel, Option, TangentialContactModel
+from ..contract.errors import Refused
+from ..contract.grid import BASE_CELLS, surface_grid
+from ..contract.stages import Capabilities, HeatSource, HeatSourceModel, Option, TangentialContactModel
 from ..physics.averaging import cell_average, exact_total
 from ..physics.kinematics import body_speeds
 from ..physics.partition import scene_partition

@@ -45,7 +45,7 @@ def hertz_geometry(scene) -> tuple[float, float | None, float, float]:
     ----------
     .. [1] K.L. Johnson, Contact Mechanics, 1985, sections 4.2-4.3. doi:10.1017/CBO9781139171731
     """
-    from ..errors import Refused
+    from ..contract.errors import Refused
     from ..references.hertz import (contact_modulus, hertz_from_curvatures, hertz_from_penetration,
                                     hertz_from_semi_axes, hertz_line)
     e_star = contact_modulus(scene.wheel, scene.rail)
@@ -87,7 +87,7 @@ def scene_semi_axis(scene) -> float | None:
     float or None
         a [m].
     """
-    from ..errors import Refused
+    from ..contract.errors import Refused
     hs = getattr(scene, "heat_source", None)
     if hs is not None:
         if getattr(hs, "semi_axes", None) is not None:
@@ -161,7 +161,7 @@ def hertz_pressure_grid(a: float, b: float | None, p0: float, level: int = 0, ce
     pressure : ndarray
         Cell-averaged pressure [Pa].
     """
-    from ..grid import surface_grid
+    from ..contract.grid import surface_grid
     from .averaging import GAUSS_POINTS, cell_average
     g = surface_grid(a, b, level, cells)
     return g, p0 * cell_average(g, "hertz", a, b, gauss or GAUSS_POINTS)
@@ -192,9 +192,9 @@ def hertz_patch(scene, level: int, cells: int | None = None, *, model: str = "he
         No Hertz patch (see :func:`hertz_geometry`), or the grid is over the cell budget (kind
         "budget").
     """
-    from ..errors import Refused
-    from ..grid import BASE_CELLS
-    from ..stages import ContactPatch
+    from ..contract.errors import Refused
+    from ..contract.grid import BASE_CELLS
+    from ..contract.stages import ContactPatch
     a, b, p0, n = hertz_geometry(scene)
     try:
         grid, pressure = hertz_pressure_grid(a, b, p0, level, int(cells or BASE_CELLS))

@@ -26,7 +26,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from .. import store
+from ..output import store
 from .document import Document
 from .figures import Palette, method_colour
 from .load import load

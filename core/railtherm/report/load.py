@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import store
+from ..output import store
 
 __all__ = ["HEADLINE_ORDER", "RESULT_STATUSES", "Run", "Order", "SceneInfo", "StudyData", "load"]
 
@@ -27,7 +27,7 @@ HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_
                   "semi_axis_a", "frictional_power")
 #: statuses of runs that produced a result
 RESULT_STATUSES = ("ok", "inaccurate", "unverified")
-from ..store import STATUSES
+from ..output.store import STATUSES
 
 
 @dataclass
@@ -329,7 +329,7 @@ def _load_study(info: dict, out: Path):
         return None, (f"study file {path!r} not found: scene inputs and published values are left out" if path else
                       "no study given and no study path in study.json: scene inputs and published values are left out")
     try:
-        from ..study import load_study
+        from ..input.study import load_study
         return load_study(path), None
     except Exception as exc:  # noqa: BLE001
         return None, f"study file {path!r} could not be loaded ({exc}): scene inputs and published values are left out"

@@ -1,0 +1,2 @@
+"""Numbers about results: exact reference values of a scene, metrics, result collections and
+reference curves."""

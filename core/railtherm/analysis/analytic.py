@@ -1,0 +1,199 @@
+"""Analytic reference of a scene: what core knows exactly, evaluated for comparison with a result.
+
+* contact (Hertz): semi-axes, peak pressure, normal force, pressure field (exact for elastic
+  half-spaces; the FEM's strip of finite depth is compared with it as the paper does);
+* 2-D rolling with longitudinal creepage, identical bodies: Carter's creep force;
+* temperatures of a full-sliding or given heat source without convection: the exact moving source
+  (3-D half-space, :mod:`railtherm.references.moving_source`) or Jaeger's band (2-D,
+  :mod:`railtherm.references.jaeger`), at any Péclet number, for each body with its share of the heat
+  and its own speed.
+
+Values are cached per scene hash (the reference does not depend on the method or level).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..physics import body_speeds, scene_partition
+
+_NAME = {"contact": "Hertz (elliptic integrals)", "carter": "Carter 2-D rolling",
+         "ms": "moving surface source on a half-space (point-source superposition)",
+         "jaeger": "Jaeger moving band source (K0 kernel)",
+         "sliding": "full sliding: F = mu N, P = mu N v_s (exact)",
+         "given": "given heat source: P = integral of the flux (exact)"}
+#: short tag of each reference, as stored in metrics.nc (``analytic:<tag>``)
+TAG = {"contact": "hertz", "carter": "carter", "ms": "moving-source", "jaeger": "jaeger",
+       "sliding": "full-sliding", "given": "given-source"}
+
+
+def _thermal_case(scene):
+    """(a, b, shape, peak flux, (v_wheel, v_rail), eps) of the scene's heat source, or None."""
+    if scene.convection > 0:
+        return None
+    if scene.heat_source is not None:
+        hs = scene.heat_source
+        a, b = hs.semi_axes if hs.semi_axes is not None else (hs.half_width, None)
+        speeds = body_speeds(scene)
+        return a, b, hs.shape, hs.flux, speeds, scene_partition(scene, *speeds)
+    if scene.tangential != "full-sliding":
+        return None
+    from ..models.hertz import hertz_geometry
+    a, b, p0, _ = hertz_geometry(scene)
+    speeds = body_speeds(scene)
+    return a, b, "hertz", scene.friction * scene.sliding_speed * p0, speeds, scene_partition(scene, *speeds)
+
+
+def _surface_rise(scene, case, x, y, body):
+    a, b, shape, q, speeds, eps = case
+    share = eps if body == 0 else 1.0 - eps
+    mat = scene.body(body)
+    if share == 0.0 or q == 0.0:
+        return np.zeros(np.broadcast(x, y if y is not None else x).shape)
+    if b is None:
+        from ..references.jaeger import jaeger_band_temperature
+        return jaeger_band_temperature(x, np.zeros_like(x), a, speeds[body], mat, share * q, shape)
+    from ..references.moving_source import moving_source_temperature
+    return moving_source_temperature(x, y, np.zeros_like(x), (a, b), speeds[body], mat, share * q, shape)
+
+
+_CACHE: dict[str, dict] = {}
+
+
+def _scalars(scene):
+    """Cached by scene hash (a Scene holds dicts and is not hashable)."""
+    key = scene.hash
+    if key not in _CACHE:
+        if len(_CACHE) > 512:
+            _CACHE.clear()
+        _CACHE[key] = _scalars_uncached(scene)
+    return _CACHE[key]
+
+
+def _scalars_uncached(scene):
+    """Scalar references of a scene: name -> value (temperatures absolute [degC])."""
+    out: dict[str, object] = {"_names": [], "_sources": {}}
+    src = out["_sources"]
+    from ..contract.errors import Refused
+    if getattr(scene, "wheelset", None) is not None and scene.creepage is None and scene.sliding_speed is None:
+        # the contact's load comes from the wheelset's equilibrium (normal model "wheelset"), not from
+        # the scene's nominal load: Hertz of the scene is no reference for it
+        return out
+    if scene.heat_source is None:
+        try:
+            from ..models.hertz import hertz_geometry
+            a, b, p0, n = hertz_geometry(scene)
+        except Refused:
+            return out
+        out.update(semi_axis_a=a, max_pressure=p0, normal_force=n)
+        src.update(semi_axis_a="hertz", max_pressure="hertz", normal_force="hertz", pressure="hertz")
+        if b is not None:
+            out["semi_axis_b"] = b
+            src["semi_axis_b"] = "hertz"
+        out["_names"].append(_NAME["contact"])
+        if scene.tangential == "full-sliding":
+            out["frictional_power"] = scene.friction * scene.sliding_speed * n
+            out["creep_force_x"] = math.copysign(scene.friction * n, scene.sliding_speed) if scene.sliding_speed else 0.0
+            src.update(frictional_power="full-sliding", creep_force_x="full-sliding")
+            out["_names"].append(_NAME["sliding"])
+        elif (b is None and scene.creepage is not None and scene.creepage.lateral == 0 and scene.creepage.spin == 0
+              and _identical_elastic(scene.wheel, scene.rail) and scene.friction > 0):
+            from ..references.carter import carter_2d
+            c = carter_2d(scene.creepage.longitudinal, a, scene.friction, scene.wheel_radius)
+            out["creep_force_x"] = c.force_ratio * scene.friction * n
+            src["creep_force_x"] = "carter"
+            out["_names"].append(_NAME["carter"])
+    case = _thermal_case(scene)
+    if case is not None:
+        a, b, shape, q, speeds, eps = case
+        out["heat_partition"] = eps
+        if scene.heat_source is not None:
+            from ..models.shapes import exact_total
+            out["frictional_power"] = q * exact_total(shape, a, b)
+            src["frictional_power"] = "given-source"
+        tmax, tmean = [], []
+        for body in (0, 1):
+            bulk = scene.body(body).bulk_temperature
+            # the maximum lies on y = 0 (symmetric sources): sample, then refine
+            xs = np.linspace(-1.0, 1.0, 161) * a
+            f = lambda xx: _surface_rise(scene, case, np.atleast_1d(xx), None if b is None else np.zeros(1), body)
+            vals = f(xs) if b is None else _surface_rise(scene, case, xs, np.zeros_like(xs), body)
+            i = int(np.argmax(vals))
+            from scipy.optimize import minimize_scalar
+            lo, hi = xs[max(i - 1, 0)], xs[min(i + 1, xs.size - 1)]
+            res = minimize_scalar(lambda t: -float(f(t)[0]), bounds=(lo, hi), method="bounded",
+                                  options={"xatol": 1e-6 * a})
+            tmax.append(bulk + max(float(vals[i]), -float(res.fun)))
+            # mean over the patch: Gauss-Legendre in x, and across y on the chord (ellipse)
+            gx, wx = np.polynomial.legendre.leggauss(64)
+            if b is None:
+                tmean.append(bulk + 0.5 * float(np.sum(wx * f(gx * a))))
+            else:
+                gs, ws = np.polynomial.legendre.leggauss(24)
+                gx, wx = np.polynomial.legendre.leggauss(40)
+                X = a * gx[:, None] * np.ones_like(gs)[None, :]
+                chord = np.sqrt(1.0 - gx ** 2)[:, None]
+                Y = b * chord * gs[None, :]
+                W = wx[:, None] * ws[None, :] * chord
+                T = _surface_rise(scene, case, X.ravel(), Y.ravel(), body).reshape(X.shape)
+                tmean.append(bulk + float(np.sum(W * T) / np.sum(W)))
+        out["max_surface_temperature"] = np.array(tmax)
+        out["mean_contact_temperature"] = np.array(tmean)
+        tag = "jaeger" if b is None else "moving-source"
+        src.update(max_surface_temperature=tag, mean_contact_temperature=tag, surface_temperature=tag,
+                   heat_partition=tag)
+        out["_names"].append(_NAME["jaeger" if b is None else "ms"])
+    return out
+
+
+def _identical_elastic(wheel, rail) -> bool:
+    """Carter's theory needs two elastic bodies with the same elastic constants (quasi-identical)."""
+    return (not wheel.rigid and not rail.rigid and wheel.shear_modulus == rail.shear_modulus
+            and wheel.poisson_ratio == rail.poisson_ratio)
+
+
+def reference_values(scene) -> dict:
+    """Scalar references of ``scene``: name -> float or (2,) array [SI, temperatures in degC].
+
+    Also ``"_names"`` (list of str: the references used, in words) and ``"_sources"`` (quantity ->
+    short tag of its reference, e.g. ``"hertz"``, ``"carter"``, ``"moving-source"``; fields
+    ``pressure`` and ``surface_temperature`` included).
+    """
+    out = dict(_scalars(scene))
+    out["_names"] = list(out.get("_names", []))
+    out["_sources"] = dict(out.get("_sources", {}))
+    return out
+
+
+def reference_fields(scene, ds) -> dict:
+    """Field references on the grid of result ``ds``: pressure [Pa], surface_temperature [degC]."""
+    out = {}
+    from ..contract.errors import Refused
+    line = "y" not in ds.dims
+    x = ds["x"].values
+    y = None if line else ds["y"].values
+    if "pressure" in ds and scene.heat_source is None:
+        try:
+            from ..models.hertz import hertz_geometry
+            from ..references.hertz import hertz_pressure
+            a, b, p0, _ = hertz_geometry(scene)
+            if line:
+                out["pressure"] = hertz_pressure(x, None, a, None, p0)
+            else:
+                X, Y = np.meshgrid(x, y, indexing="ij")
+                out["pressure"] = hertz_pressure(X, Y, a, b, p0)
+        except Refused:
+            pass
+    case = _thermal_case(scene)
+    if case is not None and "surface_temperature" in ds:
+        if line:
+            X, Y = x, None
+        else:
+            X, Y = np.meshgrid(x, y, indexing="ij")
+        fields = []
+        for body in (0, 1):
+            r = _surface_rise(scene, case, X.ravel(), None if Y is None else Y.ravel(), body).reshape(np.shape(X))
+            fields.append(scene.body(body).bulk_temperature + r)
+        out["surface_temperature"] = np.stack(fields)
+    return out

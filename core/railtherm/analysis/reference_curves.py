@@ -1,0 +1,287 @@
+"""Reference curves of a study's scenes: the exact solutions a report draws beside the methods' results.
+
+:func:`reference_curves` evaluates, for every scene that has one, core's exact references as curves
+(the report overlays them; it never computes physics itself):
+
+* ``surface_temperature(body, x)`` [degC]: surface temperature along y = 0 of each body, for a
+  full-sliding or given heat source without convection (Jaeger's moving band for a line contact, the
+  moving surface source on a half-space for an ellipse), with ``hottest_x(body)`` [m], the x of its
+  maximum, and ``temperature(body, z)`` [degC], the depth profile through that point;
+* ``carter_traction_x(x_patch)`` [Pa] and ``carter_stick(x_patch)`` [1]: Carter's 2-D traction and
+  stick zone for a line contact of identical elastic bodies with pure longitudinal creepage;
+* ``creep_force_ratio(creepage)`` [1]: Carter's Fx / (mu N) over the creepages of the scene's sweep
+  (or around its own creepage);
+* ``creep_force_ratio_linear(creepage)`` [1] and ``kalker_linear_slope`` [1]: the initial slope
+  d(Fx / mu N)/d(xi) of Kalker's linear theory for an elliptic Hertz contact with pure longitudinal
+  creepage, drawn up to |Fx| = mu N (no saturation).
+
+:func:`write_reference_curves` writes them to ``out/references.nc``: one netCDF4 group per scene
+(group attribute ``scene`` holds the exact scene name), written to a temporary file and renamed into
+place. :func:`read_reference_curves` reads the file back.
+
+References
+----------
+.. [1] J.C. Jaeger, Proc. R. Soc. N.S.W. 76 (1942) 203-224 (moving band source).
+.. [2] F.W. Carter, Proc. R. Soc. Lond. A 112 (1926) 151-157. doi:10.1098/rspa.1926.0100
+.. [3] J.J. Kalker, Three-dimensional elastic bodies in rolling contact, Kluwer, 1990.
+   doi:10.1007/978-94-015-7889-9
+"""
+from __future__ import annotations
+
+import math
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..output import store
+from ..contract.errors import Refused
+
+__all__ = ["reference_curves", "write_reference_curves", "read_reference_curves", "FILE_NAME"]
+
+#: file written by :func:`write_reference_curves` in the study output folder
+FILE_NAME = store.REFERENCES
+
+NAME_JAEGER = "Jaeger moving band source (K0 kernel)"
+NAME_MOVING_SOURCE = "moving surface source on a half-space (point-source superposition)"
+NAME_CARTER = "Carter 2-D rolling (exact, identical elastic bodies)"
+NAME_KALKER = "Kalker linear theory (initial slope, no saturation)"
+
+_TEMPERATURE = {"units": "degC", "units_metadata": "temperature: on_scale"}
+SURFACE_POINTS_LINE = 161
+SURFACE_POINTS_ELLIPSE = 81
+DEPTH_POINTS = 41
+CREEP_POINTS = 301
+
+
+def _surface_x(a: float, behind: float, n: int) -> np.ndarray:
+    """Chebyshev-spaced x from -a - behind to +a (dense at the ends, where the field has square-root edges)."""
+    lo, hi = -a - behind, a
+    return 0.5 * (lo + hi) - 0.5 * (hi - lo) * np.cos(np.linspace(0.0, np.pi, n))
+
+
+def _behind(scene) -> float:
+    fld = getattr(scene, "field", None)
+    behind = getattr(fld, "behind", None) if fld is not None else None
+    if behind is None and isinstance(fld, dict):
+        behind = fld.get("behind")
+    return float(behind) if behind else 0.0
+
+
+def _thermal(scene) -> tuple[dict, dict, list[str]]:
+    """Data variables and coordinates of the temperature curves, and the reference names."""
+    from .analytic import _surface_rise, _thermal_case
+    case = _thermal_case(scene)
+    if case is None:
+        return {}, {}, []
+    a, b, shape, q, speeds, eps = case
+    line = b is None
+    x = _surface_x(a, _behind(scene), SURFACE_POINTS_LINE if line else SURFACE_POINTS_ELLIPSE)
+    name = NAME_JAEGER if line else NAME_MOVING_SOURCE
+    surface, hottest, depth = [], [], []
+    # thermal layer: sqrt(2 kappa a / v) at high Peclet, ~a at low; the depth profile reaches 4x that
+    kappa = max(scene.body(i).diffusivity for i in (0, 1))
+    vmin = max(min(speeds), 1e-12)
+    layer = min(a, math.sqrt(2.0 * kappa * a / vmin))
+    z = 4.0 * layer * np.linspace(0.0, 1.0, DEPTH_POINTS) ** 2
+    for body in (0, 1):
+        mat = scene.body(body)
+        share = eps if body == 0 else 1.0 - eps
+        rise = np.asarray(_surface_rise(scene, case, x, None if line else np.zeros_like(x), body), float)
+        surface.append(mat.bulk_temperature + rise)
+        x0 = float(x[int(np.argmax(rise))]) if np.any(rise > 0) else 0.0
+        hottest.append(x0)
+        if share == 0 or q == 0:
+            depth.append(np.full_like(z, mat.bulk_temperature))
+        elif line:
+            from ..references.jaeger import jaeger_band_temperature
+            depth.append(mat.bulk_temperature + np.asarray(
+                jaeger_band_temperature(np.full_like(z, x0), z, a, speeds[body], mat, share * q, shape), float))
+        else:
+            from ..references.moving_source import moving_source_temperature
+            depth.append(mat.bulk_temperature + np.asarray(
+                moving_source_temperature(np.full_like(z, x0), np.zeros_like(z), z, (a, b), speeds[body], mat,
+                                          share * q, shape), float))
+    data = {
+        "surface_temperature": (("body", "x"), np.array(surface),
+                                {**_TEMPERATURE, "long_name": "surface temperature along y = 0", "reference": name}),
+        "hottest_x": (("body",), np.array(hottest),
+                      {"units": "m", "long_name": "x of the hottest surface point (y = 0)", "reference": name}),
+        "temperature": (("body", "z"), np.array(depth),
+                        {**_TEMPERATURE, "long_name": "temperature below the hottest surface point (y = 0)",
+                         "reference": name}),
+    }
+    coords = {"x": ("x", x, {"units": "m", "long_name": "rolling direction, leading edge at +a"}),
+              "z": ("z", z, {"units": "m", "long_name": "depth into the body", "positive": "down"})}
+    return data, coords, [name]
+
+
+def _identical_elastic(scene) -> bool:
+    w, r = scene.wheel, scene.rail
+    return (not w.rigid and not r.rigid and w.shear_modulus == r.shear_modulus
+            and w.poisson_ratio == r.poisson_ratio)
+
+
+def _pure_longitudinal(scene) -> bool:
+    c = scene.creepage
+    return (c is not None and c.lateral == 0 and c.spin == 0 and bool(scene.friction) and scene.friction > 0
+            and getattr(scene, "wheelset", None) is None)
+
+
+def _creepage_range(scene, group_values: list[float]) -> np.ndarray:
+    """Creepages [1] of the curve: the span of the sweep (5 % margin), else 0 to 1.5 xi; the swept values
+    and 0 (when inside) are points of it."""
+    values = list(group_values) or [scene.creepage.longitudinal]
+    lo, hi = min(values), max(values)
+    if lo == hi:
+        lo, hi = min(0.0, 1.5 * lo), max(0.0, 1.5 * hi)
+        if lo == hi:
+            lo, hi = -1e-3, 1e-3
+    pad = 0.05 * (hi - lo)
+    xs = np.linspace(lo - pad, hi + pad, CREEP_POINTS)
+    extra = [float(v) for v in values] + ([0.0] if xs[0] < 0 < xs[-1] else [])
+    return np.unique(np.concatenate([xs, extra]))  # the swept values themselves are points of the curve
+
+
+def _creep(scene, group_values: list[float]) -> tuple[dict, dict, list[str]]:
+    """Carter (line) or Kalker's linear slope (ellipse) for pure longitudinal creepage."""
+    if scene.heat_source is not None or not _pure_longitudinal(scene) or (
+            scene.contact_shape == "line" and not _identical_elastic(scene)):
+        return {}, {}, []
+    from ..contract.errors import Refused
+    from ..models.hertz import hertz_geometry
+    try:
+        a, b, p0, n = hertz_geometry(scene)
+    except Refused:
+        return {}, {}, []
+    xs = _creepage_range(scene, group_values)
+    cattrs = {"units": "1", "long_name": "longitudinal creepage xi"}
+    if scene.contact_shape == "line":
+        from ..references.carter import carter_2d
+        c = carter_2d(scene.creepage.longitudinal, a, scene.friction, scene.wheel_radius, max_pressure=p0)
+        xp = np.linspace(-a, a, 401)
+        ratio = [carter_2d(v, a, scene.friction, scene.wheel_radius).force_ratio for v in xs]
+        data = {
+            "carter_traction_x": (("x_patch",), np.asarray(c.traction(xp), float),
+                                  {"units": "Pa", "long_name": "tangential traction on the wheel", "reference": NAME_CARTER}),
+            "carter_stick": (("x_patch",), c.stick(xp).astype("int8"),
+                             {"units": "1", "long_name": "stick zone (1 stick, 0 slip)", "reference": NAME_CARTER}),
+            "creep_force_ratio": (("creepage",), np.asarray(ratio, float),
+                                  {"units": "1", "long_name": "creep force Fx / (mu N) on the wheel",
+                                   "reference": NAME_CARTER}),
+            "semi_axis_a": ((), a, {"units": "m", "long_name": "Hertz half-width", "reference": NAME_CARTER}),
+        }
+        coords = {"x_patch": ("x_patch", xp, {"units": "m", "long_name": "rolling direction across the patch"}),
+                  "creepage": ("creepage", xs, cattrs)}
+        return data, coords, [NAME_CARTER]
+    w, r = scene.wheel, scene.rail
+    if w.rigid or r.rigid or b is None:
+        return {}, {}, []
+    from ..references.kalker import kalker_linear_forces
+    g = 2.0 / (1.0 / w.shear_modulus + 1.0 / r.shear_modulus)  # Kalker 1990: combined constants
+    nu = 0.5 * g * (w.poisson_ratio / w.shear_modulus + r.poisson_ratio / r.shear_modulus)
+    fx, _, _ = kalker_linear_forces(a, b, g, nu, 1.0, 0.0, 0.0)
+    slope = fx / (scene.friction * n)
+    lim = 1.0 / abs(slope) if slope else math.inf  # the linear law reaches |Fx| = mu N here
+    lin = np.where(np.abs(xs) <= lim, slope * xs, np.nan)
+    data = {"creep_force_ratio_linear": (("creepage",), lin,
+                                         {"units": "1", "long_name": "creep force Fx / (mu N), linear theory "
+                                          "(NaN beyond |Fx| = mu N)", "reference": NAME_KALKER}),
+            "kalker_linear_slope": ((), float(slope), {"units": "1", "long_name": "d(Fx / mu N) / d(xi)",
+                                                       "reference": NAME_KALKER})}
+    return data, {"creepage": ("creepage", xs, cattrs)}, [NAME_KALKER]
+
+
+def _sweep_groups(scenes) -> dict[str, list[float]]:
+    """Scene name -> the longitudinal creepages of its sweep group (same base name, same other sweep keys)."""
+    groups: dict = {}
+    for sc in scenes:
+        sweep = dict(getattr(sc, "sweep", {}) or {})
+        if "creepage.longitudinal" not in sweep:
+            continue
+        key = (sc.name.split("--", 1)[0],
+               tuple(sorted((k, str(v)) for k, v in sweep.items() if k != "creepage.longitudinal")))
+        groups.setdefault(key, []).append(sc)
+    out = {}
+    for members in groups.values():
+        vals = sorted(float(s.sweep["creepage.longitudinal"]) for s in members)
+        for s in members:
+            out[s.name] = vals
+    return out
+
+
+def scene_reference_curves(scene, group_values: list[float] | None = None):
+    """Reference curves of one scene as an xarray Dataset, or None when core has none for it."""
+    import xarray as xr
+    data, coords, names = {}, {}, []
+    for part in (lambda: _thermal(scene), lambda: _creep(scene, group_values or [])):
+        d, c, n = part()
+        data.update(d)
+        coords.update(c)
+        names += n
+    if not data:
+        return None
+    if "body" in {dim for v in data.values() for dim in v[0]}:
+        coords["body"] = ("body", np.array(["wheel", "rail"]), {"units": "1", "long_name": "body"})
+    ds = xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
+                    coords={k: xr.Variable(*v) for k, v in coords.items()})
+    from .._version import __version__
+    ds.attrs.update({"Conventions": "CF-1.11", "title": f"railtherm reference curves of scene {scene.name}",
+                     "source": f"railtherm {__version__} (railtherm.reference_curves)",
+                     "scene": scene.name, "scene_hash": scene.hash, "reference": "; ".join(names)})
+    return ds
+
+
+def reference_curves(study) -> dict:
+    """Exact reference curves of each scene of ``study`` that has one.
+
+    Parameters
+    ----------
+    study : railtherm.study.Study
+        The study (its scenes after sweep expansion).
+
+    Returns
+    -------
+    dict of str to xarray.Dataset
+        Scene name -> curves (see the module docstring); every variable carries ``units``,
+        ``long_name`` and ``reference``, the Dataset the attribute ``reference`` naming all of them.
+        A scene whose reference cannot be evaluated is left out with a warning.
+    """
+    groups = _sweep_groups(study.scenes)
+    out = {}
+    for sc in study.scenes:
+        try:
+            ds = scene_reference_curves(sc, groups.get(sc.name))
+        except Refused:  # no exact theory for this scene (e.g. a line contact given by penetration)
+            continue
+        except Exception as exc:  # noqa: BLE001 - one scene's reference never stops the others
+            warnings.warn(f"reference curves of scene {sc.name!r} left out: {type(exc).__name__}: {exc}",
+                          RuntimeWarning, stacklevel=2)
+            continue
+        if ds is not None:
+            out[sc.name] = ds
+    return out
+
+
+def _group_name(i: int, scene: str) -> str:
+    return f"s{i:04d}_" + re.sub(r"[^A-Za-z0-9_]+", "_", scene)[:60]
+
+
+def write_reference_curves(study, out) -> Path:
+    """Write :func:`reference_curves` of ``study`` to ``out/references.nc`` (atomically) and return the path.
+
+    One netCDF4 group per scene; the group's attribute ``scene`` holds the scene name. The file is
+    written even when no scene has a reference (then it holds none), so that a reader can tell
+    "no reference" from "not computed".
+    """
+    curves = reference_curves(study)
+    attrs = {"Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}",
+             "study": study.name, "scenes": len(curves)}
+    groups = {_group_name(i, name): ds for i, (name, ds) in enumerate(curves.items())}
+    return store.write_references(store.references_path(out), attrs, groups)
+
+
+def read_reference_curves(path) -> dict:
+    """Scene name -> Dataset of a file written by :func:`write_reference_curves` (loaded into memory)."""
+    return store.read_references(path)

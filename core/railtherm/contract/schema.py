@@ -1,0 +1,190 @@
+"""The result schema: one xarray Dataset per scene x method x level, CF-1.11 attributes.
+
+:data:`VARIABLES` is the one place where each result variable's dimensions, units and long name are
+defined. :func:`build_dataset` turns stage results into a Dataset; :func:`validate_dataset` is run on
+every result before it is stored and names the plugin and the variable that break the schema.
+"""
+from __future__ import annotations
+
+import datetime as _dt
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import PluginError
+
+SCHEMA_VERSION = 1
+TEMP_ABS = "temperature: on_scale"
+
+
+@dataclass(frozen=True)
+class Var:
+    dims: tuple[str, ...]
+    units: str
+    long_name: str
+    stage: str  # stage that produces it: normal | tangential | heat_source | temperature | steady
+    temperature: bool = False
+
+
+#: name -> Var. ``y`` is dropped from dims for line contacts.
+VARIABLES: dict[str, Var] = {
+    "pressure": Var(("x", "y"), "Pa", "normal contact pressure", "normal"),
+    "traction_x": Var(("x", "y"), "Pa", "tangential traction on the wheel, rolling direction", "tangential"),
+    "traction_y": Var(("x", "y"), "Pa", "tangential traction on the wheel, lateral", "tangential"),
+    "slip_velocity_x": Var(("x", "y"), "m s-1", "local slip velocity of wheel relative to rail, rolling direction", "tangential"),
+    "slip_velocity_y": Var(("x", "y"), "m s-1", "local slip velocity of wheel relative to rail, lateral", "tangential"),
+    "stick": Var(("x", "y"), "1", "stick indicator (1 stick, 0 slip, NaN outside the patch)", "tangential"),
+    "heat_flux": Var(("body", "x", "y"), "W m-2", "frictional heat flux entering the body", "heat_source"),
+    "surface_temperature": Var(("body", "x", "y"), "degC", "surface temperature", "temperature", True),
+    "temperature": Var(("body", "x", "z"), "degC", "temperature at y = 0", "temperature", True),
+    "normal_force": Var((), "N", "normal force (per unit width [N m-1] for a line contact)", "normal"),
+    "semi_axis_a": Var((), "m", "contact semi-axis along the rolling direction", "normal"),
+    "semi_axis_b": Var((), "m", "lateral contact semi-axis", "normal"),
+    "max_pressure": Var((), "Pa", "maximum contact pressure", "normal"),
+    "creep_force_x": Var((), "N", "longitudinal creep force on the wheel", "tangential"),
+    "creep_force_y": Var((), "N", "lateral creep force on the wheel", "tangential"),
+    "spin_moment": Var((), "N m", "spin moment on the wheel", "tangential"),
+    "frictional_power": Var((), "W", "frictional power (per unit width [W m-1] for a line contact)", "heat_source"),
+    "heat_partition": Var((), "1", "fraction of the frictional heat entering the wheel", "heat_source"),
+    "max_surface_temperature": Var(("body",), "degC", "maximum surface temperature", "temperature", True),
+    "mean_contact_temperature": Var(("body",), "degC", "mean surface temperature over the contact patch", "temperature", True),
+    "steady_wheel_temperature": Var((), "degC", "steady-state (long-term) wheel bulk temperature", "steady", True),
+    "steady_mean_contact_temperature": Var((), "degC", "steady-state mean contact temperature", "steady", True),
+}
+
+COORDS = {
+    "x": ("m", "rolling direction, origin at the patch centre, leading edge at +a"),
+    "y": ("m", "lateral coordinate"),
+    "z": ("m", "depth into the body"),
+    "body": ("1", "body (wheel = body 1, rail = body 2)"),
+}
+
+#: which pipeline stage produces the variables of each Var.stage group
+STAGE_OF_GROUP = {"normal": "normal", "tangential": "tangential", "heat_source": "heat_source",
+                  "temperature": "temperature", "steady": "temperature"}
+
+
+def dims_for(name: str, line: bool) -> tuple[str, ...]:
+    dims = VARIABLES[name].dims
+    return tuple(d for d in dims if not (line and d == "y"))
+
+
+def stages_needed(outputs) -> set[str]:
+    """Pipeline stages an output list needs (before any model is consulted)."""
+    return {STAGE_OF_GROUP[VARIABLES[o].stage] for o in outputs}
+
+
+def variable_attrs(name: str) -> dict:
+    v = VARIABLES[name]
+    attrs = {"units": v.units, "long_name": v.long_name}
+    if v.temperature:
+        attrs["units_metadata"] = TEMP_ABS
+    return attrs
+
+
+def coord_attrs(name: str) -> dict:
+    units, long_name = COORDS[name]
+    return {"units": units, "long_name": long_name}
+
+
+def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=(), attrs=None):
+    """Assemble a result Dataset from the stage results that exist.
+
+    Every variable a stage computed is included (what was asked and what was computed); nothing
+    is invented for stages that did not run.
+    """
+    import xarray as xr
+
+    line = grid.line
+    data: dict[str, tuple] = {}
+
+    def put(name, value):
+        if value is None:
+            return
+        arr = np.asarray(value, dtype=float)
+        data[name] = (dims_for(name, line), arr)
+
+    if patch is not None:
+        put("pressure", patch.pressure)
+        for k in ("traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick",
+                  "creep_force_x", "creep_force_y", "spin_moment"):
+            if line and k in ("traction_y", "slip_velocity_y", "creep_force_y", "spin_moment"):
+                continue
+            put(k, getattr(patch, k))
+        put("normal_force", patch.normal_force)
+        put("semi_axis_a", patch.a)
+        if not line:
+            put("semi_axis_b", patch.b)
+        put("max_pressure", patch.max_pressure)
+    if source is not None:
+        put("heat_flux", np.stack([source.flux(0), source.flux(1)]))
+        put("frictional_power", source.frictional_power)
+        eps = np.asarray(source.heat_partition, dtype=float)
+        if eps.ndim == 0:
+            put("heat_partition", eps)
+    if temperature is not None:
+        put("surface_temperature", temperature.surface_temperature)
+        put("max_surface_temperature", temperature.max_surface_temperature)
+        put("mean_contact_temperature", temperature.mean_contact_temperature)
+        if temperature.temperature is not None and temperature.z is not None:
+            put("temperature", temperature.temperature)
+        put("steady_wheel_temperature", temperature.steady_wheel_temperature)
+        put("steady_mean_contact_temperature", temperature.steady_mean_contact_temperature)
+
+    coords = {"x": ("x", grid.x), "body": ("body", np.array(["wheel", "rail"]))}
+    if not line:
+        coords["y"] = ("y", grid.y)
+    if temperature is not None and temperature.z is not None and "temperature" in data:
+        coords["z"] = ("z", np.asarray(temperature.z, dtype=float))
+    ds = xr.Dataset(data, coords=coords)
+    for name in ds.data_vars:
+        ds[name].attrs.update(variable_attrs(name))
+    for name in ds.coords:
+        ds[name].attrs.update(coord_attrs(name))
+    ds.attrs.update({"Conventions": "CF-1.11", "schema_version": SCHEMA_VERSION})
+    ds.attrs.update(attrs or {})
+    return ds
+
+
+def history_line(text: str) -> str:
+    now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    return f"{now} {text}"
+
+
+REQUIRED_ATTRS = ("Conventions", "title", "source", "history", "method", "scene", "scene_hash", "level")
+
+
+def validate_dataset(ds, plugin: str = "?", *, check_attrs: bool = True) -> None:
+    """Check a result against the schema; raise :class:`railtherm.PluginError` naming plugin and variable.
+
+    Checks: every variable is known, has the schema's dims, ``units`` and ``long_name``; temperatures
+    carry ``units_metadata``; coordinates carry units; global attributes are present; no variable
+    holds NaN where the schema does not allow it (only ``stick`` may be NaN outside the patch, and
+    fields may be NaN outside their body's domain when the model says so in ``nan_allowed``).
+    """
+    line = "y" not in ds.dims
+    nan_ok = set(str(ds.attrs.get("nan_allowed", "")).split()) | {"stick"}
+    for name, da in ds.data_vars.items():
+        if name not in VARIABLES:
+            raise PluginError(f"plugin {plugin!r}: result variable {name!r} is not in the result schema "
+                              f"(known: {', '.join(VARIABLES)})")
+        want = dims_for(name, line)
+        if tuple(da.dims) != want:
+            raise PluginError(f"plugin {plugin!r}: variable {name!r} has dims {tuple(da.dims)}, the schema wants {want}")
+        for key in ("units", "long_name"):
+            if not da.attrs.get(key):
+                raise PluginError(f"plugin {plugin!r}: variable {name!r} has no {key!r} attribute")
+        if da.attrs["units"] != VARIABLES[name].units:
+            raise PluginError(f"plugin {plugin!r}: variable {name!r} has units {da.attrs['units']!r}, "
+                              f"the schema wants {VARIABLES[name].units!r}")
+        if VARIABLES[name].temperature and not da.attrs.get("units_metadata"):
+            raise PluginError(f"plugin {plugin!r}: temperature {name!r} has no 'units_metadata'")
+        if name not in nan_ok and np.issubdtype(da.dtype, np.floating) and not np.all(np.isfinite(da.values)):
+            raise PluginError(f"plugin {plugin!r}: variable {name!r} holds NaN or inf")
+    for name, da in ds.coords.items():
+        if not da.attrs.get("units") or not da.attrs.get("long_name"):
+            raise PluginError(f"plugin {plugin!r}: coordinate {name!r} lacks 'units' or 'long_name'")
+    if check_attrs:
+        missing = [a for a in REQUIRED_ATTRS if a not in ds.attrs]
+        if missing:
+            raise PluginError(f"plugin {plugin!r}: result lacks global attributes {missing}")

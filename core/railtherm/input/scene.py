@@ -1,0 +1,509 @@
+"""Scenes: the physical case every method runs on, parsed and validated from the study vocabulary.
+
+A scene is given as a mapping in the vocabulary of docs/DESIGN.md (TOML tables, SI units, temperatures in
+degC). :func:`load_scene` validates it and returns a frozen :class:`Scene`; every error is a
+:class:`railtherm.SceneError` naming the scene, the key, the value and what is allowed.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import asdict, dataclass, field, fields
+from typing import Any, Mapping
+
+from ..contract.errors import SceneError
+from .materials import Material
+
+SCHEMA_VERSION = 1
+
+#: outputs that only a 3-D (ellipse) contact has
+LATERAL_OUTPUTS = frozenset({"traction_y", "slip_velocity_y", "creep_force_y", "spin_moment", "semi_axis_b"})
+
+#: outputs asked when a scene names none
+DEFAULT_OUTPUTS = ("max_surface_temperature", "mean_contact_temperature", "surface_temperature",
+                   "heat_flux", "frictional_power")
+
+
+# --------------------------------------------------------------------------------------------
+# value checkers: each returns the cleaned value or raises SceneError naming scene/key/value/allowed
+# --------------------------------------------------------------------------------------------
+class _Check:
+    allowed = "a value"
+    sweepable = True
+    #: UDUNITS-2 string of the value ("1" for a dimensionless number, None for text, flags and tables)
+    unit: str | None = None
+
+    def __call__(self, scene: str | None, key: str, value: Any) -> Any:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def fail(self, scene, key, value):
+        raise SceneError.bad_value(scene, key, value, self.allowed)
+
+
+class Num(_Check):
+    """A finite real number in [lo, hi] (open ends where ``lo_open`` / ``hi_open``)."""
+
+    def __init__(self, lo=-math.inf, hi=math.inf, lo_open=False, hi_open=False, unit="1", note=""):
+        self.lo, self.hi, self.lo_open, self.hi_open = lo, hi, lo_open, hi_open
+        self.unit = unit  # UDUNITS-2: "m s-1", "W m-2 K-1", "1" (dimensionless)
+        parts = []
+        if lo > -math.inf:
+            parts.append(f"{'>' if lo_open else '>='} {lo:g}")
+        if hi < math.inf:
+            parts.append(f"{'<' if hi_open else '<='} {hi:g}")
+        self.allowed = ("a finite number" + (" " + " and ".join(parts) if parts else "")
+                        + (f" [{unit}]" if unit != "1" else "") + (f" ({note})" if note else ""))
+
+    def __call__(self, scene, key, value):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            self.fail(scene, key, value)
+        v = float(value)
+        if not math.isfinite(v):
+            self.fail(scene, key, value)
+        if v < self.lo or (self.lo_open and v == self.lo) or v > self.hi or (self.hi_open and v == self.hi):
+            self.fail(scene, key, value)
+        return v
+
+
+class Int(_Check):
+    def __init__(self, lo=0):
+        self.lo = lo
+        self.allowed = f"an integer >= {lo}"
+
+    def __call__(self, scene, key, value):
+        if isinstance(value, bool) or not isinstance(value, int) or value < self.lo:
+            self.fail(scene, key, value)
+        return int(value)
+
+
+class Choice(_Check):
+    def __init__(self, *choices):
+        self.choices = choices
+        self.allowed = "one of " + ", ".join(repr(c) for c in choices)
+
+    def __call__(self, scene, key, value):
+        if not isinstance(value, str) or value not in self.choices:
+            self.fail(scene, key, value)
+        return value
+
+
+class Text(_Check):
+    allowed = "a non-empty string without '/'"
+    sweepable = False
+
+    def __call__(self, scene, key, value):
+        if not isinstance(value, str) or not value.strip() or "/" in value or "\\" in value:
+            self.fail(scene, key, value)
+        return value
+
+
+class Flag(_Check):
+    allowed = "true or false"
+    sweepable = False
+
+    def __call__(self, scene, key, value):
+        if not isinstance(value, bool):
+            self.fail(scene, key, value)
+        return value
+
+
+class Either(_Check):
+    def __init__(self, *checks):
+        self.checks = checks
+        self.allowed = " or ".join(c.allowed for c in checks)
+        self.unit = next((c.unit for c in checks if c.unit), None)
+
+    def __call__(self, scene, key, value):
+        for c in self.checks:
+            try:
+                return c(scene, key, value)
+            except SceneError:
+                pass
+        self.fail(scene, key, value)
+
+
+class Pair(_Check):
+    """A list of two numbers, each checked by ``item``."""
+
+    sweepable = False
+
+    def __init__(self, item: Num):
+        self.unit = item.unit
+        self.item = item
+        self.allowed = f"a list of two numbers, each {item.allowed.removeprefix('a ')}"
+
+    def __call__(self, scene, key, value):
+        if not isinstance(value, (list, tuple)) or len(value) != 2:
+            self.fail(scene, key, value)
+        try:
+            return tuple(self.item(scene, key, v) for v in value)
+        except SceneError:
+            self.fail(scene, key, value)
+
+
+class Names(_Check):
+    sweepable = False
+
+    def __init__(self, known):
+        self.known = known
+
+    @property
+    def allowed(self):
+        return "a list of variable names from: " + ", ".join(sorted(self.known()))
+
+    def __call__(self, scene, key, value):
+        if isinstance(value, str):
+            value = [value]
+        if not isinstance(value, (list, tuple)) or not value:
+            self.fail(scene, key, value)
+        known = self.known()
+        for v in value:
+            if not isinstance(v, str) or v not in known:
+                raise SceneError.bad_value(scene, key, v, self.allowed)
+        return tuple(dict.fromkeys(value))
+
+
+class Table(_Check):
+    """A nested table with its own keys."""
+
+    sweepable = False
+
+    def __init__(self, keys: Mapping[str, _Check]):
+        self.keys = dict(keys)
+        self.allowed = "a table with keys " + ", ".join(self.keys)
+
+    def __call__(self, scene, key, value):
+        if not isinstance(value, Mapping):
+            self.fail(scene, key, value)
+        out = {}
+        for k, v in value.items():
+            if k not in self.keys:
+                raise SceneError(f"scene {scene!r}: unknown key {key + '.' + k!r} (value {v!r}); allowed keys of "
+                                 f"{key!r}: {', '.join(self.keys)}", scene=scene, key=f"{key}.{k}", value=v,
+                                 allowed=", ".join(self.keys))
+            out[k] = self.keys[k](scene, f"{key}.{k}", v)
+        return out
+
+
+def _variable_names():
+    from ..contract.schema import VARIABLES
+    return set(VARIABLES)
+
+
+POS = Num(0, lo_open=True, unit="m")
+NONNEG = Num(0)
+ANY = Num()
+
+MATERIAL_KEYS = {
+    "shear_modulus": Num(0, lo_open=True, unit="Pa"),
+    "youngs_modulus": Num(0, lo_open=True, unit="Pa"),
+    "poisson_ratio": Num(0, 0.5, hi_open=True),
+    "density": Num(0, lo_open=True, unit="kg m-3"),
+    "specific_heat": Num(0, lo_open=True, unit="J kg-1 K-1"),
+    "conductivity": Num(0, lo_open=True, unit="W m-1 K-1"),
+    "thermal_expansion": Num(0, unit="K-1"),
+    "bulk_temperature": Num(-273.15, lo_open=True, unit="degC"),
+    "radius": Num(0, lo_open=True, unit="m"),
+    "rigid": Flag(),
+}
+
+SCENE_KEYS: dict[str, _Check] = {
+    "name": Text(),
+    "normal_force": Num(0, unit="N", note="N m-1 for a line contact: force per unit length"),
+    "penetration": Num(0, lo_open=True, unit="m"),
+    "contact": Table({"shape": Choice("ellipse", "line"),
+                      "semi_axes": Pair(Num(0, lo_open=True, unit="m")),
+                      "curvatures": Pair(Num(0, lo_open=True, unit="m-1")),
+                      "wheel_radius": Num(0, lo_open=True, unit="m")}),
+    "speed": Num(0, lo_open=True, unit="m s-1"),
+    "sliding_speed": Num(0, unit="m s-1"),
+    "creepage": Table({"longitudinal": Num(-1, 1), "lateral": Num(-1, 1), "spin": Num(unit="m-1")}),
+    "friction": Num(0),
+    "heat_partition": Either(Num(0, 1), Choice("equal-temperature")),
+    "convection": Num(0, unit="W m-2 K-1"),
+    "outputs": Names(_variable_names),
+    "heat_source": Table({"flux": Num(0, unit="W m-2"), "shape": Choice("uniform", "hertz"),
+                          "semi_axes": Pair(Num(0, lo_open=True, unit="m")),
+                          "half_width": Num(0, lo_open=True, unit="m")}),
+    "wheel": Table(MATERIAL_KEYS),
+    "rail": Table(MATERIAL_KEYS),
+    "strip": Table({"length": POS, "depth": POS}),
+    "numerics": Table({"time_step": Num(0, lo_open=True, unit="s"),
+                       "scheme": Choice("auto", "explicit", "implicit", "steady"),
+                       "regularization": Num(0, lo_open=True),
+                       "revolutions": Num(0, lo_open=True),
+                       "duration": Num(0, lo_open=True, unit="s")}),
+    "wheelset": Table({"conicity": Num(0, 1), "lateral_shift": Num(-0.1, 0.1, unit="m"),
+                       "yaw_angle": Num(-0.1, 0.1, unit="rad"), "vertical_load": Num(0, lo_open=True, unit="N"),
+                       "wheel_radius": Num(0, lo_open=True, unit="m"), "gauge": Num(0, lo_open=True, unit="m")}),
+    "mode": Choice("steady", "transient"),
+    "reference": Text(),
+}
+
+
+def _flatten(keys: Mapping[str, _Check], prefix: str = "") -> dict[str, _Check]:
+    out = {}
+    for k, check in keys.items():
+        if isinstance(check, Table):
+            out.update(_flatten(check.keys, f"{prefix}{k}."))
+        else:
+            out[prefix + k] = check
+    return out
+
+
+#: every study key of a scene, dotted (``creepage.longitudinal``, ``wheel.conductivity``), with the
+#: checker that validates it: the one table behind the scene parser, swept coordinates and their units
+STUDY_KEYS: dict[str, _Check] = _flatten(SCENE_KEYS)
+
+
+def key_units(key: str) -> str | None:
+    """UDUNITS-2 units of a dotted study key (``"m s-1"`` for ``speed``, ``"1"`` for ``friction``), None
+    for a key without units (text, flags) or one that is not a study key."""
+    check = STUDY_KEYS.get(key)
+    return None if check is None else check.unit
+
+
+
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Creepage:
+    """Creepages: longitudinal xi [1], lateral eta [1], spin phi [1/m]."""
+
+    longitudinal: float = 0.0
+    lateral: float = 0.0
+    spin: float = 0.0
+
+
+@dataclass(frozen=True)
+class GivenHeatSource:
+    """A heat source given by the scene (paper section 6.4)."""
+
+    flux: float
+    shape: str = "uniform"
+    semi_axes: tuple[float, float] | None = None
+    half_width: float | None = None
+
+
+@dataclass(frozen=True)
+class Strip:
+    length: float | None = None
+    depth: float | None = None
+
+
+@dataclass(frozen=True)
+class Wheelset:
+    conicity: float = 0.0
+    lateral_shift: float = 0.0
+    yaw_angle: float = 0.0
+    vertical_load: float = 100e3
+    wheel_radius: float = 0.46
+    gauge: float = 1.5
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene. Build with :func:`load_scene`; attributes in SI units.
+
+    See docs/DESIGN.md "Scene vocabulary" for the meaning of every key.
+    """
+
+    name: str
+    speed: float
+    normal_force: float | None = None
+    penetration: float | None = None
+    contact_shape: str = "ellipse"
+    semi_axes: tuple[float, float] | None = None
+    curvatures: tuple[float, float] | None = None
+    line_wheel_radius: float | None = None
+    sliding_speed: float | None = None
+    creepage: Creepage | None = None
+    friction: float | None = None
+    heat_partition: float | str = "equal-temperature"
+    convection: float = 0.0
+    outputs: tuple[str, ...] = DEFAULT_OUTPUTS
+    heat_source: GivenHeatSource | None = None
+    wheel: Material = field(default_factory=Material)
+    rail: Material = field(default_factory=Material)
+    strip: Strip | None = None
+    numerics: Mapping[str, Any] = field(default_factory=dict)
+    wheelset: Wheelset | None = None
+    mode: str = "steady"
+    reference: str | None = None
+    #: the mapping the scene was parsed from (after defaults and sweep expansion)
+    source: Mapping[str, Any] = field(default_factory=dict, compare=False, repr=False)
+    #: swept parameters of this scene, key -> value
+    sweep: Mapping[str, Any] = field(default_factory=dict, compare=False)
+
+    @property
+    def wheel_radius(self) -> float:
+        """Wheel radius [m]: the line contact's ``wheel_radius``, else ``wheel.radius``."""
+        return self.line_wheel_radius if self.line_wheel_radius is not None else self.wheel.radius
+
+    @property
+    def tangential(self) -> str:
+        """"full-sliding" or "creepage" (or "given" when the scene gives its heat source)."""
+        if self.heat_source is not None:
+            return "given"
+        return "creepage" if (self.creepage is not None or self.wheelset is not None) else "full-sliding"
+
+    @property
+    def hash(self) -> str:
+        """Stable hash of the physical content (name excluded): sha256 of canonical JSON, 16 hex digits."""
+        payload = {k: v for k, v in self.source.items() if k != "name"}
+        text = json.dumps(payload, sort_keys=True, default=_jsonable, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+    def body(self, i: int | str) -> Material:
+        """Material of body ``i`` (0/"wheel" or 1/"rail")."""
+        return self.wheel if i in (0, "wheel") else self.rail
+
+    def to_dict(self) -> dict:
+        """The scene as a mapping in the study vocabulary (round-trips through :func:`load_scene`)."""
+        return json.loads(json.dumps(self.source, default=_jsonable))
+
+
+def _jsonable(v):
+    if isinstance(v, tuple):
+        return list(v)
+    raise TypeError(type(v))
+
+
+def _material(scene: str, key: str, table: Mapping[str, Any]) -> Material:
+    t = dict(table)
+    if "youngs_modulus" in t:
+        if "shear_modulus" in t:
+            raise SceneError(f"scene {scene!r}: key '{key}' gives both 'shear_modulus' and 'youngs_modulus'; "
+                             "give one of them", scene=scene, key=key)
+        nu = t.get("poisson_ratio", Material.poisson_ratio)
+        t["shear_modulus"] = t.pop("youngs_modulus") / (2.0 * (1.0 + nu))
+    return Material(**t)
+
+
+def load_scene(mapping: Mapping[str, Any] | "Scene", *, name: str | None = None,
+               sweep: Mapping[str, Any] | None = None) -> Scene:
+    """Validate a scene mapping (study vocabulary, defaults already merged) and return a :class:`Scene`.
+
+    Parameters
+    ----------
+    mapping : mapping or Scene
+        Scene keys as in docs/DESIGN.md. Lists are not expanded here (see :func:`railtherm.study.expand_sweeps`):
+        a list where a scalar belongs is an error.
+    name : str, optional
+        Scene name when the mapping has none.
+
+    Raises
+    ------
+    railtherm.SceneError
+        On an unknown or missing key, or a value outside what is allowed.
+    """
+    if isinstance(mapping, Scene):
+        return mapping
+    if not isinstance(mapping, Mapping):
+        raise SceneError(f"a scene must be a table of keys, got {type(mapping).__name__}: {mapping!r}")
+    raw = dict(mapping)
+    sname = raw.get("name", name)
+    label = sname if isinstance(sname, str) else None
+    if sname is None:
+        raise SceneError("a scene has no 'name': give each [[scene]] a name = \"...\"", key="name")
+    clean: dict[str, Any] = {}
+    for key, value in raw.items():
+        if key not in SCENE_KEYS:
+            raise SceneError(f"scene {label!r}: unknown key {key!r} (value {value!r}); allowed keys: "
+                             f"{', '.join(SCENE_KEYS)}", scene=label, key=key, value=value,
+                             allowed=", ".join(SCENE_KEYS))
+        check = SCENE_KEYS[key]
+        if isinstance(value, list) and check.sweepable:
+            raise SceneError(f"scene {label!r}: key {key!r} = {value!r} is a list; lists are sweeps and are "
+                             "expanded by the study (use railtherm.load_study or expand_sweeps)",
+                             scene=label, key=key, value=value, allowed="a single value")
+        clean[key] = check(label, key, value)
+    return _build(label, clean, raw, sweep or {})
+
+
+def _require(scene, cond, key, msg):
+    if not cond:
+        raise SceneError(f"scene {scene!r}: {msg}", scene=scene, key=key, allowed=msg)
+
+
+def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
+    given = c.get("heat_source")
+    kw: dict[str, Any] = {"name": name}
+    _require(name, "speed" in c, "speed", "key 'speed' (rolling speed V [m/s], > 0) is missing")
+    kw["speed"] = c["speed"]
+    if given is not None:
+        _require(name, "flux" in given, "heat_source.flux", "heat_source needs 'flux' [W/m^2]")
+        has_axes, has_hw = "semi_axes" in given, "half_width" in given
+        _require(name, has_axes != has_hw, "heat_source",
+                 "heat_source needs exactly one of 'semi_axes' [m] (ellipse) or 'half_width' [m] (line)")
+        kw["heat_source"] = GivenHeatSource(given["flux"], given.get("shape", "uniform"),
+                                            given.get("semi_axes"), given.get("half_width"))
+        kw["contact_shape"] = "ellipse" if has_axes else "line"
+        if has_axes:
+            kw["semi_axes"] = given["semi_axes"]
+        for k in ("creepage", "sliding_speed"):
+            _require(name, k not in c, k, f"key {k!r} does not apply when the scene gives its heat_source")
+        if "contact" in c and c["contact"].get("shape") == "line":
+            kw["line_wheel_radius"] = c["contact"].get("wheel_radius")
+    else:
+        _require(name, "contact" in c, "contact",
+                 "key 'contact' is missing: give contact = { shape = \"ellipse\", semi_axes = [a, b] } "
+                 "(or curvatures, or shape = \"line\" with wheel_radius), or a heat_source")
+        ct = c["contact"]
+        shape = ct.get("shape", "ellipse")
+        kw["contact_shape"] = shape
+        if shape == "ellipse":
+            _require(name, ("semi_axes" in ct) != ("curvatures" in ct), "contact",
+                     "an ellipse contact needs exactly one of 'semi_axes' [m] or 'curvatures' [1/m]")
+            _require(name, "wheel_radius" not in ct, "contact.wheel_radius",
+                     "'wheel_radius' belongs to line contacts; give wheel = { radius = ... } for an ellipse")
+            kw["semi_axes"] = ct.get("semi_axes")
+            kw["curvatures"] = ct.get("curvatures")
+        else:
+            _require(name, "wheel_radius" in ct, "contact.wheel_radius",
+                     "a line contact needs 'wheel_radius' [m]")
+            _require(name, "semi_axes" not in ct and "curvatures" not in ct, "contact",
+                     "a line contact takes 'wheel_radius' only (no semi_axes/curvatures)")
+            kw["line_wheel_radius"] = ct["wheel_radius"]
+        ws = c.get("wheelset")
+        if ws is not None and "normal_force" not in c and "penetration" not in c:
+            # seed 6.1: the wheelset's kinematics sets the normal force; half the axle load starts it
+            c["normal_force"] = Wheelset(**ws).vertical_load / 2.0
+        _require(name, ("normal_force" in c) != ("penetration" in c), "normal_force",
+                 "give exactly one of 'normal_force' [N] ([N/m] for a line) or 'penetration' [m]")
+        if "penetration" in c and kw.get("semi_axes") is not None:
+            raise SceneError(f"scene {name!r}: key 'penetration' cannot be combined with contact.semi_axes "
+                             "(the semi-axes fix the load): give normal_force, or curvatures",
+                             scene=name, key="penetration", value=c["penetration"])
+        _require(name, ("sliding_speed" in c) != ("creepage" in c) or (ws is not None and "sliding_speed" not in c),
+                 "sliding_speed",
+                 "give exactly one of 'sliding_speed' [m/s] (full sliding) or 'creepage' (a table)"
+                 + ("; with a wheelset both may be left out (the kinematics give the creepages)" if ws else ""))
+        _require(name, "friction" in c, "friction", "key 'friction' (coefficient >= 0) is missing")
+        if "creepage" in c:
+            kw["creepage"] = Creepage(**c["creepage"])
+        for k in ("normal_force", "penetration", "sliding_speed", "friction"):
+            if k in c:
+                kw[k] = c[k]
+    if given is not None and "friction" in c:
+        kw["friction"] = c["friction"]
+    for k in ("heat_partition", "convection", "outputs", "mode", "reference"):
+        if k in c:
+            kw[k] = c[k]
+    if kw["contact_shape"] == "line" and "outputs" in kw:
+        lateral = [o for o in kw["outputs"] if o in LATERAL_OUTPUTS]
+        if lateral:
+            raise SceneError.bad_value(name, "outputs", lateral[0],
+                                       "a variable of a 2-D (line) contact: it has no lateral direction, so not "
+                                       + ", ".join(sorted(LATERAL_OUTPUTS)))
+    kw["wheel"] = _material(name, "wheel", c.get("wheel", {}))
+    kw["rail"] = _material(name, "rail", c.get("rail", {}))
+    _require(name, not kw["rail"].rigid, "rail.rigid", "the rail cannot be rigid (only the wheel, paper section 4)")
+    if "strip" in c:
+        kw["strip"] = Strip(**c["strip"])
+    if "wheelset" in c:
+        kw["wheelset"] = Wheelset(**c["wheelset"])
+    kw["numerics"] = dict(c.get("numerics", {}))
+    source = json.loads(json.dumps(dict(raw), default=_jsonable))
+    source["name"] = name
+    return Scene(**kw, source=source, sweep=dict(sweep))

@@ -1,0 +1,1 @@
+"""The output folder's one owner: layout, atomic writes, readers, run and crash records."""

@@ -1,0 +1,1 @@
+"""Running a study: the runner, its executors and time limits."""

@@ -1,0 +1,420 @@
+"""Executors of study runs: serial (default), local processes, dask.distributed.
+
+Every executor calls the same :func:`railtherm.runner.execute_run` on each task and yields
+``(index, record)`` pairs as runs finish, so the results are identical bit for bit whichever runs
+them. Workers rebuild the plugin host of the calling process (:func:`host_spec`): entry points when
+the caller loaded them, and every plugin registered in memory (``new_host([...])``, the conformance
+kit's ``railtherm_register``), sent by reference (cloudpickle) with the caller's ``sys.path``.
+Crash records are written through :mod:`railtherm.store`; this module never imports the runner (a
+task's ``existing()`` finds what a worker wrote before it died).
+
+Faults
+------
+* A worker that dies (killed, segfault, out of memory) takes only its current run with it: the run
+  is executed once more on a fresh worker and recorded as ``failed`` if its worker dies again. What
+  was already written stays on disk (atomic writes); a result written just before the death is
+  found by the retry and not written again (same ``run_id``); ``--resume`` completes the study.
+* A run past its time limit is stopped inside the worker (:func:`railtherm.timelimit._time_limit`);
+  a run stuck in a C call that ignores it is ended with its worker ``grace`` seconds later and
+  recorded as ``failed`` (not retried).
+
+dask: one task per run (``client.map``); a LocalCluster (one thread per worker process) is started
+unless a scheduler address is given. The scheduler retries a task whose worker died; a LocalCluster
+started here allows one retry (``distributed.scheduler.allowed-failures = 1``), a remote scheduler
+uses its own setting; a task that exhausts them is recorded ``failed`` (KilledWorker).
+"""
+from __future__ import annotations
+
+import os
+import pickle
+import sys
+import threading
+import time
+import warnings
+from collections import deque
+from typing import Callable, Iterator
+
+from ..output import store
+
+EXECUTORS = ("serial", "processes", "dask")
+
+#: seconds a run may overrun its time limit before its worker process is ended
+GRACE = 10.0
+#: executions of one run (first attempt and retries) before a worker death marks it failed
+MAX_ATTEMPTS = 2
+
+
+def _crash_record(task, message, kind: str = "error"):
+    """Record (and store beside the run) a run whose worker could not report a result.
+
+    ``kind``: the failure's reason kind, "error" (the worker died) or "timeout" (it was ended).
+    """
+    if task.path.exists():  # the worker died after writing: the run is complete after all
+        done = task.existing(same_invocation=True)
+        if done is not None and done.status == "ok":
+            return done
+    return store.crash_record(task, message, kind)
+
+
+def _exit_text(code) -> str:
+    if code is None:
+        return "unknown exit"
+    if code < 0:
+        import signal
+        try:
+            return f"killed by {signal.Signals(-code).name}"
+        except ValueError:
+            return f"killed by signal {-code}"
+    return f"exit status {code}"
+
+
+# ----------------------------------------------------------------------------------------------
+# the plugin host of worker processes
+def _split_plugins(host):
+    """(autoload, [(name, plugin)]) of a host: were entry points loaded, which plugins came in memory."""
+    import importlib.metadata as md
+    from types import ModuleType
+
+    from ..solving.plugins import GROUP
+    autoload = getattr(host, "autoload", None)
+    extra = getattr(host, "extra", None)
+    if autoload is not None and extra is not None:
+        return bool(autoload), list(extra)
+    eps = {ep.name: ep.value.split(":")[0] for ep in md.entry_points(group=GROUP)}
+    autoload, extra = False, []
+    for name, obj in sorted(host.pm.list_name_plugin(), key=lambda t: t[0]):
+        if name == "railtherm":
+            continue
+        if isinstance(obj, ModuleType) and eps.get(name) == obj.__name__:
+            autoload = True
+            continue
+        extra.append((name, obj))
+    if not eps:
+        from ..solving.plugins import DISABLE_ENV
+        autoload = not os.environ.get(DISABLE_ENV)
+    return autoload, extra
+
+
+def host_spec() -> bytes:
+    """A picklable description of this process's plugin host for workers to rebuild it.
+
+    Raises
+    ------
+    railtherm.PluginError
+        A plugin registered in memory cannot be sent to workers (not picklable).
+    """
+    import cloudpickle
+
+    from ..contract.errors import PluginError
+    from ..solving.plugins import get_host
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        host = get_host()
+    autoload, extra = _split_plugins(host)
+    try:
+        payload = cloudpickle.dumps(extra)
+    except Exception as exc:  # noqa: BLE001
+        raise PluginError(f"plugins {[n for n, _ in extra]} registered in this process cannot be sent to worker "
+                          f"processes ({type(exc).__name__}: {exc}); register them through the entry-point group "
+                          "'railtherm.plugins' or use the serial executor") from exc
+    return pickle.dumps({"origin": _origin(), "sys_path": [p for p in sys.path if p], "autoload": autoload,
+                         "extra": payload})
+
+
+def _origin() -> tuple[str, int]:
+    import socket
+    return socket.gethostname(), os.getpid()
+
+
+_INSTALLED: bytes | None = None
+_INSTALL_LOCK = threading.Lock()
+
+
+def install_host(spec: bytes | None) -> None:
+    """Build and install the plugin host described by ``spec`` in this (worker) process, once."""
+    global _INSTALLED
+    if spec is None or spec == _INSTALLED:
+        return
+    with _INSTALL_LOCK:
+        if spec == _INSTALLED:
+            return
+        d = pickle.loads(spec)
+        if tuple(d["origin"]) == _origin():  # a thread of the calling process: its host is already there
+            _INSTALLED = spec
+            return
+        for p in d["sys_path"]:
+            if p not in sys.path and os.path.isdir(p):
+                sys.path.append(p)
+        import cloudpickle
+
+        from ..solving import plugins
+        extra = cloudpickle.loads(d["extra"])
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            host = plugins.new_host(extra, autoload=d["autoload"])
+        plugins.set_host(host)
+        _INSTALLED = spec
+
+
+# ----------------------------------------------------------------------------------------------
+class SerialExecutor:
+    """Runs in the calling process, in task order."""
+
+    def map(self, fn: Callable, tasks, **kw) -> Iterator:
+        for i, t in enumerate(tasks):
+            yield i, fn(t, **kw)
+
+
+def _worker_main(conn, spec, fn):  # pragma: no cover - runs in the worker process
+    import signal
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C and ends its workers
+    setup_error = None
+    try:
+        install_host(spec)
+        from ..solving import pipeline  # noqa: F401 - load the heavy modules before the first run
+        from ..contract import schema
+        import netCDF4  # noqa: F401
+        import xarray  # noqa: F401
+    except BaseException as exc:  # noqa: BLE001
+        setup_error = f"worker could not set up its plugins: {type(exc).__name__}: {exc}"
+    conn.send(("ready", os.getpid()))
+    while True:
+        try:
+            msg = conn.recv()
+        except (EOFError, OSError):
+            break
+        if msg is None:
+            break
+        i, task, kw = msg
+        if setup_error:
+            conn.send((i, setup_error))
+            continue
+        try:
+            out = fn(task, **kw)
+        except BaseException as exc:  # noqa: BLE001 - report, keep serving
+            out = f"{type(exc).__name__}: {exc}"
+        conn.send((i, out))
+    conn.close()
+
+
+class _Worker:
+    """A worker process, its pipe, and the run it holds (None: idle; -1: not ready yet)."""
+
+    def __init__(self, ctx, spec, fn):
+        parent, child = ctx.Pipe()
+        self.proc = ctx.Process(target=_worker_main, args=(child, spec, fn), daemon=True,
+                                name="railtherm-worker")
+        self.proc.start()
+        child.close()
+        self.conn = parent
+        self.ready = False
+        self.task: int | None = None
+        self.t0 = 0.0
+
+    def send(self, i, task, kw) -> bool:
+        try:
+            self.conn.send((i, task, kw))
+        except (OSError, ValueError):
+            return False
+        self.task, self.t0 = i, time.monotonic()
+        return True
+
+    def stop(self, timeout=2.0):
+        if not self.ready:  # still loading: nothing to finish
+            self.proc.kill()
+        try:
+            self.conn.send(None)
+        except (OSError, ValueError):
+            pass
+        self.proc.join(timeout)
+        if self.proc.is_alive():
+            self.proc.kill()
+            self.proc.join(1.0)
+        self.conn.close()
+
+
+class ProcessExecutor:
+    """Local worker processes (spawn), one run at a time each, supervised.
+
+    The parent knows which run each worker holds, so a worker that dies costs only that run (retried
+    once on a fresh worker, then recorded ``failed``), and a worker stuck past its run's time limit
+    plus ``grace`` seconds is ended and the run recorded ``failed``. A worker gets its first run once
+    it has loaded its plugins and modules (the time limit counts from the start of the run).
+    """
+
+    def __init__(self, workers: int | None = None, grace: float = GRACE, max_attempts: int = MAX_ATTEMPTS):
+        self.workers = workers or max(1, (os.cpu_count() or 2))
+        self.grace, self.max_attempts = grace, max_attempts
+        self.pids: list[int] = []  # current worker pids (for monitoring and tests)
+
+    def map(self, fn, tasks, **kw):
+        import multiprocessing as mp
+        from multiprocessing.connection import wait
+
+        n = len(tasks)
+        if n == 0:
+            return
+        ctx = mp.get_context("spawn")
+        spec = host_spec()
+        pending = deque(range(n))
+        attempts = [0] * n
+        pool = [_Worker(ctx, spec, fn) for _ in range(min(self.workers, n))]
+        self.pids = [w.proc.pid for w in pool]
+        done = startup_deaths = 0
+        started = False
+        try:
+            while done < n:
+                for w in pool:
+                    if w.ready and w.task is None and pending:
+                        i = pending.popleft()
+                        attempts[i] += 1
+                        if not w.send(i, tasks[i], kw):  # a dead worker: found below
+                            attempts[i] -= 1
+                            pending.appendleft(i)
+                watched = [w for w in pool if w.task is not None or not w.ready]
+                ready = set(wait([w.conn for w in watched] + [w.proc.sentinel for w in watched], timeout=0.5))
+                for k, w in enumerate(pool):
+                    if w.ready and w.task is None:
+                        continue
+                    i = w.task
+                    broken = False
+                    if w.conn in ready or w.conn.poll():
+                        try:
+                            j, out = w.conn.recv()
+                        except (EOFError, OSError):
+                            broken = True  # the worker is going away
+                        else:
+                            if j == "ready":
+                                w.ready = started = True
+                                continue
+                            w.task = None
+                            done += 1
+                            if isinstance(out, str):
+                                out = _crash_record(tasks[j], out)
+                            yield j, out
+                            continue
+                    if broken or w.proc.sentinel in ready or not w.proc.is_alive():
+                        w.proc.join(1.0)
+                        if w.proc.is_alive():
+                            w.proc.kill()
+                            w.proc.join(5.0)
+                        why = _exit_text(w.proc.exitcode)
+                        if i is not None:
+                            if attempts[i] >= self.max_attempts:
+                                done += 1
+                                yield i, _crash_record(tasks[i], f"worker process died ({why}) in each of "
+                                                       f"{attempts[i]} attempts at this run")
+                            else:
+                                pending.appendleft(i)
+                        elif not w.ready:
+                            startup_deaths += 1
+                            if startup_deaths >= 3 * len(pool) and not started:
+                                raise RuntimeError(f"railtherm worker processes die while starting ({why}); "
+                                                   "try --executor serial to see the error")
+                        w.conn.close()
+                        pool[k] = _Worker(ctx, spec, fn) if pending else None
+                        continue
+                    limit = tasks[i].timeout if i is not None else 0
+                    if limit and limit > 0 and time.monotonic() - w.t0 > limit + self.grace:
+                        w.proc.kill()
+                        w.proc.join(5.0)
+                        w.conn.close()
+                        done += 1
+                        pool[k] = _Worker(ctx, spec, fn) if pending else None
+                        yield i, _crash_record(tasks[i], f"run exceeded the per-run time limit of {limit:g} s and "
+                                               f"did not stop; its worker process was ended after {self.grace:g} s more", "timeout")
+                pool = [w for w in pool if w is not None]
+                self.pids = [w.proc.pid for w in pool]
+        finally:
+            for w in pool:
+                w.stop()
+
+
+def _dask_run(task, *, spec, fn, kw, grace):  # pragma: no cover - runs on a dask worker
+    from .timelimit import WATCHDOG
+    install_host(spec)
+    limit = task.timeout
+    token = None
+    if limit and limit > 0:
+        def end_worker():
+            # the run ignored its time limit (stuck in a C call): record it, then end this worker
+            # process; the nanny starts a new one, and the retried task finds this record
+            _crash_record(task, f"run exceeded the per-run time limit of {limit:g} s and did not stop; its "
+                                f"dask worker process was ended after {grace:g} s more", "timeout")
+            os._exit(70)
+        token = WATCHDOG.add(limit + grace, end_worker)
+    try:
+        return fn(task, **kw)
+    finally:
+        if token is not None:
+            WATCHDOG.cancel(token)
+
+
+class DaskExecutor:
+    """dask.distributed: one task per run, on the scheduler at ``scheduler`` or on a LocalCluster."""
+
+    def __init__(self, scheduler: str | None = None, workers: int | None = None, grace: float = GRACE):
+        self.scheduler, self.workers, self.grace = scheduler, workers, grace
+        self.client = None
+
+    def map(self, fn, tasks, **kw):
+        import logging
+
+        import dask
+        from distributed import Client, LocalCluster, as_completed
+
+        if not tasks:
+            return
+        spec = host_spec()
+        cluster = None
+        if self.scheduler:
+            try:
+                client = Client(self.scheduler, timeout="30s")
+            except (OSError, TimeoutError) as exc:
+                from ..contract.errors import SceneError
+                raise SceneError.bad_value(None, "scheduler", self.scheduler,
+                                           f"the address of a running dask scheduler (start one with "
+                                           f"'dask scheduler --port 8786'); connecting failed: {exc}") from None
+        else:
+            with dask.config.set({"distributed.scheduler.allowed-failures": MAX_ATTEMPTS - 1}):
+                cluster = LocalCluster(n_workers=self.workers or max(1, os.cpu_count() or 2), threads_per_worker=1,
+                                       processes=True, dashboard_address=None, silence_logs=logging.ERROR)
+            client = Client(cluster)
+        self.client = client
+        try:
+            run_id = tasks[0].run_id or "x"
+            keys = [f"railtherm-{run_id}-{i}" for i in range(len(tasks))]
+            futs = client.map(_dask_run, tasks, key=keys, pure=False, spec=spec, fn=fn, kw=kw, grace=self.grace)
+            index = {f.key: i for i, f in enumerate(futs)}
+            done = as_completed(futs)
+            del futs
+            for fut in done:
+                i = index[fut.key]
+                try:
+                    rec = fut.result()
+                except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker after the retries
+                    name = type(exc).__name__
+                    msg = (f"worker process died in each attempt at this run (dask {name}: {exc})"
+                           if name == "KilledWorker" else f"{name}: {exc}")
+                    rec = _crash_record(tasks[i], msg)
+                fut.release()
+                yield i, rec
+        finally:
+            self.client = None
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def get_executor(name: str, *, scheduler: str | None = None, workers: int | None = None):
+    """The executor called ``name`` ("serial", "processes" or "dask")."""
+    from ..contract.errors import SceneError
+    if scheduler and name != "dask":
+        raise SceneError.bad_value(None, "scheduler", scheduler, "an address only with executor 'dask'")
+    if name == "serial":
+        return SerialExecutor()
+    if name == "processes":
+        return ProcessExecutor(workers)
+    if name == "dask":
+        return DaskExecutor(scheduler, workers)
+    raise SceneError.bad_value(None, "executor", name, "one of " + ", ".join(EXECUTORS))

@@ -1,0 +1,549 @@
+"""The study runner: every applicable (scene x method x level), timed, written atomically, resumable.
+
+Each run is executed by :func:`execute_run` (in this process, in local worker processes or on dask
+workers: the same function everywhere, so results are identical bit for bit). A run that raises,
+exceeds the per-run time limit or returns NaN is recorded as ``failed`` with its message; a scene
+outside a method's validity is ``refused``; neither stops the study. Results go to
+``<out>/runs/<scene>/<method>/level-<k>.nc`` (temporary file, then rename); refusals and failures
+are recorded beside them as ``level-<k>.status.json``. ``resume`` skips runs whose file exists for
+the same scene hash (failed runs are retried). :mod:`railtherm.store` owns the folder's layout, its
+atomic writes and the run records; :mod:`railtherm.timelimit` the per-run time limit.
+
+Every invocation of :func:`run_tasks` has a ``run_id``; each file and status record carries the
+``run_id`` that wrote it. A run that is executed again within the same invocation (its worker died
+after writing but before reporting back) finds its own result and does not write it again.
+
+Timing and memory (see :func:`execute_run`): an untimed warm-up of the same code path, then the
+best (and median) of at least 3 timed solves (2 for solves over 2 s), then a separate solve whose
+process peak resident set size and its growth are the memory (:class:`RSSPeak`; native allocations included). Sweeps
+(``warmup = false``) warm up once per method and level in each process and measure the memory of
+one run in :data:`MEMORY_SAMPLE`. ``--resume`` compares the run hash (scene, method, level,
+options and code versions, :func:`run_hash`), not the scene alone.
+
+Statuses written here are ``ok`` (ran and converged: metrics then decides ok, inaccurate or
+unverified), ``refused`` (with ``reason_kind`` validity or budget) and ``failed`` (``reason_kind``
+error, not-converged, timeout or invalid-input).
+"""
+from __future__ import annotations
+
+import contextlib
+import json
+import math
+import os
+import sys
+import threading
+import time
+import traceback
+import uuid
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+from ..output import store
+from ..contract.errors import Refused, SceneError
+from ..input.scene import Scene
+# re-exported for one release: the output folder moved to railtherm.store, time limits to railtherm.timelimit
+from ..output.store import (RunRecord, _direct_writable, _write_netcdf4, read_attrs, run_path,  # noqa: F401
+                    status_path, write_atomic_bytes, write_dataset_atomic)
+from ..input.study import Study, load_study
+from .timelimit import WATCHDOG, RunTimeout, Watchdog, _async_raise, _time_limit  # noqa: F401
+
+_remove_stale_tmp = store.remove_stale_tmp  # re-exported for one release
+
+from ..output.store import STATUSES  # noqa: F401 - re-exported
+
+#: a run-sweep study (``warmup = false``) traces the memory of one run in this many per (method, level)
+MEMORY_SAMPLE = 100
+#: quantities whose values a record carries, so that metrics need not open the file again
+RECORD_VALUES = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
+                 "frictional_power", "semi_axis_a", "normal_force", "steady_wheel_temperature",
+                 "steady_mean_contact_temperature")
+
+
+@dataclass
+class RunTask:
+    """One (scene, method, level) to run; picklable (sent to worker processes and dask workers)."""
+
+    scene: Scene
+    method: str
+    level: int
+    options: dict
+    out: str
+    repeat: int = 3
+    warmup: bool = True
+    timeout: float = 600.0
+    #: id of the study invocation that runs this task, and when it started (set by :func:`run_tasks`)
+    run_id: str = ""
+    run_started: float = 0.0
+    #: measure peak memory when ``warmup`` is false (a sample of the runs)
+    trace_memory: bool = True
+
+    @property
+    def path(self) -> Path:
+        return store.run_path(self.out, self.scene.name, self.method, self.level)
+
+    @property
+    def run_hash(self) -> str:
+        """Hash of what decides the result: scene, method, level, method options and code versions.
+
+        ``--resume`` reuses a result only when this matches (a result computed with other options
+        or another version of railtherm or of the method's plugins is computed again).
+        """
+        return run_hash(self.scene, self.method, self.level, self.options)
+
+    def existing(self, *, same_invocation: bool = False) -> "RunRecord | None":
+        """The record of this run already on disk with the same run hash, else None (:func:`_existing`).
+
+        Executors call it on a task whose worker died (they never import the runner).
+        """
+        return _existing(self, same_invocation=same_invocation)
+
+
+def code_versions(method: str) -> str:
+    """railtherm's version and the versions of the plugins behind ``method`` (name and models)."""
+    from .._version import __version__
+    from ..solving.plugins import get_host
+    try:
+        mi = get_host().method(method)
+    except SceneError:
+        return f"railtherm {__version__}"
+    parts = {f"{mi.plugin} {mi.version}"} | {f"{m.plugin} {m.version} {m.cls.name} {m.cls.version or ''}"
+                                             for m in mi.models}
+    return "; ".join([f"railtherm {__version__}", *sorted(parts)])
+
+
+def run_hash(scene: Scene, method: str, level: int, options: Mapping[str, Any]) -> str:
+    """Hash [hex] of the scene, method, level, method options and code versions of one run."""
+    import hashlib
+    doc = {"scene": scene.hash, "method": method, "level": int(level),
+           "options": {k: options[k] for k in sorted(options)}, "versions": code_versions(method)}
+    return hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode()).hexdigest()[:16]
+
+
+# ----------------------------------------------------------------------------------------------
+def _values(ds) -> dict:
+    out = {}
+    variables = ds.variables
+    for name in RECORD_VALUES:
+        var = variables.get(name)
+        if var is not None and var.ndim <= 1 and var.size <= 2:
+            v = np.asarray(var.values, dtype=float)
+            out[name] = float(v) if v.ndim == 0 else [float(t) for t in v]
+    return out
+
+
+#: global attributes of a result that are solver diagnostics (the documented vocabulary)
+DIAGNOSTIC_KEYS = ("converged", "iterations", "residual", "heat_balance_error")
+
+
+def _diagnostics(attrs: Mapping[str, Any]) -> dict:
+    out = {}
+    for k, v in attrs.items():
+        if any(k.endswith(key) for key in DIAGNOSTIC_KEYS):
+            if isinstance(v, (int, float, np.integer, np.floating)):
+                out[k] = float(v)
+    return out
+
+
+def _summarise(rec: RunRecord, scene: Scene, ds) -> None:
+    """Fill the record's energy balance, scalar values and diagnostics from the result ``ds``."""
+    from ..analysis.metrics import energy_balance
+    rec.energy_balance, rec.energy_reference = energy_balance(scene, ds)
+    rec.values, rec.diagnostics, rec.summary = _values(ds), _diagnostics(ds.attrs), True
+
+
+def _record_from_file(task: RunTask, p: Path, attrs: Mapping[str, Any], resumed: bool) -> RunRecord:
+    rec = RunRecord(task.scene.name, task.method, task.level, "ok", "",
+                    wall_time=float(attrs.get("wall_time", math.nan)), peak_rss=float(attrs.get("peak_rss", math.nan)),
+                    rss_growth=float(attrs.get("rss_growth", math.nan)),
+                    timing_runs=int(attrs.get("timing_runs", 0)), path=str(p), scene_hash=task.scene.hash,
+                    run_hash=str(attrs.get("run_hash", "")),
+                    wall_time_median=float(attrs.get("wall_time_median", math.nan)), resumed=resumed,
+                    run_id=str(attrs.get("run_id", "")), pid=os.getpid(), sweep=dict(task.scene.sweep))
+    try:  # the summary metrics need, read here (in the worker) rather than by metrics (serially)
+        _summarise(rec, task.scene, store.open_dataset(p))
+    except Exception:  # noqa: BLE001 - metrics will open the file itself
+        pass
+    return rec
+
+
+def _existing(task: RunTask, *, same_invocation: bool = False) -> RunRecord | None:
+    """A record of a run already on disk with the same :attr:`RunTask.run_hash`, else None.
+
+    ``same_invocation``: only what this invocation (``task.run_id``) wrote, success or failure
+    (a retried run never repeats itself); otherwise (``--resume``) any result file and any
+    refusal, but not failures (they are retried). A result of the same scene computed with other
+    options or another code version has another run hash and is computed again.
+    """
+    p = task.path
+    h = task.run_hash
+    if p.exists():
+        try:
+            attrs = store.read_attrs(p)
+        except Exception:  # noqa: BLE001 - an unreadable file is recomputed
+            attrs = {}
+        if attrs.get("run_hash") == h and (not same_invocation or attrs.get("run_id") == task.run_id):
+            return _record_from_file(task, p, attrs, resumed=True)
+    sp = store.status_path(p)
+    if sp.exists():
+        try:
+            rec = store.read_status(p)
+        except Exception:  # noqa: BLE001
+            return None
+        if rec.run_hash != h:
+            return None
+        if (same_invocation and rec.run_id == task.run_id) or (not same_invocation and rec.status == "refused"):
+            rec.resumed = True
+            return rec
+    return None
+
+
+#: (method, level) solved at least once in this process (their modules and kernels are loaded)
+_WARM: set = set()
+
+
+def _written_since(task: RunTask, since: float) -> bool:
+    """Whether the run's file or status record was written after ``since`` (a stat, not an open)."""
+    for p in (task.path, store.status_path(task.path)):
+        try:
+            if p.stat().st_mtime >= since:
+                return True
+        except OSError:
+            pass
+    return False
+
+
+class RSSPeak:
+    """Peak resident set size of this process during a block, and its growth [bytes].
+
+    ``peak`` is the process's absolute high-water mark during the block (interpreter, libraries and
+    whatever the solver keeps between calls included: what a machine must hold to run it);
+    ``growth`` is that peak minus the resident set at the start (what the block itself took).
+
+    On Linux the kernel's high-water mark (``VmHWM``) is reset by writing ``5`` to
+    ``/proc/self/clear_refs`` before the block and read after it; where that is not possible, a
+    thread samples the RSS (psutil) every millisecond. The value counts everything the process
+    allocates (numpy, numba, SuperLU, FiPy), unlike :mod:`tracemalloc`; it does not slow the code.
+    Under a threaded executor (dask workers run several tasks in one process) it includes what the
+    other threads allocate meanwhile. Memory the process already holds is not counted: freed heap
+    memory is handed back to the OS first (``malloc_trim``), but pools that a library keeps to itself
+    (numba, FiPy caches) are reused without growth.
+    """
+
+    def __init__(self):
+        self.peak = math.nan
+        self.growth = math.nan
+
+    @staticmethod
+    def _status(key: str) -> float:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith(key + ":"):
+                    return float(line.split()[1]) * 1024.0
+        raise OSError(key)
+
+    @staticmethod
+    def _trim() -> None:
+        """Return freed heap memory to the OS (glibc ``malloc_trim``), so that a solve reusing it counts."""
+        try:
+            import ctypes
+            ctypes.CDLL("libc.so.6").malloc_trim(0)
+        except (OSError, AttributeError):  # pragma: no cover - not glibc
+            pass
+
+    def __enter__(self):
+        self._sampler = None
+        self._trim()
+        try:
+            with open("/proc/self/clear_refs", "w") as fh:
+                fh.write("5")
+            self._base = self._status("VmRSS")
+            self._mode = "hwm"
+        except OSError:
+            import psutil
+            proc = psutil.Process()
+            self._base = float(proc.memory_info().rss)
+            self._mode = "sample"
+            self._max = self._base
+            self._stop = threading.Event()
+
+            def sample():
+                while not self._stop.wait(0.001):
+                    self._max = max(self._max, float(proc.memory_info().rss))
+            self._sampler = threading.Thread(target=sample, daemon=True)
+            self._sampler.start()
+        return self
+
+    def __exit__(self, *exc):
+        if self._mode == "hwm":
+            self.peak = max(self._status("VmHWM"), self._base)
+        else:
+            self._stop.set()
+            self._sampler.join()
+            self.peak = max(self._max, self._base)
+        self.growth = self.peak - self._base
+        return False
+
+
+def timed_solves(first: float) -> int:
+    """How many timed solves a run gets after its warm-up: 3 under 2 s, else 2."""
+    return 3 if first < 2.0 else 2
+
+
+def _failure(exc: BaseException, timeout: float) -> tuple[str, str, str]:
+    """(status, reason kind, message) of a run that raised ``exc``."""
+    from ..contract.errors import SolverError
+    if isinstance(exc, Refused):
+        return "refused", getattr(exc, "kind", "validity"), str(exc)
+    if isinstance(exc, SceneError):
+        return "failed", "invalid-input", f"invalid input: {exc}"
+    if isinstance(exc, RunTimeout):
+        return "failed", "timeout", f"run exceeded the per-run time limit of {timeout:g} s"
+    if isinstance(exc, MemoryError):
+        return "failed", "error", "out of memory"
+    if isinstance(exc, SolverError):
+        return "failed", "not-converged", str(exc)
+    tb = traceback.extract_tb(exc.__traceback__)
+    where = f" at {tb[-1].filename.rsplit('/', 1)[-1]}:{tb[-1].lineno}" if tb else ""
+    return "failed", "error", f"{type(exc).__name__}: {exc}{where}"
+
+
+def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
+    """Run one (scene, method, level): warm up, time, measure memory, write atomically.
+
+    The same function runs in every executor, so results are identical bit for bit.
+
+    Timing: one untimed warm-up solve of the same code path (with ``task.warmup``: the same
+    scene; without, for sweeps: the first run of the method and level in this process), then the
+    best of n timed solves, n = max(``task.repeat``, 3) when a solve takes under 2 s and
+    max(``task.repeat``, 2) otherwise (fewer only when the per-run time limit would be exceeded).
+    Memory: :class:`RSSPeak` around the warm-up's twin, a separate untimed solve (with
+    ``task.trace_memory``), so that neither pass perturbs the other.
+
+    Parameters
+    ----------
+    task : RunTask
+        The run; ``task.run_id`` identifies the study invocation (a retry after a worker died
+        returns what this invocation already wrote instead of running again).
+    resume : bool
+        Return the record of a result already on disk with the same run hash (or a refusal).
+
+    Returns
+    -------
+    RunRecord
+        Status (ok | refused | failed; metrics later decides ok, inaccurate or unverified) and
+        message, best and median wall time [s], peak RSS and its growth [bytes], energy balance and
+        scalar values of the result, and ``phases``: where the time went [s]. Never raises for a
+        problem of the run itself.
+    """
+    from ..solving.pipeline import solve
+    from ..contract.schema import history_line
+
+    t_begin, cpu_begin = time.perf_counter(), time.thread_time()
+    if resume:
+        rec = _existing(task)
+        if rec is not None:
+            return rec
+    if task.run_id and _written_since(task, task.run_started - 2.0):  # a retry finds its own result
+        rec = _existing(task, same_invocation=True)
+        if rec is not None:
+            return rec
+    rec = RunRecord(task.scene.name, task.method, task.level, "failed", path=str(task.path),
+                    scene_hash=task.scene.hash, run_hash=task.run_hash, run_id=task.run_id, pid=os.getpid(),
+                    sweep=dict(task.scene.sweep))
+    sp = store.status_path(task.path)
+    phases: dict[str, float] = {}
+    rec.phases = phases
+    try:
+        with _time_limit(task.timeout):
+            t0 = time.perf_counter()
+            key = (task.method, task.level)
+            if task.warmup or key not in _WARM:
+                # untimed warm-up of the same code path: imports, numba compilation, caches
+                solve(task.scene, task.method, task.level, task.options, validate=False)
+            _WARM.add(key)
+            phases["warmup"] = time.perf_counter() - t0
+            t0 = time.perf_counter()
+            ds = solve(task.scene, task.method, task.level, task.options)
+            phases["solve"] = time.perf_counter() - t0
+            phases["compute"] = float(ds.attrs["wall_time"])
+            times = [float(ds.attrs["wall_time"])]
+            t1 = time.perf_counter()
+            n = max(task.repeat, timed_solves(times[0]))
+            budget = max(0.0, task.timeout - (time.perf_counter() - t_begin)) / 2
+            while len(times) < n and sum(times) + times[0] < budget:
+                again = solve(task.scene, task.method, task.level, task.options, validate=False)
+                times.append(float(again.attrs["wall_time"]))
+            phases["repeats"] = time.perf_counter() - t1
+            if task.trace_memory:
+                t2 = time.perf_counter()
+                with RSSPeak() as mem:
+                    solve(task.scene, task.method, task.level, task.options, validate=False)
+                rec.peak_rss, rec.rss_growth = mem.peak, mem.growth
+                phases["memory"] = time.perf_counter() - t2
+        rec.wall_time = min(times)
+        rec.wall_time_median = float(np.median(times))
+        rec.timing_runs = len(times)
+        _summarise(rec, task.scene, ds)
+        ds.attrs.update({"wall_time": rec.wall_time, "wall_time_median": rec.wall_time_median,
+                         "peak_rss": rec.peak_rss, "rss_growth": rec.rss_growth, "timing_runs": rec.timing_runs, "status": "ok",
+                         "run_id": task.run_id, "run_hash": rec.run_hash})
+        how = f"best and median of {len(times)} timed solves after an untimed warm-up"
+        ds.attrs["history"] = ds.attrs["history"] + "\n" + history_line(f"railtherm run: {how}")
+        t3 = time.perf_counter()
+        store.write_dataset_atomic(ds, task.path)
+        phases["write"] = time.perf_counter() - t3
+        rec.status = "ok"
+        if sp.exists():
+            sp.unlink()
+        phases["total"] = time.perf_counter() - t_begin
+        phases["cpu"] = time.thread_time() - cpu_begin
+        return rec
+    except Exception as exc:  # noqa: BLE001 - a failing plugin never takes the study down
+        rec.status, rec.reason_kind, rec.message = _failure(exc, task.timeout)
+    rec.values, rec.energy_balance, rec.summary = {}, math.nan, False
+    if task.path.exists():
+        task.path.unlink()
+    store.write_status(rec, task.path)
+    phases["total"] = time.perf_counter() - t_begin
+    phases["cpu"] = time.thread_time() - cpu_begin
+    return rec
+
+
+# ----------------------------------------------------------------------------------------------
+def _progress(total: int, desc: str):
+    quiet = not (hasattr(sys.stderr, "isatty") and sys.stderr.isatty())
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:  # pragma: no cover
+        return contextlib.nullcontext(None)
+    return tqdm(total=total, desc=desc, file=sys.stderr, disable=quiet, unit="run")
+
+
+def make_tasks(study: Study, out, methods: Iterable[str] | None = None, levels: Iterable[int] | None = None
+               ) -> list[RunTask]:
+    from ..solving.plugins import get_host
+
+    host = get_host()
+    names = list(methods) if methods else study.method_names(host.methods)
+    unknown = [m for m in names if m not in host.methods]
+    if unknown:
+        raise SceneError(f"study {study.name!r}: unknown method(s) {unknown}; installed: {sorted(host.methods)}"
+                         + (f"; plugin problems: {host.problems}" if host.problems else ""),
+                         key="study.methods", value=unknown, allowed=str(sorted(host.methods)))
+    lv = sorted(set(levels)) if levels is not None else study.levels
+    tasks = []
+    for i, scene in enumerate(study.scenes):
+        for m in names:
+            for k in lv:
+                tasks.append(RunTask(scene, m, k, dict(study.options.get(m, {})), str(out), study.repeat,
+                                     study.warmup, study.timeout,
+                                     trace_memory=study.warmup or i % MEMORY_SAMPLE == 0))
+    return tasks
+
+
+def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str | None = None,
+              resume: bool = False, workers: int | None = None, desc: str = "railtherm",
+              run_id: str | None = None) -> list[RunRecord]:
+    """Execute tasks with the chosen executor; records come back in task order.
+
+    Each task gets this invocation's ``run_id`` (a new one unless given).
+    """
+    from .executors import get_executor
+
+    run_id = run_id or uuid.uuid4().hex[:12]
+    started = time.time()
+    for t in tasks:
+        t.run_id, t.run_started = run_id, started
+    ex = get_executor(executor, scheduler=scheduler, workers=workers)
+    records: list[RunRecord | None] = [None] * len(tasks)
+    with _progress(len(tasks), desc) as bar:
+        for i, rec in ex.map(execute_run, tasks, resume=resume):
+            records[i] = rec
+            if bar is not None:
+                bar.update(1)
+                bar.set_postfix_str(f"{rec.scene[:24]} {rec.method} L{rec.level} {rec.status}", refresh=False)
+    store.remove_stale_tmp({Path(t.path).parent for t in tasks})
+    return [r for r in records if r is not None]
+
+
+def _children_cpu() -> float:
+    """CPU time [s] of this process's finished child processes (local workers), user + system."""
+    try:
+        import resource
+        r = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return r.ru_utime + r.ru_stime
+    except (ImportError, OSError):  # pragma: no cover
+        return math.nan
+
+
+def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike = "out", *, executor: str = "serial",
+              scheduler: str | None = None, methods: Iterable[str] | None = None, levels: Iterable[int] | None = None,
+              resume: bool = False, report: bool = True, workers: int | None = None):
+    """Run a study and write runs, ``metrics.nc`` and the report to ``out``.
+
+    Parameters
+    ----------
+    study_or_path : Study or path
+        A parsed study or the path of a study TOML file.
+    out : path
+        Output folder.
+    executor : {"serial", "processes", "dask"}
+        Where runs execute: this process, local worker processes, or a dask.distributed cluster
+        (one task per run). Results are identical bit for bit.
+    scheduler : str, optional
+        Address of a dask.distributed scheduler (``executor="dask"``), e.g. ``tcp://10.0.0.5:8786``;
+        a LocalCluster is started if None.
+    methods, levels : optional
+        Restrict the study's methods / levels.
+    resume : bool
+        Skip runs already written for the same scene hash.
+    report : bool
+        Write report.md, report.html and figures/ after the runs.
+    workers : int, optional
+        Number of local worker processes (processes executor, LocalCluster); default: CPU count.
+
+    Returns
+    -------
+    xarray.Dataset
+        The metrics (also written to ``out/metrics.nc``).
+    """
+    from ..analysis.metrics import compute_metrics
+
+    t0, c0, w0 = time.perf_counter(), time.process_time(), _children_cpu()
+    study = study_or_path if isinstance(study_or_path, Study) else load_study(study_or_path)
+    from ..contract.options import check_study
+    from ..solving.plugins import get_host
+    check_study(study, get_host(), methods=methods, levels=levels)  # everything, before the first task
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise SceneError(f"output folder {str(out)!r} is an existing file, not a folder", key="out",
+                         value=str(out), allowed="a folder (created if missing)")
+    out.mkdir(parents=True, exist_ok=True)
+    tasks = make_tasks(study, out, methods, levels)
+    t1 = time.perf_counter()
+    records = run_tasks(tasks, executor=executor, scheduler=scheduler, resume=resume, workers=workers,
+                        desc=study.name)
+    t2 = time.perf_counter()
+    metrics = compute_metrics(study, out, records)
+    store.write_dataset_atomic(metrics, store.metrics_path(out))
+    from ..analysis.reference_curves import write_reference_curves
+    write_reference_curves(study, out)  # the exact curves the report overlays (it never recomputes physics)
+    t3 = time.perf_counter()
+    timing = {"setup": t1 - t0, "runs": t2 - t1, "metrics": t3 - t2, "executor": executor,
+              "workers": workers, "runs_total": len(records),
+              "cpu_main": time.process_time() - c0, "cpu_local_workers": _children_cpu() - w0,
+              "cpu_count": os.cpu_count(), "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None}
+    env = {k: os.environ.get(k) for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+                                          "NUMBA_NUM_THREADS")}
+    path = str(Path(study.path).resolve()) if study.path else None
+    store.write_json_atomic(store.study_path(out), {"study": study.name, "path": path, "argv": sys.argv,
+                                                    "timing": timing, "environment": env,
+                                                    "records": [r.to_dict() for r in records]},
+                            indent=1, default=str)
+    if report:
+        from ..report import write_report
+        write_report(out, study=study)
+    return metrics

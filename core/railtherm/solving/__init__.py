@@ -1,0 +1,1 @@
+"""Solving one scene with one method: the plugin host and the stage pipeline."""

@@ -1,0 +1,294 @@
+"""Run one scene through one method at one level: plan the stages the outputs need, run them, build
+and validate the result Dataset.
+
+Planning (:func:`plan`): each requested output belongs to one of the four stages (normal,
+tangential, heat source, temperature; :data:`railtherm.schema.VARIABLES`); the stages up to the last
+one needed run, no others. A scene that gives its heat source runs no normal or tangential stage
+(core model "given" supplies the source, also to a coupled model).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+import numpy as np
+
+from ..contract.errors import PluginError, Refused, SceneError, SolverError
+from ..contract.grid import BASE_CELLS
+from ..models.sliding import given_heat_source as _given
+from .plugins import MethodInfo, PluginHost, get_host
+from ..output.store import encode_sweep
+from ..input.scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
+from ..contract.schema import STAGE_OF_GROUP, VARIABLES, build_dataset, history_line, validate_dataset
+from ..contract.stages import STAGES, ContactPatch, CoupledModel, StageModel, Upstream
+
+__all__ = ["solve", "plan", "given_heat_source", "Plan"]
+
+
+
+
+def check_level(level, *, where: str = "") -> int:
+    """``level`` as an int, or :class:`railtherm.SceneError` unless it is a non-negative integer."""
+    ok = (isinstance(level, (int, np.integer)) and not isinstance(level, bool)) or (
+        isinstance(level, (float, np.floating)) and float(level).is_integer())
+    if not ok or int(level) < 0:
+        raise SceneError(f"{where}key 'level' = {level!r} is not allowed: an integer >= 0",
+                         key="level", value=level, allowed="an integer >= 0")
+    return int(level)
+
+
+def _check_options(mi: MethodInfo, options, scene: str) -> dict:
+    """Validate method options: unknown keys and bad values are :class:`railtherm.SceneError`."""
+    from ..contract.options import check_options
+    try:
+        return check_options(mi, dict(options or {}), method=mi.name)
+    except SceneError as exc:
+        if exc.scene is None and scene:
+            raise SceneError(f"scene {scene!r}, method {mi.name!r}: {exc}", scene=scene, key=exc.key,
+                             value=exc.value, allowed=exc.allowed) from None
+        raise
+
+
+def given_heat_source(scene: Scene, level: int, cells: int | None = None):
+    """The :class:`railtherm.HeatSource` a scene gives, on the grid of ``level``."""
+    return _given(scene, level, cells)
+
+
+@dataclass
+class Plan:
+    """Models selected for a (scene, method, level) and the stages that will run."""
+
+    method: MethodInfo
+    stages: tuple[str, ...]
+    models: dict[str, StageModel]
+
+    def describe(self) -> str:
+        return ", ".join(f"{s}={self.models[s].name}" for s in self.stages)
+
+
+def _select(host: PluginHost, mi: MethodInfo, stage: str, scene: Scene, level: int) -> StageModel:
+    reasons = []
+    for name in mi.method.chain.get(stage, ()):
+        model = host.model(name).cls()
+        why = model.supports(scene, level)
+        if why is None:
+            return model
+        reasons.append(why)
+    if not reasons:
+        raise Refused(f"method {mi.name!r} has no {stage} model")
+    raise Refused("; ".join(reasons))
+
+
+def plan(scene: Scene, method: str, level: int = 0, host: PluginHost | None = None) -> Plan:
+    """Choose the models and the stages to run; raises :class:`railtherm.Refused` when impossible.
+
+    Each output belongs to one stage (:data:`railtherm.schema.VARIABLES`); the stages up to the last
+    one an output needs run, no others, and the model selected for an output's stage must declare
+    it in ``capabilities.provides``. A scene that gives its heat source runs no normal or
+    tangential stage: core's ``given`` is its heat-source stage.
+    """
+    host = host or get_host()
+    mi = host.method(method)
+    given = scene.heat_source is not None
+    order = [s for s in STAGES if s in mi.method.chain]
+    if given:
+        order = [s for s in order if s not in ("normal", "tangential")]
+        if "heat_source" not in order and "temperature" in order:
+            order.insert(0, "heat_source")
+    models: dict[str, StageModel] = {}
+    for stage in order:
+        models[stage] = host.model("given").cls() if given and stage == "heat_source" else \
+            _select(host, mi, stage, scene, level)
+    last = -1
+    for out in scene.outputs:
+        stage = STAGE_OF_GROUP[VARIABLES[out].stage]
+        if stage not in order or out not in models[stage].capabilities.provides:
+            extra = (" (the scene gives its heat source, so no normal or tangential stage runs)"
+                     if given and stage in ("normal", "tangential") else "")
+            who = f"its {stage} model {models[stage].name!r}" if stage in models else f"it has no {stage} stage"
+            raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}{extra}: "
+                          f"{who}; its models provide: "
+                          f"{sorted(set().union(*(m.capabilities.provides for m in models.values())))}")
+        last = max(last, order.index(stage))
+    stages = tuple(order[: last + 1])
+    return Plan(mi, stages, {s: models[s] for s in stages})
+
+
+def _flat_diagnostics(prefix: str, diag: Mapping[str, Any], out: dict) -> None:
+    for k, v in (diag or {}).items():
+        key = f"{prefix}_{k}".replace(" ", "_")
+        if isinstance(v, (bool, np.bool_)):
+            out[key] = int(v)
+        elif isinstance(v, (int, float, np.integer, np.floating, str)):
+            out[key] = v.item() if hasattr(v, "item") else v
+        elif isinstance(v, (list, tuple, np.ndarray)) and len(v) and all(isinstance(t, (int, float, np.number)) for t in v):
+            out[key] = np.asarray(v, dtype=float)
+        else:
+            out[key] = str(v)
+
+
+_NORMAL_FIELDS = ("grid", "normal_force", "a", "b", "max_pressure", "pressure", "creepage")
+
+
+def _check_untouched(model: StageModel, before: ContactPatch, after: ContactPatch) -> None:
+    """A tangential model returns a new patch and leaves the normal stage's fields as they were."""
+    if after is before:
+        raise PluginError(f"tangential model {model.name!r} returned the patch it was given; return "
+                          "patch.with_tangential(...) (a new patch)")
+    for name in _NORMAL_FIELDS:
+        x, y = getattr(before, name), getattr(after, name)
+        same = x is y or (np.array_equal(x, y) if isinstance(x, np.ndarray) else x == y)
+        if not same:
+            raise PluginError(f"tangential model {model.name!r} changed the normal stage's {name!r}; a stage "
+                              "never rewrites another's result")
+
+
+def _freeze(result) -> None:
+    """Make the arrays of a stage's result read-only: a later stage that writes into them (instead of
+    returning a new result) fails at once with numpy's "assignment destination is read-only"."""
+    if result is None or not dataclasses.is_dataclass(result):
+        return
+    for f in dataclasses.fields(result):
+        value = getattr(result, f.name)
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+
+
+@dataclass
+class StageRecord:
+    """What one stage (or one coupled model) returned: the model and its diagnostics."""
+
+    model: StageModel
+    diagnostics: Mapping[str, Any]
+
+
+def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
+    patch = source = temp = None
+    records: list[StageRecord] = []
+    cells = options.get("cells") or pl.method.method.default_cells or BASE_CELLS
+    done: set[int] = set()
+    for stage in pl.stages:
+        model = pl.models[stage]
+        if id(model) in done:
+            continue
+        opts = {**model.resolve_options(options), "cells": cells}
+        if isinstance(model, CoupledModel):
+            same = tuple(s for s in pl.stages if type(pl.models[s]) is type(model))
+            done.update(id(pl.models[s]) for s in same)
+            out = model.compute(scene, level, opts, same, Upstream(patch=patch, source=source))
+            p, s, t = out
+            for obj in out:
+                _freeze(obj)
+            patch, source, temp = (p if p is not None else patch, s if s is not None else source,
+                                   t if t is not None else temp)
+            diag = {}
+            for obj in (p, s, t):
+                diag.update(getattr(obj, "diagnostics", None) or {})
+            records.append(StageRecord(model, diag))
+            continue
+        if stage == "normal":
+            patch = result = model.compute_patch(scene, level, opts)
+        elif stage == "tangential":
+            result = model.compute_tangential(scene, patch, level, opts)
+            _check_untouched(model, patch, result)
+            patch = result
+        elif stage == "heat_source":
+            source = result = model.compute_source(scene, patch, level, opts)
+        else:
+            temp = result = model.compute_temperature(scene, source, level, opts)
+        _freeze(result)
+        records.append(StageRecord(model, result.diagnostics or {}))
+        done.add(id(model))
+    return patch, source, temp, records
+
+
+def _versions(pl: Plan, host: PluginHost) -> str:
+    from .._version import __version__
+    parts = [f"railtherm {__version__}", f"method {pl.method.name} from plugin {pl.method.plugin} {pl.method.version}"]
+    seen = []
+    for s in pl.stages:
+        m = pl.models[s]
+        if m.name not in seen:
+            seen.append(m.name)
+            info = host.models[m.name]
+            parts.append(f"{m.name} ({info.plugin} {info.version})")
+    return "; ".join(parts)
+
+
+def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options: Mapping[str, Any] | None = None,
+          *, host: PluginHost | None = None, validate: bool = True):
+    """Solve one scene with one method at one resolution level.
+
+    Parameters
+    ----------
+    scene : Scene or mapping
+        A :class:`railtherm.Scene`, or a mapping in the study vocabulary with materials included.
+    method : str
+        Method name (see :func:`railtherm.methods`).
+    level : int
+        Resolution level k >= 0 (each level halves the method's characteristic cell size).
+    options : mapping, optional
+        Method options (``[study.options.<method>]``), validated by the method's models.
+
+    Returns
+    -------
+    xarray.Dataset
+        The result in the schema of docs/DESIGN.md ("Result schema") (CF-1.11 attributes), already validated.
+
+    Raises
+    ------
+    railtherm.SceneError
+        Invalid scene or option.
+    railtherm.Refused
+        The scene lies outside the method's validity; the message names the limit.
+    railtherm.SolverError
+        The solver did not converge or produced non-finite numbers.
+    """
+    host = host or get_host()
+    scene = load_scene(scene)
+    level = check_level(level, where=f"scene {scene.name!r}: ")
+    mi = host.method(method)  # SceneError for an unknown method, naming the installed ones
+    options = _check_options(mi, options, scene.name)
+    pl = plan(scene, method, level, host)
+    t0 = time.perf_counter()
+    patch, source, temp, records = _run(pl, scene, level, options)
+    wall = time.perf_counter() - t0
+    grid = (source.grid if source is not None else patch.grid if patch is not None else None)
+    if grid is None:
+        raise PluginError(f"method {method!r}: no stage returned a result for scene {scene.name!r}")
+    diag: dict[str, Any] = {}
+    converged = True
+    for rec in records:
+        _flat_diagnostics(rec.model.name, rec.diagnostics, diag)
+        if "converged" in rec.diagnostics and not bool(rec.diagnostics["converged"]):
+            converged = False
+    attrs = {
+        "title": f"railtherm result: scene {scene.name}, method {method}, level {level}",
+        "source": _versions(pl, host),
+        "history": history_line(f"railtherm.solve(scene={scene.name!r}, method={method!r}, level={level})"),
+        "references": "see the docstrings of the models named in 'source'",
+        "method": method, "scene": scene.name, "scene_hash": scene.hash, "level": level,
+        "stages": " ".join(f"{s}:{pl.models[s].name}" for s in pl.stages),
+        "outputs": " ".join(scene.outputs),
+        "wall_time": wall, "converged": int(converged),
+        "sweep": encode_sweep(scene.sweep),
+        **diag,
+    }
+    ds = build_dataset(grid, patch, source, temp, outputs=scene.outputs, attrs=attrs)
+    if not converged:
+        raise SolverError(f"method {method!r} did not converge on scene {scene.name!r} at level {level}: "
+                          + ", ".join(f"{k}={v}" for k, v in diag.items() if "resid" in k or "iter" in k))
+    missing = [o for o in scene.outputs if o not in ds and not (grid.line and o in LATERAL)]
+    if missing:
+        raise PluginError(f"method {method!r} ({pl.describe()}) declared but did not return {missing} "
+                          f"for scene {scene.name!r}")
+    for name in scene.outputs:
+        if name in ds and np.issubdtype(ds[name].dtype, np.floating) and not np.all(np.isfinite(ds[name].values)) \
+                and name != "stick":
+            raise SolverError(f"method {method!r} returned NaN/inf for {name!r} on scene {scene.name!r}")
+    if validate:
+        validate_dataset(ds, pl.method.plugin)
+    return ds

@@ -1,0 +1,272 @@
+"""The plugin host: discovery through the entry-point group ``railtherm.plugins``, on pluggy.
+
+Loading survives a broken plugin: each entry point is loaded and called in its own try/except; a
+failure is reported by name (a warning, and in :attr:`PluginHost.problems`) and the others go on.
+``RAILTHERM_DISABLE_PLUGIN_AUTOLOAD=1`` disables entry-point discovery (core models only); ``strict=True``
+turns every problem into an exception (for tests).
+"""
+from __future__ import annotations
+
+import importlib.metadata as md
+import os
+import warnings
+from dataclasses import dataclass, field
+from types import ModuleType
+from typing import Any, Iterable
+
+import pluggy
+
+from ..contract import hookspec
+from ..contract.errors import PluginError
+from ..contract.stages import STAGES, CoupledModel, Method, StageModel
+
+GROUP = "railtherm.plugins"
+DISABLE_ENV = "RAILTHERM_DISABLE_PLUGIN_AUTOLOAD"
+
+
+@dataclass(frozen=True)
+class ModelInfo:
+    cls: type
+    plugin: str
+    version: str
+
+    @property
+    def name(self) -> str:
+        return self.cls.name
+
+
+@dataclass(frozen=True)
+class MethodInfo:
+    """A registered method with its provenance; returned by :func:`railtherm.methods`."""
+
+    method: Method
+    plugin: str
+    version: str
+    models: tuple[ModelInfo, ...] = ()
+    #: how the host translated a plugin API 1 chain (empty for an API 2 chain)
+    api1: tuple[str, ...] = ()
+
+    @property
+    def name(self) -> str:
+        return self.method.name
+
+    @property
+    def stages(self) -> dict[str, tuple[str, ...]]:
+        return {s: tuple(self.method.chain.get(s, ())) for s in STAGES if self.method.chain.get(s)}
+
+    def describe(self) -> str:
+        lines = [f"{self.name}  (plugin {self.plugin} {self.version})"]
+        if self.method.description:
+            lines.append(f"    {self.method.description}")
+        for stage, names in self.stages.items():
+            lines.append(f"    {stage}: {' | '.join(names)}")
+        for m in self.models:
+            lines.append(f"      - {m.name} [{m.plugin} {m.version}]: {m.cls.description}")
+            lines.append(f"        {m.cls.capabilities.describe()}")
+        return "\n".join(lines)
+
+
+@dataclass
+class PluginHost:
+    """Registry of stage models and methods built from all plugins."""
+
+    pm: pluggy.PluginManager
+    models: dict[str, ModelInfo] = field(default_factory=dict)
+    methods: dict[str, MethodInfo] = field(default_factory=dict)
+    problems: list[str] = field(default_factory=list)
+    strict: bool = False
+    autoload: bool = True
+    extra: list = field(default_factory=list)
+    _versions: dict[str, str] = field(default_factory=dict)
+
+    # -- registration -----------------------------------------------------------------
+    def _problem(self, msg: str, exc: BaseException | None = None) -> None:
+        if self.strict:
+            raise PluginError(msg) from exc
+        self.problems.append(msg)
+        warnings.warn(msg, RuntimeWarning, stacklevel=3)
+
+    def add_plugin(self, plugin: Any, name: str, version: str = "0") -> bool:
+        """Register a plugin object (module or instance with hookimpls); False if it was refused."""
+        try:
+            self.pm.register(plugin, name=name)
+        except Exception as exc:  # noqa: BLE001 - a broken plugin must not stop the others
+            self._problem(f"plugin {name!r} could not be registered: {exc}", exc)
+            return False
+        self._versions[name] = version
+        return True
+
+    def build(self) -> "PluginHost":
+        """Call the registration hooks of every plugin, one plugin at a time, and index the results."""
+        self.models.clear()
+        self.methods.clear()
+        pending_methods: list[tuple[str, Any]] = []
+        for name, plugin in sorted(self.pm.list_name_plugin(), key=lambda t: t[0]):
+            for hook, sink in (("railtherm_register_models", "models"), ("railtherm_register_methods", "methods")):
+                impl = getattr(plugin, hook, None)
+                if impl is None:
+                    continue
+                try:
+                    result = list(impl() or [])
+                except Exception as exc:  # noqa: BLE001
+                    self._problem(f"plugin {name!r}: hook {hook} raised {type(exc).__name__}: {exc}", exc)
+                    continue
+                if sink == "models":
+                    for cls in result:
+                        self._add_model(name, cls)
+                else:
+                    pending_methods.extend((name, m) for m in result)
+        for name, m in sorted(pending_methods, key=lambda t: (getattr(t[1], "name", ""), t[0])):
+            self._add_method(name, m)
+        return self
+
+    def _add_model(self, plugin: str, cls: Any) -> None:
+        if not (isinstance(cls, type) and issubclass(cls, StageModel)) or not getattr(cls, "name", ""):
+            self._problem(f"plugin {plugin!r} registered {cls!r}, which is not a named StageModel subclass")
+            return
+        if not cls.stages or any(s not in STAGES for s in cls.stages):
+            self._problem(f"plugin {plugin!r}: model {cls.name!r} declares stages {cls.stages}, allowed {STAGES}")
+            return
+        if cls.name in self.models:
+            self._problem(f"plugin {plugin!r}: model {cls.name!r} is already registered by plugin "
+                          f"{self.models[cls.name].plugin!r}; skipped")
+            return
+        self.models[cls.name] = ModelInfo(cls, plugin, cls.version or self._versions.get(plugin, "0"))
+
+    def _add_method(self, plugin: str, m: Any) -> None:
+        if not isinstance(m, Method):
+            self._problem(f"plugin {plugin!r} registered {m!r}, which is not a railtherm.Method")
+            return
+        if m.name in self.methods:
+            self._problem(f"plugin {plugin!r}: method {m.name!r} is already registered by plugin "
+                          f"{self.methods[m.name].plugin!r}; skipped")
+            return
+        raw, api1 = self._api2_chain(plugin, m)
+        chain = {}
+        used = []
+        for stage in STAGES:
+            names = tuple(raw.get(stage, ()))
+            known = tuple(n for n in names if n in self.models)
+            if names and not known:
+                self._problem(f"plugin {plugin!r}: method {m.name!r} names {stage} models {list(names)}, "
+                              "none of which is registered; method skipped")
+                return
+            for n in known:
+                if stage not in self.models[n].cls.stages:
+                    self._problem(f"plugin {plugin!r}: method {m.name!r} uses model {n!r} for stage {stage!r}, "
+                                  f"but that model implements {self.models[n].cls.stages}; method skipped")
+                    return
+            if known:
+                chain[stage] = known
+                used.extend(k for k in known if k not in used)
+        if not chain:
+            self._problem(f"plugin {plugin!r}: method {m.name!r} has an empty chain; skipped")
+            return
+        method = Method(m.name, chain, m.description, m.default_cells, dict(getattr(m, "orders", {}) or {}))
+        self.methods[m.name] = MethodInfo(method, plugin, self._versions.get(plugin, "0"),
+                                          tuple(self.models[n] for n in used), tuple(api1))
+
+    def _api2_chain(self, plugin: str, m: Method) -> tuple[dict, list[str]]:
+        """The method's chain in plugin API 2 stages, and what was translated (empty for API 2).
+
+        An API 1 chain (stage ``contact``; tangential models such as ``full-sliding`` or ``fastsim``
+        listed under ``heat_source``) is translated, with a warning, for one release: ``contact``
+        becomes ``normal`` and tangential models move to ``tangential``. A chain with tangential and
+        temperature stages but no heat source gets core's ``frictional`` (traction x slip).
+        """
+        chain = {k: tuple(v) for k, v in dict(m.chain).items()}
+        notes: list[str] = []
+        unknown = set(chain) - set(STAGES) - {"contact"}
+        if unknown:
+            self._problem(f"plugin {plugin!r}: method {m.name!r} names stages {sorted(unknown)}; allowed {STAGES}")
+        if "contact" in chain:
+            warnings.warn(f"plugin {plugin!r}: method {m.name!r} uses the plugin API 1 stage 'contact'; "
+                          "read as 'normal' (API 2 stages: normal, tangential, heat_source, temperature)",
+                          DeprecationWarning, stacklevel=2)
+            chain.setdefault("normal", chain.pop("contact"))
+            notes.append("stage 'contact' read as 'normal'")
+        heat = chain.get("heat_source", ())
+        moved = tuple(n for n in heat if n in self.models and "tangential" in self.models[n].cls.stages
+                      and "heat_source" not in self.models[n].cls.stages)
+        if moved:
+            warnings.warn(f"plugin {plugin!r}: method {m.name!r} lists tangential models {list(moved)} under "
+                          "'heat_source' (plugin API 1); moved to 'tangential', heat source 'frictional'",
+                          DeprecationWarning, stacklevel=2)
+            chain["tangential"] = tuple(dict.fromkeys(chain.get("tangential", ()) + moved))
+            chain["heat_source"] = tuple(n for n in heat if n not in moved) or ("frictional",)
+            notes.append(f"tangential models {list(moved)} moved from 'heat_source' to 'tangential'")
+        if "tangential" in chain and "temperature" in chain and "heat_source" not in chain:
+            chain["heat_source"] = ("frictional",)
+        return chain, notes
+
+    # -- lookup -----------------------------------------------------------------------
+    def method(self, name: str) -> MethodInfo:
+        try:
+            return self.methods[name]
+        except KeyError:
+            from ..contract.errors import SceneError
+            allowed = ", ".join(sorted(self.methods)) or "none"
+            raise SceneError(f"unknown method {name!r}; installed methods: {allowed}"
+                             + (f" (plugin problems: {'; '.join(self.problems)})" if self.problems else ""),
+                             key="method", value=name, allowed=allowed) from None
+
+    def model(self, name: str) -> ModelInfo:
+        return self.models[name]
+
+
+def new_host(plugins: Iterable[tuple[str, Any]] = (), *, autoload: bool | None = None,
+             strict: bool = False) -> PluginHost:
+    """Build a host: core models, then entry points (unless disabled), then ``plugins`` (name, obj) pairs."""
+    pm = pluggy.PluginManager(hookspec.PROJECT)
+    pm.add_hookspecs(hookspec)
+    host = PluginHost(pm, strict=strict)
+    plugins = list(plugins)
+    host.extra = plugins  # how the host was built: executors rebuild it on workers
+    from ..models import core_plugin
+    host.add_plugin(core_plugin, "railtherm", _core_version())
+    if autoload is None:
+        autoload = not os.environ.get(DISABLE_ENV)
+    host.autoload = autoload
+    if autoload:
+        for ep in sorted(md.entry_points(group=GROUP), key=lambda e: e.name):
+            try:
+                module = ep.load()
+            except Exception as exc:  # noqa: BLE001 - report by name, skip
+                host._problem(f"plugin {ep.name!r} ({ep.value}) failed to import: {type(exc).__name__}: {exc}", exc)
+                continue
+            dist = getattr(ep, "dist", None)
+            version = dist.version if dist is not None else "0"
+            host.add_plugin(module, ep.name, version)
+    for name, obj in plugins:
+        host.add_plugin(obj, name, getattr(obj, "__version__", "0"))
+    return host.build()
+
+
+def _core_version() -> str:
+    from .._version import __version__
+    return __version__
+
+
+_HOST: PluginHost | None = None
+
+
+def get_host() -> PluginHost:
+    """The process-wide host, built on first use."""
+    global _HOST
+    if _HOST is None:
+        with warnings.catch_warnings():
+            warnings.simplefilter("default")
+            _HOST = new_host()
+    return _HOST
+
+
+def set_host(host: PluginHost | None) -> None:
+    """Replace the process-wide host (tests, the conformance kit); None rebuilds on next use."""
+    global _HOST
+    _HOST = host
+
+
+def methods() -> list[MethodInfo]:
+    """Every registered method with its plugin, version, stages and models, sorted by name."""
+    host = get_host()
+    return [host.methods[k] for k in sorted(host.methods)]
