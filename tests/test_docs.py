@@ -54,7 +54,8 @@ def test_no_machine_paths():
     assert not bad, bad
 
 
-_DOI = re.compile(r"(?:doi:|doi\.org/)\s*(10\.\d{4,9}/[^\s,;)\]]+[^\s,;.)\]])", re.I)
+# a DOI may hold balanced parentheses (10.1016/S0043-1648(99)00113-1); it never ends in a period
+_DOI = re.compile(r"(?:doi:|doi\.org/)\s*(10\.\d{4,9}/(?:[^\s,;()\]]|\([^\s()]*\))*(?:[^\s,;.()\]]|\([^\s()]*\)))", re.I)
 
 
 AUTHORS = ("Ertz", "Kalker", "Carter", "Johnson", "Hertz", "Richardson", "Guyer", "Alart", "Hueeber",
