@@ -1,4 +1,4 @@
-"""Finite-difference rail block of plugin "fastsim" (seed 6.3) against the exact moving surface source.
+"""Finite-difference rail block of plugin "fdm" (seed 6.3) against the exact moving surface source.
 
 Reference: core's ``railtherm.references.moving_source.moving_source_temperature`` (3-D half-space,
 point-source superposition, any Péclet number). The seed's case (section 6.4): rho = 7680 kg/m^3,
@@ -19,9 +19,11 @@ import pytest
 from railtherm import HeatSource, Material, Refused, surface_grid
 from railtherm.models.shapes import cell_average
 from railtherm.references.moving_source import moving_source_temperature
-from railtherm_fastsim.fdm_model import FDMTemperature, choose_scheme
-from railtherm_fastsim.fdm_solvers import (block_extent, box_overlap, explicit_stability_limit, steady_block,
-                                           transient_block)
+from railtherm_fdm.block3d import steady_block, transient_block
+from railtherm_fdm.layout import block_extent, explicit_stability_limit
+from railtherm_fdm.model import FDMTemperature
+from railtherm_fdm.scheme_choice import choose_scheme
+from railtherm_fdm.source_loading import box_overlap
 
 RAIL = Material(density=7680.0, conductivity=54.0, specific_heat=460.0)
 KAPPA = RAIL.diffusivity
@@ -310,7 +312,7 @@ def test_benchmark_explicit_stencil(benchmark, kernel):
 
     import numba
 
-    from railtherm_fastsim.fdm_kernel import explicit_step, explicit_two_steps
+    from railtherm_fdm.kernels import explicit_step, explicit_two_steps
     n = 256
     threads = min(2, numba.config.NUMBA_NUM_THREADS)
     numba.set_num_threads(threads)
@@ -339,7 +341,7 @@ def test_benchmark_explicit_stencil(benchmark, kernel):
 @pytest.mark.parametrize("h", [0.0, 2e4])
 def test_fused_two_step_kernel_matches_single_steps(monkeypatch, h):
     """Large grids advance two explicit steps per pass (temporal blocking); same field and balance."""
-    from railtherm_fastsim import fdm_kernel
+    from railtherm_fdm import kernels as fdm_kernel
     single = run("explicit", 1.0, CELL0 / 4, h=h)
     monkeypatch.setattr(fdm_kernel, "PARALLEL_MIN_NODES", 0)
     fused = run("explicit", 1.0, CELL0 / 4, h=h)

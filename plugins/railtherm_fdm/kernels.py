@@ -2,14 +2,14 @@
 
 * :func:`explicit_step` -- one explicit-Euler step of the 7-point heat equation on a uniform node
   grid (the seed's spreadsheet scheme), parallel over the outer (x) index with ``prange``;
-  :func:`explicit_step_serial` its serial twin for small grids;
+  :func:`explicit_step_serial` is the same body compiled without threads, for small grids;
 * :func:`explicit_two_steps` -- two such steps in one pass over memory (temporal blocking), for
   large grids where the stencil is memory bound;
-* :func:`stencil_matvec` (and ``_serial``), :func:`zline_factor`, :func:`sgs_zline` -- a general
-  7-point operator and its symmetric block Gauss-Seidel preconditioner with z-lines as blocks
-  (Thomas algorithm along the depth), used by the implicit (backward Euler) and the moving-frame
-  steady schemes; :func:`gmres` (right-preconditioned, restarted) and the BLAS-free vector helpers
-  :func:`vdot`, :func:`vaxpy`.
+* :func:`explicit_step_2d` -- the explicit step of the 2-D (x-z) block of a line contact;
+* :func:`stencil_matvec` (and ``_serial``, the same body), :func:`zline_factor`, :func:`sgs_zline` --
+  a general 7-point operator and its symmetric block Gauss-Seidel preconditioner with z-lines as
+  blocks (Thomas algorithm along the depth), used by the implicit (backward Euler) and the
+  moving-frame steady schemes; the BLAS-free vector helpers :func:`vdot`, :func:`vaxpy`.
 
 Array layout: ``T[i, j, k]`` with i along the rolling direction x, j lateral (y), k depth (z, k = 0 is
 the surface); C order, so the depth index is contiguous.
@@ -24,105 +24,114 @@ with coefficients that reach outside the array set to zero (boundary conditions 
 """
 from __future__ import annotations
 
+import types
+
 import numba
 import numpy as np
 from numba import prange
 
-
-@numba.njit(parallel=True, cache=True, fastmath=True, boundscheck=False)
-def explicit_step(T, Tn, r, src, hloss):  # pragma: no cover - compiled
-    """One explicit-Euler step on a uniform node grid of spacing d (dual-cell finite volumes).
-
-    Nodes i = 0 and i = nx-1 (far faces in x) and k = nz-1 (bottom) hold the fixed temperature 0
-    (seed eq. 58) and are not updated. Lateral faces j = 0, ny-1 are insulated (eq. 57): the
-    half-width dual cell of a boundary node is the mirror-image stencil. The surface node k = 0 owns
-    a half-depth dual cell: it receives the source increment ``src`` and loses ``hloss * T`` by
-    convection (eqs. 59-60).
-
-    Parameters
-    ----------
-    T : ndarray (nx, ny, nz)
-        Temperature rise at time level n [K].
-    Tn : ndarray (nx, ny, nz)
-        Output, temperature rise at level n+1 [K] (fixed nodes must already hold 0).
-    r : float
-        kappa dt / d^2 [1]; stable for r <= 1/6 (without convection).
-    src : ndarray (nx, ny)
-        Source increment of each surface node in this step, ``dt Q / (rho c V)`` [K].
-    hloss : ndarray (nx, ny)
-        Convective loss factor of each surface node, ``dt h A (1 - cover) / (rho c V)`` [1].
-    """
-    nx, ny, nz = T.shape
-    for i in prange(1, nx - 1):
-        for j in range(ny):
-            jm = j - 1 if j > 0 else 1
-            jp = j + 1 if j < ny - 1 else ny - 2
-            t = T[i, j, 0]
-            Tn[i, j, 0] = (t + r * (T[i + 1, j, 0] + T[i - 1, j, 0] + T[i, jp, 0] + T[i, jm, 0]
-                                    + 2.0 * T[i, j, 1] - 6.0 * t)
-                           + src[i, j] - hloss[i, j] * t)
-            for k in range(1, nz - 1):
-                t = T[i, j, k]
-                Tn[i, j, k] = t + r * (T[i + 1, j, k] + T[i - 1, j, k] + T[i, jp, k] + T[i, jm, k]
-                                       + T[i, j, k + 1] + T[i, j, k - 1] - 6.0 * t)
+__all__ = ["explicit_step", "explicit_step_serial", "explicit_two_steps", "explicit_step_2d", "stencil_matvec",
+           "stencil_matvec_serial", "zline_factor", "sgs_zline", "vdot", "vaxpy", "step_kernel", "matvec_kernel",
+           "PARALLEL_MIN_NODES", "compile_twice"]
 
 
-@numba.njit(cache=True, fastmath=True, boundscheck=False)
-def explicit_step_serial(T, Tn, r, src, hloss):  # pragma: no cover - compiled
-    """Serial twin of :func:`explicit_step` (small grids: no thread start-up per step).
+def compile_twice(func, **options):
+    """``(parallel, serial)``: one kernel body compiled with and without numba's threads.
 
-    One explicit-Euler step on a uniform node grid of spacing d (dual-cell finite volumes).
-
-    Nodes i = 0 and i = nx-1 (far faces in x) and k = nz-1 (bottom) hold the fixed temperature 0
-    (seed eq. 58) and are not updated. Lateral faces j = 0, ny-1 are insulated (eq. 57): the
-    half-width dual cell of a boundary node is the mirror-image stencil. The surface node k = 0 owns
-    a half-depth dual cell: it receives the source increment ``src`` and loses ``hloss * T`` by
-    convection (eqs. 59-60).
+    ``func`` loops with ``prange``, which the parallel build splits over threads and the serial
+    build runs as ``range``; both are the same Python code, so they cannot drift apart. The serial
+    build compiles a copy of the function named ``<name>_serial``: numba's on-disk cache is keyed by
+    the function's qualified name and signature, not by the ``parallel`` flag, and would otherwise
+    hand one build the other's machine code.
 
     Parameters
     ----------
-    T : ndarray (nx, ny, nz)
-        Temperature rise at time level n [K].
-    Tn : ndarray (nx, ny, nz)
-        Output, temperature rise at level n+1 [K] (fixed nodes must already hold 0).
-    r : float
-        kappa dt / d^2 [1]; stable for r <= 1/6 (without convection).
-    src : ndarray (nx, ny)
-        Source increment of each surface node in this step, ``dt Q / (rho c V)`` [K].
-    hloss : ndarray (nx, ny)
-        Convective loss factor of each surface node, ``dt h A (1 - cover) / (rho c V)`` [1].
+    func : function
+        The kernel body (plain Python, numba-compilable).
+    **options
+        Further ``numba.njit`` options of both builds (``cache``, ``fastmath``, ...).
+
+    Returns
+    -------
+    parallel, serial : numba dispatchers
     """
-    nx, ny, nz = T.shape
-    for i in range(1, nx - 1):
-        for j in range(ny):
-            jm = j - 1 if j > 0 else 1
-            jp = j + 1 if j < ny - 1 else ny - 2
-            t = T[i, j, 0]
-            Tn[i, j, 0] = (t + r * (T[i + 1, j, 0] + T[i - 1, j, 0] + T[i, jp, 0] + T[i, jm, 0]
-                                    + 2.0 * T[i, j, 1] - 6.0 * t)
-                           + src[i, j] - hloss[i, j] * t)
-            for k in range(1, nz - 1):
-                t = T[i, j, k]
-                Tn[i, j, k] = t + r * (T[i + 1, j, k] + T[i - 1, j, k] + T[i, jp, k] + T[i, jm, k]
-                                       + T[i, j, k + 1] + T[i, j, k - 1] - 6.0 * t)
+    twin = types.FunctionType(func.__code__, func.__globals__, func.__name__ + "_serial", func.__defaults__,
+                              func.__closure__)
+    twin.__qualname__ = func.__qualname__ + "_serial"
+    twin.__doc__ = func.__doc__
+    twin.__module__ = func.__module__
+    return numba.njit(parallel=True, **options)(func), numba.njit(**options)(twin)
 
 
 @numba.njit(cache=True, fastmath=True, boundscheck=False, inline="always")
-def _plane(T, i, out, r, src, hloss):  # pragma: no cover - compiled
-    """Explicit update of plane i of T into the (ny, nz) array ``out`` (same stencil as explicit_step)."""
-    nx, ny, nz = T.shape
+def plane_step(ahead, here, behind, out, r, src, hloss):  # pragma: no cover - compiled
+    """The stencil of one x-plane: explicit-Euler update of plane ``here`` into ``out``.
+
+    The one place the 3-D explicit stencil is written; :func:`explicit_step` and both stages of
+    :func:`explicit_two_steps` apply it plane by plane.
+
+    Lateral faces j = 0, ny-1 are insulated (seed eq. 57): the half-width dual cell of a boundary
+    node is the mirror-image stencil. The surface node k = 0 owns a half-depth dual cell: it
+    receives the source increment ``src`` and loses ``hloss * T`` by convection (eqs. 59-60). The
+    bottom node k = nz-1 holds the fixed temperature 0 (eq. 58).
+
+    Parameters
+    ----------
+    ahead, here, behind : ndarray (ny, nz)
+        Temperature rise at level n on the planes i+1, i and i-1 [K].
+    out : ndarray (ny, nz)
+        Output, plane i at level n+1 [K].
+    r : float
+        kappa dt / d^2 [1].
+    src, hloss : ndarray (ny,)
+        Source increments [K] and convective loss factors [1] of the plane's surface nodes.
+    """
+    ny, nz = here.shape
     for j in range(ny):
         jm = j - 1 if j > 0 else 1
         jp = j + 1 if j < ny - 1 else ny - 2
-        t = T[i, j, 0]
-        out[j, 0] = (t + r * (T[i + 1, j, 0] + T[i - 1, j, 0] + T[i, jp, 0] + T[i, jm, 0]
-                              + 2.0 * T[i, j, 1] - 6.0 * t)
-                     + src[i, j] - hloss[i, j] * t)
+        t = here[j, 0]
+        out[j, 0] = (t + r * (ahead[j, 0] + behind[j, 0] + here[jp, 0] + here[jm, 0] + 2.0 * here[j, 1] - 6.0 * t)
+                     + src[j] - hloss[j] * t)
         for k in range(1, nz - 1):
-            t = T[i, j, k]
-            out[j, k] = t + r * (T[i + 1, j, k] + T[i - 1, j, k] + T[i, jp, k] + T[i, jm, k]
-                                 + T[i, j, k + 1] + T[i, j, k - 1] - 6.0 * t)
+            t = here[j, k]
+            out[j, k] = t + r * (ahead[j, k] + behind[j, k] + here[jp, k] + here[jm, k]
+                                 + here[j, k + 1] + here[j, k - 1] - 6.0 * t)
         out[j, nz - 1] = 0.0
+
+
+def _explicit_step(T, Tn, r, src, hloss):  # pragma: no cover - compiled
+    """One explicit-Euler step on a uniform node grid of spacing d (dual-cell finite volumes).
+
+    Compiled twice (:func:`compile_twice`): :func:`explicit_step` (parallel over x) and
+    :func:`explicit_step_serial`.
+
+    Nodes i = 0 and i = nx-1 (far faces in x) and k = nz-1 (bottom) hold the fixed temperature 0
+    (seed eq. 58) and are not updated. Lateral faces j = 0, ny-1 are insulated (eq. 57): the
+    half-width dual cell of a boundary node is the mirror-image stencil. The surface node k = 0 owns
+    a half-depth dual cell: it receives the source increment ``src`` and loses ``hloss * T`` by
+    convection (eqs. 59-60).
+
+    Parameters
+    ----------
+    T : ndarray (nx, ny, nz)
+        Temperature rise at time level n [K].
+    Tn : ndarray (nx, ny, nz)
+        Output, temperature rise at level n+1 [K] (fixed nodes must already hold 0).
+    r : float
+        kappa dt / d^2 [1]; stable for r <= 1/6 (without convection).
+    src : ndarray (nx, ny)
+        Source increment of each surface node in this step, ``dt Q / (rho c V)`` [K].
+    hloss : ndarray (nx, ny)
+        Convective loss factor of each surface node, ``dt h A (1 - cover) / (rho c V)`` [1].
+    """
+    nx = T.shape[0]
+    for i in prange(1, nx - 1):
+        plane_step(T[i + 1], T[i], T[i - 1], Tn[i], r, src[i], hloss[i])
+
+
+explicit_step, explicit_step_serial = compile_twice(_explicit_step, cache=True, fastmath=True,
+                                                   boundscheck=False)
 
 
 @numba.njit(parallel=True, cache=True, fastmath=True, boundscheck=False)
@@ -173,7 +182,7 @@ def explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chu
                     for k in range(nz):
                         buf[slot, j, k] = 0.0
             else:
-                _plane(T, p, buf[slot], r, src1, hloss1)
+                plane_step(T[p + 1], T[p], T[p - 1], buf[slot], r, src1[p], hloss1[p])
                 if p >= i0 and p < i1:
                     if p == 1 or p == nx - 2:
                         for j in range(ny):
@@ -184,27 +193,43 @@ def explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chu
                         a_c += hloss2[p, j] * wtop2[j] * buf[slot, j, 0]
             q = p - 1
             if q >= i0 and q < i1:
-                bm = buf[(q - 1) % 3]
-                b0 = buf[q % 3]
-                bp = buf[(q + 1) % 3]
-                for j in range(ny):
-                    jm = j - 1 if j > 0 else 1
-                    jp = j + 1 if j < ny - 1 else ny - 2
-                    t = b0[j, 0]
-                    T2[q, j, 0] = (t + r * (bp[j, 0] + bm[j, 0] + b0[jp, 0] + b0[jm, 0] + 2.0 * b0[j, 1] - 6.0 * t)
-                                   + src2[q, j] - hloss2[q, j] * t)
-                    for k in range(1, nz - 1):
-                        t = b0[j, k]
-                        T2[q, j, k] = t + r * (bp[j, k] + bm[j, k] + b0[jp, k] + b0[jm, k]
-                                               + b0[j, k + 1] + b0[j, k - 1] - 6.0 * t)
+                plane_step(buf[(q + 1) % 3], buf[q % 3], buf[(q - 1) % 3], T2[q], r, src2[q], hloss2[q])
         acc[c, 0] = a_x
         acc[c, 1] = a_b
         acc[c, 2] = a_c
 
 
-@numba.njit(parallel=True, cache=True, boundscheck=False)
-def stencil_matvec(aP, aE, aW, aN, aS, aT, aB, t, out):  # pragma: no cover - compiled
-    """``out = A t`` for the 7-point operator described in the module docstring."""
+@numba.njit(cache=True, fastmath=True, boundscheck=False)
+def explicit_step_2d(T, Tn, r, src, hloss):  # pragma: no cover - compiled
+    """One explicit-Euler step of the 2-D block (node grid, spacing d).
+
+    Nodes i = 0, nx-1 and k = nz-1 are fixed (0). The surface node k = 0 owns a half-depth dual
+    cell: it receives ``src`` [K] and loses ``hloss * T`` by convection.
+
+    Parameters
+    ----------
+    T, Tn : ndarray (nx, nz)
+        Rise at level n and output at level n+1 [K].
+    r : float
+        kappa dt / d^2 [1]; stable for r <= 1/4 without convection.
+    src, hloss : ndarray (nx,)
+        Source increment [K] and convective loss factor [1] of each surface node.
+    """
+    nx, nz = T.shape
+    for i in range(1, nx - 1):
+        t = T[i, 0]
+        Tn[i, 0] = t + r * (T[i + 1, 0] + T[i - 1, 0] + 2.0 * T[i, 1] - 4.0 * t) + src[i] - hloss[i] * t
+        for k in range(1, nz - 1):
+            t = T[i, k]
+            Tn[i, k] = t + r * (T[i + 1, k] + T[i - 1, k] + T[i, k + 1] + T[i, k - 1] - 4.0 * t)
+
+
+def _stencil_matvec(aP, aE, aW, aN, aS, aT, aB, t, out):  # pragma: no cover - compiled
+    """``out = A t`` for the 7-point operator described in the module docstring.
+
+    Compiled twice (:func:`compile_twice`): :func:`stencil_matvec` (parallel over x) and
+    :func:`stencil_matvec_serial`.
+    """
     nx, ny, nz = t.shape
     for i in prange(nx):
         for j in range(ny):
@@ -225,27 +250,7 @@ def stencil_matvec(aP, aE, aW, aN, aS, aT, aB, t, out):  # pragma: no cover - co
                 out[i, j, k] = v
 
 
-@numba.njit(cache=True, boundscheck=False)
-def stencil_matvec_serial(aP, aE, aW, aN, aS, aT, aB, t, out):  # pragma: no cover - compiled
-    """Serial twin of :func:`stencil_matvec`."""
-    nx, ny, nz = t.shape
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                v = aP[i, j, k] * t[i, j, k]
-                if i + 1 < nx:
-                    v -= aE[i, j, k] * t[i + 1, j, k]
-                if i > 0:
-                    v -= aW[i, j, k] * t[i - 1, j, k]
-                if j + 1 < ny:
-                    v -= aN[i, j, k] * t[i, j + 1, k]
-                if j > 0:
-                    v -= aS[i, j, k] * t[i, j - 1, k]
-                if k > 0:
-                    v -= aT[i, j, k] * t[i, j, k - 1]
-                if k + 1 < nz:
-                    v -= aB[i, j, k] * t[i, j, k + 1]
-                out[i, j, k] = v
+stencil_matvec, stencil_matvec_serial = compile_twice(_stencil_matvec, cache=True, boundscheck=False)
 
 
 @numba.njit(cache=True, boundscheck=False)
@@ -359,70 +364,6 @@ def vaxpy(alpha, x, y):  # pragma: no cover - compiled
     """In place ``y += alpha * x`` on flat arrays."""
     for i in range(x.shape[0]):
         y[i] += alpha * x[i]
-
-
-def gmres(matvec, precond, b, x0, *, rtol=1e-11, restart=30, maxiter=2000):
-    """Right-preconditioned restarted GMRES with modified Gram-Schmidt.
-
-    Solves ``A x = b`` for flat float arrays; ``matvec(v)`` returns ``A v`` and ``precond(v)`` an
-    approximation of ``A^{-1} v`` (both new flat arrays). Stops when ``||b - A x|| <= rtol ||b||``.
-
-    Returns
-    -------
-    x : ndarray
-    iterations : int
-        Arnoldi steps taken.
-    relres : float
-        Final true relative residual.
-    """
-    n = b.shape[0]
-    x = x0.copy()
-    bnorm = np.sqrt(vdot(b, b)) or 1.0
-    r = b - matvec(x)
-    beta = np.sqrt(vdot(r, r))
-    its = 0
-    V = np.empty((restart + 1, n))
-    while beta > rtol * bnorm and its < maxiter:
-        H = np.zeros((restart + 1, restart))
-        cs = np.zeros(restart)
-        sn = np.zeros(restart)
-        g = np.zeros(restart + 1)
-        g[0] = beta
-        V[0] = r / beta
-        k = 0
-        for j in range(restart):
-            w = matvec(precond(V[j]))
-            for i in range(j + 1):
-                hij = vdot(w, V[i])
-                H[i, j] = hij
-                vaxpy(-hij, V[i], w)
-            hn = np.sqrt(vdot(w, w))
-            H[j + 1, j] = hn
-            if hn > 0:
-                V[j + 1] = w / hn
-            for i in range(j):
-                t = cs[i] * H[i, j] + sn[i] * H[i + 1, j]
-                H[i + 1, j] = -sn[i] * H[i, j] + cs[i] * H[i + 1, j]
-                H[i, j] = t
-            den = np.hypot(H[j, j], H[j + 1, j])
-            cs[j] = H[j, j] / den if den > 0 else 1.0
-            sn[j] = H[j + 1, j] / den if den > 0 else 0.0
-            H[j, j] = den
-            H[j + 1, j] = 0.0
-            g[j + 1] = -sn[j] * g[j]
-            g[j] = cs[j] * g[j]
-            k = j + 1
-            its += 1
-            if abs(g[j + 1]) <= rtol * bnorm or hn == 0 or its >= maxiter:
-                break
-        y = np.linalg.solve(np.triu(H[:k, :k]), g[:k]) if k > 0 else np.zeros(0)
-        u = np.zeros(n)
-        for i in range(k):
-            vaxpy(y[i], V[i], u)
-        x += precond(u)
-        r = b - matvec(x)
-        beta = np.sqrt(vdot(r, r))
-    return x, its, beta / bnorm
 
 
 #: grids with fewer nodes than this use the serial kernels (thread start-up dominates below)

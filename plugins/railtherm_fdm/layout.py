@@ -1,0 +1,323 @@
+"""Layout of the finite-difference block, shared by the 3-D and the 2-D (line contact) solvers.
+
+What a run is made of before anything is solved: the block's extent around the patch
+(:func:`block_extent`, :func:`line_extent`), the explicit stability limits, the uniform node grid and
+the time steps of the transient schemes (:func:`node_grid`, :func:`plan_steps`), and the graded
+cell grid of the moving-frame steady scheme (:func:`graded_grid`).
+
+Coordinates: x along rolling with the leading edge of the patch at +a, z >= 0 into the body; the
+transient schemes work in the body's frame (the patch moves over the top face at the body's speed
+V), the steady scheme in the frame of the patch.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from railtherm.physics import thermal_scales
+
+__all__ = ["Extent", "block_extent", "line_extent", "explicit_stability_limit", "line_stability_limit",
+           "NodeGrid", "node_grid", "StepPlan", "plan_steps", "GradedGrid", "graded_grid", "graded_edges",
+           "graded_depth_edges"]
+
+
+@dataclass
+class Extent:
+    """Block size around the patch (patch frame, x along rolling, leading edge +a)."""
+
+    ahead: float      # from the leading edge to the inflow / far face ahead [m]
+    behind: float     # from the trailing edge (of the start position) to the far face behind [m]
+    lateral: float    # from the patch's lateral edge to the side face [m]
+    depth: float      # block depth [m]
+    travel: float     # distance the source travels in the transient schemes [m]
+
+
+def block_extent(a: float, b: float, speed: float, kappa: float, *, scale: float = 1.0) -> Extent:
+    """Block size for a patch of half-lengths a (rolling) and b (lateral) [m].
+
+    Built from the decay lengths of the moving-source field: ahead of the source it decays like
+    exp(-V x / kappa); sideways and in depth (away from the wake) like exp(-V r / (2 kappa)); the
+    heat of the part of the path further back than s reaches the source like exp(-V s /(4 kappa)).
+    With l = 2 kappa / V and the contact-time penetration depth delta = sqrt(2 a kappa / V):
+    ahead = max(a/2, 6 l), behind = max(a, 6 l), lateral = max(a, b/2, 8 l), depth =
+    max(a, 8 l, 6 delta), travel = 2 a + max(2 a, 40 kappa/V) (the deficit of the field near the
+    source is then below exp(-10)). ``scale`` multiplies all margins (for domain-size checks).
+
+    Parameters
+    ----------
+    a, b : float
+        Semi-axes of the patch along and across rolling [m].
+    speed : float
+        Speed V of the body relative to the contact [m/s].
+    kappa : float
+        Thermal diffusivity [m^2/s].
+    scale : float
+        Factor on every margin [1].
+
+    Returns
+    -------
+    Extent
+    """
+    sc = thermal_scales(a, speed, kappa)
+    ell, delta = sc.wake_length, sc.thermal_depth
+    return Extent(ahead=scale * max(0.5 * a, 6.0 * ell), behind=scale * max(a, 6.0 * ell),
+                  lateral=scale * max(a, 0.5 * b, 8.0 * ell), depth=scale * max(a, 8.0 * ell, 6.0 * delta),
+                  travel=2.0 * a + scale * max(2.0 * a, 40.0 * kappa / speed))
+
+
+def line_extent(a: float, speed: float, kappa: float, *, scale: float = 1.0) -> Extent:
+    """Block size around a band of half-width a [m] (:func:`block_extent` of a = b; the 2-D block
+    has no lateral margin)."""
+    return block_extent(a, a, speed, kappa, scale=scale)
+
+
+def explicit_stability_limit(d: float, kappa: float, h: float = 0.0, rho_c: float = 1.0) -> float:
+    """Largest stable explicit-Euler step of the 3-D node grid [s].
+
+    ``1 / (6 kappa/d^2 + 2 h/(rho c d))``: the surface node (half-depth dual cell) loses
+    ``2 h dt/(rho c d)`` per step by convection on top of the six-neighbour diffusion term; without
+    convection this is d^2/(6 kappa).
+
+    Parameters
+    ----------
+    d : float
+        Cell size [m].
+    kappa : float
+        Diffusivity [m^2/s].
+    h : float
+        Convection coefficient [W/(m^2 K)].
+    rho_c : float
+        Volumetric heat capacity rho c [J/(m^3 K)].
+    """
+    return 1.0 / (6.0 * kappa / d ** 2 + 2.0 * h / (rho_c * d))
+
+
+def line_stability_limit(d: float, kappa: float, h: float, rho_c: float) -> float:
+    """Largest stable explicit step of the 2-D block [s]: ``1 / (4 kappa/d^2 + 2 h/(rho c d))``.
+
+    Parameters
+    ----------
+    d : float
+        Node spacing [m].
+    kappa : float
+        Diffusivity [m^2/s].
+    h : float
+        Convection coefficient [W/(m^2 K)].
+    rho_c : float
+        Volumetric heat capacity [J/(m^3 K)].
+    """
+    return 1.0 / (4.0 * kappa / d ** 2 + 2.0 * h / (rho_c * d))
+
+
+@dataclass(frozen=True)
+class NodeGrid:
+    """Uniform node grid of a transient run along x and z (body frame).
+
+    Attributes
+    ----------
+    d : float
+        Node spacing [m].
+    start : float
+        x of the patch centre at the start [m] (``nb d + a``: the far face behind lies ``behind``
+        beyond the trailing edge).
+    nx, nz : int
+        Nodes along x and in depth (x = 0 and x = (nx-1) d and z = (nz-1) d are fixed faces).
+    """
+
+    d: float
+    start: float
+    nx: int
+    nz: int
+
+    @property
+    def x(self) -> np.ndarray:
+        """Node x coordinates [m]."""
+        return self.d * np.arange(self.nx)
+
+    @property
+    def z(self) -> np.ndarray:
+        """Node depths [m]."""
+        return self.d * np.arange(self.nz)
+
+
+def node_grid(a: float, extent: Extent, d: float) -> NodeGrid:
+    """The node grid that holds the patch's whole path: ``behind`` + the patch + ``travel`` + ``ahead``
+    along x, ``depth`` (at least three nodes) in z.
+
+    Parameters
+    ----------
+    a : float
+        Semi-axis of the patch along rolling [m].
+    extent : Extent
+        Block size around the patch.
+    d : float
+        Node spacing [m].
+    """
+    nb = int(math.ceil((extent.behind + 0.5 * d) / d)) + 1
+    start = nb * d + a
+    nx = int(math.ceil((start + extent.travel + a + extent.ahead) / d)) + 1
+    nz = max(3, int(math.ceil(extent.depth / d)) + 1)
+    return NodeGrid(d, start, nx, nz)
+
+
+@dataclass(frozen=True)
+class StepPlan:
+    """Time steps of a transient run.
+
+    Attributes
+    ----------
+    dt : float
+        Time step [s].
+    steps : int
+        Number of steps [1].
+    travel : float
+        Distance the source travels, steps x V dt [m].
+    check_step : int
+        Step after which the patch-frame field is sampled a second time for the quasi-steady check.
+    per_cell : int or None
+        Steps per node spacing of source travel (None for a forced step).
+    """
+
+    dt: float
+    steps: int
+    travel: float
+    check_step: int
+    per_cell: int | None
+
+
+def plan_steps(d: float, speed: float, travel: float, stability_limit: float, *, scheme: str = "explicit",
+               courant: float = 1.0, time_step: float | None = None, checkpoint: float | None = None,
+               a: float = 0.0) -> StepPlan:
+    """Time step, number of steps and quasi-steady checkpoint of a transient run.
+
+    Without a forced ``time_step`` the source advances d/m per step, m the smallest integer with a
+    step at most ``courant d / V`` (and, explicit scheme, at most ``stability_limit``): every m
+    steps the patch sits at the same offset to the nodes, so patch-frame fields sampled m k steps
+    apart differ only by what is still changing in time (no interpolation noise in the quasi-steady
+    check).
+
+    Parameters
+    ----------
+    d : float
+        Node spacing [m].
+    speed : float
+        Speed V of the body relative to the contact [m/s].
+    travel : float
+        Distance the source must travel [m] (rounded up to whole steps).
+    stability_limit : float
+        Largest stable explicit step [s].
+    scheme : {"explicit", "implicit"}
+    courant : float
+        Source advance per step in node spacings [1].
+    time_step : float, optional
+        Forced step [s] (the caller refuses an explicit step beyond the limit).
+    checkpoint : float, optional
+        Travel before the end at which the field is sampled again [m]; default ``a``.
+    a : float
+        Semi-axis of the patch along rolling [m].
+    """
+    if time_step is not None:
+        dt = float(time_step)
+        per_cell = None
+    else:
+        target = min(stability_limit, courant * d / speed) if scheme == "explicit" else courant * d / speed
+        per_cell = max(1, int(math.ceil(d / (speed * target) * (1.0 - 1e-12))))
+        dt = d / (per_cell * speed)
+    nsteps = max(2, int(math.ceil(travel / (speed * dt) - 1e-9)))
+    back = checkpoint if checkpoint is not None else a
+    if per_cell is not None:
+        nback = per_cell * max(1, int(round(back / d)))
+    else:
+        nback = max(1, int(round(back / (speed * dt))))
+    return StepPlan(dt, nsteps, nsteps * speed * dt, max(1, nsteps - nback), per_cell)
+
+
+# ---------------------------------------------------------------------------------------------
+# graded cell grid of the moving-frame steady scheme
+# ---------------------------------------------------------------------------------------------
+def graded_edges(lo_in: float, hi_in: float, n_in: int, lo: float, hi: float, ratio: float) -> np.ndarray:
+    """Edges: ``n_in`` uniform cells on [lo_in, hi_in], cells growing by ``ratio`` outward to lo and hi [m]."""
+    core = np.linspace(lo_in, hi_in, n_in + 1)
+    h = (hi_in - lo_in) / n_in
+
+    def grow(length):
+        out = []
+        s, w = 0.0, h
+        while s < length - 1e-12 * length:
+            w = w * ratio
+            if s + w >= length or length - (s + w) < 0.5 * w * ratio:
+                out.append(length)
+                break
+            s += w
+            out.append(s)
+        return np.array(out)
+
+    right = hi_in + grow(hi - hi_in) if hi > hi_in else np.array([])
+    left = lo_in - grow(lo_in - lo)[::-1] if lo < lo_in else np.array([])
+    return np.concatenate([left, core, right])
+
+
+def graded_depth_edges(dz1: float, depth: float, ratio: float) -> np.ndarray:
+    """Depth edges from 0 to ``depth``: first cell ``dz1``, each next one ``ratio`` times larger [m]."""
+    edges = [0.0]
+    w = dz1
+    while edges[-1] < depth:
+        nxt = edges[-1] + w
+        if depth - nxt < 0.5 * w * ratio:
+            nxt = depth
+        edges.append(nxt)
+        w *= ratio
+    return np.array(edges)
+
+
+@dataclass(frozen=True)
+class GradedGrid:
+    """Cell edges of the steady scheme's grid [m] (``y_edges`` None for the 2-D block) and the growth
+    ratio at this level [1]."""
+
+    x_edges: np.ndarray
+    y_edges: np.ndarray | None
+    z_edges: np.ndarray
+    growth: float
+
+
+def graded_grid(a: float, extent: Extent, cell: float, speed: float, kappa: float, level: int, *,
+                b: float | None = None, ratio: float = 1.3, surface_layers: int = 4) -> GradedGrid:
+    """The steady scheme's cell grid: uniform cells of about ``cell`` over the patch, growing outward.
+
+    The growth ratio is ``ratio ** (1 / 2**level)`` so that halving ``cell`` level by level refines the
+    whole grid consistently; the first depth cell is ``min(cell, delta / surface_layers / 2**level)``
+    with the contact-time penetration depth delta = sqrt(2 a kappa / V).
+
+    Parameters
+    ----------
+    a : float
+        Semi-axis along rolling [m].
+    extent : Extent
+        Block size around the patch.
+    cell : float
+        Cell size over the patch [m].
+    speed : float
+        Speed V of the body relative to the contact [m/s].
+    kappa : float
+        Thermal diffusivity [m^2/s].
+    level : int
+        Refinement level [1].
+    b : float, optional
+        Lateral semi-axis [m]; None for the 2-D block (no y edges).
+    ratio : float
+        Growth ratio of the graded cells at level 0 [1].
+    surface_layers : int
+        Cells across the penetration depth delta at level 0 [1].
+    """
+    rk = ratio ** (1.0 / 2 ** level)
+    nxa = max(2, int(round(2 * a / cell)))
+    xe = graded_edges(-a, a, nxa, -a - extent.behind, a + extent.ahead, rk)
+    ye = None
+    if b is not None:
+        nyb = max(2, int(round(2 * b / cell)))
+        ye = graded_edges(-b, b, nyb, -b - extent.lateral, b + extent.lateral, rk)
+    delta = thermal_scales(a, speed, kappa).thermal_depth
+    dz1 = min(cell, delta / surface_layers / 2 ** level)
+    return GradedGrid(xe, ye, graded_depth_edges(dz1, extent.depth, rk), rk)
