@@ -25,7 +25,7 @@ class WheelsetNormal(NormalContactModel):
     description = ("conical wheelset on two rails (seed 6.1): normal force and creepages of the contact from "
                    "the equilibrium with FASTSIM creep forces; Hertz patch rescaled to that force")
     capabilities = Capabilities(contacts=frozenset({"ellipse"}), sources=frozenset({"computed"}),
-                                provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b",
+                                provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b", "contact_area",
                                                     "max_pressure"}))
     options = FASTSIM_OPTIONS
 

@@ -36,7 +36,7 @@ __all__ = ["FemModel"]
 TEMPERATURE_OUTPUTS = frozenset({"surface_temperature", "temperature", "max_surface_temperature",
                                  "mean_contact_temperature"})
 PROVIDES = frozenset({
-    "pressure", "traction_x", "slip_velocity_x", "stick", "normal_force", "semi_axis_a", "max_pressure",
+    "pressure", "traction_x", "slip_velocity_x", "stick", "normal_force", "semi_axis_a", "contact_area", "max_pressure",
     "creep_force_x", "heat_flux", "frictional_power", "heat_partition", "surface_temperature", "temperature",
     "max_surface_temperature", "mean_contact_temperature",
 })

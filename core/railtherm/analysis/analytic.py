@@ -80,6 +80,8 @@ def _scalars_uncached(scene):
         # the contact's load comes from the wheelset's equilibrium (normal model "wheelset"), not from
         # the scene's nominal load: Hertz of the scene is no reference for it
         return out
+    if scene.contact_shape == "gap":
+        return out   # a non-Hertzian gap: no closed-form contact, hence no exact reference downstream
     if scene.heat_source is None:
         try:
             from ..models.hertz import hertz_geometry

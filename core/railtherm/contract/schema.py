@@ -9,6 +9,8 @@ from __future__ import annotations
 import datetime as _dt
 from dataclasses import dataclass
 
+import math
+
 import numpy as np
 
 from .errors import PluginError
@@ -41,6 +43,7 @@ VARIABLES: dict[str, Var] = {
     "semi_axis_a": Var((), "m", "contact semi-axis along the rolling direction", "normal"),
     "semi_axis_b": Var((), "m", "lateral contact semi-axis", "normal"),
     "max_pressure": Var((), "Pa", "maximum contact pressure", "normal"),
+    "contact_area": Var((), "m2", "area of the contact patch (its length 2a [m] for a line contact)", "normal"),
     "creep_force_x": Var((), "N", "longitudinal creep force on the wheel", "tangential"),
     "creep_force_y": Var((), "N", "lateral creep force on the wheel", "tangential"),
     "spin_moment": Var((), "N m", "spin moment on the wheel", "tangential"),
@@ -116,6 +119,10 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
         if not line:
             put("semi_axis_b", patch.b)
         put("max_pressure", patch.max_pressure)
+        if patch.contact_area is not None:
+            put("contact_area", patch.contact_area)
+        elif patch.a is not None:
+            put("contact_area", 2.0 * patch.a if line else math.pi * patch.a * patch.b)
     if source is not None:
         put("heat_flux", np.stack([source.flux(0), source.flux(1)]))
         put("frictional_power", source.frictional_power)

@@ -66,6 +66,9 @@ class ContactPatch:
         1 where the cell sticks, 0 where it slips, NaN outside the patch [1].
     creep_force_x, creep_force_y, spin_moment : float or None
         Total tangential forces on the wheel [N] and spin moment [N m].
+    contact_area : float or None
+        Area of the contact [m^2] (the length 2a [m] for a line contact), when the normal model
+        determines it from its grid (cells in contact); None: the exact pi a b (2a) of the semi-axes.
     creepage : (float, float, float) or None
         Rigid creepages (xi [1], eta [1], phi [1/m]) when the normal model determines them (the
         wheelset kinematics of seed section 6.1); None: the scene's.
@@ -95,6 +98,7 @@ class ContactPatch:
     creep_force_y: float | None = None
     spin_moment: float | None = None
     creepage: tuple[float, float, float] | None = None
+    contact_area: float | None = None
     body_speed: tuple[float, float] | None = None
     dissipation: np.ndarray | None = None
     diagnostics: dict = field(default_factory=dict)
@@ -310,7 +314,9 @@ class Capabilities:
 
     Attributes
     ----------
-    contacts : frozenset of {"ellipse", "line"}
+    contacts : frozenset of {"ellipse", "line", "gap"}
+        Contact shapes the model handles; ``gap`` is a non-Hertzian undeformed gap
+        (``scene.gap_coefficients``; a quadratic gap is read as an ellipse with those curvatures).
     sources : frozenset of {"computed", "given"}
         Whether the model takes a patch computed by an earlier stage and/or a given heat source.
     tangential : frozenset of {"full-sliding", "creepage"}
@@ -442,6 +448,11 @@ class StageModel:
         """
         caps = self.capabilities
         if scene.contact_shape not in caps.contacts:
+            if scene.contact_shape == "gap":
+                terms = ", ".join(f"x^{i} y^{j}" for (i, j) in sorted(scene.gap_coefficients or {}))
+                return (f"model {self.name!r} needs a Hertzian gap h = A x^2 + B y^2 (A, B > 0); the gap of scene "
+                        f"{scene.name!r} has the terms {terms}, which is not a quadratic: use a normal model "
+                        "for non-Hertzian gaps (method 'kalker')")
             return f"model {self.name!r} handles {sorted(caps.contacts)} contacts, not {scene.contact_shape!r}"
         kind = "given" if scene.heat_source is not None else "computed"
         if kind not in caps.sources:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import re
 from dataclasses import asdict, dataclass, field, fields
 from typing import Any, Mapping
 
@@ -164,6 +165,58 @@ class Names(_Check):
         return tuple(dict.fromkeys(value))
 
 
+class GapCoefficients(_Check):
+    """Coefficients of an undeformed gap h(x, y) = sum c_ij x^i y^j [m]: a table whose keys are
+    ``x<i>y<j>``, ``x<i>`` or ``y<j>`` (i + j >= 2; ``x2`` is c_20, ``y4`` c_04), SI units
+    (c_ij in m^(1-i-j)); returned with its keys as written (see :func:`gap_powers`)."""
+
+    sweepable = False
+    allowed = ("a table of gap coefficients c_ij of h = sum c_ij x^i y^j [m] (SI), keys 'x<i>y<j>', 'x<i>' or "
+               "'y<j>' with i + j >= 2, e.g. { x2 = 1.015, y2 = 0.4215, y4 = 2.0e3 }")
+
+    _KEY = re.compile(r"^(?:x(\d+))?(?:y(\d+))?$")
+
+    def __call__(self, scene, key, value):
+        if not isinstance(value, Mapping) or not value:
+            self.fail(scene, key, value)
+        out = {}
+        for k, v in value.items():
+            m = self._KEY.match(str(k))
+            if not k or not m:
+                raise SceneError.bad_value(scene, f"{key}.{k}", v, self.allowed)
+            i, j = int(m.group(1) or 0), int(m.group(2) or 0)
+            if i + j < 2:
+                raise SceneError.bad_value(scene, f"{key}.{k}", v, self.allowed)
+            out[str(k)] = ANY(scene, f"{key}.{k}", v)
+        return out
+
+
+def gap_powers(coefficients: Mapping[str, float]) -> dict[tuple[int, int], float]:
+    """``{"x2": 1.015, "y4": 2e3}`` -> ``{(2, 0): 1.015, (0, 4): 2e3}`` (keys checked by the scene)."""
+    out = {}
+    for k, c in coefficients.items():
+        m = GapCoefficients._KEY.match(k)
+        out[(int(m.group(1) or 0), int(m.group(2) or 0))] = float(c)
+    return out
+
+
+def quadratic_curvatures(coefficients: Mapping[tuple[int, int], float]) -> tuple[float, float] | None:
+    """(A, B) [m-1] when the gap is Hertzian, h = A x^2 + B y^2 with A, B > 0; else None."""
+    nonzero = {k: v for k, v in coefficients.items() if v != 0.0}
+    if set(nonzero) <= {(2, 0), (0, 2)} and nonzero.get((2, 0), 0) > 0 and nonzero.get((0, 2), 0) > 0:
+        return float(nonzero[(2, 0)]), float(nonzero[(0, 2)])
+    return None
+
+
+def gap_text(coefficients: Mapping[tuple[int, int], float]) -> str:
+    """h(x, y) of a gap as text: ``1.015 x^2 + 0.4215 y^2 + 2000 y^4``."""
+    def term(i, j, c):
+        xs = "" if i == 0 else (" x" if i == 1 else f" x^{i}")
+        ys = "" if j == 0 else (" y" if j == 1 else f" y^{j}")
+        return f"{c:g}{xs}{ys}"
+    return " + ".join(term(i, j, c) for (i, j), c in sorted(coefficients.items()))
+
+
 class Table(_Check):
     """A nested table with its own keys."""
 
@@ -212,7 +265,8 @@ SCENE_KEYS: dict[str, _Check] = {
     "name": Text(),
     "normal_force": Num(0, unit="N", note="N m-1 for a line contact: force per unit length"),
     "penetration": Num(0, lo_open=True, unit="m"),
-    "contact": Table({"shape": Choice("ellipse", "line"),
+    "contact": Table({"shape": Choice("ellipse", "line", "gap"),
+                      "coefficients": GapCoefficients(),
                       "semi_axes": Pair(Num(0, lo_open=True, unit="m")),
                       "curvatures": Pair(Num(0, lo_open=True, unit="m-1")),
                       "wheel_radius": Num(0, lo_open=True, unit="m")}),
@@ -315,6 +369,7 @@ class Scene:
     contact_shape: str = "ellipse"
     semi_axes: tuple[float, float] | None = None
     curvatures: tuple[float, float] | None = None
+    gap_coefficients: Mapping[tuple[int, int], float] | None = None
     line_wheel_radius: float | None = None
     sliding_speed: float | None = None
     creepage: Creepage | None = None
@@ -459,11 +514,24 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
                      "'wheel_radius' belongs to line contacts; give wheel = { radius = ... } for an ellipse")
             kw["semi_axes"] = ct.get("semi_axes")
             kw["curvatures"] = ct.get("curvatures")
+            _require(name, "coefficients" not in ct, "contact.coefficients",
+                     "'coefficients' belong to contact = { shape = \"gap\", coefficients = {...} }")
+        elif shape == "gap":
+            _require(name, "coefficients" in ct, "contact.coefficients",
+                     "a gap contact needs 'coefficients' (h = sum c_ij x^i y^j [m], SI), e.g. "
+                     "{ x2 = 1.015, y2 = 0.4215, y4 = 2.0e3 }")
+            _require(name, not ({"semi_axes", "curvatures", "wheel_radius"} & set(ct)), "contact",
+                     "a gap contact takes 'coefficients' only (no semi_axes, curvatures or wheel_radius)")
+            gap = gap_powers(ct["coefficients"])
+            kw["gap_coefficients"] = gap
+            quad = quadratic_curvatures(gap)
+            if quad is not None:   # a Hertzian gap: an ellipse given by its curvatures
+                kw["contact_shape"], kw["curvatures"] = "ellipse", quad
         else:
             _require(name, "wheel_radius" in ct, "contact.wheel_radius",
                      "a line contact needs 'wheel_radius' [m]")
-            _require(name, "semi_axes" not in ct and "curvatures" not in ct, "contact",
-                     "a line contact takes 'wheel_radius' only (no semi_axes/curvatures)")
+            _require(name, not ({"semi_axes", "curvatures", "coefficients"} & set(ct)), "contact",
+                     "a line contact takes 'wheel_radius' only (no semi_axes/curvatures/coefficients)")
             kw["line_wheel_radius"] = ct["wheel_radius"]
         ws = c.get("wheelset")
         if ws is not None and "normal_force" not in c and "penetration" not in c:

@@ -20,7 +20,7 @@ class HertzContact(ContactModel):
     name = "hertz"
     exact_reference = "hertz"
     description = "analytic Hertz contact patch (ellipse from semi-axes or curvatures; line contact)"
-    capabilities = Capabilities(provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b",
+    capabilities = Capabilities(provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b", "contact_area",
                                                     "max_pressure"}))
     options = {"cells": Option(BASE_CELLS, "cells along 2a at level 0", minimum=1)}
 

@@ -130,7 +130,7 @@ def _flat_diagnostics(prefix: str, diag: Mapping[str, Any], out: dict) -> None:
             out[key] = str(v)
 
 
-_NORMAL_FIELDS = ("grid", "normal_force", "a", "b", "max_pressure", "pressure", "creepage")
+_NORMAL_FIELDS = ("grid", "normal_force", "a", "b", "max_pressure", "pressure", "creepage", "contact_area")
 
 
 def _check_untouched(model: StageModel, before: ContactPatch, after: ContactPatch) -> None:

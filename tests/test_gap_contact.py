@@ -1,0 +1,70 @@
+"""The undeformed gap of a scene, contact = { shape = "gap", coefficients = {...} } (issue 13 item 2),
+and the scalar contact_area [m2]."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import railtherm
+from railtherm import SceneError
+from railtherm.testing import canonical
+
+NON_HERTZ = {"x2": 1.015, "y2": 0.4215, "y4": 2.0e3}
+
+
+def _scene(coefficients, **kw):
+    sc = canonical("ellipse-creepage", outputs=["max_pressure", "contact_area"])
+    sc["contact"] = {"shape": "gap", "coefficients": coefficients, **kw}
+    return sc
+
+
+def test_gap_coefficients_are_read_as_powers():
+    s = railtherm.load_scene(_scene(NON_HERTZ))
+    assert s.contact_shape == "gap" and s.curvatures is None
+    assert s.gap_coefficients == {(2, 0): 1.015, (0, 2): 0.4215, (0, 4): 2.0e3}
+
+
+def test_a_quadratic_gap_is_the_ellipse_of_its_curvatures():
+    gap = railtherm.load_scene(_scene({"x2": 1.015, "y2": 0.4215}))
+    assert gap.contact_shape == "ellipse" and gap.curvatures == (1.015, 0.4215)
+    sc = canonical("ellipse-creepage", outputs=["max_pressure", "semi_axis_a", "contact_area"])
+    sc["contact"] = {"shape": "ellipse", "curvatures": [1.015, 0.4215]}
+    a = railtherm.solve(_scene({"x2": 1.015, "y2": 0.4215}), "green", 0)
+    b = railtherm.solve(sc, "green", 0)
+    assert float(a.max_pressure) == float(b.max_pressure)
+
+
+@pytest.mark.parametrize("coefficients, key", [({"z2": 1.0}, "contact.coefficients.z2"),
+                                               ({"x1": 1.0}, "contact.coefficients.x1"),
+                                               ({"x2": "a"}, "contact.coefficients.x2"),
+                                               ({}, "contact.coefficients")])
+def test_bad_coefficients_name_the_key(coefficients, key):
+    with pytest.raises(SceneError) as err:
+        railtherm.load_scene(_scene(coefficients))
+    assert err.value.key == key
+
+
+def test_a_gap_takes_coefficients_only():
+    with pytest.raises(SceneError, match="coefficients' only"):
+        railtherm.load_scene(_scene(NON_HERTZ, semi_axes=[1e-3, 1e-3]))
+    with pytest.raises(SceneError, match="needs 'coefficients'"):
+        railtherm.load_scene({**_scene(NON_HERTZ), "contact": {"shape": "gap"}})
+
+
+@pytest.mark.parametrize("method", ["green", "fipy", "fastsim-fdm"])
+def test_hertz_based_methods_refuse_a_non_quadratic_gap_naming_why(method):
+    if method not in {m.name for m in railtherm.methods()}:
+        pytest.skip(f"method {method!r} is not installed")
+    with pytest.raises(railtherm.Refused, match=r"Hertzian gap h = A x\^2 \+ B y\^2.*x\^0 y\^4.*not a quadratic"):
+        railtherm.solve(_scene(NON_HERTZ), method, 0)
+
+
+def test_contact_area_of_the_hertz_patch_is_pi_a_b():
+    ds = railtherm.solve(canonical("ellipse-creepage", outputs=["contact_area", "semi_axis_a", "semi_axis_b"]),
+                         "green", 0)
+    assert ds.contact_area.attrs["units"] == "m2"
+    assert float(ds.contact_area) == pytest.approx(math.pi * float(ds.semi_axis_a) * float(ds.semi_axis_b),
+                                                   rel=1e-14)
+    line = railtherm.solve(canonical("line-full-sliding", outputs=["contact_area", "semi_axis_a"]), "green", 0)
+    assert float(line.contact_area) == pytest.approx(2 * float(line.semi_axis_a), rel=1e-14)
