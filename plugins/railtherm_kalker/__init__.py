@@ -1,0 +1,18 @@
+"""railtherm_kalker: Kalker's exact (complete) theory of steady rolling contact on the elastic half-space.
+
+Modules
+-------
+influence
+    Influence coefficients of uniform loads on rectangles (Love, Boussinesq-Cerruti) and of uniform
+    strips on the half-plane, and their zero-padded FFT convolution.
+potential_area
+    The undeformed gap, the potential contact area chosen from it and the border check.
+normal_solver
+    Polonsky-Keer's conjugate gradients for the normal problem (force or approach prescribed).
+tangential_solver
+    Steady rolling with creepage: slip, Coulomb's law per element, semismooth Newton-GMRES.
+normal_model, tangential_model
+    The stage models ``kalker`` (normal and tangential).
+plugin
+    Hook implementations (models and the method ``kalker``).
+"""

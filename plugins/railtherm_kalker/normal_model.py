@@ -1,0 +1,208 @@
+"""Normal-contact model "kalker": the exact half-space pressure for the scene's undeformed gap.
+
+The gap (:func:`railtherm_kalker.potential_area.scene_gap`) is solved on a rectangular grid of
+elements over the potential contact area (Love's influence coefficients, FFT products, Polonsky &
+Keer's conjugate gradients; :mod:`railtherm_kalker.normal_solver`). For an elliptical or line
+contact the gap is the scene's Hertz quadratic, so the exact solution is the Hertz patch and the
+result converges to it; a scene with ``contact = { shape = "gap", ... }`` gets its non-Hertzian patch.
+
+The returned patch's grid is the potential contact area (elements outside the contact carry zero
+pressure); its ``a`` and ``b`` are the half-extents of the contact along x and y, located to within a
+fraction of an element by extrapolating p^2 (linear in the distance from a Hertz-like edge) from
+the last two loaded elements of each grid line.
+
+References
+----------
+.. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, Kluwer, 1990, ch. 5.
+   doi:10.1007/978-94-015-7889-9
+.. [2] I.A. Polonsky, L.M. Keer, Wear 231 (1999) 206-219. doi:10.1016/S0043-1648(99)00113-1
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from railtherm import Capabilities, ContactPatch, NormalContactModel, Option, Refused, SurfaceGrid
+from railtherm.physics import contact_modulus
+from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
+
+from .influence import Convolution, line_kernel, normal_kernel
+from .normal_solver import NORMAL_TOLERANCE, solve_normal
+from .potential_area import check_border, potential_area, scene_gap
+
+__all__ = ["KalkerNormal", "solve_scene_normal", "contact_extent", "DEFAULT_CELLS"]
+
+#: elements across 2a (and across 2b) at level 0; level k has DEFAULT_CELLS 2^k (128 at level 3)
+DEFAULT_CELLS = 16
+
+
+def _edge_positions(coord: np.ndarray, p_line: np.ndarray, h: float) -> tuple[float, float] | None:
+    """Leading and trailing contact edges along one grid line [m] (p^2 extrapolated to zero)."""
+    idx = np.nonzero(p_line > 0)[0]
+    if idx.size == 0:
+        return None
+    lo, hi = idx[0], idx[-1]
+
+    def ext(i, j):      # edge beyond element i, j its inner neighbour
+        pi, pj = p_line[i] ** 2, (p_line[j] ** 2 if 0 <= j < p_line.size else 0.0)
+        if pj > pi:
+            return min(pi / (pj - pi), 1.0) * h
+        return 0.5 * h
+
+    up = coord[hi] + (ext(hi, hi - 1) if hi > lo else 0.5 * h)
+    down = coord[lo] - (ext(lo, lo + 1) if hi > lo else 0.5 * h)
+    return down, up
+
+
+def contact_extent(x, y, pressure, dx: float, dy: float) -> tuple[float, float, float, float]:
+    """Extent of the loaded region: (x_min, x_max, y_min, y_max) [m] (y's 0 for a line contact).
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Element centres [m] (y None for a line contact).
+    pressure : ndarray (nx, ny)
+        Pressure [Pa].
+    dx, dy : float
+        Element sides [m].
+    """
+    p = np.asarray(pressure).reshape(x.size, -1)
+    xs = [e for j in range(p.shape[1]) if (e := _edge_positions(x, p[:, j], dx)) is not None]
+    x0, x1 = min(e[0] for e in xs), max(e[1] for e in xs)
+    if y is None:
+        return x0, x1, 0.0, 0.0
+    ys = [e for i in range(p.shape[0]) if (e := _edge_positions(y, p[i, :], dy)) is not None]
+    return x0, x1, min(e[0] for e in ys), max(e[1] for e in ys)
+
+
+def _normal_operator(area, e_star):
+    nx, ny = area.shape
+    if area.y_edges is None:
+        return Convolution({(0, 0): line_kernel(nx, area.dx, 1.0 / e_star)}, (nx, ny))
+    return Convolution({(0, 0): normal_kernel(nx, ny, area.dx, area.dy, e_star)}, (nx, ny))
+
+
+def _estimate_area(scene, gap, e_star, load):
+    """Centre and half-extents of the contact of a non-Hertzian gap from a coarse solve (32 elements)."""
+    A, B = gap.quadratic
+    force, approach = load
+    if force is not None:
+        h0 = hertz_from_curvatures(A, B, force, e_star)
+        half = (1.6 * h0.a, 1.6 * h0.b)
+    else:
+        half = (1.6 * math.sqrt(approach / A), 1.6 * math.sqrt(approach / B))
+    for _ in range(6):
+        area = potential_area(half[0], half[1], 32, margin=0, name=scene.name)
+        X, Y = area.mesh()
+        sol = solve_normal(_normal_operator(area, e_star), gap(X, Y), area.dx * area.dy, force=force,
+                           approach=approach, tol=1e-8)
+        p = sol.pressure
+        if not (p[0].any() or p[-1].any() or p[:, 0].any() or p[:, -1].any()):
+            loaded = np.nonzero(p > 0)
+            x0, x1 = area.x_edges[loaded[0].min()], area.x_edges[loaded[0].max() + 1]
+            y0, y1 = area.y_edges[loaded[1].min()], area.y_edges[loaded[1].max() + 1]
+            return (0.5 * (x0 + x1), 0.5 * (y0 + y1)), (0.5 * (x1 - x0), 0.5 * (y1 - y0))
+        half = (1.5 * half[0], 1.5 * half[1])
+    raise Refused(f"scene {scene.name!r}, model 'kalker': the contact of the gap {gap.coefficients} does not stay "
+                  f"within {half[0]:.3g} x {half[1]:.3g} m; check the gap coefficients", kind="validity")
+
+
+def solve_scene_normal(scene, level: int, cells: int = DEFAULT_CELLS, tol: float = NORMAL_TOLERANCE):
+    """Solve the normal problem of a scene on the potential contact area of ``level``.
+
+    Parameters
+    ----------
+    scene : Scene-like
+        See :func:`railtherm_kalker.potential_area.scene_gap`.
+    level : int
+        Level k: ``cells 2^k`` elements across the expected contact in x and in y [1].
+    cells : int
+        Elements at level 0 [1].
+    tol : float
+        Tolerance of the normal solver [1].
+
+    Returns
+    -------
+    area : PotentialArea
+    gap : Gap
+    solution : NormalSolution
+    """
+    gap = scene_gap(scene)
+    e_star = contact_modulus(scene.wheel, scene.rail)
+    force = scene.normal_force
+    approach = None if force is not None else float(scene.penetration)
+    n = int(cells) * 2 ** int(level)
+    if gap.hertz is not None:
+        a0, b0, _ = gap.hertz
+        centre = (0.0, 0.0)
+    else:
+        centre, (a0, b0) = _estimate_area(scene, gap, e_star, (force, approach))
+    area = potential_area(a0, b0, n, centre=centre, name=scene.name)
+    X, Y = area.mesh()
+    h = gap(X) if area.y_edges is None else gap(X, Y)
+    initial = None
+    A, B = gap.quadratic
+    if force is not None and A > 0 and (area.y_edges is None or B > 0):
+        if area.y_edges is None:
+            initial = np.sqrt(np.clip(1.0 - (X / a0) ** 2, 0.0, None))
+        else:
+            hz = hertz_from_curvatures(A, B, force, e_star)
+            initial = hertz_pressure(X - centre[0], Y - centre[1], hz.a, hz.b, hz.max_pressure)
+    sol = solve_normal(_normal_operator(area, e_star), h, area.dx * area.dy, force=force, approach=approach,
+                       initial=initial, tol=tol)
+    return area, gap, sol
+
+
+class KalkerNormal(NormalContactModel):
+    """Kalker's exact normal contact on the elastic half-space: the pressure of the scene's undeformed
+    gap on a grid of elements over the potential contact area (Love's influence coefficients applied
+    by FFT, Polonsky & Keer's conjugate gradients). A Hertzian scene's gap is its Hertz quadratic
+    (the solution converges to the Hertz patch); a ``shape = "gap"`` scene gives a non-Hertzian one.
+
+    References
+    ----------
+    .. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, Kluwer, 1990.
+       doi:10.1007/978-94-015-7889-9
+    """
+
+    name = "kalker"
+    description = ("Kalker's exact normal contact on the half-space: pressure of the undeformed gap (Hertz "
+                   "quadratic or non-Hertzian) by FFT influence coefficients and Polonsky-Keer CG")
+    capabilities = Capabilities(contacts=frozenset({"ellipse", "line", "gap"}),
+                                provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b",
+                                                    "max_pressure"}))
+    options = {"cells": Option(DEFAULT_CELLS, "elements across the contact (2a, and 2b) at level 0 [1]", minimum=2),
+               "normal_tolerance": Option(NORMAL_TOLERANCE, "tolerance of the normal solver (relative "
+                                          "pressure change and complementarity residual) [1]", minimum=0.0)}
+
+    def supports(self, scene, level):
+        why = super().supports(scene, level)
+        if why:
+            return why
+        if getattr(scene.wheel, "rigid", False) and getattr(scene.rail, "rigid", False):
+            return "model 'kalker' needs at least one elastic body (both are rigid)"
+        return None
+
+    def compute_patch(self, scene, level, options):
+        cells = int(options.get("cells") or DEFAULT_CELLS)
+        area, gap, sol = solve_scene_normal(scene, level, cells, float(options.get("normal_tolerance",
+                                                                                    NORMAL_TOLERANCE)))
+        line = area.y_edges is None
+        check_border(area, sol.pressure, scene.name)
+        x0, x1, y0, y1 = contact_extent(area.x, area.y, sol.pressure, area.dx, area.dy)
+        a = 0.5 * (x1 - x0)
+        b = None if line else 0.5 * (y1 - y0)
+        grid = SurfaceGrid(area.x_edges, area.y_edges, float(a), None if b is None else float(b))
+        p = sol.pressure[:, 0] if line else sol.pressure
+        nx, ny = area.shape
+        diag = {"converged": bool(sol.converged), "iterations": int(sol.iterations), "residual": float(sol.residual),
+                "approach": float(sol.approach), "products": int(sol.products),
+                "elements_x": int(nx), "elements_y": int(ny),
+                "elements_in_contact": int(np.count_nonzero(sol.pressure > 0)),
+                "contact_area": float(np.count_nonzero(sol.pressure > 0)) * area.dx * area.dy,
+                "gap": "hertz" if gap.hertz is not None else "non-hertzian",
+                "residual_history": np.asarray(sol.history, dtype=float)}
+        return ContactPatch(grid=grid, normal_force=float(scene.normal_force if scene.normal_force is not None
+                                                          else sol.force),
+                            a=float(a), b=None if b is None else float(b), max_pressure=float(p.max()),
+                            pressure=np.array(p), diagnostics=diag)

@@ -1,0 +1,35 @@
+"""Hook implementations of the kalker plugin (registration only; the models do the work)."""
+from __future__ import annotations
+
+from railtherm import Method, hookimpl
+
+from .contact_model import KalkerContact
+from .normal_model import DEFAULT_CELLS
+
+
+@hookimpl
+def railtherm_register_models():
+    """Model ``kalker`` for the normal and tangential stages (core keys models by name alone, so the
+    stage models KalkerNormal and KalkerTangential are registered through the coupled
+    :class:`railtherm_kalker.contact_model.KalkerContact`)."""
+    return [KalkerContact]
+
+
+@hookimpl
+def railtherm_register_methods():
+    """Method ``kalker``: Kalker's exact normal and tangential contact on the half-space, core's
+    frictional heat (traction x slip velocity), Ertz & Knothe's Green-function temperatures."""
+    return [Method("kalker", {"normal": ("kalker",), "tangential": ("kalker",), "heat_source": ("frictional",),
+                              "temperature": ("green",)},
+                   description="Kalker's exact rolling contact on the half-space (FFT influence coefficients; "
+                               "Polonsky-Keer normal, semismooth Newton-GMRES tangential) -> frictional heat "
+                               "-> 1-D moving Green-function temperatures",
+                   default_cells=DEFAULT_CELLS,
+                   orders={
+                       # piecewise-constant pressure with a square-root edge: the peak pressure converges at
+                       # O(h^2) on the Hertz patch (tests/test_kalker_normal.py fits ~2), the edge location at O(h)
+                       "max_pressure": 2.0,
+                       # the steady-state slip's upwind difference (CONTACT's) is first order in dx
+                       "creep_force_x": 1.0,
+                       "frictional_power": 1.0,
+                   })]

@@ -1,0 +1,288 @@
+"""The undeformed gap of a scene, the potential contact area chosen from it, and the border check.
+
+The gap between the undeformed surfaces is ``h(x, y) = sum c_ij x^i y^j`` [m] (SI). A scene with
+an elliptical contact has the quadratic gap ``A x^2 + B y^2`` of its Hertz geometry: from its
+``curvatures``, or, when it gives ``semi_axes`` and the normal force, the curvatures for which Hertz
+theory with the scene's contact modulus returns exactly those semi-axes (so that the exact solution
+with the scene's load *is* the scene's Hertz patch). A line contact has ``x^2 / (2 R)``. A scene
+with ``contact = { shape = "gap", coefficients = {...} }`` gives the coefficients itself.
+
+The potential contact area is a rectangle of elements around the expected contact: for a quadratic
+gap the Hertz semi-axes a, b; for another gap the extent of a coarse solution. Level k has
+``n = cells 2^k`` elements across 2a (and across 2b), so each level halves the element size, and
+:func:`margin_elements` elements of margin on every side; after the solve :func:`check_border`
+refuses a patch that reaches the outermost ring of elements.
+
+References
+----------
+.. [1] K.L. Johnson, Contact Mechanics, 1985, section 4.2 (eqs. 3.63-3.64 for the curvatures of a
+   Hertz ellipse). doi:10.1017/CBO9781139171731
+.. [2] E.A.H. Vollebregt, User guide for CONTACT, report TR09-03 (potential contact area).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from railtherm import Refused, SolverError
+from railtherm.physics import contact_modulus
+from railtherm.references.hertz import (elliptic_k_minus_e, hertz_from_curvatures, hertz_from_penetration,
+                                        hertz_line)
+
+__all__ = ["Gap", "scene_gap", "hertz_curvatures", "PotentialArea", "potential_area", "margin_elements",
+           "check_border", "MAX_ELEMENTS"]
+
+#: budget of the potential contact area [elements]: a larger grid is refused (kind "budget"). The
+#: tangential solver holds about 40 fields of this size (plus the padded FFT work arrays, 4x larger):
+#: 2**20 elements are ~0.6 GB and ~1 min per solve on two cores.
+MAX_ELEMENTS = 2 ** 20
+
+
+@dataclass(frozen=True)
+class Gap:
+    """Undeformed gap ``h(x, y) = sum c_ij x^i y^j`` [m].
+
+    Attributes
+    ----------
+    coefficients : dict
+        ``(i, j) -> c_ij`` [m^(1-i-j)].
+    line : bool
+        A line contact (h depends on x only, loads per unit width).
+    hertz : (float, float | None, float) or None
+        Hertz semi-axes a, b [m] and the approach [m] (NaN when the load is prescribed) when the gap is
+        the quadratic of a Hertz patch; None otherwise.
+    """
+
+    coefficients: dict
+    line: bool = False
+    hertz: tuple | None = None
+
+    def __call__(self, x, y=None):
+        """h at points (x, y) [m]."""
+        x = np.asarray(x, dtype=float)
+        y = np.zeros_like(x) if y is None else np.asarray(y, dtype=float)
+        h = np.zeros(np.broadcast(x, y).shape)
+        for (i, j), c in self.coefficients.items():
+            h = h + c * x ** i * y ** j
+        return h
+
+    @property
+    def quadratic(self) -> tuple[float, float]:
+        """The curvature coefficients (c_20, c_02) [1/m]."""
+        return float(self.coefficients.get((2, 0), 0.0)), float(self.coefficients.get((0, 2), 0.0))
+
+    @property
+    def is_quadratic(self) -> bool:
+        """Only x^2 and y^2 terms (a Hertz gap)."""
+        return set(self.coefficients) <= {(2, 0), (0, 2)}
+
+
+def hertz_curvatures(a: float, b: float, normal_force: float, e_star: float) -> tuple[float, float]:
+    """Curvature coefficients A, B of the gap ``A x^2 + B y^2`` whose Hertz patch under the normal
+    force has the semi-axes a, b.
+
+    With the major semi-axis c, m = 1 - (minor/major)^2, D = (K - E)/m and F = (E/(1 - m) - K)/m
+    (Johnson 1985, eqs. 3.63-3.64): ``A_small = 3 N D / (2 pi c^3 E*)``, ``A_large = 3 N F / (2 pi c^3 E*)``.
+
+    Parameters
+    ----------
+    a, b : float
+        Semi-axes along x (rolling) and y [m].
+    normal_force : float
+        N [N].
+    e_star : float
+        Contact modulus E* [Pa].
+
+    Returns
+    -------
+    A, B : float
+        Gap curvature coefficients along x and y [1/m].
+    """
+    major, minor = max(a, b), min(a, b)
+    m = 1.0 - (minor / major) ** 2
+    _, _, d, f = elliptic_k_minus_e(m)
+    scale = 3.0 * normal_force / (2.0 * math.pi * major ** 3 * e_star)
+    small, large = scale * d, scale * f
+    return (large, small) if a <= b else (small, large)
+
+
+def scene_gap(scene) -> Gap:
+    """The undeformed gap of a scene (see the module docstring).
+
+    Parameters
+    ----------
+    scene : Scene-like
+        ``contact_shape`` ("ellipse", "line" or "gap"), ``gap_coefficients`` for a gap, else
+        ``curvatures`` [1/m] or ``semi_axes`` [m], ``wheel_radius`` [m] for a line; ``normal_force``
+        [N] ([N/m]) or ``penetration`` [m]; ``wheel``, ``rail`` materials.
+
+    Returns
+    -------
+    Gap
+
+    Raises
+    ------
+    railtherm.Refused
+        No load, rigid bodies, or a gap that does not close (no positive curvature).
+    """
+    e_star = contact_modulus(scene.wheel, scene.rail)
+    if not math.isfinite(e_star):
+        raise Refused(f"scene {scene.name!r}: both bodies are rigid; the half-space theory needs an elastic body")
+    n = scene.normal_force
+    if n is not None and not n > 0:
+        raise Refused(f"scene {scene.name!r}: normal_force = {n!r} gives no contact")
+    shape = scene.contact_shape
+    if shape == "gap":
+        coef = getattr(scene, "gap_coefficients", None)
+        if not coef:
+            raise Refused(f"scene {scene.name!r}: contact shape 'gap' without coefficients")
+        coef = {tuple(int(v) for v in k): float(c) for k, c in dict(coef).items()}
+        gap = Gap(coef)
+        A, B = gap.quadratic
+        if not (A > 0 and B > 0):
+            raise Refused(f"scene {scene.name!r}: the gap's x2 = {A:g} and y2 = {B:g} 1/m must both be > 0 "
+                          "(a gap that does not close has no bounded contact patch)")
+        return gap
+    if shape == "line":
+        if n is None:
+            raise Refused(f"scene {scene.name!r}: a line contact on a half-plane has no finite approach; give "
+                          "normal_force [N/m]")
+        R = float(scene.wheel_radius)
+        a, _ = hertz_line(n, R, e_star)
+        return Gap({(2, 0): 0.5 / R}, line=True, hertz=(a, None, math.nan))
+    if scene.curvatures is not None:
+        A, B = (float(c) for c in scene.curvatures)
+        h = (hertz_from_curvatures(A, B, n, e_star) if n is not None
+             else hertz_from_penetration(A, B, scene.penetration, e_star))
+    else:
+        a, b = (float(s) for s in scene.semi_axes)
+        A, B = hertz_curvatures(a, b, n, e_star)
+        h = hertz_from_curvatures(A, B, n, e_star)
+    return Gap({(2, 0): A, (0, 2): B}, hertz=(h.a, h.b, h.approach if n is None else math.nan))
+
+
+def margin_elements(n: int) -> int:
+    """Elements of margin on each side of the expected contact for n elements across it [1]: at least
+    5 % of n and 2, rounded up so that n + 2 margin is a multiple of 8 where that costs at most 4 more
+    (the tangential solver's nested grids halve the element count three times)."""
+    m = max(2, int(math.ceil(0.05 * n)))
+    for extra in range(5):
+        if (n + 2 * (m + extra)) % 8 == 0:
+            return m + extra
+    return m
+
+
+@dataclass(frozen=True)
+class PotentialArea:
+    """A rectangular grid of elements over the potential contact area.
+
+    Attributes
+    ----------
+    x_edges : ndarray
+        Element edges along rolling [m], ascending.
+    y_edges : ndarray or None
+        Element edges across [m] (None for a line contact).
+    a, b : float
+        The expected half-extents of the contact that the grid was built on [m] (b None for a line).
+    """
+
+    x_edges: np.ndarray
+    y_edges: np.ndarray | None
+    a: float
+    b: float | None
+
+    @property
+    def x(self):
+        return 0.5 * (self.x_edges[1:] + self.x_edges[:-1])
+
+    @property
+    def y(self):
+        return None if self.y_edges is None else 0.5 * (self.y_edges[1:] + self.y_edges[:-1])
+
+    @property
+    def dx(self) -> float:
+        return float(self.x_edges[1] - self.x_edges[0])
+
+    @property
+    def dy(self) -> float:
+        """Element width across [m]; 1 for a line contact (per unit width)."""
+        return 1.0 if self.y_edges is None else float(self.y_edges[1] - self.y_edges[0])
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(nx, ny); ny = 1 for a line contact."""
+        return (self.x.size, 1 if self.y_edges is None else self.y.size)
+
+    def mesh(self):
+        """Element centres X, Y of shape (nx, ny) [m]."""
+        if self.y_edges is None:
+            return self.x[:, None], np.zeros((self.x.size, 1))
+        return np.meshgrid(self.x, self.y, indexing="ij")
+
+
+def _edges(centre: float, half: float, n: int, m: int) -> np.ndarray:
+    h = 2.0 * half / n
+    return centre + (np.arange(-m, n + m + 1) * h - half)
+
+
+def potential_area(half_x: float, half_y: float | None, n: int, *, centre=(0.0, 0.0), margin: int | None = None,
+                   name: str = "?") -> PotentialArea:
+    """The potential contact area with n elements across each expected extent plus a margin.
+
+    Parameters
+    ----------
+    half_x, half_y : float
+        Expected half-extents of the contact along x and y [m] (half_y None for a line contact).
+    n : int
+        Elements across 2 half_x (and across 2 half_y) [1].
+    centre : (float, float)
+        Centre of the expected contact [m].
+    margin : int, optional
+        Elements added on each side (default :func:`margin_elements`).
+    name : str
+        Scene name, for messages.
+
+    Returns
+    -------
+    PotentialArea
+
+    Raises
+    ------
+    railtherm.Refused
+        (kind "budget") above :data:`MAX_ELEMENTS` elements.
+    """
+    m = margin_elements(n) if margin is None else int(margin)
+    nx = n + 2 * m
+    ny = 1 if half_y is None else n + 2 * m
+    if nx * ny > MAX_ELEMENTS:
+        raise Refused(f"scene {name!r}, model 'kalker': the potential contact area needs {nx} x {ny} = "
+                      f"{nx * ny:.3g} elements, above the budget railtherm_kalker.potential_area.MAX_ELEMENTS = "
+                      f"{MAX_ELEMENTS:.3g} (memory ~{nx * ny * 600 / 1e9:.1f} GB); use a lower level", kind="budget")
+    xe = _edges(centre[0], half_x, n, m)
+    ye = None if half_y is None else _edges(centre[1], half_y, n, m)
+    return PotentialArea(xe, ye, float(half_x), None if half_y is None else float(half_y))
+
+
+def check_border(area: PotentialArea, pressure: np.ndarray, name: str = "?") -> None:
+    """Raise :class:`railtherm.SolverError` when the contact reaches the outermost ring of elements.
+
+    Parameters
+    ----------
+    area : PotentialArea
+    pressure : ndarray, shape area.shape
+        Normal pressure [Pa].
+    name : str
+        Scene name, for messages.
+    """
+    p = np.asarray(pressure).reshape(area.shape)
+    ring = np.zeros(area.shape, dtype=bool)
+    ring[0, :] = ring[-1, :] = True
+    if area.y_edges is not None:
+        ring[:, 0] = ring[:, -1] = True
+    if np.any(p[ring] > 0.0):
+        raise SolverError(f"scene {name!r}, model 'kalker': the contact patch reaches the border of the potential "
+                          f"contact area ({int(np.count_nonzero(p[ring] > 0))} border elements loaded; area "
+                          f"x {area.x_edges[0]:.4g}..{area.x_edges[-1]:.4g} m"
+                          + ("" if area.y_edges is None else f", y {area.y_edges[0]:.4g}..{area.y_edges[-1]:.4g} m")
+                          + "): the gap's estimate of the patch was too small")

@@ -1,0 +1,202 @@
+"""Tangential model "kalker": Kalker's exact steady rolling with creepage on the normal stage's patch.
+
+The patch's grid and pressure (the ``kalker`` normal model's potential contact area, or any uniform
+grid, e.g. core's Hertz patch) carry the traction bound mu p per element; the tractions, slip and
+stick/slip areas follow from :func:`railtherm_kalker.tangential_solver.solve_tangential`. The model
+fills, on the wheel (body 1) and with CONTACT's sign law (a positive creepage gives a negative
+force): the tractions [Pa], the slip velocity V s of the wheel relative to the rail [m/s] (zero in
+stick), the stick indicator, the creep forces [N] and the spin moment ``sum (x p_y - y p_x) dA``
+[N m], the surface speeds V (1 - xi) and V, and the local dissipation ``-(p . v_s)`` [W/m^2]
+(= mu p |v_s| in slip, 0 in stick, exactly: slipping tractions are returned on the bound,
+-mu p s/|s|), which core's heat source ``frictional`` integrates to the frictional power.
+
+Creepages: the patch's own (a wheelset normal model), else the scene's, else full sliding
+(xi = -v_s / V: the wheel surface moves at V + v_s).
+
+References
+----------
+.. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, Kluwer, 1990.
+   doi:10.1007/978-94-015-7889-9
+.. [2] F.W. Carter, On the action of a locomotive driving wheel, Proc. R. Soc. Lond. A 112 (1926)
+   151-157. doi:10.1098/rspa.1926.0100
+"""
+from __future__ import annotations
+
+import numpy as np
+from railtherm import Capabilities, Option, Refused, TangentialContactModel
+from railtherm.physics import combined_elastic, creep_speeds
+
+from .influence import Convolution, line_kernel, rolling_kernel, tangential_kernels
+from .tangential_solver import TANGENTIAL_TOLERANCE, rigid_slip, solve_tangential
+
+__all__ = ["KalkerTangential", "rolling_operator", "patch_creepages", "solve_patch_tangential"]
+
+
+def patch_creepages(scene, patch) -> tuple[float, float, float]:
+    """(xi [1], eta [1], phi [1/m]): the patch's, the scene's, or full sliding xi = -v_s / V."""
+    if patch.creepage is not None:
+        return tuple(float(c) for c in patch.creepage)
+    if scene.creepage is not None:
+        c = scene.creepage
+        return float(c.longitudinal), float(c.lateral), float(c.spin)
+    if scene.sliding_speed is not None:
+        return -float(scene.sliding_speed) / float(scene.speed), 0.0, 0.0
+    raise Refused(f"scene {scene.name!r}: no creepage or sliding speed for model 'kalker'")
+
+
+def rolling_operator(x_edges, y_edges, shear_modulus: float, poisson_ratio: float) -> Convolution:
+    """The rolling influence operator B (slip = w - B p) on a uniform element grid.
+
+    Parameters
+    ----------
+    x_edges, y_edges : ndarray
+        Element edges [m] (y_edges None for a line contact).
+    shear_modulus, poisson_ratio : float
+        Combined G [Pa] and nu [1].
+
+    Returns
+    -------
+    Convolution
+        Components x (and y) [1/Pa].
+    """
+    nx = len(x_edges) - 1
+    dx = float(x_edges[1] - x_edges[0])
+    if y_edges is None:
+        k = line_kernel(nx, dx, (1.0 - poisson_ratio) / shear_modulus, extra=1)
+        return Convolution({(0, 0): rolling_kernel(k, dx)}, (nx, 1))
+    ny = len(y_edges) - 1
+    dy = float(y_edges[1] - y_edges[0])
+    k = tangential_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio, extra=1)
+    return Convolution({(0, 0): rolling_kernel(k["xx"], dx), (0, 1): rolling_kernel(k["xy"], dx),
+                        (1, 1): rolling_kernel(k["yy"], dx)}, (nx, ny))
+
+
+def solve_patch_tangential(patch, friction: float, creepages, shear_modulus: float, poisson_ratio: float,
+                           tol: float = TANGENTIAL_TOLERANCE):
+    """Solve the steady rolling problem on a patch's grid and pressure.
+
+    Parameters
+    ----------
+    patch : railtherm.ContactPatch
+        Grid (uniform) and pressure [Pa].
+    friction : float
+        mu [1].
+    creepages : (float, float, float)
+        xi [1], eta [1], phi [1/m].
+    shear_modulus, poisson_ratio : float
+        Combined G [Pa], nu [1].
+    tol : float
+        Solver tolerance [1].
+
+    Returns
+    -------
+    solution : TangentialSolution
+        Tractions on the bound in slip, slip exactly zero in stick.
+    X, Y : ndarray (nx, ny)
+        Element centres [m].
+    """
+    grid = patch.grid
+    line = grid.y_edges is None
+    nx = grid.x.size
+    ny = 1 if line else grid.y.size
+    p = np.asarray(patch.pressure, dtype=float).reshape(nx, ny)
+    if line:
+        X, Y = grid.x[:, None], np.zeros((nx, 1))
+    else:
+        X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    conv = rolling_operator(grid.x_edges, grid.y_edges, shear_modulus, poisson_ratio)
+    w = rigid_slip(X, Y, *creepages, line=line)
+    g = friction * np.clip(p, 0.0, None)
+    sol = solve_tangential(conv, g, w, tol=tol)
+    # polish: stick has zero slip, slip has its traction on the bound against the slip (both to the
+    # solver's residual already; exact here so that -p . s = mu p |s| holds to round-off)
+    s = np.where(sol.stick[None], 0.0, sol.slip)
+    ns = np.sqrt(np.sum(s * s, axis=0))
+    slipping = (g > 0) & ~sol.stick & (ns > 0)
+    t = np.where(slipping[None], -g * s / np.where(ns > 0, ns, 1.0), sol.traction)
+    sol.traction, sol.slip = t, s
+    return sol, X, Y
+
+
+class KalkerTangential(TangentialContactModel):
+    """Kalker's exact theory of steady rolling on the half-space: tractions, slip and stick/slip areas
+    from the creepages (longitudinal, lateral, spin) and Coulomb's law per element, with the
+    Boussinesq-Cerruti influence coefficients applied by FFT and semismooth Newton-GMRES. Line
+    contacts (plane strain, longitudinal creepage) run through the same solver (Carter's case).
+
+    References
+    ----------
+    .. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, Kluwer, 1990.
+       doi:10.1007/978-94-015-7889-9
+    """
+
+    name = "kalker"
+    description = ("Kalker's exact steady rolling (half-space, Boussinesq-Cerruti by FFT, semismooth "
+                   "Newton-GMRES): tractions, slip, stick, creep forces, spin moment, dissipation")
+    capabilities = Capabilities(
+        contacts=frozenset({"ellipse", "line", "gap"}), sources=frozenset({"computed"}),
+        tangential=frozenset({"creepage", "full-sliding"}),
+        provides=frozenset({"traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick",
+                            "creep_force_x", "creep_force_y", "spin_moment"}))
+    options = {"tangential_tolerance": Option(TANGENTIAL_TOLERANCE, "tolerance of the tangential solver, "
+                                              "max |F| / max(mu p) [1]", minimum=0.0)}
+
+    def supports(self, scene, level):
+        why = super().supports(scene, level)
+        if why:
+            return why
+        if scene.friction is None:
+            return "model 'kalker' needs the friction coefficient (key 'friction')"
+        if scene.creepage is None and scene.sliding_speed is None and getattr(scene, "wheelset", None) is None:
+            return "model 'kalker' needs creepages, a sliding speed or a wheelset"
+        if getattr(scene.wheel, "rigid", False) and getattr(scene.rail, "rigid", False):
+            return "model 'kalker' needs at least one elastic body (both are rigid)"
+        if scene.contact_shape == "line" and scene.creepage is not None and (
+                float(scene.creepage.lateral) != 0.0 or float(scene.creepage.spin) != 0.0):
+            return (f"model 'kalker': a line contact (2-D rolling) has only longitudinal creepage; the scene gives "
+                    f"lateral = {float(scene.creepage.lateral):g}, spin = {float(scene.creepage.spin):g} 1/m")
+        return None
+
+    def compute_tangential(self, scene, patch, level, options):
+        xi, eta, phi = patch_creepages(scene, patch)
+        if patch.b is None and (eta != 0.0 or phi != 0.0):
+            raise Refused(f"model 'kalker': a line contact has only longitudinal creepage (lateral = {eta:g}, "
+                          f"spin = {phi:g} 1/m given)")
+        try:
+            G, nu = combined_elastic(scene.wheel, scene.rail)
+        except ValueError as exc:
+            raise Refused(f"model 'kalker': {exc}") from exc
+        V = float(scene.speed)
+        mu = float(scene.friction)
+        tol = float(options.get("tangential_tolerance", TANGENTIAL_TOLERANCE))
+        sol, X, Y = solve_patch_tangential(patch, mu, (xi, eta, phi), G, nu, tol)
+        grid = patch.grid
+        area = grid.cell_area
+        shape = np.shape(patch.pressure)
+        tx = sol.traction[0]
+        vx = V * sol.slip[0]
+        inside = np.asarray(patch.pressure).reshape(tx.shape) > 0
+        stick = np.where(inside, sol.stick.astype(float), np.nan)
+        fields = dict(traction_x=tx.reshape(shape), slip_velocity_x=vx.reshape(shape), stick=stick.reshape(shape),
+                      creep_force_x=float(tx.sum()) * area)
+        q = -tx * vx
+        fy = mz = 0.0
+        if patch.b is not None:
+            ty, vy = sol.traction[1], V * sol.slip[1]
+            q = q - ty * vy
+            fy = float(ty.sum()) * area
+            mz = float((X * ty - Y * tx).sum()) * area
+            fields.update(traction_y=ty, slip_velocity_y=vy, creep_force_y=fy, spin_moment=mz)
+        fx = fields["creep_force_x"]
+        global_power = -V * (xi * fx + eta * fy + phi * mz)
+        local_power = float(q.sum()) * area
+        diag = {"converged": bool(sol.converged), "iterations": int(sol.iterations), "residual": float(sol.residual),
+                "residual_history": np.asarray(sol.history, dtype=float),
+                "linear_iterations": int(sol.linear_iterations), "products": int(sol.products),
+                "stick_elements": int(np.count_nonzero(sol.stick & inside)),
+                "slip_elements": int(np.count_nonzero(~sol.stick & inside)),
+                "combined_shear_modulus": G, "combined_poisson_ratio": nu,
+                "creepage_longitudinal": xi, "creepage_lateral": eta, "creepage_spin": phi,
+                "local_power": local_power, "global_power": global_power}
+        return patch.with_tangential(**fields, body_speed=creep_speeds(V, xi), dissipation=q.reshape(shape),
+                                     diagnostics=diag)
