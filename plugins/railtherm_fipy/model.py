@@ -45,8 +45,9 @@ import time
 
 import numpy as np
 
-from railtherm import Capabilities, Option, Refused, TemperatureField, TemperatureModel
+from dataclasses import dataclass
 
+from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
 from railtherm.physics import lumped_wheel, thermal_scales
 
 from .mesh import moving_frame_mesh
@@ -158,7 +159,7 @@ class FipyTemperature(TemperatureModel):
         ``how`` is "line", "strips" or "3-D".
         """
         grid = source.grid
-        dim = options.get("dimension", "auto")
+        dim = options["dimension"]
         if grid.line:
             if dim == 3:
                 raise Refused("model 'fipy': dimension 3 needs an elliptical patch; a line contact is solved in 2-D "
@@ -170,7 +171,7 @@ class FipyTemperature(TemperatureModel):
         size_why = None
         bodies = sum(bool(np.any(np.asarray(source.flux(i)) != 0)) for i in (0, 1))
         seconds = estimate_seconds_3d(cells, pe, bodies)
-        limit = float(options.get("max_seconds", 60.0))
+        limit = float(options["max_seconds"])
         if cells > options["max_cells"]:
             size_why = (f"a 3-D mesh would need {cells} cells per body > max_cells = {options['max_cells']} "
                         f"(lower the level or raise the option max_cells)")
@@ -259,49 +260,43 @@ class FipyTemperature(TemperatureModel):
         st = lumped_wheel(power, 0.0, wheel=scene.wheel, rail=scene.rail, speed_wheel=v_w, speed_rail=v_r,
                           a=grid.a, b=None if grid.line else grid.b, radius=float(R),
                           heat_transfer=float(scene.convection or 0.0))
-        bulk_w = scene.wheel.bulk_temperature
-        flash.steady_wheel_temperature = bulk_w + st.wheel_rise
-        flash.steady_mean_contact_temperature = (float(flash.mean_contact_temperature[0])
-                                                 + st.contact_fraction * st.wheel_rise)
-        return flash
+        return flash.field(grid, steady_wheel_temperature=scene.wheel.bulk_temperature + st.wheel_rise,
+                           steady_mean_contact_temperature=flash.mean_wheel(grid)
+                           + st.contact_fraction * st.wheel_rise)
 
     def _transient(self, scene, source, level, opts, flash):
-        """Wheel heating over many revolutions on top of the cold-wheel flash field (seed eq. 54)."""
+        """Wheel heating over many revolutions on top of the cold-wheel flash field (seed eq. 54).
+
+        Superposition (seed eqs. 41, 44, 54): with the tread rise T_s at the end of the simulated time,
+        in the patch both surfaces rise by eps_c T_s; outside it the wheel is at T_s, and the wheel's
+        depth profile rises by T_s. The radial history itself is summarised in the ``transient_*``
+        diagnostics.
+        """
         from .transient import wheel_heating
         h = wheel_heating(scene, source, level, opts)
         ts = float(h["tread"][-1])                      # tread rise at the end of the simulated time
         eps_c = h["eps_c"]
         grid = source.grid
         inside = grid.inside()
-        surface = flash.surface_temperature.copy()
-        # superposition (seed eqs. 41, 44, 54): in the patch both surfaces rise by eps_c T_s;
-        # outside it the wheel is at T_s
-        surface[0] = surface[0] + np.where(inside, eps_c * ts, ts)
-        surface[1] = surface[1] + np.where(inside, eps_c * ts, 0.0)
-        temperature = flash.temperature.copy() if flash.temperature is not None else None
-        if temperature is not None:
-            temperature[0] += ts
-        bulk_w = scene.wheel.bulk_temperature
         diag = dict(flash.diagnostics)
         diag.update({"transient_" + k: v for k, v in h.items() if np.isscalar(v)})
         diag["transient_tread_fraction_of_steady"] = ts / h["t_inf"] if h["t_inf"] > 0 else 1.0
         diag["transient_mean_fraction_of_steady"] = float(h["mean"][-1]) / h["t_inf"] if h["t_inf"] > 0 else 1.0
-        mean_flash_wheel = float(flash.mean_contact_temperature[0] - bulk_w)
-        out = TemperatureField.from_surface(grid, surface, z=flash.z, temperature=temperature, diagnostics=diag)
-        out.steady_wheel_temperature = bulk_w + ts
-        out.steady_mean_contact_temperature = bulk_w + mean_flash_wheel + eps_c * ts
-        out.history = h
-        return out
+        bulk_w = scene.wheel.bulk_temperature
+        warm = flash.warmed(np.where(inside, eps_c * ts, ts), np.where(inside, eps_c * ts, 0.0), ts)
+        return warm.field(grid, steady_wheel_temperature=bulk_w + ts,
+                          steady_mean_contact_temperature=bulk_w + (flash.mean_wheel(grid) - bulk_w) + eps_c * ts,
+                          diagnostics=diag)
 
-    def _steady(self, scene, source, level, opts):
-        """Steady moving-frame flash temperatures of both bodies (absolute)."""
+    def _steady(self, scene, source, level, opts) -> "_Flash":
+        """Steady moving-frame flash temperature rises of both bodies."""
         why = self.supports_source(scene, source)   # core's moving-surface check on the source's body speeds
         if why is not None:
             raise Refused(why, kind="validity")
         dim, how = self.choose_dimension(scene, source, level, opts)
         grid = source.grid
         t0 = time.perf_counter()
-        surface = np.zeros((2, *grid.shape))
+        surface, body_diag = [None, None], [None, None]      # rises of the heated bodies and their diagnostics
         depth_T, depth_z = [], []
         diag = {"dimension": dim, "mode": how, "scheme": opts["scheme"], "refine": opts["refine"]}
         iters, resid, balance, cells = [], [], [], []
@@ -315,8 +310,9 @@ class FipyTemperature(TemperatureModel):
                                      y_patch_edges=None if dim == 2 else grid.y_edges,
                                      b=grid.b, refine=opts["refine"], layer_cells=opts["layer_cells"],
                                      ratio=opts["growth"], half=(dim == 3 and self._half(source)))
-            diag[f"{('wheel', 'rail')[i]}_peclet"] = mesh.peclet
+            bd = {"peclet": mesh.peclet}
             if not np.any(q != 0):  # no heat enters this body (partition 0 or 1): rise 0
+                diag[f"{('wheel', 'rail')[i]}_peclet"] = mesh.peclet
                 depth_T.append(np.zeros((grid.x.size, mesh.z_edges.size - 1)))
                 depth_z.append(0.5 * (mesh.z_edges[1:] + mesh.z_edges[:-1]))
                 continue
@@ -355,7 +351,7 @@ class FipyTemperature(TemperatureModel):
                 surface[i] = np.array([to_grid(row[i0:i0 + nxp]) for row in res["surface"]]).T
                 depth_T.append(np.array([to_grid(res["T"][i0:i0 + nxp, k]) for k in range(res["z"].size)]).T)
                 depth_z.append(res["z"])
-                diag[f"{('wheel', 'rail')[i]}_factorisations"] = int(res["factorisations"])
+                bd["factorisations"] = int(res["factorisations"])
             else:
                 j0 = int(np.searchsorted(mesh.y_edges, -grid.b - 1e-12 * grid.b)) if not mesh.half else 0
                 nyp = grid.y.size * r_
@@ -393,16 +389,8 @@ class FipyTemperature(TemperatureModel):
                     Tc = w[0] * Tyz[:, kk[0], :] + w[1] * Tyz[:, kk[1], :]
                 depth_T.append(np.array([to_grid(Tc[:, k]) for k in range(res["z"].size)]).T)
                 depth_z.append(res["z"])
-            diag[f"{('wheel', 'rail')[i]}_first_cell"] = float(mesh.z_edges[1])
-            diag[f"{('wheel', 'rail')[i]}_depth"] = float(mesh.z_edges[-1])
-            diag[f"{('wheel', 'rail')[i]}_cells"] = int(mesh.cells)
-        # common depth axis: the wheel's; the rail interpolated onto it (zero rise below its mesh)
-        z = depth_z[0]
-        temperature = np.stack([depth_T[0], np.array([np.interp(z, depth_z[1], row, right=0.0)
-                                                      for row in depth_T[1]])])
-        bulk = np.array([scene.wheel.bulk_temperature, scene.rail.bulk_temperature])
-        surface_abs = surface + bulk.reshape((2,) + (1,) * len(grid.shape))
-        temperature = temperature + bulk[:, None, None]
+            bd.update(first_cell=float(mesh.z_edges[1]), depth=float(mesh.z_edges[-1]), cells=int(mesh.cells))
+            body_diag[i] = bd
         diag.update(iterations=int(max(iters) if iters else 0), residual=float(max(resid) if resid else 0.0),
                     converged=True, solves=len(iters), max_cells=int(max(cells) if cells else 0),
                     energy_balance_min=float(min(balance) if balance else 1.0),
@@ -412,4 +400,69 @@ class FipyTemperature(TemperatureModel):
                     solve_time=time.perf_counter() - t0)
         from .solvers import solver_suite
         diag["solver_suite"] = solver_suite()
-        return TemperatureField.from_surface(grid, surface_abs, z=z, temperature=temperature, diagnostics=diag)
+        bulk = (scene.wheel.bulk_temperature, scene.rail.bulk_temperature)
+        return _Flash(bulk, tuple(surface), tuple(depth_T), tuple(depth_z), tuple(body_diag), diag)
+
+
+@dataclass(frozen=True)
+class _Flash:
+    """The steady flash rises of both bodies before they are assembled into the result.
+
+    Attributes
+    ----------
+    bulk : (float, float)
+        Bulk temperatures of wheel and rail [degC].
+    surface : (ndarray or None, ndarray or None)
+        Surface rise of each body on the patch grid [K]; None for a body without heat.
+    depth : (ndarray, ndarray)
+        Rise at y = 0 against depth, (nx, nz_i) [K] (zeros for a body without heat).
+    z : (ndarray, ndarray)
+        Each body's depth axis [m]; the wheel's is the result's common axis.
+    body_diagnostics : (dict or None, dict or None)
+        Each heated body's diagnostics (prefixed with its name in the result).
+    diagnostics : dict
+        The model's diagnostics.
+    depth_offset : float
+        Rise added to the wheel's depth profile [K] (the warmed wheel of the transient mode).
+    """
+
+    bulk: tuple
+    surface: tuple
+    depth: tuple
+    z: tuple
+    body_diagnostics: tuple
+    diagnostics: dict
+    depth_offset: float = 0.0
+
+    def mean_wheel(self, grid) -> float:
+        """Mean wheel surface temperature over the patch [degC] (as the result's ``mean_contact_temperature``)."""
+        rise = 0.0 if self.surface[0] is None else self.surface[0]
+        return float((self.bulk[0] + rise * np.ones(grid.shape))[grid.inside()].mean())
+
+    def warmed(self, wheel_rise, rail_rise, wheel_depth_rise) -> "_Flash":
+        """The flash field on top of a warmed wheel: surface rises added per body [K] (a body without heat
+        that now warms gets a surface rise and no depth profile) and ``wheel_depth_rise`` [K] added to the
+        wheel's depth profile."""
+        surface = tuple(extra if s is None and np.any(extra != 0) else (s if s is None else s + extra)
+                        for s, extra in zip(self.surface, (wheel_rise, rail_rise)))
+        return _Flash(self.bulk, surface, self.depth, self.z, self.body_diagnostics, self.diagnostics,
+                      self.depth_offset + wheel_depth_rise)
+
+    def field(self, grid, *, steady_wheel_temperature, steady_mean_contact_temperature, diagnostics=None):
+        """The result: :meth:`railtherm.TemperatureField.from_bodies` on the wheel's depth axis (the rail
+        interpolated onto it, zero rise below its mesh)."""
+        bodies = []
+        for i, rise in enumerate(self.surface):
+            if rise is None:
+                bodies.append(None)
+                continue
+            heated = self.body_diagnostics[i] is not None
+            offset = self.depth_offset if i == 0 else 0.0
+            bodies.append(BodyTemperature(rise, z=self.z[i] if heated else None,
+                                          depth_rise=(self.depth[i] + offset if offset else self.depth[i])
+                                          if heated else None,
+                                          diagnostics=self.body_diagnostics[i] or {}))
+        return TemperatureField.from_bodies(grid, self.bulk, *bodies, z=self.z[0],
+                                            steady_wheel_temperature=steady_wheel_temperature,
+                                            steady_mean_contact_temperature=steady_mean_contact_temperature,
+                                            diagnostics=self.diagnostics if diagnostics is None else diagnostics)
