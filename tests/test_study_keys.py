@@ -1,4 +1,4 @@
-"""One table of study keys (railtherm.input.scene.STUDY_KEYS): the scene parser's checkers, with
+"""One table of study keys (railtherm.input.scene.KEY_TABLE): the scene parser's checkers, with
 UDUNITS-2 units, are what swept coordinates are labelled with (issue 12 item 8)."""
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import re
 import pytest
 
 from railtherm.analysis.results import _sweep_coord_attrs
-from railtherm.input.scene import SCENE_KEYS, STUDY_KEYS, Num, Table, key_units
+from railtherm.input.scene import SCENE_KEYS, KEY_TABLE, Num, Table, key_units
 
 #: UDUNITS-2 product of powers of symbols ("W m-2 K-1", "m s-1", "degC") or "1"
 UDUNITS = re.compile(r"^(1|[A-Za-z]+(-?\d+)?( [A-Za-z]+(-?\d+)?)*)$")
@@ -16,12 +16,12 @@ UDUNITS = re.compile(r"^(1|[A-Za-z]+(-?\d+)?( [A-Za-z]+(-?\d+)?)*)$")
 def test_every_scene_key_is_in_the_table():
     for key, check in SCENE_KEYS.items():
         if isinstance(check, Table):
-            assert {f"{key}.{k}" for k in check.keys} <= set(STUDY_KEYS)
+            assert {f"{key}.{k}" for k in check.keys} <= set(KEY_TABLE)
         else:
-            assert key in STUDY_KEYS
+            assert key in KEY_TABLE
 
 
-@pytest.mark.parametrize("key", sorted(k for k, c in STUDY_KEYS.items() if isinstance(c, Num)))
+@pytest.mark.parametrize("key", sorted(k for k, c in KEY_TABLE.items() if isinstance(c, Num)))
 def test_every_number_has_udunits_units(key):
     unit = key_units(key)
     assert unit and UDUNITS.match(unit), (key, unit)

@@ -134,8 +134,13 @@ def check_levels(levels: Iterable[Any], *, key: str = "levels") -> list[int]:
 def _installed(host, study) -> dict[str, Any]:
     """Installed methods plus the study's own chains (used like method names), name -> info or None."""
     out: dict[str, Any] = dict(host.methods)
-    for name in getattr(study, "chains", None) or {}:
-        out.setdefault(name, None)
+    for name, chain in (getattr(study, "chains", None) or {}).items():
+        key = f"study.chains.{name}"
+        if name in out:
+            raise SceneError(f"key {key!r}: chain {name!r} has the name of an installed method; choose another "
+                             f"(installed methods: {', '.join(sorted(out))})", key=key, value=name,
+                             allowed="a name that is not an installed method")
+        out[name] = host.compose(chain, name, where=key)   # SceneError: unknown stage or model
     return out
 
 
@@ -186,8 +191,6 @@ def check_study(study, host, methods: Iterable[str] | None = None, levels: Itera
         if m not in installed:
             raise SceneError(f"key {key!r}: options for method {m!r}, which is not installed; installed methods: "
                              f"{listing}{problems}", key=key, value=m, allowed=listing)
-        if installed[m] is None:  # a chain: its stage models validate the options when they run
-            continue
         check_options(installed[m], table, method=m, where=key)
 
     refs = list(REFERENCE_KINDS) + names

@@ -308,13 +308,13 @@ def _flatten(keys: Mapping[str, _Check], prefix: str = "") -> dict[str, _Check]:
 
 #: every study key of a scene, dotted (``creepage.longitudinal``, ``wheel.conductivity``), with the
 #: checker that validates it: the one table behind the scene parser, swept coordinates and their units
-STUDY_KEYS: dict[str, _Check] = _flatten(SCENE_KEYS)
+KEY_TABLE: dict[str, _Check] = _flatten(SCENE_KEYS)
 
 
 def key_units(key: str) -> str | None:
     """UDUNITS-2 units of a dotted study key (``"m s-1"`` for ``speed``, ``"1"`` for ``friction``), None
     for a key without units (text, flags) or one that is not a study key."""
-    check = STUDY_KEYS.get(key)
+    check = KEY_TABLE.get(key)
     return None if check is None else check.unit
 
 

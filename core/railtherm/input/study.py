@@ -17,7 +17,9 @@ from ..contract.errors import SceneError
 from .scene import MATERIAL_KEYS, SCENE_KEYS, SCHEMA_VERSION, Scene, Table, load_scene
 
 STUDY_KEYS = {"name", "description", "methods", "levels", "reference", "options", "repeat", "timeout",
-              "warmup", "tolerance", "published"}
+              "warmup", "tolerance", "published", "chains"}
+#: stages a study chain may name (plugin API 2)
+CHAIN_STAGES = ("normal", "tangential", "heat_source", "temperature")
 REFERENCES = ("analytic", "finest")
 #: scenes one [[scene]] table may expand to
 MAX_SWEEP = 1_000_000
@@ -41,11 +43,14 @@ class Study:
     #: published values to show beside ours: scene name -> {variable: value, "source": str}
     published: dict[str, dict] = field(default_factory=dict)
     path: str | None = None
+    #: chains composed by the study, used like method names: name -> {stage: (model, ...)}
+    chains: dict[str, dict[str, tuple[str, ...]]] = field(default_factory=dict)
 
     def method_names(self, available) -> list[str]:
-        """Methods to run: the study's list, or every available one for "all" (sorted)."""
+        """Methods to run: the study's list, or every available one and the study's chains for "all"
+        (sorted)."""
         if self.methods == "all":
-            return sorted(available)
+            return sorted(set(available) | set(self.chains))
         return list(self.methods)
 
     def scene(self, name: str) -> Scene:
@@ -143,6 +148,7 @@ def parse_study(doc: Mapping[str, Any], *, path: str | None = None) -> Study:
     kw: dict[str, Any] = {"name": st.get("name") or (Path(path).stem if path else "study"), "path": path}
     if not isinstance(kw["name"], str) or "/" in kw["name"]:
         raise SceneError.bad_value(None, "study.name", kw["name"], "a string without '/'")
+    kw["chains"] = _chains(st.get("chains", {}))
     methods = st.get("methods", "all")
     if not (methods == "all" or (isinstance(methods, list) and methods and all(isinstance(m, str) for m in methods))):
         raise SceneError.bad_value(None, "study.methods", methods, '"all" or a non-empty list of method names')
@@ -252,3 +258,31 @@ def load_study(path: str | Path) -> Study:
         raise SceneError(f"study file {name!r} is not valid TOML: {exc}", key="study", value=name,
                          allowed="TOML syntax") from None
     return parse_study(doc, path=name)
+
+
+def _chains(raw) -> dict[str, dict[str, tuple[str, ...]]]:
+    """``[study.chains.<name>]`` tables: stage -> model name or list of names (form only; the plugin
+    host checks that the models exist and implement their stages, :func:`railtherm.options.check_study`)."""
+    allowed = ("tables [study.chains.<name>] with keys " + ", ".join(CHAIN_STAGES)
+               + ", each a model name or a list of them")
+    if not isinstance(raw, Mapping):
+        raise SceneError.bad_value(None, "study.chains", raw, allowed)
+    out = {}
+    for name, table in raw.items():
+        key = f"study.chains.{name}"
+        if not isinstance(name, str) or not name or "/" in name:
+            raise SceneError.bad_value(None, key, name, "a chain name: a non-empty string without '/'")
+        if not isinstance(table, Mapping) or not table:
+            raise SceneError.bad_value(None, key, table, allowed)
+        chain = {}
+        for stage, value in table.items():
+            if stage not in CHAIN_STAGES:
+                raise SceneError(f"key '{key}.{stage}': unknown stage {stage!r}; allowed stages: "
+                                 f"{', '.join(CHAIN_STAGES)}", key=f"{key}.{stage}", value=stage,
+                                 allowed=", ".join(CHAIN_STAGES))
+            names = [value] if isinstance(value, str) else value
+            if not (isinstance(names, list) and names and all(isinstance(n, str) and n for n in names)):
+                raise SceneError.bad_value(None, f"{key}.{stage}", value, "a model name or a non-empty list of them")
+            chain[stage] = tuple(names)
+        out[name] = chain
+    return out

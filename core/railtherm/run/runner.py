@@ -79,6 +79,8 @@ class RunTask:
     run_started: float = 0.0
     #: measure peak memory when ``warmup`` is false (a sample of the runs)
     trace_memory: bool = True
+    #: the stage models of a chain the study composes (``[study.chains.<method>]``); None: a registered method
+    chain: dict | None = None
 
     @property
     def path(self) -> Path:
@@ -91,7 +93,12 @@ class RunTask:
         ``--resume`` reuses a result only when this matches (a result computed with other options
         or another version of railtherm or of the method's plugins is computed again).
         """
-        return run_hash(self.scene, self.method, self.level, self.options)
+        return run_hash(self.scene, self.spec, self.level, self.options)
+
+    @property
+    def spec(self) -> "str | dict":
+        """What :func:`railtherm.solve` takes as ``method``: the name, or the study's chain with its name."""
+        return self.method if not self.chain else {"name": self.method, **self.chain}
 
     def existing(self, *, same_invocation: bool = False) -> "RunRecord | None":
         """The record of this run already on disk with the same run hash, else None (:func:`_existing`).
@@ -114,11 +121,13 @@ def code_versions(method: str) -> str:
     return "; ".join([f"railtherm {__version__}", *sorted(parts)])
 
 
-def run_hash(scene: Scene, method: str, level: int, options: Mapping[str, Any]) -> str:
-    """Hash [hex] of the scene, method, level, method options and code versions of one run."""
+def run_hash(scene: Scene, method: "str | Mapping[str, Any]", level: int, options: Mapping[str, Any]) -> str:
+    """Hash [hex] of the scene, method (a name, or a study's chain with its stage models), level,
+    method options and code versions of one run."""
     import hashlib
-    doc = {"scene": scene.hash, "method": method, "level": int(level),
-           "options": {k: options[k] for k in sorted(options)}, "versions": code_versions(method)}
+    name = method["name"] if isinstance(method, Mapping) else method
+    doc = {"scene": scene.hash, "method": method if isinstance(method, str) else dict(method), "level": int(level),
+           "options": {k: options[k] for k in sorted(options)}, "versions": code_versions(name)}
     return hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
@@ -362,11 +371,11 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
             key = (task.method, task.level)
             if task.warmup or key not in _WARM:
                 # untimed warm-up of the same code path: imports, numba compilation, caches
-                solve(task.scene, task.method, task.level, task.options, validate=False)
+                solve(task.scene, task.spec, task.level, task.options, validate=False)
             _WARM.add(key)
             phases["warmup"] = time.perf_counter() - t0
             t0 = time.perf_counter()
-            ds = solve(task.scene, task.method, task.level, task.options)
+            ds = solve(task.scene, task.spec, task.level, task.options)
             phases["solve"] = time.perf_counter() - t0
             phases["compute"] = float(ds.attrs["wall_time"])
             times = [float(ds.attrs["wall_time"])]
@@ -374,13 +383,13 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
             n = max(task.repeat, timed_solves(times[0]))
             budget = max(0.0, task.timeout - (time.perf_counter() - t_begin)) / 2
             while len(times) < n and sum(times) + times[0] < budget:
-                again = solve(task.scene, task.method, task.level, task.options, validate=False)
+                again = solve(task.scene, task.spec, task.level, task.options, validate=False)
                 times.append(float(again.attrs["wall_time"]))
             phases["repeats"] = time.perf_counter() - t1
             if task.trace_memory:
                 t2 = time.perf_counter()
                 with RSSPeak() as mem:
-                    solve(task.scene, task.method, task.level, task.options, validate=False)
+                    solve(task.scene, task.spec, task.level, task.options, validate=False)
                 rec.peak_rss, rec.rss_growth = mem.peak, mem.growth
                 phases["memory"] = time.perf_counter() - t2
         rec.wall_time = min(times)
@@ -427,8 +436,9 @@ def make_tasks(study: Study, out, methods: Iterable[str] | None = None, levels: 
     from ..solving.plugins import get_host
 
     host = get_host()
+    chains = dict(getattr(study, "chains", None) or {})
     names = list(methods) if methods else study.method_names(host.methods)
-    unknown = [m for m in names if m not in host.methods]
+    unknown = [m for m in names if m not in host.methods and m not in chains]
     if unknown:
         raise SceneError(f"study {study.name!r}: unknown method(s) {unknown}; installed: {sorted(host.methods)}"
                          + (f"; plugin problems: {host.problems}" if host.problems else ""),
@@ -440,7 +450,8 @@ def make_tasks(study: Study, out, methods: Iterable[str] | None = None, levels: 
             for k in lv:
                 tasks.append(RunTask(scene, m, k, dict(study.options.get(m, {})), str(out), study.repeat,
                                      study.warmup, study.timeout,
-                                     trace_memory=study.warmup or i % MEMORY_SAMPLE == 0))
+                                     trace_memory=study.warmup or i % MEMORY_SAMPLE == 0,
+                                     chain=chains.get(m)))
     return tasks
 
 

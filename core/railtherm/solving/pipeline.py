@@ -82,7 +82,8 @@ def _select(host: PluginHost, mi: MethodInfo, stage: str, scene: Scene, level: i
     raise Refused("; ".join(reasons))
 
 
-def plan(scene: Scene, method: str, level: int = 0, host: PluginHost | None = None) -> Plan:
+def plan(scene: Scene, method: "str | Mapping[str, Any] | MethodInfo", level: int = 0,
+         host: PluginHost | None = None) -> Plan:
     """Choose the models and the stages to run; raises :class:`railtherm.Refused` when impossible.
 
     Each output belongs to one stage (:data:`railtherm.schema.VARIABLES`); the stages up to the last
@@ -91,7 +92,7 @@ def plan(scene: Scene, method: str, level: int = 0, host: PluginHost | None = No
     tangential stage: core's ``given`` is its heat-source stage.
     """
     host = host or get_host()
-    mi = host.method(method)
+    mi = method if isinstance(method, MethodInfo) else host.resolve(method)
     given = scene.heat_source is not None
     order = [s for s in STAGES if s in mi.method.chain]
     if given:
@@ -218,7 +219,8 @@ def _versions(pl: Plan, host: PluginHost) -> str:
     return "; ".join(parts)
 
 
-def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options: Mapping[str, Any] | None = None,
+def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", level: int = 0,
+          options: Mapping[str, Any] | None = None,
           *, host: PluginHost | None = None, validate: bool = True):
     """Solve one scene with one method at one resolution level.
 
@@ -226,8 +228,11 @@ def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options
     ----------
     scene : Scene or mapping
         A :class:`railtherm.Scene`, or a mapping in the study vocabulary with materials included.
-    method : str
-        Method name (see :func:`railtherm.methods`).
+    method : str or mapping
+        Method name (see :func:`railtherm.methods`), or a chain of stage models,
+        ``{"normal": "kalker", "tangential": "kalker", "temperature": "fdm"}`` (each a model name or a
+        list of candidates; ``heat_source`` left out: core's ``frictional``; optional ``name``: the
+        method name in the result, default the models joined by ``+``).
     level : int
         Resolution level k >= 0 (each level halves the method's characteristic cell size).
     options : mapping, optional
@@ -250,9 +255,10 @@ def solve(scene: Scene | Mapping[str, Any], method: str, level: int = 0, options
     host = host or get_host()
     scene = load_scene(scene)
     level = check_level(level, where=f"scene {scene.name!r}: ")
-    mi = host.method(method)  # SceneError for an unknown method, naming the installed ones
+    mi = host.resolve(method)  # SceneError for an unknown method or a bad chain, naming what is allowed
     options = _check_options(mi, options, scene.name)
-    pl = plan(scene, method, level, host)
+    pl = plan(scene, mi, level, host)
+    method = mi.name
     t0 = time.perf_counter()
     patch, source, temp, records = _run(pl, scene, level, options)
     wall = time.perf_counter() - t0

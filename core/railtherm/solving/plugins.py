@@ -12,7 +12,7 @@ import os
 import warnings
 from dataclasses import dataclass, field
 from types import ModuleType
-from typing import Any, Iterable
+from typing import Any, Iterable, Mapping
 
 import pluggy
 
@@ -198,6 +198,66 @@ class PluginHost:
         if "tangential" in chain and "temperature" in chain and "heat_source" not in chain:
             chain["heat_source"] = ("frictional",)
         return chain, notes
+
+    # -- chains composed by a study or a caller ------------------------------------------
+    def compose(self, chain: Mapping[str, Any], name: str | None = None, where: str = "method") -> MethodInfo:
+        """A method from stage models: ``{"normal": "kalker", "tangential": "kalker", "temperature": "fdm"}``.
+
+        Parameters
+        ----------
+        chain : mapping
+            Stage -> model name or list of candidate model names (the first that supports a scene
+            runs); the optional key ``name`` names the method in results. Without ``heat_source``, a
+            chain with tangential and temperature stages gets core's ``frictional``.
+        name : str, optional
+            Method name (default: the chain's ``name``, else its models joined by ``+``).
+        where : str
+            Key prefix for error messages (``study.chains.<name>``).
+
+        Raises
+        ------
+        railtherm.SceneError
+            An unknown stage, a model that is not registered or does not implement its stage, an
+            empty chain; the message names the key, the value and what is allowed.
+        """
+        from ..contract.errors import SceneError
+        chain = dict(chain)
+        name = name or chain.pop("name", None)
+        chain.pop("name", None)
+        if not chain:
+            raise SceneError(f"{where}: an empty chain; give models for the stages {', '.join(STAGES)}",
+                             key=where, value={}, allowed=", ".join(STAGES))
+        out: dict[str, tuple[str, ...]] = {}
+        for stage, value in chain.items():
+            key = f"{where}.{stage}"
+            if stage not in STAGES:
+                raise SceneError(f"key {key!r}: unknown stage {stage!r}; allowed stages: {', '.join(STAGES)}",
+                                 key=key, value=stage, allowed=", ".join(STAGES))
+            names = (value,) if isinstance(value, str) else tuple(value) if isinstance(value, (list, tuple)) else ()
+            fits = sorted(n for n, m in self.models.items() if stage in m.cls.stages)
+            if not names or not all(isinstance(n, str) for n in names):
+                raise SceneError.bad_value(None, key, value, f"a model name or a list of them ({', '.join(fits)})")
+            for n in names:
+                if n not in self.models or stage not in self.models[n].cls.stages:
+                    why = "is not registered" if n not in self.models else \
+                        f"implements {list(self.models[n].cls.stages)}, not {stage!r}"
+                    raise SceneError(f"key {key!r}: model {n!r} {why}; {stage} models: {', '.join(fits)}",
+                                     key=key, value=n, allowed=", ".join(fits))
+            out[stage] = names
+        if "tangential" in out and "temperature" in out and "heat_source" not in out:
+            out["heat_source"] = ("frictional",)
+        out = {s: out[s] for s in STAGES if s in out}
+        name = name or "+".join(dict.fromkeys(n for names in out.values() for n in names[:1]))
+        used = list(dict.fromkeys(n for names in out.values() for n in names))
+        from .._version import __version__ as version
+        return MethodInfo(Method(name, out, f"chain composed by the study: {out}"), "study", version,
+                          tuple(self.models[n] for n in used))
+
+    def resolve(self, method: "str | Mapping[str, Any]") -> MethodInfo:
+        """The :class:`MethodInfo` of a method name, or of a chain mapping (see :meth:`compose`)."""
+        if isinstance(method, Mapping):
+            return self.compose(method)
+        return self.method(method)
 
     # -- lookup -----------------------------------------------------------------------
     def method(self, name: str) -> MethodInfo:
