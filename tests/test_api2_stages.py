@@ -120,3 +120,56 @@ def test_a_tangential_model_never_rewrites_the_normal_result(host, name, message
     sc = canonical("ellipse-full-sliding", outputs=["max_surface_temperature"])
     with pytest.raises((PluginError, ValueError), match=message):
         railtherm.solve(sc, name, 0)
+
+
+# ---------------------------------------------------------------------------------------------
+# one name, one class per stage (an exact contact method's normal and tangential "kalker")
+class TwinNormal(railtherm.NormalContactModel):
+    """Test fake: the normal half of a twin."""
+
+    name = "twin"
+    description = "test fake: normal model named twin"
+
+    def compute_patch(self, scene, level, options):
+        raise AssertionError("not run")
+
+
+class TwinTangential(TangentialContactModel):
+    """Test fake: the tangential half of a twin."""
+
+    name = "twin"
+    description = "test fake: tangential model named twin"
+
+    def compute_tangential(self, scene, patch, level, options):
+        raise AssertionError("not run")
+
+
+class TwinPlugin:
+    @hookimpl
+    def railtherm_register_models(self):
+        return [TwinNormal, TwinTangential]
+
+
+class ClashPlugin:
+    @hookimpl
+    def railtherm_register_models(self):
+        return [TwinTangential]
+
+
+def test_one_name_may_serve_two_stages_of_one_plugin():
+    from railtherm.solving.plugins import new_host
+    host = new_host([("twins", TwinPlugin())], autoload=False, strict=True)
+    info = host.models["twin"]
+    assert info.stages == ("normal", "tangential") and not host.problems
+    assert info.for_stage("normal") is TwinNormal and info.for_stage("tangential") is TwinTangential
+    mi = host.compose({"normal": "twin", "tangential": "twin"})
+    assert mi.method.chain == {"normal": ("twin",), "tangential": ("twin",)}
+
+
+def test_a_second_class_of_a_name_from_another_plugin_is_refused():
+    from railtherm.solving.plugins import new_host
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        host = new_host([("twins", TwinPlugin()), ("zclash", ClashPlugin())], autoload=False, strict=False)
+    assert host.models["twin"].classes == (TwinNormal, TwinTangential)
+    assert any("'twin' is already registered" in p for p in host.problems)

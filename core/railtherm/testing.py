@@ -176,7 +176,8 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
     assert not info.api1, (f"method {method!r} is registered with a plugin API 1 chain ({'; '.join(info.api1)}); "
                            "name the stages normal, tangential, heat_source, temperature (docs/plugins.md)")
     for m in info.models:
-        check_model_class(m.cls)
+        for cls in m.classes:
+            check_model_class(cls)
     outcome = {}
     solved = []
     refusals = []

@@ -96,7 +96,7 @@ class GreenTemperature(TemperatureModel):
     description = ("Ertz & Knothe 2002: 1-D Green function of a moving half-space, strip by strip with exact "
                    "cell quadrature (high Péclet number); steady wheel temperature")
     capabilities = Capabilities(
-        contacts=frozenset({"ellipse", "line"}),
+        contacts=frozenset({"ellipse", "line", "gap"}),
         sources=frozenset({"computed", "given"}),
         tangential=frozenset({"full-sliding", "creepage"}),
         convection="long-term",   # the flash temperatures ignore it; the lumped steady wheel honours it
@@ -244,7 +244,12 @@ class GreenTemperature(TemperatureModel):
 
 
 def _strip_half_lengths(grid) -> np.ndarray:
-    """Contact half-length a_y of each strip (y cell centre) [m]; shape (ny,), (1,) for a line."""
+    """Contact half-length a_y of each strip (y cell centre) [m]; shape (ny,), (1,) for a line. A grid
+    that carries its contact cells (a non-Hertzian patch): half the contact length of each strip."""
+    if grid.contact is not None:
+        dx = float(grid.x_edges[1] - grid.x_edges[0])
+        inside = np.asarray(grid.inside()).reshape(grid.x.size, -1)
+        return 0.5 * dx * inside.sum(axis=0)
     if grid.line:
         return np.array([grid.a])
     s = 1.0 - (grid.y / grid.b) ** 2

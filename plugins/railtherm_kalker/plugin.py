@@ -3,16 +3,15 @@ from __future__ import annotations
 
 from railtherm import Method, hookimpl
 
-from .contact_model import KalkerContact
-from .normal_model import DEFAULT_CELLS
+from .normal_model import DEFAULT_CELLS, KalkerNormal
+from .tangential_model import KalkerTangential
 
 
 @hookimpl
 def railtherm_register_models():
-    """Model ``kalker`` for the normal and tangential stages (core keys models by name alone, so the
-    stage models KalkerNormal and KalkerTangential are registered through the coupled
-    :class:`railtherm_kalker.contact_model.KalkerContact`)."""
-    return [KalkerContact]
+    """Model ``kalker`` for the normal stage (:class:`KalkerNormal`) and for the tangential stage
+    (:class:`KalkerTangential`): one name, one class per stage."""
+    return [KalkerNormal, KalkerTangential]
 
 
 @hookimpl

@@ -217,9 +217,15 @@ def _chain_references(ds) -> set[str]:
     host = get_host()
     tags = set()
     for part in str(ds.attrs.get("stages", "")).split():
-        name = part.split(":", 1)[-1]
+        stage, _, name = part.rpartition(":")
         info = host.models.get(name)
-        tag = getattr(info.cls, "exact_reference", None) if info is not None else None
+        cls = None
+        if info is not None:
+            try:
+                cls = info.for_stage(stage) if stage else info.cls
+            except KeyError:
+                cls = info.cls
+        tag = getattr(cls, "exact_reference", None)
         if tag:
             tags.add(tag)
     return tags

@@ -37,13 +37,18 @@ class SurfaceGrid:
     y_edges : ndarray, shape (ny+1,) or None
         Cell edges across [m]; None for a line contact.
     a, b : float
-        Semi-axes of the patch [m]; b is None for a line contact.
+        Semi-axes of the patch [m]; b is None for a line contact. For a patch that is not an ellipse,
+        half its extent along x and y.
+    contact : ndarray of bool, optional
+        The cells in contact, shape ``self.shape``, for a patch that is not the ellipse (or band) of
+        its semi-axes (a non-Hertzian gap's, computed by a normal model); None: the ellipse.
     """
 
     x_edges: np.ndarray
     y_edges: np.ndarray | None
     a: float
     b: float | None
+    contact: np.ndarray | None = None
 
     @property
     def line(self) -> bool:
@@ -86,7 +91,10 @@ class SurfaceGrid:
         return np.meshgrid(self.x, self.y, indexing="ij")
 
     def inside(self) -> np.ndarray:
-        """Boolean mask of the cells whose centre lies inside the patch, shape ``self.shape``."""
+        """Boolean mask of the cells whose centre lies inside the patch, shape ``self.shape`` (the
+        ``contact`` cells when the grid carries them)."""
+        if self.contact is not None:
+            return np.asarray(self.contact, dtype=bool).reshape(self.shape)
         if self.line:
             return np.abs(self.x) < self.a
         X, Y = self.mesh()

@@ -56,8 +56,10 @@ def allowed_options(method_info) -> dict[str, str]:
     """Every option key ``method_info`` takes -> the model(s) that declare it (or "global")."""
     out: dict[str, str] = dict.fromkeys(GLOBAL_OPTIONS, "global")
     for info in method_info.models:
-        for key in getattr(info.cls, "options", {}) or {}:
-            out[key] = info.cls.name if out.get(key) in (None, "global") else f"{out[key]}, {info.cls.name}"
+        for cls in getattr(info, "classes", (info.cls,)):
+            for key in getattr(cls, "options", {}) or {}:
+                if cls.name not in str(out.get(key, "")).split(", "):
+                    out[key] = cls.name if out.get(key) in (None, "global") else f"{out[key]}, {cls.name}"
     return out
 
 
@@ -101,9 +103,9 @@ def check_options(method_info, options: Mapping[str, Any] | None, *, method: str
                              allowed=", ".join(names))
     if "cells" in options:
         options["cells"] = check_cells(options["cells"], where=where)
-    for info in method_info.models:
+    for cls in (c for info in method_info.models for c in getattr(info, "classes", (info.cls,))):
         try:
-            info.cls.resolve_options(options)
+            cls.resolve_options(options)
         except SceneError as exc:
             if not where:  # the model's message names the option and the model; callers add the scene
                 raise

@@ -28,7 +28,8 @@ class FullSlidingTangential(TangentialContactModel):
     name = "full-sliding"
     exact_reference = "full-sliding"
     description = "full sliding: traction mu p opposing the slip v_s over the whole patch"
-    capabilities = Capabilities(tangential=frozenset({"full-sliding"}), sources=frozenset({"computed"}),
+    capabilities = Capabilities(contacts=frozenset({"ellipse", "line", "gap"}),
+                                tangential=frozenset({"full-sliding"}), sources=frozenset({"computed"}),
                                 provides=frozenset({"traction_x", "slip_velocity_x", "stick", "creep_force_x"}))
 
     def compute_tangential(self, scene, patch, level, options):
@@ -88,7 +89,7 @@ class FrictionalHeat(HeatSourceModel):
 
     name = "frictional"
     description = "frictional heat: power density -(traction . slip velocity), split by the heat partition"
-    capabilities = Capabilities(sources=frozenset({"computed"}),
+    capabilities = Capabilities(contacts=frozenset({"ellipse", "line", "gap"}), sources=frozenset({"computed"}),
                                 provides=frozenset({"heat_flux", "frictional_power", "heat_partition"}))
 
     def compute_source(self, scene, patch, level, options):

@@ -116,8 +116,8 @@ def code_versions(method: str) -> str:
         mi = get_host().method(method)
     except SceneError:
         return f"railtherm {__version__}"
-    parts = {f"{mi.plugin} {mi.version}"} | {f"{m.plugin} {m.version} {m.cls.name} {m.cls.version or ''}"
-                                             for m in mi.models}
+    parts = {f"{mi.plugin} {mi.version}"} | {f"{m.plugin} {m.version} {c.name} {c.version or ''}"
+                                             for m in mi.models for c in m.classes}
     return "; ".join([f"railtherm {__version__}", *sorted(parts)])
 
 

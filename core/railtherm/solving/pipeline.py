@@ -72,7 +72,7 @@ class Plan:
 def _select(host: PluginHost, mi: MethodInfo, stage: str, scene: Scene, level: int) -> StageModel:
     reasons = []
     for name in mi.method.chain.get(stage, ()):
-        model = host.model(name).cls()
+        model = host.model(name).for_stage(stage)()
         why = model.supports(scene, level)
         if why is None:
             return model
@@ -99,21 +99,27 @@ def plan(scene: Scene, method: "str | Mapping[str, Any] | MethodInfo", level: in
         order = [s for s in order if s not in ("normal", "tangential")]
         if "heat_source" not in order and "temperature" in order:
             order.insert(0, "heat_source")
-    models: dict[str, StageModel] = {}
-    for stage in order:
-        models[stage] = host.model("given").cls() if given and stage == "heat_source" else \
-            _select(host, mi, stage, scene, level)
+    # the stages up to the last one an output needs, and no model chosen for any later stage (a model
+    # of an unneeded stage must not refuse the scene)
     last = -1
     for out in scene.outputs:
         stage = STAGE_OF_GROUP[VARIABLES[out].stage]
-        if stage not in order or out not in models[stage].capabilities.provides:
+        if stage not in order:
             extra = (" (the scene gives its heat source, so no normal or tangential stage runs)"
                      if given and stage in ("normal", "tangential") else "")
-            who = f"its {stage} model {models[stage].name!r}" if stage in models else f"it has no {stage} stage"
             raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}{extra}: "
-                          f"{who}; its models provide: "
-                          f"{sorted(set().union(*(m.capabilities.provides for m in models.values())))}")
+                          f"it has no {stage} stage")
         last = max(last, order.index(stage))
+    models: dict[str, StageModel] = {}
+    for stage in order[: last + 1]:
+        models[stage] = host.model("given").cls() if given and stage == "heat_source" else \
+            _select(host, mi, stage, scene, level)
+    for out in scene.outputs:
+        stage = STAGE_OF_GROUP[VARIABLES[out].stage]
+        if out not in models[stage].capabilities.provides:
+            raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}: "
+                          f"its {stage} model {models[stage].name!r}; its models provide: "
+                          f"{sorted(set().union(*(m.capabilities.provides for m in models.values())))}")
     stages = tuple(order[: last + 1])
     return Plan(mi, stages, {s: models[s] for s in stages})
 

@@ -26,13 +26,34 @@ DISABLE_ENV = "RAILTHERM_DISABLE_PLUGIN_AUTOLOAD"
 
 @dataclass(frozen=True)
 class ModelInfo:
+    """A registered model name: its class, and the same-named classes of other stages of the same
+    plugin (an exact contact method registers a normal and a tangential model both named ``kalker``)."""
+
     cls: type
     plugin: str
     version: str
+    others: tuple[type, ...] = ()
 
     @property
     def name(self) -> str:
         return self.cls.name
+
+    @property
+    def classes(self) -> tuple[type, ...]:
+        return (self.cls,) + self.others
+
+    @property
+    def stages(self) -> tuple[str, ...]:
+        """Every stage the name implements (over its classes), in pipeline order."""
+        have = {s for c in self.classes for s in c.stages}
+        return tuple(s for s in STAGES if s in have)
+
+    def for_stage(self, stage: str) -> type:
+        """The class that implements ``stage`` (KeyError if none)."""
+        for c in self.classes:
+            if stage in c.stages:
+                return c
+        raise KeyError(f"model {self.name!r} does not implement stage {stage!r}")
 
 
 @dataclass(frozen=True)
@@ -61,8 +82,9 @@ class MethodInfo:
         for stage, names in self.stages.items():
             lines.append(f"    {stage}: {' | '.join(names)}")
         for m in self.models:
-            lines.append(f"      - {m.name} [{m.plugin} {m.version}]: {m.cls.description}")
-            lines.append(f"        {m.cls.capabilities.describe()}")
+            for c in m.classes:
+                lines.append(f"      - {m.name} ({'/'.join(c.stages)}) [{m.plugin} {m.version}]: {c.description}")
+                lines.append(f"        {c.capabilities.describe()}")
         return "\n".join(lines)
 
 
@@ -128,8 +150,14 @@ class PluginHost:
             self._problem(f"plugin {plugin!r}: model {cls.name!r} declares stages {cls.stages}, allowed {STAGES}")
             return
         if cls.name in self.models:
+            have = self.models[cls.name]
+            if have.plugin == plugin and not set(have.stages) & set(cls.stages):
+                # one name for one method's models of different stages (normal and tangential "kalker")
+                self.models[cls.name] = ModelInfo(have.cls, have.plugin, have.version, have.others + (cls,))
+                return
             self._problem(f"plugin {plugin!r}: model {cls.name!r} is already registered by plugin "
-                          f"{self.models[cls.name].plugin!r}; skipped")
+                          f"{have.plugin!r} for stages {list(have.stages)}; skipped (one name may serve "
+                          "several stages only within one plugin, one class per stage)")
             return
         self.models[cls.name] = ModelInfo(cls, plugin, cls.version or self._versions.get(plugin, "0"))
 
@@ -152,9 +180,9 @@ class PluginHost:
                               "none of which is registered; method skipped")
                 return
             for n in known:
-                if stage not in self.models[n].cls.stages:
+                if stage not in self.models[n].stages:
                     self._problem(f"plugin {plugin!r}: method {m.name!r} uses model {n!r} for stage {stage!r}, "
-                                  f"but that model implements {self.models[n].cls.stages}; method skipped")
+                                  f"but that model implements {self.models[n].stages}; method skipped")
                     return
             if known:
                 chain[stage] = known
@@ -186,8 +214,8 @@ class PluginHost:
             chain.setdefault("normal", chain.pop("contact"))
             notes.append("stage 'contact' read as 'normal'")
         heat = chain.get("heat_source", ())
-        moved = tuple(n for n in heat if n in self.models and "tangential" in self.models[n].cls.stages
-                      and "heat_source" not in self.models[n].cls.stages)
+        moved = tuple(n for n in heat if n in self.models and "tangential" in self.models[n].stages
+                      and "heat_source" not in self.models[n].stages)
         if moved:
             warnings.warn(f"plugin {plugin!r}: method {m.name!r} lists tangential models {list(moved)} under "
                           "'heat_source' (plugin API 1); moved to 'tangential', heat source 'frictional'",
@@ -234,13 +262,13 @@ class PluginHost:
                 raise SceneError(f"key {key!r}: unknown stage {stage!r}; allowed stages: {', '.join(STAGES)}",
                                  key=key, value=stage, allowed=", ".join(STAGES))
             names = (value,) if isinstance(value, str) else tuple(value) if isinstance(value, (list, tuple)) else ()
-            fits = sorted(n for n, m in self.models.items() if stage in m.cls.stages)
+            fits = sorted(n for n, m in self.models.items() if stage in m.stages)
             if not names or not all(isinstance(n, str) for n in names):
                 raise SceneError.bad_value(None, key, value, f"a model name or a list of them ({', '.join(fits)})")
             for n in names:
-                if n not in self.models or stage not in self.models[n].cls.stages:
+                if n not in self.models or stage not in self.models[n].stages:
                     why = "is not registered" if n not in self.models else \
-                        f"implements {list(self.models[n].cls.stages)}, not {stage!r}"
+                        f"implements {list(self.models[n].stages)}, not {stage!r}"
                     raise SceneError(f"key {key!r}: model {n!r} {why}; {stage} models: {', '.join(fits)}",
                                      key=key, value=n, allowed=", ".join(fits))
             out[stage] = names
