@@ -224,6 +224,9 @@ class Convolution:
     evaluates in float32 (for inexact inner Krylov products; about twice as fast).
     """
 
+    #: offsets kept in :attr:`near` on each side [elements]
+    NEAR = 2
+
     def __init__(self, kernels: dict, shape: tuple[int, int], symmetric: bool = True):
         nx, ny = shape
         self.shape = (int(nx), int(ny))
@@ -246,6 +249,14 @@ class Convolution:
             spectra[(1, 0)] = spectra[(0, 1)]
         #: the (0, 0) kernel at offset zero (an element's influence on itself)
         self.self_coefficient = float(np.asarray(kernels[(0, 0)])[nx - 1, ny - 1])
+        #: the kernels at the offsets of the near neighbours, ``(out, in) -> ndarray (2 rx + 1, 2 ry + 1)``
+        #: over offsets -rx..rx, -ry..ry (rx = min(NEAR, nx - 1), ry likewise); for local preconditioners
+        rx, ry = min(self.NEAR, nx - 1), min(self.NEAR, ny - 1)
+        self.near_radius = (rx, ry)
+        self.near = {key: np.array(np.asarray(k, dtype=float)[nx - 1 - rx:nx + rx, ny - 1 - ry:ny + ry])
+                     for key, k in kernels.items()}
+        if symmetric and (0, 1) in self.near and (1, 0) not in self.near:
+            self.near[(1, 0)] = self.near[(0, 1)]
         self._spec = spectra
         self._spec32 = {k: v.astype(np.complex64) for k, v in spectra.items()}
         self.products = 0

@@ -27,7 +27,7 @@ from railtherm import Capabilities, Option, Refused, TangentialContactModel
 from railtherm.physics import combined_elastic, creep_speeds
 
 from .influence import Convolution, line_kernel, rolling_kernel, tangential_kernels
-from .tangential_solver import TANGENTIAL_TOLERANCE, rigid_slip, solve_tangential
+from .tangential_solver import TANGENTIAL_TOLERANCE, solve_tangential_nested
 
 __all__ = ["KalkerTangential", "rolling_operator", "patch_creepages", "solve_patch_tangential"]
 
@@ -104,10 +104,9 @@ def solve_patch_tangential(patch, friction: float, creepages, shear_modulus: flo
         X, Y = grid.x[:, None], np.zeros((nx, 1))
     else:
         X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
-    conv = rolling_operator(grid.x_edges, grid.y_edges, shear_modulus, poisson_ratio)
-    w = rigid_slip(X, Y, *creepages, line=line)
     g = friction * np.clip(p, 0.0, None)
-    sol = solve_tangential(conv, g, w, tol=tol)
+    sol = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, shear_modulus, poisson_ratio),
+                                  grid.x_edges, grid.y_edges, g, creepages, tol=tol)
     # polish: stick has zero slip, slip has its traction on the bound against the slip (both to the
     # solver's residual already; exact here so that -p . s = mu p |s| holds to round-off)
     s = np.where(sol.stick[None], 0.0, sol.slip)
