@@ -372,7 +372,10 @@ def test_stability_limit_2d():
 # ------------------------------------------------------------------------------------------------
 @pytest.fixture
 def host(railtherm_register):
-    return railtherm_register("fastsim", fastsim_plugin)
+    import railtherm_fdm.plugin as fdm_plugin
+    host = railtherm_register("fdm", fdm_plugin)          # fastsim-fdm names plugin fdm's model
+    host.add_plugin(fastsim_plugin, "fastsim")
+    return host.build()
 
 
 def test_conformance_with_line_scenes(host):

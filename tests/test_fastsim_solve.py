@@ -13,6 +13,7 @@ import pytest
 
 import railtherm
 import railtherm_fastsim.plugin as fastsim_plugin
+import railtherm_fdm.plugin as fdm_plugin
 from railtherm import Material, Refused, SceneError
 from railtherm.references.moving_source import moving_source_temperature
 from railtherm.testing import canonical, check_method
@@ -26,7 +27,11 @@ SEED = {"name": "seed-circular-q1", "speed": 1.0, "heat_partition": 0.0, "wheel"
 
 @pytest.fixture
 def host(railtherm_register):
-    return railtherm_register("fastsim", fastsim_plugin)
+    """A strict host with the two plugins of method fastsim-fdm: fastsim (normal and tangential models,
+    the method) and fdm (the temperature model)."""
+    host = railtherm_register("fdm", fdm_plugin)          # the model first: the method names it
+    host.add_plugin(fastsim_plugin, "fastsim")
+    return host.build()
 
 
 def test_conformance(host):

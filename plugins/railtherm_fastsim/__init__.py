@@ -1,16 +1,19 @@
-"""railtherm plugin "fastsim": method ``fastsim-fdm`` (seed paper section 6).
+"""railtherm plugin "fastsim": Kalker's simplified theory and the method ``fastsim-fdm`` (seed paper §6).
 
 Stage models
 ------------
-``fastsim`` (heat source)
-    Kalker's FASTSIM on the Hertz patch: tractions, slip, stick/slip, creep forces, spin moment and
-    the local frictional power density -p.s (the seed's "modified FASTSIM"). Line contacts: one
-    strip with the flexibility that reproduces Carter's linear law (:mod:`.fastsim_line`).
-``fdm`` (temperature)
-    The 3-D finite-difference rail block: explicit transient (the seed's scheme), implicit, or
-    moving-frame steady for stiff cases; for line contacts the 2-D (x-z) block (:mod:`.fdm_line`).
+``fastsim`` (tangential)
+    Kalker's FASTSIM on the patch it is given: tractions, slip, stick/slip, creep forces, spin moment
+    and the local dissipation -p.s (the seed's "modified FASTSIM", §6.2); core's ``frictional`` heat
+    source turns it into the heat flux. Line contacts: one strip with the flexibility that reproduces
+    Carter's linear law (:mod:`.fastsim_line`). The algorithm is in :mod:`.simplified_theory`.
+``wheelset`` (normal)
+    The conical wheelset in a curve of §6.1: the equilibrium that sets each contact's load and
+    creepages, then the Hertz patch (:mod:`.wheelset_normal`, kinematics in :mod:`.kinematics`).
 
-Method ``fastsim-fdm`` chains Hertz -> fastsim -> fdm. The stages stay composable: other methods
-may name ``fastsim`` as their heat source.
+Method ``fastsim-fdm`` chains wheelset | hertz -> fastsim -> frictional -> ``fdm``, the finite-difference
+temperature model of the separate plugin ``railtherm_fdm``. The stages stay composable: other methods
+name ``fastsim`` as their tangential model. The modules ``fdm_model``, ``fdm_kernel``, ``fdm_line`` and
+``fdm_solvers`` are deprecated aliases of ``railtherm_fdm``'s, kept for one release.
 """
 __version__ = "0.2.0"

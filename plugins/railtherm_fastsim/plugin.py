@@ -1,17 +1,21 @@
-"""Hook implementations of the fastsim plugin (registration only; the models do the work)."""
+"""Hook implementations of the fastsim plugin (registration only; the models do the work).
+
+Method ``fastsim-fdm`` names the temperature model ``fdm`` of plugin ``fdm`` (``railtherm_fdm``); the plugin
+host resolves model names across plugins, so a host needs both plugins to run the method.
+"""
 from __future__ import annotations
 
 from railtherm import Method, hookimpl
 
-from railtherm_fdm.model import FDMTemperature
 from .tangential import FastsimTangential
 from .wheelset_normal import WheelsetNormal
 
 
 @hookimpl
 def railtherm_register_models():
-    """The tangential model ``fastsim``, the normal model ``wheelset`` and the temperature model ``fdm``."""
-    return [FastsimTangential, WheelsetNormal, FDMTemperature]
+    """The tangential model ``fastsim`` and the normal model ``wheelset`` (the temperature model ``fdm`` that
+    method ``fastsim-fdm`` names is plugin ``fdm``'s)."""
+    return [FastsimTangential, WheelsetNormal]
 
 
 @hookimpl

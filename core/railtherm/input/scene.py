@@ -290,7 +290,8 @@ SCENE_KEYS: dict[str, _Check] = {
                        "duration": Num(0, lo_open=True, unit="s")}),
     "wheelset": Table({"conicity": Num(0, 1), "lateral_shift": Num(-0.1, 0.1, unit="m"),
                        "yaw_angle": Num(-0.1, 0.1, unit="rad"), "vertical_load": Num(0, lo_open=True, unit="N"),
-                       "wheel_radius": Num(0, lo_open=True, unit="m"), "gauge": Num(0, lo_open=True, unit="m")}),
+                       "wheel_radius": Num(0, lo_open=True, unit="m"), "gauge": Num(0, lo_open=True, unit="m"),
+                       "contact": Choice(1, 2)}),
     "mode": Choice("steady", "transient"),
     "reference": Text(),
 }
@@ -353,6 +354,9 @@ class Wheelset:
     vertical_load: float = 100e3
     wheel_radius: float = 0.46
     gauge: float = 1.5
+    #: which of the two contacts the scene is (1: the scene's wheel, the outer wheel in the curve; 2: the
+    #: other); both come from one equilibrium (seed section 6.1)
+    contact: int = 1
 
 
 @dataclass(frozen=True)
