@@ -170,7 +170,7 @@ class KalkerNormal(NormalContactModel):
                    "quadratic or non-Hertzian) by FFT influence coefficients and Polonsky-Keer CG")
     capabilities = Capabilities(contacts=frozenset({"ellipse", "line", "gap"}),
                                 provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b",
-                                                    "max_pressure"}))
+                                                    "max_pressure", "contact_area"}))
     options = {"cells": Option(DEFAULT_CELLS, "elements across the contact (2a, and 2b) at level 0 [1]", minimum=2),
                "normal_tolerance": Option(NORMAL_TOLERANCE, "tolerance of the normal solver (relative "
                                           "pressure change and complementarity residual) [1]", minimum=0.0)}
@@ -199,10 +199,11 @@ class KalkerNormal(NormalContactModel):
                 "approach": float(sol.approach), "products": int(sol.products),
                 "elements_x": int(nx), "elements_y": int(ny),
                 "elements_in_contact": int(np.count_nonzero(sol.pressure > 0)),
+                # loaded elements x element area (a line contact: x element length, the contact length)
                 "contact_area": float(np.count_nonzero(sol.pressure > 0)) * area.dx * area.dy,
                 "gap": "hertz" if gap.hertz is not None else "non-hertzian",
                 "residual_history": np.asarray(sol.history, dtype=float)}
         return ContactPatch(grid=grid, normal_force=float(scene.normal_force if scene.normal_force is not None
                                                           else sol.force),
                             a=float(a), b=None if b is None else float(b), max_pressure=float(p.max()),
-                            pressure=np.array(p), diagnostics=diag)
+                            pressure=np.array(p), contact_area=diag["contact_area"], diagnostics=diag)

@@ -2,7 +2,7 @@
 
 The patch's grid and pressure (the ``kalker`` normal model's potential contact area, or any uniform
 grid, e.g. core's Hertz patch) carry the traction bound mu p per element; the tractions, slip and
-stick/slip areas follow from :func:`railtherm_kalker.tangential_solver.solve_tangential`. The model
+stick/slip areas follow from :func:`railtherm_kalker.tangential_solver.solve_tangential_nested`. The model
 fills, on the wheel (body 1) and with CONTACT's sign law (a positive creepage gives a negative
 force): the tractions [Pa], the slip velocity V s of the wheel relative to the rail [m/s] (zero in
 stick), the stick indicator, the creep forces [N] and the spin moment ``sum (x p_y - y p_x) dA``
