@@ -99,7 +99,8 @@ class TangentialSolution:
     residual : float
         max |F| / max g [1].
     history : list of float
-        Residual after each Newton step (the first entry is that of zero traction).
+        Residual after each Newton step (the first entry is that of the initial traction: zero, or in
+        :func:`solve_tangential_nested` the coarser grid's solution).
     linear_iterations : int
         GMRES iterations summed over the Newton steps [1].
     products : int
