@@ -1,10 +1,10 @@
-"""Command line: ``railtherm run | validate | methods | report``.
+"""Command line: ``railtherm run | validate | methods | report | diff``.
 
 User errors (invalid study or option, unknown method, a path that cannot be used, a bad command-line
 value) print one ``railtherm: error: ...`` line and exit with status 2, without a traceback.
 ``railtherm run`` checks the whole study before the first run and exits 0 when no run failed (ok,
 inaccurate, unverified and refused runs), 3 when a run failed. ``railtherm validate`` exits 1 on any
-error. FiPy parses ``sys.argv`` when imported; the FiPy plugin shields it from our arguments,
+error; ``railtherm diff`` exits 1 when the two metrics files differ (like diff(1)). FiPy parses ``sys.argv`` when imported; the FiPy plugin shields it from our arguments,
 and none of our options collides with FiPy's (``--petsc``, ``--scipy``, ``--trilinos``, ``--inline``).
 """
 from __future__ import annotations
@@ -56,6 +56,14 @@ def build_parser() -> argparse.ArgumentParser:
     rp = sub.add_parser("report", help="write report.md, report.html and figures/ for a study output folder")
     rp.add_argument("out")
     rp.add_argument("--benchmarks", default=None, help="pytest-benchmark JSON file to include")
+    d = sub.add_parser("diff", help="compare the metrics.nc of two output folders run by run (exit 1 if they "
+                       "differ); wall times and memory are left out")
+    d.add_argument("before")
+    d.add_argument("after")
+    d.add_argument("--rtol", type=float, default=1e-12, help="relative tolerance of equal numbers (default 1e-12)")
+    d.add_argument("--atol", type=float, default=0.0, help="absolute tolerance in the variable's units (e.g. "
+                   "1e-12 for relative errors near round-off; default 0)")
+    d.add_argument("--machine", action="store_true", help="also compare wall times and memory")
     return p
 
 
@@ -175,7 +183,25 @@ def _dispatch(args) -> int:
         return _run(args)
     if args.command == "report":
         return _report(args)
+    if args.command == "diff":
+        return _diff(args)
     return 2
+
+
+def _diff(args) -> int:
+    from pathlib import Path
+
+    from .analysis.metrics_diff import diff_metrics
+    for path in (args.before, args.after):
+        p = Path(path)
+        if not (p.is_file() or (p / "metrics.nc").is_file()):
+            raise SceneError(f"{path!r} is neither a metrics.nc nor an output folder holding one", key="diff",
+                             value=path, allowed="a metrics.nc file or the --out folder of railtherm run")
+    found = diff_metrics(args.before, args.after, rtol=args.rtol, atol=args.atol, include_machine=args.machine)
+    for d in found:
+        print(d.line())
+    print(f"{len(found)} variables differ" if found else "the same numbers")
+    return 1 if found else 0
 
 
 if __name__ == "__main__":  # pragma: no cover
