@@ -68,3 +68,28 @@ def test_contact_area_of_the_hertz_patch_is_pi_a_b():
                                                    rel=1e-14)
     line = railtherm.solve(canonical("line-full-sliding", outputs=["contact_area", "semi_axis_a"]), "green", 0)
     assert float(line.contact_area) == pytest.approx(2 * float(line.semi_axis_a), rel=1e-14)
+
+
+@pytest.fixture
+def kalker():
+    if "kalker" not in {m.name for m in railtherm.methods()}:
+        pytest.skip("method 'kalker' is not installed")
+
+
+def test_kalker_runs_a_non_hertzian_gap_end_to_end(kalker):
+    """The y^4 term stiffens the gap across: at the same load the patch is narrower in y than the Hertz
+    patch of the quadratic part; the contact area is that of the cells in contact (the Hertz one within
+    the staircase error of level 1), and the mean contact temperature is taken over those cells."""
+    outs = ["contact_area", "semi_axis_b", "pressure", "surface_temperature", "mean_contact_temperature"]
+    quad = railtherm.solve(_scene({"x2": 1.015, "y2": 0.4215}) | {"outputs": outs}, "kalker", 1)
+    gap = railtherm.solve(_scene(NON_HERTZ) | {"outputs": outs}, "kalker", 1)
+    assert gap.attrs["stages"] == "normal:kalker tangential:kalker heat_source:frictional temperature:green"
+    hertz = railtherm.solve(_scene({"x2": 1.015, "y2": 0.4215}) | {"outputs": ["contact_area"]}, "green", 1)
+    assert float(quad.contact_area) == pytest.approx(float(hertz.contact_area), rel=0.05)
+    assert float(gap.semi_axis_b) < 0.9 * float(quad.semi_axis_b)
+    cells = gap.pressure.values > 0
+    dx, dy = float(gap.x[1] - gap.x[0]), float(gap.y[1] - gap.y[0])
+    assert float(gap.contact_area) == pytest.approx(cells.sum() * dx * dy, rel=1e-12)
+    for i in range(2):
+        assert float(gap.mean_contact_temperature[i]) == pytest.approx(
+            float(gap.surface_temperature[i].values[cells].mean()), rel=1e-12)

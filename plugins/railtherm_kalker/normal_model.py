@@ -192,8 +192,9 @@ class KalkerNormal(NormalContactModel):
         x0, x1, y0, y1 = contact_extent(area.x, area.y, sol.pressure, area.dx, area.dy)
         a = 0.5 * (x1 - x0)
         b = None if line else 0.5 * (y1 - y0)
-        grid = SurfaceGrid(area.x_edges, area.y_edges, float(a), None if b is None else float(b))
         p = sol.pressure[:, 0] if line else sol.pressure
+        # the cells in contact: the patch of a non-Hertzian gap is no ellipse (grid.inside() returns them)
+        grid = SurfaceGrid(area.x_edges, area.y_edges, float(a), None if b is None else float(b), contact=p > 0)
         nx, ny = area.shape
         diag = {"converged": bool(sol.converged), "iterations": int(sol.iterations), "residual": float(sol.residual),
                 "approach": float(sol.approach), "products": int(sol.products),
