@@ -3,8 +3,9 @@ import one way (cli/testing -> run -> report -> analysis -> solve -> output -> i
 physics -> contract -> references); the output folder has one owner (:mod:`railtherm.output.store`)
 that imports nothing above it; the report reads only through the store; nothing but the cli and the
 kit imports the runner; plugins import only the public API (tests/test_physics.py)."""
-import ast
 from pathlib import Path
+
+from import_graphs import cycles, import_graph as _graph
 
 import railtherm
 
@@ -31,81 +32,10 @@ def layer(mod: str) -> str:
     return parts[1]
 
 
-def _module_name(path: Path) -> str:
-    parts = list(path.relative_to(CORE.parent).with_suffix("").parts)
-    if parts[-1] == "__init__":
-        parts = parts[:-1]
-    return ".".join(parts)
-
-
-def _type_checking_only(tree) -> set:
-    """Import nodes under ``if TYPE_CHECKING:`` (never executed at run time)."""
-    out = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
-            for sub in node.body:
-                out.update(id(n) for n in ast.walk(sub))
-    return out
-
-
 def import_graph() -> dict[str, set[str]]:
-    """Module -> railtherm modules it imports (module level and inside functions)."""
-    files = {_module_name(p): p for p in CORE.rglob("*.py") if _module_name(p) not in SHIMS}
-    graph = {}
-    for mod, path in files.items():
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        skip = _type_checking_only(tree)
-        package = mod if path.name == "__init__.py" else mod.rsplit(".", 1)[0]
-        deps = set()
-        for node in ast.walk(tree):
-            if id(node) in skip:
-                continue
-            if isinstance(node, ast.Import):
-                names = [a.name for a in node.names]
-            elif isinstance(node, ast.ImportFrom):
-                if node.level:
-                    base = package.split(".")[:len(package.split(".")) - node.level + 1]
-                    base = ".".join(base + ([node.module] if node.module else []))
-                else:
-                    base = node.module or ""
-                # ``from pkg import sub`` imports the submodule ``pkg.sub``; else a name of ``pkg``
-                names = [f"{base}.{a.name}" if f"{base}.{a.name}" in files else base for a in node.names]
-            else:
-                continue
-            deps.update(n for n in names if n in files and n != mod)
-        graph[mod] = deps
-    return graph
+    """Core module -> core modules it imports (the 0.1 aliases left out)."""
+    return _graph(CORE.parent, "railtherm", exclude=SHIMS)
 
-
-def cycles(graph) -> list[list[str]]:
-    """Strongly connected components of more than one module (Tarjan)."""
-    index, low, stack, on, found = {}, {}, [], set(), []
-
-    def visit(v):
-        index[v] = low[v] = len(index)
-        stack.append(v)
-        on.add(v)
-        for w in sorted(graph[v]):
-            if w not in index:
-                visit(w)
-                low[v] = min(low[v], low[w])
-            elif w in on:
-                low[v] = min(low[v], index[w])
-        if low[v] == index[v]:
-            comp = []
-            while True:
-                w = stack.pop()
-                on.discard(w)
-                comp.append(w)
-                if w == v:
-                    break
-            if len(comp) > 1:
-                found.append(sorted(comp))
-
-    for v in sorted(graph):
-        if v not in index:
-            visit(v)
-    return found
 
 
 def test_graph_sees_function_level_imports():

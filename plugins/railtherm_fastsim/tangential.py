@@ -67,6 +67,7 @@ class FastsimTangential(TangentialContactModel):
     name = "fastsim"
     description = ("Kalker's FASTSIM (simplified theory, elliptic or parabolic bound): tractions, slip, "
                    "creep forces and the local frictional power density -p.s (seed 6.2)")
+    needs_elastic_body = True
     capabilities = Capabilities(
         contacts=frozenset({"ellipse", "line"}), sources=frozenset({"computed"}),
         tangential=frozenset({"creepage", "full-sliding"}),
@@ -78,19 +79,8 @@ class FastsimTangential(TangentialContactModel):
         why = super().supports(scene, level)
         if why:
             return why
-        if scene.friction is None:
-            return "model 'fastsim' needs the friction coefficient (key 'friction')"
-        if scene.creepage is None and scene.sliding_speed is None and getattr(scene, "wheelset", None) is None:
-            return "model 'fastsim' needs creepages, a sliding speed or a wheelset"
-        if getattr(scene.wheel, "rigid", False) and getattr(scene.rail, "rigid", False):
-            return "model 'fastsim' needs at least one elastic body (both are rigid)"
-        if scene.contact_shape == "line":  # lateral outputs of a line contact are rejected by the scene parser
-            c = scene.creepage
-            if c is not None and (float(c.lateral) != 0.0 or float(c.spin) != 0.0):
-                return (f"model 'fastsim': a line contact (2-D rolling) has only longitudinal creepage; the scene "
-                        f"gives lateral = {float(c.lateral):g}, spin = {float(c.spin):g} 1/m: set them to 0 or "
-                        "use an elliptical contact")
-            if c is None and scene.sliding_speed is None:
+        if scene.contact_shape == "line":  # lateral creepage of a line contact: refused by core
+            if scene.creepage is None and scene.sliding_speed is None:
                 return ("model 'fastsim': the wheelset kinematics (seed 6.1) needs an elliptical contact; a line "
                         "contact needs a creepage or a sliding speed")
         return None

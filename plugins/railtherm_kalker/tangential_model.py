@@ -132,6 +132,7 @@ class KalkerTangential(TangentialContactModel):
     name = "kalker"
     description = ("Kalker's exact steady rolling (half-space, Boussinesq-Cerruti by FFT, semismooth "
                    "Newton-GMRES): tractions, slip, stick, creep forces, spin moment, dissipation")
+    needs_elastic_body = True
     capabilities = Capabilities(
         contacts=frozenset({"ellipse", "line", "gap"}), sources=frozenset({"computed"}),
         tangential=frozenset({"creepage", "full-sliding"}),
@@ -139,22 +140,6 @@ class KalkerTangential(TangentialContactModel):
                             "creep_force_x", "creep_force_y", "spin_moment"}))
     options = {"tangential_tolerance": Option(TANGENTIAL_TOLERANCE, "tolerance of the tangential solver, "
                                               "max |F| / max(mu p) [1]", minimum=0.0)}
-
-    def supports(self, scene, level):
-        why = super().supports(scene, level)
-        if why:
-            return why
-        if scene.friction is None:
-            return "model 'kalker' needs the friction coefficient (key 'friction')"
-        if scene.creepage is None and scene.sliding_speed is None and getattr(scene, "wheelset", None) is None:
-            return "model 'kalker' needs creepages, a sliding speed or a wheelset"
-        if getattr(scene.wheel, "rigid", False) and getattr(scene.rail, "rigid", False):
-            return "model 'kalker' needs at least one elastic body (both are rigid)"
-        if scene.contact_shape == "line" and scene.creepage is not None and (
-                float(scene.creepage.lateral) != 0.0 or float(scene.creepage.spin) != 0.0):
-            return (f"model 'kalker': a line contact (2-D rolling) has only longitudinal creepage; the scene gives "
-                    f"lateral = {float(scene.creepage.lateral):g}, spin = {float(scene.creepage.spin):g} 1/m")
-        return None
 
     def compute_tangential(self, scene, patch, level, options):
         xi, eta, phi = patch_creepages(scene, patch)

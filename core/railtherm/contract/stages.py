@@ -547,6 +547,30 @@ class TangentialContactModel(StageModel):
     (core's ``full-sliding``; FASTSIM)."""
 
     stages = ("tangential",)
+    #: the model solves the elastic (creep) problem, so at least one body must be elastic
+    needs_elastic_body: bool = False
+
+    def supports(self, scene: "Scene", level: int) -> str | None:
+        """Declared capabilities (:meth:`StageModel.supports`), then what every tangential model needs:
+        a friction coefficient, a tangential regime (creepage, sliding speed or a wheelset that sets the
+        creepages) and, for an elastic (creep) model, at least one elastic body."""
+        why = super().supports(scene, level)
+        if why:
+            return why
+        if scene.heat_source is not None:
+            return None   # a given heat source runs no tangential stage
+        if scene.friction is None:
+            return f"model {self.name!r} needs the friction coefficient (key 'friction')"
+        if scene.creepage is None and scene.sliding_speed is None and getattr(scene, "wheelset", None) is None:
+            return f"model {self.name!r} needs creepages, a sliding speed or a wheelset"
+        if self.needs_elastic_body and getattr(scene.wheel, "rigid", False) and getattr(scene.rail, "rigid", False):
+            return f"model {self.name!r} needs at least one elastic body (both are rigid)"
+        c = scene.creepage
+        if scene.contact_shape == "line" and c is not None and (float(c.lateral) != 0.0 or float(c.spin) != 0.0):
+            return (f"model {self.name!r}: a line contact (2-D rolling) has only longitudinal creepage; the scene "
+                    f"gives lateral = {float(c.lateral):g}, spin = {float(c.spin):g} 1/m: set them to 0 or use an "
+                    "elliptical contact")
+        return None
 
     def compute_tangential(self, scene: "Scene", patch: ContactPatch, level: int, options: dict) -> ContactPatch:
         """Return a new patch with the tangential fields filled (:meth:`ContactPatch.with_tangential`);
