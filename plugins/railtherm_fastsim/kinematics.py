@@ -173,18 +173,37 @@ def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, whee
     return WheelsetSolution(N, xi, eta, phi, fx, fy, float(theta), radii, it, converged, res)
 
 
-def scene_wheelset_contact(scene, patch=None, **fastsim_options):
-    """Creepages (xi, eta, phi) and normal force of the scene's contact (wheel 1) from its wheelset.
+def scene_wheelset_contact(scene, patch=None, contact=None, **fastsim_options):
+    """Creepages (xi, eta, phi) and normal force of one of the scene's wheelset contacts.
 
     The scene's contact patch (``patch``, or the scene's semi-axes and normal force) is taken as the
     reference Hertz patch; it is rescaled to each wheel's normal force (semi-axes ~ N^(1/3) for a
-    contact given by curvatures, fixed for one given by semi-axes).
+    contact given by curvatures, fixed for one given by semi-axes). Both contacts come from the one
+    equilibrium of :func:`wheelset_contacts`; ``contact`` picks which one is returned.
+
+    Parameters
+    ----------
+    scene : Scene
+        With ``scene.wheelset`` (seed section 6.1).
+    patch : ContactPatch, optional
+        Reference Hertz patch (normal force and semi-axes).
+    contact : {1, 2}, optional
+        1: the scene's wheel (wheel 1), 2: the other wheel; default ``scene.wheelset.contact`` (1 when
+        the wheelset has no such attribute).
+    **fastsim_options
+        Passed to :func:`wheelset_contacts`.
 
     Returns
     -------
     xi, eta, phi, normal_force, solution
+        Creepages [1], [1], [1/m] and normal force [N] of contact ``contact``; the whole solution.
     """
     ws = scene.wheelset
+    if contact is None:
+        contact = getattr(ws, "contact", 1)
+    if contact not in (1, 2):
+        raise ValueError(f"wheelset contact must be 1 or 2, not {contact!r}")
+    i = int(contact) - 1
     G, nu = combined_elastic(scene.wheel, scene.rail)
     if patch is not None:
         ref_n, axes = patch.normal_force, (patch.a, patch.b)
@@ -195,4 +214,4 @@ def scene_wheelset_contact(scene, patch=None, **fastsim_options):
                             vertical_load=ws.vertical_load, wheel_radius=ws.wheel_radius, gauge=ws.gauge,
                             speed=scene.speed, friction=scene.friction, shear_modulus=G, poisson_ratio=nu,
                             ref_normal_force=ref_n, ref_semi_axes=axes, scaling=scaling, **fastsim_options)
-    return float(sol.xi[0]), float(sol.eta[0]), float(sol.phi[0]), float(sol.normal_force[0]), sol
+    return float(sol.xi[i]), float(sol.eta[i]), float(sol.phi[i]), float(sol.normal_force[i]), sol

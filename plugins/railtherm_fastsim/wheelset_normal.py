@@ -3,8 +3,9 @@
 A conical wheelset on two rails (``[scene.wheelset]``) sets both the normal force of each contact and
 its creepages; they are found together by the fixed-point iteration of
 :func:`railtherm_fastsim.kinematics.wheelset_contacts` (FASTSIM creep forces -> roll/vertical
-equilibrium -> normal forces). The model returns the Hertz patch of contact 1 (the scene's wheel)
-rescaled to its equilibrium normal force, with the kinematic creepages in ``patch.creepage``; the
+equilibrium -> normal forces). The model returns the Hertz patch of contact ``wheelset.contact`` (1:
+the scene's wheel, 2: the other wheel; both from the one equilibrium) rescaled to its equilibrium
+normal force, with that contact's kinematic creepages in ``patch.creepage``; the
 tangential stage (FASTSIM) then computes the tractions on it. Chains list it before ``hertz``: it
 declines every scene without a wheelset.
 """
@@ -19,11 +20,12 @@ __all__ = ["WheelsetNormal"]
 
 
 class WheelsetNormal(NormalContactModel):
-    """Hertz patch of a wheelset's contact 1 at its equilibrium normal force, with its creepages."""
+    """Hertz patch of a wheelset's contact 1 or 2 at its equilibrium normal force, with its creepages."""
 
     name = "wheelset"
     description = ("conical wheelset on two rails (seed 6.1): normal force and creepages of the contact from "
-                   "the equilibrium with FASTSIM creep forces; Hertz patch rescaled to that force")
+                   "the equilibrium with FASTSIM creep forces (contact 1 or 2 of the wheelset); Hertz patch "
+                   "rescaled to that force")
     capabilities = Capabilities(contacts=frozenset({"ellipse"}), sources=frozenset({"computed"}),
                                 provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b", "contact_area",
                                                     "max_pressure"}))
@@ -45,15 +47,17 @@ class WheelsetNormal(NormalContactModel):
         from .kinematics import PRESSURE_GAUSS, scene_wheelset_contact
         base = hertz_patch(scene, level, options.get("cells"), model=self.name)
         fs_opts = {k: options[k] for k in FASTSIM_OPTIONS}
+        contact = int(getattr(scene.wheelset, "contact", 1))
         try:
-            xi, eta, phi, n1, sol = scene_wheelset_contact(scene, base, **fs_opts)
+            xi, eta, phi, n1, sol = scene_wheelset_contact(scene, base, contact, **fs_opts)
         except ValueError as exc:
             raise Refused(f"model 'wheelset': {exc}") from exc
         scaling = "semi_axes" if getattr(scene, "semi_axes", None) is not None else "curvatures"
         a1, b1, p01 = rescale_hertz_patch(n1, base.normal_force, base.a, base.b, scaling)
         g1, pr1 = hertz_pressure_grid(a1, b1, p01, 0, base.grid.shape[0], gauss=PRESSURE_GAUSS)
-        diag = {"normal_force_1": float(sol.normal_force[0]), "normal_force_2": float(sol.normal_force[1]),
-                "xi_1": xi, "eta_1": eta, "phi_1": phi,
+        diag = {"contact": contact,
+                "normal_force_1": float(sol.normal_force[0]), "normal_force_2": float(sol.normal_force[1]),
+                "xi_1": float(sol.xi[0]), "eta_1": float(sol.eta[0]), "phi_1": float(sol.phi[0]),
                 "xi_2": float(sol.xi[1]), "eta_2": float(sol.eta[1]), "phi_2": float(sol.phi[1]),
                 "theta": sol.theta, **{f"residual_{k}": v for k, v in sol.residuals.items()},
                 # the fixed-point iteration on the normal forces is the solver (docs/verdicts.md); its

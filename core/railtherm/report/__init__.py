@@ -6,20 +6,25 @@ and ``references.nc``) and writes, in this order:
 1. the **verdict**: a scorecard (scenes × methods: the cheapest level within the tolerance of an
    independent reference on the scene's headline quantity, or the best available with its status),
    key findings computed from the metrics, and a work-precision figure with one panel per scene;
-2. one section per scene: inputs, references, refusals and failures (one line per reason), the runs
+2. when scenes take an exact-contact method as their reference (``reference = "kalker"``): the
+   exact-contact section (:mod:`.exact_contact`), the contact model's error (same thermal model, other
+   contact) separated from the thermal model's (same contact, other thermal model), the creep-force
+   curve, traction/slip/power-density maps side by side and a non-Hertzian scene;
+3. one section per scene: inputs, references, refusals and failures (one line per reason), the runs
    with a result (collapsible table: status, timing min/median, peak RSS, energy balance,
    errors), published values beside the results, convergence orders beside the theoretical ones,
    differences between methods, and the temperature and traction figures with the exact curves;
-3. one section per sweep (scenes generated from one list value): one table and one curve;
-4. benchmarks (a pytest-benchmark JSON file) and the environment.
+4. one section per sweep (scenes generated from one list value): one table and one curve;
+5. benchmarks (a pytest-benchmark JSON file) and the environment.
 
 The report is a pure reader: it computes no physics (the exact curves come from ``references.nc``,
 written by :func:`railtherm.reference_curves.write_reference_curves`). A figure that cannot be drawn
 becomes a sentence in its place.
 
 Modules: :mod:`.load` (reading), :mod:`.verdict` (scorecard and findings), :mod:`.tables` (table
-rows), :mod:`.figures` (matplotlib), :mod:`.sections` (page order), :mod:`.document` (Markdown and
-HTML), :mod:`.format` (numbers).
+rows), :mod:`.figures` (matplotlib), :mod:`.sections` (page order), :mod:`.exact_contact` and
+:mod:`.exact_figures` (the exact-contact section), :mod:`.document` (Markdown and HTML), :mod:`.format`
+(numbers).
 """
 from __future__ import annotations
 
@@ -28,6 +33,7 @@ from pathlib import Path
 
 from ..output import store
 from .document import Document
+from .exact_contact import exact_contact_section
 from .figures import Palette, method_colour
 from .load import load
 from .sections import Context, benchmark_section, environment_section, scene_section, sweep_section, verdict_section
@@ -87,6 +93,7 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     for row in left_out:  # no section: the scorecard row links nowhere
         row.anchor = ""
     verdict_section(doc, ctx, table_rows)
+    exact_contact_section(doc, ctx)
     idx = 0
     for row in table_rows:
         if row in left_out:

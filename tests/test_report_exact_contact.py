@@ -1,0 +1,138 @@
+"""The report's exact-contact section (issue 13 item 6): a small study (level 0) of Ertz & Knothe's ellipse
+with creepage, measured against method "kalker" (reference = "kalker"), run by kalker, green (FASTSIM ->
+green) and fastsim-fdm (FASTSIM -> fdm). Checks: the contact-model and thermal-model error columns are
+computed from the run files (one cell recomputed here from the files), each names its reference, the
+contact-model error agrees with metrics.nc's error against method:kalker, and the figures are written."""
+from __future__ import annotations
+
+import math
+import textwrap
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import railtherm
+from railtherm.output import store
+from railtherm.report.exact_contact import error_rows, exact_comparisons, relative_error
+from railtherm.report.format import pct
+from railtherm.report.load import load
+
+STUDY = textwrap.dedent("""
+    schema_version = 1
+    [study]
+    name = "exact-small"
+    methods = ["kalker", "green", "fastsim-fdm"]
+    levels = [0]
+    tolerance = 0.05
+    repeat = 1
+    [defaults]
+    heat_partition = 0.5
+    convection = 0.0
+    normal_force = 100e3
+    speed = 30.0
+    friction = 0.3
+    reference = "kalker"
+    outputs = ["max_surface_temperature", "mean_contact_temperature", "surface_temperature", "heat_flux",
+               "frictional_power", "creep_force_x", "creep_force_y", "spin_moment", "normal_force", "pressure",
+               "traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick"]
+    [[scene]]
+    name = "ek-combined"
+    contact = { shape = "ellipse", curvatures = [1.015, 0.4215] }
+    creepage = { longitudinal = -2e-3, lateral = 1e-3, spin = 0.2 }
+    [[scene]]
+    name = "ek-curve"
+    contact = { shape = "ellipse", curvatures = [1.015, 0.4215] }
+    creepage = { longitudinal = [-3e-4, -1e-3, -3e-3] }
+    outputs = ["creep_force_x", "creep_force_y", "normal_force"]
+    [[scene]]
+    name = "ek-gap"
+    contact = { shape = "gap", coefficients = { x2 = 1.015, y2 = 0.4215, y4 = 2.0e3 } }
+    creepage = { longitudinal = -2e-3, lateral = 1e-3, spin = 0.2 }
+""")
+
+
+@pytest.fixture(scope="module")
+def out(tmp_path_factory):
+    root = tmp_path_factory.mktemp("exact")
+    path = root / "study.toml"
+    path.write_text(STUDY)
+    railtherm.run_study(str(path), out=root / "out")
+    return root / "out"
+
+
+def _run(out, scene, method, level=0):
+    return xr.open_dataset(store.run_path(out, scene, method, level)).load()
+
+
+def test_section_names_its_methods_and_references(out):
+    md = (out / "report.md").read_text()
+    assert "## Exact contact: contact model against thermal model" in md
+    assert "contact-model error of green, reference kalker [%]" in md
+    assert "thermal-model error of fastsim-fdm, reference green [%]" in md
+    assert "total error of fastsim-fdm, reference kalker [%]" in md
+    data = load(out)
+    (comp,) = exact_comparisons(data)
+    assert comp.exact == "kalker" and comp.contact == ["green"] and comp.thermal == {"fastsim-fdm": "green"}
+
+
+def test_error_cells_recomputed_from_the_run_files(out):
+    data = load(out)
+    (comp,) = exact_comparisons(data)
+    header, rows = error_rows(data, comp)
+    assert {r[0] for r in rows} == {"`ek-combined`"}          # the gap scene has nothing to compare with
+    col = {h: i for i, h in enumerate(header)}
+    by_q = {r[1]: r for r in rows}
+    k, g, f = (_run(out, "ek-combined", m) for m in ("kalker", "green", "fastsim-fdm"))
+    # contact model: green against kalker, creep force
+    row = by_q["creep force Fx [N]"]
+    err = (float(g["creep_force_x"]) - float(k["creep_force_x"])) / abs(float(k["creep_force_x"]))
+    assert str(row[col["contact-model error of green, reference kalker [%]"]]) == pct(err, signed=True, floor=1e-9)
+    assert abs(err) > 0.01                                      # FASTSIM is visibly off the exact theory
+    # thermal model: fastsim-fdm against green, maximum surface temperature of the wheel (rise above 0 degC)
+    row = by_q["max. surface temperature (wheel) [°C]"]
+    tg, tf = float(g["max_surface_temperature"][0]), float(f["max_surface_temperature"][0])
+    assert str(row[col["thermal-model error of fastsim-fdm, reference green [%]"]]) == pct((tf - tg) / tg, signed=True,
+                                                                                          floor=1e-9)
+    tk = float(k["max_surface_temperature"][0])
+    assert str(row[col["total error of fastsim-fdm, reference kalker [%]"]]) == pct((tf - tk) / tk, signed=True,
+                                                                                   floor=1e-9)
+    # the same contact model gives the same creep force: thermal-model error of Fx at round-off or small
+    assert row[-1] == "kalker L0, green L0, fastsim-fdm L0"
+
+
+def test_contact_error_is_the_metrics_error_against_kalker(out):
+    m = store.read_metrics(out)
+    sel = [i for i in range(m.sizes["run"]) if str(m.scene.values[i]) == "ek-combined"
+           and str(m.method.values[i]) == "green"]
+    (i,) = sel
+    assert str(m["reference_creep_force_x"].values[i]) == "method:kalker"
+    k, g = _run(out, "ek-combined", "kalker"), _run(out, "ek-combined", "green")
+    err = relative_error(float(g["creep_force_x"]), float(k["creep_force_x"]))
+    assert float(m["error_creep_force_x"].values[i]) == pytest.approx(abs(err), rel=1e-9)
+
+
+def test_figures_written_beside_the_report(out):
+    md = (out / "report.md").read_text()
+    for name in ("exact-creep-curve", "exact-maps", "exact-gap-maps"):
+        png = out / "figures" / f"{name}.png"
+        assert png.exists() and png.stat().st_size > 10_000, name
+        assert f"figures/{name}.png" in md
+    assert "Kalker linear theory" in md                         # the linear theory drawn from references.nc
+    assert "Non-Hertzian contact `ek-gap`" in md and "2000 y^4" in md
+
+
+def test_creep_curve_table_against_the_exact_contact(out):
+    md = (out / "report.md").read_text()
+    assert "Fx / (μ N) of kalker [1]" in md and "error, reference kalker [%]" in md
+    k = _run(out, "ek-curve--creepage.longitudinal=-0.003", "kalker")
+    ratio = float(k["creep_force_x"]) / (0.3 * float(k["normal_force"]))
+    assert 0.9 < ratio <= 1.0 + 1e-9                             # near full slip at xi = -3e-3
+
+
+def test_relative_error_signs_and_rise():
+    assert relative_error(11.0, 10.0) == pytest.approx(0.1)
+    assert relative_error(-11.0, -10.0) == pytest.approx(-0.1)
+    assert relative_error(30.0, 20.0, bulk=10.0) == pytest.approx(1.0)
+    assert math.isnan(relative_error(1.0, 0.0))
+    assert np.isnan(relative_error(1.0, 5.0, bulk=5.0))
