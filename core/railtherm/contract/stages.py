@@ -42,7 +42,7 @@ STAGES = ("normal", "tangential", "heat_source", "temperature")
 BODIES = ("wheel", "rail")
 
 
-@dataclass
+@dataclass(frozen=True)
 class ContactPatch:
     """Result of the contact stage.
 
@@ -118,7 +118,7 @@ class ContactPatch:
         return replace(self, **fields)
 
 
-@dataclass
+@dataclass(frozen=True)
 class HeatSource:
     """Result of the heat-source stage.
 
@@ -166,7 +166,7 @@ class HeatSource:
         return self.grid.integrate(self.power_density)
 
 
-@dataclass
+@dataclass(frozen=True)
 class TemperatureField:
     """Result of the temperature stage.
 
