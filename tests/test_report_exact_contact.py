@@ -97,7 +97,7 @@ def test_error_cells_recomputed_from_the_run_files(out):
     tk = float(k["max_surface_temperature"][0])
     assert str(row[col["total error of fastsim-fdm, reference kalker [%]"]]) == pct((tf - tk) / tk, signed=True,
                                                                                    floor=1e-9)
-    # the same contact model gives the same creep force: thermal-model error of Fx at round-off or small
+    # the levels each error used are named in the row
     assert row[-1] == "kalker L0, green L0, fastsim-fdm L0"
 
 
