@@ -93,3 +93,16 @@ def test_study_level_errors():
         parse_study({"study": {"colour": 1}, "scene": [BASE]})
     with pytest.raises(railtherm.SceneError, match="used twice"):
         parse_study({"scene": [BASE, BASE]})
+
+
+@pytest.mark.parametrize("value, ok", [(1, True), (2, True), (3, False), ("1", False), (True, False), (1.0, False)])
+def test_an_integer_choice_takes_integers_only(value, ok):
+    """wheelset.contact is 1 or 2: the integer, not "1", true or 1.0 (Choice compares type and value)."""
+    import railtherm
+    sc = {"name": "ws", "contact": {"shape": "ellipse", "semi_axes": [6e-3, 10e-3]}, "speed": 20.0, "friction": 0.3,
+          "wheelset": {"conicity": 0.05, "contact": value}}
+    if ok:
+        assert railtherm.load_scene(sc).wheelset.contact == value
+    else:
+        with pytest.raises(railtherm.SceneError, match="wheelset.contact"):
+            railtherm.load_scene(sc)

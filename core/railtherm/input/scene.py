@@ -84,7 +84,8 @@ class Choice(_Check):
         self.allowed = "one of " + ", ".join(repr(c) for c in choices)
 
     def __call__(self, scene, key, value):
-        if not isinstance(value, str) or value not in self.choices:
+        # the value and the choice must be of one type: 1 is not "1", and true is not 1
+        if isinstance(value, bool) or not any(type(value) is type(c) and value == c for c in self.choices):
             self.fail(scene, key, value)
         return value
 
