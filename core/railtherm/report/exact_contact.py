@@ -216,6 +216,8 @@ def creep_curve(data: StudyData, comp: ExactComparison) -> XF.CreepCurve | None:
     for xi, s in members:
         sc = data.scene[s].scene
         mu = getattr(sc, "friction", None)
+        if sc is None:        # no study at hand: the friction coefficient is unknown
+            mu, curve.ylabel = 1.0, "Fx / N [1] (μ unknown: the study file was not loaded)"
         for m in [comp.exact] + comp.contact:
             fx = _value(data, s, m, "creep_force_x")
             n = _value(data, s, m, "normal_force")

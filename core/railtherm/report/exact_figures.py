@@ -21,6 +21,7 @@ class CreepCurve:
     values: dict = field(default_factory=dict)
     linear: tuple | None = None   # (creepages, ratios, label) of the linear theory (NaN beyond saturation)
     labels: dict = field(default_factory=dict)   # method -> legend label
+    ylabel: str = "Fx / (μ N) [1]"
 
 
 def creep_curve_figure(curve: CreepCurve, palette: Palette, *, path: Path):
@@ -52,7 +53,7 @@ def creep_curve_figure(curve: CreepCurve, palette: Palette, *, path: Path):
     pad = 0.1 * max(hi - lo, 0.2)
     ax.set_ylim(min(lo, 0) - pad, max(hi, 0) + pad)
     ax.set_xlabel("longitudinal creepage ξ [1]")
-    ax.set_ylabel("Fx / (μ N) [1]")
+    ax.set_ylabel(curve.ylabel)
     ax.set_title("creep force (finest successful level)", fontsize=9)
     ax.grid(True, alpha=0.3)
     ax2.axhline(0, color="0.5", lw=0.6)
