@@ -35,8 +35,8 @@ import math
 import numpy as np
 
 from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
-from railtherm.physics import (CONVECTIVE_AREA, equal_temperature_partition, lumped_wheel, peclet_number,
-                               thermal_scales)
+from railtherm.physics import (CONVECTIVE_AREA, embed_field, equal_temperature_partition, field_grid, lumped_wheel,
+                               peclet_number, thermal_scales, with_thermal_trace)
 from railtherm.physics.lumped_wheel import CONVECTIVE_AREAS
 
 from . import kernel, steady, validity
@@ -44,6 +44,7 @@ from . import kernel, steady, validity
 __all__ = ["GreenTemperature"]
 
 _STEADY = ("steady_wheel_temperature", "steady_mean_contact_temperature")
+_TRACE = ("peak_temperature", "cooling_rate", "heated_depth", "time_above")
 
 
 class GreenTemperature(TemperatureModel):
@@ -63,13 +64,24 @@ class GreenTemperature(TemperatureModel):
     the interface takes ``T_r + eps_c (T_w - T_r)`` with the Blok fraction eps_c, and the surfaces
     recover behind the patch; this field is added exactly (:func:`steady.contact_conduction_surface`).
 
+    Behind the patch (scene key ``field``): the same strip integrals, evaluated on the extended grid
+    (:func:`railtherm.grid.extended_grid`, cells of the patch's size reaching ``field.behind`` beyond
+    the trailing edge) with zero flux there, i.e. the 1-D solution continued with zero flux: each
+    strip cools by conduction into the depth only. The surface and depth values at every x are the
+    exact cell integrals above, so the trace behind the patch has the patch's accuracy; the model error
+    of the 1-D strips (no conduction along x and y) grows with the distance behind the patch like
+    the thermal wake sqrt(kappa t) against a and b (tests/test_green_field.py measures it against the
+    exact moving source).
+
     Refuses a body Péclet number below 10 (conduction along x is no longer negligible); between 10
     and 1000 the diagnostics carry the measured error of the 1-D model
     (:func:`railtherm_green.validity.model_error`).
 
     Outputs: ``surface_temperature``, ``max_surface_temperature``, ``mean_contact_temperature``
     (mean over the cells of the patch), ``temperature`` (depth field at y = 0 on a graded z up to
-    ``depth_layers`` thermal layers sqrt(2 kappa a / v)), ``steady_wheel_temperature`` and
+    ``depth_layers`` thermal layers sqrt(2 kappa a / v), or down to ``field.depth``),
+    the thermal trace ``peak_temperature``, ``cooling_rate``, ``heated_depth``, ``time_above``
+    (:func:`railtherm.physics.with_thermal_trace` of the depth field), ``steady_wheel_temperature`` and
     ``steady_mean_contact_temperature`` (seed eqs. 50-54, :mod:`railtherm_green.steady`; the air is
     at the rail's bulk temperature and the wheel radius is ``scene.wheel_radius``).
 
@@ -104,8 +116,9 @@ class GreenTemperature(TemperatureModel):
         peclet=(validity.PECLET_MIN, math.inf),
         moving_surface=True,
         advice=validity.ADVICE,
+        field=True,
         provides=frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature",
-                            "temperature", *_STEADY}),
+                            "temperature", *_STEADY, *_TRACE}),
     )
     options = {
         "partition": Option("source", "heat partition: 'source' uses the heat source's (scene's) partition; "
@@ -131,7 +144,9 @@ class GreenTemperature(TemperatureModel):
 
     # ------------------------------------------------------------------------------------------
     def compute_temperature(self, scene, source, level, options):
-        grid = source.grid
+        fld = getattr(scene, "field", None)
+        patch_grid = source.grid
+        grid = field_grid(patch_grid, scene)
         a, b = grid.a, grid.b
         wheel, rail = scene.wheel, scene.rail
         v_w, v_r = (float(v) for v in source.body_speed)
@@ -145,6 +160,8 @@ class GreenTemperature(TemperatureModel):
         beta = (wheel.effusivity, rail.effusivity)
         speeds = (v_w, v_r)
         q = np.asarray(source.power_density, dtype=float)
+        if grid is not patch_grid:          # zero flux behind the patch: the 1-D solution continues
+            q = embed_field(q, patch_grid, grid)
         shape = q.shape
         q2 = q.reshape(shape[0], -1)                                        # (nx, ny); ny = 1 for a line
         if opts["partition"] == "equal-temperature":
@@ -152,9 +169,12 @@ class GreenTemperature(TemperatureModel):
         else:
             eps = source.heat_partition
         eps_arr = np.asarray(eps, dtype=float)
+        if eps_arr.ndim and grid is not patch_grid:
+            eps_arr = embed_field(eps_arr, patch_grid, grid, fill=0.5)
         eps2 = eps_arr.reshape(q2.shape) if eps_arr.ndim else eps_arr
         flux = np.stack([eps2 * q2, (1.0 - eps2) * q2])                     # (2, nx, ny)
-        rise = kernel.surface_rise(grid.x_edges, flux, beta, speeds)          # one matmul, both bodies
+        extended = grid is not patch_grid     # a field: the long strips are summed by FFT
+        rise = kernel.surface_rise(grid.x_edges, flux, beta, speeds, fft=extended)   # one product, both bodies
 
         # warm wheel against cold rail (or vice versa): conduction through the patch, eqs. 40-44
         t_bulk = (float(wheel.bulk_temperature), float(rail.bulk_temperature))
@@ -180,8 +200,10 @@ class GreenTemperature(TemperatureModel):
         diag["model_error_note"] = validity.ERROR_NOTE
 
         z = depth_rise = None
-        if want_all or "temperature" in outputs:
-            z, depth_rise = self._depth(grid, flux, beta, speeds, (wheel, rail), d_bulk, eps_c, opts)
+        trace = fld is not None and (want_all or any(o in outputs for o in _TRACE))
+        if want_all or "temperature" in outputs or trace:
+            z, depth_rise = self._depth(grid, flux, beta, speeds, (wheel, rail), d_bulk, eps_c, opts,
+                                        None if fld is None else fld.depth, fft=extended)
 
         steady_wheel = steady_mean = None
         if want_all or any(o in outputs for o in _STEADY):
@@ -213,18 +235,25 @@ class GreenTemperature(TemperatureModel):
                 continue
             bodies.append(BodyTemperature(surface_rise[i].reshape(shape), z=z,
                                           depth_rise=None if depth_rise is None else depth_rise[i]))
-        return TemperatureField.from_bodies(grid, t_bulk, *bodies, z=z, steady_wheel_temperature=steady_wheel,
-                                            steady_mean_contact_temperature=steady_mean, diagnostics=diag)
+        if fld is not None:
+            diag.update({"field_behind": float(patch_grid.x_edges[0] - grid.x_edges[0]),
+                         "field_cells_behind": int(grid.x.size - patch_grid.x.size)})
+        result = TemperatureField.from_bodies(grid, t_bulk, *bodies, z=z, steady_wheel_temperature=steady_wheel,
+                                              steady_mean_contact_temperature=steady_mean, diagnostics=diag)
+        return with_thermal_trace(result, scene, source) if trace else result
 
     # ------------------------------------------------------------------------------------------
     @staticmethod
-    def _depth(grid, flux, beta, speeds, bodies, d_bulk, eps_c, opts):
+    def _depth(grid, flux, beta, speeds, bodies, d_bulk, eps_c, opts, depth=None, fft=False):
         """Depth field at y = 0 on the common graded depth axis: (z, rise) with the rise above each
-        body's bulk temperature of shape (2, nx, nz) [m], [K]."""
+        body's bulk temperature of shape (2, nx, nz) [m], [K]. The axis reaches ``depth`` [m] (the
+        scene's ``field.depth``), else ``depth_layers`` thermal layers."""
         a = grid.a
-        layers = [thermal_scales(a, v, m.diffusivity).thermal_depth for v, m in zip(speeds, bodies)]
         n = int(opts["depth_points"])
-        z = float(opts["depth_layers"]) * max(layers) * (np.arange(n) / (n - 1)) ** 2
+        if depth is None:
+            layers = [thermal_scales(a, v, m.diffusivity).thermal_depth for v, m in zip(speeds, bodies)]
+            depth = float(opts["depth_layers"]) * max(layers)
+        z = float(depth) * (np.arange(n) / (n - 1)) ** 2
         if grid.line:
             qc = flux[:, :, 0]
         else:
@@ -234,7 +263,7 @@ class GreenTemperature(TemperatureModel):
             qc = (1.0 - w1) * flux[:, :, j] + w1 * flux[:, :, j + 1]      # linear in y at y = 0
         out = np.empty((2, grid.x.size, n))
         for i, (bt, v, m) in enumerate(zip(beta, speeds, bodies)):
-            out[i] = kernel.depth_rise(grid.x_edges, qc[i], z, bt, v, m.diffusivity)
+            out[i] = kernel.depth_rise(grid.x_edges, qc[i], z, bt, v, m.diffusivity, fft=fft)
         if d_bulk != 0.0:
             cw, cr = steady.contact_conduction_depth(grid.x, z, a, eps_c, speeds[0], speeds[1],
                                                       bodies[0].diffusivity, bodies[1].diffusivity)

@@ -8,6 +8,10 @@
   :mod:`railtherm.references.jaeger`), at any Péclet number, for each body with its share of the heat
   and its own speed.
 
+* the thermal trace of a scene with ``field`` (same sources): the exact peak temperature, cooling
+  rate and time above ``field.threshold`` of a material point on the centre line at each depth, and
+  the heated depth (:func:`trace_reference`), from the same references evaluated at depth.
+
 Values are cached per scene hash (the reference does not depend on the method or level).
 """
 from __future__ import annotations
@@ -56,6 +60,149 @@ def _surface_rise(scene, case, x, y, body):
         return jaeger_band_temperature(x, np.zeros_like(x), a, speeds[body], mat, share * q, shape)
     from ..references.moving_source import moving_source_temperature
     return moving_source_temperature(x, y, np.zeros_like(x), (a, b), speeds[body], mat, share * q, shape)
+
+
+def _depth_rise(scene, case, x, z, body):
+    """Exact rise [K] at y = 0, depth z, of body ``body`` (x, z broadcast)."""
+    a, b, shape, q, speeds, eps = case
+    share = eps if body == 0 else 1.0 - eps
+    x, z = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(z, dtype=float))
+    if share == 0.0 or q == 0.0:
+        return np.zeros(x.shape)
+    mat = scene.body(body)
+    if b is None:
+        from ..references.jaeger import jaeger_band_temperature
+        return jaeger_band_temperature(x, z, a, speeds[body], mat, share * q, shape)
+    from ..references.moving_source import moving_source_temperature
+    return moving_source_temperature(x, np.zeros_like(x), z, (a, b), speeds[body], mat, share * q, shape,
+                                     quad_points=12)
+
+
+def _line_trace(f, a: float, v: float, thr: float, z: float, surface_kink: bool):
+    """Exact (peak, x_peak, cooling rate, time above) of the profile T(x) = f(x) [degC] at one depth.
+
+    The peak is bracketed on samples reaching ever further behind the patch (x from +a down to
+    -a - L, L doubling from 6a) and refined by a bounded scalar search; the cooling rate is the
+    maximum of V dT/dx behind the peak from a cubic spline through 241 samples (refined likewise);
+    the crossings of the threshold by Brent's method. At the surface (``surface_kink``) the exact
+    cooling rate is infinite (the flux ends at the trailing edge): NaN.
+    """
+    from scipy.interpolate import CubicSpline
+    from scipy.optimize import brentq, minimize_scalar
+    length = 6.0 * a
+    for _ in range(14):
+        xs = a - length * np.linspace(0.0, 1.0, 121)
+        ts = f(xs)
+        i = int(np.argmax(ts))
+        if i < xs.size - 1 and ts[-1] < thr:
+            break
+        length *= 2.0
+    if i == 0:
+        i = 1
+    lo, hi = xs[min(i + 1, xs.size - 1)], xs[i - 1]
+    res = minimize_scalar(lambda t: -float(f(np.array([t]))[0]), bounds=(lo, hi), method="bounded",
+                          options={"xatol": 1e-9 * a})
+    xp, tp = (float(res.x), -float(res.fun)) if -res.fun >= ts[i] else (float(xs[i]), float(ts[i]))
+    # cooling: V dT/dx behind the peak, on [xp - span, xp]
+    cool = math.nan
+    if not surface_kink:
+        span = max(2.0 * (a - xp), 4.0 * a)
+        for _ in range(6):
+            xc = np.linspace(xp - span, xp, 241)
+            spl = CubicSpline(xc, f(xc))
+            d = spl(xc, 1)
+            j = int(np.argmax(d))
+            if j > 0:
+                break
+            span *= 2.0
+        lo, hi = xc[max(j - 1, 0)], xc[min(j + 1, xc.size - 1)]
+        r2 = minimize_scalar(lambda t: -float(spl(t, 1)), bounds=(lo, hi), method="bounded",
+                             options={"xatol": 1e-9 * a})
+        cool = v * max(float(d[j]), -float(r2.fun))
+    above = 0.0
+    if tp > thr:
+        g = lambda t: float(f(np.array([t]))[0]) - thr
+        front = xs[:i + 1][ts[:i + 1] <= thr]
+        x_front = a if front.size == 0 else brentq(g, front[-1], xp, xtol=1e-12 * a)  # ahead of the peak
+        k = i + int(np.flatnonzero(ts[i:] <= thr)[0])
+        x_back = brentq(g, xs[k], xs[k - 1] if k - 1 > i else xp, xtol=1e-12 * a)
+        above = (x_front - x_back) / v
+    return tp, xp, cool, above
+
+
+_TRACE_CACHE: dict = {}
+
+
+def trace_reference(scene, z) -> dict | None:
+    """Exact thermal trace of a scene with a given or full-sliding source (no convection).
+
+    Parameters
+    ----------
+    scene : Scene
+        With ``field`` (its ``threshold`` [degC]); the source as for :func:`reference_values`.
+    z : array_like
+        Depths [m] at which the profiles are wanted.
+
+    Returns
+    -------
+    dict or None
+        ``peak_temperature`` [degC], ``peak_position`` [m], ``cooling_rate`` [K s-1], ``time_above`` [s],
+        each of shape (2, nz) (cooling rate NaN at z = 0, where it is infinite: the flux ends at the
+        trailing edge), ``heated_depth`` (2,) [m] (the root of peak(z) = threshold, Brent), and ``tag``
+        (``"moving-source"`` or ``"jaeger"``). None when the scene has no exact source reference.
+
+    Notes
+    -----
+    The profiles T(x) at each depth come from :func:`railtherm.references.moving_source.moving_source_temperature`
+    (point-source superposition, 12 Gauss points per panel: <= 3e-7 of the maximum) on y = 0, or
+    :func:`railtherm.references.jaeger.jaeger_band_temperature` for a line contact, with each body's share
+    of the heat and its own speed; the search reaches as far behind the patch as the peak lies, whatever
+    the field's extent.
+    """
+    case = _thermal_case(scene)
+    if case is None:
+        return None
+    z = np.atleast_1d(np.asarray(z, dtype=float))
+    key = (scene.hash, z.tobytes())
+    if key in _TRACE_CACHE:
+        return _TRACE_CACHE[key]
+    a, b, shape, q, speeds, eps = case
+    fld = getattr(scene, "field", None)
+    thr = float(fld.threshold) if fld is not None else 727.0
+    out = {k: np.full((2, z.size), np.nan) for k in ("peak_temperature", "peak_position", "cooling_rate",
+                                                    "time_above")}
+    depth = np.full(2, np.nan)
+    for body in (0, 1):
+        bulk = float(scene.body(body).bulk_temperature)
+        v = float(speeds[body])
+        share = eps if body == 0 else 1.0 - eps
+        if share == 0.0 or q == 0.0:
+            out["peak_temperature"][body] = bulk
+            out["cooling_rate"][body] = 0.0
+            out["time_above"][body] = 0.0 if bulk <= thr else math.inf
+            depth[body] = 0.0 if bulk <= thr else math.inf
+            continue
+        for k, zk in enumerate(z):
+            f = lambda xx, zk=zk: bulk + _depth_rise(scene, case, xx, zk, body)
+            tp, xp, cool, above = _line_trace(f, a, v, thr, float(zk), zk == 0.0)
+            out["peak_temperature"][body, k], out["peak_position"][body, k] = tp, xp
+            out["cooling_rate"][body, k], out["time_above"][body, k] = cool, above
+        peak = lambda zz: _line_trace(lambda xx: bulk + _depth_rise(scene, case, xx, zz, body), a, v, thr,
+                                      zz, True)[0] - thr
+        if peak(0.0) <= 0.0:
+            depth[body] = 0.0
+            continue
+        from scipy.optimize import brentq
+        hi = 0.05 * a
+        while peak(hi) > 0.0 and hi < 1e3 * a:
+            hi *= 2.0
+        depth[body] = brentq(peak, 0.0 if hi == 0.05 * a else 0.5 * hi, hi, xtol=1e-9 * a)
+    out["heated_depth"] = depth
+    out["tag"] = "jaeger" if b is None else "moving-source"
+    if len(_TRACE_CACHE) > 256:
+        _TRACE_CACHE.clear()
+    _TRACE_CACHE[key] = out
+    return out
 
 
 _CACHE: dict[str, dict] = {}
@@ -146,6 +293,10 @@ def _scalars_uncached(scene):
         src.update(max_surface_temperature=tag, mean_contact_temperature=tag, surface_temperature=tag,
                    heat_partition=tag)
         out["_names"].append(_NAME["jaeger" if b is None else "ms"])
+        if getattr(scene, "field", None) is not None:
+            tr = trace_reference(scene, [0.0])
+            out["heated_depth"] = tr["heated_depth"]
+            src.update(heated_depth=tag, peak_temperature=tag, cooling_rate=tag, time_above=tag)
     return out
 
 
@@ -198,4 +349,8 @@ def reference_fields(scene, ds) -> dict:
             r = _surface_rise(scene, case, X.ravel(), None if Y is None else Y.ravel(), body).reshape(np.shape(X))
             fields.append(scene.body(body).bulk_temperature + r)
         out["surface_temperature"] = np.stack(fields)
+    want = [k for k in ("peak_temperature", "cooling_rate", "time_above") if k in ds]
+    if case is not None and want and "z" in ds.coords and getattr(scene, "field", None) is not None:
+        tr = trace_reference(scene, ds["z"].values)
+        out.update({k: tr[k] for k in want})
     return out

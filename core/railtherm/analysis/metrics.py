@@ -37,9 +37,15 @@ SCALARS = ("max_surface_temperature", "mean_contact_temperature", "max_pressure"
            "creep_force_x", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
 FIELDS = ("surface_temperature", "pressure")
 METRICS = SCALARS + tuple(f + "_l2" for f in FIELDS)
+#: metrics of the thermal trace (scenes with ``field``): relative max-norm errors over the depths where
+#: both the run and the reference have a value (the run's NaN, "field too short", are left out), the
+#: peak temperature on its rise above the bulk temperature. metrics.nc carries them only for a study
+#: with a ``field`` scene (so that other studies' files keep their variables).
+TRACE_PROFILES = ("peak_temperature", "cooling_rate", "time_above")
+TRACE_METRICS = TRACE_PROFILES + ("heated_depth",)
 #: quantities whose relative error is taken on the rise above the bulk temperature
 RISES = ("max_surface_temperature", "mean_contact_temperature", "surface_temperature",
-         "steady_wheel_temperature", "steady_mean_contact_temperature")
+         "steady_wheel_temperature", "steady_mean_contact_temperature", "peak_temperature")
 #: the quantity a scene's verdict is given on: the first of these that the scene asks for
 HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
                   "semi_axis_a", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
@@ -105,6 +111,24 @@ def _rel_l2(scene, name, v, r):
     if den == 0 or not np.isfinite(den):
         return math.nan
     return float(np.sqrt(np.sum((v - r) ** 2)) / den)
+
+
+def rel_error_finite(scene, name: str, value, reference) -> float:
+    """Like :func:`rel_error`, over the entries where both are finite [1] (NaN when there are none):
+    the thermal trace's flagged values ("field too short") and the infinite exact cooling rate at the
+    surface are left out."""
+    v, r = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
+    if v.shape != r.shape or v.size == 0:
+        return math.nan
+    b = _bulk(scene, name, v.shape)
+    v, r = v - b, r - b
+    ok = np.isfinite(v) & np.isfinite(r)
+    if not ok.any():
+        return math.nan
+    scale = np.max(np.abs(r[ok]))
+    if scale == 0:
+        return math.nan if np.max(np.abs(v[ok])) > 0 else 0.0
+    return float(np.max(np.abs(v - r)[ok]) / scale)
 
 
 def _interp_to(ref, ds, name):
@@ -289,6 +313,19 @@ def run_errors(scene, ds, ref_values: dict, ref_ds=None, *, ref_tag: str = "", s
                 err[name + "_l2"] = (_rel_l2(scene, name, ds[name].values, _interp_to(ref_ds, ds, name)), ref_tag)
             except Exception:  # noqa: BLE001 - incompatible grids: no field error
                 pass
+    if any(name in ds for name in TRACE_METRICS):
+        trace = fields   # reference_fields of the subsample: the depth axis is not subsampled
+        for name in TRACE_METRICS:
+            if name not in ds:
+                continue
+            ref = trace.get(name) if name != "heated_depth" else values.get(name)
+            if ref is not None:
+                tag = exact(name)
+                if tag:
+                    err[name] = (rel_error_finite(scene, name, ds[name].values, ref), tag)
+            elif ref_ds is not None and name in ref_ds and ref_ds[name].shape == ds[name].shape and (
+                    "z" not in ds[name].dims or np.array_equal(ref_ds["z"].values, ds["z"].values)):
+                err[name] = (rel_error_finite(scene, name, ds[name].values, ref_ds[name].values), ref_tag)
     return err
 
 
@@ -387,6 +424,7 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
     from .analytic import reference_values
 
     tol = tolerance if tolerance is not None else getattr(study, "tolerance", 0.05)
+    metrics = METRICS + (TRACE_METRICS if any(getattr(s, "field", None) is not None for s in study.scenes) else ())
     out = Path(out)
     scenes = {s.name: s for s in study.scenes}
     cache: dict = {}
@@ -492,13 +530,13 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
     n = len(rows)
     data = {}
     str_cols = ("scene", "method", "status", "message", "reason_kind", "energy_reference", "headline_reference") \
-        + tuple(f"reference_{m}" for m in METRICS)
+        + tuple(f"reference_{m}" for m in metrics)
     for col in str_cols:
         data[col] = ("run", np.array([r.get(col, "") for r in rows], dtype=object))
     data["level"] = ("run", np.array([r["level"] for r in rows], dtype="int32"))
     data["timing_runs"] = ("run", np.array([int(r["timing_runs"] or 0) for r in rows], dtype="int32"))
     for col in ("wall_time", "wall_time_median", "peak_rss", "rss_growth", "energy_balance", "headline_error") \
-            + tuple(f"error_{m}" for m in METRICS):
+            + tuple(f"error_{m}" for m in metrics):
         data[col] = ("run", np.array([r.get(col, math.nan) for r in rows], dtype=float))
     ds = xr.Dataset(data, coords={"run": np.arange(n)})
     attrs = {"scene": ("1", "scene name"), "method": ("1", "method name"), "level": ("1", "resolution level"),
@@ -516,7 +554,7 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
              "headline_reference": ("1", "reference of headline_error")}
     for k, (u, ln) in attrs.items():
         ds[k].attrs.update(units=u, long_name=ln)
-    for m in METRICS:
+    for m in metrics:
         ds[f"error_{m}"].attrs.update(units="1", long_name=f"relative error of {m} against reference_{m}")
         ds[f"reference_{m}"].attrs.update(units="1", long_name=f"reference of error_{m}: analytic:<name> | "
                                                                "method:<name> | self:finest")
@@ -529,7 +567,7 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
     ds = ds.assign_coords(scene_name=("scene_name", np.array(snames, dtype=object)),
                           method_name=("method_name", np.array(mnames, dtype=object)),
                           other_method=("other_method", np.array(mnames, dtype=object)),
-                          metric=("metric", np.array(METRICS, dtype=object)),
+                          metric=("metric", np.array(metrics, dtype=object)),
                           quantity=("quantity", np.array(CROSS, dtype=object)),
                           body=("body", np.array(["wheel", "rail"], dtype=object)))
     ds["headline"] = ("scene_name", np.array(heads, dtype=object),
@@ -553,11 +591,11 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
         ds[f"analytic_{q}"] = (("scene_name", "body") if per_body else ("scene_name",), arr, a)
 
     # convergence orders, Richardson estimates and cross-method differences
-    order = np.full((len(snames), len(mnames), len(METRICS)), np.nan)
-    order_ref = np.full((len(snames), len(mnames), len(METRICS)), "", dtype=object)
-    theo = np.full((len(snames), len(mnames), len(METRICS)), np.nan)
-    rich = np.full((len(snames), len(mnames), len(METRICS)), np.nan)
-    rich_u = np.full((len(snames), len(mnames), len(METRICS)), np.nan)
+    order = np.full((len(snames), len(mnames), len(metrics)), np.nan)
+    order_ref = np.full((len(snames), len(mnames), len(metrics)), "", dtype=object)
+    theo = np.full((len(snames), len(mnames), len(metrics)), np.nan)
+    rich = np.full((len(snames), len(mnames), len(metrics)), np.nan)
+    rich_u = np.full((len(snames), len(mnames), len(metrics)), np.nan)
     cross = np.full((len(snames), len(CROSS), len(mnames), len(mnames)), np.nan)
     by_sm: dict = {}
     rec_of = {(r.scene, r.method, r.level): r for r in records}
@@ -569,16 +607,16 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
         vals = {}
         for j, m in enumerate(mnames):
             sel = sorted(by_sm.get((s, m), []), key=lambda r: r["level"])
-            for k, met in enumerate(METRICS):
+            for k, met in enumerate(metrics):
                 theo[i, j, k] = float(orders_of[m].get(met, math.nan))
             if len(sel) >= 2:  # (one level: no order)
-                for k, met in enumerate(METRICS):
+                for k, met in enumerate(metrics):
                     errs = [r.get(f"error_{met}", math.nan) for r in sel]
                     tags = sorted({r.get(f"reference_{met}", "") for r, e in zip(sel, errs) if np.isfinite(e)})
                     order[i, j, k] = convergence_order([r["level"] for r in sel], errs)
                     order_ref[i, j, k] = "; ".join(t for t in tags if t)
             if len(sel) >= 3:
-                for k, met in enumerate(METRICS):
+                for k, met in enumerate(metrics):
                     if met not in SCALARS:
                         continue
                     lv, qs = [], []

@@ -3,9 +3,15 @@
 One grid per (scene, level): cell-centred, covering the bounding box of the contact patch,
 x in [-a, a] (rolling direction, leading edge at +a), y in [-b, b]. Line contacts have no y.
 Level k has ``cells * 2**k`` cells along x; y gets a count in proportion to b/a.
+
+A scene with ``field = {behind = d}`` reports its temperatures on the *extended* grid
+(:func:`extended_grid`): the patch grid with whole cells of the same size added behind the trailing
+edge until x reaches -a - d; y is unchanged. Contact and heat-source fields are put on it with
+:func:`embed` (zero outside the patch; ``stick`` NaN).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -145,6 +151,86 @@ def surface_grid(a: float, b: float | None, level: int, cells: int | None = None
         return SurfaceGrid(x_edges, None, float(a), None)
     y_edges = np.linspace(-b, b, ny + 1)
     return SurfaceGrid(x_edges, y_edges, float(a), float(b))
+
+
+def extended_grid(grid: SurfaceGrid, behind: float) -> SurfaceGrid:
+    """The grid of ``grid`` extended by ``behind`` [m] beyond the trailing edge (x = -a).
+
+    Parameters
+    ----------
+    grid : SurfaceGrid
+        The patch grid (uniform along x).
+    behind : float
+        Distance [m] beyond the trailing edge, >= 0; rounded up to whole cells of width ``grid.dx``
+        (so the extended grid's first edge is at or below -a - behind, and its cells inside the patch
+        are exactly the patch grid's).
+
+    Returns
+    -------
+    SurfaceGrid
+        Same ``a``, ``b``, ``y_edges``; ``x_edges`` with ``ceil(behind / dx)`` cells prepended;
+        ``contact`` (if any) padded with False. ``grid`` itself when no cell is added.
+
+    Raises
+    ------
+    railtherm.Refused
+        (kind "budget") when the extended grid has more than :data:`MAX_SURFACE_CELLS` cells.
+    """
+    behind = float(behind)
+    if not behind >= 0.0:
+        raise ValueError(f"behind must be >= 0, got {behind!r} [m]")
+    dx = grid.dx
+    n = int(math.ceil(behind / dx - 1e-9)) if behind > 0 else 0
+    if n == 0:
+        return grid
+    nx = grid.x.size + n
+    ny = 1 if grid.line else grid.y.size
+    if nx * ny > MAX_SURFACE_CELLS:
+        raise Refused(f"the surface grid extended {behind:.4g} m behind the patch (field.behind) needs "
+                      f"{_shape(nx, None if grid.line else ny)} = {nx * ny:.3g} cells of {dx:.3g} m, above the "
+                      f"budget railtherm.grid.MAX_SURFACE_CELLS = {MAX_SURFACE_CELLS:.3g}: use a lower level or a "
+                      "shorter field.behind", kind="budget")
+    x0 = float(grid.x_edges[0])
+    x_edges = np.concatenate([x0 - dx * np.arange(n, 0, -1), np.asarray(grid.x_edges, dtype=float)])
+    contact = None
+    if grid.contact is not None:
+        contact = embed(np.asarray(grid.contact, dtype=bool), grid, SurfaceGrid(x_edges, grid.y_edges, grid.a, grid.b),
+                        fill=False)
+    return SurfaceGrid(x_edges, grid.y_edges, grid.a, grid.b, contact)
+
+
+def behind_cells(grid: SurfaceGrid, target: SurfaceGrid) -> int:
+    """Number of cells ``target`` (an :func:`extended_grid` of ``grid``) adds behind the trailing edge."""
+    n = target.x.size - grid.x.size
+    if n < 0 or not np.allclose(target.x_edges[n:], grid.x_edges, rtol=0.0, atol=1e-9 * grid.dx):
+        raise ValueError("target is not an extension of grid behind the trailing edge")
+    return n
+
+
+def embed(field: np.ndarray, grid: SurfaceGrid, target: SurfaceGrid, fill=0.0) -> np.ndarray:
+    """A field on ``grid`` put on its :func:`extended_grid` ``target`` (``fill`` behind the patch).
+
+    Parameters
+    ----------
+    field : ndarray, shape (..., *grid.shape)
+        Cell values on the patch grid (leading axes, e.g. the body, are kept).
+    grid, target : SurfaceGrid
+        The patch grid and its extension.
+    fill : scalar
+        Value of the added cells (0 for pressure, traction and heat flux; NaN for ``stick``).
+
+    Returns
+    -------
+    ndarray, shape (..., *target.shape)
+    """
+    field = np.asarray(field)
+    n = behind_cells(grid, target)
+    if n == 0:
+        return field
+    lead = field.ndim - len(grid.shape)
+    pad = [(0, 0)] * field.ndim
+    pad[lead] = (n, 0)
+    return np.pad(field, pad, mode="constant", constant_values=fill)
 
 
 def _cells(n: int, a: float, b: float | None) -> int:

@@ -53,7 +53,19 @@ VARIABLES: dict[str, Var] = {
     "mean_contact_temperature": Var(("body",), "degC", "mean surface temperature over the contact patch", "temperature", True),
     "steady_wheel_temperature": Var((), "degC", "steady-state (long-term) wheel bulk temperature", "steady", True),
     "steady_mean_contact_temperature": Var((), "degC", "steady-state mean contact temperature", "steady", True),
+    # the thermal trace (scene key ``field``; railtherm.physics.thermal_trace)
+    "peak_temperature": Var(("body", "z"), "degC", "highest temperature a material point on the centre line "
+                            "y = 0 reaches at depth z during the pass", "temperature", True),
+    "cooling_rate": Var(("body", "z"), "K s-1", "fastest cooling -dT/dt = V dT/dx of a material point on the "
+                        "centre line at depth z after its peak temperature", "temperature"),
+    "heated_depth": Var(("body",), "m", "depth down to which the peak temperature exceeds field.threshold",
+                        "temperature"),
+    "time_above": Var(("body", "z"), "s", "time a material point on the centre line at depth z spends above "
+                      "field.threshold", "temperature"),
 }
+
+#: the thermal-trace variables: NaN where the field is too short to tell (never a false peak)
+TRACE_VARIABLES = ("peak_temperature", "cooling_rate", "heated_depth", "time_above")
 
 COORDS = {
     "x": ("m", "rolling direction, origin at the patch centre, leading edge at +a"),
@@ -94,18 +106,29 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
     """Assemble a result Dataset from the stage results that exist.
 
     Every variable a stage computed is included (what was asked and what was computed); nothing
-    is invented for stages that did not run.
+    is invented for stages that did not run. When the temperature field lies on an extended grid
+    (``temperature.grid``, a scene with ``field``), that grid is the result's: the contact and heat
+    fields are put on it with zeros behind the patch (``stick`` NaN, :func:`railtherm.grid.embed`).
     """
     import xarray as xr
+    from .grid import embed
 
     line = grid.line
     data: dict[str, tuple] = {}
+    base = grid
+    tgrid = getattr(temperature, "grid", None) if temperature is not None else None
+    if tgrid is not None and tgrid.shape != grid.shape:
+        grid = tgrid
+    nan_ok: list[str] = []
 
     def put(name, value):
         if value is None:
             return
         arr = np.asarray(value, dtype=float)
-        data[name] = (dims_for(name, line), arr)
+        dims = dims_for(name, line)
+        if grid is not base and "x" in dims and arr.shape[dims.index("x")] == base.x.size:   # a patch field
+            arr = embed(arr, base, grid, fill=np.nan if name == "stick" else 0.0)
+        data[name] = (dims, arr)
 
     if patch is not None:
         put("pressure", patch.pressure)
@@ -137,19 +160,32 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
             put("temperature", temperature.temperature)
         put("steady_wheel_temperature", temperature.steady_wheel_temperature)
         put("steady_mean_contact_temperature", temperature.steady_mean_contact_temperature)
+        if temperature.z is not None:
+            for name in TRACE_VARIABLES:
+                value = getattr(temperature, name, None)
+                put(name, value)
+                if value is not None and not np.all(np.isfinite(np.asarray(value, dtype=float))):
+                    nan_ok.append(name)
 
     coords = {"x": ("x", grid.x), "body": ("body", np.array(["wheel", "rail"]))}
     if not line:
         coords["y"] = ("y", grid.y)
-    if temperature is not None and temperature.z is not None and "temperature" in data:
+    if temperature is not None and temperature.z is not None and (
+            "temperature" in data or any(n in data for n in TRACE_VARIABLES)):
         coords["z"] = ("z", np.asarray(temperature.z, dtype=float))
     ds = xr.Dataset(data, coords=coords)
     for name in ds.data_vars:
         ds[name].attrs.update(variable_attrs(name))
     for name in ds.coords:
         ds[name].attrs.update(coord_attrs(name))
+    for name in nan_ok:
+        ds[name].attrs["comment"] = ("NaN where the field is too short to tell: the peak (or the fastest cooling, "
+                                     "or the time above the threshold) reaches the end of the field; see the "
+                                     "temperature model's trace_* diagnostics")
     ds.attrs.update({"Conventions": "CF-1.11", "schema_version": SCHEMA_VERSION})
     ds.attrs.update(attrs or {})
+    if nan_ok:
+        ds.attrs["nan_allowed"] = " ".join(sorted(set(str(ds.attrs.get("nan_allowed", "")).split()) | set(nan_ok)))
     return ds
 
 

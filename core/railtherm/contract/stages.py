@@ -185,6 +185,17 @@ class TemperatureField:
     steady_wheel_temperature, steady_mean_contact_temperature : float or None
         Long-term (steady-state) values [degC] where the model computes them.
     diagnostics : dict
+    grid : SurfaceGrid or None
+        The grid the fields lie on when it is not the heat source's: the
+        :func:`railtherm.grid.extended_grid` of a scene with ``field`` (x reaching behind the patch).
+        None: the heat source's grid.
+    peak_temperature, cooling_rate, time_above : ndarray or None, shape (2, nz)
+        The thermal trace of a material point on the centre line at each depth ``z``: highest
+        temperature [degC], fastest cooling after the peak [K s-1], time above ``field.threshold``
+        [s]; NaN where the field is too short to tell (see :mod:`railtherm.physics.thermal_trace`,
+        which fills them with :func:`~railtherm.physics.with_thermal_trace`).
+    heated_depth : ndarray or None, shape (2,)
+        Depth [m] down to which the peak exceeds ``field.threshold`` (NaN: the field is too shallow).
     """
 
     surface_temperature: np.ndarray
@@ -195,6 +206,11 @@ class TemperatureField:
     steady_wheel_temperature: float | None = None
     steady_mean_contact_temperature: float | None = None
     diagnostics: dict = field(default_factory=dict)
+    grid: SurfaceGrid | None = None
+    peak_temperature: np.ndarray | None = None
+    cooling_rate: np.ndarray | None = None
+    time_above: np.ndarray | None = None
+    heated_depth: np.ndarray | None = None
 
     @classmethod
     def from_surface(cls, grid: SurfaceGrid, surface: np.ndarray, **kw) -> "TemperatureField":
@@ -204,6 +220,7 @@ class TemperatureField:
         the common depth axis in one place.
         """
         surface = np.asarray(surface, dtype=float)
+        kw.setdefault("grid", grid)
         inside = grid.inside()
         tmax = surface.reshape(2, -1).max(axis=1)
         tmean = np.array([surface[i][inside].mean() for i in range(2)])
@@ -220,7 +237,8 @@ class TemperatureField:
         Parameters
         ----------
         grid : SurfaceGrid
-            Surface grid of the heat source.
+            Surface grid of the fields: the heat source's, or its :func:`railtherm.grid.extended_grid`
+            for a scene with ``field`` (then kept as :attr:`grid` of the result).
         bulk : (float, float)
             Bulk temperatures of wheel and rail [degC].
         wheel, rail : BodyTemperature or None
@@ -339,9 +357,13 @@ class Capabilities:
         move through the patch (surface speed > 0).
     provides : frozenset of str
         Result variables the model fills (names of :data:`railtherm.schema.VARIABLES`).
+    field : bool
+        The model reports temperatures behind the patch and in depth as the scene's ``field`` asks
+        (on :func:`railtherm.grid.extended_grid`, depth down to ``field.depth``) and the thermal trace
+        (:func:`railtherm.physics.with_thermal_trace`); False refuses a scene with ``field``.
     advice : tuple of (str, str)
         Optional method-specific reason and alternative appended to a refusal, per capability
-        ("modes", "convection", "peclet", "moving_surface"); a mapping is accepted. Without it core
+        ("modes", "convection", "peclet", "moving_surface", "field"); a mapping is accepted. Without it core
         says which declaration would work (``railtherm methods`` lists each model's).
     """
 
@@ -354,13 +376,14 @@ class Capabilities:
     moving_surface: bool = False
     provides: frozenset = frozenset()
     advice: tuple = ()
+    field: bool = False
 
     def __post_init__(self):
         if self.convection not in CONVECTION_KINDS or not isinstance(self.convection, (bool, str)):
             raise ValueError(f"Capabilities.convection must be one of {CONVECTION_KINDS}, got {self.convection!r}")
         if isinstance(self.advice, Mapping):
             object.__setattr__(self, "advice", tuple(sorted(self.advice.items())))
-        unknown = {k for k, _ in self.advice} - {"modes", "convection", "peclet", "moving_surface"}
+        unknown = {k for k, _ in self.advice} - {"modes", "convection", "peclet", "moving_surface", "field"}
         if unknown:
             raise ValueError(f"Capabilities.advice has unknown keys {sorted(unknown)}")
 
@@ -376,7 +399,8 @@ class Capabilities:
         return (f"enforced by core: contacts={'/'.join(sorted(self.contacts))}; sources={'/'.join(sorted(self.sources))}; "
                 f"tangential={'/'.join(sorted(self.tangential))}; if a temperature model: "
                 f"modes={'/'.join(sorted(self.modes))}; convection={conv}; Peclet {lo:g}..{hi:g}; "
-                f"moving surfaces needed={'yes' if self.moving_surface else 'no'}")
+                f"moving surfaces needed={'yes' if self.moving_surface else 'no'}; "
+                f"field (behind the patch, in depth)={'yes' if self.field else 'no'}")
 
 
 @dataclass(frozen=True)
@@ -467,6 +491,13 @@ class StageModel:
             return (f"model {self.name!r} computes mode {'/'.join(sorted(caps.modes))}, not the scene's mode {mode!r}; "
                     + (caps.advice_for("modes") or f"use a model that declares mode {'/'.join(other) or mode!r} "
                        "(railtherm methods lists each model's modes)"))
+        fld = getattr(scene, "field", None)
+        if fld is not None and not caps.field:
+            return (f"model {self.name!r} reports temperatures on the patch only, but scene "
+                    f"{getattr(scene, 'name', '?')!r} asks for them behind the patch and in depth (key 'field': "
+                    f"behind = {fld.behind:g} m, depth = {'default' if fld.depth is None else format(fld.depth, 'g') + ' m'}); "
+                    + (caps.advice_for("field") or "leave out 'field' or use a temperature model that declares "
+                       "field=yes (railtherm methods lists them; method 'green')"))
         h = float(getattr(scene, "convection", 0.0) or 0.0)
         if h > 0 and not caps.convection:
             return (f"model {self.name!r} ignores convection (it declares convection=no) but scene "

@@ -295,7 +295,14 @@ SCENE_KEYS: dict[str, _Check] = {
                        "contact": Choice(1, 2)}),
     "mode": Choice("steady", "transient"),
     "reference": Text(),
+    "field": Table({"behind": Num(0, unit="m", note="distance beyond the trailing edge"),
+                    "depth": Num(0, lo_open=True, unit="m"),
+                    "threshold": Num(-273.15, lo_open=True, unit="degC")}),
 }
+
+#: outputs of the thermal trace (need the scene key ``field``): what a material point on the centre line
+#: lives through as it passes the contact (docs/DESIGN.md "Result schema")
+TRACE_OUTPUTS = ("peak_temperature", "cooling_rate", "heated_depth", "time_above")
 
 
 def _flatten(keys: Mapping[str, _Check], prefix: str = "") -> dict[str, _Check]:
@@ -348,6 +355,28 @@ class Strip:
 
 
 @dataclass(frozen=True)
+class Field:
+    """Where temperatures are reported (scene key ``field``): the thermal trace behind the patch and in depth.
+
+    Attributes
+    ----------
+    behind : float
+        Distance [m] beyond the trailing edge that the temperature fields reach: x runs from +a down to
+        -a - behind (rounded up to whole cells of the surface grid). Default 0: the patch only.
+    depth : float or None
+        Depth [m] the depth field ``temperature(body, x, z)`` reaches. Default None: the temperature
+        model's own depth (green: ``depth_layers`` thermal layers).
+    threshold : float
+        Temperature [degC] for ``heated_depth`` and ``time_above``. Default 727 degC (the eutectoid
+        temperature of rail steel, above which austenite forms: white etching layers).
+    """
+
+    behind: float = 0.0
+    depth: float | None = None
+    threshold: float = 727.0
+
+
+@dataclass(frozen=True)
 class Wheelset:
     conicity: float = 0.0
     lateral_shift: float = 0.0
@@ -394,6 +423,9 @@ class Scene:
     source: Mapping[str, Any] = field(default_factory=dict, compare=False, repr=False)
     #: swept parameters of this scene, key -> value
     sweep: Mapping[str, Any] = field(default_factory=dict, compare=False)
+    #: temperatures behind the patch and in depth (key ``field``); None: on the patch only, as before
+    #: (declared last: the name shadows ``dataclasses.field`` in the class body)
+    field: Field | None = None
 
     @property
     def wheel_radius(self) -> float:
@@ -576,6 +608,13 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
         kw["strip"] = Strip(**c["strip"])
     if "wheelset" in c:
         kw["wheelset"] = Wheelset(**c["wheelset"])
+    if "field" in c:
+        kw["field"] = Field(**c["field"])
+    trace = [o for o in kw.get("outputs", ()) if o in TRACE_OUTPUTS]
+    if trace and "field" not in c:
+        raise SceneError.bad_value(name, "outputs", trace[0],
+                                   "a thermal-trace output (" + ", ".join(TRACE_OUTPUTS) + ") only with the "
+                                   "key field = { behind = <m>, depth = <m>, threshold = <degC> } (each optional)")
     kw["numerics"] = dict(c.get("numerics", {}))
     source = json.loads(json.dumps(dict(raw), default=_jsonable))
     source["name"] = name

@@ -41,6 +41,14 @@ Thermal scales (:mod:`railtherm.physics.scales`)
 Graded edges (:mod:`railtherm.physics.grading`)
     geometric_edges(length, first, ratio, level)
         Geometrically graded cell edges, nested by refinement level.
+Thermal trace (:mod:`railtherm.physics.thermal_trace`)
+    thermal_trace(x, z, T, V, threshold) -> Trace
+        Peak temperature, cooling rate, time above a threshold per depth and the heated depth of a
+        material point on the centre line (NaN where the field is too short).
+    with_thermal_trace(field, scene, source) -> TemperatureField
+        The same for both bodies of a temperature result (one implementation for every method).
+    field_grid(grid, scene), extended_grid(grid, behind), embed_field(field, grid, target)
+        The grid reaching ``field.behind`` beyond the trailing edge, and a patch field put on it.
 Lumped wheel (:mod:`railtherm.physics.lumped_wheel`)
     lumped_wheel(eps P, theta_mean, ...) -> LumpedWheel
         Ertz & Knothe's long-term wheel temperature with the documented convective area
@@ -65,9 +73,10 @@ from .lumped_wheel import (CONVECTIVE_AREA, ELLIPSE_SQRT_WIDTH, LumpedWheel, con
                            convective_area, lumped_wheel)
 from .partition import equal_temperature_partition, scene_partition
 from .scales import ThermalScales, peclet_number, thermal_scales
+from .thermal_trace import Trace, embed_field, extended_grid, field_grid, thermal_trace, with_thermal_trace
 
 __all__ = ["hertz_geometry", "hertz_patch", "hertz_pressure_grid", "rescale_hertz_patch", "scene_semi_axis",
            "cell_average", "exact_total", "nodal_cell_average", "combined_elastic", "contact_modulus",
            "body_speeds", "creep_speeds", "equal_temperature_partition", "scene_partition", "ThermalScales", "thermal_scales",
            "peclet_number", "geometric_edges", "CONVECTIVE_AREA", "ELLIPSE_SQRT_WIDTH", "LumpedWheel",
-           "conduction_conductance", "convective_area", "lumped_wheel"]
+           "conduction_conductance", "convective_area", "lumped_wheel", "Trace", "thermal_trace", "with_thermal_trace", "field_grid", "extended_grid", "embed_field"]

@@ -1,0 +1,188 @@
+"""The thermal trace (issue 14): scene key ``field``, the extended grid, core's trace functions
+(:mod:`railtherm.physics.thermal_trace`) against closed forms and the exact Jaeger band at depth, and the
+capability check that refuses ``field`` for temperature models that do not declare it."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import railtherm
+from railtherm import SceneError
+from railtherm.contract.grid import embed, extended_grid, surface_grid
+from railtherm.contract.schema import build_dataset
+from railtherm.input.scene import KEY_TABLE, key_units, load_scene
+from railtherm.physics import thermal_trace
+from railtherm.references.jaeger import jaeger_band_temperature
+
+A = 5e-3
+MAT = railtherm.Material()
+V_PE1000 = 1000.0 * 2.0 * MAT.diffusivity / A     # Péclet V a / (2 kappa) = 1000
+
+
+def _scene(**kw):
+    base = dict(name="s", speed=V_PE1000, heat_source=dict(flux=1e9, shape="hertz", half_width=A),
+                heat_partition=0.0)
+    base.update(kw)
+    return base
+
+
+# ------------------------------------------------------------------------------------------------
+# scene vocabulary
+def test_field_keys_units_and_defaults():
+    assert key_units("field.behind") == "m" and key_units("field.depth") == "m"
+    assert key_units("field.threshold") == "degC" and "field.threshold" in KEY_TABLE
+    sc = load_scene(_scene(field={}))
+    assert (sc.field.behind, sc.field.depth, sc.field.threshold) == (0.0, None, 727.0)
+    sc = load_scene(_scene(field={"behind": 0.03, "depth": 2e-3, "threshold": 700}))
+    assert (sc.field.behind, sc.field.depth, sc.field.threshold) == (0.03, 2e-3, 700.0)
+    assert load_scene(_scene()).field is None
+
+
+@pytest.mark.parametrize("table, key", [({"behind": -1.0}, "field.behind"), ({"depth": 0.0}, "field.depth"),
+                                        ({"threshold": -300.0}, "field.threshold"), ({"behind": "far"}, "field.behind"),
+                                        ({"ahead": 1.0}, "field.ahead")])
+def test_field_errors_name_scene_key_value_allowed(table, key):
+    with pytest.raises(SceneError) as e:
+        load_scene(_scene(field=table))
+    assert e.value.key == key and e.value.scene == "s" and "'s'" in str(e.value)
+    assert e.value.allowed
+
+
+def test_trace_outputs_need_field():
+    with pytest.raises(SceneError, match="field = "):
+        load_scene(_scene(outputs=["peak_temperature"]))
+    load_scene(_scene(outputs=["peak_temperature", "heated_depth"], field={}))
+
+
+# ------------------------------------------------------------------------------------------------
+# the extended grid
+def test_extended_grid_adds_whole_cells_behind_and_embed_pads():
+    g = surface_grid(A, 2 * A, 0, 8)
+    e = extended_grid(g, 3.1 * A)
+    assert e.x.size == 8 + 13 and np.allclose(e.x_edges[13:], g.x_edges) and e.x_edges[0] <= -A - 3.1 * A
+    assert np.isclose(e.dx, g.dx) and e.y_edges is g.y_edges and extended_grid(g, 0.0) is g
+    f = np.arange(np.prod(g.shape), dtype=float).reshape(g.shape) + 1
+    p = embed(np.stack([f, f]), g, e)
+    assert p.shape == (2,) + e.shape and np.all(p[:, :13] == 0) and np.array_equal(p[1, 13:], f)
+    assert np.array_equal(e.inside()[13:], g.inside()) and not e.inside()[:13].any()
+
+
+def test_dataset_on_the_extended_grid_has_zero_contact_fields_behind():
+    from railtherm.contract.stages import ContactPatch, HeatSource, TemperatureField
+    g = surface_grid(A, None, 0, 8)
+    e = extended_grid(g, 2 * A)
+    p = np.where(g.inside(), 1e9, 0.0)
+    patch = ContactPatch(g, 1e5, A, None, 1e9, p, stick=np.zeros(g.shape))
+    src = HeatSource(g, p * 0.1, 0.5, (1.0, 1.0), 1.0)
+    tf = TemperatureField.from_surface(e, np.full((2,) + e.shape, 20.0))
+    ds = build_dataset(g, patch, src, tf)
+    n = e.x.size - g.x.size
+    assert ds.sizes["x"] == e.x.size and np.all(ds["pressure"].values[:n] == 0)
+    assert np.all(ds["heat_flux"].values[:, :n] == 0) and np.all(np.isnan(ds["stick"].values[:n]))
+
+
+# ------------------------------------------------------------------------------------------------
+# core's trace functions
+def _gauss(x, z, t0=820.0):
+    """T = 20 + 800 exp(-(x + 1)^2 / w), w = 1 + z: peak 820 at x = -1, cooling 2 V 800 e^-1/2 / sqrt(2 w)."""
+    w = 1.0 + z
+    return 20.0 + 800.0 * np.exp(-(x[:, None] + 1.0) ** 2 / w[None, :])
+
+
+def test_trace_of_a_closed_form_field():
+    x = np.linspace(-6.0, 1.0, 1401)
+    z = np.array([0.0, 0.5, 1.0])
+    v, thr = 2.0, 420.0
+    tr = thermal_trace(x, z, _gauss(x, z), v, thr)
+    w = 1.0 + z
+    assert np.allclose(tr.peak_temperature, 820.0, rtol=0, atol=1e-9)
+    assert np.allclose(tr.peak_position, -1.0, atol=1e-9)
+    cool = v * 800.0 * math.exp(-0.5) * np.sqrt(2.0 / w)
+    assert np.allclose(tr.cooling_rate, cool, rtol=5e-5)   # central differences, h = 0.005: O(h^2)
+    # T > 420 where (x + 1)^2 < w ln 2
+    assert np.allclose(tr.time_above, 2.0 * np.sqrt(w * math.log(2.0)) / v, rtol=1e-5)
+    assert math.isnan(tr.heated_depth) and "field.depth" in tr.notes[0]   # above 420 down to the deepest z
+
+
+def test_a_peak_at_the_end_of_the_field_is_flagged_never_reported():
+    x = np.linspace(-1.5, 1.0, 301)            # the field ends before the z = 3 peak's cooling and heating
+    z = np.array([0.0, 3.0])
+    T = 20.0 + 800.0 * np.exp(-(x[:, None] + 1.0 + z[None, :]) ** 2)   # the z = 3 peak lies at x = -4
+    tr = thermal_trace(x, z, T, 1.0, 500.0)
+    assert np.isfinite(tr.peak_temperature[0]) and np.isnan(tr.peak_temperature[1])
+    assert np.isnan(tr.cooling_rate[1]) and np.isfinite(tr.time_above[1])
+    assert any("peak_temperature: field too short" in n and "field.behind" in n for n in tr.notes)
+    tr = thermal_trace(x, z, T, 1.0, T[0, 1] - 0.1)   # above T* at the end of the field
+    assert np.isnan(tr.time_above[1]) and any(n.startswith("time_above: field too short") for n in tr.notes)
+
+
+def test_no_heat_gives_the_bulk_temperature_and_no_cooling():
+    x = np.linspace(-3.0, 1.0, 50)
+    tr = thermal_trace(x, [0.0, 1e-3], np.full((50, 2), 20.0), 1.0, 727.0)
+    assert np.all(tr.peak_temperature == 20.0) and np.all(tr.cooling_rate == 0.0)
+    assert np.all(tr.time_above == 0.0) and tr.heated_depth == 0.0 and not tr.notes
+
+
+def test_heated_depth_interpolates_the_crossing():
+    x = np.linspace(-6.0, 1.0, 2801)
+    z = np.linspace(0.0, 2.0, 81)
+    T = 20.0 + 800.0 * np.exp(-(x[:, None] + 1.0) ** 2) * np.exp(-z[None, :])   # peak 20 + 800 e^-z
+    tr = thermal_trace(x, z, T, 1.0, 420.0)
+    assert abs(tr.heated_depth - math.log(2.0)) < 2e-4
+
+
+def _band_trace(level, z, thr):
+    """Trace of the exact Jaeger band (Hertz flux, Pe 1000) sampled on the cell centres of level k."""
+    n = 32 * 2 ** level
+    dx = 2 * A / n
+    x = -A - 24 * A + dx * (np.arange(int(round(26 * A / dx))) + 0.5)
+    T = 20.0 + jaeger_band_temperature(x[:, None], z[None, :], A, V_PE1000, MAT, 2e9, "hertz")
+    return thermal_trace(x, z, T, V_PE1000, thr)
+
+
+def test_trace_functions_against_the_exact_band_at_depth_second_order():
+    """The discretisation of core's trace on a sampled exact field (Jaeger's Hertzian band, Pe 1000):
+    peak, cooling rate and time above converge at second order in the spacing."""
+    from railtherm.analysis.analytic import _line_trace
+    z = np.array([1.5e-4, 2e-4, 3e-4])
+    thr = 1100.0
+    f = lambda zz: (lambda xx: 20.0 + jaeger_band_temperature(xx, zz + 0 * xx, A, V_PE1000, MAT, 2e9, "hertz"))
+    exact = np.array([_line_trace(f(zz), A, V_PE1000, thr, zz, False) for zz in z])   # (peak, x, cool, above)
+    errs = {"peak": [], "cool": [], "above": []}
+    for level in (0, 1, 2):
+        tr = _band_trace(level, z, thr)
+        errs["peak"].append(np.max(np.abs(tr.peak_temperature - exact[:, 0]) / (exact[:, 0] - 20.0)))
+        errs["cool"].append(np.max(np.abs(tr.cooling_rate - exact[:, 2]) / exact[:, 2]))
+        ok = exact[:, 3] > 0
+        errs["above"].append(np.max(np.abs(tr.time_above - exact[:, 3])[ok] / exact[ok, 3]))
+    for k, e in errs.items():
+        order = np.polyfit(np.log([1.0, 0.5, 0.25]), np.log(e), 1)[0]
+        assert e[-1] < 2e-3, (k, e)
+        assert order > 1.7, (k, e, order)
+
+
+# ------------------------------------------------------------------------------------------------
+# capabilities
+def test_field_capability_is_listed_and_enforced():
+    from railtherm import Capabilities, TemperatureModel
+    assert "field (behind the patch, in depth)=no" in Capabilities().describe()
+    assert "field (behind the patch, in depth)=yes" in Capabilities(field=True).describe()
+
+    class Flat(TemperatureModel):
+        name = "flat"
+        capabilities = Capabilities(provides=frozenset({"surface_temperature"}))
+
+    sc = load_scene(_scene(field={"behind": 0.01}))
+    why = Flat().supports(sc, 0)
+    assert "patch only" in why and "'field'" in why and "behind = 0.01 m" in why and "green" in why
+    assert Flat().supports(load_scene(_scene()), 0) is None
+
+
+@pytest.mark.parametrize("method", ["fipy", "fastsim-fdm", "fem"])
+def test_other_methods_refuse_field_for_now(method):
+    from railtherm import Refused
+    sc = _scene(field={"behind": 0.01}, outputs=["max_surface_temperature"])
+    with pytest.raises(Refused, match="field"):
+        railtherm.solve(sc, method, level=0)
