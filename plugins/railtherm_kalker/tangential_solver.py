@@ -400,7 +400,7 @@ def _refine(a: np.ndarray, line: bool) -> np.ndarray:
 
 def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_elements: int = 12,
                             tol: float = TANGENTIAL_TOLERANCE, maxiter: int = 60,
-                            coarse_tol: float = 1e-3) -> TangentialSolution:
+                            coarse_tol: float = 1e-3, offset: float = 0.0) -> TangentialSolution:
     """Nested iteration: solve on grids of 2, 4, ... times larger elements first, starting from zero
     traction on the coarsest, and start each finer solve from the coarser solution.
 
@@ -423,6 +423,12 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         Stop coarsening when a side would have fewer elements than this [1].
     tol, maxiter
         As :func:`solve_tangential` (finest grid).
+    offset : float
+        Rigid slip evaluated at x + offset dx instead of the element centre [elements] (default 0, the
+        scheme of the model). Not a second-order scheme: ``offset = 1/4`` with the moment arm at
+        x - dx/4 keeps the exact reciprocity C23(Fy) = C23(Mz) and moves the first-order error of the spin
+        moment into C23 by about as much (measured at 128 elements across 2a on a = 8, b = 4 mm:
+        C33 +4.8 % -> +1.1 %, C23 +0.15 % -> +1.2 %; see tests/test_kalker_solver.py), so it is no default.
 
     Returns
     -------
@@ -447,7 +453,7 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
     sol = None
     for k in range(len(levels) - 1, -1, -1):
         xe, ye, g = levels[k]
-        xc = 0.5 * (xe[1:] + xe[:-1])
+        xc = 0.5 * (xe[1:] + xe[:-1]) + offset * (xe[1] - xe[0])
         if line:
             X, Y = xc[:, None], np.zeros((xc.size, 1))
         else:
