@@ -85,7 +85,8 @@ class MovingFrameMesh:
 
 def moving_frame_mesh(x_patch_edges: np.ndarray, a: float, speed: float, diffusivity: float, level: int, *,
                       y_patch_edges: np.ndarray | None = None, b: float | None = None, refine: int = 1,
-                      layer_cells: float = 4.0, ratio: float = 1.3, half: bool = False) -> MovingFrameMesh:
+                      layer_cells: float = 4.0, ratio: float = 1.3, half: bool = False,
+                      min_depth: float | None = None) -> MovingFrameMesh:
     """Build the graded mesh of one body for a patch on ``[-a, a]`` (x [-b, b] in 3-D).
 
     Parameters
@@ -114,6 +115,14 @@ def moving_frame_mesh(x_patch_edges: np.ndarray, a: float, speed: float, diffusi
     half : bool
         3-D: mesh only ``y >= 0`` (the caller checked that the source is symmetric and that the
         grid has an edge at y = 0).
+    min_depth : float, optional
+        Smallest depth of the mesh [m] (the scene's ``field.depth``); the graded z reaches
+        ``max(D, min_depth)``.
+
+    ``x_patch_edges`` may also be an *extended* grid (:func:`railtherm.grid.extended_grid`, scene key
+    ``field``): uniform cells from ``x_patch_edges[0] < -a`` up to ``a``. The uniform cells then run
+    through the whole trail behind the patch and the outflow grading starts at its end; the domain
+    length, and with it the depth ``D``, grows with the trail (the grading follows the trail).
 
     Returns
     -------
@@ -126,13 +135,17 @@ def moving_frame_mesh(x_patch_edges: np.ndarray, a: float, speed: float, diffusi
     dx0 = dx * 2 ** level  # the patch cell of level 0: grading continues it smoothly
     margin = max(4.0 * ell, 0.25 * a)
     out = geometric_edges(margin, dx0, ratio, level)
-    x_edges = np.concatenate([-a - out[::-1], xp[1:-1], a + out])
-    x_edges[out.size - 1] = -a
+    # the trailing end of the uniform cells: -a on a patch grid, the extended grid's first edge behind it
+    lo = -a if xp[0] >= -a * (1.0 + 1e-9) else float(xp[0])
+    x_edges = np.concatenate([lo - out[::-1], xp[1:-1], a + out])
+    x_edges[out.size - 1] = lo
     x_edges[-out.size] = a
     length = float(x_edges[-1] - x_edges[0])
     depth = 3.0 * 2.0 * math.sqrt(diffusivity * length / speed)
     first_z = min(delta, a) / layer_cells
     depth = max(depth, 4.0 * first_z)
+    if min_depth is not None and min_depth > depth:
+        depth = float(min_depth)
     z_edges = geometric_edges(depth, first_z, ratio, level)
     y_edges = None
     if y_patch_edges is not None:

@@ -36,6 +36,21 @@ cells along 2a); 3-D against the moving surface source 0.5 % (Pe 0.1, level 1), 
 2.4 % (Pe 1e3, 1e4) at level 2. Along the flow the scheme is first order wherever the cell Péclet
 number exceeds ~2 (upwinding): that, not the depth grading, limits the accuracy at high Pe.
 
+Behind the patch and in depth (scene key ``field``, issue 14; ``Capabilities(field=True)``): the model
+reports on core's extended grid (:func:`railtherm.physics.field_grid`: whole patch cells added until
+``-a - field.behind``); the flux is zero there (convection ``h`` acts on it as on any free surface).
+The mesh's uniform cells run from the extended grid's first edge to ``+a``, the outflow grading starts
+behind them, and the mesh depth grows with the domain length (three diffusion lengths of the residence
+time) and reaches at least ``field.depth``; ``temperature(body, x, z)`` is given on the cell centres
+above ``field.depth`` and at ``field.depth`` itself (linear between the two centres around it). The
+thermal trace is :func:`railtherm.physics.with_thermal_trace` of that depth field. Budgets: a 3-D mesh
+with the trail is counted against ``max_cells`` / ``max_seconds`` (refused, kind "budget", naming the
+trail), a 2-D mesh (per body or per strip) against ``max_cells``. Measured against the exact
+references at Péclet 1000 (tests/test_fipy_field.py): Jaeger's band, peak temperature at depth to
+3.2e-3 of the rise at level 3 (first order, fitted 0.85), depth field behind the patch 6.6e-3; the 3-D
+circle, peak 1.2e-2 at level 1. Cost (benchmarks/test_fipy_field_benchmark.py): 10x the patch-only run
+for the band with behind = 30a, 5x for the circle with 16a. Without ``field`` nothing changes.
+
 Temperatures returned are absolute: the rise plus the body's ``bulk_temperature``.
 """
 from __future__ import annotations
@@ -48,7 +63,8 @@ import numpy as np
 from dataclasses import dataclass
 
 from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
-from railtherm.physics import lumped_wheel, thermal_scales
+from railtherm.physics import embed_field, field_grid, lumped_wheel, thermal_scales, with_thermal_trace
+from railtherm.physics.thermal_trace import TRACE_OUTPUTS
 
 from .mesh import moving_frame_mesh
 from .steady import SCHEMES, MovingFrameSolver
@@ -88,6 +104,8 @@ def estimate_seconds_3d(cells: int, peclet: float, bodies: int) -> float:
 
 #: result variables this model fills
 PROVIDES = frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature", "temperature"})
+#: the thermal trace (scenes with ``field``: :func:`railtherm.physics.with_thermal_trace` of the depth field)
+TRACE = frozenset(TRACE_OUTPUTS)
 
 
 class FipyTemperature(TemperatureModel):
@@ -133,9 +151,10 @@ class FipyTemperature(TemperatureModel):
     name = "fipy"
     description = "finite-volume heat conduction with FiPy: steady moving frame (2-D/3-D) and wheel heating"
     capabilities = Capabilities(convection=True, modes=frozenset({"steady", "transient"}), moving_surface=True,
+                                field=True,
                                 advice={"moving_surface": "e.g. a locked wheel v0 + v_s = 0; use a method with a static "
                                                           "source"},
-                                provides=PROVIDES | {"steady_wheel_temperature", "steady_mean_contact_temperature"})
+                                provides=PROVIDES | TRACE | {"steady_wheel_temperature", "steady_mean_contact_temperature"})
     options = {
         "scheme": Option("power-law", "convection scheme", choices=tuple(SCHEMES)),
         "dimension": Option("auto", "2 (x-z, strips of an ellipse), 3 (x-y-z) or auto", choices=("auto", 2, 3)),
@@ -153,12 +172,13 @@ class FipyTemperature(TemperatureModel):
 
     # ------------------------------------------------------------------ helpers
     @staticmethod
-    def choose_dimension(scene, source, level, options) -> tuple[int, str]:
+    def choose_dimension(scene, source, level, options, grid=None) -> tuple[int, str]:
         """Return (2 or 3, how) for this scene and source; raise :class:`railtherm.Refused` when neither works.
 
-        ``how`` is "line", "strips" or "3-D".
+        ``how`` is "line", "strips" or "3-D". ``grid``: the grid reported on (default ``source.grid``; the
+        extended grid of the scene's ``field``, whose 3-D mesh is counted against the budgets).
         """
-        grid = source.grid
+        grid = source.grid if grid is None else grid
         dim = options["dimension"]
         if grid.line:
             if dim == 3:
@@ -166,21 +186,22 @@ class FipyTemperature(TemperatureModel):
                               "(x-z): use dimension 'auto' or 2")
             return 2, "line"
         strip_why = FipyTemperature.strip_limit(scene, source, options)
-        cells = FipyTemperature.cells_3d(scene, source, level, options)
+        cells = FipyTemperature.cells_3d(scene, source, level, options, grid)
         pe = min(thermal_scales(grid.a, source.body_speed[i], scene.body(i).diffusivity).peclet for i in (0, 1))
         size_why = None
         bodies = sum(bool(np.any(np.asarray(source.flux(i)) != 0)) for i in (0, 1))
         seconds = estimate_seconds_3d(cells, pe, bodies)
         limit = float(options["max_seconds"])
+        trail = "" if grid is source.grid else f" reaching {float(-grid.a - grid.x_edges[0]):.4g} m behind the patch (field)"
         if cells > options["max_cells"]:
-            size_why = (f"a 3-D mesh would need {cells} cells per body > max_cells = {options['max_cells']} "
-                        f"(lower the level or raise the option max_cells)")
+            size_why = (f"a 3-D mesh{trail} would need {cells} cells per body > max_cells = {options['max_cells']} "
+                        f"(lower the level{', shorten field.behind' if trail else ''} or raise the option max_cells)")
         elif pe < 1.0 and cells > options["max_cells_low_peclet"]:
-            size_why = (f"a 3-D mesh would need {cells} cells per body > max_cells_low_peclet = "
+            size_why = (f"a 3-D mesh{trail} would need {cells} cells per body > max_cells_low_peclet = "
                         f"{options['max_cells_low_peclet']} at Peclet number {pe:.3g} < 1 (diffusion-dominated: "
                         f"GMRES + ILU needs hundreds of iterations; lower the level or raise the option)")
         elif seconds > limit:
-            size_why = (f"a 3-D solve of {bodies} bod{'y' if bodies == 1 else 'ies'} with {cells} cells each at Peclet "
+            size_why = (f"a 3-D solve{trail} of {bodies} bod{'y' if bodies == 1 else 'ies'} with {cells} cells each at Peclet "
                         f"number {pe:.3g} is estimated at {seconds:.3g} s ({expected_iterations(pe)} GMRES iterations "
                         f"expected) > max_seconds = {limit:g} s (lower the level or raise the option max_seconds)")
         if dim == 2:
@@ -215,15 +236,15 @@ class FipyTemperature(TemperatureModel):
         return None
 
     @staticmethod
-    def cells_3d(scene, source, level, options) -> int:
-        """Cells per body of the 3-D mesh (the larger of wheel and rail)."""
-        grid = source.grid
+    def cells_3d(scene, source, level, options, grid=None) -> int:
+        """Cells per body of the 3-D mesh (the larger of wheel and rail) on ``grid`` (default ``source.grid``)."""
+        grid = source.grid if grid is None else grid
         n = 0
         for i in (0, 1):
             m = moving_frame_mesh(grid.x_edges, grid.a, source.body_speed[i], scene.body(i).diffusivity, level,
                                   y_patch_edges=grid.y_edges, b=grid.b, refine=options["refine"],
                                   layer_cells=options["layer_cells"], ratio=options["growth"],
-                                  half=FipyTemperature._half(source))
+                                  half=FipyTemperature._half(source), min_depth=_field_depth(scene))
             n = max(n, m.cells)
         return n
 
@@ -240,22 +261,28 @@ class FipyTemperature(TemperatureModel):
     def compute_temperature(self, scene, source, level, options):
         """Surface (and depth at y = 0) temperatures of wheel and rail [degC], absolute."""
         opts = {**options, "refine": int(options["refine"])}   # resolved by core (pipeline)
-        flash = self._steady(scene, source, level, opts)
+        grid = field_grid(source.grid, scene)                  # the patch grid, or its extension (field)
+        flash = self._steady(scene, source, level, opts, grid)
         if getattr(scene, "mode", "steady") != "transient":
-            return self._lumped_steady(scene, source, flash)
-        return self._transient(scene, source, level, opts, flash)
+            result = self._lumped_steady(scene, source, flash, grid)
+        else:
+            result = self._transient(scene, source, level, opts, flash, grid)
+        if getattr(scene, "field", None) is None:
+            return result
+        return with_thermal_trace(result, scene, source)
 
     @staticmethod
-    def _lumped_steady(scene, source, flash):
+    def _lumped_steady(scene, source, flash, grid=None):
         """Steady mode: the long-term values of Ertz & Knothe's lumped wheel (no time integration).
 
         ``T_inf = eps P / (G_cond + alpha A)`` and ``T_mean_inf = T_mean + eps_c T_inf`` (seed eqs.
         50-54), with core's :func:`railtherm.physics.lumped_wheel` and its documented convective area
         A (the same as the "green" method's default); the state the transient mode converges to.
         """
-        grid = source.grid
+        patch = source.grid
+        grid = patch if grid is None else grid
         v_w, v_r = (float(v) for v in source.body_speed)
-        power = float(grid.integrate(np.asarray(source.flux(0), dtype=float) * np.ones(grid.shape)))
+        power = float(patch.integrate(np.asarray(source.flux(0), dtype=float) * np.ones(patch.shape)))
         R = getattr(scene, "wheel_radius", None) or scene.wheel.radius
         st = lumped_wheel(power, 0.0, wheel=scene.wheel, rail=scene.rail, speed_wheel=v_w, speed_rail=v_r,
                           a=grid.a, b=None if grid.line else grid.b, radius=float(R),
@@ -264,7 +291,7 @@ class FipyTemperature(TemperatureModel):
                            steady_mean_contact_temperature=flash.mean_wheel(grid)
                            + st.contact_fraction * st.wheel_rise)
 
-    def _transient(self, scene, source, level, opts, flash):
+    def _transient(self, scene, source, level, opts, flash, grid=None):
         """Wheel heating over many revolutions on top of the cold-wheel flash field (seed eq. 54).
 
         Superposition (seed eqs. 41, 44, 54): with the tread rise T_s at the end of the simulated time,
@@ -276,7 +303,7 @@ class FipyTemperature(TemperatureModel):
         h = wheel_heating(scene, source, level, opts)
         ts = float(h["tread"][-1])                      # tread rise at the end of the simulated time
         eps_c = h["eps_c"]
-        grid = source.grid
+        grid = source.grid if grid is None else grid
         inside = grid.inside()
         diag = dict(flash.diagnostics)
         diag.update({"transient_" + k: v for k, v in h.items() if np.isscalar(v)})
@@ -288,28 +315,44 @@ class FipyTemperature(TemperatureModel):
                           steady_mean_contact_temperature=bulk_w + (flash.mean_wheel(grid) - bulk_w) + eps_c * ts,
                           diagnostics=diag)
 
-    def _steady(self, scene, source, level, opts) -> "_Flash":
-        """Steady moving-frame flash temperature rises of both bodies."""
+    def _steady(self, scene, source, level, opts, grid=None) -> "_Flash":
+        """Steady moving-frame flash temperature rises of both bodies on ``grid`` (default ``source.grid``;
+        the extended grid of the scene's ``field``: zero flux and convection behind the patch, the mesh's
+        uniform cells running through the trail and its depth reaching ``field.depth``)."""
         why = self.supports_source(scene, source)   # core's moving-surface check on the source's body speeds
         if why is not None:
             raise Refused(why, kind="validity")
-        dim, how = self.choose_dimension(scene, source, level, opts)
-        grid = source.grid
+        patch = source.grid
+        grid = patch if grid is None else grid
+        extended = grid is not patch
+        dim, how = self.choose_dimension(scene, source, level, opts, grid)
+        min_depth = _field_depth(scene)
         t0 = time.perf_counter()
         surface, body_diag = [None, None], [None, None]      # rises of the heated bodies and their diagnostics
         depth_T, depth_z = [], []
         diag = {"dimension": dim, "mode": how, "scheme": opts["scheme"], "refine": opts["refine"]}
+        if extended or min_depth is not None:
+            diag.update(field_behind=float(patch.x_edges[0] - grid.x_edges[0]),
+                        field_cells_behind=int(grid.x.size - patch.x.size))
         iters, resid, balance, cells = [], [], [], []
         heat_in = heat_out = 0.0        # heat put in and carried out (advected + convected) [W, or W/m]
         contact = grid.inside()
         for i in (0, 1):
             mat = scene.body(i)
             v = float(source.body_speed[i])
-            q = np.asarray(source.flux(i), dtype=float) * np.ones(grid.shape)
+            q = np.asarray(source.flux(i), dtype=float) * np.ones(patch.shape)
+            if extended:
+                q = embed_field(q, patch, grid)                  # zero flux behind the patch
             mesh = moving_frame_mesh(grid.x_edges, grid.a, v, mat.diffusivity, level,
                                      y_patch_edges=None if dim == 2 else grid.y_edges,
                                      b=grid.b, refine=opts["refine"], layer_cells=opts["layer_cells"],
-                                     ratio=opts["growth"], half=(dim == 3 and self._half(source)))
+                                     ratio=opts["growth"], half=(dim == 3 and self._half(source)),
+                                     min_depth=min_depth)
+            if extended and dim == 2 and mesh.cells > opts["max_cells"]:
+                raise Refused(f"model 'fipy': the 2-D mesh reaching {float(-grid.a - grid.x_edges[0]):.4g} m behind "
+                              f"the patch and {float(mesh.z_edges[-1]):.4g} m deep (field) would need {mesh.cells} cells "
+                              f"per {'strip' if how == 'strips' else 'body'} > max_cells = {opts['max_cells']} (lower the "
+                              "level, shorten field.behind or raise the option max_cells)", kind="budget")
             bd = {"peclet": mesh.peclet}
             if not np.any(q != 0):  # no heat enters this body (partition 0 or 1): rise 0
                 diag[f"{('wheel', 'rail')[i]}_peclet"] = mesh.peclet
@@ -317,7 +360,8 @@ class FipyTemperature(TemperatureModel):
                 depth_z.append(0.5 * (mesh.z_edges[1:] + mesh.z_edges[:-1]))
                 continue
             solver = MovingFrameSolver(mesh, v, mat, scheme=opts["scheme"])
-            i0 = int(np.searchsorted(mesh.x_edges, -grid.a - 1e-12 * grid.a))
+            lo = float(grid.x_edges[0]) if extended else -grid.a    # the grid's first edge on the mesh
+            i0 = int(np.searchsorted(mesh.x_edges, lo - 1e-12 * grid.a))
             r_ = opts["refine"]
             nxp = grid.x.size * r_
             fine_x = solver.x[i0:i0 + nxp]
@@ -391,6 +435,9 @@ class FipyTemperature(TemperatureModel):
                 depth_z.append(res["z"])
             bd.update(first_cell=float(mesh.z_edges[1]), depth=float(mesh.z_edges[-1]), cells=int(mesh.cells))
             body_diag[i] = bd
+        if min_depth is not None:           # the depth field down to field.depth exactly
+            for i in (0, 1):
+                depth_z[i], depth_T[i] = _to_depth(depth_z[i], depth_T[i], min_depth)
         diag.update(iterations=int(max(iters) if iters else 0), residual=float(max(resid) if resid else 0.0),
                     converged=True, solves=len(iters), max_cells=int(max(cells) if cells else 0),
                     energy_balance_min=float(min(balance) if balance else 1.0),
@@ -402,6 +449,24 @@ class FipyTemperature(TemperatureModel):
         diag["solver_suite"] = solver_suite()
         bulk = (scene.wheel.bulk_temperature, scene.rail.bulk_temperature)
         return _Flash(bulk, tuple(surface), tuple(depth_T), tuple(depth_z), tuple(body_diag), diag)
+
+
+def _field_depth(scene) -> float | None:
+    """The scene's ``field.depth`` [m], or None (no field, or the model's own depth)."""
+    fld = getattr(scene, "field", None)
+    depth = None if fld is None else getattr(fld, "depth", None)
+    return None if depth is None else float(depth)
+
+
+def _to_depth(z: np.ndarray, T: np.ndarray, depth: float) -> tuple[np.ndarray, np.ndarray]:
+    """The depth field (nx, nz) on the cell centres ``z`` cut at ``depth`` [m]: the centres above it and
+    ``depth`` itself (linear interpolation between the two centres around it; the mesh reaches it)."""
+    z = np.asarray(z, dtype=float)
+    keep = z < depth * (1.0 - 1e-12)
+    k = int(np.clip(np.searchsorted(z, depth), 1, z.size - 1))
+    w = (depth - z[k - 1]) / (z[k] - z[k - 1])
+    last = (1.0 - w) * T[:, k - 1] + w * T[:, k]
+    return np.append(z[keep], depth), np.concatenate([T[:, keep], last[:, None]], axis=1)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,56 @@
+"""Cost of fipy's extended field (issue 14), through ``railtherm.solve`` (given heat source, dataset built
+and validated), rail only, a = 5 mm, Péclet 1000, Hertzian flux: patch only against ``field`` with the
+thermal trace.
+
+* 2-D, Jaeger's band, level 2: patch only against ``behind = 30a, depth = 0.3 mm`` (the mesh's uniform
+  cells run through the trail: 1 024 instead of 32 cells along x; LU);
+* 3-D, the circle, level 1: patch only against ``behind = 16a, depth = 0.3 mm`` (about 6x the cells;
+  GMRES + ILU).
+
+No target is set for fipy (issue 14 asks only to say what it costs). Measured (this machine, shared, 2
+cores, best of 3): 2-D band level 2: patch only 52 ms, field 519 ms (ratio 10: 32x the cells along x,
+one LU); 3-D circle level 1: patch only 0.76 s, field 3.9 s (ratio 5.1).
+Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_fipy_field_benchmark.py -m benchmark
+--benchmark-enable -p no:cacheprovider -s``.
+"""
+from __future__ import annotations
+
+import time
+
+import pytest
+
+import railtherm
+
+A = 5e-3
+MAT = railtherm.Material()
+V = 1000.0 * 2.0 * MAT.diffusivity / A
+OUT = ["surface_temperature", "temperature", "max_surface_temperature"]
+TRACE = ["peak_temperature", "cooling_rate", "heated_depth", "time_above"]
+
+
+def _scenes(line: bool, behind: float):
+    src = dict(flux=1e9, shape="hertz", **({"half_width": A} if line else {"semi_axes": [A, A]}))
+    base = dict(name="band" if line else "circle", speed=V, heat_source=src, heat_partition=0.0, outputs=OUT)
+    field = dict(base, field=dict(behind=behind, depth=3e-4, threshold=1000.0), outputs=OUT + TRACE)
+    return base, field
+
+
+def _best(scene, level, n=3):
+    railtherm.solve(scene, "fipy", level=level)            # warm-up (imports, caches)
+    best = float("inf")
+    for _ in range(n):
+        t0 = time.perf_counter()
+        railtherm.solve(scene, "fipy", level=level)
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+@pytest.mark.benchmark
+@pytest.mark.parametrize("line, behind, level", [(True, 30 * A, 2), (False, 16 * A, 1)], ids=["band-2d", "circle-3d"])
+def test_benchmark_fipy_extended_field(benchmark, line, behind, level):
+    base, field = _scenes(line, behind)
+    benchmark.pedantic(railtherm.solve, args=(field, "fipy", level), rounds=1, iterations=1)
+    patch, extended = _best(base, level), _best(field, level)
+    print(f"fipy {'2-D band' if line else '3-D circle'} level {level}: patch only {patch * 1e3:.0f} ms, field "
+          f"behind = {behind / A:g}a, depth 0.3 mm {extended * 1e3:.0f} ms, ratio {extended / patch:.2f}")
+    assert extended > 0 and patch > 0
