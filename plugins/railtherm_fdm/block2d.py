@@ -41,7 +41,8 @@ from railtherm import Refused
 
 from .energy import EnergyLedger, quasi_steady_change, steady_heat_balance
 from .kernels import explicit_step_2d
-from .layout import Extent, graded_grid, line_extent, line_stability_limit, node_grid, plan_steps
+from .layout import (Extent, Trail, graded_grid, line_extent, line_stability_limit, node_grid, plan_steps, trail_extent,
+                     field_note)
 from .linear_solvers import BackwardEuler, backward_euler_operator
 from .sampling import BlockResult, linear_rows, surface_from_top_cells
 from .source_loading import MovingSource, graded_surface_source
@@ -64,7 +65,7 @@ def _check_line(grid):
 
 def transient_line(grid, flux, cover, speed, conductivity, density, specific_heat, convection, cell, *,
                    scheme="explicit", time_step=None, courant=1.0, extent: Extent | None = None, checkpoint=None,
-                   max_nodes=2e7):
+                   max_nodes=2e7, out_grid=None, trail: Trail | None = None):
     """Seed 6.3 in 2-D: the band source moves over the top face of the block; transient run.
 
     Parameters
@@ -95,6 +96,8 @@ def transient_line(grid, flux, cover, speed, conductivity, density, specific_hea
         quasi-steady check [m] (default a).
     max_nodes : float
         Largest node count [1].
+    out_grid, trail
+        As :func:`railtherm_fdm.block3d.transient_block`.
 
     Returns
     -------
@@ -110,13 +113,16 @@ def transient_line(grid, flux, cover, speed, conductivity, density, specific_hea
     h = float(convection)
     a = float(grid.x_edges[-1])
     ext = extent or line_extent(a, speed, kappa)
+    if trail is not None:
+        ext = trail_extent(ext, trail, a, speed, kappa, steady=False)
+    sg = grid if out_grid is None else out_grid
     d = float(cell)
     ng = node_grid(a, ext, d)
     nx, nz, X0 = ng.nx, ng.nz, ng.start
     if nx * nz > max_nodes:
         raise Refused(f"model 'fdm' ({scheme}, line): the 2-D block needs {nx}x{nz} = {nx * nz:.3g} nodes at "
                       f"d = {d:.3g} m, above the limit {max_nodes:.3g}; use a lower level, a larger cell_size or "
-                      "scheme 'steady'", kind="budget")
+                      "scheme 'steady'" + field_note(trail), kind="budget")
     xn, zn = ng.x, ng.z
     wz = np.full(nz, d)
     wz[0] = 0.5 * d
@@ -145,7 +151,7 @@ def transient_line(grid, flux, cover, speed, conductivity, density, specific_hea
         T3, src3, hloss3 = T.reshape(nx, 1, nz), src.reshape(nx, 1), hloss.reshape(nx, 1)
 
     def patch_field(Tarr, xs):
-        return np.interp(grid.x, xn - xs, Tarr[:, 0]), linear_rows(xn - xs, Tarr, grid.x)
+        return np.interp(sg.x, xn - xs, Tarr[:, 0]), linear_rows(xn - xs, Tarr, sg.x)
 
     check = None
     n = 0
@@ -182,7 +188,8 @@ def transient_line(grid, flux, cover, speed, conductivity, density, specific_hea
 
 
 def steady_line(grid, flux, cover, speed, conductivity, density, specific_heat, convection, cell, *,
-                level=0, ratio=1.3, surface_layers=4, extent=None, x_scheme="upwind2", max_cells=4e6):
+                level=0, ratio=1.3, surface_layers=4, extent=None, x_scheme="upwind2", max_cells=4e6,
+                out_grid=None, trail: Trail | None = None):
     """Moving-frame steady state of the 2-D block (the transient schemes' quasi-steady limit).
 
     Parameters
@@ -206,6 +213,8 @@ def steady_line(grid, flux, cover, speed, conductivity, density, specific_heat, 
         at high cell Péclet number, its LU is about twice as cheap).
     max_cells : float
         Largest cell count [1].
+    out_grid, trail
+        As :func:`railtherm_fdm.block3d.steady_block`.
 
     Returns
     -------
@@ -224,7 +233,10 @@ def steady_line(grid, flux, cover, speed, conductivity, density, specific_heat, 
     V = float(speed)
     a = float(grid.x_edges[-1])
     ext = extent or line_extent(a, V, kappa)
-    gg = graded_grid(a, ext, cell, V, kappa, level, ratio=ratio, surface_layers=surface_layers)
+    if trail is not None:
+        ext = trail_extent(ext, trail, a, V, kappa, steady=True)
+    sg = grid if out_grid is None else out_grid
+    gg = graded_grid(a, ext, cell, V, kappa, level, ratio=ratio, surface_layers=surface_layers, trail=trail)
     xe, ze, rk = gg.x_edges, gg.z_edges, gg.growth
     dx, dz = np.diff(xe), np.diff(ze)
     xc, zc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ze[1:] + ze[:-1])
@@ -232,7 +244,9 @@ def steady_line(grid, flux, cover, speed, conductivity, density, specific_heat, 
     n = nx * nz
     if n > max_cells:
         raise Refused(f"model 'fdm' (steady, line): the graded grid needs {nx}x{nz} = {n:.3g} cells at level "
-                      f"{level}, above the limit {max_cells:.3g}; use a lower level or a larger cell_size", kind="budget")
+                      f"{level}, above the limit {max_cells:.3g}; use a lower level or a larger cell_size"
+                      + field_note(trail),
+                      kind="budget")
     Q, _, hA = graded_surface_source(xe, grid.x_edges, flux, cover, h)    # [W/m], [W/(m K)]
 
     idx = np.arange(n).reshape(nx, nz)
@@ -316,9 +330,9 @@ def steady_line(grid, flux, cover, speed, conductivity, density, specific_heat, 
 
     balance = steady_heat_balance(Q, F, T, inflow_coef, Dbot, hA)
     ts = surface_from_top_cells(Q, hA, dx, T[:, 0], T[:, 1], zc[0], zc[1], lam)
-    surf = np.interp(grid.x, xc, ts)
+    surf = np.interp(sg.x, xc, ts)
     prof = np.concatenate([ts[:, None], T], axis=1)
-    dep = linear_rows(xc, prof, grid.x)
+    dep = linear_rows(xc, prof, sg.x)
     diag = {
         "scheme": "steady", "dimension": 2, "x_scheme": x_scheme, "cell_size": float(cell),
         "first_depth_cell": float(dz[0]), "growth_ratio": rk, "cells": int(n), "cell_shape": f"{nx}x{nz}",

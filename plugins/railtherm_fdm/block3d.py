@@ -48,7 +48,8 @@ from railtherm import Refused
 
 from . import kernels as K
 from .energy import EnergyLedger, quasi_steady_change, steady_heat_balance
-from .layout import Extent, block_extent, explicit_stability_limit, graded_grid, node_grid, plan_steps
+from .layout import (Extent, Trail, block_extent, explicit_stability_limit, graded_grid, node_grid, plan_steps,
+                     field_note, trail_extent)
 from .linear_solvers import CG_RTOL, BackwardEuler, backward_euler_operator, cg, gmres
 from .sampling import BlockResult, bilinear, linear_rows, surface_from_top_cells
 from .source_loading import MovingSource, box_overlap, graded_surface_source
@@ -69,7 +70,7 @@ _cg = cg
 # ---------------------------------------------------------------------------------------------
 def transient_block(grid, flux, cover, speed, conductivity, density, specific_heat, convection, cell, *,
                     scheme="explicit", time_step=None, courant=1.0, extent: Extent | None = None, checkpoint=None,
-                    max_nodes=5e7):
+                    max_nodes=5e7, out_grid=None, trail: Trail | None = None):
     """Seed section 6.3: the source moves over the top face of a rail block; transient run.
 
     Parameters
@@ -100,6 +101,11 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
         judge whether it is quasi-steady [m] (default: a).
     max_nodes : float
         Largest node count (two float64 arrays of this size are held) [1].
+    out_grid : railtherm.SurfaceGrid, optional
+        Grid the fields are sampled on (a scene's extended field grid); default ``grid``.
+    trail : Trail, optional
+        A scene's ``field``: the source travels ``trail.behind`` further and the block reaches
+        ``trail.depth`` (:func:`railtherm_fdm.layout.trail_extent`).
 
     Returns
     -------
@@ -118,6 +124,9 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     a = float(grid.x_edges[-1])
     b = float(grid.y_edges[-1])
     ext = extent or block_extent(a, b, speed, kappa)
+    if trail is not None:
+        ext = trail_extent(ext, trail, a, speed, kappa, steady=False)
+    sg = grid if out_grid is None else out_grid
     d = float(cell)
     # node grid: x in [0, Lx], y in [0, Ly], z in [0, Lz]
     ng = node_grid(a, ext, d)
@@ -127,7 +136,8 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     if nx * ny * nz > max_nodes:
         raise Refused(f"model 'fdm' ({scheme}): the rail block needs {nx}x{ny}x{nz} = {nx * ny * nz:.3g} nodes "
                       f"at d = {d:.3g} m, above the limit {max_nodes:.3g} ({16 * nx * ny * nz / 1e9:.1f} GB); "
-                      "use a lower level, a larger cell_size, or scheme 'steady' (graded moving-frame grid)", kind="budget")
+                      "use a lower level, a larger cell_size, or scheme 'steady' (graded moving-frame grid)"
+                      + field_note(trail), kind="budget")
     xn, zn = ng.x, ng.z
     yn = d * np.arange(ny)
     Yc = yn[nyh]
@@ -171,8 +181,8 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
         implicit = BackwardEuler(backward_euler_operator(nx, ny, nz, d, wy, wz, lam, rc, dt), cap_top[None, :], dt)
 
     def patch_field(Tarr, xs):
-        surf = bilinear(xn - xs, yn - Yc, Tarr[:, :, 0], grid.x, grid.y)
-        dep = linear_rows(xn - xs, Tarr[:, nyh, :], grid.x) if grid.y is not None else None
+        surf = bilinear(xn - xs, yn - Yc, Tarr[:, :, 0], sg.x, sg.y)
+        dep = linear_rows(xn - xs, Tarr[:, nyh, :], sg.x) if sg.y is not None else None
         return surf, dep
 
     check = None
@@ -224,7 +234,7 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
 # ---------------------------------------------------------------------------------------------
 def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat, convection, cell, *,
                  level=0, ratio=1.3, surface_layers=4, extent: Extent | None = None, rtol=1e-11, maxiter=400,
-                 max_cells=4e6):
+                 max_cells=4e6, out_grid=None, trail: Trail | None = None):
     """Moving-frame steady state of the rail block (the transient schemes' quasi-steady limit).
 
     Parameters
@@ -247,6 +257,11 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
         GMRES relative tolerance.
     max_cells : float
         Largest cell count (about 350 bytes per cell are held) [1].
+    out_grid : railtherm.SurfaceGrid, optional
+        Grid the fields are sampled on (a scene's extended field grid); default ``grid``.
+    trail : Trail, optional
+        A scene's ``field``: the grid reaches ``trail.behind`` beyond the trailing edge and
+        ``trail.depth`` deep with cells that follow the trail (:func:`railtherm_fdm.layout.graded_grid`).
 
     Returns
     -------
@@ -266,7 +281,10 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
     a = float(grid.x_edges[-1])
     b = float(grid.y_edges[-1])
     ext = extent or block_extent(a, b, V, kappa)
-    gg = graded_grid(a, ext, cell, V, kappa, level, b=b, ratio=ratio, surface_layers=surface_layers)
+    if trail is not None:
+        ext = trail_extent(ext, trail, a, V, kappa, steady=True)
+    sg = grid if out_grid is None else out_grid
+    gg = graded_grid(a, ext, cell, V, kappa, level, b=b, ratio=ratio, surface_layers=surface_layers, trail=trail)
     xe, ye, ze, rk = gg.x_edges, gg.y_edges, gg.z_edges, gg.growth
     dx, dy, dz = np.diff(xe), np.diff(ye), np.diff(ze)
     xc, yc, zc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ye[1:] + ye[:-1]), 0.5 * (ze[1:] + ze[:-1])
@@ -275,7 +293,9 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
     if nx * ny * nz > max_cells:
         raise Refused(f"model 'fdm' (steady): the graded grid needs {nx}x{ny}x{nz} = {nx * ny * nz:.3g} cells at "
                       f"level {level} (cell {cell:.3g} m), above the limit {max_cells:.3g} "
-                      f"(~{350 * nx * ny * nz / 1e9:.1f} GB); use a lower level or a larger cell_size", kind="budget")
+                      f"(~{350 * nx * ny * nz / 1e9:.1f} GB); use a lower level or a larger cell_size"
+                      + field_note(trail),
+                      kind="budget")
 
     # source on the top faces: exact overlap of the FV cells with the patch cells
     Q, Az, hA = graded_surface_source(xe, grid.x_edges, flux, cover, h, ye, grid.y_edges)   # [W], [m^2], [W/K]
@@ -355,11 +375,11 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
     balance = steady_heat_balance(Q, F, T, ab[0], Dbot, hA)
     # surface temperature: quadratic through the two top cells with the surface flux as slope
     ts = surface_from_top_cells(Q, hA, Az, T[:, :, 0], T[:, :, 1], zc[0], zc[1], lam)
-    surf = bilinear(xc, yc, ts, grid.x, grid.y)
+    surf = bilinear(xc, yc, ts, sg.x, sg.y)
     jc = int(np.argmin(np.abs(yc)))
     prof = np.concatenate([ts[:, jc][:, None], T[:, jc, :]], axis=1)   # (nx, nz+1)
     zout = np.concatenate([[0.0], zc])
-    dep = linear_rows(xc, prof, grid.x)
+    dep = linear_rows(xc, prof, sg.x)
     diag = {
         "scheme": "steady", "cell_size": float(cell), "first_depth_cell": float(dz[0]),
         "growth_ratio": rk, "cells": int(n), "cell_shape": f"{nx}x{ny}x{nz}",
@@ -370,3 +390,4 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
         "wall_time_solver": time.perf_counter() - t0,
     }
     return BlockResult(surf, zout, dep, diag)
+

@@ -19,7 +19,7 @@ from railtherm.physics import thermal_scales
 
 __all__ = ["Extent", "block_extent", "line_extent", "explicit_stability_limit", "line_stability_limit",
            "NodeGrid", "node_grid", "StepPlan", "plan_steps", "GradedGrid", "graded_grid", "graded_edges",
-           "graded_depth_edges"]
+           "graded_depth_edges", "Trail", "trail_extent", "trail_edges", "field_note"]
 
 
 @dataclass
@@ -283,7 +283,8 @@ class GradedGrid:
 
 
 def graded_grid(a: float, extent: Extent, cell: float, speed: float, kappa: float, level: int, *,
-                b: float | None = None, ratio: float = 1.3, surface_layers: int = 4) -> GradedGrid:
+                b: float | None = None, ratio: float = 1.3, surface_layers: int = 4,
+                trail: "Trail | None" = None) -> GradedGrid:
     """The steady scheme's cell grid: uniform cells of about ``cell`` over the patch, growing outward.
 
     The growth ratio is ``ratio ** (1 / 2**level)`` so that halving ``cell`` level by level refines the
@@ -310,8 +311,14 @@ def graded_grid(a: float, extent: Extent, cell: float, speed: float, kappa: floa
         Growth ratio of the graded cells at level 0 [1].
     surface_layers : int
         Cells across the penetration depth delta at level 0 [1].
+    trail : Trail, optional
+        A scene's ``field``: behind the trailing edge and down to ``trail.depth`` the cells follow the
+        trail (:func:`trail_edges`) instead of growing by the ratio; beyond, they grow as without it.
+        None: the grid is exactly the one without a field.
     """
     rk = ratio ** (1.0 / 2 ** level)
+    if trail is not None:
+        return _trail_graded_grid(a, extent, cell, speed, kappa, level, b, rk, surface_layers, trail)
     nxa = max(2, int(round(2 * a / cell)))
     xe = graded_edges(-a, a, nxa, -a - extent.behind, a + extent.ahead, rk)
     ye = None
@@ -321,3 +328,104 @@ def graded_grid(a: float, extent: Extent, cell: float, speed: float, kappa: floa
     delta = thermal_scales(a, speed, kappa).thermal_depth
     dz1 = min(cell, delta / surface_layers / 2 ** level)
     return GradedGrid(xe, ye, graded_depth_edges(dz1, extent.depth, rk), rk)
+
+
+# ---------------------------------------------------------------------------------------------
+# the thermal trail behind the patch and in depth (scene key ``field``)
+# ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Trail:
+    """What a scene's ``field`` asks of the block: temperatures ``behind`` [m] beyond the trailing edge
+    and down to ``depth`` [m] (None: the block's own depth)."""
+
+    behind: float
+    depth: float | None
+
+
+#: trail cells: width ``max(h, TRAIL_SLOPE s / 2**level)`` at distance s behind the trailing edge (and
+#: ``max(dz1, TRAIL_SLOPE z / 2**level)`` at depth z): the trail at distance s varies on the scale s
+#: (along x) and sqrt(kappa s / V) (in depth), so a fixed fraction of the distance resolves it alike
+#: everywhere, and halving the fraction per level refines the grid consistently [1]
+TRAIL_SLOPE = 0.125
+
+
+def trail_extent(extent: Extent, trail: Trail, a: float, speed: float, kappa: float, *, steady: bool) -> Extent:
+    """The block's extent stretched to hold the trail.
+
+    Moving-frame steady grid: the far face behind lies ``trail.behind`` further back (the outflow face,
+    zero diffusive flux, stays ``extent.behind`` beyond the end of the field). Transient schemes: the
+    source travels ``trail.behind`` further (the trail at the end of the field was laid down after the
+    source had already travelled ``extent.travel``, so it carries the same start-up deficit as the patch
+    without field); the far face behind the start is unchanged. In both the depth reaches at least
+    ``trail.depth`` plus six penetration depths of the trail's end, sqrt(2 kappa (2a + behind) / V).
+    """
+    depth = extent.depth
+    if trail.depth is not None:
+        depth = max(depth, float(trail.depth) + 6.0 * math.sqrt(2.0 * kappa * (2.0 * a + trail.behind) / speed))
+    if steady:
+        return Extent(extent.ahead, extent.behind + trail.behind, extent.lateral, depth, extent.travel)
+    return Extent(extent.ahead, extent.behind, extent.lateral, depth, extent.travel + trail.behind)
+
+
+def trail_edges(start: float, length: float, first: float, slope: float) -> np.ndarray:
+    """Distances from ``start`` (0) to ``length`` [m]: cells of width ``max(first, slope s)`` at
+    distance s, the last one ending exactly at ``length``."""
+    out = [0.0]
+    while out[-1] < length * (1.0 - 1e-12):
+        w = max(first, slope * out[-1])
+        nxt = out[-1] + w
+        if length - nxt < 0.5 * w:
+            nxt = length
+        out.append(nxt)
+    return start + np.array(out)
+
+
+def _grow(h: float, length: float, ratio: float) -> np.ndarray:
+    """Distances (excluding 0) of cells growing by ``ratio`` from width h up to ``length``."""
+    out = []
+    s, w = 0.0, h
+    while s < length - 1e-12 * length:
+        w = w * ratio
+        if s + w >= length or length - (s + w) < 0.5 * w * ratio:
+            out.append(length)
+            break
+        s += w
+        out.append(s)
+    return np.array(out)
+
+
+def _trail_graded_grid(a, extent, cell, speed, kappa, level, b, rk, surface_layers, trail):
+    """:func:`graded_grid` with cells following the trail (see there)."""
+    nxa = max(2, int(round(2 * a / cell)))
+    h = 2 * a / nxa
+    slope = TRAIL_SLOPE / 2 ** level
+    core = graded_edges(-a, a, nxa, -a, a + extent.ahead, rk)          # the patch and ahead, as without field
+    behind = float(trail.behind)
+    back = -trail_edges(0.0, behind, h, slope)[1:] - a if behind > 0 else np.array([])
+    last = (back[-2] - back[-1]) if back.size > 1 else h
+    rest = extent.behind - behind
+    far = back[-1] - _grow(last, rest, rk) if (back.size and rest > 0) else (
+        -a - _grow(h, rest, rk) if rest > 0 else np.array([]))
+    xe = np.concatenate([far[::-1], back[::-1], core])
+    ye = None
+    if b is not None:
+        nyb = max(2, int(round(2 * b / cell)))
+        ye = graded_edges(-b, b, nyb, -b - extent.lateral, b + extent.lateral, rk)
+    delta = thermal_scales(a, speed, kappa).thermal_depth
+    dz1 = min(cell, delta / surface_layers / 2 ** level)
+    if trail.depth is None:
+        ze = graded_depth_edges(dz1, extent.depth, rk)
+    else:
+        top = trail_edges(0.0, float(trail.depth), dz1, slope)
+        w = top[-1] - top[-2]
+        ze = np.concatenate([top, top[-1] + _grow(w, extent.depth - top[-1], rk)])
+    return GradedGrid(xe, ye, ze, rk)
+
+
+def field_note(trail) -> str:
+    """The part of a budget refusal that names the scene's ``field`` (empty without one)."""
+    if trail is None:
+        return ""
+    deep = "" if trail.depth is None else f" and {trail.depth:.4g} m deep"
+    return (f", or a shorter field (the scene's field asks for temperatures {trail.behind:.4g} m behind the "
+            f"trailing edge{deep}, which the block must reach)")

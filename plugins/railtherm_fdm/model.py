@@ -14,6 +14,22 @@ is the result. It is declared quasi-steady when it differs by less than 0.2 % of
 same field sampled one semi-axis of travel earlier (at the same offset to the grid); diagnostics
 ``<body>_quasi_steady_change`` and ``<body>_quasi_steady``.
 
+Behind the patch and in depth (scene key ``field``, issue 14): the block is stretched to hold the
+trail (:func:`railtherm_fdm.layout.trail_extent`): the steady scheme's graded grid reaches
+``field.behind`` beyond the trailing edge and ``field.depth`` deep with cells of width
+``max(h, s/8/2**level)`` at distance s behind the trailing edge (h the patch cells) and
+``max(dz1, z/8/2**level)`` at depth z (the trail varies on these scales), growing as without field
+beyond them; the transient schemes let the source travel ``field.behind`` further (the trail at the
+end of the field then carries the start-up deficit of the patch-only run). Both fields are sampled on
+core's extended grid (:func:`railtherm.physics.field_grid`); the depth field reaches exactly
+``field.depth`` (linear interpolation between the block's depths); the thermal trace is core's
+(:func:`railtherm.physics.with_thermal_trace`). A block that would need more cells or nodes than its
+budget (options ``max_cells``, ``max_nodes``) is refused (kind "budget") with the field named. A
+field needs the depth: on the 3-D block a transient scheme whose uniform node spacing is coarser than
+half the thermal layer sqrt(2 a kappa / V) cannot give it, so ``auto`` runs the steady scheme there (at
+Péclet >= 0.1) and an explicitly requested transient scheme is refused (kind "validity"); the 2-D
+block's transient spacing resolves that layer from level 0 on. Without ``field`` every array is the one of the patch-only run, bit for bit.
+
 References
 ----------
 .. [1] The seed paper, section 6.3: "Comparison of Numerical Methods for Solution of Thermoelastic
@@ -23,8 +39,9 @@ from __future__ import annotations
 
 import numpy as np
 from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
-from railtherm.physics import peclet_number, thermal_scales
+from railtherm.physics import field_grid, peclet_number, thermal_scales, with_thermal_trace
 
+from .layout import Trail
 from .scheme_choice import (SCHEMES, check_explicit_step, choose_line_scheme, choose_scheme, explicit_cost,
                             requested_scheme)
 
@@ -59,9 +76,9 @@ class FDMTemperature(TemperatureModel):
     capabilities = Capabilities(
         contacts=frozenset({"ellipse", "line"}), sources=frozenset({"computed", "given"}),
         tangential=frozenset({"full-sliding", "creepage"}), convection=True,
-        modes=frozenset({"steady", "transient"}),
+        modes=frozenset({"steady", "transient"}), field=True,
         provides=frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature",
-                            "temperature"}))
+                            "temperature", "peak_temperature", "cooling_rate", "heated_depth", "time_above"}))
     options = {
         "scheme": Option("auto", "'explicit' (seed), 'implicit', 'steady' (moving frame) or 'auto'",
                          choices=SCHEMES),
@@ -84,6 +101,12 @@ class FDMTemperature(TemperatureModel):
     def compute_temperature(self, scene, source, level, options):
         """Surface (and, when asked for, depth at y = 0) temperatures of wheel and rail [degC]."""
         grid = source.grid
+        fld = getattr(scene, "field", None)
+        out = field_grid(grid, scene)
+        extra = {}
+        if fld is not None:       # without a field the blocks are called exactly as before
+            behind = float(grid.x_edges[0] - out.x_edges[0])
+            extra = {"out_grid": out, "trail": Trail(behind, None if fld.depth is None else float(fld.depth))}
         requested = requested_scheme(scene, options)
         if grid.line:
             cell0 = float(options["cell_size"]) or 2.0 * float(grid.a) / 16.0
@@ -94,7 +117,7 @@ class FDMTemperature(TemperatureModel):
                 numba.set_num_threads(min(int(options["threads"]), numba.config.NUMBA_NUM_THREADS))
             cell0 = float(options["cell_size"]) or 2.0 * min(float(grid.a), float(grid.b)) / 8.0
             diag = {"cell_size": cell0 / 2 ** int(level), "requested_scheme": requested}
-        depth = "temperature" in tuple(getattr(scene, "outputs", ()) or ())
+        depth = "temperature" in tuple(getattr(scene, "outputs", ()) or ()) or fld is not None
         bodies, solved = [], {}
         for i, body in enumerate(BODY_NAMES):
             q = np.asarray(source.flux(i), dtype=float)
@@ -103,21 +126,30 @@ class FDMTemperature(TemperatureModel):
                 bodies.append(None)
                 continue
             run = self._run_line if grid.line else self._run_block
-            scheme, res = run(scene, source, level, options, i, q, cell0, requested)
+            scheme, res = run(scene, source, level, options, i, q, cell0, requested, extra)
             m = scene.wheel if i == 0 else scene.rail
             body_diag = {"peclet": peclet_number(float(source.body_speed[i]), float(grid.a), m.diffusivity),
                          "power": float(grid.integrate(q)), "scheme": scheme,
                          **{k: v for k, v in res.diagnostics.items() if k != "scheme"}}
             solved[body] = body_diag
-            bodies.append(BodyTemperature(res.surface, z=res.z if depth else None,
-                                          depth_rise=res.depth if depth else None, diagnostics=body_diag))
+            zb, rise = res.z, res.depth
+            if fld is not None and fld.depth is not None:
+                zb, rise = _clip_depth(zb, rise, float(fld.depth))
+            bodies.append(BodyTemperature(res.surface, z=zb if depth else None,
+                                          depth_rise=rise if depth else None, diagnostics=body_diag))
         diag.update(_summary(diag, solved))
-        # a depth field with no heated body: the bulk temperatures at the surface
-        z = np.zeros(1) if depth and not solved else None
-        return TemperatureField.from_bodies(grid, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
-                                            *bodies, z=z, diagnostics=diag)
+        # a depth field with no heated body: the bulk temperatures at the surface (down to field.depth)
+        z = None
+        if depth and not solved:
+            z = np.zeros(1) if fld is None or fld.depth is None else np.array([0.0, float(fld.depth)])
+        if fld is not None:
+            diag.update({"field_behind": float(grid.x_edges[0] - out.x_edges[0]),
+                         "field_cells_behind": int(out.x.size - grid.x.size)})
+        result = TemperatureField.from_bodies(out, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
+                                              *bodies, z=z, diagnostics=diag)
+        return result if fld is None else with_thermal_trace(result, scene, source)
 
-    def _run_block(self, scene, source, level, options, i, q, cell0, requested):
+    def _run_block(self, scene, source, level, options, i, q, cell0, requested, extra=None):
         """Body ``i`` on the 3-D block with cells ``cell0 / 2**level``: (scheme, BlockResult)."""
         from .block3d import explicit_stability_limit, steady_block, transient_block   # numba on first use
         grid = source.grid
@@ -141,13 +173,24 @@ class FDMTemperature(TemperatureModel):
                 "moving-frame steady block is diffusion-dominated there and its GMRES+ILU solve does not "
                 "converge (stability study: 400 iterations, residual 0.05 at Péclet 0.01); use method 'fipy' "
                 "or the exact railtherm.references.moving_source")
+        delta = thermal_scales(a, V, kappa).thermal_depth
+        if extra and scheme != "steady" and d > 0.5 * delta:
+            # a field asks for temperatures in depth: the uniform transient grid must resolve the thermal layer
+            if requested == "auto" and pe >= self.STEADY_PECLET_MIN:
+                scheme = "steady"
+            else:
+                raise Refused(
+                    f"model 'fdm' ({body}): the scene's field asks for temperatures in depth, but the {scheme} "
+                    f"block's uniform node spacing d = {d:.3g} m is coarser than half the thermal layer "
+                    f"sqrt(2 a kappa / V) = {delta:.3g} m in which the trace lies; use scheme 'steady' or 'auto' "
+                    "(graded moving-frame grid) or a cell_size below that", kind="validity")
         args = (grid, q, grid.inside().astype(float), V, m.conductivity, m.density, m.specific_heat, h, d)
         if scheme == "steady":
-            return scheme, steady_block(*args, level=level, max_cells=float(options["max_cells"]))
+            return scheme, steady_block(*args, level=level, max_cells=float(options["max_cells"]), **(extra or {}))
         return scheme, transient_block(*args, scheme=scheme, time_step=ts, courant=float(options["courant"]),
-                                       max_nodes=float(options["max_nodes"]))
+                                       max_nodes=float(options["max_nodes"]), **(extra or {}))
 
-    def _run_line(self, scene, source, level, options, i, q, cell0, requested):
+    def _run_line(self, scene, source, level, options, i, q, cell0, requested, extra=None):
         """Body ``i`` on the 2-D (x-z) block of a line contact: (scheme, BlockResult).
 
         The steady scheme takes cells ``cell0 / 2**level`` along x over the band (its depth grid
@@ -178,9 +221,21 @@ class FDMTemperature(TemperatureModel):
         args = (grid, q, grid.inside().astype(float), V, m.conductivity, m.density, m.specific_heat, h)
         if scheme == "steady":
             return scheme, steady_line(*args, cell0 / 2 ** int(level), level=level, x_scheme=options["line_x_scheme"],
-                                       max_cells=float(options["max_cells"]))
+                                       max_cells=float(options["max_cells"]), **(extra or {}))
         return scheme, transient_line(*args, d, scheme=scheme, time_step=ts, courant=float(options["courant"]),
-                                      max_nodes=float(options["max_nodes"]))
+                                      max_nodes=float(options["max_nodes"]), **(extra or {}))
+
+
+def _clip_depth(z, rise, depth: float):
+    """The depth field down to exactly ``depth`` [m]: the block's depths above it and ``depth`` itself
+    (rise interpolated linearly between the two block depths around it)."""
+    z = np.asarray(z, dtype=float)
+    rise = np.asarray(rise, dtype=float)
+    keep = z < depth * (1.0 - 1e-12)
+    if not keep.any() or z[-1] < depth:
+        return z, rise
+    at = np.array([np.interp(depth, z, r) for r in rise])
+    return np.append(z[keep], depth), np.concatenate([rise[:, keep], at[:, None]], axis=1)
 
 
 def _forced_step(scene) -> float | None:
