@@ -281,10 +281,14 @@ def _one(doc: Document, ctx, comp: ExactComparison):
         + "Each method at its finest successful level; errors signed, (value − reference) / |reference|, "
         "temperatures on their rise above the bulk temperature.")
     header, rows = error_rows(data, comp)
+    levels_note = "listed in the last column"
+    if rows and len({str(r[-1]) for r in rows}) == 1:   # one set of levels: say it once, keep the rows short
+        levels_note = f"for every row: {rows[0][-1]}"
+        header, rows = header[:-1], [r[:-1] for r in rows]
     if rows:
         doc.table(f"Contact-model and thermal-model errors against the exact contact. Values in the unit of their "
-                  f"row; each error column names its reference method (finest successful level, listed in the "
-                  f"last column); cell colour: within (green) or above (orange) the study's tolerance "
+                  f"row; each error column names its reference method (finest successful level, {levels_note}); "
+                  f"cell colour: within (green) or above (orange) the study's tolerance "
                   f"{pct(data.tolerance) if data.tolerance is not None else '–'}. `{e}`'s own error is its "
                   f"discretisation error (it is the reference; see each scene's section). Forces and moments that "
                   f"vanish by symmetry (|{e}| < {NEGLIGIBLE:g} N or N m) are left out.", header, rows)
