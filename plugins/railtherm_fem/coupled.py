@@ -78,6 +78,13 @@ class FemProblem:
         Run the thermal part and the coupling.
     two_d : bool
         2-D conduction (True) or the seed's eq. 16 (False).
+    field_behind, field_depth : float or None
+        The scene's ``field`` (issue 14) [m]: the thermal layer must reach ``field_behind`` beyond the
+        trailing edge and ``field_depth`` deep. None (no field): everything as without it. With it the
+        default strip is lengthened to at least 2 (behind + FIELD_MARGIN a) and deepened to at least
+        2 depth, the thermal layer reaches 2 depth, and its x-spacing grows gently behind the patch
+        (ratio 1 + 0.02 / 2^level, :data:`FIELD_TRAIL_RATIO`); a given strip that is too short or too
+        shallow is refused (:func:`fem_limits`).
     """
 
     radius: float
@@ -103,6 +110,8 @@ class FemProblem:
     coupling_tolerance: float = 1e-6
     coupling_max_iterations: int = 30
     frictionless: bool = False
+    field_behind: float | None = None
+    field_depth: float | None = None
 
 
 @dataclass
@@ -184,6 +193,12 @@ MAX_HALF_WIDTH_OVER_RADIUS = 0.1
 #: are then at least 2 a from the patch centre
 MAX_HALF_WIDTH_OVER_LENGTH = 0.25
 
+#: the strip's outflow end (x = -L/2, no conduction through it) lies at least this many half-widths a beyond
+#: the end of the scene's ``field`` behind the patch [1]
+FIELD_MARGIN = 2.0
+#: growth ratio of the thermal x-spacing behind the patch with a ``field`` at level 0 (1 + 0.02 / 2^level) [1]
+FIELD_TRAIL_RATIO = 0.02
+
 
 def fem_limits(prob: FemProblem) -> str | None:
     """Why the FEM cannot solve ``prob`` (the patch does not fit the strip or breaks small strain), or None.
@@ -213,6 +228,17 @@ def fem_limits(prob: FemProblem) -> str | None:
                 f"a <= L/{1 / MAX_HALF_WIDTH_OVER_LENGTH:g} = {lim:.4g} m of the strip (length L = {L:g} m): the "
                 f"patch would reach the strip's clamped ends; use strip length >= {a / MAX_HALF_WIDTH_OVER_LENGTH:.4g} m "
                 f"or {fix(lim)}")
+    if prob.field_behind is not None and L is not None and 0.5 * L < prob.field_behind + (1.0 + FIELD_MARGIN) * a:
+        need = 2.0 * (prob.field_behind + (1.0 + FIELD_MARGIN) * a)
+        return (f"model 'fem': field.behind = {prob.field_behind:g} m does not fit on the strip (length L = {L:g} m): "
+                f"its outflow end x = -L/2 must lie {FIELD_MARGIN:g} a beyond -a - behind (Hertz half-width "
+                f"a = {a:.4g} m); use strip length >= {need:.4g} m, leave strip.length out (then the strip is "
+                f"lengthened) or shorten field.behind to <= {max(0.5 * L - (1.0 + FIELD_MARGIN) * a, 0.0):.4g} m")
+    D = prob.strip_depth
+    if prob.field_depth is not None and D is not None and D < 2.0 * prob.field_depth:
+        return (f"model 'fem': field.depth = {prob.field_depth:g} m is too deep for the strip (depth {D:g} m): its "
+                f"thermal layer (temperature rise 0 at the bottom) must reach 2 x field.depth; use strip depth >= "
+                f"{2.0 * prob.field_depth:.4g} m, leave strip.depth out, or field.depth <= {0.5 * D:.4g} m")
     return None
 
 
@@ -322,6 +348,10 @@ def solve_fem(prob: FemProblem) -> FemSolution:
     a_ref = _estimate_half_width(prob)
     length = prob.strip_length or 80.0 * a_ref
     depth = prob.strip_depth or 40.0 * a_ref
+    if prob.field_behind is not None and not prob.strip_length:
+        length = max(length, 2.0 * (prob.field_behind + (1.0 + FIELD_MARGIN) * a_ref))
+    if prob.field_depth is not None and not prob.strip_depth:
+        depth = max(depth, 2.0 * prob.field_depth)
     frictional = not prob.frictionless and prob.friction > 0
     xi = None
     if frictional:
@@ -395,7 +425,13 @@ def solve_fem(prob: FemProblem) -> FemSolution:
         zdepth = min(depth, ztop)
         rz = 1.0 + 0.2 / 2 ** prob.level
         dz0 = 0.5 * min(math.sqrt(kap * dx), dx)
-        grid = thermal_grid(mech.x[-1], dx, x_min, x_max, dz0, zdepth, rz, rz)
+        if prob.field_behind is None and prob.field_depth is None:
+            grid = thermal_grid(mech.x[-1], dx, x_min, x_max, dz0, zdepth, rz, rz)
+        else:    # the scene's field: deep enough, and the x-spacing growing gently behind the patch
+            if prob.field_depth is not None:
+                zdepth = min(depth, max(ztop, 2.0 * prob.field_depth))
+            grid = thermal_grid(mech.x[-1], dx, x_min, x_max, dz0, zdepth, rz, rz,
+                                ratio_trail=1.0 + FIELD_TRAIL_RATIO / 2 ** prob.level)
         nx = grid.x.size
         theta = [np.zeros(grid.shape), np.zeros(grid.shape)]
         omega = 1.0

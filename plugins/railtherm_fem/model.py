@@ -17,6 +17,16 @@ Temperatures: the rail from the strip's conduction problem; the wheel -- rigid o
 same conduction solver applied to the wheel's material moving at its surface speed V + v_s, with
 the wheel's share eps of the frictional heat (and the contact conductance, when given). For a
 rigid wheel that temperature is a report only: it does not deform the wheel.
+
+Behind the patch and in depth (scene key ``field``, issue 14; ``Capabilities(field=True)``): the
+temperatures are sampled from the strip's thermal layer on core's extended grid
+(:func:`railtherm.physics.field_grid`) down to ``field.depth`` exactly (linear in z between the layer's
+nodes, as its P1 elements), and the thermal trace is :func:`railtherm.physics.with_thermal_trace`. The
+layer's outflow end (-L/2) must lie 2a beyond -a - behind, and the layer must be 2 x field.depth deep:
+a default strip is lengthened/deepened to that, a given one that is too short or shallow is refused
+with the limit. Behind the patch the x-spacing then grows by 1 + 0.02/2^level only. Against Jaeger's
+band at Pe 1000 (tests/test_fem_field.py): peak temperature at 0..0.3 mm to 8.5e-4 of the rise at level 2
+(second order). Without ``field`` nothing changes (same grids, same results bit for bit).
 """
 from __future__ import annotations
 
@@ -26,20 +36,21 @@ import numpy as np
 
 from railtherm import (BodyTemperature, Capabilities, ContactPatch, CoupledModel, HeatSource, Option, Refused,
                        SolverError, TemperatureField, surface_grid)
-from railtherm.physics import nodal_cell_average
+from railtherm.physics import field_grid, nodal_cell_average, with_thermal_trace
+from railtherm.physics.thermal_trace import TRACE_OUTPUTS
 
-from .coupled import FemProblem, _interpolator, fem_limits, solve_fem
+from .coupled import FIELD_MARGIN, FIELD_TRAIL_RATIO, FemProblem, _interpolator, fem_limits, solve_fem
 from .thermal import ThermalBody, ThermalSolver, hat_load, thermal_grid
 
 __all__ = ["FemModel"]
 
 TEMPERATURE_OUTPUTS = frozenset({"surface_temperature", "temperature", "max_surface_temperature",
-                                 "mean_contact_temperature"})
+                                 "mean_contact_temperature"}) | frozenset(TRACE_OUTPUTS)
 PROVIDES = frozenset({
     "pressure", "traction_x", "slip_velocity_x", "stick", "normal_force", "semi_axis_a", "contact_area", "max_pressure",
     "creep_force_x", "heat_flux", "frictional_power", "heat_partition", "surface_temperature", "temperature",
     "max_surface_temperature", "mean_contact_temperature",
-})
+}) | frozenset(TRACE_OUTPUTS)
 
 
 #: a direct (LU) thermal solve whose relative residual ||A theta - b|| / ||b|| exceeds this is reported as
@@ -73,7 +84,7 @@ class FemModel(CoupledModel):
     description = ("2-D plane-strain FEM strip (graded P1 mesh, condensed onto the contact), Signorini + "
                    "regularised Coulomb by semismooth Newton, moving-frame conduction, Steps 1-4 coupling (seed section 4)")
     capabilities = Capabilities(contacts=frozenset({"line"}), sources=frozenset({"computed", "given"}),
-                                tangential=frozenset({"full-sliding", "creepage"}), convection=True,
+                                tangential=frozenset({"full-sliding", "creepage"}), convection=True, field=True,
                                 modes=frozenset({"steady"}), moving_surface=True, provides=PROVIDES,
                                 advice={"modes": "it is quasistatic (steady in the moving frame); use a transient "
                                                  "method (e.g. fastsim-fdm or fipy)",
@@ -136,7 +147,8 @@ class FemModel(CoupledModel):
             level=int(level), thermal=thermal, two_d=options.get("thermal_model", "2d") == "2d",
             grading=float(options.get("grading") or 8.0),
             coupling_tolerance=float(options.get("coupling_tolerance", 1e-6)),
-            coupling_max_iterations=int(options.get("coupling_max_iterations", 30)))
+            coupling_max_iterations=int(options.get("coupling_max_iterations", 30)),
+            field_behind=_field(scene)[0], field_depth=_field(scene)[1])
 
     def compute(self, scene, level, options, stages, upstream):
         why = self.supports(scene, level)
@@ -195,20 +207,57 @@ class FemModel(CoupledModel):
         temp = None
         if thermal:
             temp = self._temperature_from(sol.thermal_grid, sol.theta, grid, xc, scene,
-                                          {**diag, **self._stresses(sol, grid, xc)})
+                                          {**diag, **self._stresses(sol, grid, xc)}, source)
         return (patch if {"normal", "tangential"} & set(stages) else None,
                 source if "heat_source" in stages or thermal else None, temp)
 
     # ------------------------------------------------------------------------------------------
     @staticmethod
-    def _temperature_from(tgrid, theta, grid, xc, scene, diag):
-        xs = grid.x + xc
-        bodies = [BodyTemperature(np.interp(xs, tgrid.x, theta[j][:, 0]), z=tgrid.z,
-                                  depth_rise=np.stack([np.interp(xs, tgrid.x, theta[j][:, k])
-                                                       for k in range(tgrid.z.size)], axis=1))
-                  for j in range(2)]
-        return TemperatureField.from_bodies(grid, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
-                                            *bodies, z=tgrid.z, diagnostics=diag)
+    def _temperature_from(tgrid, theta, grid, xc, scene, diag, source=None):
+        fld = getattr(scene, "field", None)
+        if fld is None:
+            xs = grid.x + xc
+            bodies = [BodyTemperature(np.interp(xs, tgrid.x, theta[j][:, 0]), z=tgrid.z,
+                                      depth_rise=np.stack([np.interp(xs, tgrid.x, theta[j][:, k])
+                                                           for k in range(tgrid.z.size)], axis=1))
+                      for j in range(2)]
+            return TemperatureField.from_bodies(grid, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
+                                                *bodies, z=tgrid.z, diagnostics=diag)
+        # the scene's field (issue 14): core's extended grid, sampled on the thermal layer of the strip
+        out = field_grid(grid, scene)
+        xs = out.x + xc
+        reach = float(xc - tgrid.x[0])           # how far behind the patch centre the thermal layer reaches
+        if tgrid.x[0] > out.x_edges[0] + xc:
+            raise Refused(f"scene {scene.name!r}: model 'fem': the strip's thermal layer reaches {reach:.4g} m "
+                          f"behind the patch centre, less than the field's {float(-out.x_edges[0]):.4g} m "
+                          f"(a + field.behind); lengthen the strip (strip.length) or shorten field.behind",
+                          kind="validity")
+        z = np.asarray(tgrid.z, float)
+        depth = getattr(fld, "depth", None)
+        if depth is not None:
+            depth = float(depth)
+            if z[-1] < depth:
+                raise Refused(f"scene {scene.name!r}: model 'fem': the strip's thermal layer is {z[-1]:.4g} m "
+                              f"deep, less than field.depth = {depth:g} m; deepen the strip (strip.depth)",
+                              kind="validity")
+        bodies = []
+        for j in range(2):
+            rise = np.stack([np.interp(xs, tgrid.x, theta[j][:, k]) for k in range(z.size)], axis=1)
+            zb = z
+            if depth is not None:              # the depth field down to field.depth exactly (P1 in z)
+                keep = z < depth * (1.0 - 1e-12)
+                k = int(np.clip(np.searchsorted(z, depth), 1, z.size - 1))
+                w = (depth - z[k - 1]) / (z[k] - z[k - 1])
+                last = (1.0 - w) * rise[:, k - 1] + w * rise[:, k]
+                zb = np.append(z[keep], depth)
+                rise = np.concatenate([rise[:, keep], last[:, None]], axis=1)
+            bodies.append(BodyTemperature(rise[:, 0].copy(), z=zb, depth_rise=rise))
+        diag = {**diag, "field_behind": float(grid.x_edges[0] - out.x_edges[0]),
+                "field_cells_behind": int(out.x.size - grid.x.size), "field_thermal_reach": reach,
+                "field_thermal_nodes_behind": int(np.sum(tgrid.x < grid.x_edges[0] + xc))}
+        result = TemperatureField.from_bodies(out, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
+                                              *bodies, z=bodies[0].z, diagnostics=diag)
+        return with_thermal_trace(result, scene, source)
 
     @staticmethod
     def _stresses(sol, grid, xc):
@@ -245,7 +294,19 @@ class FemModel(CoupledModel):
         conv = float(scene.convection or 0.0)
         bodies = [ThermalBody(m.conductivity, m.density * m.specific_heat, v, conv)
                   for m, v in ((scene.wheel, vw), (scene.rail, vr))]
-        tgrid = given_grid(a, bodies, level, two_d, getattr(getattr(scene, "strip", None), "length", None))
+        strip = getattr(scene, "strip", None)
+        behind, fdepth = _field(scene)
+        length, sdepth = getattr(strip, "length", None), getattr(strip, "depth", None)
+        if behind is not None and length and 0.5 * length < behind + (1.0 + FIELD_MARGIN) * a:
+            raise Refused(f"scene {scene.name!r}: model 'fem': field.behind = {behind:g} m does not fit on the strip "
+                          f"(length L = {length:g} m): its outflow end -L/2 must lie {FIELD_MARGIN:g} a beyond -a - behind "
+                          f"(a = {a:g} m); use strip length >= {2.0 * (behind + (1.0 + FIELD_MARGIN) * a):.4g} m or leave "
+                          "strip.length out", kind="validity")
+        if fdepth is not None and sdepth and sdepth < 2.0 * fdepth:
+            raise Refused(f"scene {scene.name!r}: model 'fem': field.depth = {fdepth:g} m is too deep for the strip "
+                          f"(depth {sdepth:g} m; its thermal layer must reach 2 x field.depth); use strip depth >= "
+                          f"{2.0 * fdepth:.4g} m or leave strip.depth out", kind="validity")
+        tgrid = given_grid(a, bodies, level, two_d, length, behind, fdepth)
         load = hat_load(tgrid.x, qf, breaks=np.concatenate([[-a, a], grid.x_edges]), order=4)
         eps = source.heat_partition
         eps = float(np.mean(eps)) if np.ndim(eps) else float(eps)
@@ -255,11 +316,24 @@ class FemModel(CoupledModel):
         diag = dict(converged=bool(np.isfinite(solver.residual) and solver.residual < THERMAL_RESIDUAL_LIMIT),
                     iterations=0, residual=float(solver.residual),
                     thermal_unknowns=int(solver.unknowns), thermal_model="2d" if two_d else "1d")
-        return self._temperature_from(tgrid, theta, grid, 0.0, scene, diag)
+        return self._temperature_from(tgrid, theta, grid, 0.0, scene, diag, source)
 
 
-def given_grid(a, bodies, level, two_d, length=None):
-    """Thermal grid for a band of half-width a (spacing a/(10 2^level), wake 40 a or the strip)."""
+def _field(scene):
+    """The scene's ``field.behind`` and ``field.depth`` [m] (None, None without a field; depth None: default)."""
+    fld = getattr(scene, "field", None)
+    if fld is None:
+        return None, None
+    depth = getattr(fld, "depth", None)
+    return float(fld.behind), (None if depth is None else float(depth))
+
+
+def given_grid(a, bodies, level, two_d, length=None, behind=None, field_depth=None):
+    """Thermal grid for a band of half-width a (spacing a/(10 2^level), wake 40 a or the strip).
+
+    With the scene's ``field`` (``behind`` and/or ``field_depth`` [m] not None): the wake reaches at least
+    ``behind + (1 + FIELD_MARGIN) a`` (when no strip length is given), the layer at least 2 ``field_depth``,
+    and the x-spacing behind the patch grows by 1 + 0.02 / 2^level only."""
     dx = a / (10.0 * 2 ** level)
     kap = min(b.diffusivity / b.speed for b in bodies)
     kmax = max(b.diffusivity / b.speed for b in bodies)
@@ -267,4 +341,12 @@ def given_grid(a, bodies, level, two_d, length=None):
     x_max = a + (max(30 * kap, 4 * dx) if two_d else dx)
     depth = 8.0 * math.sqrt(kmax * (x_max - x_min)) + 4 * kmax
     rz = 1.0 + 0.2 / 2 ** level
-    return thermal_grid(a, dx, x_min, x_max, 0.5 * min(math.sqrt(kap * dx), dx), depth, rz, rz)
+    if behind is None and field_depth is None:
+        return thermal_grid(a, dx, x_min, x_max, 0.5 * min(math.sqrt(kap * dx), dx), depth, rz, rz)
+    if behind is not None and not length:
+        x_min = min(x_min, -(behind + (1.0 + FIELD_MARGIN) * a))
+        depth = 8.0 * math.sqrt(kmax * (x_max - x_min)) + 4 * kmax
+    if field_depth is not None:
+        depth = max(depth, 2.0 * field_depth)
+    return thermal_grid(a, dx, x_min, x_max, 0.5 * min(math.sqrt(kap * dx), dx), depth, rz, rz,
+                        ratio_trail=1.0 + FIELD_TRAIL_RATIO / 2 ** level)

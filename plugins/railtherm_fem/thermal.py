@@ -100,7 +100,7 @@ def _graded(x0: float, x1: float, h0: float, ratio: float) -> np.ndarray:
 
 
 def thermal_grid(heated: float, dx: float, x_min: float, x_max: float, dz0: float, depth: float,
-                 ratio_x: float = 1.15, ratio_z: float = 1.1) -> ThermalGrid:
+                 ratio_x: float = 1.15, ratio_z: float = 1.1, ratio_trail: float | None = None) -> ThermalGrid:
     """Grid with uniform spacing dx on [-heated, heated], geometric growth outside, graded depth.
 
     Parameters
@@ -117,12 +117,16 @@ def thermal_grid(heated: float, dx: float, x_min: float, x_max: float, dz0: floa
         Depth of the layer [m] (theta = 0 below).
     ratio_x, ratio_z : float
         Growth ratios of the spacing away from the heated zone and from the surface.
+    ratio_trail : float, optional
+        Growth ratio behind the heated zone (x < -heated, the trail; default ``ratio_x``): a gentler one
+        resolves the temperatures behind the patch (scene key ``field``).
     """
     n = max(2, int(round(2 * heated / dx)))
     mid = np.linspace(-heated, heated, n + 1)
     h = mid[1] - mid[0]
     right = _graded(heated, x_max, h * ratio_x, ratio_x)[1:] if x_max > heated else np.empty(0)
-    left = _graded(-heated, x_min, h * ratio_x, ratio_x)[1:][::-1] if x_min < -heated else np.empty(0)
+    rt = ratio_x if ratio_trail is None else ratio_trail
+    left = _graded(-heated, x_min, h * rt, rt)[1:][::-1] if x_min < -heated else np.empty(0)
     x = np.concatenate([left, mid, right])
     z = _graded(0.0, depth, dz0, ratio_z)
     return ThermalGrid(x, z)
