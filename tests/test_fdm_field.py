@@ -34,12 +34,8 @@ from railtherm.analysis.analytic import trace_reference
 from railtherm.input.scene import load_scene
 from railtherm.references.jaeger import jaeger_band_temperature
 from railtherm.references.moving_source import moving_source_temperature
+from field_cases import A, MAT, V, BULK, TRACE
 
-A = 5e-3
-MAT = railtherm.Material()
-V = 1000.0 * 2.0 * MAT.diffusivity / A      # Péclet V a / (2 kappa) = 1000
-TRACE = ["surface_temperature", "temperature", "peak_temperature", "cooling_rate", "heated_depth", "time_above"]
-BULK = MAT.bulk_temperature
 METHOD = "fastsim-fdm"
 
 

@@ -28,13 +28,8 @@ from railtherm import Refused
 from railtherm.analysis.analytic import trace_reference
 from railtherm.input.scene import load_scene
 from railtherm.references.jaeger import jaeger_band_temperature
+from field_cases import A, MAT, V, BULK, TRACE, PLAIN
 
-A = 5e-3
-MAT = railtherm.Material()
-V = 1000.0 * 2.0 * MAT.diffusivity / A      # Péclet V a / (2 kappa) = 1000
-BULK = MAT.bulk_temperature
-TRACE = ["surface_temperature", "temperature", "peak_temperature", "cooling_rate", "heated_depth", "time_above"]
-PLAIN = ["surface_temperature", "temperature", "max_surface_temperature", "mean_contact_temperature"]
 
 
 def _band(behind=30 * A, depth=3e-4, threshold=1100.0, outputs=TRACE, **over):

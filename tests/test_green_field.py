@@ -15,13 +15,9 @@ from railtherm.analysis.analytic import trace_reference
 from railtherm.input.scene import load_scene
 from railtherm.references.jaeger import jaeger_band_temperature
 from railtherm.references.moving_source import moving_source_temperature
+from field_cases import A, MAT, V, BULK, TRACE
 
-A = 5e-3
-MAT = railtherm.Material()
-V = 1000.0 * 2.0 * MAT.diffusivity / A      # Péclet V a / (2 kappa) = 1000
-TRACE = ["surface_temperature", "temperature", "peak_temperature", "cooling_rate", "heated_depth", "time_above"]
 OPTS = {"depth_points": 9}
-BULK = MAT.bulk_temperature
 
 
 def _scene(line: bool, behind=16 * A, depth=3e-4, threshold=1000.0, flux=1e9):

@@ -242,16 +242,7 @@ def graded_edges(lo_in: float, hi_in: float, n_in: int, lo: float, hi: float, ra
     h = (hi_in - lo_in) / n_in
 
     def grow(length):
-        out = []
-        s, w = 0.0, h
-        while s < length - 1e-12 * length:
-            w = w * ratio
-            if s + w >= length or length - (s + w) < 0.5 * w * ratio:
-                out.append(length)
-                break
-            s += w
-            out.append(s)
-        return np.array(out)
+        return _grow(h, length, ratio)
 
     right = hi_in + grow(hi - hi_in) if hi > hi_in else np.array([])
     left = lo_in - grow(lo_in - lo)[::-1] if lo < lo_in else np.array([])
