@@ -41,12 +41,25 @@ def _thermal_case(scene):
         a, b = hs.semi_axes if hs.semi_axes is not None else (hs.half_width, None)
         speeds = body_speeds(scene)
         return a, b, hs.shape, hs.flux, speeds, scene_partition(scene, *speeds)
-    if scene.tangential != "full-sliding":
+    mu = uniform_friction(scene)
+    if scene.tangential != "full-sliding" or mu is None:
         return None
     from ..models.hertz import hertz_geometry
     a, b, p0, _ = hertz_geometry(scene)
     speeds = body_speeds(scene)
-    return a, b, "hertz", scene.friction * scene.sliding_speed * p0, speeds, scene_partition(scene, *speeds)
+    return a, b, "hertz", mu * scene.sliding_speed * p0, speeds, scene_partition(scene, *speeds)
+
+
+def uniform_friction(scene) -> float | None:
+    """The coefficient of friction [1] when it is one number over the whole patch, so that the closed-form
+    references hold: a constant law; a slip-velocity law in full sliding (every cell slips at |v_s|: mu(|v_s|));
+    None for a temperature law (mu varies with the cell's temperature: no closed form)."""
+    law = scene.friction_law
+    if law is None or law.depends_on_temperature:
+        return None
+    if law.depends_on_slip:
+        return float(law.mu(abs(scene.sliding_speed))) if scene.tangential == "full-sliding" else None
+    return float(scene.friction)
 
 
 def _surface_rise(scene, case, x, y, body):
@@ -241,13 +254,15 @@ def _scalars_uncached(scene):
             out["semi_axis_b"] = b
             src["semi_axis_b"] = "hertz"
         out["_names"].append(_NAME["contact"])
-        if scene.tangential == "full-sliding":
-            out["frictional_power"] = scene.friction * scene.sliding_speed * n
-            out["creep_force_x"] = math.copysign(scene.friction * n, scene.sliding_speed) if scene.sliding_speed else 0.0
+        mu = uniform_friction(scene)
+        if scene.tangential == "full-sliding" and mu is not None:
+            out["frictional_power"] = mu * scene.sliding_speed * n
+            out["creep_force_x"] = math.copysign(mu * n, scene.sliding_speed) if scene.sliding_speed else 0.0
             src.update(frictional_power="full-sliding", creep_force_x="full-sliding")
             out["_names"].append(_NAME["sliding"])
         elif (b is None and scene.creepage is not None and scene.creepage.lateral == 0 and scene.creepage.spin == 0
-              and _identical_elastic(scene.wheel, scene.rail) and scene.friction > 0):
+              and _identical_elastic(scene.wheel, scene.rail) and scene.friction > 0
+              and scene.friction_law.kind == "constant"):
             from ..references.carter import carter_2d
             c = carter_2d(scene.creepage.longitudinal, a, scene.friction, scene.wheel_radius)
             out["creep_force_x"] = c.force_ratio * scene.friction * n

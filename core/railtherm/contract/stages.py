@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, Mapping
 
 import numpy as np
 
+from .capabilities import CONVECTION_KINDS, Capabilities
 from .errors import SceneError
 from .grid import SurfaceGrid
 
@@ -79,6 +80,11 @@ class ContactPatch:
         Local frictional power density -(traction . slip velocity) [W/m^2], cell-averaged, when the
         tangential model integrates it exactly over each cell; None: core's heat source forms it from
         the traction and slip fields.
+    contact_temperature : ndarray or None
+        Contact temperature of each cell, the mean of the wheel's and the rail's surface temperature
+        [degC], that a temperature-dependent friction law uses; set by core's coupled loop
+        (:mod:`railtherm.solving.friction_loop`) before the tangential stage. None: the mean bulk
+        temperature of the bodies (:func:`local_friction`).
     diagnostics : dict
         Solver diagnostics (iterations, residual, converged, ...).
     """
@@ -102,6 +108,7 @@ class ContactPatch:
     body_speed: tuple[float, float] | None = None
     dissipation: np.ndarray | None = None
     diagnostics: dict = field(default_factory=dict)
+    contact_temperature: np.ndarray | None = None
 
     #: fields a tangential model fills (:meth:`with_tangential`)
     TANGENTIAL_FIELDS: ClassVar[frozenset] = frozenset({
@@ -317,92 +324,6 @@ class BodyTemperature:
     diagnostics: Mapping[str, Any] = field(default_factory=dict)
 
 
-#: values of :attr:`Capabilities.convection`
-CONVECTION_KINDS = (False, True, "long-term")
-
-
-@dataclass(frozen=True)
-class Capabilities:
-    """What a stage model can do; enforced by :meth:`StageModel.supports` and listed by ``railtherm methods``.
-
-    Core checks every declared field once, for every model (built-in or third-party), before the
-    model runs; a model's own ``supports`` adds only the limits of its method. ``modes``,
-    ``convection``, ``peclet`` and ``moving_surface`` concern the temperature, so they are checked
-    for models that implement the temperature stage.
-
-    Attributes
-    ----------
-    contacts : frozenset of {"ellipse", "line", "gap"}
-        Contact shapes the model handles; ``gap`` is a non-Hertzian undeformed gap
-        (``scene.gap_coefficients``; a quadratic gap is read as an ellipse with those curvatures).
-    sources : frozenset of {"computed", "given"}
-        Whether the model takes a patch computed by an earlier stage and/or a given heat source.
-    tangential : frozenset of {"full-sliding", "creepage"}
-    convection : {False, True, "long-term"}
-        Whether the model honours the scene's convection coefficient [W/m^2K]: False refuses a scene
-        with convection > 0 (the model would silently ignore it); True honours it in every output;
-        "long-term" honours it only in the long-term (steady) wheel temperature, the flash
-        temperatures ignoring it (it is negligible over one contact time).
-    modes : frozenset of {"steady", "transient"}
-        Scene modes the model computes (the scene's ``mode``).
-    peclet : (float, float)
-        Péclet range [lo, hi] (L = V a / 2 kappa, :func:`railtherm.physics.peclet_number`) in which
-        the model is valid; each body's number, from the semi-axis along rolling and the body's
-        surface speed (:func:`railtherm.physics.body_speeds`), must lie in it. Checked in
-        :meth:`StageModel.supports` when the scene gives the semi-axis (``semi_axes`` or a given heat
-        source), else on the heat source by :meth:`StageModel.supports_source` (a Hertz patch from the
-        load is known only after the contact stage).
-    moving_surface : bool
-        The model works in the frame moving with the contact and needs both bodies' surfaces to
-        move through the patch (surface speed > 0).
-    provides : frozenset of str
-        Result variables the model fills (names of :data:`railtherm.schema.VARIABLES`).
-    field : bool
-        The model reports temperatures behind the patch and in depth as the scene's ``field`` asks
-        (on :func:`railtherm.grid.extended_grid`, depth down to ``field.depth``) and the thermal trace
-        (:func:`railtherm.physics.with_thermal_trace`); False refuses a scene with ``field``.
-    advice : tuple of (str, str)
-        Optional method-specific reason and alternative appended to a refusal, per capability
-        ("modes", "convection", "peclet", "moving_surface", "field"); a mapping is accepted. Without it core
-        says which declaration would work (``railtherm methods`` lists each model's).
-    """
-
-    contacts: frozenset = frozenset({"ellipse", "line"})
-    sources: frozenset = frozenset({"computed", "given"})
-    tangential: frozenset = frozenset({"full-sliding", "creepage"})
-    convection: bool | str = False
-    modes: frozenset = frozenset({"steady"})
-    peclet: tuple[float, float] = (0.0, float("inf"))
-    moving_surface: bool = False
-    provides: frozenset = frozenset()
-    advice: tuple = ()
-    field: bool = False
-
-    def __post_init__(self):
-        if self.convection not in CONVECTION_KINDS or not isinstance(self.convection, (bool, str)):
-            raise ValueError(f"Capabilities.convection must be one of {CONVECTION_KINDS}, got {self.convection!r}")
-        if isinstance(self.advice, Mapping):
-            object.__setattr__(self, "advice", tuple(sorted(self.advice.items())))
-        unknown = {k for k, _ in self.advice} - {"modes", "convection", "peclet", "moving_surface", "field"}
-        if unknown:
-            raise ValueError(f"Capabilities.advice has unknown keys {sorted(unknown)}")
-
-    def advice_for(self, key: str) -> str | None:
-        """The declared advice for capability ``key``, or None."""
-        return dict(self.advice).get(key)
-
-    def describe(self) -> str:
-        """One line for ``railtherm methods``: every field core enforces (the temperature ones apply
-        to models of the temperature stage)."""
-        lo, hi = self.peclet
-        conv = {True: "yes", False: "no", "long-term": "long-term wheel temperature only"}[self.convection]
-        return (f"enforced by core: contacts={'/'.join(sorted(self.contacts))}; sources={'/'.join(sorted(self.sources))}; "
-                f"tangential={'/'.join(sorted(self.tangential))}; if a temperature model: "
-                f"modes={'/'.join(sorted(self.modes))}; convection={conv}; Peclet {lo:g}..{hi:g}; "
-                f"moving surfaces needed={'yes' if self.moving_surface else 'no'}; "
-                f"field (behind the patch, in depth)={'yes' if self.field else 'no'}")
-
-
 @dataclass(frozen=True)
 class Option:
     """A declared model option (``[study.options.<method>]`` / ``solve(..., options=...)``)."""
@@ -483,6 +404,11 @@ class StageModel:
             return f"model {self.name!r} needs a {'/'.join(sorted(caps.sources))} heat source, scene gives a {kind} one"
         if scene.heat_source is None and scene.tangential not in caps.tangential:
             return f"model {self.name!r} handles {sorted(caps.tangential)}, not {scene.tangential!r}"
+        law = scene.friction_law if scene.heat_source is None and "tangential" in self.stages else None
+        if law is not None and law.kind not in caps.friction_laws:
+            return (f"model {self.name!r} applies the friction laws {'/'.join(sorted(caps.friction_laws))}, not the "
+                    f"scene's {law.kind!r} law ({law.describe()}); use a model that declares it (railtherm methods "
+                    "lists each model's friction laws)")
         if "temperature" not in self.stages:
             return None
         mode = getattr(scene, "mode", "steady") or "steady"

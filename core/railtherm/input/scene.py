@@ -240,6 +240,50 @@ class Table(_Check):
         return out
 
 
+class Friction(_Check):
+    """Scene key ``friction``: a number >= 0 (constant coefficient) or a friction-law table
+    ``{ law = "slip-velocity" | "polach" | "temperature", ... }`` (:mod:`railtherm.physics.friction`)."""
+
+    unit = "1"
+    LAWS = {
+        "slip-velocity": {"static": Num(0, lo_open=True), "kinetic": Num(0, lo_open=True),
+                          "decay": Num(0, lo_open=True, unit="m s-1")},
+        "polach": {"mu0": Num(0, lo_open=True), "A": Num(0, lo_open=True), "B": Num(0, lo_open=True, unit="s m-1")},
+        "temperature": {"reference": Num(0, lo_open=True), "reference_temperature": Num(-273.15, lo_open=True, unit="degC"),
+                        "change": Num(), "over": Num(0, lo_open=True, unit="K")},
+    }
+    allowed = ("a number >= 0, or a table { law = \"slip-velocity\", static, kinetic, decay [m/s] }, "
+               "{ law = \"polach\", mu0, A, B [s/m] } or { law = \"temperature\", reference, "
+               "reference_temperature [degC], change, over [K] }")
+
+    def __call__(self, scene, key, value):
+        if not isinstance(value, Mapping):
+            return Num(0)(scene, key, value)
+        law = value.get("law")
+        if law not in self.LAWS:
+            raise SceneError.bad_value(scene, f"{key}.law", law, "one of " + ", ".join(repr(k) for k in self.LAWS))
+        keys = self.LAWS[law]
+        out = {"law": law}
+        for k, v in value.items():
+            if k == "law":
+                continue
+            if k not in keys:
+                raise SceneError(f"scene {scene!r}: unknown key {key + '.' + k!r} (value {v!r}); the law {law!r} "
+                                 f"takes: {', '.join(keys)}", scene=scene, key=f"{key}.{k}", value=v,
+                                 allowed=", ".join(keys))
+            out[k] = keys[k](scene, f"{key}.{k}", v)
+        missing = [k for k in keys if k not in out]
+        if missing:
+            raise SceneError(f"scene {scene!r}: key '{key}.{missing[0]}' is missing: the law {law!r} needs "
+                             f"{', '.join(repr(k) for k in missing)} (it takes {', '.join(keys)})", scene=scene, key=f"{key}.{missing[0]}", value=None,
+                             allowed=keys[missing[0]].allowed)
+        if law == "temperature" and out["reference"] + out["change"] <= 0:
+            raise SceneError.bad_value(scene, f"{key}.change", out["change"],
+                                       f"a number > {-out['reference']:g} (reference + change is the friction above "
+                                       "reference_temperature + over and must stay > 0)")
+        return out
+
+
 def _variable_names():
     from ..contract.schema import VARIABLES
     return set(VARIABLES)
@@ -274,7 +318,7 @@ SCENE_KEYS: dict[str, _Check] = {
     "speed": Num(0, lo_open=True, unit="m s-1"),
     "sliding_speed": Num(0, unit="m s-1"),
     "creepage": Table({"longitudinal": Num(-1, 1), "lateral": Num(-1, 1), "spin": Num(unit="m-1")}),
-    "friction": Num(0),
+    "friction": Friction(),
     "heat_partition": Either(Num(0, 1), Choice("equal-temperature")),
     "convection": Num(0, unit="W m-2 K-1"),
     "outputs": Names(_variable_names),
@@ -407,6 +451,8 @@ class Scene:
     line_wheel_radius: float | None = None
     sliding_speed: float | None = None
     creepage: Creepage | None = None
+    #: the nominal coefficient of friction [1]: the constant law's value, else the law's mu at zero slip and
+    #: at the reference temperature (:attr:`friction_law` holds the law itself)
     friction: float | None = None
     heat_partition: float | str = "equal-temperature"
     convection: float = 0.0
@@ -426,6 +472,15 @@ class Scene:
     #: temperatures behind the patch and in depth (key ``field``); None: on the patch only, as before
     #: (declared last: the name shadows ``dataclasses.field`` in the class body)
     field: Field | None = None
+
+    @property
+    def friction_law(self):
+        """The :class:`railtherm.physics.friction.FrictionLaw` of key ``friction`` (None without it)."""
+        raw = self.source.get("friction")
+        if raw is None:
+            return None
+        from ..physics.friction import friction_law
+        return friction_law(raw)
 
     @property
     def wheel_radius(self) -> float:
@@ -584,14 +639,15 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
                  "sliding_speed",
                  "give exactly one of 'sliding_speed' [m/s] (full sliding) or 'creepage' (a table)"
                  + ("; with a wheelset both may be left out (the kinematics give the creepages)" if ws else ""))
-        _require(name, "friction" in c, "friction", "key 'friction' (coefficient >= 0) is missing")
+        _require(name, "friction" in c, "friction", "key 'friction' (a coefficient >= 0 or a friction-law table) is missing")
         if "creepage" in c:
             kw["creepage"] = Creepage(**c["creepage"])
-        for k in ("normal_force", "penetration", "sliding_speed", "friction"):
+        for k in ("normal_force", "penetration", "sliding_speed"):
             if k in c:
                 kw[k] = c[k]
-    if given is not None and "friction" in c:
-        kw["friction"] = c["friction"]
+    if "friction" in c:
+        from ..physics.friction import friction_law
+        kw["friction"] = friction_law(c["friction"]).nominal
     for k in ("heat_partition", "convection", "outputs", "mode", "reference"):
         if k in c:
             kw[k] = c[k]

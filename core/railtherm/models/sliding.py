@@ -8,6 +8,7 @@ from ..contract.errors import Refused
 from ..contract.grid import BASE_CELLS, surface_grid
 from ..contract.stages import Capabilities, HeatSource, HeatSourceModel, Option, TangentialContactModel
 from ..physics.averaging import cell_average, exact_total
+from ..physics.friction import local_friction
 from ..physics.kinematics import body_speeds
 from ..physics.partition import scene_partition
 
@@ -23,6 +24,9 @@ class FullSlidingTangential(TangentialContactModel):
     (seed eqs. 32-33). The local dissipation -(traction . slip) = mu p |v_s| is exact per cell (the
     pressure is cell-averaged and mu |v_s| constant), so core's heat source integrates it to
     mu |v_s| N to round-off.
+
+    Every friction law applies: the slip speed is |v_s| in every cell, so a slip-velocity law gives
+    mu(|v_s|) N exactly; a temperature law takes each cell's contact temperature (core's coupled loop).
     """
 
     name = "full-sliding"
@@ -30,10 +34,13 @@ class FullSlidingTangential(TangentialContactModel):
     description = "full sliding: traction mu p opposing the slip v_s over the whole patch"
     capabilities = Capabilities(contacts=frozenset({"ellipse", "line", "gap"}),
                                 tangential=frozenset({"full-sliding"}), sources=frozenset({"computed"}),
-                                provides=frozenset({"traction_x", "slip_velocity_x", "stick", "creep_force_x"}))
+                                provides=frozenset({"traction_x", "slip_velocity_x", "stick", "creep_force_x"}),
+                                friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}))
 
     def compute_tangential(self, scene, patch, level, options):
         vs = scene.sliding_speed
+        if scene.friction_law.kind != "constant":
+            return self._with_law(scene, patch, vs)
         mu_p = scene.friction * patch.pressure
         # material flows in -x: the wheel surface moves at -(V + v_s), the rail at -V, so the wheel
         # slips at -v_s relative to the rail and friction pushes it forward (+x) for v_s > 0
@@ -43,6 +50,19 @@ class FullSlidingTangential(TangentialContactModel):
             creep_force_x=np.sign(vs) * scene.friction * patch.normal_force,
             body_speed=body_speeds(scene), dissipation=scene.friction * abs(vs) * patch.pressure,
             diagnostics=dict(CLOSED_FORM))
+
+    @staticmethod
+    def _with_law(scene, patch, vs):
+        """Full sliding under a friction law: mu of each cell at |v_s| and its contact temperature."""
+        mu = local_friction(scene, patch, abs(vs))
+        mu_p = mu * patch.pressure
+        return patch.with_tangential(
+            traction_x=np.sign(vs) * mu_p, slip_velocity_x=np.where(patch.pressure > 0, -vs, 0.0),
+            stick=np.where(patch.pressure > 0, 0.0, np.nan),
+            creep_force_x=float(np.sign(vs) * patch.grid.integrate(mu_p)),
+            body_speed=body_speeds(scene), dissipation=abs(vs) * mu_p,
+            diagnostics={**CLOSED_FORM, "friction_min": float(mu[patch.pressure > 0].min()),
+                         "friction_max": float(mu[patch.pressure > 0].max())})
 
 
 def frictional_heat_source(scene, patch) -> HeatSource:

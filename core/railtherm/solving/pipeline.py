@@ -19,6 +19,7 @@ import numpy as np
 from ..contract.errors import PluginError, Refused, SceneError, SolverError
 from ..contract.grid import BASE_CELLS
 from ..models.sliding import given_heat_source as _given
+from .friction_loop import needs_loop, solve_coupled
 from .plugins import MethodInfo, PluginHost, get_host
 from ..output.store import encode_sweep
 from ..input.scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
@@ -110,6 +111,13 @@ def plan(scene: Scene, method: "str | Mapping[str, Any] | MethodInfo", level: in
             raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}{extra}: "
                           f"it has no {stage} stage")
         last = max(last, order.index(stage))
+    if needs_loop(scene) and "tangential" in order[: last + 1]:
+        # friction falling with temperature: the tangential stage needs the chain's temperatures
+        if "temperature" not in order:
+            raise Refused(f"method {mi.name!r} has no temperature stage, but the friction of scene {scene.name!r} "
+                          f"depends on the surface temperature ({scene.friction_law.describe()}): use a method "
+                          "or chain with a temperature model")
+        last = order.index("temperature")
     models: dict[str, StageModel] = {}
     for stage in order[: last + 1]:
         models[stage] = host.model("given").cls() if given and stage == "heat_source" else \
@@ -198,6 +206,11 @@ def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
             continue
         if stage == "normal":
             patch = result = model.compute_patch(scene, level, opts)
+        elif stage == "tangential" and needs_loop(scene) and not isinstance(pl.models["temperature"], CoupledModel):
+            patch, source, temp, loop_records = _friction_loop(pl, scene, patch, level, options, cells)
+            records.extend(loop_records)
+            done.update(id(pl.models[s]) for s in ("tangential", "heat_source", "temperature"))
+            continue
         elif stage == "tangential":
             result = model.compute_tangential(scene, patch, level, opts)
             _check_untouched(model, patch, result)
@@ -210,6 +223,26 @@ def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
         records.append(StageRecord(model, result.diagnostics or {}))
         done.add(id(model))
     return patch, source, temp, records
+
+
+def _friction_loop(pl: Plan, scene: Scene, patch: ContactPatch, level: int, options, cells):
+    """The tangential, heat-source and temperature stages around core's coupled friction loop
+    (:mod:`railtherm.solving.friction_loop`); the loop's history goes into the tangential diagnostics."""
+    tm, hm, km = (pl.models[s] for s in ("tangential", "heat_source", "temperature"))
+    o_t, o_h, o_k = ({**m.resolve_options(options), "cells": cells} for m in (tm, hm, km))
+
+    def tangential(p):
+        result = tm.compute_tangential(scene, p, level, o_t)
+        _check_untouched(tm, p, result)
+        return result
+
+    patch, source, temp, hist = solve_coupled(scene, patch, tangential,
+                                              lambda p: hm.compute_source(scene, p, level, o_h),
+                                              lambda src: km.compute_temperature(scene, src, level, o_k))
+    for obj in (patch, source, temp):
+        _freeze(obj)
+    return patch, source, temp, [StageRecord(tm, {**(patch.diagnostics or {}), **hist.diagnostics()}),
+                                 StageRecord(hm, source.diagnostics or {}), StageRecord(km, temp.diagnostics or {})]
 
 
 def _versions(pl: Plan, host: PluginHost) -> str:
