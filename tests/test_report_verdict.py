@@ -344,3 +344,45 @@ def test_report_imports_no_physics(tmp_path):
     for p in src.glob("*.py"):
         text = p.read_text()
         assert not re.search(r"(from|import)\s+(\.\.|railtherm\.)(analytic|references|models)\b", text), p
+
+
+def _reference_data(status_kalker: str = "inaccurate"):
+    """StudyData of one kalker-referenced scene (kalker's coarse levels measured against its own finest)
+    and a sweep of two such scenes."""
+    from railtherm.report.load import Run, SceneInfo, StudyData
+    runs, info = [], {}
+    for s in ("ek-exact", "curve--a", "curve--b"):
+        info[s] = SceneInfo(s, headline="max_surface_temperature", reference_kind="kalker",
+                            sweep={"creepage.longitudinal": -1e-3 if s.endswith("a") else -2e-3} if "--" in s else {},
+                            base=s.split("--")[0])
+        for lv, t in ((0, 0.5), (1, 2.0), (2, 8.0)):
+            st = status_kalker if lv < 2 else "ok"
+            runs.append(Run(s, "kalker", lv, st, wall_time=t, headline_error=0.2 if lv < 2 else 0.0,
+                            headline_reference="method:kalker"))
+            runs.append(Run(s, "green", lv, "inaccurate", wall_time=t / 100, headline_error=0.08,
+                            headline_reference="method:kalker"))
+    return StudyData(out=Path("."), name="x", tolerance=0.05, runs=runs, scenes=list(info), methods=["green", "kalker"],
+                     levels=[0, 1, 2], info={}, study=None, scene=info, orders={}, cross={}, curves=None,
+                     memory_label="", legacy=False)
+
+
+@pytest.mark.parametrize("status", ["inaccurate", "ok"])
+def test_reference_method_cell_is_not_a_verdict(status):
+    """A scene whose reference is the method kalker: kalker's own cell says "reference" (finest level,
+    no error, no status colour) instead of "inaccurate · L0" against its own finest level; the
+    other methods keep their verdicts; a sweep of such scenes says "reference" too."""
+    from railtherm.report.verdict import cell, choose, rows, scorecard, sweep_groups
+    data = _reference_data(status)
+    v = choose(data, "ek-exact", "kalker")
+    c = cell(v)
+    assert v.status == "reference" and v.run.level == 2
+    assert c.text.startswith("reference") and "L2" in c.text and "%" not in c.text
+    assert "inaccurate" not in c.text and c.css not in ("ok", "inaccurate", "unverified", "refused", "failed")
+    g = choose(data, "ek-exact", "green")
+    assert g.status == "inaccurate" and cell(g).text.startswith("inaccurate")
+    table_rows = rows(data, sweep_groups(data))
+    cards = scorecard(data, table_rows)
+    sweep = next(r for r in table_rows if r.group is not None)
+    sc = cell(cards[(sweep.label, "kalker")])
+    assert sc.text.startswith("reference") and "%" not in sc.text, sc.text
+    assert cell(cards[(sweep.label, "green")]).text.startswith("inaccurate")

@@ -4,7 +4,9 @@ A cell shows the cheapest level (smallest wall time) whose status is ``ok`` (the
 within the tolerance of an independent reference), with its error, time and level. When no level is
 ok, the best available is shown with its status: ``inaccurate`` (the level with the smallest headline
 error), ``unverified`` (the finest level: nothing independent to compare with), ``failed`` or
-``refused``. A sweep is one row: the cell summarises its members' cells.
+``refused``. A method that is a scene's reference (``reference = "kalker"``) gets no verdict on that
+scene: its cell says ``reference`` with its finest successful level (its errors there are against its
+own finest level, not a verdict). A sweep is one row: the cell summarises its members' cells.
 """
 from __future__ import annotations
 
@@ -21,7 +23,7 @@ __all__ = ["SweepGroup", "Row", "Verdict", "sweep_groups", "rows", "choose", "sc
 #: keys preferred as the swept axis when a scene sweeps several
 SWEEP_AXES = ("creepage.longitudinal", "sliding_speed")
 #: worst first: the status a sweep's cell takes
-SEVERITY = ("failed", "inaccurate", "unverified", "refused", "ok", "none")
+SEVERITY = ("failed", "inaccurate", "unverified", "refused", "ok", "reference", "none")
 
 QUANTITY = {"max_surface_temperature": "max. surface temperature", "mean_contact_temperature":
             "mean contact temperature", "creep_force_x": "creep force", "max_pressure": "max. pressure",
@@ -116,6 +118,10 @@ def choose(data: StudyData, scene: str, method: str) -> Verdict:
     runs = data.runs_of(scene, method)
     if not runs:
         return Verdict(method, "none")
+    if data.scene[scene].reference_kind == method:  # the scene's reference: measured against itself only
+        r = data.finest_result(scene, method)
+        if r is not None:
+            return Verdict(method, "reference", r, math.nan, r.wall_time, message=f"{method} is the reference of {scene}")
     ok = [r for r in runs if r.status == "ok"]
     if ok:
         r = min(ok, key=lambda r: (r.wall_time if math.isfinite(r.wall_time) else math.inf, r.level))
@@ -170,6 +176,10 @@ def cell(v: Verdict) -> Cell:
     """The text of a scorecard cell (its status also colours the HTML cell)."""
     if v.status == "none":
         return Cell("–")
+    if v.status == "reference":   # the scene's reference method: not a verdict (no error, no status colour)
+        pre = "≤" if v.members else ""
+        return Cell(" · ".join(["reference"] + ([pre + duration(v.time)] if math.isfinite(v.time) else [])
+                               + ([f"L{v.run.level}"] if v.run is not None else [])), "reference")
     if v.members:
         n = len(v.members)
         k = sum(1 for x in v.members if x.status == v.status)
