@@ -126,7 +126,7 @@ def _identical_elastic(scene) -> bool:
 def _pure_longitudinal(scene) -> bool:
     c = scene.creepage
     return (c is not None and c.lateral == 0 and c.spin == 0 and bool(scene.friction) and scene.friction > 0
-            and getattr(scene, "wheelset", None) is None)
+            and getattr(scene, "wheelset", None) is None and scene.friction_law.kind == "constant")
 
 
 def _creepage_range(scene, group_values: list[float]) -> np.ndarray:
