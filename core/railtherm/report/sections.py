@@ -189,7 +189,8 @@ def describe_scene(sc) -> str:
             elif sc.sliding_speed is not None:
                 parts.append(f"sliding speed {sc.sliding_speed:.4g} m/s")
             if sc.friction is not None:
-                parts.append(f"μ = {sc.friction:.3g}")
+                law = sc.friction_law
+                parts.append(f"μ = {sc.friction:.3g}" if law.kind == "constant" else f"friction {law.describe()}")
         parts.append(f"speed {sc.speed:.4g} m/s")
         hp = sc.heat_partition
         parts.append(f"heat partition {hp if isinstance(hp, str) else format(hp, '.3g')}")
