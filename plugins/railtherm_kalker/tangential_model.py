@@ -26,6 +26,7 @@ import numpy as np
 from railtherm import Capabilities, Option, Refused, TangentialContactModel
 from railtherm.physics import combined_elastic, creep_speeds
 
+from .friction_laws import solve_with_law
 from .influence import Convolution, line_kernel, rolling_kernel, tangential_kernels
 from .tangential_solver import TANGENTIAL_TOLERANCE, solve_tangential_nested
 
@@ -137,7 +138,8 @@ class KalkerTangential(TangentialContactModel):
         contacts=frozenset({"ellipse", "line", "gap"}), sources=frozenset({"computed"}),
         tangential=frozenset({"creepage", "full-sliding"}),
         provides=frozenset({"traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick",
-                            "creep_force_x", "creep_force_y", "spin_moment"}))
+                            "creep_force_x", "creep_force_y", "spin_moment"}),
+        friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}))
     options = {"tangential_tolerance": Option(TANGENTIAL_TOLERANCE, "tolerance of the tangential solver, "
                                               "max |F| / max(mu p) [1]", minimum=0.0)}
 
@@ -151,9 +153,14 @@ class KalkerTangential(TangentialContactModel):
         except ValueError as exc:
             raise Refused(f"model 'kalker': {exc}") from exc
         V = float(scene.speed)
-        mu = float(scene.friction)
         tol = float(options.get("tangential_tolerance", TANGENTIAL_TOLERANCE))
-        sol, X, Y = solve_patch_tangential(patch, mu, (xi, eta, phi), G, nu, tol)
+        law_diag = {}
+        if scene.friction_law.kind == "constant":
+            sol, X, Y = solve_patch_tangential(patch, float(scene.friction), (xi, eta, phi), G, nu, tol)
+        else:
+            b0 = abs(float(rolling_operator(patch.grid.x_edges, patch.grid.y_edges, G, nu).self_coefficient))
+            sol, X, Y, _, law_diag = solve_with_law(
+                scene, patch, lambda mu: solve_patch_tangential(patch, mu, (xi, eta, phi), G, nu, tol), b0, V)
         grid = patch.grid
         area = grid.cell_area
         shape = np.shape(patch.pressure)
@@ -181,6 +188,6 @@ class KalkerTangential(TangentialContactModel):
                 "slip_elements": int(np.count_nonzero(~sol.stick & inside)),
                 "combined_shear_modulus": G, "combined_poisson_ratio": nu,
                 "creepage_longitudinal": xi, "creepage_lateral": eta, "creepage_spin": phi,
-                "local_power": local_power, "global_power": global_power}
+                "local_power": local_power, "global_power": global_power, **law_diag}
         return patch.with_tangential(**fields, body_speed=creep_speeds(V, xi), dissipation=q.reshape(shape),
                                      diagnostics=diag)

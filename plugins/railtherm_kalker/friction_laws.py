@@ -1,0 +1,91 @@
+"""Friction laws in Kalker's exact tangential problem: mu per element from the scene's law
+(:mod:`railtherm.physics.friction`), cell by cell.
+
+* A temperature law: mu of each element at its contact temperature (core's coupled loop puts it on the
+  patch), one tangential solve.
+* A slip-velocity law (exponential or Polach's): the traction bound of a slipping element, mu(v) p, depends
+  on its own slip speed v = V |s|, which depends on the bound. The map mu -> law(V |s(mu)|) is monotone
+  increasing (a higher bound gives less slip, and the law falls with slip), so the iteration started at the
+  law's maximum (mu at zero slip) decreases monotonically to the largest fixed point. It converges at the rate
+  kappa = max |dmu/dv| p V |B_xx(0)| (the law's slope against the traction's own slip response, with
+  B_xx(0) the rolling operator's self-coefficient): kappa >= 1 means the law falls faster than the traction
+  can follow, no unique local solution, and the run is refused naming kappa
+  (:func:`railtherm.physics.friction.contraction_limit`).
+
+The outer iteration stops when max |mu_{k+1} - mu_k| over the contact is below :data:`MU_TOLERANCE`.
+"""
+from __future__ import annotations
+
+import numpy as np
+from railtherm import Refused
+from railtherm.physics.friction import contraction_limit, local_friction
+
+__all__ = ["MU_TOLERANCE", "MAX_OUTER", "solve_with_law"]
+
+#: stop the slip-velocity iteration when mu changes by less than this over the contact [1]
+MU_TOLERANCE = 1e-5
+#: refuse after this many outer iterations (not converged)
+MAX_OUTER = 60
+
+
+def _mu_of(scene, patch, shape, slip_speed=0.0):
+    return local_friction(scene, patch, np.asarray(slip_speed).reshape(np.shape(patch.pressure))
+                          if np.ndim(slip_speed) else slip_speed).reshape(shape)
+
+
+def solve_with_law(scene, patch, solve, self_coefficient: float, speed: float):
+    """Solve the tangential problem under the scene's friction law.
+
+    Parameters
+    ----------
+    scene : Scene
+        Its ``friction_law``.
+    patch : ContactPatch
+        Grid, pressure [Pa] and (for a temperature law) ``contact_temperature`` [degC].
+    solve : callable
+        ``solve(mu) -> (solution, X, Y)``: the tangential solve with mu per element (nx, ny) [1].
+    self_coefficient : float
+        |B_xx(0)| of the rolling operator on this grid [1/Pa].
+    speed : float
+        Rolling speed V [m/s] (slip velocity = V s).
+
+    Returns
+    -------
+    solution, X, Y, mu, diagnostics
+        The converged solve, mu per element [1] and ``{"friction_iterations", "friction_mu_change"}``.
+
+    Raises
+    ------
+    railtherm.Refused
+        (validity) when the slip law falls too steeply (kappa >= 1) or does not converge.
+    """
+    law = scene.friction_law
+    p = np.clip(np.asarray(patch.pressure, dtype=float), 0.0, None)
+    shape = p.reshape(p.shape[0], -1).shape
+    if not law.depends_on_slip:
+        mu = _mu_of(scene, patch, shape)
+        sol, X, Y = solve(mu)
+        return sol, X, Y, mu, {}
+    kappa = contraction_limit(law, float(p.max()), 1.0 / (abs(float(speed)) * self_coefficient))
+    if not kappa < 1.0:
+        raise Refused(f"model 'kalker': the friction law ({law.describe()}) falls too steeply for a unique "
+                      f"local solution: |dmu/dv| p_max V |B_xx(0)| = {kappa:.3g} >= 1 (the slip speed of an element "
+                      f"cannot follow its falling traction bound); use a slower decay (a larger 'decay', or a "
+                      f"smaller 'B'), a lower speed or a lower load", kind="validity")
+    mu = _mu_of(scene, patch, shape)          # the law's maximum: zero slip everywhere
+    history = []
+    for _ in range(MAX_OUTER):
+        sol, X, Y = solve(mu)
+        v = abs(float(speed)) * np.sqrt(np.sum(np.asarray(sol.slip) ** 2, axis=0))
+        new = _mu_of(scene, patch, shape, v)
+        change = float(np.max(np.abs(new - mu)[p.reshape(shape) > 0], initial=0.0))
+        history.append(change)
+        if change < MU_TOLERANCE:     # the solve used mu, which the law reproduces to the tolerance
+            break
+        mu = new
+    else:
+        raise Refused(f"model 'kalker': the slip-velocity friction iteration did not converge in {MAX_OUTER} "
+                      f"steps (last change of mu {history[-1]:.2e}, tolerance {MU_TOLERANCE:g}; kappa = {kappa:.3g})",
+                      kind="validity")
+    return sol, X, Y, mu, {"friction_iterations": len(history), "friction_mu_change": np.asarray(history),
+                           "friction_contraction": kappa}
