@@ -34,6 +34,7 @@ from pathlib import Path
 from ..output import store
 from .document import Document
 from .exact_contact import exact_contact_section
+from .friction_section import friction_section
 from .figures import Palette, method_colour
 from .load import load
 from .sections import Context, benchmark_section, environment_section, scene_section, sweep_section, verdict_section
@@ -94,6 +95,7 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
         row.anchor = ""
     verdict_section(doc, ctx, table_rows)
     exact_contact_section(doc, ctx)
+    friction_section(doc, ctx)
     idx = 0
     for row in table_rows:
         if row in left_out:
