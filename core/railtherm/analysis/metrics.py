@@ -62,8 +62,9 @@ from ..output.store import STATUSES
 
 
 def _open(path):
-    """A run's Dataset, read through the output folder's owner (:func:`railtherm.store.open_dataset`)."""
-    return store.open_dataset(path)
+    """A run's Dataset, read through the output folder's owner (:func:`railtherm.store.open_result`: a run
+    file or a run of the Zarr store)."""
+    return store.open_result(path)
 
 
 # ----------------------------------------------------------------------------------------------

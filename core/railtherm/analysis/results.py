@@ -37,8 +37,14 @@ def _read_run(path: Path, variables):
             float(attrs.get("wall_time", np.nan)), str(attrs.get("status", "ok")))
 
 
-def open_results(out, *, variables=None, unstack: bool = False):
+def open_results(out, *, variables=None, unstack: bool | None = None):
     """Open the scalar results of every run of a study output folder as one Dataset.
+
+    A folder written with the Zarr store (``[study] store = "zarr"``: ``results.zarr``) is opened
+    lazily, backed by dask (:func:`railtherm.output.store.open_store`): nothing but the coordinates is
+    read until values are asked for, and a study whose scenes are one cartesian sweep gets one
+    dimension per swept key by default, so ``ds.max_surface_temperature.sel(speed=30)`` reads only
+    the chunks it needs. A folder of run files is read into memory, as before.
 
     Parameters
     ----------
@@ -46,10 +52,11 @@ def open_results(out, *, variables=None, unstack: bool = False):
         Study output folder (holding ``runs/``).
     variables : iterable of str, optional
         Scalar variables to collect (default: every 0-d or ``(body,)`` variable found).
-    unstack : bool
+    unstack : bool, optional
         Turn the ``scene`` dimension into one dimension per swept parameter (a cartesian sweep
         gives a dense grid; combinations that were not run are NaN). Needs every scene to carry the
-        same swept keys.
+        same swept keys. Default: False for run files; for the Zarr store, True when its scenes are
+        one cartesian sweep of numbers.
 
     Returns
     -------
@@ -74,6 +81,8 @@ def open_results(out, *, variables=None, unstack: bool = False):
 
     from ..contract.schema import VARIABLES, variable_attrs
 
+    if store.has_store(out):
+        return store.open_store(out, variables=variables, unstack=unstack)
     root = Path(out) / store.RUNS
     if not root.is_dir():
         raise FileNotFoundError(f"{str(root)!r} does not exist: give the output folder of 'railtherm run'")

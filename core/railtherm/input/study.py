@@ -17,7 +17,14 @@ from ..contract.errors import SceneError
 from .scene import MATERIAL_KEYS, SCENE_KEYS, SCHEMA_VERSION, Scene, Table, load_scene
 
 STUDY_KEYS = {"name", "description", "methods", "levels", "reference", "options", "repeat", "timeout",
-              "warmup", "tolerance", "published", "chains"}
+              "warmup", "tolerance", "published", "chains", "store", "keep_fields"}
+#: result stores of a study (``[study] store``): one netCDF file per run, or one chunked Zarr store
+STORES = ("files", "zarr")
+#: values of ``[study] keep_fields`` (the Zarr store): every run's fields, none, or the finest level's
+KEEP_FIELDS = (True, False, "finest")
+#: without ``[study] store``, a study of at least this many runs whose scenes ask only scalar outputs
+#: uses the Zarr store; any other study writes one file per run
+AUTO_ZARR_RUNS = 1000
 #: stages a study chain may name (plugin API 2)
 CHAIN_STAGES = ("normal", "tangential", "heat_source", "temperature")
 REFERENCES = ("analytic", "finest")
@@ -45,6 +52,22 @@ class Study:
     path: str | None = None
     #: chains composed by the study, used like method names: name -> {stage: (model, ...)}
     chains: dict[str, dict[str, tuple[str, ...]]] = field(default_factory=dict)
+    #: ``[study] store``: "files", "zarr", or None (chosen by :meth:`store_for`)
+    store: str | None = None
+    #: ``[study] keep_fields`` (Zarr store): True, False or "finest"
+    keep_fields: bool | str = False
+
+    def store_for(self, n_runs: int) -> str:
+        """The result store of a run of ``n_runs`` runs: ``[study] store`` when given, else "zarr" for a
+        study of at least :data:`AUTO_ZARR_RUNS` runs whose scenes ask only scalar outputs (or that
+        sets ``keep_fields``), "files" otherwise."""
+        if self.store is not None:
+            return self.store
+        if self.keep_fields is not False:
+            return "zarr"
+        from ..contract.schema import VARIABLES
+        scalar = all(VARIABLES[o].dims in ((), ("body",)) for s in self.scenes for o in s.outputs if o in VARIABLES)
+        return "zarr" if n_runs >= AUTO_ZARR_RUNS and scalar else "files"
 
     def method_names(self, available) -> list[str]:
         """Methods to run: the study's list, or every available one and the study's chains for "all"
@@ -188,6 +211,23 @@ def parse_study(doc: Mapping[str, Any], *, path: str | None = None) -> Study:
         if not isinstance(st["warmup"], bool):
             raise SceneError.bad_value(None, "study.warmup", st["warmup"], "true or false")
         kw["warmup"] = st["warmup"]
+    if "store" in st:
+        if st["store"] not in STORES:
+            raise SceneError(f"{where}: key 'study.store' is {st['store']!r}; allowed: \"files\" (one netCDF file "
+                             "per run) or \"zarr\" (one chunked store for the study)", key="study.store",
+                             value=st["store"], allowed='"files" or "zarr"')
+        kw["store"] = st["store"]
+    if "keep_fields" in st:
+        v = st["keep_fields"]
+        if not any(v is k or (isinstance(k, str) and v == k) for k in KEEP_FIELDS):
+            raise SceneError(f"{where}: key 'study.keep_fields' is {v!r}; allowed: true, false or \"finest\" "
+                             "(the finest level of each scene and method)", key="study.keep_fields", value=v,
+                             allowed='true, false or "finest"')
+        if kw.get("store") == "files":
+            raise SceneError(f"{where}: key 'study.keep_fields' = {v!r} needs store = \"zarr\": the files store "
+                             "keeps every field of every run", key="study.keep_fields", value=v,
+                             allowed='keep_fields only with store = "zarr" (or without store)')
+        kw["keep_fields"] = v
     kw["description"] = str(st.get("description", ""))
     defaults = doc.get("defaults", {})
     if not isinstance(defaults, Mapping):

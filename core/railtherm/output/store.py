@@ -9,6 +9,8 @@ Layout of an output folder ``DIR``::
 
     DIR/runs/<scene>/<method>/level-<k>.nc           one result (xarray Dataset, netCDF4)
     DIR/runs/<scene>/<method>/level-<k>.status.json  a refused or failed run (a RunRecord as JSON)
+    DIR/results.zarr/                                 instead of runs/ with ``[study] store = "zarr"``: every
+                                                      run in chunked arrays (:mod:`.zarr_store`)
     DIR/metrics.nc                                    verdicts and errors of every run
     DIR/references.nc                                 exact reference curves, one group per scene
     DIR/study.json                                    the invocation: study, timing, run records
@@ -37,7 +39,7 @@ __all__ = ["STATUSES", "RUNS", "METRICS", "REFERENCES", "STUDY", "REPORT_MD", "R
            "run_files", "status_files",
            "write_atomic", "write_atomic_bytes", "write_text_atomic", "write_json_atomic",
            "write_dataset_atomic", "write_references", "remove_stale_tmp",
-           "read_attrs", "open_dataset", "open_run", "read_run_scalars", "read_json", "read_study_info",
+           "read_attrs", "open_dataset", "open_run", "open_result", "has_store", "run_attributes", "open_store", "read_run_scalars", "read_json", "read_study_info",
            "read_metrics", "read_references", "run_sweeps", "SWEEP_ATTR", "encode_sweep", "sweep_of",
            "RunRecord", "write_status", "read_status", "crash_record"]
 
@@ -241,9 +243,41 @@ def open_dataset(path, **kw):
 
 
 def open_run(out, scene: str, method: str, level: int):
-    """The Dataset of one run (loaded), or None when the run has no file."""
+    """The Dataset of one run (loaded), or None when the run has no file (or no result in the Zarr store)."""
+    from . import zarr_store
+    if zarr_store.is_zarr(out):
+        return zarr_store.open_run(out, scene, method, level)
     p = run_path(out, scene, method, level)
     return open_dataset(p) if p.exists() else None
+
+
+def open_result(path):
+    """The Dataset of a run from its record's ``path``: a run file, or a run of the Zarr store (loaded)."""
+    from . import zarr_store
+    if zarr_store.is_ref(str(path)):
+        return zarr_store.open_ref(str(path))
+    return open_dataset(path)
+
+
+def has_store(out) -> bool:
+    """Whether ``out`` keeps its runs in the Zarr store (``results.zarr``) rather than ``runs/``."""
+    from . import zarr_store
+    return zarr_store.is_zarr(out)
+
+
+def run_attributes(out, scene: str, method: str, level: int) -> dict:
+    """Global attributes of a run ({} when it has none): of its file, or what the Zarr store records."""
+    from . import zarr_store
+    if zarr_store.is_zarr(out):
+        return zarr_store.run_attrs(out, scene, method, level)
+    p = run_path(out, scene, method, level)
+    return read_attrs(p) if p.exists() else {}
+
+
+def open_store(out, *, variables=None, unstack=None):
+    """The Zarr store of ``out`` as a lazy (dask-backed) Dataset (:func:`railtherm.output.zarr_store.open_lazy`)."""
+    from . import zarr_store
+    return zarr_store.open_lazy(out, variables=variables, unstack=unstack)
 
 
 def read_run_scalars(path, variables=None):
@@ -342,7 +376,10 @@ def sweep_of(attrs) -> dict:
 
 
 def run_sweeps(out) -> dict:
-    """Scene name -> sweep of a study output folder, from the first run file of each scene."""
+    """Scene name -> sweep of a study output folder, from the first run file of each scene (or the Zarr store)."""
+    from . import zarr_store
+    if zarr_store.is_zarr(out):
+        return zarr_store.sweeps(out)
     found = {}
     for f in run_files(out):
         if f.parent.parent.name in found:

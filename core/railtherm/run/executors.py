@@ -48,7 +48,11 @@ def _crash_record(task, message, kind: str = "error"):
     """Record (and store beside the run) a run whose worker could not report a result.
 
     ``kind``: the failure's reason kind, "error" (the worker died) or "timeout" (it was ended).
+    A chunk of the Zarr store (:class:`railtherm.run.chunks.ChunkTask`) records its own runs (a list).
     """
+    crash = getattr(task, "crash", None)
+    if crash is not None:
+        return crash(message, kind)
     if task.path.exists():  # the worker died after writing: the run is complete after all
         done = task.existing(same_invocation=True)
         if done is not None and done.status == "ok":

@@ -319,6 +319,49 @@ def _failure(exc: BaseException, timeout: float) -> tuple[str, str, str]:
     return "failed", "error", f"{type(exc).__name__}: {exc}{where}"
 
 
+def _solve_timed(task: RunTask, rec: RunRecord, phases: dict, t_begin: float):
+    """Warm up, solve, repeat, measure memory (:func:`execute_run`); fill ``rec`` and return the result."""
+    from ..solving.pipeline import solve
+    from ..contract.schema import history_line
+
+    with _time_limit(task.timeout):
+        t0 = time.perf_counter()
+        key = (task.method, task.level)
+        if task.warmup or key not in _WARM:
+            # untimed warm-up of the same code path: imports, numba compilation, caches
+            solve(task.scene, task.spec, task.level, task.options, validate=False)
+        _WARM.add(key)
+        phases["warmup"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        ds = solve(task.scene, task.spec, task.level, task.options)
+        phases["solve"] = time.perf_counter() - t0
+        phases["compute"] = float(ds.attrs["wall_time"])
+        times = [float(ds.attrs["wall_time"])]
+        t1 = time.perf_counter()
+        n = max(task.repeat, timed_solves(times[0]))
+        budget = max(0.0, task.timeout - (time.perf_counter() - t_begin)) / 2
+        while len(times) < n and sum(times) + times[0] < budget:
+            again = solve(task.scene, task.spec, task.level, task.options, validate=False)
+            times.append(float(again.attrs["wall_time"]))
+        phases["repeats"] = time.perf_counter() - t1
+        if task.trace_memory:
+            t2 = time.perf_counter()
+            with RSSPeak() as mem:
+                solve(task.scene, task.spec, task.level, task.options, validate=False)
+            rec.peak_rss, rec.rss_growth = mem.peak, mem.growth
+            phases["memory"] = time.perf_counter() - t2
+    rec.wall_time = min(times)
+    rec.wall_time_median = float(np.median(times))
+    rec.timing_runs = len(times)
+    _summarise(rec, task.scene, ds)
+    ds.attrs.update({"wall_time": rec.wall_time, "wall_time_median": rec.wall_time_median,
+                     "peak_rss": rec.peak_rss, "rss_growth": rec.rss_growth, "timing_runs": rec.timing_runs, "status": "ok",
+                     "run_id": task.run_id, "run_hash": rec.run_hash})
+    how = f"best and median of {len(times)} timed solves after an untimed warm-up"
+    ds.attrs["history"] = ds.attrs["history"] + "\n" + history_line(f"railtherm run: {how}")
+    return ds
+
+
 def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
     """Run one (scene, method, level): warm up, time, measure memory, write atomically.
 
@@ -347,9 +390,6 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         scalar values of the result, and ``phases``: where the time went [s]. Never raises for a
         problem of the run itself.
     """
-    from ..solving.pipeline import solve
-    from ..contract.schema import history_line
-
     t_begin, cpu_begin = time.perf_counter(), time.thread_time()
     if resume:
         rec = _existing(task)
@@ -366,41 +406,7 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
     phases: dict[str, float] = {}
     rec.phases = phases
     try:
-        with _time_limit(task.timeout):
-            t0 = time.perf_counter()
-            key = (task.method, task.level)
-            if task.warmup or key not in _WARM:
-                # untimed warm-up of the same code path: imports, numba compilation, caches
-                solve(task.scene, task.spec, task.level, task.options, validate=False)
-            _WARM.add(key)
-            phases["warmup"] = time.perf_counter() - t0
-            t0 = time.perf_counter()
-            ds = solve(task.scene, task.spec, task.level, task.options)
-            phases["solve"] = time.perf_counter() - t0
-            phases["compute"] = float(ds.attrs["wall_time"])
-            times = [float(ds.attrs["wall_time"])]
-            t1 = time.perf_counter()
-            n = max(task.repeat, timed_solves(times[0]))
-            budget = max(0.0, task.timeout - (time.perf_counter() - t_begin)) / 2
-            while len(times) < n and sum(times) + times[0] < budget:
-                again = solve(task.scene, task.spec, task.level, task.options, validate=False)
-                times.append(float(again.attrs["wall_time"]))
-            phases["repeats"] = time.perf_counter() - t1
-            if task.trace_memory:
-                t2 = time.perf_counter()
-                with RSSPeak() as mem:
-                    solve(task.scene, task.spec, task.level, task.options, validate=False)
-                rec.peak_rss, rec.rss_growth = mem.peak, mem.growth
-                phases["memory"] = time.perf_counter() - t2
-        rec.wall_time = min(times)
-        rec.wall_time_median = float(np.median(times))
-        rec.timing_runs = len(times)
-        _summarise(rec, task.scene, ds)
-        ds.attrs.update({"wall_time": rec.wall_time, "wall_time_median": rec.wall_time_median,
-                         "peak_rss": rec.peak_rss, "rss_growth": rec.rss_growth, "timing_runs": rec.timing_runs, "status": "ok",
-                         "run_id": task.run_id, "run_hash": rec.run_hash})
-        how = f"best and median of {len(times)} timed solves after an untimed warm-up"
-        ds.attrs["history"] = ds.attrs["history"] + "\n" + history_line(f"railtherm run: {how}")
+        ds = _solve_timed(task, rec, phases, t_begin)
         t3 = time.perf_counter()
         store.write_dataset_atomic(ds, task.path)
         phases["write"] = time.perf_counter() - t3
@@ -419,6 +425,60 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
     phases["total"] = time.perf_counter() - t_begin
     phases["cpu"] = time.thread_time() - cpu_begin
     return rec
+
+
+def execute_chunk(chunk, *, resume: bool = False) -> list[RunRecord]:
+    """Run the runs of one chunk of the Zarr store (:class:`railtherm.run.chunks.ChunkTask`) and write
+    the chunk once; the same timed solve as :func:`execute_run`, so the values are identical bit for bit.
+
+    Runs already done (by this invocation, or with ``resume`` ok or refused with the same run hash)
+    are read from the store and not run again; a chunk whose runs are all done is not written.
+    ``phases["write"]`` of each record is the chunk's write time divided by its runs [s], and
+    ``phases["bytes"]`` its share of the chunk files written [bytes].
+    """
+    from ..output import zarr_store
+    from .chunks import row_of_record
+
+    out, start, n = chunk.out, chunk.start, len(chunk.tasks)
+    cols = zarr_store.read_region(out, start, start + n)
+    done = chunk.done(cols, resume)
+    records: list[RunRecord] = []
+    finest: dict = {}
+    for j, task in enumerate(chunk.tasks):
+        if done[j]:
+            records.append(chunk.record(j, cols, RECORD_VALUES))
+            continue
+        t_begin, cpu_begin = time.perf_counter(), time.thread_time()
+        rec = RunRecord(task.scene.name, task.method, task.level, "failed", path=chunk.ref(j),
+                        scene_hash=task.scene.hash, run_hash=task.run_hash, run_id=task.run_id, pid=os.getpid(),
+                        sweep=dict(task.scene.sweep))
+        rec.phases = phases = {}
+        ds = None
+        try:
+            ds = _solve_timed(task, rec, phases, t_begin)
+            rec.status = "ok"
+        except Exception as exc:  # noqa: BLE001 - a failing plugin never takes the study down
+            rec.status, rec.reason_kind, rec.message = _failure(exc, task.timeout)
+            rec.values, rec.energy_balance, rec.summary = {}, math.nan, False
+        zarr_store.set_row(cols, j, row_of_record(rec, ds))
+        if ds is not None and chunk.keep_fields is True:
+            zarr_store.write_fields(out, chunk.scene_index[j], task.method, task.level, ds)
+        elif ds is not None and chunk.keep_fields == "finest":
+            key = (chunk.scene_index[j], task.method)
+            if key not in finest or task.level > finest[key][0]:
+                finest[key] = (task.level, ds)
+        phases["total"] = time.perf_counter() - t_begin
+        phases["cpu"] = time.thread_time() - cpu_begin
+        records.append(rec)
+    for (si, method), (level, ds) in finest.items():
+        zarr_store.write_fields(out, si, method, level, ds)
+    ran = n - sum(done)
+    if ran:
+        took, size = zarr_store.write_chunk(out, start, cols, worker=True)
+        for j, rec in enumerate(records):
+            if not done[j]:
+                rec.phases["write"], rec.phases["bytes"] = took / ran, size / n
+    return records
 
 
 # ----------------------------------------------------------------------------------------------
@@ -468,14 +528,24 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
     started = time.time()
     for t in tasks:
         t.run_id, t.run_started = run_id, started
+    chunked = bool(tasks) and hasattr(tasks[0], "tasks")  # ChunkTasks of the Zarr store
+    for t in tasks:
+        for u in getattr(t, "tasks", ()):
+            u.run_id, u.run_started = run_id, started
     ex = get_executor(executor, scheduler=scheduler, workers=workers)
-    records: list[RunRecord | None] = [None] * len(tasks)
-    with _progress(len(tasks), desc) as bar:
-        for i, rec in ex.map(execute_run, tasks, resume=resume):
+    records: list = [None] * len(tasks)
+    total = sum(len(t.tasks) for t in tasks) if chunked else len(tasks)
+    with _progress(total, desc) as bar:
+        for i, rec in ex.map(execute_chunk if chunked else execute_run, tasks, resume=resume):
             records[i] = rec
             if bar is not None:
-                bar.update(1)
-                bar.set_postfix_str(f"{rec.scene[:24]} {rec.method} L{rec.level} {rec.status}", refresh=False)
+                last = rec[-1] if isinstance(rec, list) else rec
+                bar.update(len(rec) if isinstance(rec, list) else 1)
+                bar.set_postfix_str(f"{last.scene[:24]} {last.method} L{last.level} {last.status}", refresh=False)
+    if chunked:
+        from ..output import zarr_store
+        zarr_store.remove_partial(tasks[0].out)
+        return [r for rs in records if rs is not None for r in rs]
     store.remove_stale_tmp({Path(t.path).parent for t in tasks})
     return [r for r in records if r is not None]
 
@@ -534,6 +604,13 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
                          value=str(out), allowed="a folder (created if missing)")
     out.mkdir(parents=True, exist_ok=True)
     tasks = make_tasks(study, out, methods, levels)
+    kind = study.store_for(len(tasks)) if hasattr(study, "store_for") else "files"
+    if kind == "zarr":
+        from ..output import zarr_store
+        from .chunks import layout_of, make_chunks
+        layout = layout_of(tasks, getattr(study, "keep_fields", False))
+        zarr_store.create(out, layout, resume=resume)
+        tasks = make_chunks(tasks, layout, out)
     t1 = time.perf_counter()
     records = run_tasks(tasks, executor=executor, scheduler=scheduler, resume=resume, workers=workers,
                         desc=study.name)
@@ -543,7 +620,7 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     from ..analysis.reference_curves import write_reference_curves
     write_reference_curves(study, out)  # the exact curves the report overlays (it never recomputes physics)
     t3 = time.perf_counter()
-    timing = {"setup": t1 - t0, "runs": t2 - t1, "metrics": t3 - t2, "executor": executor,
+    timing = {"setup": t1 - t0, "runs": t2 - t1, "metrics": t3 - t2, "executor": executor, "store": kind,
               "workers": workers, "runs_total": len(records),
               "cpu_main": time.process_time() - c0, "cpu_local_workers": _children_cpu() - w0,
               "cpu_count": os.cpu_count(), "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None}

@@ -1,0 +1,244 @@
+"""The Zarr result store (``[study] store = "zarr"``): vocabulary, values bit for bit equal to the run
+files of the same study on every executor, lazy ``open_results``, chunk writes, a worker killed in the
+middle of writing its chunk, ``--resume`` from the store itself, and fields kept on request.
+
+Tiny sweeps of the fixture method ``flat`` (100 runs, under a second each) keep this fast.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import tomllib
+
+import railtherm
+from railtherm import SceneError
+from railtherm.output import store, zarr_store
+from railtherm.input.study import AUTO_ZARR_RUNS, parse_study
+
+from test_executors import RAN, SleepyPlugin, sweep
+from fixture_plugins import FlatPlugin
+
+SCALAR_OUTPUTS = '["max_surface_temperature", "mean_contact_temperature", "surface_temperature", "frictional_power"]'
+
+
+@pytest.fixture(scope="module")
+def hosts():
+    from railtherm import plugins
+    saved = plugins._HOST
+    host = plugins.new_host([("flat", FlatPlugin()), ("sleepy", SleepyPlugin())], autoload=False, strict=True)
+    plugins.set_host(host)
+    yield host
+    plugins.set_host(saved)
+
+
+def zsweep(path: Path, store_line='store = "zarr"', fields=True, **kw) -> Path:
+    """The 100-run sweep of test_executors with a store line in [study] (and without fields if asked)."""
+    p = sweep(path, **kw)
+    text = p.read_text().replace("warmup = false", "warmup = false\n" + store_line)
+    if not fields:
+        text = text.replace(', "surface_temperature"', "")
+    p.write_text(text)
+    return p
+
+
+def _doc(**study):
+    p = Path(__file__).resolve().parents[1] / "studies" / "sweep_10k.toml"
+    doc = tomllib.loads(p.read_text())
+    doc["study"].update(study)
+    return doc
+
+
+# -- vocabulary ---------------------------------------------------------------------------------------
+def test_store_and_keep_fields_vocabulary():
+    assert parse_study(_doc(store="files")).store == "files"
+    st = parse_study(_doc(store="zarr", keep_fields="finest"))
+    assert st.store == "zarr" and st.keep_fields == "finest"
+    with pytest.raises(SceneError, match=r"study.store.*'netcdf'.*\"files\".*\"zarr\""):
+        parse_study(_doc(store="netcdf"))
+    with pytest.raises(SceneError, match=r"study.keep_fields.*'all'.*true, false or \"finest\""):
+        parse_study(_doc(keep_fields="all"))
+    with pytest.raises(SceneError, match="study.keep_fields"):
+        parse_study(_doc(keep_fields=1))
+    with pytest.raises(SceneError, match=r"needs store = \"zarr\""):
+        parse_study(_doc(store="files", keep_fields=True))
+
+
+def test_default_store_rule():
+    doc = _doc()
+    doc["study"].pop("store", None)
+    st = parse_study(doc)                       # scalar outputs only
+    assert st.store is None
+    assert st.store_for(AUTO_ZARR_RUNS) == "zarr" and st.store_for(AUTO_ZARR_RUNS - 1) == "files"
+    doc["scene"][0]["outputs"] = ["max_surface_temperature", "surface_temperature"]   # a field
+    assert parse_study(doc).store_for(10 * AUTO_ZARR_RUNS) == "files"
+    doc["study"]["keep_fields"] = True
+    assert parse_study(doc).store_for(1) == "zarr"
+    assert parse_study(_doc(store="files")).store_for(10 ** 6) == "files"
+
+
+def test_status_codes_are_the_store_statuses():
+    assert zarr_store.STATUS_CODES == store.STATUSES
+
+
+def test_chunks_are_whole_scenes_and_blocks_of_the_sweep():
+    assert zarr_store.chunk_scenes(10_000, 1, (10, 10, 10, 10)) == 100       # 10k runs: 157 aimed at
+    assert zarr_store.chunk_scenes(10 ** 6, 1, (100, 100, 100)) == 100       # at most 1000 runs
+    assert zarr_store.chunk_scenes(50, 2, ()) == 1
+    assert zarr_store.chunk_scenes(3, 4, ()) == 1
+    cols = {"a": np.repeat([1.0, 2.0], 3), "b": np.tile([5.0, 6.0, 7.0], 2)}
+    keys, values = zarr_store.cartesian(cols)
+    assert keys == ["a", "b"] and [list(v) for v in values] == [[1.0, 2.0], [5.0, 6.0, 7.0]]
+    assert zarr_store.cartesian({"a": np.array([1.0, 2.0, 1.0])}) is None
+    assert zarr_store.cartesian({"a": cols["a"], "b": np.array([5.0, 6.0, 7.0, 5.0, 7.0, 6.0])}) is None
+
+
+# -- values ---------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def pair(hosts, tmp_path_factory):
+    """The same scalar sweep run serially into run files and into the Zarr store."""
+    d = tmp_path_factory.mktemp("pair")
+    files = railtherm.run_study(zsweep(d / "f.toml", "", fields=False), d / "files", report=False)
+    zarr = railtherm.run_study(zsweep(d / "z.toml", fields=False), d / "zarr", report=False)
+    assert not (d / "zarr" / "runs").exists() and zarr_store.is_zarr(d / "zarr")
+    assert not zarr_store.is_zarr(d / "files")
+    return d, files, zarr
+
+
+def assert_same_values(a: Path, b: Path):
+    """Every scalar, status and sweep coordinate of two output folders equal byte for byte."""
+    x = railtherm.open_results(a, unstack=False).compute()
+    y = railtherm.open_results(b, unstack=False).compute()
+    assert sorted(x.data_vars) == sorted(y.data_vars) and x.sizes == y.sizes
+    assert list(map(str, x["scene"].values)) == list(map(str, y["scene"].values))
+    for name in x.data_vars:
+        if name == "wall_time":
+            continue
+        vx, vy = x[name].values, y[name].values
+        if vx.dtype.kind == "f":
+            assert vx.tobytes() == vy.tobytes(), name
+        else:
+            assert list(map(str, vx.ravel())) == list(map(str, vy.ravel())), name
+    for c in x.attrs["swept_parameters"].split():
+        assert x[c].values.tobytes() == y[c].values.tobytes()
+    return x
+
+
+def test_zarr_store_matches_run_files_bit_for_bit(pair):
+    d, files, zarr = pair
+    x = assert_same_values(d / "files", d / "zarr")
+    assert x.sizes["scene"] == 50 and set(x["status"].values.ravel()) == {"ok"}
+    assert list(files["status"].values) == list(zarr["status"].values)          # metrics read the store alike
+    for v in ("error_max_surface_temperature", "energy_balance", "headline_error"):
+        assert files[v].values.tobytes() == zarr[v].values.tobytes(), v
+
+
+def test_open_results_is_lazy_with_the_sweep_dimensions(pair):
+    import dask.array as da
+    d, *_ = pair
+    ds = railtherm.open_results(d / "zarr")
+    assert isinstance(ds["max_surface_temperature"].data, da.Array)
+    assert ds["max_surface_temperature"].dims == ("speed", "sliding_speed", "method_name", "level", "body")
+    t = ds.max_surface_temperature.sel(speed=30.0, sliding_speed=2.0, method_name="flat", level=1, body="wheel")
+    f = railtherm.open_results(d / "files", unstack=True)
+    ref = f.max_surface_temperature.sel(speed=30.0, sliding_speed=2.0, method_name="flat", level=1, body="wheel")
+    assert float(t) == float(ref)
+    assert str(ds["scene_name"].sel(speed=30.0, sliding_speed=2.0).values) == "map--speed=30,sliding_speed=2"
+    # a store is about 1 kB per run at most (metadata of ~30 arrays included, for 100 runs)
+    size = sum(p.stat().st_size for p in (d / "zarr" / "results.zarr").rglob("*") if p.is_file())
+    assert size < 100 * 1024, size
+
+
+def test_store_runs_read_back_as_datasets(pair):
+    d, *_ = pair
+    ds = store.open_run(d / "zarr", "map--speed=12,sliding_speed=0.5", "flat", 0)
+    ref = store.open_run(d / "files", "map--speed=12,sliding_speed=0.5", "flat", 0)
+    for n in ("max_surface_temperature", "frictional_power", "normal_force"):
+        assert ds[n].values.tobytes() == ref[n].values.tobytes() and ds[n].attrs["units"] == ref[n].attrs["units"]
+    attrs = store.run_attributes(d / "zarr", "map--speed=12,sliding_speed=0.5", "flat", 0)
+    assert attrs["stages"] == ref.attrs["stages"] and store.sweep_of(attrs) == {"speed": 12.0, "sliding_speed": 0.5}
+    assert store.run_sweeps(d / "zarr")["map--speed=12,sliding_speed=0.5"] == {"speed": 12.0, "sliding_speed": 0.5}
+    assert store.open_run(d / "zarr", "nope", "flat", 0) is None
+
+
+@pytest.mark.parametrize("executor", ["processes", "dask"])
+def test_executors_write_the_serial_store_bit_for_bit(pair, tmp_path, executor, monkeypatch):
+    monkeypatch.setattr(zarr_store, "CHUNK_COUNT", 8)       # chunks of several scenes
+    d, *_ = pair
+    m = railtherm.run_study(zsweep(tmp_path / "z.toml", fields=False), tmp_path / "out", executor=executor,
+                            workers=2, report=False)
+    assert set(m["status"].values) <= RAN
+    assert zarr_store.attrs(tmp_path / "out")["chunk_scenes"] > 1
+    assert_same_values(d / "zarr", tmp_path / "out")
+
+
+# -- faults and resume ---------------------------------------------------------------------------------
+def _chunk_files(out: Path) -> dict:
+    return {p: p.stat().st_mtime_ns for p in (out / "results.zarr").rglob("c/*") if p.is_file()}
+
+
+def test_worker_killed_mid_write_then_resume(hosts, tmp_path, monkeypatch):
+    """The worker writing chunk 1 ends its process after the data and before the status, in both attempts:
+    that chunk's runs are failed, no other chunk is touched, no temporary file is left, and resume
+    (reading what is done from the store) completes the study without rewriting the other chunks."""
+    monkeypatch.setattr(zarr_store, "CHUNK_COUNT", 10)
+    study = zsweep(tmp_path / "z.toml", fields=False)
+    out = tmp_path / "out"
+    monkeypatch.setenv(zarr_store.FAULT_ENV, "4")
+    m = railtherm.run_study(study, out, executor="processes", workers=2, report=False)
+    assert zarr_store.attrs(out)["chunk"] == 4          # 2 scenes (the sliding speeds) x 2 levels
+    failed = m["status"].values == "failed"
+    assert np.flatnonzero(failed).tolist() == [4, 5, 6, 7]
+    assert "worker process died" in str(m["message"].values[4])
+    assert not list((out / "results.zarr").rglob("*.partial"))
+    before = _chunk_files(out)
+    monkeypatch.delenv(zarr_store.FAULT_ENV)
+    m2 = railtherm.run_study(study, out, executor="processes", workers=2, resume=True, report=False)
+    assert set(m2["status"].values) <= RAN
+    after = _chunk_files(out)
+    rewritten = {p.relative_to(out).as_posix() for p in set(before) | set(after) if after.get(p) != before.get(p)}
+    assert rewritten and all(p.endswith("/c/1") or p.endswith("/c/1/0") for p in rewritten), rewritten
+    ref = tmp_path / "serial"
+    railtherm.run_study(study, ref, report=False)
+    assert_same_values(ref, out)
+    third = _chunk_files(out)
+    railtherm.run_study(study, out, resume=True, report=False)    # all done: nothing rewritten
+    assert _chunk_files(out) == third
+
+
+def test_run_killed_mid_chunk_is_retried_then_failed(hosts, tmp_path, monkeypatch):
+    """A run whose worker dies (SIGKILL in the solve) takes its chunk's unwritten runs with it: they are
+    retried once, then recorded failed; the other chunks are complete."""
+    monkeypatch.setattr(zarr_store, "CHUNK_COUNT", 10)
+    study = zsweep(tmp_path / "z.toml", fields=False, methods='["sleepy"]',
+                   options="[study.options.sleepy]\ndie_at_speed = 12.0\n")
+    m = railtherm.run_study(study, tmp_path / "out", executor="processes", workers=2, report=False)
+    st = m["status"].values
+    assert np.flatnonzero(st == "failed").tolist() == [8, 9, 10, 11]   # the chunk of speed 12
+    assert "worker process died" in str(m["message"].values[8])
+
+
+# -- fields --------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("keep", ["true", '"finest"'])
+def test_fields_kept_on_request(hosts, tmp_path, keep):
+    study = zsweep(tmp_path / "z.toml", f'store = "zarr"\nkeep_fields = {keep}', speeds=[10.0, 11.0])
+    files = zsweep(tmp_path / "f.toml", "", speeds=[10.0, 11.0])
+    railtherm.run_study(study, tmp_path / "z", report=False)
+    railtherm.run_study(files, tmp_path / "f", report=False)
+    s = "map--speed=11,sliding_speed=2"
+    for level in (0, 1):
+        got, ref = store.open_run(tmp_path / "z", s, "flat", level), store.open_run(tmp_path / "f", s, "flat", level)
+        if keep == "true" or level == 1:
+            assert got["surface_temperature"].values.tobytes() == ref["surface_temperature"].values.tobytes()
+            assert got["x"].values.tobytes() == ref["x"].values.tobytes()
+        else:
+            assert "surface_temperature" not in got
+        assert got["max_surface_temperature"].values.tobytes() == ref["max_surface_temperature"].values.tobytes()
+
+
+def test_without_keep_fields_no_field_is_stored(pair):
+    d, *_ = pair
+    assert not (d / "zarr" / "results.zarr" / "fields").exists()
