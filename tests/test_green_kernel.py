@@ -170,3 +170,37 @@ def test_contact_double_count_bias_is_not_present():
     w2 = w + np.diag(np.diag(w))
     biased = (w2 @ (q0 * _hertz_cell_average(xe / A))).max() * kernel.strip_prefactor(STEEL.effusivity, V)
     assert 0.05 < biased / exact - 1 < 0.2
+
+
+def test_fft_paths_equal_the_direct_sums_on_an_extended_grid():
+    """The FFT sums of a ``field`` grid (zero flux behind the patch: only the patch rows are transformed,
+    issue 14) equal the direct O(nx^2) Toeplitz sums to 1e-13 of the maximum: surface (two bodies, some
+    strips cold, one body cold, a gap between heated strips), depth (all depths in one transform), and
+    the 1-D and per-column forms of :func:`kernel.fft_toeplitz`."""
+    rng = np.random.default_rng(3)
+    n_patch, n_behind, ny = 40, 250, 12
+    h = 2 * A / n_patch
+    xe = -A - n_behind * h + h * np.arange(n_patch + n_behind + 1)
+    nx = xe.size - 1
+    q = np.zeros((2, nx, ny))
+    q[1, n_behind:, 2:6] = rng.random((n_patch, 4)) * 1e9
+    q[1, n_behind:, 8:11] = rng.random((n_patch, 3)) * 1e9               # a second run of heated strips
+    beta, v = (STEEL.effusivity, 1.1 * STEEL.effusivity), (V, 0.9 * V)
+    fast = kernel.surface_rise(xe, q, beta, v, fft=True)
+    slow = kernel.surface_rise(xe, q, beta, v)
+    assert np.all(fast[0] == 0.0) and np.all(fast[1][:, [0, 1, 6, 7, 11]] == 0.0)
+    assert np.max(np.abs(fast - slow)) < 1e-13 * np.max(np.abs(slow))
+    z = 4e-4 * np.linspace(0.0, 1.0, 9) ** 2
+    dfast = kernel.depth_rise(xe, q[1, :, 3], z, STEEL.effusivity, V, STEEL.diffusivity, fft=True)
+    dslow = kernel.depth_rise(xe, q[1, :, 3], z, STEEL.effusivity, V, STEEL.diffusivity)
+    assert np.max(np.abs(dfast - dslow)) < 1e-13 * np.max(np.abs(dslow))
+    per_depth = np.stack([kernel.depth_rise(xe, q[1, :, 3], [zk], STEEL.effusivity, V, STEEL.diffusivity)[:, 0]
+                          for zk in z], axis=1)                           # one depth at a time
+    assert np.max(np.abs(dslow - per_depth)) < 1e-14 * np.max(np.abs(dslow))
+    w = kernel.toeplitz_weights(nx, h)
+    x1 = np.zeros(nx)
+    x1[100:140] = rng.random(40)                                           # support inside the grid
+    direct = kernel.toeplitz_matmul(w, x1[:, None])[:, 0]
+    assert np.max(np.abs(kernel.fft_toeplitz(w, x1) - direct)) < 1e-13 * np.max(direct)
+    assert np.all(kernel.fft_toeplitz(w, x1)[140:] == 0.0)                 # upstream of the heat: nothing
+    assert np.all(kernel.fft_toeplitz(w, np.zeros(nx)) == 0.0)

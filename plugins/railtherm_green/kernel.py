@@ -47,7 +47,7 @@ import numpy as np
 from scipy.special import erfc
 
 __all__ = ["surface_weights", "toeplitz_weights", "surface_rise", "depth_rise", "strip_prefactor",
-           "upper_matmul", "toeplitz_matmul"]
+           "upper_matmul", "toeplitz_matmul", "toeplitz_columns", "fft_toeplitz"]
 
 _CACHE: "OrderedDict[bytes, np.ndarray]" = OrderedDict()
 _CACHE_BYTES = 64 * 2 ** 20
@@ -140,17 +140,73 @@ def surface_weights(x_edges: np.ndarray) -> np.ndarray:
     return _cached(b"W" + x_edges.tobytes(), lambda: _weights(x_edges))
 
 
-def fft_toeplitz(w: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """``W @ q`` for the upper-triangular Toeplitz W[i, i+k] = w[k] by FFT: O(nx log nx) per column.
+def fft_toeplitz(w: np.ndarray, q: np.ndarray, scale: float = 1.0, out: np.ndarray | None = None) -> np.ndarray:
+    """``scale W @ q`` for the upper-triangular Toeplitz W[i, i+k] = w[k] by FFT: O(nx log nx) per column.
 
-    The correlation ``out[i] = sum_k w[k] q[i+k]`` is the full convolution of q with the reversed w,
-    taken from index nx - 1. Used for the long extended grids of a scene with ``field`` (the direct
-    loop is O(nx^2)); agrees with :func:`toeplitz_matmul` to ~1e-15 of the maximum.
+    ``out[i] = sum_k w[k] q[i+k]`` is a correlation. Only the rows where q is not zero (the patch of an
+    extended grid: zero flux behind it) enter the transform, and rows upstream of the last of them are
+    0: for the support [j0, j1) of q the full convolution of ``q[j0:j1]`` with the reversed ``w[:j1]``
+    (length (j1 - j0) + j1 - 1, padded to a fast FFT size) holds every row, ``out[i] = c[j1 - j0 - 1 + i]``.
+    The transforms run along the last, contiguous axis. Used for the long extended grids of a scene with
+    ``field`` (the direct loop is O(nx^2)); agrees with :func:`toeplitz_matmul` to ~1e-15 of the maximum
+    (tests/test_green_kernel.py).
+
+    Parameters
+    ----------
+    w : ndarray, shape (nx,) or (nx, m)
+        First row of W, one for all columns of q or one per column [any unit].
+    q : ndarray, shape (nx,) or (nx, m)
+        Columns to multiply [any unit]; a single column broadcasts against a 2-D ``w``.
+    scale : float
+        Factor applied to the product (in the frequency domain, free) [any unit].
+    out : ndarray, shape (nx, m), optional
+        Where to write the product (every row is written); a view into a larger array avoids a copy.
+
+    Returns
+    -------
+    ndarray, shape (nx, max(m_w, m_q)) (or (nx,) when both are 1-D)
+        ``scale W @ q`` (``out`` when given).
     """
-    from scipy.signal import fftconvolve
+    from scipy import fft as sfft
+    w = np.asarray(w, dtype=float)
+    q = np.asarray(q, dtype=float)
     nx = q.shape[0]
-    c = fftconvolve(q, np.asarray(w)[::-1].reshape((nx,) + (1,) * (q.ndim - 1)), mode="full", axes=0)
-    return c[nx - 1:2 * nx - 1]
+    flat = w.ndim == 1 and q.ndim == 1 and out is None
+    w2 = w.reshape(nx, -1)
+    q2 = q.reshape(nx, -1)
+    if out is None:
+        out = np.empty((nx, max(w2.shape[1], q2.shape[1])))
+    rows = np.flatnonzero(np.any(q2 != 0.0, axis=1))
+    j1 = int(rows[-1]) + 1 if rows.size else 0
+    if j1:
+        j0 = int(rows[0])
+        p = j1 - j0
+        n = sfft.next_fast_len(p + j1 - 1, real=True)
+        # contiguous rows for the transforms (a strided transform costs ~3x)
+        wt = sfft.rfft(np.ascontiguousarray(w2[:j1][::-1].T), n, axis=-1)
+        if scale != 1.0:
+            wt *= scale
+        qt = sfft.rfft(np.ascontiguousarray(q2[j0:j1].T), n, axis=-1)
+        qt = qt * wt if qt.shape[0] < wt.shape[0] else np.multiply(qt, wt, out=qt)
+        c = sfft.irfft(qt, n, axis=-1)
+        out[:j1] = c[:, p - 1:p - 1 + j1].T
+    out[j1:] = 0.0
+    return out[:, 0] if flat else out
+
+
+@numba.njit(cache=True)
+def toeplitz_columns(w: np.ndarray, q: np.ndarray) -> np.ndarray:  # pragma: no cover - compiled
+    """``out[i, c] = sum_k w[k, c] q[i + k]``: one upper-triangular Toeplitz matrix per column c
+    (the depths of :func:`depth_rise`) applied to one vector q (nx,)."""
+    nx, m = w.shape
+    out = np.zeros((nx, m))
+    for i in range(nx):
+        for k in range(nx - i):
+            qk = q[i + k]
+            if qk != 0.0:
+                for c in range(m):
+                    out[i, c] += w[k, c] * qk
+    return out
 
 
 def _apply(x_edges: np.ndarray, q2: np.ndarray, fft: bool = False) -> np.ndarray:
@@ -160,13 +216,7 @@ def _apply(x_edges: np.ndarray, q2: np.ndarray, fft: bool = False) -> np.ndarray
     h = _uniform_step(x_edges)
     if h is not None:
         w = toeplitz_weights(q2.shape[0], h)
-        if not fft:
-            return toeplitz_matmul(w, q2)
-        out = np.zeros(q2.shape)
-        live = np.flatnonzero(np.any(q2 != 0.0, axis=0))      # strips without heat stay at 0
-        if live.size:
-            out[:, live] = fft_toeplitz(w, q2[:, live])
-        return out
+        return fft_toeplitz(w, q2) if fft else toeplitz_matmul(w, q2)
     return upper_matmul(surface_weights(x_edges), q2)
 
 
@@ -209,11 +259,36 @@ def surface_rise(x_edges: np.ndarray, flux: np.ndarray, effusivity, speed, fft: 
         nb, nx, ny = q.shape
         k = np.asarray([strip_prefactor(b, v) for b, v in
                         zip(np.broadcast_to(effusivity, (nb,)), np.broadcast_to(speed, (nb,)))])
+        h = _uniform_step(np.asarray(x_edges, dtype=float)) if fft else None
+        if h is not None:
+            # a long (extended) grid: body by body, only the strips that get heat, by FFT, written in place
+            out = np.zeros(q.shape)
+            w = toeplitz_weights(nx, h)
+            for b in range(nb):
+                live = np.flatnonzero(np.any(q[b] != 0.0, axis=0))      # strips without heat stay at 0
+                if not live.size:
+                    continue
+                if live[-1] - live[0] + 1 == live.size:        # one run of strips: written in place
+                    cols = slice(int(live[0]), int(live[-1]) + 1)
+                    fft_toeplitz(w, q[b][:, cols], k[b], out=out[b][:, cols])
+                else:
+                    out[b][:, live] = fft_toeplitz(w, q[b][:, live], k[b])
+            return out
         # one product for all strips of all bodies: (nx, nx) @ (nx, nb*ny)
         t = _apply(x_edges, q.transpose(1, 0, 2).reshape(nx, nb * ny), fft)
         return t.reshape(nx, nb, ny).transpose(1, 0, 2) * k[:, None, None]
     return _apply(x_edges, q.reshape(q.shape[0], -1), fft).reshape(q.shape) * strip_prefactor(float(effusivity),
                                                                                          float(speed))
+
+
+def _depth_primitive(s: np.ndarray, c) -> np.ndarray:
+    """``F(s) = int_0^s exp(-c/u) du / sqrt(u) = 2 sqrt(s) exp(-c/s) - 2 sqrt(pi c) erfc(sqrt(c/s))`` [m^0.5]
+    for s >= 0 and c = z^2 v / (4 kappa) >= 0 [m] (broadcast); F(0) = 0, F = 2 sqrt(s) at c = 0."""
+    s, c = np.broadcast_arrays(np.asarray(s, dtype=float), np.asarray(c, dtype=float))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        ratio = np.where(s > 0.0, c / s, np.inf)
+        f = 2.0 * np.sqrt(s) * np.exp(-ratio) - 2.0 * np.sqrt(np.pi * c) * erfc(np.sqrt(ratio))
+    return np.where(c == 0.0, 2.0 * np.sqrt(s), f)
 
 
 def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity: float, speed: float,
@@ -244,34 +319,26 @@ def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity:
     """
     x_edges = np.ascontiguousarray(x_edges, dtype=float)
     q = np.ascontiguousarray(flux, dtype=float)
+    z = np.asarray(z, dtype=float).ravel()
     h = _uniform_step(x_edges)
-    if h is not None:   # Toeplitz: distances edge - centre are (e - 1/2) h, e = j - i
-        s = np.clip((np.arange(q.size + 1) - 0.5) * h, 0.0, None)[None, :]
+    if not np.any(q):
+        return np.zeros((q.size, z.size))
+    c = z * z * speed / (4.0 * diffusivity)                       # (nz,) [m]
+    if h is not None:
+        # Toeplitz: distances edge - centre are (e - 1/2) h, e = j - i; all depths at once, (nx+1, nz)
+        s = np.clip((np.arange(q.size + 1) - 0.5) * h, 0.0, None)
+        w = np.diff(_depth_primitive(s[:, None], c[None, :]), axis=0)     # (nx, nz): w[k, depth]
+        if fft:
+            out = fft_toeplitz(w, q)
+        else:
+            out = toeplitz_columns(np.ascontiguousarray(w), q)
     else:
         xc = 0.5 * (x_edges[1:] + x_edges[:-1])
         s = np.clip(x_edges[None, :] - xc[:, None], 0.0, None)       # (nx, nx+1)
-    out = np.empty((q.size, np.size(z)))
-    if fft and h is not None:
-        ws = np.empty((q.size, np.size(z)))
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        for k, zk in enumerate(np.asarray(z, dtype=float)):
-            c = zk * zk * speed / (4.0 * diffusivity)
-            if c == 0.0:
-                f = 2.0 * np.sqrt(s)
-            else:
-                ratio = np.where(s > 0.0, c / s, np.inf)
-                f = 2.0 * np.sqrt(s) * np.exp(-ratio) - 2.0 * math.sqrt(math.pi * c) * erfc(np.sqrt(ratio))
-            w = f[:, 1:] - f[:, :-1]
-            if fft and h is not None:
-                ws[:, k] = w[0]
-            elif h is not None:
-                out[:, k] = toeplitz_matmul(np.ascontiguousarray(w[0]), q[:, None])[:, 0]
-            else:
-                out[:, k] = w @ q
-    if fft and h is not None:     # one FFT of q, one of each depth's weights
-        from scipy.signal import fftconvolve
-        n = q.size
-        out = fftconvolve(q[:, None], ws[::-1], mode="full", axes=0)[n - 1:2 * n - 1]
+        out = np.empty((q.size, z.size))
+        for k, ck in enumerate(c):
+            f = _depth_primitive(s, ck)
+            out[:, k] = (f[:, 1:] - f[:, :-1]) @ q
     return out * strip_prefactor(effusivity, speed)
 
 

@@ -172,7 +172,9 @@ class GreenTemperature(TemperatureModel):
         if eps_arr.ndim and grid is not patch_grid:
             eps_arr = embed_field(eps_arr, patch_grid, grid, fill=0.5)
         eps2 = eps_arr.reshape(q2.shape) if eps_arr.ndim else eps_arr
-        flux = np.stack([eps2 * q2, (1.0 - eps2) * q2])                     # (2, nx, ny)
+        flux = np.empty((2,) + q2.shape)                                    # (2, nx, ny), no temporaries
+        np.multiply(eps2, q2, out=flux[0])
+        np.multiply(1.0 - eps2, q2, out=flux[1])
         extended = grid is not patch_grid     # a field: the long strips are summed by FFT
         rise = kernel.surface_rise(grid.x_edges, flux, beta, speeds, fft=extended)   # one product, both bodies
 
