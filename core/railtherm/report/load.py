@@ -122,13 +122,12 @@ class StudyData:
         """Global attributes of a run file ({} when there is none), read without loading the data."""
         key = (scene, method, level)
         if key not in self._attrs:
-            p = store.run_path(self.out, scene, method, level)
             attrs = {}
-            if p.exists():
-                try:
-                    attrs = store.read_attrs(p)
-                except Exception as exc:  # noqa: BLE001
-                    warnings.warn(f"railtherm report: cannot read {p}: {exc}", RuntimeWarning, stacklevel=2)
+            try:  # a run file's attributes, or what the Zarr store records of the run
+                attrs = store.run_attributes(self.out, scene, method, level)
+            except Exception as exc:  # noqa: BLE001
+                warnings.warn(f"railtherm report: cannot read run {scene}/{method}/level-{level} of {self.out}: "
+                              f"{exc}", RuntimeWarning, stacklevel=2)
             self._attrs[key] = attrs
         return self._attrs[key]
 
@@ -146,13 +145,12 @@ run_path = store.run_path  # importable from here for one release
 
 
 def _open_run(out: Path, scene: str, method: str, level: int):
-    p = store.run_path(out, scene, method, level)
-    if not p.exists():
-        return None
+    """A run's Dataset through the store (a run file, or the run's row and kept fields of the Zarr store)."""
     try:
-        return store.open_dataset(p)
+        return store.open_run(out, scene, method, level)
     except Exception as exc:  # noqa: BLE001
-        warnings.warn(f"railtherm report: cannot read {p}: {exc}", RuntimeWarning, stacklevel=3)
+        warnings.warn(f"railtherm report: cannot read run {scene}/{method}/level-{level} of {out}: {exc}",
+                      RuntimeWarning, stacklevel=3)
         return None
 
 

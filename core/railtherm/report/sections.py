@@ -20,6 +20,7 @@ from . import figures as F
 from .document import Cell, Document
 from .format import duration, finite, level_range, num, pct, short, slug
 from .load import StudyData
+from .sweep_maps import sweep_maps
 from .tables import (METRIC_SHORT, cross_tables, message_lines, order_table, published_table, reference_words,
                      refusal_lines, run_table)
 from .verdict import (QUANTITY, Row, SweepGroup, anchor_of, cell, choose, creep_force_source, findings, scorecard)
@@ -434,6 +435,7 @@ def sweep_section(doc: Document, ctx: Context, idx: int, group: SweepGroup, anch
     if creep and data.curves is None:
         doc.paragraph("The exact creep-force curve is not drawn: `references.nc` is missing from the output folder.",
                       note=True)
+    sweep_maps(doc, ctx, idx, first.base, methods)  # over two swept keys, once per swept [[scene]]
     msgs = message_lines(runs)
     if msgs:
         with doc.details(f"Messages of runs with a result ({len(msgs)} distinct)"):
