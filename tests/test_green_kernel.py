@@ -204,3 +204,29 @@ def test_fft_paths_equal_the_direct_sums_on_an_extended_grid():
     assert np.max(np.abs(kernel.fft_toeplitz(w, x1) - direct)) < 1e-13 * np.max(direct)
     assert np.all(kernel.fft_toeplitz(w, x1)[140:] == 0.0)                 # upstream of the heat: nothing
     assert np.all(kernel.fft_toeplitz(w, np.zeros(nx)) == 0.0)
+
+
+def test_flux_given_on_the_patch_of_an_extended_grid():
+    """``behind`` (zero flux in the first cells, the flux given on the patch only) equals the flux padded
+    with zeros, by FFT and by the direct sums, surface (1-, 2- and 3-D flux) and depth."""
+    rng = np.random.default_rng(5)
+    n_patch, n_behind = 30, 170
+    h = 2 * A / n_patch
+    xe = -A - n_behind * h + h * np.arange(n_patch + n_behind + 1)
+    q = rng.random((2, n_patch, 5)) * 1e9
+    q[0, :, 0] = 0.0
+    full = np.concatenate([np.zeros((2, n_behind, 5)), q], axis=1)
+    ref = kernel.surface_rise(xe, full, STEEL.effusivity, V)
+    for fft in (False, True):
+        got = kernel.surface_rise(xe, q, STEEL.effusivity, V, fft=fft, behind=n_behind)
+        assert got.shape == full.shape
+        assert np.max(np.abs(got - ref)) < 1e-13 * np.max(ref)
+        got2 = kernel.surface_rise(xe, q[1], STEEL.effusivity, V, fft=fft, behind=n_behind)
+        assert np.max(np.abs(got2 - ref[1])) < 1e-13 * np.max(ref)
+        got1 = kernel.surface_rise(xe, q[1, :, 2], STEEL.effusivity, V, fft=fft, behind=n_behind)
+        assert np.max(np.abs(got1 - ref[1, :, 2])) < 1e-13 * np.max(ref)
+    z = np.array([0.0, 5e-5, 2e-4])
+    dref = kernel.depth_rise(xe, full[1, :, 2], z, STEEL.effusivity, V, STEEL.diffusivity)
+    for fft in (False, True):
+        d = kernel.depth_rise(xe, q[1, :, 2], z, STEEL.effusivity, V, STEEL.diffusivity, fft=fft, behind=n_behind)
+        assert np.max(np.abs(d - dref)) < 1e-13 * np.max(dref)

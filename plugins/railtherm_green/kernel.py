@@ -140,7 +140,8 @@ def surface_weights(x_edges: np.ndarray) -> np.ndarray:
     return _cached(b"W" + x_edges.tobytes(), lambda: _weights(x_edges))
 
 
-def fft_toeplitz(w: np.ndarray, q: np.ndarray, scale: float = 1.0, out: np.ndarray | None = None) -> np.ndarray:
+def fft_toeplitz(w: np.ndarray, q: np.ndarray, scale: float = 1.0, out: np.ndarray | None = None,
+                 behind: int = 0) -> np.ndarray:
     """``scale W @ q`` for the upper-triangular Toeplitz W[i, i+k] = w[k] by FFT: O(nx log nx) per column.
 
     ``out[i] = sum_k w[k] q[i+k]`` is a correlation. Only the rows where q is not zero (the patch of an
@@ -155,12 +156,15 @@ def fft_toeplitz(w: np.ndarray, q: np.ndarray, scale: float = 1.0, out: np.ndarr
     ----------
     w : ndarray, shape (nx,) or (nx, m)
         First row of W, one for all columns of q or one per column [any unit].
-    q : ndarray, shape (nx,) or (nx, m)
-        Columns to multiply [any unit]; a single column broadcasts against a 2-D ``w``.
+    q : ndarray, shape (nx - behind,) or (nx - behind, m)
+        Columns to multiply [any unit]: their last nx - ``behind`` rows (the first ``behind`` are 0); a
+        single column broadcasts against a 2-D ``w``.
     scale : float
         Factor applied to the product (in the frequency domain, free) [any unit].
     out : ndarray, shape (nx, m), optional
         Where to write the product (every row is written); a view into a larger array avoids a copy.
+    behind : int
+        Rows of zeros before ``q`` (the cells of an extended grid behind the patch) [1].
 
     Returns
     -------
@@ -170,23 +174,24 @@ def fft_toeplitz(w: np.ndarray, q: np.ndarray, scale: float = 1.0, out: np.ndarr
     from scipy import fft as sfft
     w = np.asarray(w, dtype=float)
     q = np.asarray(q, dtype=float)
-    nx = q.shape[0]
+    behind = int(behind)
+    nx = q.shape[0] + behind
     flat = w.ndim == 1 and q.ndim == 1 and out is None
     w2 = w.reshape(nx, -1)
-    q2 = q.reshape(nx, -1)
+    q2 = q.reshape(q.shape[0], -1)
     if out is None:
         out = np.empty((nx, max(w2.shape[1], q2.shape[1])))
     rows = np.flatnonzero(np.any(q2 != 0.0, axis=1))
-    j1 = int(rows[-1]) + 1 if rows.size else 0
+    j1 = behind + int(rows[-1]) + 1 if rows.size else 0
     if j1:
-        j0 = int(rows[0])
+        j0 = behind + int(rows[0])
         p = j1 - j0
         n = sfft.next_fast_len(p + j1 - 1, real=True)
         # contiguous rows for the transforms (a strided transform costs ~3x)
         wt = sfft.rfft(np.ascontiguousarray(w2[:j1][::-1].T), n, axis=-1)
         if scale != 1.0:
             wt *= scale
-        qt = sfft.rfft(np.ascontiguousarray(q2[j0:j1].T), n, axis=-1)
+        qt = sfft.rfft(np.ascontiguousarray(q2[j0 - behind:j1 - behind].T), n, axis=-1)
         qt = qt * wt if qt.shape[0] < wt.shape[0] else np.multiply(qt, wt, out=qt)
         c = sfft.irfft(qt, n, axis=-1)
         out[:j1] = c[:, p - 1:p - 1 + j1].T
@@ -220,6 +225,13 @@ def _apply(x_edges: np.ndarray, q2: np.ndarray, fft: bool = False) -> np.ndarray
     return upper_matmul(surface_weights(x_edges), q2)
 
 
+def _prepend_zeros(q: np.ndarray, behind: int) -> np.ndarray:
+    """``q`` with ``behind`` cells of zero flux before its x axis (axis 1 of a 3-D (body, x, y) flux, else 0)."""
+    pad = [(0, 0)] * q.ndim
+    pad[1 if q.ndim == 3 else 0] = (behind, 0)
+    return np.pad(q, pad)
+
+
 def strip_prefactor(effusivity: float, speed: float) -> float:
     """Factor ``1 / (beta sqrt(pi v))`` of the strip integral [K m^1.5 / W].
 
@@ -233,36 +245,43 @@ def strip_prefactor(effusivity: float, speed: float) -> float:
     return 1.0 / (effusivity * math.sqrt(math.pi * speed))
 
 
-def surface_rise(x_edges: np.ndarray, flux: np.ndarray, effusivity, speed, fft: bool = False) -> np.ndarray:
+def surface_rise(x_edges: np.ndarray, flux: np.ndarray, effusivity, speed, fft: bool = False,
+                 behind: int = 0) -> np.ndarray:
     """Surface temperature rise at the cell centres for a piecewise constant flux.
 
     Parameters
     ----------
     x_edges : ndarray, shape (nx+1,)
         Cell edges along the rolling direction [m] (material flows in -x, enters at the last edge).
-    flux : ndarray, shape (nbody, nx, ny) or (nx, ny) or (nx,)
-        Heat flux into the body per cell [W/m^2].
+    flux : ndarray, shape (nbody, nx - behind, ny) or (nx - behind, ny) or (nx - behind,)
+        Heat flux into the body per cell [W/m^2] of the last nx - ``behind`` cells.
     effusivity : float or sequence of float
         beta [W s^0.5 / (m^2 K)] per body (one value per leading entry of a 3-D ``flux``).
     speed : float or sequence of float
         Body surface speed [m/s] per body.
     fft : bool
         Sum the strips by FFT (:func:`fft_toeplitz`, uniform grids): for the long grids of a ``field``.
+    behind : int
+        Cells of zero flux before ``flux`` (the extended grid behind the patch) [1].
 
     Returns
     -------
-    ndarray, same shape as ``flux``
+    ndarray, shape of ``flux`` with nx along x
         Temperature rise [K].
     """
     q = np.asarray(flux, dtype=float)
+    behind = int(behind)
+    h = _uniform_step(np.asarray(x_edges, dtype=float)) if fft else None
+    if behind and h is None:         # the direct sums: the zero rows explicitly
+        q, behind = _prepend_zeros(q, behind), 0
     if q.ndim == 3:
         nb, nx, ny = q.shape
+        nx += behind
         k = np.asarray([strip_prefactor(b, v) for b, v in
                         zip(np.broadcast_to(effusivity, (nb,)), np.broadcast_to(speed, (nb,)))])
-        h = _uniform_step(np.asarray(x_edges, dtype=float)) if fft else None
         if h is not None:
             # a long (extended) grid: body by body, only the strips that get heat, by FFT, written in place
-            out = np.zeros(q.shape)
+            out = np.zeros((nb, nx, ny))
             w = toeplitz_weights(nx, h)
             for b in range(nb):
                 live = np.flatnonzero(np.any(q[b] != 0.0, axis=0))      # strips without heat stay at 0
@@ -270,13 +289,17 @@ def surface_rise(x_edges: np.ndarray, flux: np.ndarray, effusivity, speed, fft: 
                     continue
                 if live[-1] - live[0] + 1 == live.size:        # one run of strips: written in place
                     cols = slice(int(live[0]), int(live[-1]) + 1)
-                    fft_toeplitz(w, q[b][:, cols], k[b], out=out[b][:, cols])
+                    fft_toeplitz(w, q[b][:, cols], k[b], out=out[b][:, cols], behind=behind)
                 else:
-                    out[b][:, live] = fft_toeplitz(w, q[b][:, live], k[b])
+                    out[b][:, live] = fft_toeplitz(w, q[b][:, live], k[b], behind=behind)
             return out
         # one product for all strips of all bodies: (nx, nx) @ (nx, nb*ny)
         t = _apply(x_edges, q.transpose(1, 0, 2).reshape(nx, nb * ny), fft)
         return t.reshape(nx, nb, ny).transpose(1, 0, 2) * k[:, None, None]
+    if behind:                       # fft on a uniform grid
+        w = toeplitz_weights(q.shape[0] + behind, h)
+        t = fft_toeplitz(w, q.reshape(q.shape[0], -1), behind=behind)
+        return t.reshape((q.shape[0] + behind,) + q.shape[1:]) * strip_prefactor(float(effusivity), float(speed))
     return _apply(x_edges, q.reshape(q.shape[0], -1), fft).reshape(q.shape) * strip_prefactor(float(effusivity),
                                                                                          float(speed))
 
@@ -292,15 +315,15 @@ def _depth_primitive(s: np.ndarray, c) -> np.ndarray:
 
 
 def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity: float, speed: float,
-               diffusivity: float, fft: bool = False) -> np.ndarray:
+               diffusivity: float, fft: bool = False, behind: int = 0) -> np.ndarray:
     """Temperature rise below the surface of one strip (seed eq. 32), exact per cell.
 
     Parameters
     ----------
     x_edges : ndarray, shape (nx+1,)
         Cell edges along the rolling direction [m].
-    flux : ndarray, shape (nx,)
-        Heat flux into the body per cell [W/m^2].
+    flux : ndarray, shape (nx - behind,)
+        Heat flux into the body per cell [W/m^2] of the last nx - ``behind`` cells.
     z : ndarray, shape (nz,)
         Depths [m], >= 0.
     effusivity : float
@@ -311,6 +334,8 @@ def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity:
         kappa [m^2/s].
     fft : bool
         All depths in one FFT product (:func:`fft_toeplitz`, uniform grids): for the long grids of a ``field``.
+    behind : int
+        Cells of zero flux before ``flux`` (the extended grid behind the patch) [1].
 
     Returns
     -------
@@ -321,15 +346,19 @@ def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity:
     q = np.ascontiguousarray(flux, dtype=float)
     z = np.asarray(z, dtype=float).ravel()
     h = _uniform_step(x_edges)
+    behind = int(behind)
     if not np.any(q):
-        return np.zeros((q.size, z.size))
+        return np.zeros((q.size + behind, z.size))
+    if behind and not (fft and h is not None):       # the direct sums: the zero rows explicitly
+        q, behind = _prepend_zeros(q, behind), 0
+    nx = q.size + behind
     c = z * z * speed / (4.0 * diffusivity)                       # (nz,) [m]
     if h is not None:
         # Toeplitz: distances edge - centre are (e - 1/2) h, e = j - i; all depths at once, (nx+1, nz)
-        s = np.clip((np.arange(q.size + 1) - 0.5) * h, 0.0, None)
+        s = np.clip((np.arange(nx + 1) - 0.5) * h, 0.0, None)
         w = np.diff(_depth_primitive(s[:, None], c[None, :]), axis=0)     # (nx, nz): w[k, depth]
         if fft:
-            out = fft_toeplitz(w, q)
+            out = fft_toeplitz(w, q, behind=behind)
         else:
             out = toeplitz_columns(np.ascontiguousarray(w), q)
     else:

@@ -35,7 +35,7 @@ import math
 import numpy as np
 
 from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
-from railtherm.physics import (CONVECTIVE_AREA, embed_field, equal_temperature_partition, field_grid, lumped_wheel,
+from railtherm.physics import (CONVECTIVE_AREA, equal_temperature_partition, field_grid, lumped_wheel,
                                peclet_number, thermal_scales, with_thermal_trace)
 from railtherm.physics.lumped_wheel import CONVECTIVE_AREAS
 
@@ -159,24 +159,22 @@ class GreenTemperature(TemperatureModel):
 
         beta = (wheel.effusivity, rail.effusivity)
         speeds = (v_w, v_r)
+        # the flux stays on the patch grid: behind it (the first ``behind`` cells of the extended grid) it
+        # is zero and the 1-D solution continues without heat (the kernel sums only the heated rows)
         q = np.asarray(source.power_density, dtype=float)
-        if grid is not patch_grid:          # zero flux behind the patch: the 1-D solution continues
-            q = embed_field(q, patch_grid, grid)
-        shape = q.shape
-        q2 = q.reshape(shape[0], -1)                                        # (nx, ny); ny = 1 for a line
+        behind = int(grid.x.size - patch_grid.x.size)
+        q2 = q.reshape(q.shape[0], -1)                                      # (nx_patch, ny); ny = 1 for a line
         if opts["partition"] == "equal-temperature":
             eps = equal_temperature_partition(wheel, rail, v_w, v_r)
         else:
             eps = source.heat_partition
         eps_arr = np.asarray(eps, dtype=float)
-        if eps_arr.ndim and grid is not patch_grid:
-            eps_arr = embed_field(eps_arr, patch_grid, grid, fill=0.5)
         eps2 = eps_arr.reshape(q2.shape) if eps_arr.ndim else eps_arr
-        flux = np.empty((2,) + q2.shape)                                    # (2, nx, ny), no temporaries
+        flux = np.empty((2,) + q2.shape)                              # (2, nx_patch, ny), no temporaries
         np.multiply(eps2, q2, out=flux[0])
         np.multiply(1.0 - eps2, q2, out=flux[1])
         extended = grid is not patch_grid     # a field: the long strips are summed by FFT
-        rise = kernel.surface_rise(grid.x_edges, flux, beta, speeds, fft=extended)   # one product, both bodies
+        rise = kernel.surface_rise(grid.x_edges, flux, beta, speeds, fft=extended, behind=behind)   # (2, nx, ny)
 
         # warm wheel against cold rail (or vice versa): conduction through the patch, eqs. 40-44
         t_bulk = (float(wheel.bulk_temperature), float(rail.bulk_temperature))
@@ -194,7 +192,7 @@ class GreenTemperature(TemperatureModel):
             "peclet_wheel": pe[0], "peclet_rail": pe[1],
             "heat_partition": _mean_partition(eps_arr, q),
             "contact_partition": eps_c,
-            "cells_x": int(shape[0]), "cells_y": int(q2.shape[1]) if not grid.line else 1,
+            "cells_x": int(grid.x.size), "cells_y": int(q2.shape[1]) if not grid.line else 1,
             "cell_size_x": grid.dx,
         }
         err = validity.model_error(min(pe), line=grid.line, shape=getattr(source, "shape", None))
@@ -205,11 +203,11 @@ class GreenTemperature(TemperatureModel):
         trace = fld is not None and (want_all or any(o in outputs for o in _TRACE))
         if want_all or "temperature" in outputs or trace:
             z, depth_rise = self._depth(grid, flux, beta, speeds, (wheel, rail), d_bulk, eps_c, opts,
-                                        None if fld is None else fld.depth, fft=extended)
+                                        None if fld is None else fld.depth, fft=extended, behind=behind)
 
         steady_wheel = steady_mean = None
         if want_all or any(o in outputs for o in _STEADY):
-            mean_rise = [float(rise[i][grid.inside().reshape(q2.shape)].mean()) for i in range(2)]
+            mean_rise = [float(rise[i][behind:][patch_grid.inside().reshape(q2.shape)].mean()) for i in range(2)]
             st = lumped_wheel(
                 grid.integrate(flux[0]), 0.5 * (mean_rise[0] + mean_rise[1]),
                 wheel=wheel, rail=rail, speed_wheel=v_w, speed_rail=v_r,
@@ -235,7 +233,7 @@ class GreenTemperature(TemperatureModel):
             if d_bulk == 0.0 and not np.any(flux[i] != 0):
                 bodies.append(None)
                 continue
-            bodies.append(BodyTemperature(surface_rise[i].reshape(shape), z=z,
+            bodies.append(BodyTemperature(surface_rise[i].reshape(grid.shape), z=z,
                                           depth_rise=None if depth_rise is None else depth_rise[i]))
         if fld is not None:
             diag.update({"field_behind": float(patch_grid.x_edges[0] - grid.x_edges[0]),
@@ -246,10 +244,11 @@ class GreenTemperature(TemperatureModel):
 
     # ------------------------------------------------------------------------------------------
     @staticmethod
-    def _depth(grid, flux, beta, speeds, bodies, d_bulk, eps_c, opts, depth=None, fft=False):
+    def _depth(grid, flux, beta, speeds, bodies, d_bulk, eps_c, opts, depth=None, fft=False, behind=0):
         """Depth field at y = 0 on the common graded depth axis: (z, rise) with the rise above each
         body's bulk temperature of shape (2, nx, nz) [m], [K]. The axis reaches ``depth`` [m] (the
-        scene's ``field.depth``), else ``depth_layers`` thermal layers."""
+        scene's ``field.depth``), else ``depth_layers`` thermal layers. ``flux`` (2, nx - behind, ny)
+        covers the last cells of ``grid`` (the patch; zero flux in the ``behind`` cells before it)."""
         a = grid.a
         n = int(opts["depth_points"])
         if depth is None:
@@ -265,7 +264,7 @@ class GreenTemperature(TemperatureModel):
             qc = (1.0 - w1) * flux[:, :, j] + w1 * flux[:, :, j + 1]      # linear in y at y = 0
         out = np.empty((2, grid.x.size, n))
         for i, (bt, v, m) in enumerate(zip(beta, speeds, bodies)):
-            out[i] = kernel.depth_rise(grid.x_edges, qc[i], z, bt, v, m.diffusivity, fft=fft)
+            out[i] = kernel.depth_rise(grid.x_edges, qc[i], z, bt, v, m.diffusivity, fft=fft, behind=behind)
         if d_bulk != 0.0:
             cw, cr = steady.contact_conduction_depth(grid.x, z, a, eps_c, speeds[0], speeds[1],
                                                       bodies[0].diffusivity, bodies[1].diffusivity)
