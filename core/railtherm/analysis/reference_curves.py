@@ -7,6 +7,18 @@
   full-sliding or given heat source without convection (Jaeger's moving band for a line contact, the
   moving surface source on a half-space for an ellipse), with ``hottest_x(body)`` [m], the x of its
   maximum, and ``temperature(body, z)`` [degC], the depth profile through that point;
+* for a scene with ``field`` and such a source, the exact thermal trace
+  (:func:`railtherm.analysis.analytic.trace_reference`) on the depths ``z_trace`` from the surface to
+  ``field.depth``: ``trace_peak_temperature(body, z_trace)`` [degC], ``trace_peak_position(body,
+  z_trace)`` [m], ``trace_cooling_rate(body, z_trace)`` [K s-1] (NaN at z = 0, where it is infinite),
+  ``trace_time_above(body, z_trace)`` [s], ``trace_heated_depth(body)`` [m] and ``trace_threshold``
+  [degC]; ``trace_depth`` [m], the depth z* of the curve ``trace_temperature(body, x)`` [degC] along
+  the rolling direction and of ``trace_depth_peak_temperature(body)`` [degC] and
+  ``trace_depth_cooling_rate(body)`` [K s-1] (the hotter body's heated depth when it lies inside the field, else the depth
+  where its peak temperature has fallen to half its surface rise); and, for an ellipse,
+  ``surface_map(body, x_map, y_map)`` [degC], the surface temperature over the patch and its trace.
+  ``temperature(body, z)`` then reaches ``field.depth`` and ``surface_temperature`` reaches
+  ``field.behind`` beyond the trailing edge;
 * ``carter_traction_x(x_patch)`` [Pa] and ``carter_stick(x_patch)`` [1]: Carter's 2-D traction and
   stick zone for a line contact of identical elastic bodies with pure longitudinal creepage;
 * ``creep_force_ratio(creepage)`` [1]: Carter's Fx / (mu N) over the creepages of the scene's sweep
@@ -52,6 +64,9 @@ _TEMPERATURE = {"units": "degC", "units_metadata": "temperature: on_scale"}
 SURFACE_POINTS_LINE = 161
 SURFACE_POINTS_ELLIPSE = 81
 DEPTH_POINTS = 41
+#: depths of the exact trace (each costs one peak search per body, ~0.1-0.5 s) and the map's points
+TRACE_POINTS = 13
+MAP_POINTS = (61, 31)
 CREEP_POINTS = 301
 
 
@@ -69,6 +84,74 @@ def _behind(scene) -> float:
     return float(behind) if behind else 0.0
 
 
+def _field_depth(scene, default: float) -> float:
+    """The depth [m] a scene's ``field`` asks for, else ``default``."""
+    fld = getattr(scene, "field", None)
+    depth = getattr(fld, "depth", None) if fld is not None else None
+    return float(depth) if depth else default
+
+
+def _trace(scene) -> tuple[dict, dict, list[str]]:
+    """The exact thermal trace of a scene with ``field`` (see the module docstring)."""
+    from .analytic import _depth_rise, _surface_rise, _thermal_case, trace_reference
+    fld = getattr(scene, "field", None)
+    case = _thermal_case(scene) if fld is not None else None
+    if case is None:
+        return {}, {}, []
+    a, b, shape, q, speeds, eps = case
+    kappa = max(scene.body(i).diffusivity for i in (0, 1))
+    depth = _field_depth(scene, 4.0 * min(a, math.sqrt(2.0 * kappa * a / max(min(speeds), 1e-12))))
+    zt = depth * np.linspace(0.0, 1.0, TRACE_POINTS) ** 2
+    tr = trace_reference(scene, zt)
+    name = NAME_JAEGER if b is None else NAME_MOVING_SOURCE
+    bulk = np.array([scene.body(i).bulk_temperature for i in (0, 1)], float)
+    peak = np.asarray(tr["peak_temperature"], float)
+    hot = int(np.nanargmax(peak[:, 0] - bulk))
+    zh = float(tr["heated_depth"][hot])
+    if not (0.0 < zh < depth):   # no isotherm inside the field: where the peak has fallen to half its rise
+        half = bulk[hot] + 0.5 * (peak[hot, 0] - bulk[hot])
+        below = np.flatnonzero(peak[hot] <= half)
+        zh = float(np.interp(half, peak[hot, ::-1], zt[::-1])) if below.size else float(zt[-1])
+    star = trace_reference(scene, [zh])
+    x = _surface_x(a, _behind(scene), SURFACE_POINTS_LINE if b is None else SURFACE_POINTS_ELLIPSE)
+    at_depth = np.array([bulk[i] + np.asarray(_depth_rise(scene, case, x, zh, i), float) for i in (0, 1)])
+    zattrs = {"units": "m", "long_name": "depth of the exact trace", "positive": "down"}
+    ref = {"reference": name}
+    data = {
+        "trace_peak_temperature": (("body", "z_trace"), peak, {**_TEMPERATURE, **ref, "long_name":
+                                   "highest temperature of a material point on the centre line"}),
+        "trace_peak_position": (("body", "z_trace"), np.asarray(tr["peak_position"], float),
+                                {"units": "m", **ref, "long_name": "x of that peak"}),
+        "trace_cooling_rate": (("body", "z_trace"), np.asarray(tr["cooling_rate"], float),
+                               {"units": "K s-1", **ref, "long_name": "fastest cooling after the peak "
+                                "(NaN at the surface: infinite)"}),
+        "trace_time_above": (("body", "z_trace"), np.asarray(tr["time_above"], float),
+                             {"units": "s", **ref, "long_name": "time above the threshold"}),
+        "trace_heated_depth": (("body",), np.asarray(tr["heated_depth"], float),
+                               {"units": "m", **ref, "long_name": "depth where the peak falls through the threshold"}),
+        "trace_threshold": ((), float(fld.threshold), {**_TEMPERATURE, "long_name": "threshold (field.threshold)"}),
+        "trace_depth": ((), zh, {"units": "m", "long_name": "depth z* of trace_temperature", "body": hot}),
+        "trace_depth_peak_temperature": (("body",), np.asarray(star["peak_temperature"], float)[:, 0],
+                                         {**_TEMPERATURE, **ref, "long_name": "peak temperature at depth trace_depth"}),
+        "trace_depth_cooling_rate": (("body",), np.asarray(star["cooling_rate"], float)[:, 0],
+                                     {"units": "K s-1", **ref, "long_name": "cooling rate at depth trace_depth"}),
+        "trace_temperature": (("body", "x"), at_depth, {**_TEMPERATURE, **ref, "depth": zh,
+                              "long_name": "temperature along y = 0 at depth trace_depth"}),
+    }
+    coords = {"z_trace": ("z_trace", zt, zattrs)}
+    if b is not None:
+        nx, ny = MAP_POINTS
+        xm = np.linspace(-a - _behind(scene), a, nx)
+        ym = np.linspace(-b, b, ny)
+        gx, gy = np.meshgrid(xm, ym, indexing="ij")
+        sm = np.array([bulk[i] + np.asarray(_surface_rise(scene, case, gx, gy, i), float) for i in (0, 1)])
+        data["surface_map"] = (("body", "x_map", "y_map"), sm, {**_TEMPERATURE, **ref,
+                               "long_name": "surface temperature over the patch and its trace"})
+        coords.update({"x_map": ("x_map", xm, {"units": "m", "long_name": "rolling direction"}),
+                       "y_map": ("y_map", ym, {"units": "m", "long_name": "lateral"})})
+    return data, coords, [name]
+
+
 def _thermal(scene) -> tuple[dict, dict, list[str]]:
     """Data variables and coordinates of the temperature curves, and the reference names."""
     from .analytic import _surface_rise, _thermal_case
@@ -84,7 +167,7 @@ def _thermal(scene) -> tuple[dict, dict, list[str]]:
     kappa = max(scene.body(i).diffusivity for i in (0, 1))
     vmin = max(min(speeds), 1e-12)
     layer = min(a, math.sqrt(2.0 * kappa * a / vmin))
-    z = 4.0 * layer * np.linspace(0.0, 1.0, DEPTH_POINTS) ** 2
+    z = _field_depth(scene, 4.0 * layer) * np.linspace(0.0, 1.0, DEPTH_POINTS) ** 2
     for body in (0, 1):
         mat = scene.body(body)
         share = eps if body == 0 else 1.0 - eps
@@ -215,11 +298,11 @@ def scene_reference_curves(scene, group_values: list[float] | None = None):
     """Reference curves of one scene as an xarray Dataset, or None when core has none for it."""
     import xarray as xr
     data, coords, names = {}, {}, []
-    for part in (lambda: _thermal(scene), lambda: _creep(scene, group_values or [])):
+    for part in (lambda: _thermal(scene), lambda: _trace(scene), lambda: _creep(scene, group_values or [])):
         d, c, n = part()
         data.update(d)
         coords.update(c)
-        names += n
+        names += [x for x in n if x not in names]
     if not data:
         return None
     if "body" in {dim for v in data.values() for dim in v[0]}:

@@ -10,12 +10,18 @@ and ``references.nc``) and writes, in this order:
    exact-contact section (:mod:`.exact_contact`), the contact model's error (same thermal model, other
    contact) separated from the thermal model's (same contact, other thermal model), the creep-force
    curve, traction/slip/power-density maps side by side and a non-Hertzian scene;
-3. one section per scene: inputs, references, refusals and failures (one line per reason), the runs
+3. when scenes report temperatures behind the patch and in depth (``field``) with an exact trace in
+   ``references.nc``: the thermal-trace section (:mod:`.trace_section`), the seed paper's Figs 2-7
+   kinds of plot, every method's finest level against the exact trace (temperature along the rolling
+   direction on the surface and at depth, temperature against depth, peak temperature and cooling rate
+   per depth, surface-temperature maps of the trace) and a table of the threshold isotherm's depth, the
+   time above it and the cooling rate per method with relative errors;
+4. one section per scene: inputs, references, refusals and failures (one line per reason), the runs
    with a result (collapsible table: status, timing min/median, peak RSS, energy balance,
    errors), published values beside the results, convergence orders beside the theoretical ones,
    differences between methods, and the temperature and traction figures with the exact curves;
-4. one section per sweep (scenes generated from one list value): one table and one curve;
-5. benchmarks (a pytest-benchmark JSON file) and the environment.
+5. one section per sweep (scenes generated from one list value): one table and one curve;
+6. benchmarks (a pytest-benchmark JSON file) and the environment.
 
 The report is a pure reader: it computes no physics (the exact curves come from ``references.nc``,
 written by :func:`railtherm.reference_curves.write_reference_curves`). A figure that cannot be drawn
@@ -23,7 +29,8 @@ becomes a sentence in its place.
 
 Modules: :mod:`.load` (reading), :mod:`.verdict` (scorecard and findings), :mod:`.tables` (table
 rows), :mod:`.figures` (matplotlib), :mod:`.sections` (page order), :mod:`.exact_contact` and
-:mod:`.exact_figures` (the exact-contact section), :mod:`.document` (Markdown and HTML), :mod:`.format`
+:mod:`.exact_figures` (the exact-contact section), :mod:`.trace_section` and :mod:`.trace_figures` (the
+thermal-trace section), :mod:`.document` (Markdown and HTML), :mod:`.format`
 (numbers).
 """
 from __future__ import annotations
@@ -37,6 +44,7 @@ from .exact_contact import exact_contact_section
 from .friction_section import friction_section
 from .figures import Palette, method_colour
 from .load import load
+from .trace_section import trace_section
 from .sections import Context, benchmark_section, environment_section, scene_section, sweep_section, verdict_section
 from .verdict import rows, sweep_groups
 
@@ -96,6 +104,7 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     verdict_section(doc, ctx, table_rows)
     exact_contact_section(doc, ctx)
     friction_section(doc, ctx)
+    trace_section(doc, ctx)
     idx = 0
     for row in table_rows:
         if row in left_out:

@@ -1,0 +1,214 @@
+"""The report's thermal-trace section: temperatures behind the patch and in depth (issue 14, the seed
+paper's Figs 2-7 kinds of plot).
+
+For every scene with ``field`` whose exact trace is in ``references.nc`` (written by
+:func:`railtherm.reference_curves.write_reference_curves`), each method's finest successful level
+(read from its run file through the store) is drawn against the exact reference
+(:mod:`.trace_figures`): the temperature along the rolling direction on the surface and at the depth
+z* of the reference, including the trace behind the patch; the temperature against depth at the
+hottest surface point, the peak temperature each depth reaches and the cooling rate after it; and the
+surface-temperature maps of the patch and its trace (ellipses). One table per study lists, for each
+heated body, the peak surface temperature, the depth of the ``field.threshold`` isotherm
+(``heated_depth``), the time the surface spends above it (``time_above`` at z = 0) and the cooling
+rate at z* per method beside the exact values, with signed relative errors (value − exact) / |exact|
+[%] (temperatures on their rise above the bulk temperature).
+
+The report computes no physics: the methods' values are their run files', interpolated linearly in
+depth to z* where needed (cooling rate, temperature along x at z*); every exact value is
+``references.nc``'s.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import trace_figures as TF
+from .document import Cell, Document
+from .exact_contact import relative_error
+from .format import finite, num, pct
+from .load import StudyData
+
+__all__ = ["trace_scenes", "trace_rows", "trace_section", "BODIES"]
+
+BODIES = ("wheel", "rail")
+#: variables of a run that make it part of the section
+TRACE_VARS = ("peak_temperature", "cooling_rate", "heated_depth", "time_above", "temperature", "surface_temperature")
+
+
+def trace_scenes(data: StudyData) -> list[str]:
+    """Scenes whose exact trace is in ``references.nc`` (scenes with ``field`` and an exact source)."""
+    curves = data.curves or {}
+    return [s for s in data.scenes if s in curves and "trace_peak_temperature" in curves[s]]
+
+
+def _finest(data: StudyData, scene: str) -> dict:
+    """method -> Dataset of its finest successful level (methods with a trace variable only)."""
+    out = {}
+    for m in data.methods:
+        r = data.finest_result(scene, m)
+        if r is None:
+            continue
+        ds = data.run_file(scene, m, r.level)
+        if ds is not None and any(v in ds for v in TRACE_VARS):
+            out[m] = ds
+    return out
+
+
+def _levels(data: StudyData, scene: str, methods) -> str:
+    return ", ".join(f"{m} L{data.finest_result(scene, m).level}" for m in methods)
+
+
+def heated_bodies(curve) -> list[int]:
+    """Bodies that take heat: their exact surface temperature is not uniform (the other's is its bulk)."""
+    t = np.asarray(curve["surface_temperature"].values, float)
+    return [i for i in (0, 1) if np.nanmax(t[i]) > np.nanmin(t[i])]
+
+
+def _bulk(data: StudyData, scene: str, body: int) -> float:
+    sc = data.scene[scene].scene
+    try:
+        return float(sc.body(body).bulk_temperature)
+    except AttributeError:
+        return 0.0
+
+
+def _surface(ds, name: str, body: int) -> float:
+    """A run's profile ``name(body, z)`` at z = 0 (None when absent or its depth axis does not start at 0)."""
+    if ds is None or name not in ds or "z" not in ds[name].dims or float(ds["z"].values[0]) != 0.0:
+        return None
+    return float(ds[name].isel(body=body, z=0).values)
+
+
+def _interp(ds, name: str, body: int, z: float) -> float:
+    """A run's profile ``name(body, z)`` linearly interpolated to depth ``z`` [m] over its finite values (NaN
+    when ``z`` lies outside them: the peak was at the end of the field; None when the run has no profile)."""
+    if ds is None or name not in ds or "z" not in ds[name].dims:
+        return None
+    zz = np.asarray(ds["z"].values, float)
+    v = np.asarray(ds[name].isel(body=body).values, float)
+    ok = np.isfinite(v)
+    if ok.sum() < 2 or not (zz[ok].min() <= z <= zz[ok].max()):
+        return math.nan
+    return float(np.interp(z, zz[ok], v[ok]))
+
+
+def _scalar(ds, name: str, body: int) -> float:
+    if ds is None or name not in ds:
+        return None
+    return float(np.asarray(ds[name].values, float).reshape(-1)[body])
+
+
+def values(data: StudyData, scene: str, method: str | None, body: int) -> dict:
+    """The table's quantities of one method (None: the exact reference) for one body, in SI units (None:
+    the run has no such variable; NaN: the run's own NaN, a peak at the end of its field)."""
+    curve = data.curves[scene]
+    zs = float(curve["trace_depth"].values)
+    if method is None:
+        return {"peak": float(curve["trace_peak_temperature"].values[body, 0]),
+                "depth": float(curve["trace_heated_depth"].values[body]),
+                "above": float(curve["trace_time_above"].values[body, 0]),
+                "cooling": float(curve["trace_depth_cooling_rate"].values[body])}
+    r = data.finest_result(scene, method)
+    ds = data.run_file(scene, method, r.level) if r is not None else None
+    return {"peak": _surface(ds, "peak_temperature", body), "depth": _scalar(ds, "heated_depth", body),
+            "above": _surface(ds, "time_above", body), "cooling": _interp(ds, "cooling_rate", body, zs)}
+
+
+#: (key, header, unit scale, unit, digits)
+COLUMNS = (("peak", "peak surface temperature [°C]", 1.0, "°C", 4),
+           ("depth", "depth of the threshold isotherm [mm]", 1e3, "mm", 4),
+           ("above", "time above the threshold at the surface [ms]", 1e3, "ms", 4),
+           ("cooling", "cooling rate at z* [K/s]", 1.0, "K/s", 4))
+
+
+def _cell(v: float | None, ref: float, scale: float, digits: int, bulk: float, tol) -> list:
+    if v is None:
+        return ["–", "–"]
+    if not finite(v):
+        return ["NaN (field too short)" if v != v else num(v, digits), "–"]
+    err = relative_error(v, ref, bulk) if finite(ref) else math.nan
+    css = "" if not finite(err) or tol is None else ("ok" if abs(err) <= tol else "inaccurate")
+    return [num(v * scale, digits), Cell(pct(err, signed=True) if finite(err) else "–", css)]
+
+
+def trace_rows(data: StudyData, scenes: list[str] | None = None) -> tuple[list[str], list[list]]:
+    """Header and rows of the thermal-trace table (exact row first per scene and body)."""
+    header = ["scene", "body", "method (level)"]
+    for _, h, _, _, _ in COLUMNS:
+        header += [h, "error [%]"]
+    rows = []
+    for s in trace_scenes(data) if scenes is None else scenes:
+        curve = data.curves[s]
+        thr = float(curve["trace_threshold"].values)
+        zs = float(curve["trace_depth"].values)
+        finest = _finest(data, s)
+        for body in heated_bodies(curve):
+            bulk = _bulk(data, s, body)
+            ref = values(data, s, None, body)
+            row = [f"`{s}` ({thr:g} °C; z* = {zs * 1e3:.3g} mm)", BODIES[body], "**exact**"]
+            for k, _, scale, _, digits in COLUMNS:
+                row += [num(ref[k] * scale, digits) if finite(ref[k]) else "–", ""]
+            rows.append(row)
+            for m in finest:
+                v = values(data, s, m, body)
+                row = ["", "", f"{m} (L{data.finest_result(s, m).level})"]
+                for k, _, scale, _, digits in COLUMNS:
+                    row += _cell(v[k], ref[k], scale, digits, bulk if k == "peak" else 0.0, data.tolerance)
+                rows.append(row)
+    return header, rows
+
+
+def trace_section(doc: Document, ctx, scenes: list[str] | None = None):
+    """Write the section (nothing when no scene has an exact thermal trace)."""
+    data = ctx.data
+    scenes = trace_scenes(data) if scenes is None else scenes
+    if not scenes:
+        return
+    doc.heading(2, "Thermal trace: behind the patch and in depth", "thermal-trace")
+    doc.paragraph(
+        f"{len(scenes)} scenes report temperatures behind the patch and in depth (scene key `field`). A material "
+        "point on the centre line moves to −x through the patch: x is its history (t = −x/V). Each method at "
+        "its finest successful level against the exact trace (moving surface source on a half-space or "
+        "Jaeger's band, evaluated at depth; `references.nc`): the temperature along the rolling direction on "
+        "the surface and at a depth z* (the exact depth of the threshold isotherm when it lies inside the "
+        "field, else where the exact peak has fallen to half its surface rise), the temperature against depth "
+        "at the hottest surface point, the highest temperature each depth reaches and the fastest cooling "
+        "after it, and the surface-temperature maps of the patch and its trace. A peak at the end of a "
+        "method's field is NaN (the field was too short), never a peak.")
+    header, rows = trace_rows(data, scenes)
+    doc.table("The thermal trace per heated body: peak surface temperature, depth of the isotherm of the "
+              "scene's `field.threshold` (°C, in brackets with z*), time the surface spends above it, and "
+              "cooling rate after the peak at depth z* (methods: linear interpolation of their profile), each "
+              "method's finest successful level against the exact values, error (value − exact) / |exact| "
+              "[%] (the temperature on its rise above the bulk temperature); cell colour: within (green) or "
+              f"above (orange) the study's tolerance {pct(data.tolerance) if data.tolerance is not None else '–'}.",
+              header, rows)
+    for s in scenes:
+        _scene(doc, ctx, s)
+
+
+def _scene(doc: Document, ctx, scene: str):
+    data = ctx.data
+    curve = data.curves[scene]
+    finest = _finest(data, scene)
+    ref = str(curve.attrs.get("reference", "exact"))
+    zs = float(curve["trace_depth"].values)
+    lv = _levels(data, scene, finest) if finest else "no method ran it"
+    bodies = heated_bodies(curve) or [1]
+    for body in bodies:
+        who = BODIES[body]
+        tag = f"{scene}-{who}"
+        ctx.draw(doc, f"trace-x-{tag}", f"`{scene}`, {who}: temperature along the rolling direction (y = 0) on "
+                 f"the surface (left) and at depth z* = {zs * 1e3:.3g} mm (right), including the trace behind the "
+                 f"patch; grey band: exact ({ref}); methods at their finest level ({lv}).",
+                 TF.along_x, finest, curve, body, ctx.palette, f"{scene} ({who}): temperature along x")
+        ctx.draw(doc, f"trace-z-{tag}", f"`{scene}`, {who}: temperature against depth at the hottest surface "
+                 f"point (left), the highest temperature each depth reaches during the pass (centre) and the "
+                 f"fastest cooling after it (right; exact: infinite at the surface); grey band: exact ({ref}); "
+                 f"methods at their finest level ({lv}).",
+                 TF.in_depth, finest, curve, body, ctx.palette, f"{scene} ({who}): temperature in depth")
+        if "surface_map" in curve:
+            ctx.draw(doc, f"trace-map-{tag}", f"`{scene}`, {who}: surface temperature [°C] over the patch (dashed "
+                     f"outline) and its trace behind it, exact ({ref}) and each method at its finest level ({lv}); "
+                     "one colour scale.", TF.maps, finest, curve, body, f"{scene} ({who}): thermal trace")

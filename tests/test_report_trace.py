@@ -1,0 +1,144 @@
+"""The report's thermal-trace section on a small study (green at level 0): the exact trace reaches the
+report through references.nc, the figures and the table exist, and the table's values are the run
+files' and references.nc's."""
+from __future__ import annotations
+
+import re
+import textwrap
+
+import numpy as np
+import pytest
+
+STUDY = textwrap.dedent("""
+    schema_version = 1
+    [study]
+    name = "trace-small"
+    methods = ["green"]
+    levels = [0]
+    reference = "analytic"
+    tolerance = 0.05
+    [defaults]
+    convection = 0.0
+    [[scene]]
+    name = "locked"
+    speed = 10.0
+    heat_source = { flux = 7.7053e8, shape = "hertz", semi_axes = [5.8789e-3, 10.540e-3] }
+    heat_partition = 0.0
+    field = { behind = 12e-3, depth = 0.6e-3, threshold = 727.0 }
+    outputs = ["surface_temperature", "temperature", "peak_temperature", "cooling_rate", "heated_depth",
+               "time_above", "max_surface_temperature"]
+    [[scene]]
+    name = "band"
+    speed = 30.0
+    heat_source = { flux = 2.3116e8, shape = "hertz", half_width = 5.8789e-3 }
+    field = { behind = 12e-3, depth = 0.3e-3, threshold = 50.0 }
+    outputs = ["surface_temperature", "temperature", "peak_temperature", "cooling_rate", "heated_depth",
+               "time_above", "max_surface_temperature"]
+    [[scene]]
+    name = "plain"
+    speed = 30.0
+    heat_source = { flux = 2.3116e8, shape = "hertz", half_width = 5.8789e-3 }
+    outputs = ["max_surface_temperature", "surface_temperature"]
+""")
+
+
+@pytest.fixture(scope="module")
+def small(tmp_path_factory):
+    import railtherm
+    from railtherm.report import write_report
+    tmp = tmp_path_factory.mktemp("trace")
+    path = tmp / "study.toml"
+    path.write_text(STUDY)
+    study = railtherm.load_study(path)
+    out = tmp / "out"
+    railtherm.run_study(study, out=out)
+    paths = write_report(out, study)
+    return study, out, paths
+
+
+def test_reference_curves_hold_the_exact_trace(small):
+    """references.nc holds the exact trace of the field scenes (values of analytic.trace_reference on
+    its own depths), none for a scene without field."""
+    from railtherm.analysis.analytic import trace_reference
+    from railtherm.analysis.reference_curves import read_reference_curves
+    study, out, _ = small
+    curves = read_reference_curves(out / "references.nc")
+    assert "trace_peak_temperature" not in curves["plain"]
+    for name in ("locked", "band"):
+        c = curves[name]
+        sc = next(s for s in study.scenes if s.name == name)
+        zt = c["z_trace"].values
+        assert zt[0] == 0.0 and zt[-1] == pytest.approx(sc.field.depth)
+        tr = trace_reference(sc, zt)
+        np.testing.assert_allclose(c["trace_peak_temperature"].values, tr["peak_temperature"], rtol=1e-12)
+        np.testing.assert_allclose(c["trace_heated_depth"].values, tr["heated_depth"], rtol=1e-12)
+        # the surface curve reaches behind the trailing edge; the depth curve reaches field.depth
+        a = float(c["x"].values.max())
+        assert c["x"].values.min() == pytest.approx(-a - sc.field.behind)
+        assert c["z"].values.max() == pytest.approx(sc.field.depth)
+        zs = float(c["trace_depth"].values)
+        star = trace_reference(sc, [zs])
+        np.testing.assert_allclose(c["trace_depth_cooling_rate"].values, star["cooling_rate"][:, 0], rtol=1e-12)
+        assert ("surface_map" in c) == (name == "locked")
+    # the locked wheel: all heat into the rail, the 727 degC isotherm inside the field: z* is its depth
+    c = curves["locked"]
+    hd = c["trace_heated_depth"].values
+    assert hd[0] == 0.0 and 0 < hd[1] < 0.6e-3
+    assert float(c["trace_depth"].values) == pytest.approx(hd[1], rel=1e-12)
+    # trace_temperature at z* = heated depth peaks at the threshold (exact: within the x sampling)
+    assert c["trace_temperature"].values[1].max() == pytest.approx(727.0, rel=5e-3)
+
+
+def test_section_figures_and_table(small):
+    _, out, paths = small
+    md = (out / "report.md").read_text()
+    assert "## Thermal trace: behind the patch and in depth" in md
+    trace = md.split("## Thermal trace")[1].split("\n## ")[0]
+    for name in ("trace-x-locked-rail", "trace-z-locked-rail", "trace-map-locked-rail", "trace-x-band-wheel",
+                 "trace-z-band-rail"):
+        assert f"figures/{name}.png" in trace, name
+        assert (out / "figures" / f"{name}.png").stat().st_size > 10_000
+    assert "trace-map-band" not in trace   # a line contact has no map
+    assert "trace-x-locked-wheel" not in trace   # the locked wheel takes no heat
+    assert "could not be drawn" not in md
+    # the section comes after the verdict and before the scenes' own sections
+    assert md.index("## Verdict") < md.index("## Thermal trace") < md.index("`plain`")
+
+
+def _table_rows(md: str) -> list[list[str]]:
+    trace = md.split("## Thermal trace")[1].split("\n## ")[0]
+    lines = [ln for ln in trace.splitlines() if ln.startswith("|")]
+    return [[c.strip() for c in ln.strip("|").split("|")] for ln in lines[2:]]
+
+
+def test_table_values_match_the_store(small):
+    """Each table value is the run file's (green's level 0) or references.nc's, and each error is
+    (value - exact) / |exact| of those."""
+    import xarray as xr
+    from railtherm.analysis.reference_curves import read_reference_curves
+    _, out, _ = small
+    rows = _table_rows((out / "report.md").read_text())
+    curves = read_reference_curves(out / "references.nc")
+    ds = xr.open_dataset(out / "runs" / "locked" / "green" / "level-0.nc")
+    c = curves["locked"]
+    i = next(k for k, r in enumerate(rows) if r[0].startswith("`locked`"))
+    exact, green = rows[i], rows[i + 1]
+    assert exact[1] == "rail" and exact[2] == "**exact**" and green[2] == "green (L0)"
+    num = lambda s: float(re.sub(r"[^0-9eE+.\-]", "", s.replace("−", "-")))
+    assert num(exact[3]) == pytest.approx(float(c["trace_peak_temperature"][1, 0]), rel=1e-3)
+    assert num(exact[5]) == pytest.approx(1e3 * float(c["trace_heated_depth"][1]), rel=1e-3)
+    assert num(exact[7]) == pytest.approx(1e3 * float(c["trace_time_above"][1, 0]), rel=1e-3)
+    assert num(exact[9]) == pytest.approx(float(c["trace_depth_cooling_rate"][1]), rel=1e-3)
+    peak = float(ds["peak_temperature"].isel(body=1, z=0))
+    depth = float(ds["heated_depth"][1])
+    assert num(green[3]) == pytest.approx(peak, rel=1e-3)
+    assert num(green[5]) == pytest.approx(1e3 * depth, rel=1e-3)
+    ref_depth = float(c["trace_heated_depth"][1])
+    assert num(green[6]) == pytest.approx(100 * (depth - ref_depth) / ref_depth, abs=0.051)
+    zs = float(c["trace_depth"])
+    cool = np.asarray(ds["cooling_rate"].isel(body=1).values, float)
+    ok = np.isfinite(cool)
+    assert num(green[9]) == pytest.approx(np.interp(zs, ds["z"].values[ok], cool[ok]), rel=1e-3)
+    # the band scene lists both bodies (each takes part of the heat)
+    bodies = [r[1] for r in rows if r[2] == "**exact**"]
+    assert bodies.count("wheel") == 1 and bodies.count("rail") == 2
