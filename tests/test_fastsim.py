@@ -18,6 +18,7 @@ import pytest
 
 from railtherm import ContactPatch, Material, SurfaceGrid, surface_grid
 from railtherm.models.shapes import cell_average
+from railtherm.physics.friction import ConstantFriction
 from railtherm.references.kalker import kalker_coefficients, kalker_linear_forces
 from railtherm_fastsim.fastsim_kernel import fastsim_sweep
 from railtherm.models.sliding import frictional_heat_source
@@ -215,6 +216,7 @@ def _scene(**kw):
                 sliding_speed=None, heat_partition=0.5, wheel=steel, rail=steel, contact_shape="ellipse",
                 heat_source=None, wheelset=None, tangential="creepage", numerics={}, convection=0.0)
     base.update(kw)
+    base.setdefault("friction_law", ConstantFriction(base["friction"]))   # core reads the law (issue 15)
     return SimpleNamespace(**base)
 
 

@@ -37,6 +37,88 @@ import numpy as np
 @numba.njit(cache=True, fastmath=False, boundscheck=False)
 def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
                   px, py, sx, sy, stick, power):  # pragma: no cover - compiled
+    """Kalker's sweep with the traction bound ``bound`` = mu p per cell (any constant or per-cell mu):
+    :func:`fastsim_sweep_law` with ``law_mode = 0``; returns its first six results."""
+    r = fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
+                          0, 0.0, 0.0, 1.0, px, py, sx, sy, stick, power)
+    return r[0], r[1], r[2], r[3], r[4], r[5]
+
+
+@numba.njit(cache=True, fastmath=False, boundscheck=False)
+def slip_law_bound(habs, pc, keff, mu_kin, dmu, decay):  # pragma: no cover - compiled
+    """Traction bound of one cell under the exponential slip-velocity law mu(v) = mu_kin + dmu exp(-v/decay).
+
+    In a slipping cell the traction is ``g h/|h|`` and the slip speed is ``v = keff (|h| - g)`` (the
+    sweep's slip ``V L (q - h)/dq``, with ``keff = V |L h|/(|h| dq)`` [m/(s Pa)]); the bound solves the
+    scalar equation ``F(g) = g - pc mu(keff (|h| - g)) = 0``. For a falling law F is concave in g, so:
+
+    * ``|h| > mu(0) pc`` (the cell cannot stick): F(mu_min pc) < 0 < F(mu_max pc), exactly one root,
+      found by Newton safeguarded by bisection on that bracket;
+    * ``|h| <= mu(0) pc``: the cell sticks (g = |h|) -- unique unless F also has (two) slip roots,
+      which happens iff kappa = |dmu/dv(0)| pc keff > 1 and F(g*) >= 0 at its maximum
+      g* = |h| - decay ln(kappa)/keff (then ``flag = 2``: non-unique).
+
+    Parameters
+    ----------
+    habs : float
+        |h|, the stick (trial) traction [Pa].
+    pc : float
+        Pressure of the cell's bound [Pa] (> 0).
+    keff : float
+        Slip speed per unit traction deficit [m/(s Pa)].
+    mu_kin, dmu, decay : float
+        Law: kinetic mu [1], static - kinetic [1], reference slip speed [m/s].
+
+    Returns
+    -------
+    g : float
+        The bound [Pa] (``habs`` in stick: the sweep then sticks).
+    iterations : int
+        Newton/bisection steps.
+    flag : int
+        0 slip, 1 stick, 2 non-unique (stick taken; the caller refuses).
+    kappa : float
+        |dmu/dv(0)| pc keff [1] (:func:`railtherm.physics.friction.contraction_limit`).
+    """
+    mu_st = mu_kin + dmu
+    kappa = abs(dmu) / decay * pc * keff
+    if habs <= mu_st * pc:
+        if dmu > 0.0 and kappa > 1.0:
+            gstar = habs - decay * math.log(kappa) / keff
+            if gstar > mu_kin * pc and gstar - pc * mu_kin - decay / keff >= 0.0:
+                return habs, 0, 2, kappa
+        return habs, 0, 1, kappa
+    if dmu == 0.0:
+        return mu_kin * pc, 0, 0, kappa
+    lo = min(mu_kin, mu_st) * pc
+    hi = min(max(mu_kin, mu_st) * pc, habs)
+    g = 0.5 * (lo + hi)
+    tol = 1e-14 * hi
+    it = 0
+    for it in range(1, 200):
+        e = math.exp(-keff * (habs - g) / decay)
+        f = g - pc * (mu_kin + dmu * e)
+        if f > 0.0:
+            hi = g
+        else:
+            lo = g
+        if f == 0.0 or hi - lo <= tol:
+            break
+        df = 1.0 - pc * keff * dmu / decay * e
+        gn = g - f / df if df != 0.0 else lo - 1.0
+        if not (lo < gn < hi):
+            gn = 0.5 * (lo + hi)
+        if abs(gn - g) <= tol:
+            g = gn
+            break
+        g = gn
+    return g, it, 0, kappa
+
+
+@numba.njit(cache=True, fastmath=False, boundscheck=False)
+def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
+                      law_mode, mu_kin, dmu, decay,
+                      px, py, sx, sy, stick, power):  # pragma: no cover - compiled
     """Sweep every strip y_j from the leading edge (x = +a) to the trailing edge.
 
     Parameters
@@ -46,7 +128,8 @@ def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offse
     y : ndarray (ny,)
         Cell centres across [m].
     bound : ndarray (nx, ny)
-        Traction bound g = mu p [Pa]; cells with g <= 0 are outside the contact.
+        ``law_mode == 0``: traction bound g = mu p [Pa]; ``law_mode == 1``: the bound's pressure p [Pa]
+        (the bound is mu(v) p, :func:`slip_law_bound`). Cells with bound <= 0 are outside the contact.
     lead : ndarray (ny,)
         Leading-edge position a(y_j) of each strip [m] (used when ``edge_mode == 1``).
     xi, eta : float
@@ -59,6 +142,10 @@ def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offse
         Rolling speed V [m/s] (scales slip velocity and power only).
     spin_offset : float
         x* - x_i of the spin term for interior steps [m] (dq/2: midpoint of the step; CONTACT: dq/6).
+    law_mode : int
+        0: ``bound`` is mu p; 1: exponential slip-velocity law ``mu_kin + dmu exp(-v/decay)``.
+    mu_kin, dmu, decay : float
+        The slip law's kinetic mu [1], static - kinetic [1] and reference slip speed [m/s] (law_mode 1).
     edge_mode : int
         0: the first contact cell of a strip takes a full step dq from a zero traction (CONTACT);
         1: the first step starts at the exact leading edge ``lead[j]``, and every step samples the
@@ -75,6 +162,12 @@ def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offse
         forces [N], moment [N m] and power [W]).
     nstick, nslip : int
         Number of cells in stick and slip.
+    max_iterations : int
+        Most Newton/bisection steps of one cell (law_mode 1).
+    nonunique : int
+        Number of cells whose local equation has more than one solution (law_mode 1; stick taken).
+    kappa_max, kappa_bad : float
+        Largest kappa = |dmu/dv(0)| p keff over the contact cells, and over the non-unique ones [1].
     """
     nx = x.shape[0]
     ny = y.shape[0]
@@ -92,6 +185,10 @@ def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offse
     pw = 0.0
     nstick = 0
     nslip = 0
+    max_it = 0
+    nonunique = 0
+    kappa_max = 0.0
+    kappa_bad = 0.0
     nan = np.nan
     for ii in range(nx):
         i = nx - 1 - ii
@@ -124,6 +221,17 @@ def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offse
                     hx = -step * wx
                     hy = -step * wy
                     habs = math.sqrt(hx * hx + hy * hy)
+                    if law_mode == 1:
+                        keff = speed * inv_dq * math.hypot(L1 * hx, L2 * hy) / habs if habs > 0.0 else 0.0
+                        g, nit, flag, kap = slip_law_bound(habs, bound[i, j], keff, mu_kin, dmu, decay)
+                        if nit > max_it:
+                            max_it = nit
+                        if kap > kappa_max:
+                            kappa_max = kap
+                        if flag == 2:
+                            nonunique += 1
+                            if kap > kappa_bad:
+                                kappa_bad = kap
                     if habs <= g:
                         px[i, j] = hx
                         py[i, j] = hy
@@ -160,6 +268,17 @@ def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offse
             hx = pvx[j] - step * wx
             hy = pvy[j] - step * wy
             habs = math.sqrt(hx * hx + hy * hy)
+            if law_mode == 1:
+                keff = speed * inv_dq * math.hypot(L1 * hx, L2 * hy) / habs if habs > 0.0 else 0.0
+                g, nit, flag, kap = slip_law_bound(habs, bound[i, j], keff, mu_kin, dmu, decay)
+                if nit > max_it:
+                    max_it = nit
+                if kap > kappa_max:
+                    kappa_max = kap
+                if flag == 2:
+                    nonunique += 1
+                    if kap > kappa_bad:
+                        kappa_bad = kap
             if habs <= g:
                 px[i, j] = hx
                 py[i, j] = hy
@@ -195,7 +314,7 @@ def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offse
                 pvx[j] = qx
                 pvy[j] = qy
             incon[j] = True
-    return fx, fy, mz, pw, nstick, nslip
+    return fx, fy, mz, pw, nstick, nslip, max_it, nonunique, kappa_max, kappa_bad
 
 
 @numba.njit(cache=True, fastmath=False, boundscheck=False)

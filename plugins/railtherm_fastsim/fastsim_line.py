@@ -182,7 +182,7 @@ def _exact_cells(x_edges, a, bound, g0, xi, L, speed):
 
 
 def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, poisson_ratio, xi, speed,
-                 bound="elliptic", leading_edge="exact", flexibility=None, integration=None):
+                 bound="elliptic", leading_edge="exact", flexibility=None, integration=None, slip_law=None):
     """FASTSIM on a line contact: traction, slip, stick, creep force and power per unit width.
 
     Parameters
@@ -195,8 +195,8 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
         Half-width [m].
     normal_force : float
         Load per unit width N [N/m].
-    friction : float
-        mu [1].
+    friction : float or ndarray (nx,)
+        mu [1], one value or one per cell (a temperature law: the sweep runs); with ``slip_law`` ignored.
     shear_modulus, poisson_ratio : float
         Combined G [Pa] and nu [1].
     xi : float
@@ -220,7 +220,11 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
         (the stick map is taken at the cell centres), the force and the local power have no
         discretisation error, and the local power equals the global ``-V xi Fx`` exactly.
         ``"sweep"``: Kalker's discrete sweep (:func:`fastsim_sweep`, one strip; the seed's
-        modified FASTSIM as in 3-D): tractions at the cell centres, power ``-p.s`` per cell.
+        modified FASTSIM as in 3-D): tractions at the cell centres, power ``-p.s`` per cell. A friction
+        that varies (per cell, or ``slip_law``) always runs the sweep.
+    slip_law : railtherm.physics.friction.SlipVelocityFriction, optional
+        Exponential slip-velocity law, solved cell by cell in the sweep
+        (:func:`railtherm_fastsim.simplified_theory.fastsim`).
 
     Returns
     -------
@@ -228,8 +232,8 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
         Fields of shape (nx,); ``creep_force_x`` [N/m], ``local_power`` and ``global_power`` [W/m];
         ``creep_force_y`` and ``spin_moment`` are 0.
     """
-    from .fastsim_kernel import fastsim_sweep
-    from .simplified_theory import BOUNDS, LEADING_EDGES, FastsimResult
+    from .fastsim_kernel import fastsim_sweep_law
+    from .simplified_theory import BOUNDS, LEADING_EDGES, FastsimResult, law_arguments, law_diagnostics
 
     if not grid.line:
         raise ValueError("fastsim_line needs a line grid (y_edges None)")
@@ -241,6 +245,12 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
         integration = "exact" if leading_edge == "exact" else "sweep"
     if integration not in ("exact", "sweep"):
         raise ValueError(f"integration must be 'exact' or 'sweep', got {integration!r}")
+    if slip_law is not None or np.ndim(friction) > 0:
+        integration = "sweep"                  # the continuous solution is for one constant mu
+        mu = 1.0 if slip_law is not None else np.asarray(friction, dtype=float).reshape(-1)
+        friction = float(np.max(mu))           # g0 (unused by the sweep)
+    else:
+        mu = friction
     x = np.ascontiguousarray(grid.x, dtype=float)
     dq = float(grid.dx)
     lo = np.clip(grid.x_edges[:-1], -a, a)
@@ -270,14 +280,16 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
         frac = np.clip((hi - lo) / dq, 0.0, 1.0)
         frac = np.where(p > 0, frac, 0.0)
         inside = frac > 1e-12
-        g = np.where(inside, friction * p / np.where(inside, frac, 1.0), 0.0)
+        g = np.where(inside, mu * p / np.where(inside, frac, 1.0), 0.0)
         mode = 1 if leading_edge == "exact" else 0
         lead = np.array([float(a) if mode == 1 else x[np.nonzero(inside)[0][-1]] + 0.5 * dq])
         shape = (x.size, 1)
         px, py, sxx, syy, st, power = (np.empty(shape) for _ in range(6))
-        _, _, _, _, nstick, nslip = fastsim_sweep(x, np.zeros(1), np.ascontiguousarray(g.reshape(shape)), lead,
-                                                  float(xi), 0.0, 0.0, L, L, L, float(speed), 0.5 * dq, mode,
-                                                  px, py, sxx, syy, st, power)
+        out = fastsim_sweep_law(x, np.zeros(1), np.ascontiguousarray(g.reshape(shape)), lead, float(xi), 0.0, 0.0,
+                                L, L, L, float(speed), 0.5 * dq, mode, *law_arguments(slip_law),
+                                px, py, sxx, syy, st, power)
+        nstick, nslip = out[4], out[5]
+        diag.update(law_diagnostics(slip_law, out))
         tx = px[:, 0] * frac
         pd = power[:, 0] * frac
         sx = sxx[:, 0].copy()

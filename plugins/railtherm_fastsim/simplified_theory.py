@@ -34,8 +34,8 @@ import numpy as np
 from railtherm.references.kalker import flexibilities as _flexibilities
 from railtherm.references.kalker import kalker_coefficients, weighted_flexibility
 
-__all__ = ["FastsimResult", "fastsim", "fastsim_flexibilities", "ellipse_cell_integrals", "BOUNDS",
-           "FLEXIBILITIES", "LEADING_EDGES"]
+__all__ = ["FastsimResult", "fastsim", "fastsim_flexibilities", "ellipse_cell_integrals", "law_arguments",
+           "law_diagnostics", "BOUNDS", "FLEXIBILITIES", "LEADING_EDGES"]
 
 BOUNDS = ("elliptic", "parabolic")
 FLEXIBILITIES = ("three", "one", "contact")
@@ -150,7 +150,7 @@ def ellipse_cell_integrals(grid, a, b, n_gauss=12):
 
 
 def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, poisson_ratio, xi, eta, phi, speed,
-            bound="elliptic", flexibility="three", leading_edge="exact"):
+            bound="elliptic", flexibility="three", leading_edge="exact", slip_law=None):
     """Kalker's FASTSIM on a rectangular cell-centred grid covering an elliptical patch.
 
     Parameters
@@ -165,8 +165,9 @@ def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, pois
         Semi-axes of the contact ellipse [m].
     normal_force : float
         N [N].
-    friction : float
-        mu [1].
+    friction : float or ndarray (nx, ny)
+        mu [1], one value or one per cell (a temperature law); with ``slip_law`` the nominal mu (only
+        CONTACT's flexibility blend uses it).
     shear_modulus, poisson_ratio : float
         Combined G [Pa] and nu [1].
     xi, eta : float
@@ -192,12 +193,18 @@ def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, pois
         totals (in full sliding, exactly mu N). ``"contact"``: CONTACT's discretisation -- the
         first cell of a strip takes a full step dx from zero traction, the spin slip is sampled at
         x + dx/6, whole cells count, and the parabolic bound is taken at the cell centres.
+    slip_law : railtherm.physics.friction.SlipVelocityFriction, optional
+        Exponential slip-velocity law (or Polach's): the bound of each slipping cell is mu(v) p with v
+        the cell's own slip speed, solved cell by cell (:func:`railtherm_fastsim.fastsim_kernel.slip_law_bound`).
+        The diagnostics then hold ``friction_iterations`` (most steps of one cell), ``friction_contraction``
+        (largest kappa over the contact), ``friction_nonunique_cells`` and ``friction_nonunique_kappa``:
+        cells whose local equation has several solutions (the caller refuses).
 
     Returns
     -------
     FastsimResult
     """
-    from .fastsim_kernel import fastsim_sweep   # numba: imported on first use (keeps plugin loading light)
+    from .fastsim_kernel import fastsim_sweep_law   # numba: imported on first use (keeps plugin loading light)
 
     if bound not in BOUNDS:
         raise ValueError(f"bound must be one of {BOUNDS}, got {bound!r}")
@@ -216,14 +223,16 @@ def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, pois
         frac = None
         mode, offset = 0, dq / 6.0
     p = p_par0 * par if bound == "parabolic" else np.asarray(pressure, dtype=float)
+    mu = 1.0 if slip_law is not None else (friction if np.ndim(friction) == 0 else np.asarray(friction, dtype=float))
     if frac is None:
         frac = (p > 0).astype(float)
-        g = friction * p
+        g = mu * p
     else:
         # p holds cell averages: the bound at a cut cell is the mean pressure over its inside part
         frac = np.where(p > 0, frac, 0.0)
-        g = np.where(frac > 1e-12, friction * p / np.where(frac > 1e-12, frac, 1.0), 0.0)
-    L1, L2, L3 = fastsim_flexibilities(a, b, shear_modulus, poisson_ratio, xi, eta, phi, friction,
+        g = np.where(frac > 1e-12, mu * p / np.where(frac > 1e-12, frac, 1.0), 0.0)
+    mu_nominal = float(friction) if np.ndim(friction) == 0 else float(np.max(friction))
+    L1, L2, L3 = fastsim_flexibilities(a, b, shear_modulus, poisson_ratio, xi, eta, phi, mu_nominal,
                                        normal_force, flexibility)
     lead = a * np.sqrt(np.clip(1.0 - (y / b) ** 2, 0.0, None))
     # strips beyond |y| = b that a cell-averaged pressure still reaches (cut cells): start at the
@@ -234,9 +243,10 @@ def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, pois
             lead[j] = x[np.nonzero(inside[:, j])[0][-1]] + 0.5 * dq
     shape = p.shape
     px, py, sx, sy, stick, power = (np.empty(shape) for _ in range(6))
-    _, _, _, _, nstick, nslip = fastsim_sweep(x, y, np.ascontiguousarray(g), lead, float(xi),
-                                              float(eta), float(phi), L1, L2, L3, float(speed), offset, mode,
-                                              px, py, sx, sy, stick, power)
+    law = law_arguments(slip_law)
+    out = fastsim_sweep_law(x, y, np.ascontiguousarray(g, dtype=float), lead, float(xi), float(eta), float(phi),
+                            L1, L2, L3, float(speed), offset, mode, *law, px, py, sx, sy, stick, power)
+    nstick, nslip = out[4], out[5]
     w = np.where(inside, frac, 0.0)
     tx, ty, pd = px * w, py * w, power * w
     area = grid.cell_area
@@ -248,7 +258,24 @@ def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, pois
             "flexibility": flexibility, "leading_edge": leading_edge, "stick_cells": int(nstick),
             "slip_cells": int(nslip), "global_power": G, "local_power": P,
             "power_difference": P - G, "power_difference_relative": (P - G) / G if G != 0 else 0.0,
-            "creepage_longitudinal": float(xi), "creepage_lateral": float(eta), "creepage_spin": float(phi)}
+            "creepage_longitudinal": float(xi), "creepage_lateral": float(eta), "creepage_spin": float(phi),
+            **law_diagnostics(slip_law, out)}
     return FastsimResult(tx, ty, sx, sy, stick, pd, p, Fx, Fy, Mz, P, G, diag)
+
+
+def law_arguments(slip_law) -> tuple:
+    """(law_mode, mu_kin, dmu, decay) of :func:`railtherm_fastsim.fastsim_kernel.fastsim_sweep_law` for an
+    exponential slip-velocity law (``None``: the bound array is mu p, law_mode 0)."""
+    if slip_law is None:
+        return 0, 0.0, 0.0, 1.0
+    return 1, float(slip_law.kinetic), float(slip_law.static) - float(slip_law.kinetic), float(slip_law.decay)
+
+
+def law_diagnostics(slip_law, out) -> dict:
+    """The slip law's diagnostics from the kernel's results (empty without a law)."""
+    if slip_law is None:
+        return {}
+    return {"friction_iterations": int(out[6]), "friction_nonunique_cells": int(out[7]),
+            "friction_contraction": float(out[8]), "friction_nonunique_kappa": float(out[9])}
 
 

@@ -12,6 +12,15 @@ Creepages: the patch's own (the wheelset kinematics of seed section 6.1, normal 
 (``scene.sliding_speed`` v_s as the longitudinal creepage xi = -v_s/V: the wheel surface moves at
 V + v_s, seed eqs. 32-33).
 
+Friction laws (issue 15; :mod:`railtherm.physics.friction`), cell by cell: a temperature law gives mu of
+each cell at the contact temperature on the patch (core's coupled loop puts it there) and the bound mu p;
+an exponential slip-velocity law (or Polach's) makes the bound of a slipping cell mu(v) p with v its own
+slip speed, v = V |L (q - h)| / dx, solved per cell in the sweep
+(:func:`railtherm_fastsim.fastsim_kernel.slip_law_bound`). Where that local equation has more than one
+solution (a cell that could stick or slip: it needs kappa = |dmu/dv| p V L / dx > 1, core's
+:func:`~railtherm.physics.friction.contraction_limit`), the run is refused. FASTSIM's slip per cell grows
+as 1/dx, so kappa does too: a coarser grid, a slower decay or a lower speed gives a unique solution.
+
 References
 ----------
 .. [1] J.J. Kalker, A fast algorithm for the simplified theory of rolling contact, Vehicle System
@@ -21,6 +30,7 @@ from __future__ import annotations
 
 from railtherm import Capabilities, Option, Refused, TangentialContactModel
 from railtherm.physics import combined_elastic, creep_speeds
+from railtherm.physics.friction import SlipVelocityFriction, local_friction
 
 from .simplified_theory import BOUNDS, FLEXIBILITIES, LEADING_EDGES, fastsim
 
@@ -72,7 +82,8 @@ class FastsimTangential(TangentialContactModel):
         contacts=frozenset({"ellipse", "line"}), sources=frozenset({"computed"}),
         tangential=frozenset({"creepage", "full-sliding"}),
         provides=frozenset({"traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick",
-                            "creep_force_x", "creep_force_y", "spin_moment"}))
+                            "creep_force_x", "creep_force_y", "spin_moment"}),
+        friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}))
     options = FASTSIM_OPTIONS
 
     def supports(self, scene, level):
@@ -92,8 +103,9 @@ class FastsimTangential(TangentialContactModel):
         except ValueError as exc:
             raise Refused(f"model 'fastsim': {exc}") from exc
         V = float(scene.speed)
-        common = dict(normal_force=patch.normal_force, friction=float(scene.friction), shear_modulus=G,
-                      poisson_ratio=nu, xi=xi, speed=V, bound=options["bound"], leading_edge=options["leading_edge"])
+        friction, slip_law = friction_of(scene, patch)
+        common = dict(normal_force=patch.normal_force, friction=friction, shear_modulus=G, poisson_ratio=nu, xi=xi,
+                      speed=V, bound=options["bound"], leading_edge=options["leading_edge"], slip_law=slip_law)
         if patch.b is None:
             from .fastsim_line import fastsim_line
             if eta != 0.0 or phi != 0.0:
@@ -103,6 +115,8 @@ class FastsimTangential(TangentialContactModel):
         else:
             res = fastsim(patch.grid, patch.pressure, a=patch.a, b=patch.b, eta=eta, phi=phi,
                           flexibility=options["flexibility"], **common)
+        if slip_law is not None:
+            refuse_nonunique(slip_law, res.diagnostics, patch.grid.dx, V)
         diag = {**res.diagnostics, "combined_shear_modulus": G, "combined_poisson_ratio": nu, **ONE_SWEEP}
         fields = dict(traction_x=res.traction_x, slip_velocity_x=res.slip_velocity_x, stick=res.stick,
                       creep_force_x=res.creep_force_x)
@@ -111,3 +125,45 @@ class FastsimTangential(TangentialContactModel):
                           creep_force_y=res.creep_force_y, spin_moment=res.spin_moment)
         return patch.with_tangential(**fields, body_speed=creep_speeds(V, xi), dissipation=res.power_density,
                                      diagnostics=diag)
+
+
+def friction_of(scene, patch):
+    """(friction, slip_law) for :func:`~railtherm_fastsim.simplified_theory.fastsim`: the constant mu (a float,
+    as before laws existed), mu per cell of a temperature law at the patch's contact temperature, or the
+    nominal mu and the slip-velocity law solved in the sweep."""
+    law = getattr(scene, "friction_law", None)
+    if law is None or law.kind == "constant":
+        return float(scene.friction), None
+    if law.depends_on_slip:
+        if not isinstance(law, SlipVelocityFriction):
+            raise Refused(f"model 'fastsim': friction law {law.kind!r} ({law.describe()}) is not an exponential "
+                          "slip-velocity law, the form FASTSIM's sweep solves cell by cell")
+        return float(scene.friction), law
+    return local_friction(scene, patch), None
+
+
+def refuse_nonunique(law, diagnostics, dx, speed):
+    """Refuse (validity) when a cell's local equation g = mu(v(g)) p had more than one solution.
+
+    Parameters
+    ----------
+    law : SlipVelocityFriction
+    diagnostics : dict
+        FASTSIM's (``friction_nonunique_cells``, ``friction_nonunique_kappa``, ``friction_contraction``).
+    dx : float
+        Cell length along the rolling direction [m].
+    speed : float
+        Rolling speed V [m/s].
+    """
+    bad = int(diagnostics.get("friction_nonunique_cells", 0))
+    if not bad:
+        return
+    kappa = float(diagnostics["friction_nonunique_kappa"])
+    kmax = float(diagnostics["friction_contraction"])
+    raise Refused(
+        f"model 'fastsim': the friction law ({law.describe()}) falls too steeply for a unique solution of the "
+        f"local equation g = mu(v(g)) p in {bad} cell(s): kappa = |dmu/dv| p V L / dx = {kappa:.3g} > 1 there "
+        f"(core's contraction_limit; the cell could stick or slip); kappa grows as 1/dx. A unique solution "
+        f"everywhere (kappa_max = {kmax:.3g} < 1) needs cells at least {kmax:.3g}x longer (dx >= {kmax * dx:.3g} m: "
+        f"a coarser level), or a slower decay (decay >= {kmax * law.decay:.3g} m/s), or a speed <= "
+        f"{speed / kmax:.3g} m/s", kind="validity")
