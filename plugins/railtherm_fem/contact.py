@@ -130,8 +130,9 @@ def solve_contact(x, weights, h0, A_nn, A_nt, A_tn, A_tt, *, friction=0.0, creep
     A_nn, A_nt, A_tn, A_tt : ndarray, shape (m, m)
         Compliance blocks: sink per pressure, sink per traction, relative tangential displacement
         per pressure, per traction [m/Pa].
-    friction : float
-        Coulomb coefficient mu [1].
+    friction : float or ndarray, shape (m,)
+        Coulomb coefficient mu [1], one value or one per window node (a friction law evaluated by the
+        caller at the node's slip speed or surface temperature; fixed during this solve).
     creepage : float or None
         Rigid slip xi [1] (creepage, or sliding speed / V for full sliding); None: frictionless
         normal problem only.
@@ -161,8 +162,12 @@ def solve_contact(x, weights, h0, A_nn, A_nt, A_tn, A_tt, *, friction=0.0, creep
     force_control = normal_force is not None
     if force_control == (penetration is not None):
         raise ValueError("give exactly one of normal_force and penetration")
-    frictional = creepage is not None and friction > 0.0
-    mu, eps = float(friction), float(regularization)
+    per_node = np.ndim(friction) > 0
+    mu = np.asarray(friction, dtype=float) if per_node else float(friction)
+    frictional = creepage is not None and float(np.max(mu)) > 0.0
+    eps = float(regularization)
+    if per_node and mu.shape != (m,):
+        raise ValueError(f"friction per node needs shape ({m},), got {mu.shape}")
     D = upstream_derivative(m, float(x[1] - x[0])) if derivative is None else derivative
 
     diag_nn = np.diag(A_nn).copy()
@@ -188,7 +193,7 @@ def solve_contact(x, weights, h0, A_nn, A_nt, A_tn, A_tt, *, friction=0.0, creep
     p_ref = (normal_force / w.sum() * 3.0) if force_control else max(float(np.max(p)), 1.0)
     # tangential constant: slip response to traction
     J_st = -D @ A_tt
-    ct = 1.0 / (max(mu, 1e-12) * p_ref * np.median(np.abs(np.diag(J_st))) + eps) if frictional else 1.0
+    ct = 1.0 / (max(float(np.max(mu)), 1e-12) * p_ref * np.median(np.abs(np.diag(J_st))) + eps) if frictional else 1.0
     xi = float(creepage) if frictional else 0.0
 
     n_unk = 2 * m + (1 if force_control else 0) if frictional else m + (1 if force_control else 0)
@@ -241,17 +246,19 @@ def solve_contact(x, weights, h0, A_nn, A_nt, A_tn, A_tt, *, friction=0.0, creep
                 DS_p = -D @ A_tn
                 DS_t = -D @ A_tt
                 Jt = np.zeros((m, n_unk))
-                Jt[ist, :m] = ct * mu * p_[ist, None] * DS_p[ist]
-                Jt[ist, ist] += ct * mu * s[ist]
-                Jt[ist, m:2 * m] = ct * mu * p_[ist, None] * DS_t[ist]
+                mst = mu[ist] if per_node else mu
+                mcol = mu[ist, None] if per_node else mu
+                Jt[ist, :m] = ct * mcol * p_[ist, None] * DS_p[ist]
+                Jt[ist, ist] += ct * mst * s[ist]
+                Jt[ist, m:2 * m] = ct * mcol * p_[ist, None] * DS_t[ist]
                 Jt[ist, m + ist] += ct * eps
                 iu = np.nonzero(up)[0]
                 il = np.nonzero(lo)[0]
                 pos = p_ > 0
                 Jt[iu, m + iu] = 1.0
-                Jt[iu, iu] -= mu * pos[iu]
+                Jt[iu, iu] -= (mu[iu] if per_node else mu) * pos[iu]
                 Jt[il, m + il] = 1.0
-                Jt[il, il] += mu * pos[il]
+                Jt[il, il] += (mu[il] if per_node else mu) * pos[il]
                 J[m:2 * m] = Jt
         if force_control:
             R[-1] = (w @ p_ - normal_force) / w.sum()

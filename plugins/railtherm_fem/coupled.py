@@ -16,8 +16,10 @@ partition eps (fraction into the wheel): the rail receives (1 - eps) P, the whee
 ``q_rail = (1 - eps) P - h_c (theta_rail - theta_wheel)``. As printed, the term would *add* heat in
 proportion to the temperature (a positive feedback without physical meaning) and it would be scaled
 by the partition; we apply it as a conductance between the two surfaces, not scaled. The seed's
-temperature-dependent friction factor (1 - k rho c theta / mu) has no value of k in section 4.2 and is
-dropped (constant friction).
+temperature-dependent friction factor (1 - k rho c theta / mu) has no value of k in section 4.2; the scene's
+friction law (issue 15) takes its place: a temperature law sets mu per contact node from the surface
+temperatures of this loop, which then also stops on the change of mu; a slip-velocity law is solved with
+each contact solve (:mod:`.friction`).
 """
 from __future__ import annotations
 
@@ -31,8 +33,9 @@ import numpy as np
 
 from railtherm import Refused, SolverError
 
-from .contact import ContactSolution, solve_contact
+from .contact import ContactSolution, solve_contact, upstream_derivative
 from .elastic import ElasticStrip
+from .friction import MU_TOLERANCE, node_contact_temperature, solve_with_slip_law
 from .mesh import graded_strip_mesh
 from .thermal import ThermalBody, ThermalGrid, ThermalSolver, hat_load, thermal_grid
 
@@ -55,7 +58,9 @@ class FemProblem:
     normal_force, penetration : float or None
         Prescribed normal force per width [N/m] or approach [m] (exactly one).
     friction : float
-        mu [1].
+        mu [1] (a law's nominal value: at zero slip speed and the reference temperature).
+    friction_law : railtherm.physics.friction.FrictionLaw or None
+        The scene's law (None or constant: ``friction`` everywhere); see :mod:`.friction`.
     creepage : float or None
         Longitudinal creepage xi [1]; for full sliding ``-sliding_speed / speed`` is used (the wheel surface
         moves at V + v_s: a driving wheel, negative creepage, positive force on the wheel, as CONTACT).
@@ -94,6 +99,7 @@ class FemProblem:
     normal_force: float | None = None
     penetration: float | None = None
     friction: float = 0.0
+    friction_law: object = None
     creepage: float | None = None
     sliding_speed: float | None = None
     regularization: float = 0.0
@@ -363,6 +369,32 @@ def solve_fem(prob: FemProblem) -> FemSolution:
                       "stick zone creeps viscously and the creep force is biased (towards mu N |xi| / eps when "
                       "eps > |xi|); use eps <= 0.01 |xi|, or 0 (exact Coulomb, the default)",
                       RuntimeWarning, stacklevel=2)
+    law = prob.friction_law if frictional and prob.friction_law is not None else None
+    law = None if law is None or law.kind == "constant" else law
+    temperature_law = law is not None and law.depends_on_temperature
+    law_state = {"mu": None, "mu_change": [], "mean_mu": [], "grid": None, "theta": None}
+
+    def node_mu(x):
+        t = node_contact_temperature(x, law_state["grid"], law_state["theta"], prob.wheel.bulk_temperature,
+                                     prob.rail.bulk_temperature)
+        return np.asarray(law.mu(0.0, t), dtype=float)
+
+    def contact(mech, common, W0, U0, initial=None):
+        """solve_contact on ``mech`` with mu per node from the law (as before without one)."""
+        def run(mu, init):
+            return solve_contact(mech.x, mech.w, mech.h0, *mech.blocks, W0=W0, U0=U0, initial=init,
+                                 **{**common, "friction": mu})
+        if law is None:
+            return run(common["friction"], initial)
+        if temperature_law:
+            law_state["mu"] = node_mu(mech.x)
+            return run(law_state["mu"], initial)
+        D = upstream_derivative(mech.x.size, float(mech.x[1] - mech.x[0]))
+        self_slip = np.abs(np.einsum("ij,ji->i", D, mech.blocks[3]))
+        sol_, mu_, hist_, kappa_ = solve_with_slip_law(law, run, prob.speed, self_slip)
+        law_state.update(mu=mu_, slip_history=hist_, kappa=kappa_)
+        return sol_
+
     # a first, coarse pass when only the penetration is known (the half-width is not)
     a_est = a_ref
     if prob.normal_force is None:
@@ -380,7 +412,7 @@ def solve_fem(prob: FemProblem) -> FemSolution:
         mech = _mechanics(prob, length, depth, window_n, h)
         common = dict(friction=prob.friction if frictional else 0.0, creepage=xi, regularization=eps,
                       normal_force=prob.normal_force, penetration=prob.penetration)
-        sol = solve_contact(mech.x, mech.w, mech.h0, *mech.blocks, **common)
+        sol = contact(mech, common, None, None)
         inside = np.nonzero(sol.pressure > 0)[0]
         if inside.size and inside[0] >= 2 and inside[-1] <= mech.x.size - 3:
             break
@@ -480,21 +512,33 @@ def solve_fem(prob: FemProblem) -> FemSolution:
                     omega = min(1.0, omega * 1.5) if omega < 1.0 else 1.0
             omegas.append(omega)
             theta = [theta[j] + omega * r[j] for j in range(2)]
+            law_state.update(grid=grid, theta=theta)
             r_prev = r
             coupling_residual = history[-1]
-            one_way = not (prob.rail.thermal_expansion or (mech.wheel is not None and prob.wheel.thermal_expansion))
+            expansion = bool(prob.rail.thermal_expansion or (mech.wheel is not None and prob.wheel.thermal_expansion))
+            one_way = not expansion and not temperature_law
             if one_way:
-                # nothing couples back (no thermal expansion): T(theta) does not depend on theta, so one
-                # pass is the fixed point and its residual is exactly 0
+                # nothing couples back (no thermal expansion, friction independent of temperature): T(theta)
+                # does not depend on theta, so one pass is the fixed point and its residual is exactly 0
                 coupling_residual = 0.0
-            if history[-1] <= prob.coupling_tolerance or one_way:
+            mu_ok = True
+            if temperature_law:      # mu per node from the relaxed temperatures; stop only when mu settles too
+                used = law_state["mu"]
+                mu_next = node_mu(mech.x)
+                on = sol.pressure > 0
+                law_state["mu_change"].append(float(np.max(np.abs(mu_next - used)[on], initial=0.0)))
+                law_state["mean_mu"].append(float(np.mean(used[on])) if on.any() else float(prob.friction))
+                mu_ok = law_state["mu_change"][-1] < MU_TOLERANCE
+            if (history[-1] <= prob.coupling_tolerance and mu_ok) or one_way:
                 converged = True
                 break
-            # Step 2: contact with the thermal expansion of theta^{k+1}
-            th_r = _interpolator(grid, theta[1])
-            th_w = _interpolator(grid, theta[0]) if mech.wheel is not None else None
-            W0, U0, u_r = mech.thermal_offsets(th_r, th_w, zdepth)
-            sol = solve_contact(mech.x, mech.w, mech.h0, *mech.blocks, W0=W0, U0=U0, initial=sol, **common)
+            # Step 2: contact with the thermal expansion of theta^{k+1} (and mu of its temperatures)
+            W0 = U0 = None
+            if expansion:
+                th_r = _interpolator(grid, theta[1])
+                th_w = _interpolator(grid, theta[0]) if mech.wheel is not None else None
+                W0, U0, u_r = mech.thermal_offsets(th_r, th_w, zdepth)
+            sol = contact(mech, common, W0, U0, initial=sol)
             left, right = contact_edges(sol.x, sol.pressure)
             a = 0.5 * (right - left)
     # final full displacement field (contact forces + thermal expansion)
@@ -512,12 +556,29 @@ def solve_fem(prob: FemProblem) -> FemSolution:
                 mechanics_time=float(t_mech - t_start), total_time=float(time.perf_counter() - t_start),
                 thermal_unknowns=int(thermal_unknowns), thermal_residual=float(thermal_residual),
                 coupling_residual=float(coupling_residual),
-                factor_fill=int(mech.rail.condensed.fill))
+                factor_fill=int(mech.rail.condensed.fill), **fem_law_diagnostics(law, law_state))
     return FemSolution(contact=sol, half_width=float(a), centre=float(0.5 * (left + right)),
                        heat_power_density=power, heat_partition=float(eps_part),
                        frictional_power=float(np.sum(power * mech.w)), thermal_grid=grid, theta=theta,
                        strip=mech.rail, displacement=u, body_speed=body_speed, history=history, omegas=omegas,
                        coupling_iterations=it, coupling_converged=converged, diagnostics=diag)
+
+
+def fem_law_diagnostics(law, state) -> dict:
+    """Diagnostics of the friction law (empty without one): the slip law's outer iteration, or the
+    temperature law's change of mu per Steps 1-4 iteration (comma-separated, as ``coupling_history``)."""
+    if law is None:
+        return {}
+    out = {"friction_law": law.kind}
+    if law.depends_on_slip and "slip_history" in state:
+        out.update(friction_iterations=len(state["slip_history"]), friction_contraction=float(state["kappa"]),
+                   friction_mu_change=",".join(f"{h:.3e}" for h in state["slip_history"]))
+    if law.depends_on_temperature:
+        out.update(friction_loop_iterations=len(state["mu_change"]),
+                   friction_loop_mu_change=",".join(f"{h:.3e}" for h in state["mu_change"]),
+                   friction_loop_mean_mu=",".join(f"{h:.5f}" for h in state["mean_mu"]),
+                   friction_loop_tolerance=MU_TOLERANCE)
+    return out
 
 
 def _lumped(x):

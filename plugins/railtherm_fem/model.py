@@ -86,6 +86,7 @@ class FemModel(CoupledModel):
     capabilities = Capabilities(contacts=frozenset({"line"}), sources=frozenset({"computed", "given"}),
                                 tangential=frozenset({"full-sliding", "creepage"}), convection=True, field=True,
                                 modes=frozenset({"steady"}), moving_surface=True, provides=PROVIDES,
+                                friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}),
                                 advice={"modes": "it is quasistatic (steady in the moving frame); use a transient "
                                                  "method (e.g. fastsim-fdm or fipy)",
                                         "moving_surface": "it needs a positive rolling speed (steady moving frame)"})
@@ -138,7 +139,8 @@ class FemModel(CoupledModel):
         return FemProblem(
             radius=float(scene.wheel_radius), rail=scene.rail, wheel=scene.wheel, speed=float(scene.speed),
             normal_force=scene.normal_force, penetration=scene.penetration if scene.normal_force is None else None,
-            friction=float(scene.friction or 0.0), creepage=creep, sliding_speed=sliding,
+            friction=float(scene.friction or 0.0), friction_law=getattr(scene, "friction_law", None),
+            creepage=creep, sliding_speed=sliding,
             regularization=float(eps), heat_partition=scene.heat_partition,
             convection=float(scene.convection or 0.0),
             thermal_resistance=float(options.get("thermal_resistance") or 0.0),
