@@ -28,11 +28,12 @@ from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
 
 from .influence import Convolution, line_kernel, normal_kernel
 from .normal_solver import NORMAL_TOLERANCE, solve_normal
-from .potential_area import check_border, potential_area, scene_gap
+from .potential_area import check_border, potential_area, rolling_refinement, scene_gap
 
-__all__ = ["KalkerNormal", "solve_scene_normal", "contact_extent", "DEFAULT_CELLS"]
+__all__ = ["KalkerNormal", "solve_scene_normal", "contact_extent", "DEFAULT_CELLS", "ROLLING_REFINEMENTS"]
 
-#: elements across 2a (and across 2b) at level 0; level k has DEFAULT_CELLS 2^k (128 at level 3)
+#: elements across 2b (and 2a) at level 0; level k has DEFAULT_CELLS 2^k (128 at level 3), times the
+#: rolling refinement m (:func:`railtherm_kalker.potential_area.rolling_refinement`) across 2a
 DEFAULT_CELLS = 16
 
 
@@ -107,7 +108,12 @@ def _estimate_area(scene, gap, e_star, load):
                   f"within {half[0]:.3g} x {half[1]:.3g} m; check the gap coefficients", kind="validity")
 
 
-def solve_scene_normal(scene, level: int, cells: int = DEFAULT_CELLS, tol: float = NORMAL_TOLERANCE):
+#: allowed values of the option ``rolling_refinement`` ("auto": :func:`rolling_refinement` of the contact)
+ROLLING_REFINEMENTS = ("auto", 1, 2, 4, 8, 16, 32)
+
+
+def solve_scene_normal(scene, level: int, cells: int = DEFAULT_CELLS, tol: float = NORMAL_TOLERANCE,
+                       refine_x="auto"):
     """Solve the normal problem of a scene on the potential contact area of ``level``.
 
     Parameters
@@ -115,11 +121,16 @@ def solve_scene_normal(scene, level: int, cells: int = DEFAULT_CELLS, tol: float
     scene : Scene-like
         See :func:`railtherm_kalker.potential_area.scene_gap`.
     level : int
-        Level k: ``cells 2^k`` elements across the expected contact in x and in y [1].
+        Level k: ``cells 2^k`` elements across the expected contact in y, ``m cells 2^k`` in x with
+        the rolling refinement m = :func:`railtherm_kalker.potential_area.rolling_refinement` (1
+        unless a > b) [1].
     cells : int
         Elements at level 0 [1].
     tol : float
         Tolerance of the normal solver [1].
+    refine_x : "auto" or int
+        Elements along x per element along y [1]; "auto" (default) is
+        :func:`railtherm_kalker.potential_area.rolling_refinement` of the expected contact.
 
     Returns
     -------
@@ -137,7 +148,8 @@ def solve_scene_normal(scene, level: int, cells: int = DEFAULT_CELLS, tol: float
         centre = (0.0, 0.0)
     else:
         centre, (a0, b0) = _estimate_area(scene, gap, e_star, (force, approach))
-    area = potential_area(a0, b0, n, centre=centre, name=scene.name)
+    m = rolling_refinement(a0, b0) if refine_x == "auto" else int(refine_x)
+    area = potential_area(a0, b0, n, centre=centre, name=scene.name, refine_x=m)
     X, Y = area.mesh()
     h = gap(X) if area.y_edges is None else gap(X, Y)
     initial = None
@@ -171,7 +183,12 @@ class KalkerNormal(NormalContactModel):
     capabilities = Capabilities(contacts=frozenset({"ellipse", "line", "gap"}),
                                 provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b",
                                                     "max_pressure", "contact_area"}))
-    options = {"cells": Option(DEFAULT_CELLS, "elements across the contact (2a, and 2b) at level 0 [1]", minimum=2),
+    options = {"cells": Option(DEFAULT_CELLS, "elements across the contact (2b; 2a m times more, m = 1 for a <= b, "
+                              "up to 8 for a > b: rolling_refinement) at level 0 [1]", minimum=2),
+               "rolling_refinement": Option("auto", "elements along x per element along y; 'auto': 1 for a <= b, "
+                                            "2^round(log2((a/b)^2)) up to 8 for a > b (the upwind rolling slip's "
+                                            "spin-moment error grows like (a/b)^2 dx / a) [1]",
+                                            choices=ROLLING_REFINEMENTS),
                "normal_tolerance": Option(NORMAL_TOLERANCE, "tolerance of the normal solver (relative "
                                           "pressure change and complementarity residual) [1]", minimum=0.0)}
 
@@ -185,8 +202,8 @@ class KalkerNormal(NormalContactModel):
 
     def compute_patch(self, scene, level, options):
         cells = int(options.get("cells") or DEFAULT_CELLS)
-        area, gap, sol = solve_scene_normal(scene, level, cells, float(options.get("normal_tolerance",
-                                                                                    NORMAL_TOLERANCE)))
+        area, gap, sol = solve_scene_normal(scene, level, cells, float(options.get("normal_tolerance", NORMAL_TOLERANCE)),
+                                            options.get("rolling_refinement", "auto"))
         line = area.y_edges is None
         check_border(area, sol.pressure, scene.name)
         x0, x1, y0, y1 = contact_extent(area.x, area.y, sol.pressure, area.dx, area.dy)
@@ -198,7 +215,7 @@ class KalkerNormal(NormalContactModel):
         nx, ny = area.shape
         diag = {"converged": bool(sol.converged), "iterations": int(sol.iterations), "residual": float(sol.residual),
                 "approach": float(sol.approach), "products": int(sol.products),
-                "elements_x": int(nx), "elements_y": int(ny),
+                "elements_x": int(nx), "elements_y": int(ny), "rolling_refinement": int(area.refine_x),
                 "elements_in_contact": int(np.count_nonzero(sol.pressure > 0)),
                 # loaded elements x element area (a line contact: x element length, the contact length)
                 "contact_area": float(np.count_nonzero(sol.pressure > 0)) * area.dx * area.dy,
