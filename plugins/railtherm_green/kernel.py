@@ -314,6 +314,28 @@ def _depth_primitive(s: np.ndarray, c) -> np.ndarray:
     return np.where(c == 0.0, 2.0 * np.sqrt(s), f)
 
 
+@numba.njit(cache=True)
+def _toeplitz_depth_weights(nx, h, c):  # pragma: no cover - compiled
+    """``w[e, k] = F(s_{e+1}, c_k) - F(s_e, c_k)``, s_e = max((e - 1/2) h, 0), of :func:`_depth_primitive`
+    in one pass (no temporaries; numpy's version cost 3 ms for 900 x 41 on a field grid)."""
+    nz = c.size
+    w = np.empty((nx, nz))
+    for k in range(nz):
+        ck = c[k]
+        rc = 2.0 * math.sqrt(math.pi * ck)
+        prev = 0.0                                               # F(0) = 0
+        for e in range(nx):
+            s = (e + 0.5) * h
+            if ck == 0.0:
+                cur = 2.0 * math.sqrt(s)
+            else:
+                r = ck / s
+                cur = 2.0 * math.sqrt(s) * math.exp(-r) - rc * math.erfc(math.sqrt(r))
+            w[e, k] = cur - prev
+            prev = cur
+    return w
+
+
 def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity: float, speed: float,
                diffusivity: float, fft: bool = False, behind: int = 0) -> np.ndarray:
     """Temperature rise below the surface of one strip (seed eq. 32), exact per cell.
@@ -355,8 +377,7 @@ def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity:
     c = z * z * speed / (4.0 * diffusivity)                       # (nz,) [m]
     if h is not None:
         # Toeplitz: distances edge - centre are (e - 1/2) h, e = j - i; all depths at once, (nx+1, nz)
-        s = np.clip((np.arange(nx + 1) - 0.5) * h, 0.0, None)
-        w = np.diff(_depth_primitive(s[:, None], c[None, :]), axis=0)     # (nx, nz): w[k, depth]
+        w = _toeplitz_depth_weights(nx, h, c)                                # (nx, nz): w[k, depth]
         if fft:
             out = fft_toeplitz(w, q, behind=behind)
         else:
