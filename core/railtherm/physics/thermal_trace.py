@@ -159,6 +159,7 @@ def thermal_trace(x, z, temperature, speed: float, threshold: float) -> Trace:
     cool = np.full(nz, np.nan)
     above = np.full(nz, np.nan)
     short_peak, short_cool, short_above = [], [], []
+    grad = None                            # dT/dx of all depths, one call (41 calls cost 1 ms on 900 x)
     for k in range(nz):
         f = T[:, k]
         fmax, fmin = float(np.max(f)), float(np.min(f))
@@ -174,7 +175,9 @@ def thermal_trace(x, z, temperature, speed: float, threshold: float) -> Trace:
             short_peak.append(z[k])
         else:
             where[k], peak[k] = _refine_max(x, f, i)
-            rate = v * np.gradient(f, x)[:i]          # V dT/dx behind the peak (x < x_peak)
+            if grad is None:
+                grad = np.gradient(T, x, axis=0)
+            rate = v * grad[:i, k]                    # V dT/dx behind the peak (x < x_peak)
             j = int(np.argmax(rate))
             if rate[j] <= 0.0:
                 cool[k] = 0.0
