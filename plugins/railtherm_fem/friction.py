@@ -68,8 +68,9 @@ def solve_with_slip_law(law, solve, speed, self_slip):
 
     Returns
     -------
-    solution, mu, history
-        The converged solve, mu per node [1], the change of mu at every outer step [1].
+    solution, mu, history, kappa
+        The converged solve, mu per node [1], the change of mu at every outer step [1], and the largest
+        kappa over the contact nodes [1].
 
     Raises
     ------

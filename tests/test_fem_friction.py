@@ -1,0 +1,117 @@
+"""The FEM under friction laws (issue 15): mu per contact node from the scene's law.
+
+References and tolerances: a temperature law with no change equals constant friction (rtol 1e-12; the
+constant law itself was checked bit for bit against the previous code when the change was made, 8 solves);
+full sliding under the slip law gives mu(v_s) N (the elastic slip is < 1e-4 of v_s here) and every slipping
+node carries mu(V |s|) p to the outer iteration's tolerance; the temperature law's fixed point is mu = law(T)
+node by node with T the FEM's own contact temperature (to the loop's mu tolerance); friction opposes the slip
+at every node (dissipation >= 0) and the frictional power is -V sum(tau s w); identical bodies: F(-xi) = -F(xi).
+Small: level 0 (surface spacing a/10), ~1 s per solve.
+
+Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest -q tests/test_fem_friction.py``
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import railtherm
+from railtherm.contract.errors import Refused
+from railtherm.input.scene import load_scene
+from railtherm.references.carter import carter_normal_load
+from railtherm_fem.coupled import solve_fem
+from railtherm_fem.friction import MU_TOLERANCE, SLIP_MU_TOLERANCE, node_contact_temperature
+from railtherm_fem.model import FemModel
+
+G, NU, R, A = 82e9, 0.28, 0.5, 1e-3
+MAT = {"shear_modulus": G, "poisson_ratio": NU}
+N = carter_normal_load(A, R, G, NU)
+V = 30.0
+SLIP = {"law": "slip-velocity", "static": 0.36, "kinetic": 0.18, "decay": 0.5}
+# the FEM's line contact heats by a few kelvin: a law that falls over 5 K makes the loop do real work
+TEMP = {"law": "temperature", "reference": 0.3, "reference_temperature": 0.0, "change": -0.15, "over": 5.0}
+
+
+def scene(friction, **kw):
+    return {"name": "ff", "normal_force": N, "contact": {"shape": "line", "wheel_radius": R}, "speed": V,
+            "friction": friction, "wheel": dict(MAT), "rail": dict(MAT),
+            "outputs": ["creep_force_x", "max_surface_temperature", "frictional_power"], **kw}
+
+
+def fem(friction, level=0, **kw):
+    sc = load_scene(scene(friction, **kw))
+    m = FemModel()
+    return solve_fem(m._problem(sc, level, m.resolve_options({}), True))
+
+
+def mu_slip(v, law=SLIP):
+    return law["kinetic"] + (law["static"] - law["kinetic"]) * np.exp(-np.abs(v) / law["decay"])
+
+
+def test_fem_declares_every_law():
+    assert FemModel.capabilities.friction_laws == {"constant", "slip-velocity", "polach", "temperature"}
+
+
+def test_temperature_law_without_change_equals_constant_friction():
+    c = {"longitudinal": -1e-3}
+    a = railtherm.solve(scene(0.3, creepage=c), "fem", 0)
+    b = railtherm.solve(scene({**TEMP, "change": 0.0}, creepage=c), "fem", 0)
+    for v in ("creep_force_x", "max_surface_temperature", "frictional_power"):
+        np.testing.assert_allclose(b[v].values, a[v].values, rtol=1e-12, atol=0)
+
+
+def test_slip_law_in_full_sliding_gives_mu_of_the_sliding_speed():
+    for vs in (1.0, 3.0):
+        sol = fem(SLIP, sliding_speed=vs)
+        c = sol.contact
+        on = c.pressure > 0
+        assert c.tangential_force == pytest.approx(mu_slip(vs) * c.normal_force, rel=1e-4)
+        local = np.abs(c.traction[on]) / c.pressure[on] - mu_slip(V * np.abs(c.slip[on]))
+        assert np.max(np.abs(local)) < SLIP_MU_TOLERANCE
+        assert sol.diagnostics["friction_law"] == "slip-velocity"
+
+
+def test_steep_slip_law_converges_monotonically_and_a_steeper_one_is_refused():
+    steep = {**SLIP, "decay": 0.01}                       # 50x steeper than the issue's example
+    sol = fem(steep, creepage={"longitudinal": -1e-3})
+    kappa = sol.diagnostics["friction_contraction"]
+    hist = np.array([float(h) for h in sol.diagnostics["friction_mu_change"].split(",")])
+    assert 0.1 < kappa < 1
+    assert hist[-1] < SLIP_MU_TOLERANCE and np.all(np.diff(np.log(hist)) < 0)
+    c = sol.contact
+    on = c.pressure > 0
+    slipping = on & ~c.stick
+    local = np.abs(c.traction[slipping]) / c.pressure[slipping] - mu_slip(V * np.abs(c.slip[slipping]), steep)
+    assert np.max(np.abs(local)) < SLIP_MU_TOLERANCE
+    with pytest.raises(Refused) as err:
+        fem({**SLIP, "decay": 0.1 * kappa * 0.01}, creepage={"longitudinal": -1e-3})    # kappa -> 10 kappa > 1
+    assert err.value.kind == "validity" and "kappa" in str(err.value) and "decay >=" in str(err.value)
+
+
+def test_temperature_law_loop_converges_to_mu_of_the_fems_own_contact_temperature():
+    sol = fem(TEMP, creepage={"longitudinal": -1e-2})
+    d = sol.diagnostics
+    dmu = np.array([float(h) for h in d["friction_loop_mu_change"].split(",")])
+    assert d["friction_loop_iterations"] == dmu.size == sol.coupling_iterations and sol.coupling_converged
+    assert dmu[-1] < MU_TOLERANCE and np.all(np.diff(np.log(dmu)) < 0)
+    c = sol.contact
+    T = node_contact_temperature(c.x, sol.thermal_grid, sol.theta, 0.0, 0.0)
+    law = np.clip(0.3 - 0.15 * T / 5.0, 0.15, 0.3)
+    slipping = (c.pressure > 0) & ~c.stick
+    assert slipping.sum() >= 5
+    assert np.max(np.abs(np.abs(c.traction[slipping]) / c.pressure[slipping] - law[slipping])) < MU_TOLERANCE
+    mean_mu = float(d["friction_loop_mean_mu"].split(",")[-1])
+    assert 0.15 < mean_mu < 0.3 and c.tangential_force / c.normal_force < 0.3
+    # energy: friction opposes the slip at every node; the heat is the traction's power
+    assert np.all(c.traction * np.nan_to_num(c.slip) <= 0)
+    w = np.gradient(c.x)
+    assert sol.frictional_power == pytest.approx(-V * float(np.sum(c.traction * np.nan_to_num(c.slip) * w)), rel=1e-12)
+
+
+def test_slip_law_is_odd_in_the_creepage():
+    """Identical bodies: F(-xi) = -F(xi), to the outer iteration's tolerance on mu (the two runs stop at
+    different iterates; measured 6e-10 relative)."""
+    f = [fem(SLIP, creepage={"longitudinal": x}).contact.tangential_force for x in (-1e-3, 1e-3)]
+    assert f[0] > 0 > f[1] and f[0] == pytest.approx(-f[1], rel=SLIP_MU_TOLERANCE)
