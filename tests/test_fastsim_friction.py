@@ -262,3 +262,26 @@ def test_coupled_temperature_loop_converges_and_its_fixed_point_is_the_law(speed
     assert np.max(np.abs(np.abs(t[slip]) / p[slip] - law_mu)) < 2 * friction_loop.MU_TOLERANCE
     mu_mean = float(np.asarray(h["mean_mu"])[-1])
     assert 0.15 < mu_mean < 0.3 and abs(float(ds.creep_force_x)) / N < 0.3
+
+
+# --- line contacts (one strip: the sweep runs whenever mu varies) ------------------------------------------
+
+def test_line_contact_applies_the_laws_in_the_sweep():
+    from railtherm import surface_grid
+    from railtherm.physics.friction import friction_law
+    from railtherm_fastsim.fastsim_line import fastsim_line
+    a, n_line = 1e-3, 1e6
+    grid = surface_grid(a, None, 0, 64)
+    p0 = 2 * n_line / (math.pi * a)
+    lo, hi = np.clip(grid.x_edges[:-1], -a, a), np.clip(grid.x_edges[1:], -a, a)
+    anti = lambda u: 0.5 * (u * np.sqrt(1 - u * u) + np.arcsin(u))    # noqa: E731
+    p = p0 * a * (anti(hi / a) - anti(lo / a)) / grid.dx                  # cell averages of the Hertz pressure
+    kw = dict(a=a, normal_force=n_line, shear_modulus=82e9, poisson_ratio=0.28, xi=-0.05, speed=30.0)
+    r = fastsim_line(grid, p, friction=0.3, slip_law=friction_law(SLIP), **kw)
+    slip = r.stick == 0
+    assert r.diagnostics["integration"] == "sweep" and slip.sum() > 50
+    np.testing.assert_allclose(np.abs(r.traction_x[slip]), mu_slip(r.slip_velocity_x[slip]) * p[slip], rtol=1e-12)
+    mu = np.linspace(0.3, 0.2, p.size)                                    # a temperature law's mu per cell
+    r = fastsim_line(grid, p, friction=mu, **kw)
+    slip = r.stick == 0
+    np.testing.assert_allclose(np.abs(r.traction_x[slip]), mu[slip] * p[slip], rtol=1e-12)
