@@ -103,8 +103,8 @@ class SurfaceGrid:
             return np.asarray(self.contact, dtype=bool).reshape(self.shape)
         if self.line:
             return np.abs(self.x) < self.a
-        X, Y = self.mesh()
-        return (X / self.a) ** 2 + (Y / self.b) ** 2 < 1.0
+        # broadcast (nx, 1) + (1, ny): the same values as on the mesh without its two (nx, ny) arrays
+        return (self.x[:, None] / self.a) ** 2 + (self.y[None, :] / self.b) ** 2 < 1.0
 
     def integrate(self, field: np.ndarray) -> float:
         """Midpoint-rule integral of a cell field over the grid [field units x m^2]."""
