@@ -16,10 +16,13 @@ Friction laws (issue 15; :mod:`railtherm.physics.friction`), cell by cell: a tem
 each cell at the contact temperature on the patch (core's coupled loop puts it there) and the bound mu p;
 an exponential slip-velocity law (or Polach's) makes the bound of a slipping cell mu(v) p with v its own
 slip speed, v = V |L (q - h)| / dx, solved per cell in the sweep
-(:func:`railtherm_fastsim.fastsim_kernel.slip_law_bound`). Where that local equation has more than one
-solution (a cell that could stick or slip: it needs kappa = |dmu/dv| p V L / dx > 1, core's
-:func:`~railtherm.physics.friction.contraction_limit`), the run is refused. FASTSIM's slip per cell grows
-as 1/dx, so kappa does too: a coarser grid, a slower decay or a lower speed gives a unique solution.
+(:func:`railtherm_fastsim.fastsim_kernel.slip_law_bound`). A cell that cannot stick (|h| > mu(0) p) has
+exactly one root (the local equation is concave). A cell that can stick (|h| <= mu(0) p) sticks: static
+friction holds until it is exceeded. That is the solution of largest traction and least slip, the one
+kalker's monotone iteration from mu(0) converges to; where the law falls steeply (kappa = |dmu/dv| p V L /
+dx > 1, core's :func:`~railtherm.physics.friction.contraction_limit`; FASTSIM's kappa grows as 1/dx) such a
+cell would also have two slip roots, and the diagnostics count those cells (``friction_nonunique_cells``,
+their largest kappa ``friction_nonunique_kappa``) instead of refusing the run.
 
 References
 ----------
@@ -115,8 +118,6 @@ class FastsimTangential(TangentialContactModel):
         else:
             res = fastsim(patch.grid, patch.pressure, a=patch.a, b=patch.b, eta=eta, phi=phi,
                           flexibility=options["flexibility"], **common)
-        if slip_law is not None:
-            refuse_nonunique(slip_law, res.diagnostics, patch.grid.dx, V)
         diag = {**res.diagnostics, "combined_shear_modulus": G, "combined_poisson_ratio": nu, **ONE_SWEEP}
         fields = dict(traction_x=res.traction_x, slip_velocity_x=res.slip_velocity_x, stick=res.stick,
                       creep_force_x=res.creep_force_x)
@@ -140,30 +141,3 @@ def friction_of(scene, patch):
                           "slip-velocity law, the form FASTSIM's sweep solves cell by cell")
         return float(scene.friction), law
     return local_friction(scene, patch), None
-
-
-def refuse_nonunique(law, diagnostics, dx, speed):
-    """Refuse (validity) when a cell's local equation g = mu(v(g)) p had more than one solution.
-
-    Parameters
-    ----------
-    law : SlipVelocityFriction
-    diagnostics : dict
-        FASTSIM's (``friction_nonunique_cells``, ``friction_nonunique_kappa``, ``friction_contraction``).
-    dx : float
-        Cell length along the rolling direction [m].
-    speed : float
-        Rolling speed V [m/s].
-    """
-    bad = int(diagnostics.get("friction_nonunique_cells", 0))
-    if not bad:
-        return
-    kappa = float(diagnostics["friction_nonunique_kappa"])
-    kmax = float(diagnostics["friction_contraction"])
-    raise Refused(
-        f"model 'fastsim': the friction law ({law.describe()}) falls too steeply for a unique solution of the "
-        f"local equation g = mu(v(g)) p in {bad} cell(s): kappa = |dmu/dv| p V L / dx = {kappa:.3g} > 1 there "
-        f"(core's contraction_limit; the cell could stick or slip); kappa grows as 1/dx. A unique solution "
-        f"everywhere (kappa_max = {kmax:.3g} < 1) needs cells at least {kmax:.3g}x longer (dx >= {kmax * dx:.3g} m: "
-        f"a coarser level), or a slower decay (decay >= {kmax * law.decay:.3g} m/s), or a speed <= "
-        f"{speed / kmax:.3g} m/s", kind="validity")
