@@ -122,8 +122,7 @@ def solve_scene_normal(scene, level: int, cells: int = DEFAULT_CELLS, tol: float
         See :func:`railtherm_kalker.potential_area.scene_gap`.
     level : int
         Level k: ``cells 2^k`` elements across the expected contact in y, ``m cells 2^k`` in x with
-        the rolling refinement m = :func:`railtherm_kalker.potential_area.rolling_refinement` (1
-        unless a > b) [1].
+        the rolling refinement m = :func:`railtherm_kalker.potential_area.rolling_refinement` [1].
     cells : int
         Elements at level 0 [1].
     tol : float
@@ -183,11 +182,11 @@ class KalkerNormal(NormalContactModel):
     capabilities = Capabilities(contacts=frozenset({"ellipse", "line", "gap"}),
                                 provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b",
                                                     "max_pressure", "contact_area"}))
-    options = {"cells": Option(DEFAULT_CELLS, "elements across the contact (2b; 2a m times more, m = 1 for a <= b, "
-                              "up to 8 for a > b: rolling_refinement) at level 0 [1]", minimum=2),
-               "rolling_refinement": Option("auto", "elements along x per element along y; 'auto': 1 for a <= b, "
-                                            "2^round(log2((a/b)^2)) up to 8 for a > b (the upwind rolling slip's "
-                                            "spin-moment error grows like (a/b)^2 dx / a) [1]",
+    options = {"cells": Option(DEFAULT_CELLS, "elements across the contact (2b; 2a m times more, m = 1 for a < 0.71 b, "
+                              "2 for a circle, up to 8: rolling_refinement) at level 0 [1]", minimum=2),
+               "rolling_refinement": Option("auto", "elements along x per element along y; 'auto': "
+                                            "2^ceil(log2(2 (a/b)^2)) between 1 and 8 (the upwind rolling slip's "
+                                            "error is first order in dx) [1]",
                                             choices=ROLLING_REFINEMENTS),
                "normal_tolerance": Option(NORMAL_TOLERANCE, "tolerance of the normal solver (relative "
                                           "pressure change and complementarity residual) [1]", minimum=0.0)}

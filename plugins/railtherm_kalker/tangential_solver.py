@@ -11,6 +11,9 @@ with the rigid slip w of the creepages (xi, eta [1], spin phi [1/m]) and the tan
 difference u = A p (Boussinesq-Cerruti, :mod:`railtherm_kalker.influence`). The derivative is the
 steady-state discretisation of CONTACT, the upwind difference (u(x + dx) - u(x)) / dx, so
 ``s = w - B p`` with the Toeplitz "rolling" influence operator B (one FFT product per evaluation).
+The scheme is first order in dx (the spin moment's error grows like (a/b)^2 dx / a, the frictional
+power's numerical dissipation like dx / a) and much less sensitive to dy, so the model's grids have
+more elements along x (:func:`railtherm_kalker.potential_area.rolling_refinement`).
 Coulomb's law holds element by element: |p| <= g = mu p_n; where |p| < g the element sticks (s = 0);
 where it slips, p = -g s / |s|. A positive creepage thus gives a negative force on the wheel
 (CONTACT's and :mod:`railtherm.references.kalker`'s sign law).
@@ -429,6 +432,9 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         x - dx/4 keeps the exact reciprocity C23(Fy) = C23(Mz) and moves the first-order error of the spin
         moment into C23 by about as much (measured at 128 elements across 2a on a = 8, b = 4 mm:
         C33 +4.8 % -> +1.1 %, C23 +0.15 % -> +1.2 %; see tests/test_kalker_solver.py), so it is no default.
+        (It is the discrete-vortex "1/4-3/4 rule", second order in 1-D only when the contact's edges
+        lie on element edges, which a uniform grid on an ellipse cannot give: the model instead refines
+        the grid along x, :func:`railtherm_kalker.potential_area.rolling_refinement`.)
 
     Returns
     -------
