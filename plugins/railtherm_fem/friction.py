@@ -19,17 +19,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from railtherm import Refused
-from railtherm.physics.friction import contraction_limit
+from railtherm.physics.friction import SLIP_MAX_OUTER, SLIP_MU_TOLERANCE, contraction_limit, iterate_slip_law
 
 __all__ = ["MU_TOLERANCE", "SLIP_MU_TOLERANCE", "MAX_OUTER", "node_contact_temperature", "solve_with_slip_law"]
 
 #: the Steps 1-4 loop under a temperature law also stops only when mu changes by less than this [1]
 MU_TOLERANCE = 1e-4
-#: the slip-velocity outer iteration stops when mu changes by less than this over the contact nodes [1]
-SLIP_MU_TOLERANCE = 1e-5
-#: refuse after this many outer iterations (not converged)
-MAX_OUTER = 60
+#: the slip-velocity outer iteration: core's tolerance on mu [1] and step limit
+MAX_OUTER = SLIP_MAX_OUTER
 
 
 def node_contact_temperature(x, grid, theta, wheel_bulk, rail_bulk):
@@ -54,7 +51,8 @@ def node_contact_temperature(x, grid, theta, wheel_bulk, rail_bulk):
 
 
 def solve_with_slip_law(law, solve, speed, self_slip):
-    """The contact solve under a slip-velocity law, mu per node.
+    """The contact solve under a slip-velocity law, mu per node: core's monotone outer iteration
+    (:func:`railtherm.physics.friction.iterate_slip_law`) with the FEM's own slip response.
 
     Parameters
     ----------
@@ -69,41 +67,15 @@ def solve_with_slip_law(law, solve, speed, self_slip):
     Returns
     -------
     solution, mu, history, kappa
-        The converged solve, mu per node [1], the change of mu at every outer step [1], and the largest
-        kappa over the contact nodes [1].
-
-    Raises
-    ------
-    railtherm.Refused
-        (validity) kappa >= 1 (the law falls faster than a node's slip can follow), or no convergence.
+        As :func:`~railtherm.physics.friction.iterate_slip_law`.
     """
     V = abs(float(speed))
-    sol = None
-    mu = None
-    history = []
-    kappa = None
-    for _ in range(MAX_OUTER):
-        if mu is None:
-            mu = np.full(np.shape(self_slip), float(law.mu(0.0)))      # the law at zero slip: its maximum
-        sol = solve(mu, sol)
-        p = sol.pressure
-        inside = p > 0
-        if kappa is None:
-            kappa = max((contraction_limit(law, float(pi), 1.0 / (V * float(si))) for pi, si
-                         in zip(p[inside], self_slip[inside])), default=0.0)
-            if not kappa < 1.0:
-                raise Refused(
-                    f"model 'fem': the friction law ({law.describe()}) falls too steeply for a unique local "
-                    f"solution: kappa = |dmu/dv| p V |(D A_tt)_ii| = {kappa:.3g} >= 1 at the most loaded node (the "
-                    f"slip of a node cannot follow its falling traction bound); use a slower decay (decay >= "
-                    f"{kappa * law.decay:.3g} m/s), or a speed <= {V / kappa:.3g} m/s, or a lower load",
-                    kind="validity")
-        new = np.asarray(law.mu(V * np.abs(np.nan_to_num(sol.slip))), dtype=float)
-        change = float(np.max(np.abs(new - mu)[inside], initial=0.0))
-        history.append(change)
-        if change < SLIP_MU_TOLERANCE:
-            return sol, mu, history, kappa
-        mu = new
-    raise Refused(f"model 'fem': the slip-velocity friction iteration did not converge in {MAX_OUTER} steps (last "
-                  f"change of mu {history[-1]:.2e}, tolerance {SLIP_MU_TOLERANCE:g}; kappa = {kappa:.3g})",
-                  kind="validity")
+
+    def kappa_of(sol):
+        inside = sol.pressure > 0
+        kappa = max((contraction_limit(law, float(pi), 1.0 / (V * float(si))) for pi, si
+                     in zip(sol.pressure[inside], self_slip[inside])), default=0.0)
+        return kappa, inside
+
+    return iterate_slip_law(law, solve, lambda sol: V * np.abs(np.nan_to_num(sol.slip)), np.shape(self_slip),
+                            kappa_of, model="fem", speed=V, tol=SLIP_MU_TOLERANCE, max_outer=MAX_OUTER)

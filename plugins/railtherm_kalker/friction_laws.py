@@ -12,20 +12,20 @@
   can follow, no unique local solution, and the run is refused naming kappa
   (:func:`railtherm.physics.friction.contraction_limit`).
 
-The outer iteration stops when max |mu_{k+1} - mu_k| over the contact is below :data:`MU_TOLERANCE`.
+The outer iteration is core's (:func:`railtherm.physics.friction.iterate_slip_law`, shared with the FEM); it
+stops when max |mu_{k+1} - mu_k| over the contact is below :data:`MU_TOLERANCE`.
 """
 from __future__ import annotations
 
 import numpy as np
-from railtherm import Refused
-from railtherm.physics.friction import contraction_limit, local_friction
+from railtherm.physics.friction import (SLIP_MAX_OUTER, SLIP_MU_TOLERANCE, contraction_limit, iterate_slip_law,
+                                        local_friction)
 
 __all__ = ["MU_TOLERANCE", "MAX_OUTER", "solve_with_law"]
 
-#: stop the slip-velocity iteration when mu changes by less than this over the contact [1]
-MU_TOLERANCE = 1e-5
-#: refuse after this many outer iterations (not converged)
-MAX_OUTER = 60
+#: the slip-velocity iteration: core's tolerance on mu [1] and step limit
+MU_TOLERANCE = SLIP_MU_TOLERANCE
+MAX_OUTER = SLIP_MAX_OUTER
 
 
 def _mu_of(scene, patch, shape, slip_speed=0.0):
@@ -52,12 +52,14 @@ def solve_with_law(scene, patch, solve, self_coefficient: float, speed: float):
     Returns
     -------
     solution, X, Y, mu, diagnostics
-        The converged solve, mu per element [1] and ``{"friction_iterations", "friction_mu_change"}``.
+        The converged solve, mu per element [1] and ``{"friction_iterations", "friction_mu_change",
+        "friction_contraction"}`` for a slip law.
 
     Raises
     ------
     railtherm.Refused
-        (validity) when the slip law falls too steeply (kappa >= 1) or does not converge.
+        (validity) when the slip law falls too steeply (kappa >= 1) or does not converge
+        (:func:`railtherm.physics.friction.iterate_slip_law`).
     """
     law = scene.friction_law
     p = np.clip(np.asarray(patch.pressure, dtype=float), 0.0, None)
@@ -66,26 +68,12 @@ def solve_with_law(scene, patch, solve, self_coefficient: float, speed: float):
         mu = _mu_of(scene, patch, shape)
         sol, X, Y = solve(mu)
         return sol, X, Y, mu, {}
-    kappa = contraction_limit(law, float(p.max()), 1.0 / (abs(float(speed)) * self_coefficient))
-    if not kappa < 1.0:
-        raise Refused(f"model 'kalker': the friction law ({law.describe()}) falls too steeply for a unique "
-                      f"local solution: |dmu/dv| p_max V |B_xx(0)| = {kappa:.3g} >= 1 (the slip speed of an element "
-                      f"cannot follow its falling traction bound); use a slower decay (a larger 'decay', or a "
-                      f"smaller 'B'), a lower speed or a lower load", kind="validity")
-    mu = _mu_of(scene, patch, shape)          # the law's maximum: zero slip everywhere
-    history = []
-    for _ in range(MAX_OUTER):
-        sol, X, Y = solve(mu)
-        v = abs(float(speed)) * np.sqrt(np.sum(np.asarray(sol.slip) ** 2, axis=0))
-        new = _mu_of(scene, patch, shape, v)
-        change = float(np.max(np.abs(new - mu)[p.reshape(shape) > 0], initial=0.0))
-        history.append(change)
-        if change < MU_TOLERANCE:     # the solve used mu, which the law reproduces to the tolerance
-            break
-        mu = new
-    else:
-        raise Refused(f"model 'kalker': the slip-velocity friction iteration did not converge in {MAX_OUTER} "
-                      f"steps (last change of mu {history[-1]:.2e}, tolerance {MU_TOLERANCE:g}; kappa = {kappa:.3g})",
-                      kind="validity")
+    V = abs(float(speed))
+    kappa = contraction_limit(law, float(p.max()), 1.0 / (V * self_coefficient))
+    inside = p.reshape(shape) > 0
+    (sol, X, Y), mu, history, kappa = iterate_slip_law(
+        law, lambda mu, _previous: solve(mu),
+        lambda out: V * np.sqrt(np.sum(np.asarray(out[0].slip) ** 2, axis=0)), shape,
+        lambda _out: (kappa, inside), model="kalker", speed=V, tol=MU_TOLERANCE, max_outer=MAX_OUTER)
     return sol, X, Y, mu, {"friction_iterations": len(history), "friction_mu_change": np.asarray(history),
                            "friction_contraction": kappa}

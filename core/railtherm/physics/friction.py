@@ -269,3 +269,78 @@ def local_friction(scene, patch, slip_speed=0.0) -> np.ndarray:
     law = scene.friction_law
     mu = law.mu(np.asarray(slip_speed, dtype=float), contact_temperature(scene, patch))
     return np.broadcast_to(np.asarray(mu, dtype=float), patch.grid.shape).copy()
+
+
+#: the slip-velocity outer iteration stops when mu changes by less than this over the contact [1]
+SLIP_MU_TOLERANCE = 1e-5
+#: ... and is refused after this many steps (not converged)
+SLIP_MAX_OUTER = 60
+
+
+def iterate_slip_law(law: FrictionLaw, solve, slip_speed, shape, kappa_of, *, model: str, speed: float,
+                     tol: float = SLIP_MU_TOLERANCE, max_outer: int = SLIP_MAX_OUTER):
+    """Solve a tangential problem under a slip-velocity law by the monotone outer iteration on mu.
+
+    The traction bound of a slipping cell, mu(v) p, depends on its own slip speed v, which depends on the
+    bound. The map mu -> law(v(mu)) is monotone increasing (a higher bound gives less slip, and the law
+    falls with slip), so the iteration started at the law's maximum (mu at zero slip) decreases
+    monotonically to the largest fixed point, the solution of least slip. It contracts at the rate kappa =
+    max |dmu/dv| p V s_self (the law's slope against the slip a cell's own traction drives,
+    :func:`contraction_limit`); kappa >= 1 (no unique local solution) is refused. Used by the exact
+    (``kalker``) and the FEM tangential problems; FASTSIM solves its local equation in its sweep.
+
+    Parameters
+    ----------
+    law : FrictionLaw
+        A law that depends on the slip speed.
+    solve : callable
+        ``solve(mu, previous) -> solution`` with mu per cell (``shape``) [1] and the previous solution (None
+        at the first step; a warm start where the solver takes one).
+    slip_speed : callable
+        ``slip_speed(solution) -> ndarray`` (``shape``): |v_slip| per cell [m/s].
+    shape : tuple
+        Shape of mu.
+    kappa_of : callable
+        ``kappa_of(solution) -> (kappa, inside)``: the contraction number [1] and the contact mask, from the
+        first solution.
+    model : str
+        Model name for the messages.
+    speed : float
+        Rolling speed V [m/s] (the refusal says which speed would work).
+    tol, max_outer : float, int
+        Stop when max |mu_{k+1} - mu_k| over the contact < ``tol`` [1]; refuse after ``max_outer`` steps.
+
+    Returns
+    -------
+    solution, mu, history, kappa
+        The last solve (it used ``mu``, which the law reproduces within ``tol``), mu per cell [1], the
+        change of mu at each step [1], and kappa [1].
+
+    Raises
+    ------
+    railtherm.Refused
+        (validity) kappa >= 1, or no convergence in ``max_outer`` steps.
+    """
+    from ..contract.errors import Refused
+    mu = np.full(shape, float(law.mu(0.0)))
+    sol, kappa, inside, history = None, None, None, []
+    for _ in range(max_outer):
+        sol = solve(mu, sol)
+        if kappa is None:
+            kappa, inside = kappa_of(sol)
+            if not kappa < 1.0:
+                decay = getattr(law, "decay", None)
+                raise Refused(
+                    f"model {model!r}: the friction law ({law.describe()}) falls too steeply for a unique local "
+                    f"solution: kappa = |dmu/dv| p V s_self = {kappa:.3g} >= 1 at the most loaded cell (its slip "
+                    f"cannot follow its falling traction bound); use a slower decay"
+                    + (f" (decay >= {kappa * decay:.3g} m/s)" if decay else "")
+                    + f", a speed <= {abs(float(speed)) / kappa:.3g} m/s or a lower load", kind="validity")
+        new = np.asarray(law.mu(np.nan_to_num(slip_speed(sol))), dtype=float).reshape(shape)
+        change = float(np.max(np.abs(new - mu)[inside], initial=0.0))
+        history.append(change)
+        if change < tol:
+            return sol, mu, history, kappa
+        mu = new
+    raise Refused(f"model {model!r}: the slip-velocity friction iteration did not converge in {max_outer} steps "
+                  f"(last change of mu {history[-1]:.2e}, tolerance {tol:g}; kappa = {kappa:.3g})", kind="validity")
