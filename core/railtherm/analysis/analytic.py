@@ -92,8 +92,8 @@ def _depth_rise(scene, case, x, z, body):
 
 
 #: samples of the peak bracket and of the cooling-rate spline: (fast, slow) paths of :func:`_line_trace`
-_BRACKET_SAMPLES = {True: 61, False: 121}
-_COOLING_SAMPLES = {True: 61, False: 241}
+_BRACKET_SAMPLES = {True: 41, False: 121}
+_COOLING_SAMPLES = {True: 41, False: 241}
 #: samples of the fast path's local spline around the fastest cooling (over 4 coarse intervals)
 _COOLING_LOCAL_SAMPLES = 41
 
@@ -103,11 +103,11 @@ def _line_trace(f, a: float, v: float, thr: float, z: float, surface_kink: bool,
     """Exact (peak, x_peak, cooling rate, time above) of the profile T(x) = f(x) [degC] at one depth.
 
     The peak is bracketed on samples reaching ever further behind the patch (x from +a down to
-    -a - L, L doubling from 6a; 61 samples, 121 on the slow path) and refined by a bounded scalar search;
+    -a - L, L doubling from 6a; 41 samples, 121 on the slow path) and refined by a bounded scalar search;
     the cooling rate is the maximum of V dT/dx behind the peak from a cubic spline through samples of
     [x_peak - span, x_peak] (slow path: 241 samples, the spline's maximum refined by a bounded search; fast
-    path: 61 samples locate the maximum, a second spline through 41 samples of the 4 intervals around it,
-    15x finer than the slow path's, gives it); the crossings of the threshold by Brent's method. At the
+    path: 41 samples locate the maximum, a second spline through 41 samples of the 4 intervals around it,
+    1.7x finer than the slow path's, gives it); the crossings of the threshold by Brent's method. At the
     surface (``surface_kink``) the exact cooling rate is infinite (the flux ends at the trailing edge): NaN.
     ``peak_only``: (peak, x_peak, NaN, NaN) without the cooling rate and the crossings.
     """
@@ -203,7 +203,7 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
     z : array_like
         Depths [m] at which the profiles are wanted.
     fast : bool
-        The sampling of :func:`_line_trace` (61 bracket samples, a coarse and a local cooling spline)
+        The sampling of :func:`_line_trace` (41 bracket samples, a coarse and a local cooling spline)
         rather than the slow path's (121 and 241 samples); the heated depth's Brent search starts from the
         depths of ``z`` whose peaks bracket the threshold when there are such (slow: from [0, 0.05 a],
         doubling). tests/test_thermal_trace.py compares the two.
