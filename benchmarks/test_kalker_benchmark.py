@@ -5,7 +5,7 @@ as the model solves it: nested iteration from zero traction on the grid of 4 x 4
 elements, semismooth Newton with GMRES preconditioned by the upwind sweep on each grid. ``newton_steps``
 are the finest grid's, ``gmres_iterations`` and ``tangential_products`` are summed over all grids.
 The grids are square-celled (``potential_area(..., refine_x=1)``, as the model's for this ellipse, a/b =
-0.56); for a > 0.71 b the model's grids have m = 2 .. 8 times more elements along x
+0.56); for a > 0.71 b the model's grids have m = 2 or 4 times more elements along x
 (:func:`railtherm_kalker.potential_area.rolling_refinement`), and the solve time grows about in proportion.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_kalker_benchmark.py -m benchmark

@@ -99,11 +99,12 @@ def test_contact_area_is_the_loaded_elements():
 
 
 def test_rolling_refinement_rule_and_grid():
-    """m = 2^ceil(log2(2 (a/b)^2)) within [1, 8] (1 for a line); the grid has m n elements across 2a and n
+    """m = 2^ceil(log2(2 (a/b)^2)) within [1, 4] (1 for a line); the grid has m n elements across 2a and n
     across 2b (element sides 2a/(m n), 2b/n), margins rounded so both counts are multiples of 8, and the
     normal model records m; the option takes "auto" or a power of two and refuses anything else."""
     assert [rolling_refinement(q, 1.0) for q in (0.05, 0.558, 0.7, 0.71, 1.0, 1.2, 1.5, 2.0, 20.0)] == \
-        [1, 1, 1, 2, 2, 4, 8, 8, MAX_ROLLING_REFINEMENT]
+        [1, 1, 1, 2, 2, 4, 4, 4, MAX_ROLLING_REFINEMENT]
+    assert MAX_ROLLING_REFINEMENT == 4
     assert rolling_refinement(3e-3, None) == 1
     area = potential_area(8e-3, 4e-3, 32, refine_x=4)
     assert area.refine_x == 4
@@ -115,7 +116,7 @@ def test_rolling_refinement_rule_and_grid():
         potential_area(8e-3, 4e-3, 32, refine_x=0)
     sc = scene(8e-3, 4e-3)
     p = NORMAL.compute_patch(sc, 0, OPTS)
-    assert p.diagnostics["rolling_refinement"] == 8 and p.grid.x.size > 8 * p.grid.y.size - 8 * 8
+    assert p.diagnostics["rolling_refinement"] == 4 and p.grid.x.size > 4 * p.grid.y.size - 4 * 8
     p1 = NORMAL.compute_patch(sc, 0, {**OPTS, "rolling_refinement": 1})
     assert p1.diagnostics["rolling_refinement"] == 1 and p1.grid.x.size == p1.grid.y.size
     with pytest.raises(SceneError, match="rolling_refinement"):
@@ -131,7 +132,7 @@ def test_spin_coefficient_converges_at_first_order_in_dx_for_a_long_ellipse():
     the last three, the fixed y error of about +0.4 % flattening it); its Richardson extrapolation
     2 C(m=8) - C(m=4) is within 1 % of Kalker's table (measured +0.44 %, the rest of the y
     discretisation at 64 elements and the table's): the table and the model agree, the error is the
-    discretisation's, and it is one of dx (the model's default here is m = 8, at every level)."""
+    discretisation's, and it is one of dx (the model's default here is m = 4, at every level)."""
     a, b = 8e-3, 4e-3
     sc = scene(a, b)
     c33_ref = kalker_coefficients(a, b, NU)[3]

@@ -183,9 +183,9 @@ class KalkerNormal(NormalContactModel):
                                 provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b",
                                                     "max_pressure", "contact_area"}))
     options = {"cells": Option(DEFAULT_CELLS, "elements across the contact (2b; 2a m times more, m = 1 for a < 0.71 b, "
-                              "2 for a circle, up to 8: rolling_refinement) at level 0 [1]", minimum=2),
+                              "2 up to a circle, 4 for a > b: rolling_refinement) at level 0 [1]", minimum=2),
                "rolling_refinement": Option("auto", "elements along x per element along y; 'auto': "
-                                            "2^ceil(log2(2 (a/b)^2)) between 1 and 8 (the upwind rolling slip's "
+                                            "2^ceil(log2(2 (a/b)^2)) between 1 and 4 (the upwind rolling slip's "
                                             "error is first order in dx) [1]",
                                             choices=ROLLING_REFINEMENTS),
                "normal_tolerance": Option(NORMAL_TOLERANCE, "tolerance of the normal solver (relative "
