@@ -290,3 +290,13 @@ def test_line_contact_applies_the_laws_in_the_sweep():
     r = fastsim_line(grid, p, friction=mu, **kw)
     slip = r.stick == 0
     np.testing.assert_allclose(np.abs(r.traction_x[slip]), mu[slip] * p[slip], rtol=1e-12)
+
+
+def test_the_wheelset_equilibrium_refuses_a_friction_law():
+    """The section 6.1 equilibrium runs FASTSIM with one coefficient: a law would make it inconsistent with the
+    tangential stage, so the normal model refuses it, naming the law and what works instead."""
+    sc = {"name": "ws", "speed": 30.0, "contact": {"shape": "ellipse", "curvatures": [1.015, 0.4215]},
+          "wheelset": {"conicity": 0.15, "lateral_shift": 3e-3, "yaw_angle": 1.5e-3, "vertical_load": 200e3},
+          "friction": SLIP, "outputs": ["creep_force_x"]}
+    with pytest.raises(Refused, match=r"'wheelset'.*slip-velocity.*prescribe the creepages"):
+        railtherm.solve(sc, {"normal": "wheelset", "tangential": "fastsim"}, level=0)

@@ -41,6 +41,11 @@ class WheelsetNormal(NormalContactModel):
             return "model 'wheelset': the scene prescribes its creepage or sliding speed, so no kinematics is solved"
         if scene.friction is None:
             return "model 'wheelset' needs the friction coefficient (key 'friction') for the creep forces"
+        law = scene.friction_law
+        if law.kind != "constant":
+            return (f"model 'wheelset': its equilibrium solves the creep forces with one friction coefficient, not "
+                    f"the scene's {law.kind!r} law ({law.describe()}); give friction as a number, or prescribe the "
+                    "creepages (key 'creepage') and let the tangential model apply the law")
         return None
 
     def compute_patch(self, scene, level, options):
