@@ -162,9 +162,11 @@ def maps(finest: dict, curve, body: int, title: str, *, path: Path):
     vmin = min(float(np.nanmin(p[3])) for p in panels)
     vmax = max(float(np.nanmax(p[3])) for p in panels)
     n = len(panels)
-    ncol = min(n, 2)
+    ncol = min(n, 3)
     nrow = math.ceil(n / ncol)
-    fig = figure(10, 1.0 + 2.3 * nrow)
+    x0, y0 = panels[0][1], panels[0][2]
+    aspect = float(np.ptp(y0)) / max(float(np.ptp(x0)), 1e-12)   # panel height / width (equal axes)
+    fig = figure(10, min(0.9 + nrow * (0.5 + 8.4 / ncol * aspect), 12.0))
     axes = np.atleast_1d(fig.subplots(nrow, ncol, sharex=True, sharey=True, squeeze=False)).ravel()
     a = float(np.max(curve["x"].values))
     b = float(np.max(np.abs(curve["y_map"].values))) if "y_map" in curve else None

@@ -8,7 +8,8 @@ For every scene with ``field`` whose exact trace is in ``references.nc`` (writte
 z* of the reference, including the trace behind the patch; the temperature against depth at the
 hottest surface point, the peak temperature each depth reaches and the cooling rate after it; and the
 surface-temperature maps of the patch and its trace (ellipses). One table per study lists, for each
-heated body, the peak surface temperature, the depth of the ``field.threshold`` isotherm
+heated body, the peak surface temperature (a run's ``peak_temperature`` at z = 0, else the maximum of
+its surface temperature along y = 0), the depth of the ``field.threshold`` isotherm
 (``heated_depth``), the time the surface spends above it (``time_above`` at z = 0) and the cooling
 rate at z* per method beside the exact values, with signed relative errors (value − exact) / |exact|
 [%] (temperatures on their rise above the bulk temperature).
@@ -111,7 +112,11 @@ def values(data: StudyData, scene: str, method: str | None, body: int) -> dict:
                 "cooling": float(curve["trace_depth_cooling_rate"].values[body])}
     r = data.finest_result(scene, method)
     ds = data.run_file(scene, method, r.level) if r is not None else None
-    return {"peak": _surface(ds, "peak_temperature", body), "depth": _scalar(ds, "heated_depth", body),
+    peak = _surface(ds, "peak_temperature", body)
+    if peak is None:   # depth axis not starting at the surface (cell centres): the surface line's maximum
+        line = TF.surface_line(ds, body)
+        peak = float(np.nanmax(line[1])) if line is not None and np.isfinite(line[1]).any() else None
+    return {"peak": peak, "depth": _scalar(ds, "heated_depth", body),
             "above": _surface(ds, "time_above", body), "cooling": _interp(ds, "cooling_rate", body, zs)}
 
 
