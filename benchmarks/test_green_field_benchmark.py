@@ -11,7 +11,11 @@ interleaved), circle at 0.3 mm: before issue 14's speed work patch only 7.5-8.0 
 by FFT over the heated rows only, depth weights in one numba pass, flux kept on the patch grid) is ~3.5 ms
 of the ~9 ms difference; the rest is core's, scaling with the 7x longer grid (thermal trace over 41 depths,
 ``TemperatureField.from_bodies`` and ``grid.inside()`` on the extended grid, building and validating the
-larger dataset). The ratio is therefore still above 2 (xfail, not strict). Run:
+larger dataset). With the thermal trace vectorised over depths (one pass for all 41 depths instead of a loop):
+circle 8.1 -> 17.5 ms (2.17), ellipse 0.3 mm 9.1 -> 22.6 ms (2.47), ellipse 2 mm 9.4 -> 25.7 ms (2.75), under
+load. What is left scales with the 7x longer uniform grid (dataset, validation, from_bodies): a graded grid
+behind the patch would be the next step (a contract change: the extended grid is uniform). The ratio is
+therefore still above 2 (xfail, not strict). Run:
 ``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_green_field_benchmark.py -m benchmark
 --benchmark-enable -p no:cacheprovider -s``.
 """
@@ -54,8 +58,8 @@ def _best_pair(base, field, n=15):
 
 
 @pytest.mark.benchmark
-@pytest.mark.xfail(reason="measured ratio 2.5-2.6 (circle, 0.3 mm: ~5.7 ms -> ~14.5 ms); the remaining field cost "
-                          "is mostly core's (trace, from_bodies, dataset on the 7x grid)", strict=False)
+@pytest.mark.xfail(reason="measured ratio 2.2-2.8 (circle 0.3 mm 2.17; ellipse 2.5-2.75); the remaining field cost "
+                          "scales with the 7x longer uniform grid (dataset, validation, from_bodies)", strict=False)
 @pytest.mark.parametrize("b_over_a, depth", [(1.0, 3e-4), (2.0, 3e-4), (2.0, 2e-3)],
                          ids=["circle-0.3mm", "ellipse-0.3mm", "ellipse-2mm"])
 def test_benchmark_green_extended_field(benchmark, b_over_a, depth):
