@@ -32,12 +32,19 @@ def solve(friction, creepage, outputs=("creep_force_x", "creep_force_y", "spin_m
 
 
 def test_temperature_law_without_change_equals_constant_friction():
+    """Equal up to the tangential solver's tolerance: the loop's second solve starts from the first one's traction
+    (warm start) and stops at another iterate whose residual is within 1e-10 of max mu p; the traction moves by
+    that residual times the rolling operator's conditioning (measured: 4e-10 of max |q|), so every field agrees
+    to 100 x the tolerance of its largest value (scalars: creep forces 5e-12)."""
+    from railtherm_kalker.tangential_solver import TANGENTIAL_TOLERANCE
     c = {"longitudinal": -1e-3, "lateral": 5e-4, "spin": 0.2}
     out = ("creep_force_x", "creep_force_y", "spin_moment", "traction_x", "frictional_power", "max_surface_temperature")
     a = solve(0.3, c, out, method="kalker")
     b = solve({**TEMP, "change": 0.0}, c, out, method="kalker")
+    assert int(b.attrs["kalker_friction_loop_iterations"]) == 2
     for v in out:
-        np.testing.assert_allclose(b[v].values, a[v].values, rtol=1e-12, atol=1e-9)
+        scale = float(np.max(np.abs(a[v].values)))
+        np.testing.assert_allclose(b[v].values, a[v].values, rtol=0, atol=100 * TANGENTIAL_TOLERANCE * scale)
 
 
 def test_slip_law_in_full_slip_tends_to_mu_of_the_rigid_slip_speed():

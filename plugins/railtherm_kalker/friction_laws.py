@@ -43,7 +43,8 @@ def solve_with_law(scene, patch, solve, self_coefficient: float, speed: float):
     patch : ContactPatch
         Grid, pressure [Pa] and (for a temperature law) ``contact_temperature`` [degC].
     solve : callable
-        ``solve(mu) -> (solution, X, Y)``: the tangential solve with mu per element (nx, ny) [1].
+        ``solve(mu, previous=None) -> (solution, X, Y)``: the tangential solve with mu per element (nx, ny) [1],
+        warm-started from ``previous`` (the last such tuple) when given.
     self_coefficient : float
         |B_xx(0)| of the rolling operator on this grid [1/Pa].
     speed : float
@@ -72,7 +73,7 @@ def solve_with_law(scene, patch, solve, self_coefficient: float, speed: float):
     kappa = contraction_limit(law, float(p.max()), 1.0 / (V * self_coefficient))
     inside = p.reshape(shape) > 0
     (sol, X, Y), mu, history, kappa = iterate_slip_law(
-        law, lambda mu, _previous: solve(mu),
+        law, solve,
         lambda out: V * np.sqrt(np.sum(np.asarray(out[0].slip) ** 2, axis=0)), shape,
         lambda _out: (kappa, inside), model="kalker", speed=V, tol=MU_TOLERANCE, max_outer=MAX_OUTER)
     return sol, X, Y, mu, {"friction_iterations": len(history), "friction_mu_change": np.asarray(history),

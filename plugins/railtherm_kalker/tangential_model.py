@@ -72,22 +72,24 @@ def rolling_operator(x_edges, y_edges, shear_modulus: float, poisson_ratio: floa
                         (1, 1): rolling_kernel(k["yy"], dx)}, (nx, ny))
 
 
-def solve_patch_tangential(patch, friction: float, creepages, shear_modulus: float, poisson_ratio: float,
-                           tol: float = TANGENTIAL_TOLERANCE):
+def solve_patch_tangential(patch, friction, creepages, shear_modulus: float, poisson_ratio: float,
+                           tol: float = TANGENTIAL_TOLERANCE, initial=None):
     """Solve the steady rolling problem on a patch's grid and pressure.
 
     Parameters
     ----------
     patch : railtherm.ContactPatch
         Grid (uniform) and pressure [Pa].
-    friction : float
-        mu [1].
+    friction : float or ndarray (nx, ny)
+        mu [1], one number or per element (a friction law).
     creepages : (float, float, float)
         xi [1], eta [1], phi [1/m].
     shear_modulus, poisson_ratio : float
         Combined G [Pa], nu [1].
     tol : float
         Solver tolerance [1].
+    initial : ndarray (ncomp, nx, ny), optional
+        Warm start [Pa] (the previous solve of a friction loop on the same patch).
 
     Returns
     -------
@@ -107,7 +109,7 @@ def solve_patch_tangential(patch, friction: float, creepages, shear_modulus: flo
         X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
     g = friction * np.clip(p, 0.0, None)
     sol = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, shear_modulus, poisson_ratio),
-                                  grid.x_edges, grid.y_edges, g, creepages, tol=tol)
+                                  grid.x_edges, grid.y_edges, g, creepages, tol=tol, initial=initial)
     # polish: stick has zero slip, slip has its traction on the bound against the slip (both to the
     # solver's residual already; exact here so that -p . s = mu p |s| holds to round-off)
     s = np.where(sol.stick[None], 0.0, sol.slip)
@@ -158,9 +160,20 @@ class KalkerTangential(TangentialContactModel):
         if scene.friction_law.kind == "constant":
             sol, X, Y = solve_patch_tangential(patch, float(scene.friction), (xi, eta, phi), G, nu, tol)
         else:
+            # warm start: the previous solve of core's temperature loop on this patch and creepage (this instance
+            # serves one run) or of the slip-law iteration
+            key = (patch.grid.x_edges.tobytes(), None if patch.b is None else patch.grid.y_edges.tobytes(),
+                   np.asarray(patch.pressure).tobytes(), (xi, eta, phi), G, nu, tol)
+            warm = self.__dict__.setdefault("_warm", {})
+
+            def solve(mu, previous=None):
+                start = previous[0].traction if previous is not None else warm.get(key)
+                out = solve_patch_tangential(patch, mu, (xi, eta, phi), G, nu, tol, initial=start)
+                warm[key] = out[0].traction
+                return out
+
             b0 = abs(float(rolling_operator(patch.grid.x_edges, patch.grid.y_edges, G, nu).self_coefficient))
-            sol, X, Y, _, law_diag = solve_with_law(
-                scene, patch, lambda mu: solve_patch_tangential(patch, mu, (xi, eta, phi), G, nu, tol), b0, V)
+            sol, X, Y, _, law_diag = solve_with_law(scene, patch, solve, b0, V)
         grid = patch.grid
         area = grid.cell_area
         shape = np.shape(patch.pressure)

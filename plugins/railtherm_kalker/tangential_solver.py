@@ -403,9 +403,12 @@ def _refine(a: np.ndarray, line: bool) -> np.ndarray:
 
 def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_elements: int = 12,
                             tol: float = TANGENTIAL_TOLERANCE, maxiter: int = 60,
-                            coarse_tol: float = 1e-3, offset: float = 0.0) -> TangentialSolution:
+                            coarse_tol: float = 1e-3, offset: float = 0.0,
+                            initial: np.ndarray | None = None) -> TangentialSolution:
     """Nested iteration: solve on grids of 2, 4, ... times larger elements first, starting from zero
-    traction on the coarsest, and start each finer solve from the coarser solution.
+    traction on the coarsest, and start each finer solve from the coarser solution. With ``initial`` (a
+    traction on this grid, e.g. the previous solve of a friction-law or temperature loop) only this grid is
+    solved, from ``initial`` projected on the traction bound.
 
     The coarse problems cover the same potential contact area (elements merged 2 x 2; pressure and
     traction bound averaged over the merged elements, rigid slip at the coarse centres). Only the
@@ -426,6 +429,8 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         Stop coarsening when a side would have fewer elements than this [1].
     tol, maxiter
         As :func:`solve_tangential` (finest grid).
+    initial : ndarray (ncomp, nx, ny), optional
+        A warm start on this grid [Pa]: no coarse solves.
     offset : float
         Rigid slip evaluated at x + offset dx instead of the element centre [elements] (default 0, the
         scheme of the model). Not a second-order scheme: ``offset = 1/4`` with the moment arm at
@@ -446,14 +451,14 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
     line = y_edges is None
     levels = [(np.asarray(x_edges, dtype=float), None if line else np.asarray(y_edges, dtype=float),
                np.asarray(bound, dtype=float))]
-    while True:
+    while initial is None:
         xe, ye, g = levels[-1]
         nx, ny = g.shape
         can = nx % 2 == 0 and nx // 2 >= min_elements and (line or (ny % 2 == 0 and ny // 2 >= min_elements))
         if not can:
             break
         levels.append((xe[::2], None if line else ye[::2], _coarsen(g, line)))
-    p = None
+    p = None if initial is None else np.asarray(initial, dtype=float)
     coarse = []
     products = linear = 0
     sol = None
@@ -468,7 +473,7 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         conv = conv_for(xe, ye)
         init = None
         if p is not None:
-            init, _ = _project(_refine(p, line), g)
+            init, _ = _project(p if p.shape[1:] == g.shape else _refine(p, line), g)
         last = k == 0
         sol = solve_tangential(conv, g, w, tol=tol if last else max(tol, coarse_tol), maxiter=maxiter, initial=init)
         products += sol.products
