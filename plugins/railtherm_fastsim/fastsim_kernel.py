@@ -116,6 +116,24 @@ def slip_law_bound(habs, pc, keff, mu_kin, dmu, decay):  # pragma: no cover - co
 
 
 @numba.njit(cache=True, fastmath=False, boundscheck=False)
+def _law_cell(habs, hx, hy, pc, v_over_dq, L1, L2, mu_kin, dmu, decay, stats):  # pragma: no cover - compiled
+    """The bound g of one cell under the slip law (:func:`slip_law_bound` with keff = V |L h| / (|h| dx)),
+    recording in ``stats`` the largest Newton count, the largest kappa, the count of non-unique cells and
+    their largest kappa."""
+    keff = v_over_dq * math.hypot(L1 * hx, L2 * hy) / habs if habs > 0.0 else 0.0
+    g, nit, flag, kap = slip_law_bound(habs, pc, keff, mu_kin, dmu, decay)
+    if nit > stats[0]:
+        stats[0] = nit
+    if kap > stats[1]:
+        stats[1] = kap
+    if flag == 2:
+        stats[2] += 1
+        if kap > stats[3]:
+            stats[3] = kap
+    return g
+
+
+@numba.njit(cache=True, fastmath=False, boundscheck=False)
 def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
                       law_mode, mu_kin, dmu, decay,
                       px, py, sx, sy, stick, power):  # pragma: no cover - compiled
@@ -185,10 +203,7 @@ def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_o
     pw = 0.0
     nstick = 0
     nslip = 0
-    max_it = 0
-    nonunique = 0
-    kappa_max = 0.0
-    kappa_bad = 0.0
+    stats = np.zeros(4)          # largest Newton count, largest kappa, non-unique cells, their largest kappa
     nan = np.nan
     for ii in range(nx):
         i = nx - 1 - ii
@@ -222,16 +237,7 @@ def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_o
                     hy = -step * wy
                     habs = math.sqrt(hx * hx + hy * hy)
                     if law_mode == 1:
-                        keff = speed * inv_dq * math.hypot(L1 * hx, L2 * hy) / habs if habs > 0.0 else 0.0
-                        g, nit, flag, kap = slip_law_bound(habs, bound[i, j], keff, mu_kin, dmu, decay)
-                        if nit > max_it:
-                            max_it = nit
-                        if kap > kappa_max:
-                            kappa_max = kap
-                        if flag == 2:
-                            nonunique += 1
-                            if kap > kappa_bad:
-                                kappa_bad = kap
+                        g = _law_cell(habs, hx, hy, bound[i, j], speed * inv_dq, L1, L2, mu_kin, dmu, decay, stats)
                     if habs <= g:
                         px[i, j] = hx
                         py[i, j] = hy
@@ -269,16 +275,7 @@ def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_o
             hy = pvy[j] - step * wy
             habs = math.sqrt(hx * hx + hy * hy)
             if law_mode == 1:
-                keff = speed * inv_dq * math.hypot(L1 * hx, L2 * hy) / habs if habs > 0.0 else 0.0
-                g, nit, flag, kap = slip_law_bound(habs, bound[i, j], keff, mu_kin, dmu, decay)
-                if nit > max_it:
-                    max_it = nit
-                if kap > kappa_max:
-                    kappa_max = kap
-                if flag == 2:
-                    nonunique += 1
-                    if kap > kappa_bad:
-                        kappa_bad = kap
+                g = _law_cell(habs, hx, hy, bound[i, j], speed * inv_dq, L1, L2, mu_kin, dmu, decay, stats)
             if habs <= g:
                 px[i, j] = hx
                 py[i, j] = hy
@@ -314,7 +311,7 @@ def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_o
                 pvx[j] = qx
                 pvy[j] = qy
             incon[j] = True
-    return fx, fy, mz, pw, nstick, nslip, max_it, nonunique, kappa_max, kappa_bad
+    return fx, fy, mz, pw, nstick, nslip, int(stats[0]), int(stats[2]), stats[1], stats[3]
 
 
 @numba.njit(cache=True, fastmath=False, boundscheck=False)
