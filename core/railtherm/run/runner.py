@@ -444,6 +444,7 @@ def execute_chunk(chunk, *, resume: bool = False) -> list[RunRecord]:
     done = chunk.done(cols, resume)
     records: list[RunRecord] = []
     finest: dict = {}
+    changed: set = set()  # arrays a run of this chunk set (the others keep what the store holds)
     for j, task in enumerate(chunk.tasks):
         if done[j]:
             records.append(chunk.record(j, cols, RECORD_VALUES))
@@ -460,7 +461,9 @@ def execute_chunk(chunk, *, resume: bool = False) -> list[RunRecord]:
         except Exception as exc:  # noqa: BLE001 - a failing plugin never takes the study down
             rec.status, rec.reason_kind, rec.message = _failure(exc, task.timeout)
             rec.values, rec.energy_balance, rec.summary = {}, math.nan, False
-        zarr_store.set_row(cols, j, row_of_record(rec, ds))
+        row = row_of_record(rec, ds)
+        zarr_store.set_row(cols, j, row)
+        changed.update(row)
         if ds is not None and chunk.keep_fields is True:
             zarr_store.write_fields(out, chunk.scene_index[j], task.method, task.level, ds)
         elif ds is not None and chunk.keep_fields == "finest":
@@ -474,7 +477,7 @@ def execute_chunk(chunk, *, resume: bool = False) -> list[RunRecord]:
         zarr_store.write_fields(out, si, method, level, ds)
     ran = n - sum(done)
     if ran:
-        took, size = zarr_store.write_chunk(out, start, cols, worker=True)
+        took, size = zarr_store.write_chunk(out, start, {k: v for k, v in cols.items() if k in changed}, worker=True)
         for j, rec in enumerate(records):
             if not done[j]:
                 rec.phases["write"], rec.phases["bytes"] = took / ran, size / n
@@ -617,8 +620,14 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     t2 = time.perf_counter()
     metrics = compute_metrics(study, out, records)
     store.write_dataset_atomic(metrics, store.metrics_path(out))
-    from ..analysis.reference_curves import write_reference_curves
-    write_reference_curves(study, out)  # the exact curves the report overlays (it never recomputes physics)
+    if kind == "zarr" and not getattr(study, "keep_fields", False):
+        # a scalar sweep keeps no field to overlay exact curves on (and they cost ~0.1 s per scene)
+        store.write_references(store.references_path(out), {
+            "Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}", "study": study.name,
+            "scenes": 0, "comment": "not computed: the study keeps its runs in the Zarr store without fields"}, {})
+    else:
+        from ..analysis.reference_curves import write_reference_curves
+        write_reference_curves(study, out)  # the exact curves the report overlays (it never recomputes physics)
     t3 = time.perf_counter()
     timing = {"setup": t1 - t0, "runs": t2 - t1, "metrics": t3 - t2, "executor": executor, "store": kind,
               "workers": workers, "runs_total": len(records),
