@@ -86,7 +86,9 @@ def test_zarr_equals_serial_files_bit_for_bit(tmp_path):
     wz = _run(_study("zarr", **lists), tmp_path / "zarr")
     wf = _run(_study("files", **lists), tmp_path / "files", executor="serial")
     x = railtherm.open_results(tmp_path / "zarr", unstack=False).compute()
-    y = railtherm.open_results(tmp_path / "files")
+    y = railtherm.open_results(tmp_path / "files")      # scenes sorted by name; the store keeps study order
+    y = y.sel(scene=[str(s) for s in x["scene"].values])
+    assert x.sizes["scene"] == y.sizes["scene"] == 200
     for name in ("max_surface_temperature", "mean_contact_temperature", "frictional_power", "normal_force"):
         assert x[name].values.tobytes() == y[name].values.tobytes(), name
     recs = json.loads((tmp_path / "files" / "study.json").read_text())["records"]
