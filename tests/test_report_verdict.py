@@ -386,3 +386,18 @@ def test_reference_method_cell_is_not_a_verdict(status):
     sc = cell(cards[(sweep.label, "kalker")])
     assert sc.text.startswith("reference") and "%" not in sc.text, sc.text
     assert cell(cards[(sweep.label, "green")]).text.startswith("inaccurate")
+
+
+def test_an_inaccurate_cell_names_its_worst_metric_when_the_headline_is_within_tolerance():
+    """A run that is inaccurate on another metric than the headline says which one (e.g. the cooling rate of a
+    thermal trace), so that "inaccurate · 0.5 %" does not contradict the tolerance."""
+    from railtherm.report.load import Run
+    from railtherm.report.verdict import Verdict, cell
+    r = Run(scene="s", method="green", level=3, status="inaccurate")
+    r.errors = {"max_surface_temperature": 0.005, "cooling_rate": 0.2, "peak_temperature": 0.01}
+    r.references = {"max_surface_temperature": "analytic:moving-source", "cooling_rate": "analytic:moving-source",
+                    "peak_temperature": "self:finest"}
+    text = cell(Verdict("green", "inaccurate", r, 0.005, 0.1)).text
+    assert "inaccurate" in text and "cooling rate 20" in text
+    r.errors["cooling_rate"] = 0.001
+    assert "cooling rate" not in cell(Verdict("green", "inaccurate", r, 0.005, 0.1)).text

@@ -3,7 +3,8 @@
 A cell shows the cheapest level (smallest wall time) whose status is ``ok`` (the headline quantity
 within the tolerance of an independent reference), with its error, time and level. When no level is
 ok, the best available is shown with its status: ``inaccurate`` (the level with the smallest headline
-error), ``unverified`` (the finest level: nothing independent to compare with), ``failed`` or
+error; among equal ones the smallest worst error against an independent reference, which the cell names when
+it is not the headline's), ``unverified`` (the finest level: nothing independent to compare with), ``failed`` or
 ``refused``. A method that is a scene's reference (``reference = "kalker"``) gets no verdict on that
 scene: its cell says ``reference`` with its finest successful level (its errors there are against its
 own finest level, not a verdict). A sweep is one row: the cell summarises its members' cells.
@@ -15,7 +16,7 @@ from dataclasses import dataclass, field
 
 from .document import Cell
 from .format import duration, level_range, pct, short
-from .load import Run, StudyData
+from .load import Run, StudyData, independent
 
 __all__ = ["SweepGroup", "Row", "Verdict", "sweep_groups", "rows", "choose", "scorecard", "findings",
            "creep_force_source"]
@@ -130,7 +131,9 @@ def choose(data: StudyData, scene: str, method: str) -> Verdict:
     if bad:
         def key(r):
             e = r.headline_error if math.isfinite(r.headline_error) else math.inf
-            return (e, r.wall_time if math.isfinite(r.wall_time) else math.inf)
+            worst = max((x for k, x in (r.errors or {}).items() if isinstance(x, float) and math.isfinite(x)
+                         and independent((r.references or {}).get(k, ""))), default=math.inf)
+            return (round(e, 3), worst, r.wall_time if math.isfinite(r.wall_time) else math.inf)
         r = min(bad, key=key)
         return Verdict(method, "inaccurate", r, r.headline_error, r.wall_time, message=r.message)
     unv = [r for r in runs if r.status == "unverified"]
@@ -172,6 +175,22 @@ def scorecard(data: StudyData, table_rows: list[Row]) -> dict:
     return out
 
 
+def _worst_other(v: Verdict) -> str:
+    """For an inaccurate run whose headline error is smaller than its worst error against an independent
+    reference: that metric and its error ("cooling rate 20 %"), so that the cell says why it is inaccurate."""
+    if v.status != "inaccurate" or v.run is None:
+        return ""
+    refs = getattr(v.run, "references", {}) or {}
+    errs = [(k, e) for k, e in (v.run.errors or {}).items()
+            if isinstance(e, float) and math.isfinite(e) and independent(refs.get(k, ""))]
+    if not errs:
+        return ""
+    name, err = max(errs, key=lambda t: t[1])
+    if math.isfinite(v.error) and err <= v.error:
+        return ""
+    return f"{name.replace('_', ' ')} {pct(err)}"
+
+
 def cell(v: Verdict) -> Cell:
     """The text of a scorecard cell (its status also colours the HTML cell)."""
     if v.status == "none":
@@ -199,6 +218,9 @@ def cell(v: Verdict) -> Cell:
         parts.append("no reference")
     elif math.isfinite(v.error):
         parts.append(pct(v.error))
+    worst = _worst_other(v)
+    if worst:
+        parts.append(worst)
     if math.isfinite(v.time):
         parts.append(duration(v.time))
     if v.run is not None:
