@@ -426,3 +426,38 @@ def test_real_method_bit_for_bit_on_every_executor(green_host, tmp_path):
         assert_same_runs(tmp_path / "serial", out, minimum=3)
         recs = json.loads((out / "study.json").read_text())["records"]
         assert os.getpid() not in {r["pid"] for r in recs}, f"{executor}: a run was executed in this process"
+
+
+def test_a_sweep_takes_exactly_repeat_solves(green_host, tmp_path):
+    """warmup = false (a sweep): repeat = 1 means the result's own solve is its timing, no extra solves
+    (the 10k sweep's wall time is its solves); a verification study (warmup = true) keeps at least 3."""
+    import xarray as xr
+    text = """
+schema_version = 1
+[study]
+name = "one-solve"
+methods = ["green"]
+levels = [0]
+reference = "finest"
+repeat = {repeat}
+warmup = {warmup}
+[[scene]]
+name = "s"
+normal_force = 100e3
+contact = {{ shape = "ellipse", curvatures = [1.015, 0.4215] }}
+speed = 30.0
+sliding_speed = [1.0, 2.0]
+friction = 0.3
+outputs = ["max_surface_temperature"]
+"""
+    counts = {}
+    for warmup in ("false", "true"):
+        p = tmp_path / f"s-{warmup}.toml"
+        p.write_text(text.format(repeat=1, warmup=warmup))
+        out = tmp_path / f"out-{warmup}"
+        railtherm.run_study(p, out=out)
+        m = xr.open_dataset(out / "metrics.nc")
+        counts[warmup] = sorted(set(int(v) for v in m.timing_runs.values))
+        m.close()
+    assert counts["false"] == [1]
+    assert counts["true"] == [3]

@@ -16,8 +16,8 @@ after writing but before reporting back) finds its own result and does not write
 Timing and memory (see :func:`execute_run`): an untimed warm-up of the same code path, then the
 best (and median) of at least 3 timed solves (2 for solves over 2 s), then a separate solve whose
 process peak resident set size and its growth are the memory (:class:`RSSPeak`; native allocations included). Sweeps
-(``warmup = false``) warm up once per method and level in each process and measure the memory of
-one run in :data:`MEMORY_SAMPLE`. ``--resume`` compares the run hash (scene, method, level,
+(``warmup = false``) warm up once per method and level in each process, time exactly ``repeat`` solves
+and measure the memory of one run in :data:`MEMORY_SAMPLE`. ``--resume`` compares the run hash (scene, method, level,
 options and code versions, :func:`run_hash`), not the scene alone.
 
 Statuses written here are ``ok`` (ran and converged: metrics then decides ok, inaccurate or
@@ -338,7 +338,8 @@ def _solve_timed(task: RunTask, rec: RunRecord, phases: dict, t_begin: float):
         phases["compute"] = float(ds.attrs["wall_time"])
         times = [float(ds.attrs["wall_time"])]
         t1 = time.perf_counter()
-        n = max(task.repeat, timed_solves(times[0]))
+        # a sweep (no warm-up per run) takes exactly `repeat` solves: the result's solve is its timing
+        n = max(task.repeat, timed_solves(times[0])) if task.warmup else max(1, task.repeat)
         budget = max(0.0, task.timeout - (time.perf_counter() - t_begin)) / 2
         while len(times) < n and sum(times) + times[0] < budget:
             again = solve(task.scene, task.spec, task.level, task.options, validate=False)
@@ -370,7 +371,9 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
     Timing: one untimed warm-up solve of the same code path (with ``task.warmup``: the same
     scene; without, for sweeps: the first run of the method and level in this process), then the
     best of n timed solves, n = max(``task.repeat``, 3) when a solve takes under 2 s and
-    max(``task.repeat``, 2) otherwise (fewer only when the per-run time limit would be exceeded).
+    max(``task.repeat``, 2) otherwise (fewer only when the per-run time limit would be exceeded); a sweep
+    (``warmup = false``) takes exactly ``task.repeat`` solves (``repeat = 1``: the result's own solve is its
+    timing).
     Memory: :class:`RSSPeak` around the warm-up's twin, a separate untimed solve (with
     ``task.trace_memory``), so that neither pass perturbs the other.
 
