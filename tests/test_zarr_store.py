@@ -19,20 +19,12 @@ from railtherm import SceneError
 from railtherm.output import store, zarr_store
 from railtherm.input.study import AUTO_ZARR_RUNS, parse_study
 
-from test_executors import RAN, SleepyPlugin, sweep
+from test_executors import RAN, SleepyPlugin, hosts, sweep  # noqa: F401 (hosts: the executors' fixture)
 from fixture_plugins import FlatPlugin
 
 SCALAR_OUTPUTS = '["max_surface_temperature", "mean_contact_temperature", "surface_temperature", "frictional_power"]'
 
 
-@pytest.fixture(scope="module")
-def hosts():
-    from railtherm import plugins
-    saved = plugins._HOST
-    host = plugins.new_host([("flat", FlatPlugin()), ("sleepy", SleepyPlugin())], autoload=False, strict=True)
-    plugins.set_host(host)
-    yield host
-    plugins.set_host(saved)
 
 
 def zsweep(path: Path, store_line='store = "zarr"', fields=True, **kw) -> Path:
