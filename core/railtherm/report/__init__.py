@@ -6,7 +6,9 @@ and ``references.nc``) and writes, in this order:
 1. the **verdict**: a scorecard (scenes × methods: the cheapest level within the tolerance of an
    independent reference on the scene's headline quantity, or the best available with its status),
    key findings computed from the metrics, and a work-precision figure with one panel per scene;
-2. when scenes take an exact-contact method as their reference (``reference = "kalker"``): the
+2. when a creepage sweep has a friction law: the friction-law section (:mod:`.friction_section`), creep
+   curves and flash temperatures per sweep and each curve's maximum against the reference method;
+   then, when scenes take an exact-contact method as their reference (``reference = "kalker"``): the
    exact-contact section (:mod:`.exact_contact`), the contact model's error (same thermal model, other
    contact) separated from the thermal model's (same contact, other thermal model), the creep-force
    curve, traction/slip/power-density maps side by side and a non-Hertzian scene;
@@ -102,8 +104,8 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     for row in left_out:  # no section: the scorecard row links nowhere
         row.anchor = ""
     verdict_section(doc, ctx, table_rows)
+    friction_section(doc, ctx)        # a friction study's point, before the long exact-contact tables
     exact_contact_section(doc, ctx)
-    friction_section(doc, ctx)
     trace_section(doc, ctx)
     idx = 0
     for row in table_rows:
