@@ -34,27 +34,9 @@ from railtherm.analysis.analytic import trace_reference
 from railtherm.input.scene import load_scene
 from railtherm.references.jaeger import jaeger_band_temperature
 from railtherm.references.moving_source import moving_source_temperature
-from field_cases import A, MAT, V, BULK, TRACE
+from field_cases import A, MAT, V, BULK, TRACE, hertz_scene as _scene, trace_errors as _errors
 
 METHOD = "fastsim-fdm"
-
-
-def _scene(line: bool, behind=16 * A, depth=3e-4, threshold=1000.0, flux=1e9):
-    src = dict(flux=flux, shape="hertz", **({"half_width": A} if line else {"semi_axes": [A, A]}))
-    return dict(name="band" if line else "circle", speed=V, heat_source=src, heat_partition=0.0,
-                field=dict(behind=behind, depth=depth, threshold=threshold), outputs=TRACE)
-
-
-def _errors(ds, ref):
-    rail = {k: ds[k].values[1] for k in ("peak_temperature", "cooling_rate", "time_above")}
-    peak = np.max(np.abs(rail["peak_temperature"] - ref["peak_temperature"][1])
-                  / (ref["peak_temperature"][1] - BULK))
-    ok = np.isfinite(ref["cooling_rate"][1]) & (ds["z"].values >= 1e-4)   # near the surface: log-singular
-    cool = np.max(np.abs(rail["cooling_rate"] - ref["cooling_rate"][1])[ok] / ref["cooling_rate"][1][ok])
-    on = ref["time_above"][1] > 0
-    above = np.max(np.abs(rail["time_above"] - ref["time_above"][1])[on] / ref["time_above"][1][on])
-    depth = abs(float(ds["heated_depth"].values[1]) - ref["heated_depth"][1]) / ref["heated_depth"][1]
-    return {"peak": peak, "cool": cool, "above": above, "depth": depth}
 
 
 def _order(errs, key):
