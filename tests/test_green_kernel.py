@@ -172,11 +172,12 @@ def test_contact_double_count_bias_is_not_present():
     assert 0.05 < biased / exact - 1 < 0.2
 
 
-def test_fft_paths_equal_the_direct_sums_on_an_extended_grid():
-    """The FFT sums of a ``field`` grid (zero flux behind the patch: only the patch rows are transformed,
-    issue 14) equal the direct O(nx^2) Toeplitz sums to 1e-13 of the maximum: surface (two bodies, some
-    strips cold, one body cold, a gap between heated strips), depth (all depths in one transform), and
-    the 1-D and per-column forms of :func:`kernel.fft_toeplitz`."""
+def test_extended_paths_equal_the_direct_sums_on_an_extended_grid():
+    """The sums of a ``field`` grid (zero flux behind the patch, issue 14: the surface by
+    :func:`kernel.trail_toeplitz`, the depth by FFT over the patch rows) equal the direct O(nx^2) Toeplitz
+    sums to 1e-13 of the maximum: surface (two bodies, some strips cold, one body cold, a gap between
+    heated strips), depth (all depths in one transform), and the 1-D and per-column forms of
+    :func:`kernel.fft_toeplitz`."""
     rng = np.random.default_rng(3)
     n_patch, n_behind, ny = 40, 250, 12
     h = 2 * A / n_patch
@@ -186,12 +187,12 @@ def test_fft_paths_equal_the_direct_sums_on_an_extended_grid():
     q[1, n_behind:, 2:6] = rng.random((n_patch, 4)) * 1e9
     q[1, n_behind:, 8:11] = rng.random((n_patch, 3)) * 1e9               # a second run of heated strips
     beta, v = (STEEL.effusivity, 1.1 * STEEL.effusivity), (V, 0.9 * V)
-    fast = kernel.surface_rise(xe, q, beta, v, fft=True)
+    fast = kernel.surface_rise(xe, q, beta, v, extended=True)
     slow = kernel.surface_rise(xe, q, beta, v)
     assert np.all(fast[0] == 0.0) and np.all(fast[1][:, [0, 1, 6, 7, 11]] == 0.0)
     assert np.max(np.abs(fast - slow)) < 1e-13 * np.max(np.abs(slow))
     z = 4e-4 * np.linspace(0.0, 1.0, 9) ** 2
-    dfast = kernel.depth_rise(xe, q[1, :, 3], z, STEEL.effusivity, V, STEEL.diffusivity, fft=True)
+    dfast = kernel.depth_rise(xe, q[1, :, 3], z, STEEL.effusivity, V, STEEL.diffusivity, extended=True)
     dslow = kernel.depth_rise(xe, q[1, :, 3], z, STEEL.effusivity, V, STEEL.diffusivity)
     assert np.max(np.abs(dfast - dslow)) < 1e-13 * np.max(np.abs(dslow))
     per_depth = np.stack([kernel.depth_rise(xe, q[1, :, 3], [zk], STEEL.effusivity, V, STEEL.diffusivity)[:, 0]
@@ -208,7 +209,7 @@ def test_fft_paths_equal_the_direct_sums_on_an_extended_grid():
 
 def test_flux_given_on_the_patch_of_an_extended_grid():
     """``behind`` (zero flux in the first cells, the flux given on the patch only) equals the flux padded
-    with zeros, by FFT and by the direct sums, surface (1-, 2- and 3-D flux) and depth."""
+    with zeros, by the extended-grid sums and by the direct sums, surface (1-, 2- and 3-D flux) and depth."""
     rng = np.random.default_rng(5)
     n_patch, n_behind = 30, 170
     h = 2 * A / n_patch
@@ -217,16 +218,48 @@ def test_flux_given_on_the_patch_of_an_extended_grid():
     q[0, :, 0] = 0.0
     full = np.concatenate([np.zeros((2, n_behind, 5)), q], axis=1)
     ref = kernel.surface_rise(xe, full, STEEL.effusivity, V)
-    for fft in (False, True):
-        got = kernel.surface_rise(xe, q, STEEL.effusivity, V, fft=fft, behind=n_behind)
+    for extended in (False, True):
+        got = kernel.surface_rise(xe, q, STEEL.effusivity, V, extended=extended, behind=n_behind)
         assert got.shape == full.shape
         assert np.max(np.abs(got - ref)) < 1e-13 * np.max(ref)
-        got2 = kernel.surface_rise(xe, q[1], STEEL.effusivity, V, fft=fft, behind=n_behind)
+        got2 = kernel.surface_rise(xe, q[1], STEEL.effusivity, V, extended=extended, behind=n_behind)
         assert np.max(np.abs(got2 - ref[1])) < 1e-13 * np.max(ref)
-        got1 = kernel.surface_rise(xe, q[1, :, 2], STEEL.effusivity, V, fft=fft, behind=n_behind)
+        got1 = kernel.surface_rise(xe, q[1, :, 2], STEEL.effusivity, V, extended=extended, behind=n_behind)
         assert np.max(np.abs(got1 - ref[1, :, 2])) < 1e-13 * np.max(ref)
     z = np.array([0.0, 5e-5, 2e-4])
     dref = kernel.depth_rise(xe, full[1, :, 2], z, STEEL.effusivity, V, STEEL.diffusivity)
-    for fft in (False, True):
-        d = kernel.depth_rise(xe, q[1, :, 2], z, STEEL.effusivity, V, STEEL.diffusivity, fft=fft, behind=n_behind)
+    for extended in (False, True):
+        d = kernel.depth_rise(xe, q[1, :, 2], z, STEEL.effusivity, V, STEEL.diffusivity, extended=extended,
+                              behind=n_behind)
         assert np.max(np.abs(d - dref)) < 1e-13 * np.max(dref)
+
+
+@pytest.mark.parametrize("n_heat, n_behind, start", [(128, 768, 0), (60, 900, 7), (47, 40, 3), (30, 500, 0), (8, 50, 0)],
+                         ids=["field-ellipse", "gap-before-heat", "short-trail", "few-nodes", "dense-only"])
+def test_trail_sum_equals_the_exact_sum_far_behind_the_patch(n_heat, n_behind, start):
+    """:func:`kernel.trail_toeplitz` (rows far behind the heat by rank-24 Chebyshev interpolation of the
+    smooth weight, the rest exactly) equals the exact sum :func:`kernel.toeplitz_matmul` to 1e-13 of the
+    maximum in every row, also relative to each far row's own size (1e-12: the trail decays like 1/sqrt(d));
+    rows upstream of the heat are exactly 0, ``scale`` and ``out`` as documented."""
+    rng = np.random.default_rng(n_heat)
+    h = 2 * A / max(n_heat, 1)
+    n_patch = n_heat + start + 5
+    q = np.zeros((n_patch, 6))
+    q[start:start + n_heat] = rng.random((n_heat, 6)) * 1e9
+    q[start:start + n_heat, 4] = 0.0                                       # a cold strip
+    nx = n_patch + n_behind
+    full = np.concatenate([np.zeros((n_behind, 6)), q])
+    exact = kernel.toeplitz_matmul(kernel.toeplitz_weights(nx, h), full)
+    got = kernel.trail_toeplitz(h, q, behind=n_behind)
+    assert got.shape == (nx, 6)
+    assert np.max(np.abs(got - exact)) < 1e-13 * np.max(exact)
+    far = slice(0, n_behind - n_heat)
+    rel = np.abs(got[far] - exact[far]) / np.where(exact[far] > 0, exact[far], 1.0)
+    assert rel.size == 0 or np.max(rel) < 1e-12
+    assert np.all(got[n_behind + start + n_heat:] == 0.0) and np.all(got[:, 4] == 0.0)
+    out = np.full((nx, 6), np.nan)
+    kernel.trail_toeplitz(h, q, 2.5, out=out, behind=n_behind)
+    assert np.max(np.abs(out - 2.5 * exact)) < 2.5e-13 * np.max(exact)
+    one = kernel.trail_toeplitz(h, q[:, 0], behind=n_behind)
+    assert one.shape == (nx,) and np.max(np.abs(one - exact[:, 0])) < 1e-13 * np.max(exact)
+    assert np.all(kernel.trail_toeplitz(h, np.zeros(n_patch), behind=n_behind) == 0.0)

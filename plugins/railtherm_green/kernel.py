@@ -31,10 +31,13 @@ is as fast with one thread but 4-20x slower and erratic when OpenBLAS spreads th
 two busy cores (measured).
 
 The extended grid of a scene with ``field`` (issue 14) is ~7x longer, with zero flux behind the patch: the
-flux stays on the patch (``behind`` = the cells before it) and :func:`fft_toeplitz` transforms only its
-heated rows and strips (O(nx log nx) per strip, one transform for all depths of :func:`depth_rise`); the
-depth weights of all depths are one numba pass. On the benchmark's circle (896 x 128 cells, 41 depths):
-surface 13 -> 2.6 ms, depth 2.4 -> 1.0 ms (benchmarks/test_green_field_benchmark.py).
+flux stays on the patch (``behind`` = the cells before it). The surface sums take the heated rows and the
+half patch behind them exactly (one dense product) and the long trail further behind by Chebyshev
+interpolation of the smooth weight over the heated rows (:func:`trail_toeplitz`, rank 24, ~1e-15 of the
+maximum); the depth sums transform only the heated rows by FFT (:func:`fft_toeplitz`, one transform for all
+depths of :func:`depth_rise`), with the depth weights of all depths in one numba pass. On the benchmark's
+ellipse (896 x 256 cells, 41 depths): surface 13 -> 0.8 ms, depth 2.4 -> 1.0 ms
+(benchmarks/test_green_field_benchmark.py).
 
 References
 ----------
@@ -53,7 +56,7 @@ import numpy as np
 from scipy.special import erfc
 
 __all__ = ["surface_weights", "toeplitz_weights", "surface_rise", "depth_rise", "strip_prefactor",
-           "upper_matmul", "toeplitz_matmul", "toeplitz_columns", "fft_toeplitz"]
+           "upper_matmul", "toeplitz_matmul", "toeplitz_columns", "fft_toeplitz", "trail_toeplitz"]
 
 _CACHE: "OrderedDict[bytes, np.ndarray]" = OrderedDict()
 _CACHE_BYTES = 64 * 2 ** 20
@@ -204,6 +207,109 @@ def fft_toeplitz(w: np.ndarray, q: np.ndarray, scale: float = 1.0, out: np.ndarr
     return out[:, 0] if flat else out
 
 
+#: Chebyshev nodes of the far-trail sums (:func:`trail_toeplitz`); with :data:`_NEAR_FRACTION` the far rows
+#: are 2 patch half-lengths or more from the singularity of w(k), error ~ (2 + sqrt 3)^-24 ~ 2e-14 (measured
+#: 1e-15 of the maximum, tests/test_green_kernel.py)
+_TRAIL_NODES = 24
+#: rows behind the heated ones within this fraction of their number are summed exactly (dense product)
+_NEAR_FRACTION = 0.5
+
+
+def _surface_weight(k: np.ndarray, h: float) -> np.ndarray:
+    """The surface weight ``w_k = 2 sqrt(h) / (sqrt(k + 1/2) + sqrt(k - 1/2))`` of :func:`toeplitz_weights`
+    at real k >= 1/2 [m^0.5]: analytic there (branch points at k = +-1/2)."""
+    return 2.0 * math.sqrt(h) / (np.sqrt(k + 0.5) + np.sqrt(k - 0.5))
+
+
+def _chebyshev_basis(n: int, p: int) -> tuple[np.ndarray, np.ndarray]:
+    """p Chebyshev points (first kind) on [0, n-1] and their Lagrange basis at 0..n-1, shape (n, p)
+    (barycentric form; a node that falls on an integer gets its exact row)."""
+    def build():
+        j = np.arange(p)
+        theta = (2 * j + 1) * np.pi / (2 * p)
+        nodes = 0.5 * (n - 1) * (1.0 + np.cos(theta))
+        bw = (-1.0) ** j * np.sin(theta)
+        diff = np.arange(n, dtype=float)[:, None] - nodes[None, :]
+        hit = diff == 0.0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = bw / diff
+            basis = t / t.sum(axis=1, keepdims=True)
+        rows = np.flatnonzero(hit.any(axis=1))
+        basis[rows] = hit[rows].astype(float)
+        return np.concatenate([nodes[None, :], basis])
+    nb = _cached(b"C" + np.array([n, p]).tobytes(), build)
+    return nb[0], nb[1:]
+
+
+def trail_toeplitz(h: float, q: np.ndarray, scale: float = 1.0, out: np.ndarray | None = None,
+                   behind: int = 0) -> np.ndarray:
+    """``scale W @ q`` for the surface weights W[i, i+k] = w_k of a uniform grid (:func:`toeplitz_weights`),
+    on the long grid of a scene with ``field``: heat on the patch only, a long trail without heat behind it.
+
+    ``out[i] = sum_k w_k q[i+k]``. With q's heated rows [j0, j1) (n = j1 - j0 of them), the rows upstream
+    of them are 0, the heated rows and the ``n/2`` rows behind them are summed exactly (one dense
+    product), and each row further behind, at d >= n/2 cells from the first heated row, by Chebyshev
+    interpolation of the smooth weight ``k -> w(d + k)`` over the heated rows:
+    ``out[j0 - d] = sum_m w(d + t_m) M_m`` with the moments ``M_m = sum_k L_m(k) q[j0 + k]`` of the p =
+    24 Lagrange polynomials L_m. w(k) has its branch points at k = +-1/2, at least n/2 from the
+    interpolation interval, so the error is ~ (2 + sqrt 3)^-24 of the local values (exact in
+    exact arithmetic up to that; agrees with :func:`toeplitz_matmul` and :func:`fft_toeplitz` to
+    ~1e-15 of the maximum, tests/test_green_kernel.py). Cost O((n^2 + nx p) m) for m columns, against
+    O(nx log nx m) by FFT: the benchmark's ellipse (896 x 256 cells) 3.2 -> 0.8 ms.
+
+    Parameters
+    ----------
+    h : float
+        Cell width of the uniform grid [m].
+    q : ndarray, shape (nx - behind,) or (nx - behind, m)
+        Columns to multiply [any unit]: the last nx - ``behind`` rows (the first ``behind`` are 0).
+    scale : float
+        Factor applied to the product [any unit].
+    out : ndarray, shape (nx, m), optional
+        Where to write the product (every row is written); a view into a larger array avoids a copy.
+    behind : int
+        Rows of zeros before ``q`` (the cells of an extended grid behind the patch) [1].
+
+    Returns
+    -------
+    ndarray, shape (nx, m) (or (nx,) for a 1-D q without ``out``)
+        ``scale W @ q`` [unit of q times m^0.5 times scale].
+    """
+    q = np.asarray(q, dtype=float)
+    behind = int(behind)
+    flat = q.ndim == 1 and out is None
+    q2 = q.reshape(q.shape[0], -1)
+    nx = q2.shape[0] + behind
+    if out is None:
+        out = np.empty((nx, q2.shape[1]))
+    rows = np.flatnonzero(np.any(q2 != 0.0, axis=1))
+    if not rows.size:
+        out[:] = 0.0
+        return out[:, 0] if flat else out
+    j0, j1 = behind + int(rows[0]), behind + int(rows[-1]) + 1
+    n = j1 - j0
+    heated = q2[j0 - behind:j1 - behind]
+    near = max(int(math.ceil(_NEAR_FRACTION * n)), 1)
+    p = _TRAIL_NODES
+    i0 = j0 - near + 1 if j0 >= near and n > 2 * p else 0       # rows [i0, j1) exactly, [0, i0) by the nodes
+    w = toeplitz_weights(j1, h)
+    k = j0 + np.arange(n)[None, :] - np.arange(i0, j1)[:, None]             # (j1 - i0, n): k = j - i
+    dense = np.where(k >= 0, w[np.clip(k, 0, j1 - 1)], 0.0)
+    if scale != 1.0:
+        dense *= scale
+    np.matmul(dense, heated, out=out[i0:j1])
+    if i0:
+        nodes, basis = _chebyshev_basis(n, p)
+        moments = basis.T @ heated                                             # (p, m)
+        d = j0 - np.arange(i0, dtype=float)                                    # >= near
+        far = _surface_weight(d[:, None] + nodes[None, :], h)                  # (i0, p)
+        if scale != 1.0:
+            far *= scale
+        np.matmul(far, moments, out=out[:i0])
+    out[j1:] = 0.0
+    return out[:, 0] if flat else out
+
+
 @numba.njit(cache=True)
 def toeplitz_columns(w: np.ndarray, q: np.ndarray) -> np.ndarray:  # pragma: no cover - compiled
     """``out[i, c] = sum_k w[k, c] q[i + k]``: one upper-triangular Toeplitz matrix per column c
@@ -219,14 +325,13 @@ def toeplitz_columns(w: np.ndarray, q: np.ndarray) -> np.ndarray:  # pragma: no 
     return out
 
 
-def _apply(x_edges: np.ndarray, q2: np.ndarray, fft: bool = False) -> np.ndarray:
-    """W @ q2 for q2 of shape (nx, m), Toeplitz path on uniform grids (by FFT when ``fft``)."""
+def _apply(x_edges: np.ndarray, q2: np.ndarray) -> np.ndarray:
+    """W @ q2 for q2 of shape (nx, m), Toeplitz path on uniform grids."""
     x_edges = np.ascontiguousarray(x_edges, dtype=float)
     q2 = np.ascontiguousarray(q2, dtype=float)
     h = _uniform_step(x_edges)
     if h is not None:
-        w = toeplitz_weights(q2.shape[0], h)
-        return fft_toeplitz(w, q2) if fft else toeplitz_matmul(w, q2)
+        return toeplitz_matmul(toeplitz_weights(q2.shape[0], h), q2)
     return upper_matmul(surface_weights(x_edges), q2)
 
 
@@ -250,7 +355,7 @@ def strip_prefactor(effusivity: float, speed: float) -> float:
     return 1.0 / (effusivity * math.sqrt(math.pi * speed))
 
 
-def surface_rise(x_edges: np.ndarray, flux: np.ndarray, effusivity, speed, fft: bool = False,
+def surface_rise(x_edges: np.ndarray, flux: np.ndarray, effusivity, speed, extended: bool = False,
                  behind: int = 0) -> np.ndarray:
     """Surface temperature rise at the cell centres for a piecewise constant flux.
 
@@ -264,8 +369,9 @@ def surface_rise(x_edges: np.ndarray, flux: np.ndarray, effusivity, speed, fft: 
         beta [W s^0.5 / (m^2 K)] per body (one value per leading entry of a 3-D ``flux``).
     speed : float or sequence of float
         Body surface speed [m/s] per body.
-    fft : bool
-        Sum the strips by FFT (:func:`fft_toeplitz`, uniform grids): for the long grids of a ``field``.
+    extended : bool
+        The long grid of a ``field`` (uniform grids): each strip's heated rows and the trail behind them by
+        :func:`trail_toeplitz`.
     behind : int
         Cells of zero flux before ``flux`` (the extended grid behind the patch) [1].
 
@@ -276,7 +382,7 @@ def surface_rise(x_edges: np.ndarray, flux: np.ndarray, effusivity, speed, fft: 
     """
     q = np.asarray(flux, dtype=float)
     behind = int(behind)
-    h = _uniform_step(np.asarray(x_edges, dtype=float)) if fft else None
+    h = _uniform_step(np.asarray(x_edges, dtype=float)) if extended else None
     if behind and h is None:         # the direct sums: the zero rows explicitly
         q, behind = _prepend_zeros(q, behind), 0
     if q.ndim == 3:
@@ -285,28 +391,26 @@ def surface_rise(x_edges: np.ndarray, flux: np.ndarray, effusivity, speed, fft: 
         k = np.asarray([strip_prefactor(b, v) for b, v in
                         zip(np.broadcast_to(effusivity, (nb,)), np.broadcast_to(speed, (nb,)))])
         if h is not None:
-            # a long (extended) grid: body by body, only the strips that get heat, by FFT, written in place
+            # a long (extended) grid: body by body, only the strips that get heat, written in place
             out = np.zeros((nb, nx, ny))
-            w = toeplitz_weights(nx, h)
             for b in range(nb):
                 live = np.flatnonzero(np.any(q[b] != 0.0, axis=0))      # strips without heat stay at 0
                 if not live.size:
                     continue
                 if live[-1] - live[0] + 1 == live.size:        # one run of strips: written in place
                     cols = slice(int(live[0]), int(live[-1]) + 1)
-                    fft_toeplitz(w, q[b][:, cols], k[b], out=out[b][:, cols], behind=behind)
+                    trail_toeplitz(h, q[b][:, cols], k[b], out=out[b][:, cols], behind=behind)
                 else:
-                    out[b][:, live] = fft_toeplitz(w, q[b][:, live], k[b], behind=behind)
+                    out[b][:, live] = trail_toeplitz(h, q[b][:, live], k[b], behind=behind)
             return out
         # one product for all strips of all bodies: (nx, nx) @ (nx, nb*ny)
-        t = _apply(x_edges, q.transpose(1, 0, 2).reshape(nx, nb * ny), fft)
+        t = _apply(x_edges, q.transpose(1, 0, 2).reshape(nx, nb * ny))
         return t.reshape(nx, nb, ny).transpose(1, 0, 2) * k[:, None, None]
-    if behind:                       # fft on a uniform grid
-        w = toeplitz_weights(q.shape[0] + behind, h)
-        t = fft_toeplitz(w, q.reshape(q.shape[0], -1), behind=behind)
-        return t.reshape((q.shape[0] + behind,) + q.shape[1:]) * strip_prefactor(float(effusivity), float(speed))
-    return _apply(x_edges, q.reshape(q.shape[0], -1), fft).reshape(q.shape) * strip_prefactor(float(effusivity),
-                                                                                         float(speed))
+    k = strip_prefactor(float(effusivity), float(speed))
+    if h is not None:                # the long grid of a field, uniform
+        t = trail_toeplitz(h, q.reshape(q.shape[0], -1), k, behind=behind)
+        return t.reshape((q.shape[0] + behind,) + q.shape[1:])
+    return _apply(x_edges, q.reshape(q.shape[0], -1)).reshape(q.shape) * k
 
 
 def _depth_primitive(s: np.ndarray, c) -> np.ndarray:
@@ -342,7 +446,7 @@ def _toeplitz_depth_weights(nx, h, c):  # pragma: no cover - compiled
 
 
 def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity: float, speed: float,
-               diffusivity: float, fft: bool = False, behind: int = 0) -> np.ndarray:
+               diffusivity: float, extended: bool = False, behind: int = 0) -> np.ndarray:
     """Temperature rise below the surface of one strip (seed eq. 32), exact per cell.
 
     Parameters
@@ -359,8 +463,9 @@ def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity:
         Body surface speed [m/s].
     diffusivity : float
         kappa [m^2/s].
-    fft : bool
-        All depths in one FFT product (:func:`fft_toeplitz`, uniform grids): for the long grids of a ``field``.
+    extended : bool
+        The long grid of a ``field`` (uniform grids): all depths in one FFT product (:func:`fft_toeplitz`;
+        the depth weights' essential singularity exp(-c/s) rules out :func:`trail_toeplitz`'s interpolation).
     behind : int
         Cells of zero flux before ``flux`` (the extended grid behind the patch) [1].
 
@@ -376,14 +481,14 @@ def depth_rise(x_edges: np.ndarray, flux: np.ndarray, z: np.ndarray, effusivity:
     behind = int(behind)
     if not np.any(q):
         return np.zeros((q.size + behind, z.size))
-    if behind and not (fft and h is not None):       # the direct sums: the zero rows explicitly
+    if behind and not (extended and h is not None):       # the direct sums: the zero rows explicitly
         q, behind = _prepend_zeros(q, behind), 0
     nx = q.size + behind
     c = z * z * speed / (4.0 * diffusivity)                       # (nz,) [m]
     if h is not None:
         # Toeplitz: distances edge - centre are (e - 1/2) h, e = j - i; all depths at once, (nx+1, nz)
         w = _toeplitz_depth_weights(nx, h, c)                                # (nx, nz): w[k, depth]
-        if fft:
+        if extended:
             out = fft_toeplitz(w, q, behind=behind)
         else:
             out = toeplitz_columns(np.ascontiguousarray(w), q)

@@ -173,8 +173,8 @@ class GreenTemperature(TemperatureModel):
         flux = np.empty((2,) + q2.shape)                              # (2, nx_patch, ny), no temporaries
         np.multiply(eps2, q2, out=flux[0])
         np.multiply(1.0 - eps2, q2, out=flux[1])
-        extended = grid is not patch_grid     # a field: the long strips are summed by FFT
-        rise = kernel.surface_rise(grid.x_edges, flux, beta, speeds, fft=extended, behind=behind)   # (2, nx, ny)
+        extended = grid is not patch_grid     # a field: the long strips by kernel.trail_toeplitz / FFT
+        rise = kernel.surface_rise(grid.x_edges, flux, beta, speeds, extended=extended, behind=behind)   # (2, nx, ny)
 
         # warm wheel against cold rail (or vice versa): conduction through the patch, eqs. 40-44
         t_bulk = (float(wheel.bulk_temperature), float(rail.bulk_temperature))
@@ -203,7 +203,7 @@ class GreenTemperature(TemperatureModel):
         trace = fld is not None and (want_all or any(o in outputs for o in _TRACE))
         if want_all or "temperature" in outputs or trace:
             z, depth_rise = self._depth(grid, flux, beta, speeds, (wheel, rail), d_bulk, eps_c, opts,
-                                        None if fld is None else fld.depth, fft=extended, behind=behind)
+                                        None if fld is None else fld.depth, extended=extended, behind=behind)
 
         steady_wheel = steady_mean = None
         if want_all or any(o in outputs for o in _STEADY):
@@ -244,7 +244,7 @@ class GreenTemperature(TemperatureModel):
 
     # ------------------------------------------------------------------------------------------
     @staticmethod
-    def _depth(grid, flux, beta, speeds, bodies, d_bulk, eps_c, opts, depth=None, fft=False, behind=0):
+    def _depth(grid, flux, beta, speeds, bodies, d_bulk, eps_c, opts, depth=None, extended=False, behind=0):
         """Depth field at y = 0 on the common graded depth axis: (z, rise) with the rise above each
         body's bulk temperature of shape (2, nx, nz) [m], [K]. The axis reaches ``depth`` [m] (the
         scene's ``field.depth``), else ``depth_layers`` thermal layers. ``flux`` (2, nx - behind, ny)
@@ -264,7 +264,7 @@ class GreenTemperature(TemperatureModel):
             qc = (1.0 - w1) * flux[:, :, j] + w1 * flux[:, :, j + 1]      # linear in y at y = 0
         out = np.empty((2, grid.x.size, n))
         for i, (bt, v, m) in enumerate(zip(beta, speeds, bodies)):
-            out[i] = kernel.depth_rise(grid.x_edges, qc[i], z, bt, v, m.diffusivity, fft=fft, behind=behind)
+            out[i] = kernel.depth_rise(grid.x_edges, qc[i], z, bt, v, m.diffusivity, extended=extended, behind=behind)
         if d_bulk != 0.0:
             cw, cr = steady.contact_conduction_depth(grid.x, z, a, eps_c, speeds[0], speeds[1],
                                                       bodies[0].diffusivity, bodies[1].diffusivity)

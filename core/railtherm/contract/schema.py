@@ -197,6 +197,15 @@ def history_line(text: str) -> str:
 REQUIRED_ATTRS = ("Conventions", "title", "source", "history", "method", "scene", "scene_hash", "level")
 
 
+def _all_finite(values: np.ndarray) -> bool:
+    """True when no element is NaN or inf: the sum is finite unless one is (or the sum overflows, then the
+    elements are checked one by one), without an array of booleans per field."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        if np.isfinite(np.sum(values)):
+            return True
+    return bool(np.all(np.isfinite(values)))
+
+
 def validate_dataset(ds, plugin: str = "?", *, check_attrs: bool = True) -> None:
     """Check a result against the schema; raise :class:`railtherm.PluginError` naming plugin and variable.
 
@@ -222,7 +231,7 @@ def validate_dataset(ds, plugin: str = "?", *, check_attrs: bool = True) -> None
                               f"the schema wants {VARIABLES[name].units!r}")
         if VARIABLES[name].temperature and not da.attrs.get("units_metadata"):
             raise PluginError(f"plugin {plugin!r}: temperature {name!r} has no 'units_metadata'")
-        if name not in nan_ok and np.issubdtype(da.dtype, np.floating) and not np.all(np.isfinite(da.values)):
+        if name not in nan_ok and np.issubdtype(da.dtype, np.floating) and not _all_finite(da.values):
             raise PluginError(f"plugin {plugin!r}: variable {name!r} holds NaN or inf")
     for name, da in ds.coords.items():
         if not da.attrs.get("units") or not da.attrs.get("long_name"):

@@ -230,7 +230,9 @@ class TemperatureField:
         kw.setdefault("grid", grid)
         inside = grid.inside()
         tmax = surface.reshape(2, -1).max(axis=1)
-        tmean = np.array([surface[i][inside].mean() for i in range(2)])
+        rows = np.flatnonzero(inside.reshape(inside.shape[0], -1).any(axis=1))   # the patch's rows of a long grid
+        r = slice(int(rows[0]), int(rows[-1]) + 1) if rows.size else slice(0, 0)
+        tmean = np.array([surface[i][r][inside[r]].mean() for i in range(2)])
         return cls(surface, tmax, tmean, **kw)
 
     @classmethod
@@ -270,8 +272,10 @@ class TemperatureField:
         t_bulk = np.asarray(bulk, dtype=float).reshape(2)
         surface = np.empty((2,) + tuple(grid.shape))
         for i, body in enumerate(bodies):
-            rise = 0.0 if body is None else np.asarray(body.surface_rise, dtype=float).reshape(grid.shape)
-            surface[i] = t_bulk[i] + rise
+            if body is None:
+                surface[i] = t_bulk[i]
+            else:            # in place: no temporary of the (long field) grid's size
+                np.add(np.asarray(body.surface_rise, dtype=float).reshape(grid.shape), t_bulk[i], out=surface[i])
         if z is None:
             for body in (rail, wheel):
                 if body is not None and body.z is not None:

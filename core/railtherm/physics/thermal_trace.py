@@ -44,6 +44,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
+import numba
 import numpy as np
 
 from ..contract.grid import embed as embed_field, extended_grid
@@ -88,57 +89,89 @@ class Trace:
     notes: tuple = field(default_factory=tuple)
 
 
-def _refine_max(x: np.ndarray, f: np.ndarray, i: int) -> tuple[float, float]:
-    """(x, value) of the vertex of the parabola through samples i-1, i, i+1 (i interior), clipped to
-    [x_{i-1}, x_{i+1}] and never below f[i]."""
-    x0, x1, x2 = x[i - 1], x[i], x[i + 1]
-    f0, f1, f2 = f[i - 1], f[i], f[i + 1]
+@numba.njit(cache=True)
+def _refine_max(x0, x1, x2, f0, f1, f2):  # pragma: no cover - compiled
+    """(x, value) of the vertex of the parabola through (x0, f0), (x1, f1), (x2, f2) with f1 the largest
+    sample, clipped to [x0, x2] and never below f1 (f1 itself where the samples are not curved down)."""
     d01, d12 = (f1 - f0) / (x1 - x0), (f2 - f1) / (x2 - x1)
     c = (d12 - d01) / (x2 - x0)            # second divided difference (< 0 at a maximum)
     if not c < 0.0:
-        return float(x1), float(f1)
-    # f(t) = f1 + d (t - x1) + c (t - x1)^2 with d the slope at x1 of the parabola
-    d = d01 + c * (x1 - x0)
-    t = x1 - d / (2.0 * c)
-    t = min(max(t, x0), x2)
-    val = f1 + d * (t - x1) + c * (t - x1) ** 2
-    return float(t), float(max(val, f1))
+        return x1, f1
+    d = d01 + c * (x1 - x0)                # slope of the parabola at x1
+    t = min(max(x1 - d / (2.0 * c), x0), x2)
+    return t, max(f1 + d * (t - x1) + c * (t - x1) ** 2, f1)
 
 
-def _length_above(x: np.ndarray, f: np.ndarray, thr: float) -> float:
-    """Measure of {x : f(x) > thr} for f linear between the samples (x increasing) [m]."""
-    g0, g1 = f[:-1] - thr, f[1:] - thr
-    h = np.diff(x)
-    both = (g0 > 0) & (g1 > 0)
-    one = (g0 > 0) != (g1 > 0)
-    part = h[one] * np.maximum(g0[one], g1[one]) / np.abs(g1[one] - g0[one])
-    return float(np.sum(h[both]) + np.sum(part))
+@numba.njit(cache=True)
+def _rate(x, T, v, r, c):  # pragma: no cover - compiled
+    """V dT/dx at sample r of column c: second-order central differences on the non-uniform x
+    (:func:`numpy.gradient`'s formula), one-sided at the ends."""
+    n = x.size
+    if r == 0:
+        return v * (T[1, c] - T[0, c]) / (x[1] - x[0])
+    if r == n - 1:
+        return v * (T[n - 1, c] - T[n - 2, c]) / (x[n - 1] - x[n - 2])
+    h1, h2 = x[r] - x[r - 1], x[r + 1] - x[r]
+    return v * (-h2 / (h1 * (h1 + h2)) * T[r - 1, c] + (h2 - h1) / (h1 * h2) * T[r, c]
+                + h1 / (h2 * (h1 + h2)) * T[r + 1, c])
 
 
-def _refine_max_columns(x: np.ndarray, F: np.ndarray, i: np.ndarray, k: np.ndarray):
-    """:func:`_refine_max` for many columns at once: column ``k[n]`` of ``F`` (nx, ...) at its sample ``i[n]``
-    (interior); returns (x, value) arrays."""
-    x0, x1, x2 = x[i - 1], x[i], x[i + 1]
-    f0, f1, f2 = F[i - 1, k], F[i, k], F[i + 1, k]
-    d01, d12 = (f1 - f0) / (x1 - x0), (f2 - f1) / (x2 - x1)
-    c = (d12 - d01) / (x2 - x0)            # second divided difference (< 0 at a maximum)
-    curved = c < 0.0
-    cs = np.where(curved, c, -1.0)
-    d = d01 + cs * (x1 - x0)
-    t = np.clip(x1 - d / (2.0 * cs), x0, x2)
-    val = np.maximum(f1 + d * (t - x1) + cs * (t - x1) ** 2, f1)
-    return np.where(curved, t, x1), np.where(curved, val, f1)
-
-
-def _length_above_columns(x: np.ndarray, F: np.ndarray, thr: float) -> np.ndarray:
-    """:func:`_length_above` of every column of ``F`` (nx, m) [m]."""
-    g0, g1 = F[:-1] - thr, F[1:] - thr
-    h = np.diff(x)[:, None]
-    both = (g0 > 0) & (g1 > 0)
-    one = (g0 > 0) != (g1 > 0)
-    den = np.where(one, np.abs(g1 - g0), 1.0)
-    part = np.where(one, h * np.maximum(g0, g1) / den, 0.0)
-    return np.where(both, h, 0.0).sum(axis=0) + part.sum(axis=0)
+@numba.njit(cache=True)
+def _trace_columns(x, T, v, thr):  # pragma: no cover - compiled
+    """The trace of every column of T (nx, nz) in one pass: (peak, position, cooling, time above) per
+    column, NaN where unknown, and a status per column: bit 1 the peak lies at an end of the field,
+    bit 2 the fastest cooling does, bit 4 T is above the threshold at an end (or everywhere, flat)."""
+    n, nz = T.shape
+    peak = np.full(nz, np.nan)
+    where = np.full(nz, np.nan)
+    cool = np.full(nz, np.nan)
+    above = np.full(nz, np.nan)
+    status = np.zeros(nz, dtype=np.int64)
+    for c in range(nz):
+        i, fmax, fmin = 0, T[0, c], T[0, c]
+        for r in range(1, n):
+            t = T[r, c]
+            if t > fmax:
+                i, fmax = r, t
+            if t < fmin:
+                fmin = t
+        if fmax == fmin:                   # no heat reached this depth: bulk temperature, no cooling
+            peak[c], cool[c] = fmax, 0.0
+            if fmax > thr:
+                status[c] |= 4
+            else:
+                above[c] = 0.0
+            continue
+        if i == 0 or i == n - 1:
+            status[c] |= 1
+        else:
+            where[c], peak[c] = _refine_max(x[i - 1], x[i], x[i + 1], T[i - 1, c], T[i, c], T[i + 1, c])
+            j, rj = 0, _rate(x, T, v, 0, c)        # fastest cooling behind the peak (rows < i)
+            for r in range(1, i):
+                rr = _rate(x, T, v, r, c)
+                if rr > rj:
+                    j, rj = r, rr
+            if rj <= 0.0:
+                cool[c] = 0.0
+            elif j == 0:
+                status[c] |= 2
+            elif j + 1 < i:
+                cool[c] = _refine_max(x[j - 1], x[j], x[j + 1], _rate(x, T, v, j - 1, c), rj,
+                                      _rate(x, T, v, j + 1, c))[1]
+            else:
+                cool[c] = rj
+        if T[0, c] > thr or T[n - 1, c] > thr:
+            status[c] |= 4
+            continue
+        length = 0.0                       # measure of {T > thr}, T linear between the samples
+        for r in range(n - 1):
+            g0, g1 = T[r, c] - thr, T[r + 1, c] - thr
+            if g0 > 0.0 and g1 > 0.0:
+                length += x[r + 1] - x[r]
+            elif (g0 > 0.0) != (g1 > 0.0):
+                length += (x[r + 1] - x[r]) * max(g0, g1) / abs(g1 - g0)
+        above[c] = length / v
+    return peak, where, cool, above, status
 
 
 def thermal_trace(x, z, temperature, speed: float, threshold: float) -> Trace:
@@ -180,41 +213,10 @@ def thermal_trace(x, z, temperature, speed: float, threshold: float) -> Trace:
         raise ValueError(f"speed must be > 0, got {speed!r} [m/s]")
     thr = float(threshold)
     nz = z.size
-    cols = np.arange(nz)
-    peak = np.full(nz, np.nan)
-    where = np.full(nz, np.nan)
-    cool = np.full(nz, np.nan)
-    above = np.full(nz, np.nan)
-    fmax, fmin = T.max(axis=0), T.min(axis=0)
-    flat = fmax == fmin                    # no heat reached this depth: the bulk temperature, no cooling
-    peak[flat], cool[flat] = fmax[flat], 0.0
-    above[flat & ~(fmax > thr)] = 0.0
-    i = np.argmax(T, axis=0)
-    edge = ~flat & ((i == 0) | (i == x.size - 1))
-    inner = ~flat & ~edge
-    short_peak = list(z[edge])
-    short_cool: list = []
-    if inner.any():
-        k = cols[inner]
-        where[k], peak[k] = _refine_max_columns(x, T, i[k], k)
-        rate = v * np.gradient(T[:, k], x, axis=0)            # V dT/dx; behind the peak only (x < x_peak)
-        behind = np.arange(x.size)[:, None] < i[k][None, :]
-        rate = np.where(behind, rate, -np.inf)
-        j = np.argmax(rate, axis=0)
-        rj = rate[j, np.arange(k.size)]
-        none = rj <= 0.0
-        at_end = ~none & (j == 0)
-        cool[k[none]] = 0.0
-        short_cool = list(z[k[at_end]])
-        ref = ~none & ~at_end & (j + 1 < i[k])
-        cool[k[~none & ~at_end & ~ref]] = rj[~none & ~at_end & ~ref]
-        if ref.any():
-            cool[k[ref]] = _refine_max_columns(x, rate, j[ref], np.flatnonzero(ref))[1]
-    ends_above = ~flat & ((T[0] > thr) | (T[-1] > thr))
-    short_above = list(z[(flat & (fmax > thr)) | ends_above])
-    fill = ~flat & ~ends_above
-    if fill.any():
-        above[fill] = _length_above_columns(x, T[:, fill], thr) / v
+    peak, where, cool, above, status = _trace_columns(x, np.ascontiguousarray(T), v, thr)
+    short_peak = list(z[(status & 1) != 0])
+    short_cool = list(z[(status & 2) != 0])
+    short_above = list(z[(status & 4) != 0])
     # heated depth: the deepest crossing of the peak profile through the threshold
     known_above = np.where(np.isfinite(peak), peak > thr, T.max(axis=0) > thr)   # a field max above T*: so is the peak
     unknown = ~np.isfinite(peak) & ~known_above
