@@ -401,3 +401,19 @@ def test_an_inaccurate_cell_names_its_worst_metric_when_the_headline_is_within_t
     assert "inaccurate" in text and "cooling rate 20" in text
     r.errors["cooling_rate"] = 0.001
     assert "cooling rate" not in cell(Verdict("green", "inaccurate", r, 0.005, 0.1)).text
+
+
+def test_a_finding_on_a_method_that_misses_names_the_failing_metric():
+    """"No level of fipy is within 5 % (worst 0.074 %)" contradicted itself when the headline was fine and the
+    cooling rate was not: the finding names the headline's worst error and the metric that fails."""
+    from types import SimpleNamespace
+    from railtherm.report.load import Run
+    from railtherm.report.verdict import Row, Verdict, findings
+    r = Run(scene="s", method="fipy", level=1, status="inaccurate")
+    r.errors = {"max_surface_temperature": 0.00074, "cooling_rate": 0.11}
+    r.references = {"max_surface_temperature": "analytic:moving-source", "cooling_rate": "analytic:moving-source"}
+    data = SimpleNamespace(tolerance=0.05, methods=["fipy"], runs=[r], stages=lambda *a: {})
+    row = Row("s", "scene-s", ["s"], "max_surface_temperature")
+    out = findings(data, [row], {("s", "fipy"): Verdict("fipy", "inaccurate", r, 0.00074, 0.5)})
+    miss = next(t for t in out if t.startswith("No level of fipy"))
+    assert "worst max. surface temperature error 0.074 %" in miss and "fipy: cooling rate 11 %" in miss, miss

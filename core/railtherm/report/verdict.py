@@ -287,7 +287,10 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
                 misses.append(f"On {where}, {who} miss the {tol_text} tolerance at every level for{at[3:]} "
                               f"(worst {pct(worst)}){tail}.")
             else:
-                misses.append(f"No level of {who} is within {tol_text} on {where} (worst {pct(worst)}){tail}.")
+                # the headline may be within the tolerance while another metric is not: name it
+                why = "; ".join(f"{v.method}: {w}" for v in bad for w in [_worst_other(v)] if w)
+                misses.append(f"No level of {who} is within {tol_text} on {where} (worst {what} error "
+                              f"{pct(worst)}{'; ' + why if why else ''}){tail}.")
         for v in vs:
             if v.status == "unverified":
                 rich = f"; Richardson estimate of its finest level's error {pct(v.richardson)}" \
