@@ -6,50 +6,35 @@ benchmarks/test_green_field_benchmark.py).
 With the field the 3-D block runs its moving-frame steady scheme on a grid that follows the trail (the
 uniform explicit grid of the patch-only ``auto`` run does not resolve the 0.16 mm thermal layer), so two
 ratios are measured: against the patch-only steady run (same scheme: the cost of the trail cells) and
-against the patch-only ``auto`` run (explicit). Measured (this machine, shared, 2 cores): patch only steady
-113 ms (49 x 24 x 54 cells), patch only auto/explicit 46 ms, field 894 ms (141 x 54 x 78 = 5.9e5 cells:
-x 3 along x for the trail, x 1.5 in depth, GMRES on the larger grid): ratio 7.9 (same scheme), 19 (auto).
+against the patch-only ``auto`` run (explicit). Measured (this machine, 2 cores, OPENBLAS_NUM_THREADS=1): first
+patch only steady 113 ms (49 x 24 x 54 cells), patch only auto/explicit 46 ms, field 894 ms (141 x 54 x 78 =
+5.9e5 cells: x 3 along x for the trail, x 1.5 in depth, GMRES on the larger grid): ratio 7.9 (same scheme), 19
+(auto); at load ~1 (session 4): steady 49 ms, auto 22 ms, field 263 ms: ratio 5.3 (same scheme), 12 (auto).
+The ratios are printed and recorded (``extra_info``), not asserted: timings are measured, never verdicts.
 Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_fdm_field_benchmark.py -m benchmark
 --benchmark-enable -p no:cacheprovider -s``.
 """
 from __future__ import annotations
 
-import time
-
 import pytest
 
 import railtherm
+from field_costs import A, best, scenes
 
-A = 5e-3
-MAT = railtherm.Material()
-V = 1000.0 * 2.0 * MAT.diffusivity / A
-BASE = dict(name="circle", speed=V, heat_source=dict(flux=1e9, shape="hertz", semi_axes=[A, A]), heat_partition=0.0,
-            outputs=["surface_temperature", "temperature", "max_surface_temperature"])
-FIELD = dict(BASE, field=dict(behind=12 * A, depth=3e-4, threshold=1000.0),
-             outputs=BASE["outputs"] + ["peak_temperature", "cooling_rate", "heated_depth", "time_above"])
+BASE, FIELD = scenes(1.0, 12 * A)
 LEVEL = 2
 
 
-def _best(scene, options=None, n=3):
-    railtherm.solve(scene, "fastsim-fdm", level=LEVEL, options=options)     # warm-up (numba, caches)
-    best = float("inf")
-    for _ in range(n):
-        t0 = time.perf_counter()
-        railtherm.solve(scene, "fastsim-fdm", level=LEVEL, options=options)
-        best = min(best, time.perf_counter() - t0)
-    return best
-
-
 @pytest.mark.benchmark
-def test_extended_field_cost_ratio():
-    """Measured ratios (printed): 7.9 against the steady patch-only run; bound 15 (shared machine)."""
-    steady = _best(BASE, {"scheme": "steady"})
-    auto = _best(BASE)
-    field = _best(FIELD)
+def test_extended_field_cost_ratio(benchmark):
+    steady = best(BASE, "fastsim-fdm", LEVEL, options={"scheme": "steady"})
+    auto = best(BASE, "fastsim-fdm", LEVEL)
+    field = benchmark.pedantic(best, args=(FIELD, "fastsim-fdm", LEVEL), rounds=1, iterations=1)
     print(f"fdm patch only steady {steady * 1e3:.0f} ms, patch only auto (explicit) {auto * 1e3:.0f} ms, "
           f"field 12a x 0.3 mm {field * 1e3:.0f} ms: ratio {field / steady:.2f} (same scheme), "
           f"{field / auto:.2f} (auto)")
-    assert field < 15 * steady
+    benchmark.extra_info.update(patch_steady_s=steady, patch_auto_s=auto, field_s=field,
+                                ratio_same_scheme=field / steady, ratio_auto=field / auto)
 
 
 @pytest.mark.benchmark
