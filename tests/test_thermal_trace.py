@@ -176,7 +176,8 @@ def test_cooling_rate_metric_scores_the_resolvable_depths_only():
     over less than a/16 of travel; the exact rate grows like log(1/z) there): what a run reports there does not
     change the metric, what it reports deeper does; every other trace metric still scores every depth."""
     from railtherm.analysis.analytic import reference_values
-    from railtherm.analysis.metrics import COOLING_TRAVEL, cooling_rate_depth, run_errors
+    from railtherm.analysis.metrics import run_errors
+    from railtherm.analysis.trace_metrics import COOLING_TRAVEL, cooling_rate_depth
     sc = _band_metric_scene()
     z_c = cooling_rate_depth(sc, A)
     assert COOLING_TRAVEL == 1.0 / 16.0
@@ -202,7 +203,7 @@ def test_cooling_rate_metric_scores_the_resolvable_depths_only():
 
 def test_cooling_rate_metric_converges_at_second_order_for_green():
     """On the resolvable depths green's cooling-rate error against Jaeger's band falls at second order
-    (levels 1-3; measured 2.5 on trace-band, see metrics.COOLING_TRAVEL) and is below 0.1 % at level 3. At
+    (levels 1-3; measured 2.5 on trace-band, see trace_metrics.COOLING_TRAVEL) and is below 0.1 % at level 3. At
     Pe 6000: at Pe 1000 the strip model's own error (no conduction along x) is 0.2 % of the rate at the
     shallowest scored depth, where levels 3 and 4 level off (measured 0.17 and 0.21 %)."""
     from railtherm.analysis.analytic import reference_values
