@@ -94,6 +94,7 @@ def _field_depth(scene, default: float) -> float:
 def _trace(scene) -> tuple[dict, dict, list[str]]:
     """The exact thermal trace of a scene with ``field`` (see the module docstring)."""
     from .analytic import _depth_rise, _surface_rise, _thermal_case, trace_reference
+    from .trace_metrics import cooling_rate_depth
     fld = getattr(scene, "field", None)
     case = _thermal_case(scene) if fld is not None else None
     if case is None:
@@ -130,6 +131,9 @@ def _trace(scene) -> tuple[dict, dict, list[str]]:
         "trace_heated_depth": (("body",), np.asarray(tr["heated_depth"], float),
                                {"units": "m", **ref, "long_name": "depth where the peak falls through the threshold"}),
         "trace_threshold": ((), float(fld.threshold), {**_TEMPERATURE, "long_name": "threshold (field.threshold)"}),
+        "trace_cooling_depth": (("body",), cooling_rate_depth(scene, a),
+                                {"units": "m", "long_name": "shallowest depth at which metrics.nc scores the "
+                                 "cooling rate (analysis.trace_metrics.cooling_rate_depth)"}),
         "trace_depth": ((), zh, {"units": "m", "long_name": "depth z* of trace_temperature", "body": hot}),
         "trace_depth_peak_temperature": (("body",), np.asarray(star["peak_temperature"], float)[:, 0],
                                          {**_TEMPERATURE, **ref, "long_name": "peak temperature at depth trace_depth"}),

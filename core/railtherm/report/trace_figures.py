@@ -122,6 +122,10 @@ def in_depth(finest: dict, curve, body: int, palette: Palette, title: str, *, pa
     if 0 < hd < math.inf:
         for ax in (ax2, ax3):
             ax.axhline(hd * MM, color="0.3", ls="--", lw=0.8)
+    if "trace_cooling_depth" in curve:          # the depths metrics.nc does not score (log-singular rate)
+        zc = float(curve["trace_cooling_depth"].values[body])
+        if zc > 0:
+            ax3.axhspan(0.0, zc * MM, color="0.85", alpha=0.6, lw=0)
     rates = np.asarray(curve["trace_cooling_rate"].values[body], float)
     if np.any(rates > 0):
         ax3.set_xscale("log")
@@ -132,7 +136,8 @@ def in_depth(finest: dict, curve, body: int, palette: Palette, title: str, *, pa
     ax2.set_xlabel("peak temperature [°C]")
     ax2.set_title(f"peak over the pass (dotted: {thr:g} °C;\ndashed: exact depth of that isotherm)", fontsize=9)
     ax3.set_xlabel("cooling rate after the peak [K/s]")
-    ax3.set_title("fastest cooling after the peak", fontsize=9)
+    ax3.set_title("fastest cooling after the peak\n(shaded: not scored, z < √(κa/4V))"
+                  if "trace_cooling_depth" in curve else "fastest cooling after the peak", fontsize=9)
     for ax in (ax1, ax2, ax3):
         ax.grid(True, alpha=0.3)
     _legend(fig, handles)
