@@ -417,3 +417,22 @@ def test_a_finding_on_a_method_that_misses_names_the_failing_metric():
     out = findings(data, [row], {("s", "fipy"): Verdict("fipy", "inaccurate", r, 0.00074, 0.5)})
     miss = next(t for t in out if t.startswith("No level of fipy"))
     assert "worst max. surface temperature error 0.074 %" in miss and "fipy: cooling rate 11 %" in miss, miss
+
+
+def test_a_finding_credits_the_model_that_ran_on_a_given_heat_source():
+    """On a scene with a given heat source only a chain's temperature stage runs: "kalker reaches 0.12 %" would
+    credit a contact model that never ran, so the finding names the temperature model."""
+    from types import SimpleNamespace
+    from railtherm.report.load import Run
+    from railtherm.report.verdict import Row, Verdict, acting, findings
+    stages = {"kalker": {"heat_source": "given", "temperature": "green"},
+              "fipy": {"heat_source": "given", "temperature": "fipy"}}
+    runs = [Run(scene="s", method=m, level=1, status="ok") for m in stages]
+    data = SimpleNamespace(tolerance=0.05, methods=list(stages), runs=runs, stages=lambda sc, m: stages[m])
+    assert acting(data, "s", "fipy") == "fipy"
+    assert acting(data, "s", "kalker") == "kalker (green's temperatures; the heat source is given)"
+    cards = {("s", "kalker"): Verdict("kalker", "ok", runs[0], 0.0012, 0.0019),
+             ("s", "fipy"): Verdict("fipy", "ok", runs[1], 0.0002, 1.1)}
+    out = findings(data, [Row("s", "scene-s", ["s"], "max_surface_temperature")], cards)
+    assert any(t.startswith("For `s` (max. surface temperature), kalker (green's temperatures; the heat source is "
+                            "given) reaches 0.12 % error") and "; fipy needs" in t for t in out), out

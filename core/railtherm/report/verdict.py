@@ -244,6 +244,17 @@ def _names(items: list[str]) -> str:
     return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
 
 
+def acting(data, scene: str, method: str) -> str:
+    """The method's name in a sentence about ``scene``, with the model that did the work when only its
+    temperature stage ran (a given heat source: "kalker (green's temperatures; the heat source is given)"),
+    so that a finding does not credit a contact model that did not run."""
+    stages = data.stages(scene, method)
+    model = stages.get("temperature", "")
+    if stages.get("heat_source") == "given" and model and model != method:
+        return f"{method} ({model}'s temperatures; the heat source is given)"
+    return method
+
+
 def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5) -> list[str]:
     """3-5 sentences computed from the metrics: who is fastest at the tolerance, what misses it, what is
     unverified, what failed."""
@@ -259,13 +270,15 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
             fast, slow = ok[0], ok[-1]
             ratio = slow.time / fast.time if fast.time > 0 else math.inf
             pre = "≤" if row.group else ""
-            text = (f"For {where} ({what}), {fast.method} reaches {pre}{pct(fast.error)} error in {pre}"
-                    f"{duration(fast.time)}; {slow.method} needs {pre}{duration(slow.time)} for {pre}{pct(slow.error)}"
+            text = (f"For {where} ({what}), {acting(data, row.scenes[0], fast.method)} reaches {pre}{pct(fast.error)} "
+                    f"error in {pre}{duration(fast.time)}; {acting(data, row.scenes[0], slow.method)} needs "
+                    f"{pre}{duration(slow.time)} for {pre}{pct(slow.error)}"
                     + (f" ({ratio:.0f}× slower)." if ratio >= 10 else "."))
             compare.append((ratio, text, (fast.method, slow.method)))
         elif len(ok) == 1 and len([v for v in vs if v.status != "none"]) > 1:
             v = ok[0]
-            compare.append((0.0, f"For {where} ({what}), only {v.method} is within {tol_text}: {pct(v.error)} "
+            compare.append((0.0, f"For {where} ({what}), only {acting(data, row.scenes[0], v.method)} is within "
+                                 f"{tol_text}: {pct(v.error)} "
                                  f"in {duration(v.time)}.", (v.method,)))
         bad = [v for v in vs if v.status == "inaccurate"]
         if bad:
