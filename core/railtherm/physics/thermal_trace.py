@@ -23,11 +23,12 @@ temperature is above T*.
 
 Discretisation: values are sampled at the field's x nodes (cell centres); maxima are refined by the
 parabola through the largest sample and its two neighbours, dT/dx is taken by second-order central
-differences (:func:`numpy.gradient`), crossings of T* by linear interpolation in x, and the heated
-depth by linear interpolation of the peak between the two depths that bracket T*. Each of these is
-second order in the spacing for a smooth field (tests/test_thermal_trace.py fits the orders against
-the exact moving-source references); a kink of the field (the surface temperature of a uniform flux
-at the trailing edge, where the exact cooling rate is infinite) lowers them.
+differences (:func:`numpy.gradient`'s formula on a non-uniform x), crossings of T* by linear
+interpolation in x, and the heated depth by linear interpolation of the peak between the two depths
+that bracket T*. Each of these is second order in the spacing for a smooth field
+(tests/test_thermal_trace.py fits the orders against the exact moving-source references); a kink of
+the field (the surface temperature of a uniform flux at the trailing edge, where the exact cooling
+rate is infinite) lowers them. All depths are done in one compiled pass (:func:`_trace_columns`).
 
 One implementation for every method: a temperature model calls :func:`with_thermal_trace` on its
 :class:`railtherm.TemperatureField`.
