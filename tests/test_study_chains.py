@@ -92,3 +92,22 @@ def test_bad_study_chains_name_the_key(needs_green_fastsim, tmp_path, table, key
     with pytest.raises(SceneError) as err:
         railtherm.run_study(railtherm.load_study(path), tmp_path / "out", report=False)
     assert err.value.key == key
+
+
+def test_a_chains_run_hash_changes_with_its_plugins_versions(needs_green_fastsim, monkeypatch):
+    """``--resume`` re-runs a study's chain when a plugin whose model it runs has a new version."""
+    import dataclasses
+
+    from railtherm.input.scene import load_scene
+    from railtherm.run.runner import code_versions, run_hash
+    sc = load_scene(canonical("ellipse-creepage"))
+    chain = {"name": "c", "normal": ("hertz",), "tangential": ("fastsim",), "temperature": ("green",)}
+    before = run_hash(sc, chain, 0, {})
+    host = get_host()
+    for model in ("fastsim", "green"):
+        info = host.models[model]
+        assert f"{info.plugin} {info.version} {model}" in code_versions(chain)
+        with monkeypatch.context() as mp:
+            mp.setitem(host.models, model, dataclasses.replace(info, version=info.version + ".post1"))
+            assert run_hash(sc, chain, 0, {}) != before, model
+    assert run_hash(sc, chain, 0, {}) == before

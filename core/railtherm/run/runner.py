@@ -108,12 +108,14 @@ class RunTask:
         return _existing(self, same_invocation=same_invocation)
 
 
-def code_versions(method: str) -> str:
-    """railtherm's version and the versions of the plugins behind ``method`` (name and models)."""
+def code_versions(method: "str | Mapping[str, Any]") -> str:
+    """railtherm's version and the versions of the plugins behind ``method``: a registered method's name,
+    or a study's chain of stage models (``{"name": ..., "normal": "kalker", ...}``), whose every
+    candidate model is named with its plugin's version, so that a new plugin version re-runs the chain."""
     from .._version import __version__
     from ..solving.plugins import get_host
     try:
-        mi = get_host().method(method)
+        mi = get_host().resolve(method)
     except SceneError:
         return f"railtherm {__version__}"
     parts = {f"{mi.plugin} {mi.version}"} | {f"{m.plugin} {m.version} {c.name} {c.version or ''}"
@@ -125,9 +127,8 @@ def run_hash(scene: Scene, method: "str | Mapping[str, Any]", level: int, option
     """Hash [hex] of the scene, method (a name, or a study's chain with its stage models), level,
     method options and code versions of one run."""
     import hashlib
-    name = method["name"] if isinstance(method, Mapping) else method
     doc = {"scene": scene.hash, "method": method if isinstance(method, str) else dict(method), "level": int(level),
-           "options": {k: options[k] for k in sorted(options)}, "versions": code_versions(name)}
+           "options": {k: options[k] for k in sorted(options)}, "versions": code_versions(method)}
     return hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
