@@ -168,3 +168,29 @@ def test_temperature_friction_has_no_closed_form_reference():
     assert uniform_friction(load_scene(scene(TEMP))) is None
     assert uniform_friction(load_scene(scene(SLIP, sliding_speed=0.5))) == pytest.approx(0.18 + 0.18 * math.exp(-1))
     assert uniform_friction(load_scene(scene(0.25))) == 0.25
+
+
+def test_slip_law_iteration_past_its_step_limit_raises_solver_error_and_too_steep_refuses():
+    """core's outer iteration (shared by kalker and the FEM): a contraction kappa < 1 that has not met the
+    tolerance after max_outer steps did not converge (SolverError: a failed run); kappa >= 1 is outside the
+    law's validity (Refused, kind validity)."""
+    from railtherm.contract.errors import SolverError
+    from railtherm.physics.friction import iterate_slip_law
+    law = SlipVelocityFriction(static=0.36, kinetic=0.18, decay=0.5)
+    inside = np.ones(3, dtype=bool)
+
+    def slip(mu):          # a linear slip response: v = 10 (0.4 - mu) m/s per cell, mu of the last solve
+        return 10.0 * (0.4 - np.asarray(mu))
+
+    def run(kappa, max_outer):
+        return iterate_slip_law(law, lambda mu, prev: mu, slip, (3,), lambda sol: (kappa, inside), model="m",
+                                speed=30.0, max_outer=max_outer)
+
+    sol, mu, history, _ = run(0.5, 60)            # converges: mu reproduces the law within the tolerance
+    assert history[-1] < 1e-5 and np.allclose(mu, law.mu(slip(mu)), atol=1e-5)
+    with pytest.raises(SolverError, match="did not converge in 2 steps") as err:
+        run(0.5, 2)
+    assert not isinstance(err.value, Refused)
+    with pytest.raises(Refused, match="falls too steeply") as err:
+        run(1.5, 60)
+    assert err.value.kind == "validity"

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import railtherm
-from railtherm.contract.errors import Refused
+from railtherm.contract.errors import Refused, SolverError
 
 SLIP = {"law": "slip-velocity", "static": 0.36, "kinetic": 0.18, "decay": 0.5}
 TEMP = {"law": "temperature", "reference": 0.3, "reference_temperature": 0.0, "change": -0.15, "over": 400.0}
@@ -73,6 +73,18 @@ def test_slip_iteration_is_monotone_and_converges_where_the_law_falls_steeply():
 def test_slip_law_too_steep_is_refused_naming_the_limit():
     with pytest.raises(Refused, match=r"falls too steeply.*>= 1"):
         solve({**SLIP, "decay": 0.002}, {"longitudinal": -5e-3})
+
+
+def test_slip_iteration_that_does_not_converge_is_a_failed_run_not_a_refusal(monkeypatch):
+    """kappa < 1 (inside the law's validity) but the outer iteration stopped before its tolerance: a solver
+    that did not converge, recorded as failed (not-converged), never refused (docs/verdicts.md)."""
+    import railtherm_kalker.friction_laws as fl
+    from railtherm.run.runner import _failure
+    monkeypatch.setattr(fl, "MAX_OUTER", 2)     # the steep law below needs more than 2 steps
+    with pytest.raises(SolverError, match="did not converge in 2 steps") as err:
+        solve({**SLIP, "decay": 0.05}, {"longitudinal": -5e-3})
+    assert not isinstance(err.value, Refused)
+    assert _failure(err.value, 60.0)[:2] == ("failed", "not-converged")
 
 
 def test_reversing_all_creepages_reverses_all_forces_under_a_slip_law():

@@ -11,7 +11,9 @@ declines every scene without a wheelset.
 """
 from __future__ import annotations
 
-from railtherm import Capabilities, ContactPatch, NormalContactModel, Refused
+import numpy as np
+
+from railtherm import Capabilities, ContactPatch, NormalContactModel, Refused, SolverError
 from railtherm.physics import hertz_patch, hertz_pressure_grid, rescale_hertz_patch
 
 from .tangential import FASTSIM_OPTIONS
@@ -55,7 +57,9 @@ class WheelsetNormal(NormalContactModel):
         contact = int(getattr(scene.wheelset, "contact", 1))
         try:
             xi, eta, phi, n1, sol = scene_wheelset_contact(scene, base, contact, **fs_opts)
-        except ValueError as exc:
+        except np.linalg.LinAlgError as exc:   # the equilibrium's linear solve broke down: a solver failure
+            raise SolverError(f"model 'wheelset': the wheelset equilibrium's normal-force solve failed: {exc}") from exc
+        except ValueError as exc:               # no equilibrium contact for these inputs (e.g. both bodies rigid)
             raise Refused(f"model 'wheelset': {exc}") from exc
         scaling = "semi_axes" if getattr(scene, "semi_axes", None) is not None else "curvatures"
         a1, b1, p01 = rescale_hertz_patch(n1, base.normal_force, base.a, base.b, scaling)

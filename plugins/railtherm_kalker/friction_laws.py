@@ -59,8 +59,9 @@ def solve_with_law(scene, patch, solve, self_coefficient: float, speed: float):
     Raises
     ------
     railtherm.Refused
-        (validity) when the slip law falls too steeply (kappa >= 1) or does not converge
-        (:func:`railtherm.physics.friction.iterate_slip_law`).
+        (validity) when the slip law falls too steeply (kappa >= 1).
+    railtherm.SolverError
+        When the slip-law iteration does not converge (:func:`railtherm.physics.friction.iterate_slip_law`).
     """
     law = scene.friction_law
     p = np.clip(np.asarray(patch.pressure, dtype=float), 0.0, None)

@@ -273,7 +273,7 @@ def local_friction(scene, patch, slip_speed=0.0) -> np.ndarray:
 
 #: the slip-velocity outer iteration stops when mu changes by less than this over the contact [1]
 SLIP_MU_TOLERANCE = 1e-5
-#: ... and is refused after this many steps (not converged)
+#: ... and fails after this many steps (not converged: a failed run, :class:`railtherm.SolverError`)
 SLIP_MAX_OUTER = 60
 
 
@@ -286,7 +286,9 @@ def iterate_slip_law(law: FrictionLaw, solve, slip_speed, shape, kappa_of, *, mo
     falls with slip), so the iteration started at the law's maximum (mu at zero slip) decreases
     monotonically to the largest fixed point, the solution of least slip. It contracts at the rate kappa =
     max |dmu/dv| p V s_self (the law's slope against the slip a cell's own traction drives,
-    :func:`contraction_limit`); kappa >= 1 (no unique local solution) is refused. Used by the exact
+    :func:`contraction_limit`); kappa >= 1 (no unique local solution: outside the model's validity) is
+    refused before the iteration goes on; an iteration with kappa < 1 that has not met ``tol`` after
+    ``max_outer`` steps is a solver that did not converge, a failed run. Used by the exact
     (``kalker``) and the FEM tangential problems; FASTSIM solves its local equation in its sweep.
 
     Parameters
@@ -308,7 +310,7 @@ def iterate_slip_law(law: FrictionLaw, solve, slip_speed, shape, kappa_of, *, mo
     speed : float
         Rolling speed V [m/s] (the refusal says which speed would work).
     tol, max_outer : float, int
-        Stop when max |mu_{k+1} - mu_k| over the contact < ``tol`` [1]; refuse after ``max_outer`` steps.
+        Stop when max |mu_{k+1} - mu_k| over the contact < ``tol`` [1]; fail after ``max_outer`` steps.
 
     Returns
     -------
@@ -319,9 +321,11 @@ def iterate_slip_law(law: FrictionLaw, solve, slip_speed, shape, kappa_of, *, mo
     Raises
     ------
     railtherm.Refused
-        (validity) kappa >= 1, or no convergence in ``max_outer`` steps.
+        (validity) kappa >= 1.
+    railtherm.SolverError
+        No convergence in ``max_outer`` steps (the run is ``failed``, reason not-converged).
     """
-    from ..contract.errors import Refused
+    from ..contract.errors import Refused, SolverError
     mu = np.full(shape, float(law.mu(0.0)))
     sol, kappa, inside, history = None, None, None, []
     for _ in range(max_outer):
@@ -342,5 +346,5 @@ def iterate_slip_law(law: FrictionLaw, solve, slip_speed, shape, kappa_of, *, mo
         if change < tol:
             return sol, mu, history, kappa
         mu = new
-    raise Refused(f"model {model!r}: the slip-velocity friction iteration did not converge in {max_outer} steps "
-                  f"(last change of mu {history[-1]:.2e}, tolerance {tol:g}; kappa = {kappa:.3g})", kind="validity")
+    raise SolverError(f"model {model!r}: the slip-velocity friction iteration did not converge in {max_outer} "
+                      f"steps (last change of mu {history[-1]:.2e}, tolerance {tol:g}; kappa = {kappa:.3g})")
