@@ -419,7 +419,7 @@ def test_real_method_bit_for_bit_on_every_executor(green_host, tmp_path):
     study.write_text(GREEN)
     ref = railtherm.run_study(study, tmp_path / "serial", report=False)
     assert ref.sizes["run"] == 3 and set(ref["status"].values) <= RAN, list(ref["message"].values)
-    for executor in ("processes", "dask"):
+    for executor in ("processes", "dask", "auto"):
         out = tmp_path / executor
         m = railtherm.run_study(study, out, executor=executor, workers=2, report=False)
         assert list(m["status"].values) == list(ref["status"].values), executor
@@ -430,7 +430,8 @@ def test_real_method_bit_for_bit_on_every_executor(green_host, tmp_path):
 
 def test_a_sweep_takes_exactly_repeat_solves(green_host, tmp_path):
     """warmup = false (a sweep): repeat = 1 means the result's own solve is its timing, no extra solves
-    (the 10k sweep's wall time is its solves); a verification study (warmup = true) keeps at least 3."""
+    (the 10k sweep's wall time is its solves); a verification study (warmup = true) repeats a short
+    solve (green level 0: milliseconds) up to ``repeat`` = 3 times."""
     import xarray as xr
     text = """
 schema_version = 1
@@ -451,9 +452,9 @@ friction = 0.3
 outputs = ["max_surface_temperature"]
 """
     counts = {}
-    for warmup in ("false", "true"):
+    for warmup, repeat in (("false", 1), ("true", 3)):
         p = tmp_path / f"s-{warmup}.toml"
-        p.write_text(text.format(repeat=1, warmup=warmup))
+        p.write_text(text.format(repeat=repeat, warmup=warmup))
         out = tmp_path / f"out-{warmup}"
         railtherm.run_study(p, out=out)
         m = xr.open_dataset(out / "metrics.nc")

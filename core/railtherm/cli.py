@@ -45,7 +45,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--out", default=None, help="output folder (default: out/<study name>)")
     r.add_argument("--methods", default=None, help="comma-separated methods (default: the study's)")
     r.add_argument("--levels", type=_levels, default=None, help="comma-separated levels (default: the study's)")
-    r.add_argument("--executor", choices=("serial", "processes", "dask"), default="serial")
+    r.add_argument("--executor", choices=("auto", "serial", "processes", "dask"), default="auto",
+                   help="auto (default): local worker processes, one per core; serial: this process")
     r.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (with --executor dask)")
     r.add_argument("--workers", type=int, default=None, help="local workers >= 1 (processes / LocalCluster)")
     r.add_argument("--resume", action="store_true", help="skip runs already written for the same scene hash")

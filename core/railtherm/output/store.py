@@ -405,7 +405,7 @@ class RunRecord:
     status: str
     message: str = ""
     wall_time: float = float("nan")
-    #: peak resident set size of the process during one untimed solve [bytes] (absolute)
+    #: peak resident set size of the process during the run's first timed solve [bytes] (absolute)
     peak_rss: float = float("nan")
     #: growth of the resident set during that solve [bytes]
     rss_growth: float = float("nan")
@@ -416,6 +416,9 @@ class RunRecord:
     run_hash: str = ""
     #: median of the timed solves [s]
     wall_time_median: float = float("nan")
+    #: the first timed solve [s]: a cache a model keeps per scene (e.g. a factorisation) is cold in it
+    #: unless the process's warm-up solved the same scene and level
+    wall_time_cold: float = float("nan")
     #: refused: "validity" | "budget"; failed: "error" | "not-converged" | "timeout" | "invalid-input"
     reason_kind: str = ""
     #: solver diagnostics of the result (global attributes ``<model>_converged`` etc.)

@@ -1,4 +1,4 @@
-"""Executors of study runs: serial (default), local processes, dask.distributed.
+"""Executors of study runs: serial, local processes (the command line's default), dask.distributed.
 
 Every executor calls the same :func:`railtherm.runner.execute_run` on each task and yields
 ``(index, record)`` pairs as runs finish, so the results are identical bit for bit whichever runs
@@ -37,7 +37,7 @@ from typing import Callable, Iterator
 
 from ..output import store
 
-EXECUTORS = ("serial", "processes", "dask")
+EXECUTORS = ("auto", "serial", "processes", "dask")
 
 #: seconds a run may overrun its time limit before its worker process is ended
 GRACE = 10.0
@@ -437,11 +437,29 @@ class DaskExecutor:
                 cluster.close()
 
 
+def resolve_executor(name: str, workers: int | None, n_tasks: int) -> tuple[str, int]:
+    """The executor and the number of workers a study of ``n_tasks`` tasks runs with.
+
+    ``"auto"`` (the command line's default): local worker processes, one per core (``workers`` if
+    given), at most one per task; serial when that makes one. ``"processes"`` likewise never starts
+    more workers than tasks. The count is what shared the machine while runs were timed.
+    """
+    cores = os.cpu_count() or 1
+    if name in ("auto", "processes"):
+        n = max(1, min(workers or cores, max(1, n_tasks)))
+        return ("serial", 1) if name == "auto" and n == 1 else ("processes", n)
+    if name == "dask":
+        return name, int(workers or cores)
+    return name, 1
+
+
 def get_executor(name: str, *, scheduler: str | None = None, workers: int | None = None):
-    """The executor called ``name`` ("serial", "processes" or "dask")."""
+    """The executor called ``name`` ("serial", "processes" or "dask"; "auto": :func:`resolve_executor`)."""
     from ..contract.errors import SceneError
     if scheduler and name != "dask":
         raise SceneError.bad_value(None, "scheduler", scheduler, "an address only with executor 'dask'")
+    if name == "auto":
+        name, workers = resolve_executor(name, workers, 2)
     if name == "serial":
         return SerialExecutor()
     if name == "processes":

@@ -13,12 +13,10 @@ Every invocation of :func:`run_tasks` has a ``run_id``; each file and status rec
 ``run_id`` that wrote it. A run that is executed again within the same invocation (its worker died
 after writing but before reporting back) finds its own result and does not write it again.
 
-Timing and memory (see :func:`execute_run`): an untimed warm-up of the same code path, then the
-best (and median) of at least 3 timed solves (2 for solves over 2 s), then a separate solve whose
-process peak resident set size and its growth are the memory (:class:`RSSPeak`; native allocations included). Sweeps
-(``warmup = false``) warm up once per method and level in each process, time exactly ``repeat`` solves
-and measure the memory of one run in :data:`MEMORY_SAMPLE`. ``--resume`` compares the run hash (scene, method, level,
-options and code versions, :func:`run_hash`), not the scene alone.
+Timing and memory (see :func:`execute_run`): one untimed warm-up per method and process, then the
+result's own solve, timed, with the process's peak memory read in it (:class:`RSSPeak`), repeated only
+while short (:func:`more_solves`). ``--resume`` compares the run hash (scene, method, level, options and
+code versions, :func:`run_hash`), not the scene alone.
 
 Statuses written here are ``ok`` (ran and converged: metrics then decides ok, inaccurate or
 unverified), ``refused`` (with ``reason_kind`` validity or budget) and ``failed`` (``reason_kind``
@@ -77,8 +75,10 @@ class RunTask:
     #: id of the study invocation that runs this task, and when it started (set by :func:`run_tasks`)
     run_id: str = ""
     run_started: float = 0.0
-    #: measure peak memory when ``warmup`` is false (a sample of the runs)
+    #: measure peak memory where it costs a separate solve (no ``VmHWM``: a sample of a sweep's runs)
     trace_memory: bool = True
+    #: the level the per-process warm-up solves (the study's coarsest)
+    warmup_level: int = 0
     #: the stage models of a chain the study composes (``[study.chains.<method>]``); None: a registered method
     chain: dict | None = None
 
@@ -210,7 +210,7 @@ def _existing(task: RunTask, *, same_invocation: bool = False) -> RunRecord | No
     return None
 
 
-#: (method, level) solved at least once in this process (their modules and kernels are loaded)
+#: methods solved at least once in this process (their modules and kernels are loaded)
 _WARM: set = set()
 
 
@@ -245,6 +245,18 @@ class RSSPeak:
     def __init__(self):
         self.peak = math.nan
         self.growth = math.nan
+
+    @staticmethod
+    def native() -> bool:
+        """True where the kernel's high-water mark can be reset and read (Linux): no sampling thread,
+        so the memory can be measured in a timed solve without perturbing it."""
+        try:
+            with open("/proc/self/clear_refs", "w") as fh:
+                fh.write("5")
+            RSSPeak._status("VmHWM")
+            return True
+        except OSError:
+            return False
 
     @staticmethod
     def _status(key: str) -> float:
@@ -297,9 +309,39 @@ class RSSPeak:
         return False
 
 
-def timed_solves(first: float) -> int:
-    """How many timed solves a run gets after its warm-up: 3 under 2 s, else 2."""
-    return 3 if first < 2.0 else 2
+#: seconds of timed solving after which a run stops repeating its solve (at most ``repeat`` solves)
+TIMING_BUDGET = 0.5
+
+
+def more_solves(times: list[float], repeat: int, adaptive: bool) -> bool:
+    """Whether a run times one more solve, given its timed solves so far ``times`` [s].
+
+    A verification study (``adaptive``) repeats a solve only while it is short: until about
+    :data:`TIMING_BUDGET` seconds of timing are collected, at most ``repeat`` solves; a solve over
+    0.5 s is timed once (the result's own solve). A sweep (not ``adaptive``) takes exactly ``repeat``.
+    """
+    if len(times) >= max(1, repeat):
+        return False
+    return sum(times) < TIMING_BUDGET if adaptive else True
+
+
+@contextlib.contextmanager
+def compile_watch():
+    """Yield a list that holds, after the block, the numba compilations that happened inside it.
+
+    A timed solve that compiled (a kernel the warm-up did not reach, e.g. another scheme at a finer
+    level) is not a timing: :func:`_solve_timed` solves once more. Loading a kernel from numba's
+    on-disk cache is not a compilation (milliseconds).
+    """
+    events: list = []
+    try:
+        from numba.core import event
+    except ImportError:  # pragma: no cover - numba is a dependency; plugins need not use it
+        yield events
+        return
+    with event.install_recorder("numba:compile") as rec:
+        yield events
+    events.extend(rec.buffer)
 
 
 def _failure(exc: BaseException, timeout: float) -> tuple[str, str, str]:
@@ -320,46 +362,77 @@ def _failure(exc: BaseException, timeout: float) -> tuple[str, str, str]:
     return "failed", "error", f"{type(exc).__name__}: {exc}{where}"
 
 
-def _solve_timed(task: RunTask, rec: RunRecord, phases: dict, t_begin: float):
-    """Warm up, solve, repeat, measure memory (:func:`execute_run`); fill ``rec`` and return the result."""
+def _warm_up(task: RunTask) -> float:
+    """Once per method and process: an untimed solve of the study's coarsest level of this scene.
+
+    Imports, numba compilation (or loading from its disk cache) and first-touch costs fall here, not
+    in a timed solve. A warm-up that raises is ignored (the run's own solve reports its problem).
+    Returns the time it took [s] (0 when the method was already warm).
+    """
     from ..solving.pipeline import solve
+    if task.method in _WARM:
+        return 0.0
+    t0 = time.perf_counter()
+    try:
+        solve(task.scene, task.spec, task.warmup_level, task.options, validate=False)
+    except Exception:  # noqa: BLE001 - the timed solve raises it again if it concerns this run
+        pass
+    _WARM.add(task.method)
+    return time.perf_counter() - t0
+
+
+def _measured_solve(task: RunTask, validate: bool, memory: bool):
+    """One solve, its wall time [s] (the solve's own ``wall_time``), whether numba compiled during it,
+    and the process's memory during it (:class:`RSSPeak`, or None)."""
+    from ..solving.pipeline import solve
+    mem = RSSPeak() if memory else contextlib.nullcontext()
+    with compile_watch() as compiled, mem:
+        ds = solve(task.scene, task.spec, task.level, task.options, validate=validate)
+    return ds, float(ds.attrs["wall_time"]), bool(compiled), (mem if memory else None)
+
+
+def _solve_timed(task: RunTask, rec: RunRecord, phases: dict, t_begin: float):
+    """Warm up once per method, solve, repeat while short, measure memory (:func:`execute_run`);
+    fill ``rec`` and return the result."""
     from ..contract.schema import history_line
 
+    hwm = RSSPeak.native()  # memory read in the timed solve itself (Linux); else a separate solve
     with _time_limit(task.timeout):
+        phases["warmup"] = _warm_up(task)
         t0 = time.perf_counter()
-        key = (task.method, task.level)
-        if task.warmup or key not in _WARM:
-            # untimed warm-up of the same code path: imports, numba compilation, caches
-            solve(task.scene, task.spec, task.level, task.options, validate=False)
-        _WARM.add(key)
-        phases["warmup"] = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        ds = solve(task.scene, task.spec, task.level, task.options)
+        ds, first, compiled, mem = _measured_solve(task, True, hwm)
         phases["solve"] = time.perf_counter() - t0
-        phases["compute"] = float(ds.attrs["wall_time"])
-        times = [float(ds.attrs["wall_time"])]
+        phases["compute"] = first
+        times, recompiled = ([] if compiled else [first]), int(compiled)
+        mem = None if compiled else mem
         t1 = time.perf_counter()
-        # a sweep (no warm-up per run) takes exactly `repeat` solves: the result's solve is its timing
-        n = max(task.repeat, timed_solves(times[0])) if task.warmup else max(1, task.repeat)
         budget = max(0.0, task.timeout - (time.perf_counter() - t_begin)) / 2
-        while len(times) < n and sum(times) + times[0] < budget:
-            again = solve(task.scene, task.spec, task.level, task.options, validate=False)
-            times.append(float(again.attrs["wall_time"]))
+        while (not times or more_solves(times, task.repeat, task.warmup)) and sum(times) + first < budget:
+            _, t, compiled, again = _measured_solve(task, False, hwm and mem is None)
+            mem = again if again is not None and not compiled else mem
+            if compiled:  # compilation is never a timing
+                recompiled += 1
+                if recompiled > 2:
+                    break
+                continue
+            times.append(t)
         phases["repeats"] = time.perf_counter() - t1
-        if task.trace_memory:
+        if task.trace_memory and not hwm:
             t2 = time.perf_counter()
-            with RSSPeak() as mem:
-                solve(task.scene, task.spec, task.level, task.options, validate=False)
-            rec.peak_rss, rec.rss_growth = mem.peak, mem.growth
+            _, _, _, mem = _measured_solve(task, False, True)
             phases["memory"] = time.perf_counter() - t2
-    rec.wall_time = min(times)
-    rec.wall_time_median = float(np.median(times))
+    times = times or [first]
+    if mem is not None:
+        rec.peak_rss, rec.rss_growth = mem.peak, mem.growth
+    rec.wall_time, rec.wall_time_median, rec.wall_time_cold = min(times), float(np.median(times)), times[0]
     rec.timing_runs = len(times)
     _summarise(rec, task.scene, ds)
     ds.attrs.update({"wall_time": rec.wall_time, "wall_time_median": rec.wall_time_median,
-                     "peak_rss": rec.peak_rss, "rss_growth": rec.rss_growth, "timing_runs": rec.timing_runs, "status": "ok",
-                     "run_id": task.run_id, "run_hash": rec.run_hash})
-    how = f"best and median of {len(times)} timed solves after an untimed warm-up"
+                     "wall_time_cold": rec.wall_time_cold, "peak_rss": rec.peak_rss, "rss_growth": rec.rss_growth,
+                     "timing_runs": rec.timing_runs, "status": "ok", "run_id": task.run_id, "run_hash": rec.run_hash})
+    how = (f"best and median of {len(times)} timed solve(s) (repeated while under {TIMING_BUDGET:g} s in all,"
+           f" at most {task.repeat}); compilation and imports in one warm-up per method and process"
+           + (f"; {recompiled} solve(s) that compiled were not timed" if recompiled else ""))
     ds.attrs["history"] = ds.attrs["history"] + "\n" + history_line(f"railtherm run: {how}")
     return ds
 
@@ -369,14 +442,16 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
 
     The same function runs in every executor, so results are identical bit for bit.
 
-    Timing: one untimed warm-up solve of the same code path (with ``task.warmup``: the same
-    scene; without, for sweeps: the first run of the method and level in this process), then the
-    best of n timed solves, n = max(``task.repeat``, 3) when a solve takes under 2 s and
-    max(``task.repeat``, 2) otherwise (fewer only when the per-run time limit would be exceeded); a sweep
-    (``warmup = false``) takes exactly ``task.repeat`` solves (``repeat = 1``: the result's own solve is its
-    timing).
-    Memory: :class:`RSSPeak` around the warm-up's twin, a separate untimed solve (with
-    ``task.trace_memory``), so that neither pass perturbs the other.
+    Timing: the first run of a method in a process is preceded by one untimed warm-up solve of the
+    study's coarsest level of its scene (imports, numba compilation, first touch). The result's own
+    solve is timed; a verification study (``task.warmup``) repeats it while the timed solves add up to
+    under :data:`TIMING_BUDGET` s, at most ``task.repeat`` solves (a solve over 0.5 s is timed once); a
+    sweep (``warmup = false``) takes exactly ``task.repeat``. A solve during which numba compiled is
+    solved again and not counted. ``wall_time`` is the best, ``wall_time_median`` the median and
+    ``wall_time_cold`` the first timed solve (a per-scene cache of a model is cold there).
+    Memory: on Linux the kernel's high-water mark, reset before and read after the first timed solve
+    (no extra solve, no sampling thread); elsewhere a separate solve sampled by a thread (with
+    ``task.trace_memory``), so that the sampling does not perturb the timing.
 
     Parameters
     ----------
@@ -517,7 +592,7 @@ def make_tasks(study: Study, out, methods: Iterable[str] | None = None, levels: 
             for k in lv:
                 tasks.append(RunTask(scene, m, k, dict(study.options.get(m, {})), str(out), study.repeat,
                                      study.warmup, study.timeout,
-                                     trace_memory=study.warmup or i % MEMORY_SAMPLE == 0,
+                                     trace_memory=study.warmup or i % MEMORY_SAMPLE == 0, warmup_level=min(lv),
                                      chain=chains.get(m)))
     return tasks
 
@@ -539,6 +614,9 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
     for t in tasks:
         for u in getattr(t, "tasks", ()):
             u.run_id, u.run_started = run_id, started
+    if executor == "auto":
+        from .executors import resolve_executor
+        executor, workers = resolve_executor(executor, workers, len(tasks))
     ex = get_executor(executor, scheduler=scheduler, workers=workers)
     records: list = [None] * len(tasks)
     total = sum(len(t.tasks) for t in tasks) if chunked else len(tasks)
@@ -578,9 +656,11 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
         A parsed study or the path of a study TOML file.
     out : path
         Output folder.
-    executor : {"serial", "processes", "dask"}
+    executor : {"serial", "processes", "dask", "auto"}
         Where runs execute: this process, local worker processes, or a dask.distributed cluster
-        (one task per run). Results are identical bit for bit.
+        (one task per run); "auto" (the command line's default): local processes, one per core and at
+        most one per run (:func:`railtherm.run.executors.resolve_executor`). Results other than timings
+        are identical bit for bit.
     scheduler : str, optional
         Address of a dask.distributed scheduler (``executor="dask"``), e.g. ``tcp://10.0.0.5:8786``;
         a LocalCluster is started if None.
@@ -618,11 +698,15 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
         layout = layout_of(tasks, getattr(study, "keep_fields", False))
         zarr_store.create(out, layout, resume=resume)
         tasks = make_chunks(tasks, layout, out)
+    from .executors import resolve_executor
+    executor, workers = resolve_executor(executor, workers, len(tasks))
     t1 = time.perf_counter()
     records = run_tasks(tasks, executor=executor, scheduler=scheduler, resume=resume, workers=workers,
                         desc=study.name)
     t2 = time.perf_counter()
     metrics = compute_metrics(study, out, records)
+    metrics.attrs.update({"executor": executor, "workers": int(workers),
+                          "workers_comment": "worker processes that shared the machine while runs were timed"})
     store.write_dataset_atomic(metrics, store.metrics_path(out))
     if kind == "zarr" and not getattr(study, "keep_fields", False):
         # a scalar sweep keeps no field to overlay exact curves on (and they cost ~0.1 s per scene)

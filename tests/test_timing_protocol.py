@@ -1,0 +1,103 @@
+"""The timing protocol of a run (:func:`railtherm.runner.execute_run`) and the default executor.
+
+* a short solve is repeated until about 0.5 s of timing is collected, at most ``repeat`` times; a
+  solve over 0.5 s is timed once (its own solve), and ``timing_runs`` says how many were timed;
+* the warm-up happens once per method and process, on the study's coarsest level;
+* a solve during which numba compiled is not a timing (solved again);
+* the memory is read in the result's own solve (Linux: ``VmHWM``), not in an extra solve;
+* ``railtherm run`` uses local worker processes, one per core and at most one per run.
+"""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+import railtherm
+from railtherm.run import runner
+from railtherm.run.executors import resolve_executor
+from railtherm.run.runner import RSSPeak, RunTask, execute_run, more_solves
+
+
+def test_more_solves_repeats_only_short_solves():
+    assert more_solves([0.01], 3, True) and more_solves([0.01, 0.01], 3, True)
+    assert not more_solves([0.01, 0.01, 0.01], 3, True)        # at most `repeat`
+    assert not more_solves([0.6], 3, True)                     # a solve over 0.5 s is timed once
+    assert more_solves([0.3], 3, True) and not more_solves([0.3, 0.3], 3, True)  # 0.5 s collected
+    assert more_solves([0.6], 3, False) and not more_solves([0.6] * 3, 3, False)  # a sweep: exactly repeat
+    assert not more_solves([0.01], 1, True)
+
+
+def test_resolve_executor_uses_the_cores_by_default():
+    cores = os.cpu_count() or 1
+    name, n = resolve_executor("auto", None, 600)
+    assert n == cores and name == ("processes" if cores > 1 else "serial")
+    assert resolve_executor("auto", None, 1) == ("serial", 1)              # one run: no worker to start
+    assert resolve_executor("auto", 8, 3) == ("processes", 3)              # never more workers than runs
+    assert resolve_executor("processes", None, 1) == ("processes", 1)
+    assert resolve_executor("serial", 4, 100) == ("serial", 1)
+
+
+def test_cli_default_executor_is_auto():
+    from railtherm.cli import build_parser
+    args = build_parser().parse_args(["run", "x.toml"])
+    assert args.executor == "auto"
+
+
+@pytest.fixture
+def scene():
+    st = railtherm.load_study(os.path.join(os.path.dirname(__file__), "..", "studies", "seed_paper.toml"))
+    return next(s for s in st.scenes if s.name == "ek-low")
+
+
+def test_one_warm_up_per_method_and_process_on_the_coarsest_level(scene, tmp_path, monkeypatch):
+    calls = []
+    real = runner._measured_solve
+
+    def spy(task, validate, memory):
+        calls.append(task.level)
+        return real(task, validate, memory)
+    monkeypatch.setattr(runner, "_WARM", set())
+    monkeypatch.setattr(runner, "_measured_solve", spy)
+    r1 = execute_run(RunTask(scene, "green", 1, {}, str(tmp_path / "a"), warmup_level=0))
+    r2 = execute_run(RunTask(scene, "green", 2, {}, str(tmp_path / "b"), warmup_level=0))
+    assert r1.status == r2.status == "ok", (r1.message, r2.message)
+    assert r1.phases["warmup"] > 0 and r2.phases["warmup"] == 0.0        # the second run is not warmed again
+    assert set(calls) == {1, 2}                                          # the warm-up (level 0) is not timed
+    assert calls.count(1) == r1.timing_runs and calls.count(2) == r2.timing_runs
+    for r in (r1, r2):
+        assert 1 <= r.timing_runs <= 3
+        assert r.wall_time <= r.wall_time_median and np.isfinite(r.wall_time_cold)
+        if r.wall_time_cold > 0.5:
+            assert r.timing_runs == 1
+
+
+@pytest.mark.skipif(not RSSPeak.native(), reason="the high-water mark is read in the timed solve on Linux only")
+def test_memory_is_read_in_the_results_own_solve(scene, tmp_path, monkeypatch):
+    monkeypatch.setattr(runner, "_WARM", {"green"})
+    rec = execute_run(RunTask(scene, "green", 0, {}, str(tmp_path / "o"), repeat=1))
+    assert rec.status == "ok" and rec.timing_runs == 1
+    assert "memory" not in rec.phases                                   # no extra solve for memory
+    assert rec.peak_rss > 50e6 and rec.rss_growth >= 0                  # the interpreter included
+
+
+def test_a_solve_that_compiles_is_not_a_timing(scene, tmp_path, monkeypatch):
+    """A kernel first compiled inside the timed solve: that solve is repeated and not counted."""
+    numba = pytest.importorskip("numba")
+    from railtherm.solving import pipeline
+    fresh = {"compiled": False}
+    real = pipeline.solve
+
+    def solve_and_compile(*a, **kw):
+        if not fresh["compiled"]:
+            fresh["compiled"] = True
+            numba.njit(lambda x: x + 1)(1)  # a new function: compiles now
+        return real(*a, **kw)
+    monkeypatch.setattr(runner, "_WARM", {"green"})
+    monkeypatch.setattr(pipeline, "solve", solve_and_compile)
+    rec = execute_run(RunTask(scene, "green", 0, {}, str(tmp_path / "o"), repeat=1))
+    assert rec.status == "ok" and rec.timing_runs == 1
+    import xarray as xr
+    with xr.open_dataset(rec.path) as ds:
+        assert "compiled were not timed" in ds.attrs["history"]
