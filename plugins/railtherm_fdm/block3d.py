@@ -164,7 +164,7 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     Axy_b = d * wy                                        # bottom-adjacent face areas per (i, j) [m^2]
     # two source/loss buffers (the fused explicit kernel advances two steps at once)
     source = MovingSource(xn, d, grid.x_edges, q @ Wy.T, cov @ Wy.T if h > 0 else None, d * wy, cap_top,
-                          dt * h * d * wy / (rc * vol_top), h, X0, speed, dt, buffers=2)
+                          dt * h * d * wy / (rc * vol_top), h, X0, speed, dt, buffers=2, period=plan.per_cell)
     (src, src2), (hls, hls2) = source.src, source.hloss
     ledger = EnergyLedger(dt, lam, d, Ayz, Axy_b, cap_top)
 
@@ -175,7 +175,7 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     if fused:
         import numba
         chunk = max(4, (nx - 2) // (4 * numba.get_num_threads()))
-        acc = np.zeros((((nx - 2) + chunk - 1) // chunk, 3))
+        acc = np.zeros((((nx - 2) + chunk - 1) // chunk, 6))
     r = kappa * dt / d ** 2
     if scheme == "implicit":
         implicit = BackwardEuler(backward_euler_operator(nx, ny, nz, d, wy, wz, lam, rc, dt), cap_top[None, :], dt)
@@ -187,18 +187,22 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
 
     check = None
     n = 0
+    front = 0             # last x-plane that may hold heat (the stencil moves it one plane per step)
     while n < nsteps:
         if fused and n + 2 <= nsteps and not (n < ncheck < n + 2):
             ledger.energy_in += source.load(n, 0) + source.load(n + 1, 1)
-            f0, c0 = ledger.fixed_face_loss(T), ledger.convective_loss(T, hls) if h > 0 else 0.0
-            K.explicit_two_steps(T, Tn, r, src, hls, src2, hls2, Ayz, Axy_b, cap_top, chunk, acc)
-            tot = acc.sum(axis=0)
-            ledger.fixed_faces += f0 + ledger.g * (tot[0] + tot[1])
-            ledger.convection += c0 + tot[2]
+            front = max(front + 1, source.reach(0)) + 1
+            front = max(front, source.reach(1))
+            K.explicit_two_steps(T, Tn, r, src, hls, src2, hls2, Ayz, Axy_b, cap_top, chunk, acc,
+                                 min(nx - 1, front + 1))
+            tot = acc.sum(axis=0)         # losses at levels n+1 and n (the kernel sums both)
+            ledger.fixed_faces += ledger.g * (tot[3] + tot[4]) + ledger.g * (tot[0] + tot[1])
+            ledger.convection += (tot[5] + tot[2]) if h > 0 else 0.0
             T, Tn = Tn, T
             n += 2
         else:
             ledger.energy_in += source.load(n)
+            front = max(front + 1, source.reach(0))
             ledger.convection += ledger.convective_loss(T, hls) if h > 0 else 0.0
             if scheme == "explicit":
                 ledger.fixed_faces += ledger.fixed_face_loss(T)   # losses at level n (explicit update uses T^n)

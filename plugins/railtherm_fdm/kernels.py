@@ -135,13 +135,19 @@ explicit_step, explicit_step_serial = compile_twice(_explicit_step, cache=True, 
 
 
 @numba.njit(parallel=True, cache=True, fastmath=True, boundscheck=False)
-def explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chunk, acc):  # pragma: no cover
+def explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chunk, acc, stop):  # pragma: no cover
     """Two explicit-Euler steps in one pass over memory (temporal blocking), parallel over x-chunks.
 
     Equivalent to ``explicit_step(T, Tm, r, src1, hloss1); explicit_step(Tm, T2, r, src2, hloss2)``
     without storing the intermediate level Tm: each chunk of ``chunk`` planes keeps three intermediate
     planes in a rolling buffer (its two halo planes are computed twice), halving the memory traffic
     of the memory-bound stencil.
+
+    Planes ``i >= stop`` are not visited: the caller guarantees that they are zero in ``T`` and ``T2``
+    and stay zero over the two steps (no heat has reached them: the explicit stencil moves a
+    disturbance by one plane per step). Skipping them gives the same numbers bit for bit -- the
+    chunks, and so the order of the loss sums, do not depend on ``stop`` -- and saves the planes ahead
+    of the heat while the source starts out on a cold block.
 
     Parameters
     ----------
@@ -157,24 +163,28 @@ def explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chu
         Weights of the bottom loss sums [1].
     wtop2 : ndarray (ny,)
         Heat capacity of the surface nodes per unit rise [J/K] (convective loss of step 2 is
-        ``hloss2 * wtop2 * Tm``).
+        ``hloss2 * wtop2 * Tm``, of step 1 ``hloss1 * wtop2 * T``).
     chunk : int
         Planes per parallel chunk.
-    acc : ndarray (nchunks, 3)
+    acc : ndarray (nchunks, 6)
         Output: per chunk, the sums at the intermediate level Tm of the x-face losses (planes 1 and
         nx-2, weighted by wyz), the bottom losses (plane k = nz-2, weighted by wy) and the convective
-        loss of step 2 [J].
+        loss of step 2 [J] (:func:`plane_losses`); then the same three at level n (input ``T``, the
+        convective loss of step 1 with ``hloss1``).
+    stop : int
+        First plane known to be zero at both levels (``nx - 1``: every plane is updated).
     """
     nx, ny, nz = T.shape
     nint = nx - 2
     nch = (nint + chunk - 1) // chunk
     for c in prange(nch):
         i0 = 1 + c * chunk
-        i1 = min(nx - 1, i0 + chunk)
+        i1 = min(nx - 1, i0 + chunk, max(stop, 1))
+        for m in range(6):
+            acc[c, m] = 0.0
+        if i0 >= i1:
+            continue
         buf = np.zeros((3, ny, nz))
-        a_x = 0.0
-        a_b = 0.0
-        a_c = 0.0
         for p in range(i0 - 1, i1 + 1):
             slot = p % 3
             if p == 0 or p == nx - 1:
@@ -184,19 +194,47 @@ def explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chu
             else:
                 plane_step(T[p + 1], T[p], T[p - 1], buf[slot], r, src1[p], hloss1[p])
                 if p >= i0 and p < i1:
-                    if p == 1 or p == nx - 2:
-                        for j in range(ny):
-                            for k in range(nz):
-                                a_x += wyz[j, k] * buf[slot, j, k]
-                    for j in range(ny):
-                        a_b += wy[j] * buf[slot, j, nz - 2]
-                        a_c += hloss2[p, j] * wtop2[j] * buf[slot, j, 0]
+                    edge = p == 1 or p == nx - 2
+                    plane_losses(buf[slot], wyz, wy, wtop2, hloss2[p], edge, acc[c], 0)
+                    plane_losses(T[p], wyz, wy, wtop2, hloss1[p], edge, acc[c], 3)
             q = p - 1
             if q >= i0 and q < i1:
                 plane_step(buf[(q + 1) % 3], buf[q % 3], buf[(q - 1) % 3], T2[q], r, src2[q], hloss2[q])
-        acc[c, 0] = a_x
-        acc[c, 1] = a_b
-        acc[c, 2] = a_c
+
+
+@numba.njit(cache=True, fastmath=True, boundscheck=False, inline="always")
+def plane_losses(plane, wyz, wy, wtop, hloss, edge, out, at):  # pragma: no cover - compiled
+    """Add the loss sums of one x-plane to ``out[at:at + 3]``: its x-face sum (``wyz``-weighted, only
+    when ``edge``: planes 1 and nx-2 face the fixed x faces), its bottom sum (plane row k = nz-2,
+    ``wy``-weighted) and its convective loss ``hloss * wtop * T[:, 0]`` [J].
+
+    Parameters
+    ----------
+    plane : ndarray (ny, nz)
+        Rises of the plane [K].
+    wyz : ndarray (ny, nz)
+        Weights of the x-face sum [m^2].
+    wy : ndarray (ny,)
+        Weights of the bottom sum [m^2].
+    wtop : ndarray (ny,)
+        Heat capacity of the surface nodes [J/K].
+    hloss : ndarray (ny,)
+        Convective loss factors of the step [1].
+    """
+    ny, nz = plane.shape
+    if edge:
+        s = 0.0
+        for j in range(ny):
+            for k in range(nz):
+                s += wyz[j, k] * plane[j, k]
+        out[at] += s
+    b = 0.0
+    cv = 0.0
+    for j in range(ny):
+        b += wy[j] * plane[j, nz - 2]
+        cv += hloss[j] * wtop[j] * plane[j, 0]
+    out[at + 1] += b
+    out[at + 2] += cv
 
 
 @numba.njit(cache=True, fastmath=True, boundscheck=False)

@@ -347,12 +347,27 @@ def trail_extent(extent: Extent, trail: Trail, a: float, speed: float, kappa: fl
     zero diffusive flux, stays ``extent.behind`` beyond the end of the field). Transient schemes: the
     source travels ``trail.behind`` further (the trail at the end of the field was laid down after the
     source had already travelled ``extent.travel``, so it carries the same start-up deficit as the patch
-    without field); the far face behind the start is unchanged. In both the depth reaches at least
-    ``trail.depth`` plus six penetration depths of the trail's end, sqrt(2 kappa (2a + behind) / V).
+    without field); the far face behind the start is unchanged.
+
+    Depth, with s = sqrt(2 kappa (2a + behind) / V) the penetration depth of the trail's end (the time
+    since the source passed it): the graded steady grid reaches ``trail.depth + 6 s`` (its deep cells are
+    few and wide). The uniform transient grid pays for every depth alike and reaches
+    ``max(6 s, trail.depth + delta)`` (delta = sqrt(2 a kappa / V), so the deepest reported depth is not
+    on the fixed face): the fixed face (rise 0) perturbs the rise anywhere by at most what the unbounded
+    body has at the face (maximum principle). Six penetration depths down, a half-space heated at a
+    constant flux for the field's time has 4e-10 of its surface rise (6e-6 for twice that time, the
+    longest any heated point of a run whose travel is 4a before the field has been heated) -- the
+    criterion of the block's own depth (:func:`block_extent`) for the field's time. In both the depth is
+    at least ``extent.depth``.
     """
     depth = extent.depth
     if trail.depth is not None:
-        depth = max(depth, float(trail.depth) + 6.0 * math.sqrt(2.0 * kappa * (2.0 * a + trail.behind) / speed))
+        s = math.sqrt(2.0 * kappa * (2.0 * a + trail.behind) / speed)
+        if steady:
+            depth = max(depth, float(trail.depth) + 6.0 * s)
+        else:
+            delta = thermal_scales(a, speed, kappa).thermal_depth
+            depth = max(depth, 6.0 * s, float(trail.depth) + delta)
     if steady:
         return Extent(extent.ahead, extent.behind + trail.behind, extent.lateral, depth, extent.travel)
     return Extent(extent.ahead, extent.behind, extent.lateral, depth, extent.travel + trail.behind)

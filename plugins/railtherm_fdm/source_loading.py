@@ -86,10 +86,14 @@ class MovingSource:
         Body speed relative to the contact [m/s] and time step [s].
     buffers : int
         Independent (src, hloss) buffer pairs (the fused explicit kernel loads two steps at once).
+    period : int, optional
+        Steps after which the source has moved exactly one node spacing (``V dt period = d``): step n
+        then loads what step ``n mod period`` loads, shifted by ``n // period`` nodes, and the overlaps
+        are computed once per phase instead of once per step (equal to rounding).
     """
 
     def __init__(self, x_nodes, d, x_edges, flux, cover, cover_width, capacity, base_loss, convection, start,
-                 speed, dt, buffers=1):
+                 speed, dt, buffers=1, period=None):
         self.x, self.d, self.pxe = x_nodes, float(d), np.asarray(x_edges, dtype=float)
         self.flux, self.cover, self.cover_width = flux, cover, cover_width
         self.capacity, self.base_loss, self.h = capacity, base_loss, float(convection)
@@ -101,30 +105,57 @@ class MovingSource:
             for hl in self.hloss:
                 hl[1:-1] = base_loss
         self._prev = [(1, 1)] * buffers
+        self.period = int(period) if period else None
+        self._phases = {}
 
     def load(self, n: int, slot: int = 0) -> float:
         """Put the source of step ``n`` into buffer ``slot``; returns the energy it brings [J] ([J/m])."""
         src, hloss = self.src[slot], self.hloss[slot]
         lo_prev, hi_prev = self._prev[slot]
-        d, dt, pxe = self.d, self.dt, self.pxe
-        s0 = self.start + self.speed * dt * n
-        s1 = s0 + self.speed * dt
-        lo = max(1, int(math.floor((s0 + pxe[0]) / d)) - 1)
-        hi = min(self.x.size - 1, int(math.ceil((s1 + pxe[-1]) / d)) + 2)
         src[lo_prev:hi_prev] = 0.0
         if self.h > 0:
             hloss[lo_prev:hi_prev] = self.base_loss
-        xi_ = self.x[lo:hi]
+        shift, phase = (0, n) if self.period is None else divmod(n, self.period)
+        lo, hi, s, hl, energy = self._phase(phase) if self.period is not None else self._step(n)
+        lo, hi = lo + shift, hi + shift
+        if lo < 1 or hi > self.x.size - 1:          # the block's end cuts the footprint: load it directly
+            lo, hi, s, hl, energy = self._step(n)
+        src[lo:hi] = s
+        if self.h > 0:
+            hloss[lo:hi] = hl
+        self._prev[slot] = (lo, hi)
+        return energy
+
+    def _phase(self, phase: int):
+        """:meth:`_step` of step ``phase`` (< period), computed once."""
+        if phase not in self._phases:
+            self._phases[phase] = self._step(phase, clip=False)
+        return self._phases[phase]
+
+    def _step(self, n: int, clip: bool = True):
+        """Footprint of step ``n``: first and end node (clipped to the block's inner nodes when ``clip``),
+        source increments [K], loss factors [1] (None without convection) and energy [J] ([J/m])."""
+        d, dt, pxe = self.d, self.dt, self.pxe
+        s0 = self.start + self.speed * dt * n
+        s1 = s0 + self.speed * dt
+        lo = int(math.floor((s0 + pxe[0]) / d)) - 1
+        hi = int(math.ceil((s1 + pxe[-1]) / d)) + 2
+        if clip:
+            lo, hi = max(1, lo), min(self.x.size - 1, hi)
+        xi_ = d * np.arange(lo, hi)
         # overlap in x averaged over the step, coordinates relative to s0 for accuracy
         Wx = box_overlap((xi_ - 0.5 * d - s0)[:, None], (xi_ + 0.5 * d - s0)[:, None], pxe[:-1][None, :],
                          pxe[1:][None, :], 0.0, s1 - s0)          # (m, nxp) [m]
         Q = Wx @ self.flux
-        src[lo:hi] = dt * Q / self.capacity
+        hl = None
         if self.h > 0:
             C = (Wx @ self.cover) / self.cover_width              # covered fraction of each node
-            hloss[lo:hi] = self.base_loss * (1.0 - np.clip(C, 0.0, 1.0))
-        self._prev[slot] = (lo, hi)
-        return dt * float(Q.sum())
+            hl = self.base_loss * (1.0 - np.clip(C, 0.0, 1.0))
+        return lo, hi, dt * Q / self.capacity, hl, dt * float(Q.sum())
+
+    def reach(self, slot: int = 0) -> int:
+        """Last node index the source of buffer ``slot`` may heat (its increments are 0 beyond it)."""
+        return self._prev[slot][1] - 1
 
 
 def graded_surface_source(x_edges, patch_x_edges, flux, cover, convection, y_edges=None, patch_y_edges=None):
