@@ -10,6 +10,14 @@ Inline fake methods, each one Hertz + full sliding + a fake temperature model:
 * ``plateau`` returns the exact maximum temperature everywhere on the patch, so its headline
   (maximum) is exact but the field is not: fails on the energy balance of the computed field (and
   on the mean temperature);
+* ``wrong-sign`` is full sliding written with ``dissipation = traction x slip velocity`` (core's
+  convention is -(traction . slip) >= 0): -30 kW of frictional power and temperatures below bulk on the
+  full-sliding scene, while its temperature model (green's) is verified on the given-flux scenes; the
+  kit's tangential check fails it, and solve() raises PluginError;
+* ``pushes-slip`` puts the traction along the slip but reports a positive dissipation: the kit's cell
+  check of -(traction . slip) fails it;
+* ``flipped`` reverses both traction and slip (its dissipation stays positive): the slip and the creep
+  force have the wrong direction against the scene's rigid slip, and the kit fails it;
 * the built-in methods (green, fastsim-fdm, fipy, fem) pass on the canonical scenes at level 0.
 """
 from __future__ import annotations
@@ -17,7 +25,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from railtherm import Capabilities, Method, Refused, TemperatureField, TemperatureModel, hookimpl
+from railtherm import (Capabilities, Method, PluginError, Refused, TangentialContactModel, TemperatureField,
+                       TemperatureModel, hookimpl)
 from railtherm.testing import CANONICAL_SCENES, canonical, check_method
 
 PROVIDES = frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature"})
@@ -165,3 +174,122 @@ def test_kit_still_checks_the_schema_of_a_plain_result(fakes):
     """The physics checks come after the old ones: a valid result of a custom scene still runs."""
     with pytest.raises(AssertionError):
         check_method("hot", scenes=[canonical("line-given-flux")])
+
+
+class WrongSign(TangentialContactModel):
+    """Test fake: full sliding with the dissipation written as traction x slip velocity (negative)."""
+
+    name = "wrong-sign"
+    description = "test fake: full sliding, dissipation = traction x slip (sign error)"
+    capabilities = Capabilities(tangential=frozenset({"full-sliding"}), sources=frozenset({"computed"}),
+                                provides=frozenset({"traction_x", "slip_velocity_x", "creep_force_x"}))
+
+    def compute_tangential(self, scene, patch, level, options):
+        vs = scene.sliding_speed
+        traction = np.sign(vs) * scene.friction * patch.pressure          # on the wheel, against its slip
+        slip = np.where(patch.pressure > 0, -vs, 0.0)                     # wheel relative to rail
+        return patch.with_tangential(traction_x=traction, slip_velocity_x=slip,
+                                     creep_force_x=np.sign(vs) * scene.friction * patch.normal_force,
+                                     dissipation=traction * slip, diagnostics={"converged": True})
+
+
+class Flipped(WrongSign):
+    """Test fake: traction and slip both reversed; the dissipation -(traction . slip) stays positive."""
+
+    name = "flipped"
+    description = "test fake: full sliding with traction and slip reversed"
+
+    def compute_tangential(self, scene, patch, level, options):
+        vs = scene.sliding_speed
+        traction = -np.sign(vs) * scene.friction * patch.pressure
+        slip = np.where(patch.pressure > 0, vs, 0.0)
+        return patch.with_tangential(traction_x=traction, slip_velocity_x=slip,
+                                     creep_force_x=-np.sign(vs) * scene.friction * patch.normal_force,
+                                     dissipation=-traction * slip, diagnostics={"converged": True})
+
+
+class PushesSlip(WrongSign):
+    """Test fake: traction along the slip (on the rail, not the wheel) with a positive dissipation mu p |v_s|."""
+
+    name = "pushes-slip"
+    description = "test fake: full sliding with the traction along the slip"
+
+    def compute_tangential(self, scene, patch, level, options):
+        vs = scene.sliding_speed
+        traction = -np.sign(vs) * scene.friction * patch.pressure
+        slip = np.where(patch.pressure > 0, -vs, 0.0)
+        return patch.with_tangential(traction_x=traction, slip_velocity_x=slip,
+                                     creep_force_x=-np.sign(vs) * scene.friction * patch.normal_force,
+                                     dissipation=np.abs(traction * slip), diagnostics={"converged": True})
+
+
+SIGN_FAKES = (WrongSign, Flipped, PushesSlip)
+
+
+class SignPlugin:
+    @hookimpl
+    def railtherm_register_models(self):
+        return list(SIGN_FAKES)
+
+    @hookimpl
+    def railtherm_register_methods(self):
+        return [Method(c.name, {"normal": ("hertz",), "tangential": (c.name,), "heat_source": ("frictional",),
+                                "temperature": ("green",)}) for c in SIGN_FAKES]
+
+
+@pytest.fixture
+def sign_fakes(railtherm_register):
+    host = railtherm_register("green", pytest.importorskip("railtherm_green.plugin"))
+    host.add_plugin(SignPlugin(), "signs")
+    return host.build()
+
+
+def test_a_tangential_model_with_the_dissipation_sign_error_fails_the_kit(sign_fakes, monkeypatch):
+    with pytest.raises(AssertionError, match=r"'wrong-sign', scene 'ellipse-full-sliding'.*frictional power density "
+                                             r"of -.*-\(traction \. slip\) is >= 0"):
+        check_method("wrong-sign")
+    # the kit's own check, should core's pipeline let the heat sink through
+    from railtherm.solving import pipeline
+    monkeypatch.setattr(pipeline, "_check_heat_sign", lambda pl, source: None)
+    with pytest.raises(AssertionError, match=r"tangential model 'wrong-sign', scene 'ellipse-full-sliding'.*heat flux "
+                                             r"into the bodies is -.*dissipation = -traction \. slip >= 0"):
+        check_method("wrong-sign")
+
+
+def test_solve_refuses_a_negative_frictional_heat_source(sign_fakes, monkeypatch):
+    """What the sign error does when nothing stops it: -30 kW of frictional power (mu N v_s = 0.3 x 100 kN x
+    1 m/s, negated), a heat sink that cools the surface below bulk (0 degC); core's pipeline raises instead."""
+    from railtherm.solving import pipeline
+    sc = canonical("ellipse-full-sliding", outputs=["frictional_power", "mean_contact_temperature"])
+    with pytest.raises(PluginError, match=r"'wrong-sign'.*-\(traction \. slip\) is >= 0"):
+        pipeline.solve(sc, "wrong-sign", 0)
+    monkeypatch.setattr(pipeline, "_check_heat_sign", lambda pl, source: None)
+    ds = pipeline.solve(sc, "wrong-sign", 0)
+    assert float(ds.frictional_power) == pytest.approx(-30e3, rel=1e-12)
+    assert float(ds.mean_contact_temperature.max()) < 0.0
+
+
+def test_a_traction_along_the_slip_fails_even_with_a_positive_dissipation(sign_fakes):
+    with pytest.raises(AssertionError, match=r"'pushes-slip'.*-\(traction \. slip\) = -.* in a cell"):
+        check_method("pushes-slip")
+
+
+def test_reversed_traction_and_slip_fail_on_the_slip_direction(sign_fakes):
+    with pytest.raises(AssertionError, match=r"'flipped'.*slip velocity along x sums to .* against the rigid slip"):
+        check_method("flipped")
+
+
+def test_the_kit_exercises_every_declared_model(railtherm_register):
+    """green declares normal (wheelset | hertz) and tangential (full-sliding | fastsim) candidates: each tangential
+    model is checked on the contact scenes (fastsim on the creepage scene), the wheelset model declines every
+    scene without a wheelset and is noted as such."""
+    host = railtherm_register("green", pytest.importorskip("railtherm_green.plugin"), strict=False)
+    host.add_plugin(pytest.importorskip("railtherm_fastsim.plugin"), "fastsim")
+    with pytest.warns(RuntimeWarning):     # fastsim-fdm names plugin fdm's model, not registered here
+        host.build()
+    out = check_method("green", scenes=[CANONICAL_SCENES["ellipse-given-flux"]])
+    assert set(out.models) == {"wheelset", "hertz", "full-sliding", "fastsim", "frictional", "green"}
+    assert out.models["full-sliding"].startswith("sign conventions checked on ellipse-full-sliding, line-full-sliding")
+    assert "ellipse-creepage" in out.models["fastsim"] and "checked" in out.models["fastsim"]
+    assert out.models["wheelset"].startswith("not exercised: it declines every scene")
+    assert out.models["hertz"].startswith("ran on ")

@@ -161,6 +161,27 @@ def _check_untouched(model: StageModel, before: ContactPatch, after: ContactPatc
                               "never rewrites another's result")
 
 
+#: a heat source computed from the tangential stage may be negative by this fraction of its largest cell
+#: value (round-off of an iterative tangential solve); beyond it the tangential model broke the sign convention
+NEGATIVE_HEAT_ROUNDOFF = 1e-3
+
+
+def _check_heat_sign(pl: Plan, source) -> None:
+    """Frictional heat is dissipation, -(traction . slip) >= 0 in every cell: a heat source computed from a
+    tangential stage with negative cells (a tangential model that returned traction x slip, or traction
+    on the rail) is a :class:`railtherm.PluginError`, not a heat sink that cools the bodies below bulk."""
+    if source is None or "tangential" not in pl.stages:
+        return
+    q = np.asarray(source.power_density, dtype=float)
+    top = float(np.max(np.abs(q), initial=0.0))
+    if float(np.min(q, initial=0.0)) < -NEGATIVE_HEAT_ROUNDOFF * top:
+        raise PluginError(
+            f"tangential model {pl.models['tangential'].name!r} gives a frictional power density of "
+            f"{float(np.min(q)):.4g} W/m^2 in a cell (largest |value| {top:.4g}): traction acts on the wheel, slip is "
+            "the wheel's relative to the rail, and the dissipation -(traction . slip) is >= 0 "
+            "(docs/plugins.md, sign conventions)")
+
+
 def _freeze(result) -> None:
     """Make the arrays of a stage's result read-only: a later stage that writes into them (instead of
     returning a new result) fails at once with numpy's "assignment destination is read-only"."""
@@ -222,6 +243,7 @@ def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
         _freeze(result)
         records.append(StageRecord(model, result.diagnostics or {}))
         done.add(id(model))
+    _check_heat_sign(pl, source)
     return patch, source, temp, records
 
 
