@@ -154,3 +154,64 @@ def test_mechanics_reused_between_solves():
     again = solve_fem(prob(-2e-4))
     assert again.strip is not cold.strip
     assert np.array_equal(again.contact.traction, cold.contact.traction)
+
+
+def _skfem_thermal_load(es, theta, depth, intorder=12):
+    """The thermal load assembled directly by scikit-fem's LinearForm (the reference of ElasticStrip's)."""
+    from skfem import Basis, ElementTriP1, ElementVector, LinearForm, asm
+    mesh = es.strip.mesh
+    elems = np.nonzero((-mesh.p[1, mesh.t]).min(axis=0) < depth)[0]
+    beta = es.alpha * (3.0 * es.lam + 2.0 * es.mu)
+    basis = Basis(mesh, ElementVector(ElementTriP1()), elements=elems, intorder=intorder)
+
+    @LinearForm
+    def load(v, w):
+        return beta * theta(w.x[0], -w.x[1]) * (v.grad[0][0] + v.grad[1][1])
+    f = asm(load, basis)
+    f[es.fixed_dofs] = 0.0
+    return f
+
+
+def test_thermal_load_and_its_operator_equal_scikit_fem_assembly():
+    """The kept-quadrature thermal load, and the grid operator E (E theta = load of theta's bilinear
+    interpolant), equal scikit-fem's assembly of the same form, for two fields in turn on one grid (the
+    second is not served the first's values) and for a second depth (its own quadrature)."""
+    from railtherm_fem.coupled import _interpolator
+    from railtherm_fem.thermal import thermal_grid
+    sm = graded_strip_mesh(L, H, W, HS, grading=4.0)
+    es = ElasticStrip(sm, 1.2e11, 8.2e10, 7850.0, 10.0, 12e-6)
+    g = thermal_grid(W, HS, -0.3 * L, 0.3 * L, HS / 4, 2e-3, 1.1, 1.1)
+    X, Z = np.meshgrid(g.x, g.z, indexing="ij")
+    for depth in (2e-3, 1e-3):
+        E = es.thermal_load_operator(g, depth=depth)
+        for values in (50.0 * np.exp(-Z / 2e-4 - (X / W) ** 2), 20.0 * np.exp(-Z / 5e-4) * (X < 0)):
+            theta = _interpolator(g, values)
+            ref = _skfem_thermal_load(es, theta, depth)
+            scale = np.abs(ref).max()
+            assert scale > 0
+            assert np.abs(es.thermal_load(theta, depth=depth) - ref).max() <= 1e-12 * scale
+            assert np.abs(E @ values.ravel() - ref).max() <= 1e-12 * scale
+
+
+def _steel(**kw):
+    return NS(**{**dict(shear_modulus=82e9, poisson_ratio=0.28, density=7850.0, specific_heat=450.0,
+                        conductivity=50.0, thermal_expansion=12e-6, bulk_temperature=0.0, rigid=False), **kw})
+
+
+def test_mechanics_cache_is_keyed_by_every_input_and_bounded(monkeypatch):
+    """Another level, grading, material, speed or radius builds its own mechanics (never another's); the
+    cache keeps at most CACHE_SIZE entries and CACHE_BYTES in all (nothing when one entry is larger)."""
+    from railtherm_fem import coupled
+    base = dict(radius=0.5, rail=_steel(), wheel=_steel(), speed=10.0, normal_force=3e5, friction=0.3,
+                creepage=-2e-4, thermal=False, level=0)
+    clear_cache()
+    ref = solve_fem(FemProblem(**base)).strip
+    for change in (dict(level=1), dict(grading=4.0), dict(rail=_steel(shear_modulus=80e9)),
+                   dict(wheel=_steel(rigid=True)), dict(speed=20.0), dict(radius=0.45)):
+        assert solve_fem(FemProblem(**{**base, **change})).strip is not ref, change
+        assert len(coupled._MECH_CACHE) <= coupled.CACHE_SIZE
+    assert sum(m.nbytes for m in coupled._MECH_CACHE.values()) <= coupled.CACHE_BYTES
+    monkeypatch.setattr(coupled, "CACHE_BYTES", 1)
+    clear_cache()
+    solve_fem(FemProblem(**base))
+    assert len(coupled._MECH_CACHE) == 0

@@ -67,3 +67,94 @@ def test_jaeger_convergence_rate(pe, two_d, expected):
     e = np.array([r["l2"] for r in res])
     rate = np.polyfit(np.log(h), np.log(e), 1)[0]
     assert rate > expected, (rate, e)
+
+
+def _assembled(grid, bodies, two_d, hc=None):
+    """The conduction system of ThermalSolver assembled term by term as one sparse matrix (x outer, z inner;
+    bodies stacked), restricted to the free nodes, for an independent sparse LU solve."""
+    import scipy.sparse as sp
+    from skfem import Basis, BilinearForm, ElementLineP1, MeshLine, asm
+    from railtherm_fem.thermal import _upstream_matrix
+
+    def fe(nodes):
+        basis = Basis(MeshLine(np.asarray(nodes, float)), ElementLineP1())
+        return (asm(BilinearForm(lambda u, v, w: u.grad[0] * v.grad[0]), basis),
+                asm(BilinearForm(lambda u, v, w: u * v), basis))
+    nx, nz = grid.shape
+    Kx, Mx = fe(grid.x)
+    Kz, Mz = fe(grid.z)
+    mx = np.asarray(Mx.sum(axis=1)).ravel()
+    e0 = sp.csr_matrix(([1.0], ([0], [0])), shape=(nz, nz))
+    blocks = []
+    for b in bodies:
+        A = b.conductivity * sp.kron(sp.diags(mx), Kz) - b.volumetric_heat * b.speed * sp.kron(
+            sp.diags(mx) @ _upstream_matrix(grid.x), Mz) + b.convection * sp.kron(sp.diags(mx), e0)
+        blocks.append(A + b.conductivity * sp.kron(Kx, Mz) if two_d else A)
+    A = sp.block_diag(blocks).tocsr()
+    if hc is not None:
+        surf = np.arange(nx) * nz
+        H = sp.csr_matrix((hc * mx, (surf, surf)), shape=(nx * nz, nx * nz))
+        A = A + sp.bmat([[H, -H], [-H, H]])
+    fixed = np.zeros((nx, nz), bool)
+    fixed[-1, :] = fixed[:, -1] = True
+    free = ~np.tile(fixed.ravel(), len(bodies))
+    return A.tocsr()[free][:, free].tocsc(), free
+
+
+@pytest.mark.parametrize("two_d,conductance", [(True, False), (False, False), (True, True)])
+def test_factorised_solver_equals_a_fresh_sparse_solve(two_d, conductance):
+    """ThermalSolver (depth modes x banded x-factors; with a contact conductance one sparse LU), factorised
+    once and solved for two different loads, equals a fresh sparse LU of the system assembled term by term:
+    two bodies of different conductivity, speed and convection on a graded grid (surface spacing 1/50 of
+    the heated half-width, depth ratio 1.2)."""
+    import scipy.sparse.linalg as spla
+    from railtherm_fem.thermal import ThermalSolver
+    V = 2 * KAP * 50 / A
+    g = thermal_grid(A, A / 10, -6 * A, 2 * A, 0.02 * A, 2 * A, 1.2, 1.2)
+    bodies = [ThermalBody(LAM, RC, V, 5e4), ThermalBody(0.5 * LAM, 1.3 * RC, 1.1 * V, 0.0)]
+    hc = np.where(np.abs(g.x) <= A, 2e6, 0.0) if conductance else None
+    solver = ThermalSolver(g, bodies, two_d, hc)
+    A_free, free = _assembled(g, bodies, two_d, hc)
+    lu = spla.splu(A_free)
+    nx, nz = g.shape
+    for q in (lambda s: np.where(np.abs(s) <= A, Q0, 0.0), lambda s: Q0 * np.exp(-(s / A - 0.3) ** 2)):
+        load = hat_load(g.x, q, breaks=[-A, A], order=8)
+        loads = [0.3 * load, 0.7 * load]
+        got = solver.solve(loads)
+        b = np.zeros(2 * nx * nz)
+        for j in range(2):
+            b[j * nx * nz + np.arange(nx) * nz] = loads[j]
+        ref = np.zeros(2 * nx * nz)
+        ref[free] = lu.solve(b[free])
+        for j in range(2):
+            want = ref[j * nx * nz:(j + 1) * nx * nz].reshape(nx, nz)
+            assert np.abs(got[j] - want).max() <= 1e-10 * np.abs(want).max(), j
+        assert solver.residual < 1e-11
+    if conductance:     # the conductance really couples: the cooler body is heated through it
+        assert np.abs(got[1] - ThermalSolver(g, bodies, two_d).solve(loads)[1]).max() > 1e-3 * np.abs(got[1]).max()
+
+
+@pytest.mark.parametrize("resistance", [0.0, 1000.0])
+def test_coupling_loop_factorises_the_conduction_once(monkeypatch, resistance):
+    """The Steps 1-4 loop (thermal expansion couples back: several iterations) builds the conduction
+    operator once; a contact conductance p / r follows the pressure, which changes with the expansion,
+    so with one the operator is rebuilt, once per iteration at most."""
+    from types import SimpleNamespace as NS
+    from railtherm_fem import coupled
+    built = []
+
+    class Counting(coupled.ThermalSolver):
+        def __init__(self, *args, **kw):
+            built.append(args[3] if len(args) > 3 else kw.get("conductance"))
+            super().__init__(*args, **kw)
+    monkeypatch.setattr(coupled, "ThermalSolver", Counting)
+    steel = NS(shear_modulus=82e9, poisson_ratio=0.28, density=7850.0, specific_heat=450.0, conductivity=50.0,
+               thermal_expansion=12e-6, bulk_temperature=0.0, rigid=False)
+    sol = coupled.solve_fem(coupled.FemProblem(radius=0.46, rail=steel, wheel=steel, speed=10.0, normal_force=1e6,
+                                               creepage=-2e-3, friction=0.3, level=0, thermal_resistance=resistance))
+    assert sol.coupling_converged and sol.coupling_iterations >= 3
+    if resistance == 0.0:
+        assert built == [None]
+    else:
+        assert 2 <= len(built) <= sol.coupling_iterations
+        assert all(np.any(h > 0) for h in built)

@@ -12,7 +12,7 @@ by parts vanishes on the surface (n_1 = 0) and on the clamped ends. The strip is
 foundation y = -H and at the ends x = +-L/2 (seed eq. 17); the top y = 0 carries the contact load.
 P1 triangles (``ElementVector(ElementTriP1)``), plane strain with the true Lamé constants. The stiffness
 is assembled with array operations (:func:`stiffness_matrix`, equal to scikit-fem's ``asm`` of the form
-above to round-off and 10x faster); the thermal load uses scikit-fem.
+above to round-off and 10x faster); the thermal load uses scikit-fem's quadrature rules.
 """
 from __future__ import annotations
 
@@ -21,6 +21,7 @@ import scipy.sparse as sp
 
 from .condense import CondensedStiffness
 from .mesh import StripMesh
+from .thermal import bilinear_weights
 
 __all__ = ["ElasticStrip", "stiffness_matrix", "node_adjacency"]
 
@@ -56,6 +57,7 @@ class ElasticStrip:
         self.condensed = CondensedStiffness(self.K, self.node_dofs, self.adjacency, mesh.p,
                                             strip.fixed_nodes, strip.window)
         self.fixed_dofs = self.node_dofs[:, strip.fixed_nodes].ravel()
+        self._quadrature = None     # (key, quadrature) of the last heated layer (see _layer_quadrature)
 
     @property
     def ndofs(self) -> int:
@@ -63,11 +65,26 @@ class ElasticStrip:
         return self.K.shape[0]
 
     @property
+    def nbytes(self) -> int:
+        """Estimated memory held [B]: factor fill and stiffness (value and index, 12 B per entry), the
+        window compliance and the kept quadrature of the heated layer."""
+        quad = self._quadrature[1] if self._quadrature is not None and self._quadrature[1] is not None else {}
+        return int(12 * (self.condensed.fill + self.K.nnz) + self.compliance.nbytes
+                   + sum(v.nbytes for v in quad.values()))
+
+    @property
     def compliance(self) -> np.ndarray:
         return self.condensed.compliance
 
     def thermal_load(self, theta, intorder: int = 12, depth: float | None = None) -> np.ndarray:
         """Nodal load ``int alpha (3 lambda + 2 mu) theta div v`` of a temperature rise [N].
+
+        On P1 triangles div v is constant per element, so the load of a node is its hat gradient times
+        the element integral of theta, evaluated with scikit-fem's Gauss rule of order ``intorder`` on
+        each element. The quadrature points and weights of the elements that meet the heated layer
+        depend only on the mesh, ``intorder`` and ``depth``: they are computed once and kept for the
+        next call with the same two (the Steps 1-4 loop loads the same layer with a new theta each
+        time); each call then costs one evaluation of theta and one sum per element.
 
         Parameters
         ----------
@@ -79,26 +96,73 @@ class ElasticStrip:
         depth : float, optional
             Only elements with a node shallower than this are integrated [m] (theta = 0 below).
         """
-        from skfem import Basis, ElementTriP1, ElementVector, LinearForm, asm
-        mesh = self.strip.mesh
-        if depth is None:
-            elems = np.arange(mesh.nelements)
-        else:
-            elems = np.nonzero((-mesh.p[1, mesh.t]).min(axis=0) < depth)[0]
         f = np.zeros(self.ndofs)
-        if elems.size == 0 or self.alpha == 0.0:
+        if self.alpha == 0.0:
+            return f
+        q = self._layer_quadrature(int(intorder), None if depth is None else float(depth))
+        if q is None:
             return f
         beta = self.alpha * (3.0 * self.lam + 2.0 * self.mu)
-        basis = Basis(mesh, ElementVector(ElementTriP1()), elements=elems, intorder=intorder)
-
-        @LinearForm
-        def load(v, w):
-            th = theta(w.x[0], -w.x[1])
-            return beta * th * (v.grad[0][0] + v.grad[1][1])
-
-        f = asm(load, basis)
+        integral = np.sum(np.asarray(theta(q["x"], q["z"]), float) * q["w"], axis=1)      # [K m^2] per element
+        f = np.bincount(q["dofs"], weights=(q["grad"] * (beta * integral)).ravel(), minlength=self.ndofs)
         f[self.fixed_dofs] = 0.0
         return f
+
+    def thermal_load_operator(self, grid, intorder: int = 12, depth: float | None = None) -> sp.csr_matrix:
+        """Matrix E [N/K] with ``E @ theta.ravel()`` = :meth:`thermal_load` of the bilinear interpolant of a
+        rise ``theta`` given at the nodes of a tensor grid (shape (grid.x.size, grid.z.size), 0 outside it).
+
+        The interpolation weights at the Gauss points are computed once: a loop that loads the strip with
+        a new temperature field on the same grid then costs one sparse product per load.
+        """
+        n_grid = grid.x.size * grid.z.size
+        q = self._layer_quadrature(int(intorder), None if depth is None else float(depth))
+        if q is None or self.alpha == 0.0:
+            return sp.csr_matrix((self.ndofs, n_grid))
+        beta = self.alpha * (3.0 * self.lam + 2.0 * self.mu)
+        ne, nq = q["x"].shape
+        nodes, weights = bilinear_weights(grid.x, grid.z, q["x"], q["z"])          # (4, ne nq)
+        rows = np.broadcast_to(np.repeat(np.arange(ne), nq), nodes.shape)
+        W = sp.csr_matrix(((weights * q["w"].ravel()).ravel(), (rows.ravel(), nodes.ravel())), shape=(ne, n_grid))
+        keep = np.ones(self.ndofs)
+        keep[self.fixed_dofs] = 0.0
+        D = sp.csr_matrix((beta * q["grad"].ravel() * keep[q["dofs"]], (q["dofs"], np.tile(np.arange(ne), 6))),
+                          shape=(self.ndofs, ne))
+        return (D @ W).tocsr()
+
+    def _layer_quadrature(self, intorder: int, depth: float | None):
+        """Quadrature of the elements with a node shallower than ``depth`` (all without it); None if none.
+
+        Returns a dict: ``x``, ``z`` (depth = -y) [m] and ``w`` [m^2] of the Gauss points, shape
+        (n_elements, n_points); ``dofs`` (flat) and ``grad`` [1/m], shape (6, n_elements): the x- and
+        y-unknowns of the element's three nodes and the matching hat-function gradient components (the
+        divergence of each vector basis function). The last one computed is kept (one key: the layer of
+        one solve, which the next solve on the same mesh and level finds again).
+        """
+        key = (intorder, depth)
+        if self._quadrature is not None and self._quadrature[0] == key:
+            return self._quadrature[1]
+        from skfem import ElementTriP1
+        from skfem.quadrature import get_quadrature
+        mesh = self.strip.mesh
+        t = mesh.t
+        elems = np.arange(mesh.nelements) if depth is None else np.nonzero((-mesh.p[1, t]).min(axis=0) < depth)[0]
+        out = None
+        if elems.size:
+            t = t[:, elems]
+            x, y = mesh.p[0, t], mesh.p[1, t]                        # (3, ne)
+            X, W = get_quadrature(ElementTriP1().refdom, intorder)  # reference points (2, nq), weights (nq,)
+            j11, j12, j21, j22 = x[1] - x[0], x[2] - x[0], y[1] - y[0], y[2] - y[0]
+            det = j11 * j22 - j12 * j21
+            px = x[0][:, None] + j11[:, None] * X[0] + j12[:, None] * X[1]
+            py = y[0][:, None] + j21[:, None] * X[0] + j22[:, None] * X[1]
+            b = np.stack([y[1] - y[2], y[2] - y[0], y[0] - y[1]]) / det      # dN_i/dx
+            c = np.stack([x[2] - x[1], x[0] - x[2], x[1] - x[0]]) / det      # dN_i/dy
+            out = dict(x=px, z=-py, w=np.abs(det)[:, None] * W[None, :],
+                       dofs=np.concatenate([self.node_dofs[0][t], self.node_dofs[1][t]]).ravel(),
+                       grad=np.concatenate([b, c]))
+        self._quadrature = (key, out)
+        return out
 
     def solve(self, f: np.ndarray) -> np.ndarray:
         """Displacement field for the nodal load f [m] (constrained unknowns zero)."""

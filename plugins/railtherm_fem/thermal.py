@@ -16,8 +16,11 @@ Discretisation (method of lines on a tensor grid x_i, z_k):
   that a material point has spent under the source. The 1-D form is then exactly a BDF2 marching
   scheme; the 2-D form adds the (central) x-conduction.
 
-The assembled system ``[lambda (K_x x M_z) + lambda (M_x x K_z) - rho c V (M_x D_x x M_z) + H] theta = b``
-is solved with one sparse LU factorisation. Second order in dx and dz (the tests fit the rate).
+The system ``[lambda (K_x x M_z) + lambda (M_x x K_z) - rho c V (M_x D_x x M_z) + H] theta = b`` is a sum
+of Kronecker products of 1-D matrices: it is solved exactly through the eigenvectors of the depth
+problem, one banded x-system per depth mode (:class:`ThermalSolver`), factorised once and reused for
+every load; a contact conductance between two bodies breaks that structure and is solved by one sparse
+LU instead. Second order in dx and dz (the tests fit the rate).
 
 References
 ----------
@@ -34,7 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["ThermalGrid", "thermal_grid", "hat_load", "solve_thermal", "ThermalSolver", "ThermalBody"]
+__all__ = ["ThermalGrid", "thermal_grid", "bilinear_weights", "hat_load", "solve_thermal", "ThermalSolver", "ThermalBody"]
 
 
 @dataclass
@@ -132,6 +135,27 @@ def thermal_grid(heated: float, dx: float, x_min: float, x_max: float, dz0: floa
     return ThermalGrid(x, z)
 
 
+def bilinear_weights(x: np.ndarray, z: np.ndarray, xs: np.ndarray, zs: np.ndarray):
+    """Nodes and weights of the bilinear (P1 x P1) interpolant on the tensor grid (x, z) at points (xs, zs).
+
+    Returns ``(nodes, weights)``, both shape (4, n): flat indices into values of shape (x.size, z.size)
+    (C order) and their weights [1]; a point outside the grid gets weight 0 (the interpolant is 0 there).
+    The interpolant at the points is ``(values.ravel()[nodes] * weights).sum(axis=0)``.
+    """
+    def locate(g, s):
+        i = np.clip(np.searchsorted(g, s, side="right") - 1, 0, g.size - 2)
+        return i, (s - g[i]) / (g[i + 1] - g[i])
+
+    xs, zs = np.asarray(xs, float).ravel(), np.asarray(zs, float).ravel()
+    i, tx = locate(x, xs)
+    k, tz = locate(z, zs)
+    nz = z.size
+    nodes = np.stack([i * nz + k, i * nz + k + 1, (i + 1) * nz + k, (i + 1) * nz + k + 1])
+    weights = np.stack([(1.0 - tx) * (1.0 - tz), (1.0 - tx) * tz, tx * (1.0 - tz), tx * tz])
+    weights[:, (xs < x[0]) | (xs > x[-1]) | (zs < z[0]) | (zs > z[-1])] = 0.0
+    return nodes, weights
+
+
 def hat_load(x: np.ndarray, q, breaks=None, order: int = 4) -> np.ndarray:
     """Integrals int q(s) phi_i(s) ds of a surface flux against the P1 hat functions of the x-nodes.
 
@@ -209,6 +233,20 @@ def _fe_1d(nodes: np.ndarray):
 class ThermalSolver:
     """Factorised steady moving-frame conduction operator of one or two bodies on the same grid.
 
+    The operator of one body is a sum of Kronecker products of 1-D matrices (x outer, z inner):
+    ``A = M_x (x) Kz' + G_x (x) M_z`` with ``Kz' = lambda K_z + h e_0 e_0^T`` (conduction in depth and the
+    convection at the surface node), ``G_x = lambda K_x - rho c V M_x D_x`` (conduction along x, dropped in
+    the 1-D form, and the upstream convection) and M_x the lumped x-mass. Without a contact conductance
+    the bodies are uncoupled and each is solved exactly through the generalised eigenvectors of
+    (Kz', M_z) (``Phi^T Kz' Phi = diag(mu)``, ``Phi^T M_z Phi = I``, on the nodes above the bottom): in
+    that basis the system splits into one banded x-system ``(mu_j M_x + G_x) eta_j = Phi[0, j] load``
+    per depth mode (bandwidths 1 below, 2 above), all factorised once at construction (LAPACK
+    ``gbtrf``; O(nx nz) work and storage instead of a sparse 2-D LU of O((nx nz)^1.5)); each
+    :meth:`solve` is then one banded back-substitution and two small dense products. Same discrete
+    solution as the assembled sparse system (to round-off; tests/test_fem_thermal.py compares them).
+    With a contact conductance h_c(x) the surface nodes of the two bodies couple, the Kronecker
+    structure is lost, and the assembled system is factorised once by sparse LU.
+
     Parameters
     ----------
     grid : ThermalGrid
@@ -219,58 +257,137 @@ class ThermalSolver:
     conductance : ndarray, optional
         Contact conductance h_c(x_i) at the surface nodes [W/(m^2 K)] coupling body 0 and body 1:
         body 0 receives h_c (theta_1 - theta_0), body 1 the opposite.
+
+    Attributes
+    ----------
+    unknowns : int
+        Free temperatures of all bodies (the inflow end x = x_max and the bottom z = depth are fixed at 0).
+    residual : float
+        Relative residual ||A theta - b|| / ||b|| of the last :meth:`solve` over all its loads [1].
     """
 
     def __init__(self, grid: ThermalGrid, bodies, two_d: bool = True, conductance=None):
         self.grid, self.nb = grid, len(bodies)
-        nx, nz = grid.shape
-        Kx, Mx = _fe_1d(grid.x)
-        Kz, Mz = _fe_1d(grid.z)
-        mx = np.asarray(Mx.sum(axis=1)).ravel()  # lumped x-mass
-        MxL = sp.diags(mx)
-        Dx = _upstream_matrix(grid.x)
-        e0 = sp.csr_matrix(([1.0], ([0], [0])), shape=(nz, nz))
-        blocks = []
         for b in bodies:
             if not b.speed > 0:
                 raise ValueError(f"body speed must be positive for a steady moving-frame solution, got {b.speed!r}")
-            A = b.conductivity * sp.kron(MxL, Kz) - b.volumetric_heat * b.speed * sp.kron(MxL @ Dx, Mz)
+        nx, nz = grid.shape
+        Kx, Mx = _fe_1d(grid.x)
+        Kz, Mz = _fe_1d(grid.z)
+        self._mx = np.asarray(Mx.sum(axis=1)).ravel()      # lumped x-mass [m]
+        Dx = _upstream_matrix(grid.x)
+        fx, fz = slice(0, nx - 1), slice(0, nz - 1)         # free: all but the inflow end and the bottom
+        self._Mz = Mz[fz, fz].toarray()
+        self._G, self._Kz = [], []
+        for b in bodies:
+            G = -b.volumetric_heat * b.speed * (sp.diags(self._mx) @ Dx)
             if two_d:
-                A = A + b.conductivity * sp.kron(Kx, Mz)
-            if b.convection:
-                A = A + b.convection * sp.kron(MxL, e0)
-            blocks.append(A.tocsr())
-        N = nx * nz
-        A = blocks[0] if self.nb == 1 else sp.block_diag(blocks).tocsr()
-        if conductance is not None and self.nb == 2:
-            hc = np.asarray(conductance, float) * mx
-            surf = np.arange(nx) * nz
-            H = sp.csr_matrix((hc, (surf, surf)), shape=(N, N))
-            A = A + sp.bmat([[H, -H], [-H, H]])
-        fixed = np.zeros((nx, nz), bool)
-        fixed[-1, :] = True   # inflow end: bulk temperature
-        fixed[:, -1] = True   # bottom of the layer: bulk temperature
-        self.free = ~np.tile(fixed.ravel(), self.nb)
-        A = A.tocsr()
-        self.A = A[self.free][:, self.free].tocsc()
-        self.lu = spla.splu(self.A, permc_spec="COLAMD")
-        self.N = N
-        self.unknowns = int(self.free.sum())
-        #: relative residual ||A theta - b|| / ||b|| of the last :meth:`solve` (worst over its loads) [1]
+                G = G + b.conductivity * Kx
+            Kzb = b.conductivity * Kz[fz, fz].toarray()
+            Kzb[0, 0] += b.convection
+            self._G.append(sp.csr_matrix(G)[fx, fx])
+            self._Kz.append(Kzb)
+        self.N = nx * nz
+        self.unknowns = self.nb * (nx - 1) * (nz - 1)
         self.residual = 0.0
+        coupled = conductance is not None and self.nb == 2
+        self._lu = _SparseCoupled(self, conductance) if coupled else None
+        self._modes = None if coupled else [_ModalFactor(G, Kzb, self._Mz, self._mx[fx])
+                                            for G, Kzb in zip(self._G, self._Kz)]
+
+    def _apply(self, j: int, theta: np.ndarray) -> np.ndarray:
+        """A_j theta of body j on the free nodes, theta shape (nx-1, nz-1) [W/m]."""
+        mx = self._mx[:-1]
+        return (mx[:, None] * theta) @ self._Kz[j] + (self._G[j] @ theta) @ self._Mz
 
     def solve(self, loads):
         """theta of each body, shape (nx, nz) [K], for the nodal surface heat inputs ``loads`` [W/m]."""
         nx, nz = self.grid.shape
-        b = np.zeros(self.nb * self.N)
-        for j, load in enumerate(loads):
-            b[j * self.N + np.arange(nx) * nz] = load
-        theta = np.zeros(self.nb * self.N)
-        bf = b[self.free]
-        theta[self.free] = self.lu.solve(bf)
-        nb = float(np.linalg.norm(bf))
-        self.residual = float(np.linalg.norm(self.A @ theta[self.free] - bf) / nb) if nb > 0 else 0.0
-        return [theta[j * self.N:(j + 1) * self.N].reshape(nx, nz) for j in range(self.nb)]
+        loads = [np.asarray(q, float)[:-1] for q in loads]
+        out = [np.zeros((nx, nz)) for _ in range(self.nb)]
+        if self._lu is not None:
+            free = self._lu.solve(np.concatenate([_surface_rhs(q, nz - 1) for q in loads]))
+            for j in range(self.nb):
+                out[j][:-1, :-1] = free[j * (nx - 1) * (nz - 1):(j + 1) * (nx - 1) * (nz - 1)].reshape(nx - 1, nz - 1)
+        else:
+            for j in range(self.nb):
+                out[j][:-1, :-1] = self._modes[j].solve(loads[j])
+        res, rhs = 0.0, 0.0
+        for j in range(self.nb):
+            r = self._apply(j, out[j][:-1, :-1])
+            r[:, 0] -= loads[j]
+            if self._lu is not None:
+                r[:, 0] += self._lu.coupling(out, j)
+            res += float(np.sum(r * r))
+            rhs += float(np.sum(loads[j] ** 2))
+        self.residual = math.sqrt(res / rhs) if rhs > 0 else 0.0
+        return out
+
+
+class _ModalFactor:
+    """Banded LU of every depth mode of one body: ``(mu_j M_x + G_x) eta_j = Phi[0, j] load`` (see
+    :class:`ThermalSolver`), the modes stacked one after the other in one banded matrix."""
+
+    def __init__(self, G, Kz, Mz, mx):
+        from scipy.linalg import eigh
+        from scipy.linalg.lapack import dgbtrf
+        self.mu, self.phi = eigh(Kz, Mz)                 # Phi^T Kz Phi = diag(mu), Phi^T Mz Phi = I
+        n, m = G.shape[0], self.mu.size
+        band = np.zeros((4, n))                          # LAPACK band storage: band[2 + i - j, j] = G[i, j]
+        Gd = sp.dia_matrix(G)
+        for off, d in zip(Gd.offsets, Gd.data):
+            if not -1 <= off <= 2:
+                raise ValueError(f"x-operator has a diagonal at offset {off}, outside the band (-1, 2)")
+            band[2 - off] += d
+        ab = np.tile(band, (1, m))
+        ab[2] += np.repeat(self.mu, n) * np.tile(mx, m)
+        for off in (1, 2):                               # no coupling between consecutive modes
+            for s in range(off):
+                ab[2 - off, s::n] = 0.0
+        ab[3, n - 1::n] = 0.0
+        self.n, self.m = n, m
+        lu, piv, info = dgbtrf(np.vstack([np.zeros((1, ab.shape[1])), ab]), 1, 2)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"banded LU of the thermal x-operator failed (info = {info})")
+        self.lu, self.piv = lu, piv
+
+    def solve(self, load: np.ndarray) -> np.ndarray:
+        """Free temperatures, shape (n, m) [K], for the surface load of the free x-nodes [W/m]."""
+        from scipy.linalg.lapack import dgbtrs
+        rhs = (self.phi[0][:, None] * load[None, :]).ravel()
+        eta, info = dgbtrs(self.lu, 1, 2, rhs, self.piv)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"banded solve of the thermal x-operator failed (info = {info})")
+        return eta.reshape(self.m, self.n).T @ self.phi.T
+
+
+def _surface_rhs(load: np.ndarray, m: int) -> np.ndarray:
+    """Right-hand side of one body on its free nodes (x outer, z inner): ``load`` at the surface node."""
+    b = np.zeros((load.size, m))
+    b[:, 0] = load
+    return b.ravel()
+
+
+class _SparseCoupled:
+    """Sparse LU of two bodies coupled by a contact conductance at their surface nodes."""
+
+    def __init__(self, solver: "ThermalSolver", conductance):
+        n, m = solver._G[0].shape[0], solver._Mz.shape[0]
+        self.hc = np.asarray(conductance, float)[:-1] * solver._mx[:-1]      # [W/(m K)]
+        blocks = [sp.kron(sp.diags(solver._mx[:-1]), sp.csr_matrix(Kz)) + sp.kron(G, sp.csr_matrix(solver._Mz))
+                  for G, Kz in zip(solver._G, solver._Kz)]
+        surf = np.arange(n) * m
+        H = sp.csr_matrix((self.hc, (surf, surf)), shape=(n * m, n * m))
+        A = sp.block_diag(blocks).tocsr() + sp.bmat([[H, -H], [-H, H]])
+        self.lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A")
+
+    def solve(self, b):
+        return self.lu.solve(b)
+
+    def coupling(self, theta, j: int) -> np.ndarray:
+        """Conductance flux into the surface row of body j's residual [W/m]."""
+        d = theta[j][:-1, 0] - theta[1 - j][:-1, 0]
+        return self.hc * d
 
 
 def solve_thermal(grid: ThermalGrid, bodies, loads, *, two_d: bool = True, conductance=None):
