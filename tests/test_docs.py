@@ -1,8 +1,14 @@
-"""Documentation in the repository: cited documents exist, no machine paths, one DOI per reference."""
+"""Documentation in the repository: cited documents exist, no machine paths, one DOI per reference; the
+plugin guide's example plugin and conformance test run as written and keep core's sign conventions."""
 from __future__ import annotations
 
 import re
+import sys
+import types
 from pathlib import Path
+
+import numpy as np
+import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
@@ -103,3 +109,71 @@ def test_references_identify_the_seed_paper():
     text = (DOCS / "references.md").read_text()
     assert "Comparison of Numerical Methods for Solution of Thermoelastic Wheel–Rail" in text
     assert "Ertz" in text and "DOI not verified" in text
+
+
+# ---------------------------------------------------------------------------------------------
+# docs/plugins.md: its example plugin and its conformance test run as written
+
+def _block(path: Path, first_line: str) -> str:
+    text = path.read_text()
+    m = re.search(r"```python\n(" + re.escape(first_line) + r"\n.*?)```", text, re.S)
+    assert m, f"{path.name}: no python block starting with {first_line!r}"
+    return m.group(1)
+
+
+def _module(name: str, code: str):
+    mod = types.ModuleType(name)
+    exec(compile(code, name, "exec"), mod.__dict__)
+    return mod
+
+
+def _my_plugin(sliding_code: str):
+    pkg = types.ModuleType("my_plugin")
+    pkg.__path__ = []
+    pkg.plugin = _module("my_plugin.plugin", _block(ROOT / "README.md", "# my_plugin/plugin.py"))
+    pkg.sliding = _module("my_plugin.sliding", sliding_code)
+    return pkg
+
+
+def test_plugin_guide_example_passes_the_conformance_kit_as_written(railtherm_register, monkeypatch):
+    """The guide's tangential model (with the README's temperature model) through the guide's own test."""
+    pkg = _my_plugin(_block(DOCS / "plugins.md", "# my_plugin/sliding.py"))
+    for name, mod in (("my_plugin", pkg), ("my_plugin.plugin", pkg.plugin), ("my_plugin.sliding", pkg.sliding)):
+        monkeypatch.setitem(sys.modules, name, mod)
+    test = _block(DOCS / "plugins.md", "from railtherm.testing import check_method")
+    _module("guide_test", test).test_conformance(railtherm_register)
+    from railtherm.testing import check_method
+    out = check_method("plain")
+    assert out["ellipse-full-sliding"] == "ok" and out["line-full-sliding"] == "ok"
+    assert out.models["plain-sliding"].startswith("sign conventions checked on ellipse-full-sliding")
+
+
+def test_plugin_guide_example_with_the_old_sign_fails_the_kit(railtherm_register):
+    """The same model with 'dissipation = traction x slip velocity' (what the guide said before it stated the
+    conventions) is caught: a frictional heat source of -30 kW."""
+    code = _block(DOCS / "plugins.md", "# my_plugin/sliding.py")
+    assert code.count("dissipation=-traction * slip") == 1
+    pkg = _my_plugin(code.replace("dissipation=-traction * slip", "dissipation=traction * slip"))
+    host = railtherm_register("crude", pkg.plugin)
+    host.add_plugin(pkg.sliding, "plain")
+    host.build()
+    from railtherm.testing import check_method
+    with pytest.raises(AssertionError, match=r"'plain'.*'plain-sliding' gives a frictional power density of -"):
+        check_method("plain")
+
+
+def test_plugin_guide_states_the_sign_conventions_core_uses():
+    """The conventions the guide writes down are the ones of core's reference models (full sliding at v_s > 0:
+    traction +mu p on the wheel, slip -v_s, dissipation mu p v_s) and of core's frictional heat source."""
+    import railtherm
+    from railtherm.testing import canonical
+    guide = (DOCS / "plugins.md").read_text()
+    for words in ("material flows towards −x", "act **on the wheel**", "−(traction · slip\n  velocity) ≥ 0"):
+        assert words in guide, words
+    ds = railtherm.solve(canonical("ellipse-full-sliding", outputs=["traction_x", "slip_velocity_x", "heat_flux",
+                                                                     "frictional_power", "creep_force_x"]),
+                         {"normal": "hertz", "tangential": "full-sliding", "heat_source": "frictional"}, 0)
+    inside = ds.heat_flux.sum("body").values > 0
+    assert np.all(ds.traction_x.values[inside] > 0) and np.all(ds.slip_velocity_x.values[inside] == -1.0)
+    assert float(ds.creep_force_x) > 0
+    assert float(ds.frictional_power) == pytest.approx(0.3 * 100e3 * 1.0, rel=1e-12)
