@@ -97,6 +97,7 @@ class ChunkTask:
                                wall_time=row["wall_time"], peak_rss=row["peak_rss"], rss_growth=row["rss_growth"],
                                timing_runs=row["timing_runs"], path=self.ref(j), scene_hash=t.scene.hash,
                                run_hash=row["run_hash"], wall_time_median=row["wall_time_median"],
+                               wall_time_cold=row.get("wall_time_cold", math.nan),
                                reason_kind=row["reason_kind"], diagnostics=diag, resumed=resumed,
                                run_id=row["run_id"], energy_balance=row["energy_balance"] if ok else math.nan,
                                energy_reference=row["energy_reference"] if ok else "", values=values if ok else {},
@@ -134,7 +135,8 @@ def make_chunks(tasks, layout: zarr_store.Layout, out) -> list[ChunkTask]:
 def row_of_record(rec: store.RunRecord, ds=None) -> dict:
     """The store's row of a run record (and the scalars of its result ``ds``)."""
     row = {"status": rec.status, "reason_kind": rec.reason_kind, "message": rec.message,
-           "wall_time": rec.wall_time, "wall_time_median": rec.wall_time_median, "peak_rss": rec.peak_rss,
+           "wall_time": rec.wall_time, "wall_time_median": rec.wall_time_median,
+           "wall_time_cold": rec.wall_time_cold, "peak_rss": rec.peak_rss,
            "rss_growth": rec.rss_growth, "energy_balance": rec.energy_balance,
            "energy_reference": rec.energy_reference, "run_hash": rec.run_hash, "run_id": rec.run_id,
            "timing_runs": rec.timing_runs, "pid": rec.pid}
