@@ -9,6 +9,7 @@ one needed run, no others. A scene that gives its heat source runs no normal or 
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import time
 from dataclasses import dataclass
@@ -26,7 +27,7 @@ from ..input.scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
 from ..contract.schema import STAGE_OF_GROUP, VARIABLES, build_dataset, history_line, validate_dataset
 from ..contract.stages import STAGES, ContactPatch, CoupledModel, StageModel, Upstream
 
-__all__ = ["solve", "plan", "given_heat_source", "Plan"]
+__all__ = ["solve", "plan", "given_heat_source", "Plan", "duplicate_of"]
 
 
 
@@ -130,6 +131,77 @@ def plan(scene: Scene, method: "str | Mapping[str, Any] | MethodInfo", level: in
                           f"{sorted(set().union(*(m.capabilities.provides for m in models.values())))}")
     stages = tuple(order[: last + 1])
     return Plan(mi, stages, {s: models[s] for s in stages})
+
+
+def _computation(pl: Plan, options: Mapping[str, Any] | None) -> tuple:
+    """What a plan computes, grid resolution aside: per executed stage, the model's class and the options it
+    resolves from ``options``. Two plans with equal computations differ at most in the cells of their grids
+    (the same ladder of one model chain, level for level or shifted)."""
+    return tuple((s, f"{type(m).__module__}.{type(m).__qualname__}",
+                  json.dumps(m.resolve_options(options), sort_keys=True, default=str))
+                 for s, m in ((s, pl.models[s]) for s in pl.stages))
+
+
+def _own_stages(pl: Plan, host: PluginHost) -> tuple[str, ...]:
+    """The executed stages whose model the method's own plugin registered (none for a study's chain)."""
+    return tuple(s for s in pl.stages if host.models[pl.models[s].name].plugin == pl.method.plugin)
+
+
+def duplicate_of(scene: Scene, method: "str | Mapping[str, Any] | MethodInfo", level: int,
+                 peers, options: Mapping[str, Any] | None = None, host: PluginHost | None = None) -> str | None:
+    """Why a run of ``method`` would repeat another method's computation on ``scene``, or None.
+
+    Two methods whose executed stage models (class and resolved options, :func:`_computation`) are identical
+    on a scene compute the same result, at most on another grid (``kalker`` on a given heat source runs only
+    core's ``given`` and green's temperature model: green's result). One of them runs, the others are refused
+    (validity): the one running a stage of its own plugin, else the first in ``peers``' order.
+
+    Parameters
+    ----------
+    scene : Scene
+    method : str, mapping or MethodInfo
+        The method or study chain of the run.
+    level : int
+        The run's level (each peer is planned at the same level).
+    peers : sequence of (method, options)
+        The study's methods (names or chains) with their options, in study order; ``method`` may be among
+        them (its position decides between two methods that both, or neither, run a stage of their own).
+    options : mapping, optional
+        The run's method options.
+
+    Returns
+    -------
+    str or None
+        The refusal's message, naming the method whose result this run would repeat.
+    """
+    host = host or get_host()
+    scene = load_scene(scene)
+    mi = method if isinstance(method, MethodInfo) else host.resolve(method)
+    infos = [(host.resolve(spec), opts) for spec, opts in peers]
+    order = [pi.name for pi, _ in infos]
+    try:
+        pl = plan(scene, mi, level, host)
+    except Refused:
+        return None
+    mine = _computation(pl, options)
+
+    def rank(p: Plan, name: str) -> tuple:
+        return (0 if _own_stages(p, host) else 1, order.index(name) if name in order else len(order))
+
+    for pi, opts in infos:
+        if pi.name == mi.name:
+            continue
+        try:
+            other = plan(scene, pi, level, host)
+        except Refused:
+            continue
+        if _computation(other, opts) != mine or rank(other, pi.name) >= rank(pl, mi.name):
+            continue
+        own = _own_stages(pl, host)
+        what = (f"runs no stage of its own on scene {scene.name!r} ({pl.describe()})" if not own else
+                f"runs the same stage models as method {pi.name!r} on scene {scene.name!r} ({pl.describe()})")
+        return f"method {mi.name!r} {what}; its result is {pi.name}'s (method {pi.name!r} runs the same models)"
+    return None
 
 
 def _flat_diagnostics(prefix: str, diag: Mapping[str, Any], out: dict) -> None:
@@ -282,7 +354,7 @@ def _versions(pl: Plan, host: PluginHost) -> str:
 
 def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", level: int = 0,
           options: Mapping[str, Any] | None = None,
-          *, host: PluginHost | None = None, validate: bool = True):
+          *, host: PluginHost | None = None, validate: bool = True, peers=None):
     """Solve one scene with one method at one resolution level.
 
     Parameters
@@ -298,6 +370,9 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
         Resolution level k >= 0 (each level halves the method's characteristic cell size).
     options : mapping, optional
         Method options (``[study.options.<method>]``), validated by the method's models.
+    peers : sequence of (method, options), optional
+        The other methods of a study with their options: a run that would repeat one of their
+        computations is refused (:func:`duplicate_of`).
 
     Returns
     -------
@@ -319,6 +394,10 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
     mi = host.resolve(method)  # SceneError for an unknown method or a bad chain, naming what is allowed
     options = _check_options(mi, options, scene.name)
     pl = plan(scene, mi, level, host)
+    if peers:
+        why = duplicate_of(scene, mi, level, peers, options, host)
+        if why:
+            raise Refused(why, kind="validity")
     method = mi.name
     t0 = time.perf_counter()
     patch, source, temp, records = _run(pl, scene, level, options)
