@@ -36,6 +36,16 @@ def test_every_document_cited_under_docs_exists():
     assert not missing, f"cited but not in docs/: {missing}"
 
 
+def test_every_cited_test_or_benchmark_file_exists():
+    """A document that names a test or benchmark module (``tests/test_x.py``) names one that exists."""
+    docs = [ROOT / "README.md", *DOCS.glob("*.md"), *(ROOT / "tests").rglob("*.md"), *(ROOT / "benchmarks").rglob("*.md")]
+    cited = {(p.relative_to(ROOT), c) for p in docs if p.is_file()
+             for c in re.findall(r"\b((?:tests|benchmarks)/[\w/.-]+\.py)\b", p.read_text(errors="replace"))}
+    assert cited, "no document names a test module"
+    missing = sorted((str(p), c) for p, c in cited if not (ROOT / c).is_file())
+    assert not missing, f"documents name test modules that do not exist: {missing}"
+
+
 def test_cited_sections_exist():
     design = (DOCS / "DESIGN.md").read_text()
     for section in ("Scene vocabulary", "Result schema", "Stages", "Statuses", "Commands and exit codes"):
