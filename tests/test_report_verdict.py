@@ -436,3 +436,74 @@ def test_a_finding_credits_the_model_that_ran_on_a_given_heat_source():
     out = findings(data, [Row("s", "scene-s", ["s"], "max_surface_temperature")], cards)
     assert any(t.startswith("For `s` (max. surface temperature), kalker (green's temperatures; the heat source is "
                             "given) reaches 0.12 % error") and "; fipy needs" in t for t in out), out
+
+
+def _ladder_data(errors, stages=None, signed=None, scenes=("ek-exact",), reference="kalker"):
+    """StudyData of green's ladder (headline errors per level) on kalker-referenced scenes, with stored
+    verdicts left to the rule (no metrics.nc) unless ``signed`` gives metrics.nc's signed headline errors."""
+    from railtherm.report.load import Run, SceneInfo, StudyData
+    runs, info = [], {}
+    methods = sorted((stages or {"green": {}, "kalker": {}}).keys())
+    for s in scenes:
+        info[s] = SceneInfo(s, headline="max_surface_temperature", reference_kind=reference)
+        for m in methods:
+            for lv, e in enumerate(errors if m != reference else [math.nan] * len(errors)):
+                st = "unverified" if m == reference else ("ok" if e <= 0.05 else "inaccurate")
+                runs.append(Run(s, m, lv, st, wall_time=10.0 ** lv * 1e-3, headline_error=e,
+                                headline_reference="" if m == reference else f"method:{reference}"))
+    data = StudyData(out=Path("."), name="x", tolerance=0.05, runs=runs, scenes=list(scenes), methods=methods,
+                     levels=list(range(len(errors))), info={}, study=None, scene=info, orders={}, cross={},
+                     curves=None, memory_label="", legacy=False)
+    if stages:
+        data.stages = lambda sc, m: stages[m]
+    if signed is not None:
+        data._stored_verdicts = signed
+    return data
+
+
+def test_a_lucky_level_is_not_the_scorecard_verdict():
+    """ek-exact: green's error went 24 -> 0.17 -> 16 -> 25 % over the levels; the cell read "ok · 0.17 % · L1"."""
+    from railtherm.report.verdict import cell, choose, findings, rows, scorecard, sweep_groups
+    data = _ladder_data([0.24, 0.0017, 0.16, 0.25])
+    v = choose(data, "ek-exact", "green")
+    text = cell(v).text
+    assert v.status == "inaccurate" and v.run.level == 3 and "25 %" in text and "non-monotone" in text, text
+    assert not text.startswith("ok")
+    table_rows = rows(data, sweep_groups(data))
+    out = findings(data, table_rows, scorecard(data, table_rows))
+    assert any("non-monotone" in t and "green" in t for t in out), out
+    # a ladder that holds from level 1 on quotes level 1
+    v = choose(_ladder_data([0.24, 0.03, 0.01, 0.004]), "ek-exact", "green")
+    assert (v.status, v.run.level) == ("ok", 1)
+
+
+def test_scorecard_reads_the_verdict_stored_in_metrics():
+    """The cell shows metrics.nc's verdict_* (here a level the run table alone would not give), and its message's
+    "reference not converged" beside it."""
+    from railtherm.report.verdict import cell, choose
+    data = _ladder_data([0.24, 0.03, 0.01, 0.004], signed={
+        ("ek-exact", "green"): {"level": 2, "error": 0.01, "time": 0.1, "status": "ok",
+                                "message": "reference not converged: kalker's own finest-level error is 2.9 %"}})
+    text = cell(choose(data, "ek-exact", "green")).text
+    assert text.startswith("ok · 1.0 %") and "L2" in text and "reference not converged" in text, text
+
+
+def test_key_findings_split_the_contact_model_from_the_thermal_model():
+    """On the kalker-referenced scenes green (FASTSIM -> green) differs from kalker only in the contact model and
+    fastsim-fdm (FASTSIM -> fdm) from green only in the thermal model: a key finding says what each costs, from
+    metrics.nc's signed headline errors at the finest levels."""
+    from railtherm.report.verdict import findings, rows, scorecard, sweep_groups
+    stages = {"kalker": {"normal": "kalker", "tangential": "kalker", "temperature": "green"},
+              "green": {"normal": "hertz", "tangential": "fastsim", "temperature": "green"},
+              "fastsim-fdm": {"normal": "hertz", "tangential": "fastsim", "temperature": "fdm"}}
+    scenes = ("ek-exact-longitudinal", "ek-exact-lateral", "ek-exact-spin")
+    signed = {}
+    for s, e_c, e_t in zip(scenes, (0.27, 0.29, 0.31), (0.26, 0.30, 0.33)):
+        signed[(s, "green", 3)], signed[(s, "fastsim-fdm", 3)] = e_c, e_t
+    data = _ladder_data([0.3, 0.3, 0.3, 0.3], stages=stages, signed=signed, scenes=scenes)
+    table_rows = rows(data, sweep_groups(data))
+    out = findings(data, table_rows, scorecard(data, table_rows))
+    split = next((t for t in out if "contact model alone" in t), "")
+    assert "the fastsim contact model alone costs +27 to +31 % in max. surface temperature" in split, out
+    assert "`ek-exact-*` (3 scenes)" in split and "the fdm thermal model adds" in split, split
+    assert "−0.79 to +1.5 %" in split, split           # (1.26 / 1.27 - 1, 1.33 / 1.31 - 1)

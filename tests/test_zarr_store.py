@@ -258,3 +258,19 @@ def test_report_reads_the_store_and_draws_a_sweep_map(hosts, tmp_path):
         expect[vy.index(sw[ky]), vx.index(sw[kx])] = S.STATUS_RANK[[r for r in data.runs_of(nm, "flat")
                                                                     if r.level == 1][0].status]
     assert kind == "status" and np.array_equal(grid, expect)
+
+
+# -- every reference kind on a Zarr study -----------------------------------------------------------------
+@pytest.mark.parametrize("reference", ["analytic", "finest", "flat"])
+def test_every_reference_kind_scores_a_zarr_study(hosts, tmp_path, reference):
+    """The store keeps no surface grid for a scalar sweep: the default reference ("analytic", whose exact fields
+    are evaluated on the run's grid) raised KeyError 'x' in metrics and no metrics.nc was written."""
+    p = zsweep(tmp_path / "s.toml", fields=False, speeds=[10.0, 20.0])
+    p.write_text(p.read_text().replace('reference = "finest"', f'reference = "{reference}"'))
+    m = railtherm.run_study(p, tmp_path / "out", report=False)
+    assert zarr_store.is_zarr(tmp_path / "out") and store.metrics_path(tmp_path / "out").exists()
+    assert m.sizes["run"] == 8 and set(m["status"].values) <= {"ok", "inaccurate", "unverified"}
+    if reference == "analytic":   # flat's temperatures against the exact moving source: an independent check
+        assert set(m["reference_max_surface_temperature"].values) == {"analytic:moving-source"}
+        assert np.isfinite(m["headline_error"].values).all()
+    assert "verdict_status" in m and m["verdict_status"].shape == (4, 1)

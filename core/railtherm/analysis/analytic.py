@@ -100,7 +100,8 @@ _COOLING_LOCAL_SAMPLES = 41
 
 def _line_trace(f, a: float, v: float, thr: float, z: float, surface_kink: bool, fast: bool = True,
                 peak_only: bool = False):
-    """Exact (peak, x_peak, cooling rate, time above) of the profile T(x) = f(x) [degC] at one depth.
+    """Exact (peak, x_peak, cooling rate, time above, x of the fastest cooling) of the profile T(x) = f(x)
+    [degC] at one depth.
 
     The peak is bracketed on samples reaching ever further behind the patch (x from +a down to
     -a - L, L doubling from 6a; 41 samples, 121 on the slow path) and refined by a bounded scalar search;
@@ -109,7 +110,7 @@ def _line_trace(f, a: float, v: float, thr: float, z: float, surface_kink: bool,
     path: 41 samples locate the maximum, a second spline through 41 samples of the 4 intervals around it,
     1.7x finer than the slow path's, gives it); the crossings of the threshold by Brent's method. At the
     surface (``surface_kink``) the exact cooling rate is infinite (the flux ends at the trailing edge): NaN.
-    ``peak_only``: (peak, x_peak, NaN, NaN) without the cooling rate and the crossings.
+    ``peak_only``: (peak, x_peak, NaN, NaN, NaN) without the cooling rate and the crossings.
     """
     from scipy.interpolate import CubicSpline
     from scipy.optimize import brentq, minimize_scalar
@@ -129,9 +130,9 @@ def _line_trace(f, a: float, v: float, thr: float, z: float, surface_kink: bool,
                           options={"xatol": 1e-9 * a})
     xp, tp = (float(res.x), -float(res.fun)) if -res.fun >= ts[i] else (float(xs[i]), float(ts[i]))
     if peak_only:
-        return tp, xp, math.nan, math.nan
+        return tp, xp, math.nan, math.nan, math.nan
     # cooling: V dT/dx behind the peak, on [xp - span, xp]
-    cool = math.nan
+    cool = x_cool = math.nan
     if not surface_kink:
         span = max(2.0 * (a - xp), 4.0 * a)
         nc = _COOLING_SAMPLES[bool(fast)]
@@ -152,6 +153,7 @@ def _line_trace(f, a: float, v: float, thr: float, z: float, surface_kink: bool,
         r2 = minimize_scalar(lambda t: -float(spl(t, 1)), bounds=(lo, hi), method="bounded",
                              options={"xatol": 1e-9 * a})
         cool = v * max(float(d[j]), -float(r2.fun))
+        x_cool = float(r2.x) if -float(r2.fun) >= float(d[j]) else float(xc[j])
     above = 0.0
     if tp > thr:
         g = lambda t: float(f(np.array([t]))[0]) - thr
@@ -160,7 +162,7 @@ def _line_trace(f, a: float, v: float, thr: float, z: float, surface_kink: bool,
         k = i + int(np.flatnonzero(ts[i:] <= thr)[0])
         x_back = brentq(g, xs[k], xs[k - 1] if k - 1 > i else xp, xtol=1e-12 * a)
         above = (x_front - x_back) / v
-    return tp, xp, cool, above
+    return tp, xp, cool, above, x_cool
 
 
 def _heated_depth(peak, z: np.ndarray, known: np.ndarray, a: float, fast: bool) -> float:
@@ -211,7 +213,8 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
     Returns
     -------
     dict or None
-        ``peak_temperature`` [degC], ``peak_position`` [m], ``cooling_rate`` [K s-1], ``time_above`` [s],
+        ``peak_temperature`` [degC], ``peak_position`` [m], ``cooling_rate`` [K s-1], ``cooling_position``
+        (x of the fastest cooling) [m], ``time_above`` [s],
         each of shape (2, nz) (cooling rate NaN at z = 0, where it is infinite: the flux ends at the
         trailing edge), ``heated_depth`` (2,) [m] (the root of peak(z) = threshold, Brent), and ``tag``
         (``"moving-source"`` or ``"jaeger"``). None when the scene has no exact source reference.
@@ -235,7 +238,7 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
     fld = getattr(scene, "field", None)
     thr = float(fld.threshold) if fld is not None else 727.0
     out = {k: np.full((2, z.size), np.nan) for k in ("peak_temperature", "peak_position", "cooling_rate",
-                                                    "time_above")}
+                                                    "cooling_position", "time_above")}
     depth = np.full(2, np.nan)
     for body in (0, 1):
         bulk = float(scene.body(body).bulk_temperature)
@@ -249,8 +252,9 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
             continue
         for k, zk in enumerate(z):
             f = lambda xx, zk=zk: bulk + _depth_rise(scene, case, xx, zk, body)
-            tp, xp, cool, above = _line_trace(f, a, v, thr, float(zk), zk == 0.0, fast)
+            tp, xp, cool, above, xc = _line_trace(f, a, v, thr, float(zk), zk == 0.0, fast)
             out["peak_temperature"][body, k], out["peak_position"][body, k] = tp, xp
+            out["cooling_position"][body, k] = xc
             out["cooling_rate"][body, k], out["time_above"][body, k] = cool, above
         peak = lambda zz: _line_trace(lambda xx: bulk + _depth_rise(scene, case, xx, zz, body), a, v, thr,
                                       zz, True, fast, peak_only=True)[0] - thr
@@ -413,4 +417,5 @@ def reference_fields(scene, ds) -> dict:
     if case is not None and want and "z" in ds.coords and getattr(scene, "field", None) is not None:
         tr = trace_reference(scene, ds["z"].values)
         out.update({k: tr[k] for k in want})
+        out["trace_peak_position"], out["trace_cooling_position"] = tr["peak_position"], tr["cooling_position"]
     return out

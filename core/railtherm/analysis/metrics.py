@@ -1,27 +1,20 @@
-"""Cross-method error metrics of a study: errors against named references, energy balance of the
-computed temperature field, convergence orders with Richardson estimates, cross-method differences,
-timings and the verdict (status) of every run. The contract is ``docs/verdicts.md``.
+"""Cross-method error metrics of a study (``metrics.nc``): errors against named references
+(:mod:`.errors`), energy balance of the computed temperature field, convergence orders with Richardson
+estimates, cross-method differences, timings, the status of every run and the scorecard
+(:mod:`.scorecard`). The contract is ``docs/verdicts.md``.
 
 Errors are relative and named after the quantity: ``max_surface_temperature``,
 ``mean_contact_temperature`` and the steady temperatures (relative error of the *rise above the
 bulk temperature*, so that a hot wheel does not hide an error), ``surface_temperature_l2``
 (relative L2 of the rise), ``pressure_l2``, ``max_pressure``, ``semi_axis_a``, ``creep_force_x``,
-``frictional_power``. Each error records what it was taken against:
+``frictional_power``. Each error records what it was taken against: ``analytic:<tag>`` (core's exact
+reference), ``method:<name>`` (another method's finest successful level), ``self:finest`` (the run's own
+method at its finest level: discretisation error, never a verification).
 
-* ``analytic:<tag>``: core's exact reference (:mod:`railtherm.analytic`), when the scene's
-  reference is "analytic" and one exists for the quantity;
-* ``method:<name>``: another method's finest successful level (scene or study ``reference`` names a
-  method);
-* ``self:finest``: the run's own method at its finest level (``reference = "finest"``, or an
-  "analytic" scene for quantities without an exact value). Such errors estimate discretisation
-  error; they never verify a run.
-
-An error is not counted at all when the run's chain contains the model that *is* the reference
-(the Hertz patch against Hertz, full sliding against μN): that is a comparison with itself.
-
-Verdicts (``status``): ``ok`` when at least one independent error exists and every error and the
-energy balance are within the tolerance, ``inaccurate`` when one is not, ``unverified`` when the run
-converged but nothing independent was compared; ``refused`` and ``failed`` come from the runner.
+Statuses (:func:`railtherm.analysis.verdicts.run_status`): ``ok`` only when the scene's headline quantity
+is within the tolerance of an independent reference and no error nor the energy balance exceeds it,
+``inaccurate`` when one does (or is not finite where its reference is), ``unverified`` when the headline
+is not checked independently; ``refused`` and ``failed`` come from the runner.
 """
 from __future__ import annotations
 
@@ -33,17 +26,14 @@ import numpy as np
 from ..output import store
 from ..physics import body_speeds  # noqa: F401  (also importable from here for one release)
 
-SCALARS = ("max_surface_temperature", "mean_contact_temperature", "max_pressure", "semi_axis_a",
-           "creep_force_x", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
-FIELDS = ("surface_temperature", "pressure")
-METRICS = SCALARS + tuple(f + "_l2" for f in FIELDS)
+from .errors import (FIELDS, MAX_FIELD_POINTS, METRICS, SCALARS, _interp_to, chain_references,  # noqa: E402,F401
+                     rel_error, rel_l2 as _rel_l2, run_errors, signed_error)
 from .rises import RISES, bulk_of as _bulk  # noqa: E402,F401  (temperatures on their rise above the bulk temperature)
 from .trace_metrics import TRACE_METRICS, TRACE_PROFILES, trace_errors  # noqa: E402,F401  (metrics.nc's trace metrics)
+from .verdicts import independent  # noqa: E402,F401
 #: the quantity a scene's verdict is given on: the first of these that the scene asks for
 HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
                   "semi_axis_a", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
-#: cells at which an analytic field reference is evaluated per run (a regular subsample of the grid)
-MAX_FIELD_POINTS = 1500
 #: quantities compared across methods
 CROSS = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure")
 #: Péclet number V a / (2 kappa) above which the 1-D half-space energy identity is applied. Its own
@@ -58,48 +48,6 @@ def _open(path):
     """A run's Dataset, read through the output folder's owner (:func:`railtherm.store.open_result`: a run
     file or a run of the Zarr store)."""
     return store.open_result(path)
-
-
-# ----------------------------------------------------------------------------------------------
-# relative errors
-def rel_error(scene, name: str, value, reference) -> float:
-    """Max-norm relative error of ``value`` against ``reference`` [1]; temperatures on their rise.
-
-    Parameters
-    ----------
-    scene : Scene
-        For the bulk temperatures of the bodies [degC].
-    name : str
-        Quantity name (decides whether the rise above bulk is compared).
-    value, reference : array_like
-        Same shape.
-    """
-    v, r = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
-    if v.shape != r.shape or v.size == 0:
-        return math.nan
-    b = _bulk(scene, name, v.shape)
-    v, r = v - b, r - b
-    scale = np.max(np.abs(r))
-    if not np.isfinite(scale) or scale == 0:
-        return math.nan if np.max(np.abs(v)) > 0 else 0.0
-    return float(np.max(np.abs(v - r)) / scale)
-
-
-def _rel_l2(scene, name, v, r):
-    v, r = np.asarray(v, float), np.asarray(r, float)
-    b = _bulk(scene, name, v.shape)
-    v, r = v - b, r - b
-    den = np.sqrt(np.sum(r ** 2))
-    if den == 0 or not np.isfinite(den):
-        return math.nan
-    return float(np.sqrt(np.sum((v - r) ** 2)) / den)
-
-
-def _interp_to(ref, ds, name):
-    """Field ``name`` of run ``ref`` on the grid of run ``ds`` (linear, extrapolating at the edges)."""
-    da = ref[name]
-    kw = {d: ds[d] for d in ("x", "y") if d in da.dims and d in ds.dims}
-    return da.interp(kw, kwargs={"fill_value": "extrapolate"}).values
 
 
 # ----------------------------------------------------------------------------------------------
@@ -198,92 +146,7 @@ def energy_balance(scene, ds) -> tuple[float, str]:
     return math.nan, ""
 
 
-# ----------------------------------------------------------------------------------------------
-def _chain_references(ds) -> set[str]:
-    """Tags of core's exact references that a model of the run's chain reproduces by construction."""
-    from ..solving.plugins import get_host
-    host = get_host()
-    tags = set()
-    for part in str(ds.attrs.get("stages", "")).split():
-        stage, _, name = part.rpartition(":")
-        info = host.models.get(name)
-        cls = None
-        if info is not None:
-            try:
-                cls = info.for_stage(stage) if stage else info.cls
-            except KeyError:
-                cls = info.cls
-        tag = getattr(cls, "exact_reference", None)
-        if tag:
-            tags.add(tag)
-    return tags
-
-
-def run_errors(scene, ds, ref_values: dict, ref_ds=None, *, ref_tag: str = "", sources: dict | None = None
-               ) -> dict[str, tuple[float, str]]:
-    """Relative errors of one result: metric -> (error, reference tag).
-
-    Parameters
-    ----------
-    scene : Scene
-    ds : xarray.Dataset
-        The result.
-    ref_values : dict
-        Exact values (:func:`railtherm.analytic.reference_values`); ``"_sources"`` (quantity -> tag)
-        names them, or ``sources``.
-    ref_ds : xarray.Dataset, optional
-        A reference run for quantities without an exact value.
-    ref_tag : str
-        Tag of ``ref_ds`` (``method:<name>`` or ``self:finest``).
-    """
-    from .analytic import reference_fields
-    sources = dict(sources if sources is not None else ref_values.get("_sources", {}))
-    values = {k: v for k, v in ref_values.items() if not k.startswith("_")}
-    same = _chain_references(ds) if values else set()
-    if scene.heat_source is not None:  # every method takes a given source as it is
-        same.add("given-source")
-    err: dict[str, tuple[float, str]] = {}
-    # the analytic field is evaluated on at most ~MAX_FIELD_POINTS cells (a regular subsample of the grid)
-    if values:
-        n = ds.sizes["x"] * ds.sizes.get("y", 1)
-        stride = max(1, int(math.ceil(math.sqrt(n / MAX_FIELD_POINTS))))
-        sub = ds.isel({d: slice(stride // 2, None, stride) for d in ("x", "y") if d in ds.dims})
-        fields = reference_fields(scene, sub)
-    else:
-        sub, fields = ds, {}
-
-    def exact(name):
-        tag = sources.get(name, "analytic")
-        return None if tag in same else f"analytic:{tag}"
-
-    for name in SCALARS:
-        if name not in ds:
-            continue
-        if name in values:
-            tag = exact(name)
-            if tag:
-                err[name] = (rel_error(scene, name, ds[name].values, values[name]), tag)
-        elif ref_ds is not None and name in ref_ds:
-            err[name] = (rel_error(scene, name, ds[name].values, ref_ds[name].values), ref_tag)
-    for name in FIELDS:
-        if name not in ds:
-            continue
-        if name in fields:
-            tag = exact(name)
-            if tag:
-                err[name + "_l2"] = (_rel_l2(scene, name, sub[name].values, fields[name]), tag)
-        elif ref_ds is not None and name in ref_ds:
-            try:
-                err[name + "_l2"] = (_rel_l2(scene, name, ds[name].values, _interp_to(ref_ds, ds, name)), ref_tag)
-            except Exception:  # noqa: BLE001 - incompatible grids: no field error
-                pass
-    err.update(trace_errors(scene, ds, fields, values, ref_ds, ref_tag, exact))
-    return err
-
-
-def independent(tag: str) -> bool:
-    """Whether an error taken against ``tag`` verifies a run (an exact reference or another method)."""
-    return tag.startswith("analytic:") or tag.startswith("method:")
+_chain_references = chain_references  # importable from here for one release
 
 
 def convergence_order(levels, errors) -> float:
@@ -367,167 +230,183 @@ def headline(scene) -> str:
     return ""
 
 
-def compute_metrics(study, out, records, tolerance: float | None = None):
-    """Build the metrics Dataset of a study from its run records (and the run files).
+class _Study:
+    """What scoring the runs of a study needs: scenes, tolerance, the finest result of each ladder and cached
+    run files and exact values."""
 
-    See ``docs/verdicts.md`` for every variable.
-    """
-    import xarray as xr
-    from .analytic import reference_values
+    def __init__(self, study, records, tol):
+        self.study, self.records, self.tol = study, records, tol
+        self.scenes = {s.name: s for s in study.scenes}
+        self.cache: dict = {}
+        self.exact: dict = {}
+        self.finest_of: dict = {}     # (scene, method) -> record of its finest successful level
+        self.rec_of = {(r.scene, r.method, r.level): r for r in records}
+        for r in records:
+            if r.status == "ok":
+                k = (r.scene, r.method)
+                if k not in self.finest_of or r.level > self.finest_of[k].level:
+                    self.finest_of[k] = r
 
-    tol = tolerance if tolerance is not None else getattr(study, "tolerance", 0.05)
-    metrics = METRICS + (TRACE_METRICS if any(getattr(s, "field", None) is not None for s in study.scenes) else ())
-    out = Path(out)
-    scenes = {s.name: s for s in study.scenes}
-    cache: dict = {}
+    def kind(self, scene) -> str:
+        return scene.reference or self.study.reference
 
-    def load(rec):
-        if rec.path not in cache:
-            cache[rec.path] = _open(rec.path)
-        return cache[rec.path]
+    def load(self, rec):
+        """A reference run's Dataset (kept: it is read again by every level compared with it)."""
+        if rec.path not in self.cache:
+            self.cache[rec.path] = _open(rec.path)
+        return self.cache[rec.path]
 
-    # finest successful level of each (scene, method), in one pass (O(runs))
-    finest_of: dict = {}
-    for r in records:
-        if r.status == "ok":
-            k = (r.scene, r.method)
-            if k not in finest_of or r.level > finest_of[k].level:
-                finest_of[k] = r
+    def analytic(self, scene) -> dict:
+        from .analytic import reference_values
+        if scene.name not in self.exact:
+            try:
+                self.exact[scene.name] = reference_values(scene)
+            except Exception as exc:  # noqa: BLE001 - recorded, the run is then unverified
+                self.exact[scene.name] = {"_names": [f"analytic reference failed: {exc}"], "_sources": {}}
+        return self.exact[scene.name]
 
-    def summary(rec):
+    def summary(self, rec):
         """(energy balance, its reference, scalar values) of a run, from its record when filled."""
         if getattr(rec, "summary", False):
             return rec.energy_balance, rec.energy_reference, rec.values
-        ds = load(rec)
-        e, ref = energy_balance(scenes[rec.scene], ds)
+        ds = self.load(rec)
+        e, ref = energy_balance(self.scenes[rec.scene], ds)
         return e, ref, {q: ds[q].values for q in set(CROSS) | set(SCALARS) if q in ds}
 
-    analytic_cache: dict = {}
+    def reference_of(self, rec, scene):
+        """(exact values, reference run, its tag, why there is none) for one run."""
+        kind = self.kind(scene)
+        if kind == "analytic":
+            fr = self.finest_of.get((rec.scene, rec.method))
+            if fr is not None and fr.level != rec.level:
+                return self.analytic(scene), self.load(fr), "self:finest", ""
+            return self.analytic(scene), None, "", "finest level of its method" if fr is not None else ""
+        target = rec.method if kind == "finest" else kind
+        fr = self.finest_of.get((rec.scene, target))
+        if fr is None:
+            return {}, None, "", f"the reference method {target!r} has no successful run of this scene"
+        if target != rec.method:
+            return {}, self.load(fr), f"method:{target}", ""
+        if fr.level != rec.level:
+            return {}, self.load(fr), "self:finest", ""
+        return {}, None, "", "finest level of a self-referenced ladder"
 
-    def analytic(scene):
-        if scene.name not in analytic_cache:
-            try:
-                analytic_cache[scene.name] = reference_values(scene)
-            except Exception as exc:  # noqa: BLE001 - recorded, the run is then unverified
-                analytic_cache[scene.name] = {"_names": [f"analytic reference failed: {exc}"], "_sources": {}}
-        return analytic_cache[scene.name]
 
-    rows = []
-    for rec in records:
-        row = {"scene": rec.scene, "method": rec.method, "level": rec.level, "status": rec.status,
-               "message": rec.message, "reason_kind": getattr(rec, "reason_kind", ""),
-               "wall_time": rec.wall_time, "wall_time_median": getattr(rec, "wall_time_median", math.nan),
-               "timing_runs": getattr(rec, "timing_runs", 0), "peak_rss": getattr(rec, "peak_rss", math.nan),
-               "rss_growth": getattr(rec, "rss_growth", math.nan),
-               "energy_balance": math.nan, "energy_reference": "", "headline_error": math.nan,
-               "headline_reference": ""}
-        if rec.status == "ok":
-            scene = scenes[rec.scene]
-            kind = scene.reference or study.reference
-            ref_values, ref_ds, ref_tag, why = {}, None, "", ""
-            if kind == "analytic":
-                ref_values = analytic(scene)
-                fr = finest_of.get((rec.scene, rec.method))
-                if fr is not None and fr.level != rec.level:
-                    ref_ds, ref_tag = load(fr), "self:finest"
-                elif fr is not None:
-                    why = "finest level of its method"
-            else:
-                target = rec.method if kind == "finest" else kind
-                fr = finest_of.get((rec.scene, target))
-                if fr is None:
-                    why = f"the reference method {target!r} has no successful run of this scene"
-                elif target != rec.method:
-                    ref_ds, ref_tag = load(fr), f"method:{target}"
-                elif fr.level != rec.level:
-                    ref_ds, ref_tag = load(fr), "self:finest"
-                else:
-                    why = "finest level of a self-referenced ladder"
-            if {k for k in ref_values if not k.startswith("_")} or ref_ds is not None:
-                own = cache.get(rec.path) or _open(rec.path)
-                errs = run_errors(scene, own, ref_values, ref_ds, ref_tag=ref_tag)
-            else:
-                errs = {}
-            for k, (v, tag) in errs.items():
-                row[f"error_{k}"], row[f"reference_{k}"] = v, tag
-            e, eref, _ = summary(rec)
-            row["energy_balance"], row["energy_reference"] = e, eref
-            hq = headline(scene)
-            if hq in errs and independent(errs[hq][1]):
-                row["headline_error"], row["headline_reference"] = errs[hq][0], errs[hq][1]
-            finite = {k: v for k, (v, t) in errs.items() if np.isfinite(v)}
-            indep = {k: v for k, (v, t) in errs.items() if np.isfinite(v) and independent(t)}
-            bad = {k: v for k, v in finite.items() if v > tol}
-            if math.isfinite(e) and abs(e) > tol:
-                bad["energy_balance"] = abs(e)
-            if bad:
-                worst = max(bad, key=bad.get)
-                against = errs[worst][1] if worst in errs else eref
-                row["status"] = "inaccurate"
-                row["message"] = (f"relative error {bad[worst]:.3g} in {worst} (against {against}) exceeds "
-                                  f"the tolerance {tol:g}")
-            elif indep:
-                worst = max(indep, key=indep.get)
-                row["message"] = (f"checked against {', '.join(sorted({errs[k][1] for k in indep}))}; largest "
-                                  f"error {indep[worst]:.3g} in {worst}")
-            else:
-                row["status"] = "unverified"
-                if finite:
-                    row["message"] = ("compared only with its own finest level (self-convergence): "
-                                      "no independent reference for " + ", ".join(sorted(finite)))
-                else:
-                    row["message"] = "nothing independent to compare with" + (f": {why}" if why else "")
-        rows.append(row)
+def _base_row(rec) -> dict:
+    return {"scene": rec.scene, "method": rec.method, "level": rec.level, "status": rec.status,
+            "message": rec.message, "reason_kind": getattr(rec, "reason_kind", ""),
+            "wall_time": rec.wall_time, "wall_time_median": getattr(rec, "wall_time_median", math.nan),
+            "timing_runs": getattr(rec, "timing_runs", 0), "peak_rss": getattr(rec, "peak_rss", math.nan),
+            "rss_growth": getattr(rec, "rss_growth", math.nan), "energy_balance": math.nan,
+            "energy_reference": "", "headline_error": math.nan, "headline_signed_error": math.nan,
+            "headline_reference": "", "not_scored": "", "cooling_rate_depth": math.nan}
 
-    n = len(rows)
-    data = {}
-    str_cols = ("scene", "method", "status", "message", "reason_kind", "energy_reference", "headline_reference") \
-        + tuple(f"reference_{m}" for m in metrics)
-    for col in str_cols:
-        data[col] = ("run", np.array([r.get(col, "") for r in rows], dtype=object))
+
+def _cooling_depth(scene, ds) -> float:
+    """Shallowest depth [m] at which the cooling rate of a run is scored (the smaller over the moving bodies)."""
+    from .trace_metrics import _semi_axis, cooling_rate_depth
+    z = [float(v) for v in cooling_rate_depth(scene, _semi_axis(scene, ds)) if v > 0]
+    return min(z) if z else math.nan
+
+
+def _score(ctx: _Study, rec) -> dict:
+    """One row of metrics.nc: the run's record, its errors, energy balance, headline error and status."""
+    from .verdicts import label, run_status
+    row = _base_row(rec)
+    if rec.status != "ok":           # refused or failed: the runner's status stands
+        return row
+    scene = ctx.scenes[rec.scene]
+    ref_values, ref_ds, ref_tag, why = ctx.reference_of(rec, scene)
+    notes, signed = {}, {}
+    errs = {}
+    if {k for k in ref_values if not k.startswith("_")} or ref_ds is not None:
+        own = ctx.cache.get(rec.path) or _open(rec.path)
+        errs = run_errors(scene, own, ref_values, ref_ds, ref_tag=ref_tag, notes=notes, signed=signed)
+        if "cooling_rate" in errs:
+            row["cooling_rate_depth"] = _cooling_depth(scene, own)
+    for k, (v, tag) in errs.items():
+        row[f"error_{k}"], row[f"reference_{k}"] = v, tag
+    for k, v in signed.items():
+        row[f"signed_error_{k}"] = v
+    row["not_scored"] = "; ".join(f"{label(k)}: {w}" for k, w in sorted(notes.items())
+                                  if k not in errs or not math.isinf(errs[k][0]))
+    e, eref, _ = ctx.summary(rec)
+    row["energy_balance"], row["energy_reference"] = e, eref
+    hq = headline(scene)
+    if hq in errs and independent(errs[hq][1]) and not math.isnan(errs[hq][0]):
+        row["headline_error"], row["headline_reference"] = errs[hq][0], errs[hq][1]
+        row["headline_signed_error"] = signed.get(hq, math.nan)
+    labels = {"cooling_rate": label("cooling_rate", row["cooling_rate_depth"])}
+    row["status"], row["message"] = run_status(errs, e, eref, ctx.tol, hq, labels, why, notes)
+    return row
+
+
+_RUN_ATTRS = {
+    "scene": ("1", "scene name"), "method": ("1", "method name"), "level": ("1", "resolution level"),
+    "status": ("1", "run status: " + " | ".join(STATUSES)), "message": ("1", "reason for the status"),
+    "reason_kind": ("1", "refused: validity | budget; failed: error | not-converged | timeout | invalid-input"),
+    "wall_time": ("s", "best (minimum) wall time of the timed solves"),
+    "wall_time_median": ("s", "median wall time of the timed solves"),
+    "timing_runs": ("1", "number of timed solves after the warm-up"),
+    "peak_rss": ("bytes", "peak resident set size of the process during one untimed solve (absolute)"),
+    "rss_growth": ("bytes", "growth of the resident set during that solve"),
+    "energy_balance": ("1", "(heat entering through the surface of the computed temperature field "
+                            "- frictional power) / frictional power"),
+    "energy_reference": ("1", "how energy_balance was obtained: analytic:half-space-1d | solver"),
+    "headline_error": ("1", "relative error of the scene's headline quantity against an independent reference "
+                            "(inf: not finite where the reference is)"),
+    "headline_signed_error": ("1", "headline_error with the sign of (value - reference)"),
+    "headline_reference": ("1", "reference of headline_error"),
+    "not_scored": ("1", "metrics not scored and why: 'metric: reason; ...' (zero by symmetry, below the noise "
+                        "floor, not independent)"),
+    "cooling_rate_depth": ("m", "shallowest depth at which error_cooling_rate scores the cooling rate"),
+}
+
+
+def _run_table(rows: list[dict], metrics: tuple):
+    """The per-run variables of metrics.nc (dimension ``run``)."""
+    import xarray as xr
+    signed = tuple(m for m in SCALARS if m in metrics)
+    str_cols = ("scene", "method", "status", "message", "reason_kind", "energy_reference", "headline_reference",
+                "not_scored") + tuple(f"reference_{m}" for m in metrics)
+    data = {col: ("run", np.array([r.get(col, "") for r in rows], dtype=object)) for col in str_cols}
     data["level"] = ("run", np.array([r["level"] for r in rows], dtype="int32"))
     data["timing_runs"] = ("run", np.array([int(r["timing_runs"] or 0) for r in rows], dtype="int32"))
-    for col in ("wall_time", "wall_time_median", "peak_rss", "rss_growth", "energy_balance", "headline_error") \
-            + tuple(f"error_{m}" for m in metrics):
+    for col in ("wall_time", "wall_time_median", "peak_rss", "rss_growth", "energy_balance", "headline_error",
+                "headline_signed_error", "cooling_rate_depth") + tuple(f"error_{m}" for m in metrics) \
+            + tuple(f"signed_error_{m}" for m in signed):
         data[col] = ("run", np.array([r.get(col, math.nan) for r in rows], dtype=float))
-    ds = xr.Dataset(data, coords={"run": np.arange(n)})
-    attrs = {"scene": ("1", "scene name"), "method": ("1", "method name"), "level": ("1", "resolution level"),
-             "status": ("1", "run status: " + " | ".join(STATUSES)), "message": ("1", "reason for the status"),
-             "reason_kind": ("1", "refused: validity | budget; failed: error | not-converged | timeout | invalid-input"),
-             "wall_time": ("s", "best (minimum) wall time of the timed solves"),
-             "wall_time_median": ("s", "median wall time of the timed solves"),
-             "timing_runs": ("1", "number of timed solves after the warm-up"),
-             "peak_rss": ("bytes", "peak resident set size of the process during one untimed solve (absolute)"),
-             "rss_growth": ("bytes", "growth of the resident set during that solve"),
-             "energy_balance": ("1", "(heat entering through the surface of the computed temperature field "
-                                     "- frictional power) / frictional power"),
-             "energy_reference": ("1", "how energy_balance was obtained: analytic:half-space-1d | solver"),
-             "headline_error": ("1", "relative error of the scene's headline quantity against an independent reference"),
-             "headline_reference": ("1", "reference of headline_error")}
-    for k, (u, ln) in attrs.items():
+    ds = xr.Dataset(data, coords={"run": np.arange(len(rows))})
+    for k, (u, ln) in _RUN_ATTRS.items():
         ds[k].attrs.update(units=u, long_name=ln)
+    from .verdicts import label
     for m in metrics:
-        ds[f"error_{m}"].attrs.update(units="1", long_name=f"relative error of {m} against reference_{m}")
+        what = label(m) + (" at the depths z >= cooling_rate_depth" if m == "cooling_rate" else "")
+        ds[f"error_{m}"].attrs.update(units="1", long_name=f"relative error of {what} against reference_{m} "
+                                                           "(NaN: not scored; inf: not finite where the reference is)")
         ds[f"reference_{m}"].attrs.update(units="1", long_name=f"reference of error_{m}: analytic:<name> | "
                                                                "method:<name> | self:finest")
+    for m in signed:
+        ds[f"signed_error_{m}"].attrs.update(units="1", long_name=f"error_{m} with the sign of (value - reference)")
     ds["run"].attrs.update(units="1", long_name="run index")
+    return ds
 
-    # per scene: headline, reference kind, analytic values used
-    snames = [s.name for s in study.scenes]
-    mnames = sorted({r.method for r in records})
-    heads = [headline(scenes[s]) for s in snames]
+
+def _scene_vars(ds, ctx: _Study, snames: list, mnames: list, metrics: tuple):
+    """Per-scene variables: headline, reference kind and the exact values used."""
+    from ..contract.schema import VARIABLES
+    scenes = ctx.scenes
     ds = ds.assign_coords(scene_name=("scene_name", np.array(snames, dtype=object)),
                           method_name=("method_name", np.array(mnames, dtype=object)),
                           other_method=("other_method", np.array(mnames, dtype=object)),
                           metric=("metric", np.array(metrics, dtype=object)),
                           quantity=("quantity", np.array(CROSS, dtype=object)),
                           body=("body", np.array(["wheel", "rail"], dtype=object)))
-    ds["headline"] = ("scene_name", np.array(heads, dtype=object),
+    ds["headline"] = ("scene_name", np.array([headline(scenes[s]) for s in snames], dtype=object),
                       {"units": "1", "long_name": "quantity the scene's verdict is given on"})
-    ds["reference_kind"] = ("scene_name", np.array([scenes[s].reference or study.reference for s in snames],
-                                                   dtype=object), {"units": "1", "long_name": "reference of the scene"})
-    from ..contract.schema import VARIABLES
-    used = {s: analytic(scenes[s]) for s in snames if (scenes[s].reference or study.reference) == "analytic"}
+    ds["reference_kind"] = ("scene_name", np.array([ctx.kind(scenes[s]) for s in snames], dtype=object),
+                            {"units": "1", "long_name": "reference of the scene"})
+    used = {s: ctx.analytic(scenes[s]) for s in snames if ctx.kind(scenes[s]) == "analytic"}
     for q in SCALARS + ("normal_force", "semi_axis_b", "heat_partition"):
         if not any(q in v for v in used.values()):
             continue
@@ -541,55 +420,61 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
         if var.temperature:
             a["units_metadata"] = "temperature: on_scale"
         ds[f"analytic_{q}"] = (("scene_name", "body") if per_body else ("scene_name",), arr, a)
+    return ds
 
-    # convergence orders, Richardson estimates and cross-method differences
-    order = np.full((len(snames), len(mnames), len(metrics)), np.nan)
-    order_ref = np.full((len(snames), len(mnames), len(metrics)), "", dtype=object)
-    theo = np.full((len(snames), len(mnames), len(metrics)), np.nan)
-    rich = np.full((len(snames), len(mnames), len(metrics)), np.nan)
-    rich_u = np.full((len(snames), len(mnames), len(metrics)), np.nan)
+
+def _ladder_orders(ctx: _Study, sel: list, s: str, m: str, metrics: tuple, theo: list):
+    """(orders, their references, Richardson estimates and uncertainties) of one ladder, per metric."""
+    nk = len(metrics)
+    order, oref = np.full(nk, np.nan), np.full(nk, "", dtype=object)
+    rich, rich_u = np.full(nk, np.nan), np.full(nk, np.nan)
+    if len(sel) >= 2:  # (one level: no order)
+        for k, met in enumerate(metrics):
+            errs = [r.get(f"error_{met}", math.nan) for r in sel]
+            tags = sorted({r.get(f"reference_{met}", "") for r, e in zip(sel, errs) if np.isfinite(e)})
+            order[k] = convergence_order([r["level"] for r in sel], errs)
+            oref[k] = "; ".join(t for t in tags if t)
+    if len(sel) >= 3:
+        scene = ctx.scenes[s]
+        for k, met in enumerate(metrics):
+            if met not in SCALARS:
+                continue
+            lv, qs = [], []
+            for r in sel:
+                v = ctx.summary(ctx.rec_of[(s, m, r["level"])])[2].get(met)
+                if v is not None:
+                    lv.append(r["level"])
+                    qs.append(_scalar(scene, met, v))
+            est, unc, _ = richardson(lv, qs, theo[k])
+            if math.isfinite(est):
+                scale = abs(qs[-1] - np.ravel(_bulk(scene, met, ()))[0]) or math.nan
+                rich[k], rich_u[k] = est / scale, unc / scale
+    return order, oref, rich, rich_u
+
+
+def _convergence_vars(ds, ctx: _Study, by_sm: dict, snames: list, mnames: list, metrics: tuple):
+    """Convergence orders, Richardson estimates (scene x method x metric) and cross-method differences."""
+    shape = (len(snames), len(mnames), len(metrics))
+    order, order_ref = np.full(shape, np.nan), np.full(shape, "", dtype=object)
+    theo, rich, rich_u = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
     cross = np.full((len(snames), len(CROSS), len(mnames), len(mnames)), np.nan)
-    by_sm: dict = {}
-    rec_of = {(r.scene, r.method, r.level): r for r in records}
-    for r in rows:
-        if r["status"] in ("ok", "inaccurate", "unverified"):
-            by_sm.setdefault((r["scene"], r["method"]), []).append(r)
     orders_of = {m: _theoretical_orders(m) for m in mnames}
     for i, s in enumerate(snames):
         vals = {}
         for j, m in enumerate(mnames):
+            theo[i, j] = [float(orders_of[m].get(met, math.nan)) for met in metrics]
             sel = sorted(by_sm.get((s, m), []), key=lambda r: r["level"])
-            for k, met in enumerate(metrics):
-                theo[i, j, k] = float(orders_of[m].get(met, math.nan))
-            if len(sel) >= 2:  # (one level: no order)
-                for k, met in enumerate(metrics):
-                    errs = [r.get(f"error_{met}", math.nan) for r in sel]
-                    tags = sorted({r.get(f"reference_{met}", "") for r, e in zip(sel, errs) if np.isfinite(e)})
-                    order[i, j, k] = convergence_order([r["level"] for r in sel], errs)
-                    order_ref[i, j, k] = "; ".join(t for t in tags if t)
-            if len(sel) >= 3:
-                for k, met in enumerate(metrics):
-                    if met not in SCALARS:
-                        continue
-                    lv, qs = [], []
-                    for r in sel:
-                        v = summary(rec_of[(s, m, r["level"])])[2].get(met)
-                        if v is not None:
-                            lv.append(r["level"])
-                            qs.append(_scalar(scenes[s], met, v))
-                    est, unc, _ = richardson(lv, qs, theo[i, j, k])
-                    if math.isfinite(est):
-                        scale = abs(qs[-1] - np.ravel(_bulk(scenes[s], met, ()))[0]) or math.nan
-                        rich[i, j, k], rich_u[i, j, k] = est / scale, unc / scale
-            fr = finest_of.get((s, m))
+            order[i, j], order_ref[i, j], rich[i, j], rich_u[i, j] = _ladder_orders(ctx, sel, s, m, metrics,
+                                                                                   list(theo[i, j]))
+            fr = ctx.finest_of.get((s, m))
             if fr is not None:
-                v = summary(fr)[2]
+                v = ctx.summary(fr)[2]
                 vals[m] = {q: np.asarray(v[q], float) for q in CROSS if q in v}
         for q_i, q in enumerate(CROSS):
             for j, m1 in enumerate(mnames):
                 for k, m2 in enumerate(mnames):
                     if m1 in vals and m2 in vals and q in vals[m1] and q in vals[m2]:
-                        cross[i, q_i, j, k] = rel_error(scenes[s], q, vals[m1][q], vals[m2][q])
+                        cross[i, q_i, j, k] = rel_error(ctx.scenes[s], q, vals[m1][q], vals[m2][q])
     dims3 = ("scene_name", "method_name", "metric")
     ds["convergence_order"] = (dims3, order, {"units": "1", "long_name": "fitted slope of log(error) against "
                                                                        "log(h), h = 2^-level"})
@@ -602,6 +487,29 @@ def compute_metrics(study, out, records, tolerance: float | None = None):
     ds["cross_difference"] = (("scene_name", "quantity", "method_name", "other_method"), cross,
                               {"units": "1", "long_name": "relative difference |q_m - q_o| / |q_o| at the finest "
                                                           "levels (temperatures: rises above bulk)"})
+    return ds
+
+
+def compute_metrics(study, out, records, tolerance: float | None = None):
+    """Build the metrics Dataset of a study from its run records (and the run files or Zarr store).
+
+    See ``docs/verdicts.md`` for every variable.
+    """
+    from .scorecard import verdict_vars
+    tol = tolerance if tolerance is not None else getattr(study, "tolerance", 0.05)
+    metrics = METRICS + (TRACE_METRICS if any(getattr(s, "field", None) is not None for s in study.scenes) else ())
+    ctx = _Study(study, records, tol)
+    rows = [_score(ctx, rec) for rec in records]
+    ds = _run_table(rows, metrics)
+    snames = [s.name for s in study.scenes]
+    mnames = sorted({r.method for r in records})
+    ds = _scene_vars(ds, ctx, snames, mnames, metrics)
+    by_sm: dict = {}
+    for r in rows:
+        if r["status"] in ("ok", "inaccurate", "unverified"):
+            by_sm.setdefault((r["scene"], r["method"]), []).append(r)
+    ds = _convergence_vars(ds, ctx, by_sm, snames, mnames, metrics)
+    ds = verdict_vars(ds, rows, snames, mnames, tol)
     for c, ln in (("scene_name", "scene"), ("method_name", "method"), ("other_method", "method compared with"),
                   ("metric", "error metric"), ("quantity", "compared quantity"), ("body", "body")):
         ds[c].attrs.update(units="1", long_name=ln)

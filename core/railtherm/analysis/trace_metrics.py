@@ -1,6 +1,7 @@
-"""The thermal trace's metrics in ``metrics.nc`` (scenes with ``field``, issue 14): relative max-norm
-errors of the trace profiles over the depths where run and reference have a value, and the depth range on
-which the cooling rate is scored (:data:`COOLING_TRAVEL`)."""
+"""The thermal trace's metrics in ``metrics.nc`` (scenes with ``field``): relative max-norm errors of the
+trace profiles over the depths where the reference has a value (a run's non-finite value there fails the
+metric), and the depth range on which the cooling rate is scored (:data:`COOLING_TRAVEL`);
+``cooling_rate_all_depths`` scores it at every depth (shown beside it, not used by the verdict)."""
 from __future__ import annotations
 
 import math
@@ -14,7 +15,7 @@ from .rises import bulk_of
 #: peak temperature on its rise above the bulk temperature. metrics.nc carries them only for a study
 #: with a ``field`` scene (so that other studies' files keep their variables).
 TRACE_PROFILES = ("peak_temperature", "cooling_rate", "time_above")
-TRACE_METRICS = TRACE_PROFILES + ("heated_depth",)
+TRACE_METRICS = TRACE_PROFILES + ("heated_depth", "cooling_rate_all_depths")
 #: the cooling rate is scored at the depths where the material point's cooling is spread over at least this
 #: fraction of the patch half-length a of travel: the exact cooling at depth z is smoothed over a travel
 #: l(z) = V z^2 / (4 kappa) (the time z^2 / (4 kappa) heat takes to reach z, at the body's speed V), so
@@ -52,21 +53,53 @@ def _shallow_nan(values, z, z_c) -> np.ndarray:
 
 
 def rel_error_finite(scene, name: str, value, reference) -> float:
-    """Like :func:`rel_error`, over the entries where both are finite [1] (NaN when there are none):
-    the thermal trace's flagged values ("field too short") and the infinite exact cooling rate at the
-    surface are left out."""
+    """Max-norm relative error [1] over the entries where the reference is finite (the infinite exact cooling
+    rate at the surface and depths left out by the caller are NaN there): ``inf`` when the run is not finite
+    at one of them (a depth it flags "field too short" fails the metric), NaN when there are none."""
     v, r = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
     if v.shape != r.shape or v.size == 0:
         return math.nan
     b = bulk_of(scene, name, v.shape)
     v, r = v - b, r - b
-    ok = np.isfinite(v) & np.isfinite(r)
+    ok = np.isfinite(r)
     if not ok.any():
         return math.nan
+    if not np.all(np.isfinite(v[ok])):
+        return math.inf
     scale = np.max(np.abs(r[ok]))
     if scale == 0:
         return math.nan if np.max(np.abs(v[ok])) > 0 else 0.0
     return float(np.max(np.abs(v - r)[ok]) / scale)
+
+
+def _on_depths(ref_ds, ds, name):
+    """Profile ``name`` (body, z) of run ``ref_ds`` at the depths of run ``ds`` (linear in z; NaN outside the
+    reference's depth range); the scalar ``heated_depth`` as it is. None when the shapes cannot match."""
+    ref = ref_ds[name]
+    if "z" not in ref.dims:
+        return ref.values if ref.shape == ds[name].shape else None
+    if np.array_equal(ref_ds["z"].values, ds["z"].values):
+        return ref.values
+    out = ref.interp(z=ds["z"].values, kwargs={"fill_value": np.nan}).transpose(*ds[name].dims).values
+    return out if out.shape == ds[name].shape else None
+
+
+def _within_field(ds, name: str, ref, fields: dict, notes: dict):
+    """The exact profile ``ref`` with NaN at the depths whose exact event (the peak; for the cooling rate the
+    fastest cooling) lies behind the end of the run's field: the field the scene asks for does not hold it,
+    for the exact solution either, so those depths are not scored (and ``notes`` says so)."""
+    where = fields.get("trace_cooling_position" if name == "cooling_rate" else "trace_peak_position")
+    if where is None or "x" not in ds.coords or name == "heated_depth":
+        return ref
+    beyond = np.asarray(where, float) < float(ds["x"].min())
+    if not beyond.any():
+        return ref
+    ref = np.array(ref, dtype=float)
+    ref[beyond] = np.nan
+    what = "fastest cooling" if name == "cooling_rate" else "peak"
+    notes[name] = (f"the exact {what} lies behind the end of the field at {int(beyond.sum())} of {beyond.size} "
+                   "depths (field.behind too short): not scored there")
+    return ref
 
 
 def _semi_axis(scene, ds) -> float:
@@ -78,8 +111,9 @@ def _semi_axis(scene, ds) -> float:
     return float(case[0]) if case is not None else math.nan
 
 
-def trace_errors(scene, ds, fields: dict, values: dict, ref_ds=None, ref_tag: str = "", exact=None) -> dict:
-    """Errors of the trace metrics of one result: metric -> (error, reference tag).
+def trace_errors(scene, ds, fields: dict, values: dict, ref_ds=None, ref_tag: str = "", exact=None,
+                 notes: dict | None = None) -> dict:
+    """Errors of the trace metrics of one result: metric -> (error [1], reference tag).
 
     Parameters
     ----------
@@ -90,33 +124,41 @@ def trace_errors(scene, ds, fields: dict, values: dict, ref_ds=None, ref_tag: st
         Exact trace profiles (:func:`railtherm.analysis.analytic.reference_fields`) and scalars
         (``heated_depth``) of the scene.
     ref_ds : xarray.Dataset, optional
-        A reference run for the profiles without an exact value (the same depth axis).
+        A reference run for the profiles without an exact value (put on the run's depths, linear in z).
     ref_tag : str
         Tag of ``ref_ds``.
     exact : callable
         Metric name -> tag of its exact reference (``analytic:<name>``), or None when that reference is the
         run's own input (not independent).
+    notes : dict, optional
+        Filled with metric -> why it fails (``inf``).
     """
     err: dict[str, tuple[float, str]] = {}
-    if not any(name in ds for name in TRACE_METRICS):
-        return err
-    for name in TRACE_METRICS:
+    notes = {} if notes is None else notes
+    for name in TRACE_METRICS[:4]:
         if name not in ds:
             continue
         value = ds[name].values
         # fields: reference_fields of the run's subsample (the depth axis is not subsampled)
         ref = fields.get(name) if name != "heated_depth" else values.get(name)
-        if ref is None and ref_ds is not None and name in ref_ds and ref_ds[name].shape == ds[name].shape and (
-                "z" not in ds[name].dims or np.array_equal(ref_ds["z"].values, ds["z"].values)):
-            ref, tag = ref_ds[name].values, ref_tag
+        if ref is None and ref_ds is not None and name in ref_ds:
+            ref, tag = _on_depths(ref_ds, ds, name), ref_tag
         elif ref is not None:
             tag = exact(name)
+            ref = _within_field(ds, name, ref, fields, notes)
         else:
+            continue
+        if ref is None:
+            err[name] = (math.inf, tag)
+            notes[name] = "the reference profile could not be put on the run's depths"
             continue
         if not tag:
             continue
-        if name == "cooling_rate":           # the resolvable depths only (COOLING_TRAVEL)
+        if name == "cooling_rate":           # the resolvable depths only (COOLING_TRAVEL); all depths beside it
+            err["cooling_rate_all_depths"] = (rel_error_finite(scene, name, value, ref), tag)
             z_c = cooling_rate_depth(scene, _semi_axis(scene, ds))
             value, ref = _shallow_nan(value, ds["z"].values, z_c), _shallow_nan(ref, ds["z"].values, z_c)
         err[name] = (rel_error_finite(scene, name, value, ref), tag)
+        if math.isinf(err[name][0]):
+            notes[name] = "not finite at a depth where its reference is"
     return err

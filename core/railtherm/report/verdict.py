@@ -1,13 +1,15 @@
 """The verdict: one scorecard cell per scene (or sweep) × method, and key findings in words.
 
-A cell shows the cheapest level (smallest wall time) whose status is ``ok`` (the headline quantity
-within the tolerance of an independent reference), with its error, time and level. When no level is
-ok, the best available is shown with its status: ``inaccurate`` (the level with the smallest headline
-error; among equal ones the smallest worst error against an independent reference, which the cell names when
-it is not the headline's), ``unverified`` (the finest level: nothing independent to compare with), ``failed`` or
-``refused``. A method that is a scene's reference (``reference = "kalker"``) gets no verdict on that
-scene: its cell says ``reference`` with its finest successful level (its errors there are against its
-own finest level, not a verdict). A sweep is one row: the cell summarises its members' cells.
+The scorecard is read from ``metrics.nc`` (``verdict_level``, ``verdict_error``, ``verdict_time``,
+``verdict_status``, ``verdict_message``: docs/verdicts.md), never recomputed; for metrics of an earlier
+release without them, the same rule (:func:`railtherm.analysis.verdicts.ladder_verdict`) is applied to the
+run table. A cell shows the cheapest level that is within the tolerance of an independent reference on the
+headline together with every finer level that ran (its status, headline error, wall time and level). When no
+level qualifies, the cell shows the status of the finest level that ran (``inaccurate`` with its headline
+error, ``unverified``, ``failed``) or ``refused``. A ladder whose error rises again under refinement says
+"non-monotone"; a verdict against a scene's reference method that is not converged itself says "reference not
+converged". The scene's reference method gets no verdict: its cell says ``reference`` with its finest
+successful level. A sweep is one row: the cell summarises its members' cells.
 """
 from __future__ import annotations
 
@@ -66,6 +68,7 @@ class Verdict:
     message: str = ""
     richardson: float = math.nan
     members: list = field(default_factory=list)  # a sweep's member verdicts
+    note: str = ""                               # metrics.nc's verdict_message (non-monotone, reference not converged)
 
 
 def _numeric(v) -> bool:
@@ -114,41 +117,117 @@ def anchor_of(scene: str) -> str:
     return f"scene-{_anchor(scene)}"
 
 
+#: the rule the scorecard's caption states
+SCORECARD_RULE = ("Each cell: the cheapest level (smallest wall time) whose headline quantity is within the tolerance "
+                  "of an independent reference (an exact solution or another method, never the method's own finest "
+                  "level) together with every finer level that ran, with its status, headline error, best wall time "
+                  "and level (L); \"ok\" also needs every other error within the tolerance. When no level qualifies: "
+                  "the status of the finest level that ran. \"non-monotone\": the headline error rises again under "
+                  "refinement; \"reference not converged\": the reference method's own finest-level error exceeds "
+                  "a quarter of the tolerance.")
+
+
+def stored_verdicts(data) -> dict:
+    """(scene, method) -> metrics.nc's verdict (level, error, time, status, message) and (scene, method, level)
+    -> headline_signed_error, read once per StudyData; {} when metrics.nc has no verdict variables."""
+    cached = getattr(data, "_stored_verdicts", None)
+    if cached is not None:
+        return cached
+    out: dict = {}
+    try:
+        from ..output import store
+        m = store.read_metrics(data.out)
+    except Exception:  # noqa: BLE001 - synthetic data or no metrics.nc: the rule is applied to the run table
+        m = None
+    if m is not None and "verdict_level" in m:
+        scenes, methods = [str(x) for x in m["scene_name"].values], [str(x) for x in m["method_name"].values]
+        for i, s in enumerate(scenes):
+            for j, me in enumerate(methods):
+                lv = float(m["verdict_level"].values[i, j])
+                out[(s, me)] = {"level": int(lv) if math.isfinite(lv) else -1,
+                                "error": float(m["verdict_error"].values[i, j]),
+                                "time": float(m["verdict_time"].values[i, j]),
+                                "status": str(m["verdict_status"].values[i, j] or ""),
+                                "message": str(m["verdict_message"].values[i, j] or "")
+                                if "verdict_message" in m else ""}
+        if "headline_signed_error" in m:
+            for s, me, lv, e in zip(m["scene"].values, m["method"].values, m["level"].values,
+                                    m["headline_signed_error"].values):
+                out[(str(s), str(me), int(lv))] = float(e)
+    try:
+        data._stored_verdicts = out
+    except AttributeError:  # pragma: no cover - a frozen stand-in
+        pass
+    return out
+
+
+#: a finer level's headline error this much (in units of the tolerance) above the smallest of the coarser levels
+#: makes a ladder non-monotone (railtherm.analysis.verdicts.RISE_FRACTION)
+RISE_FRACTION = 0.1
+
+
+def ladder_rule(runs: list, tol: float) -> dict:
+    """docs/verdicts.md's scorecard rule for metrics.nc files written without ``verdict_*`` (an earlier
+    release): the report reads only the output folder, so it applies the rule that
+    :func:`railtherm.analysis.verdicts.ladder_verdict` stores (tests/test_verdict_headline.py holds the two
+    equal) to the run table. Returns ``level`` (−1: none qualifies), ``error``, ``time``, ``status``,
+    ``message``."""
+    ran = sorted((r for r in runs if r.has_result or (r.status == "failed" and r.reason_kind != "timeout")),
+                 key=lambda r: r.level)
+    within = [r.has_result and math.isfinite(r.headline_error) and r.headline_error <= tol for r in ran]
+    qual = [r for i, r in enumerate(ran) if all(within[i:])]
+    errors = [(r.level, r.headline_error) for r in ran if math.isfinite(r.headline_error)]
+    rises = any(e - min(x for _, x in errors[:i]) > RISE_FRACTION * tol for i, (_, e) in enumerate(errors) if i)
+    message = ("non-monotone: the headline error rises again under refinement ("
+               + " → ".join(f"{100 * e:.2g} %" for _, e in errors) + " at levels "
+               + ", ".join(str(lv) for lv, _ in errors) + ")") if rises else ""
+    if not qual:
+        return {"level": -1, "error": math.nan, "time": math.nan, "status": "", "message": message}
+    ok = [r for r in qual if r.status == "ok"]
+    r = min(ok or qual, key=lambda r: (r.wall_time if math.isfinite(r.wall_time) else math.inf, r.level))
+    return {"level": r.level, "error": r.headline_error, "time": r.wall_time, "status": r.status, "message": message}
+
+
+def _verdict_of(data, scene: str, method: str, runs: list) -> dict:
+    """The stored verdict of one ladder, else :func:`ladder_rule` on its runs (metrics without it)."""
+    got = stored_verdicts(data).get((scene, method))
+    if got is not None:
+        return got
+    return ladder_rule(runs, data.tolerance if data.tolerance is not None else 0.05)
+
+
 def choose(data: StudyData, scene: str, method: str) -> Verdict:
-    """The scorecard verdict of one method on one scene."""
+    """The scorecard verdict of one method on one scene (metrics.nc's ``verdict_*``)."""
     runs = data.runs_of(scene, method)
     if not runs:
         return Verdict(method, "none")
+    v = _verdict_of(data, scene, method, runs)
+    note = v.get("message", "")
     if data.scene[scene].reference_kind == method:  # the scene's reference: measured against itself only
         r = data.finest_result(scene, method)
         if r is not None:
-            return Verdict(method, "reference", r, math.nan, r.wall_time, message=f"{method} is the reference of {scene}")
-    ok = [r for r in runs if r.status == "ok"]
-    if ok:
-        r = min(ok, key=lambda r: (r.wall_time if math.isfinite(r.wall_time) else math.inf, r.level))
-        return Verdict(method, "ok", r, r.headline_error, r.wall_time)
-    bad = [r for r in runs if r.status == "inaccurate"]
-    if bad:
-        def key(r):
-            e = r.headline_error if math.isfinite(r.headline_error) else math.inf
-            worst = max((x for k, x in (r.errors or {}).items() if isinstance(x, float) and math.isfinite(x)
-                         and independent((r.references or {}).get(k, ""))), default=math.inf)
-            return (round(e, 3), worst, r.wall_time if math.isfinite(r.wall_time) else math.inf)
-        r = min(bad, key=key)
-        return Verdict(method, "inaccurate", r, r.headline_error, r.wall_time, message=r.message)
-    unv = [r for r in runs if r.status == "unverified"]
-    if unv:
-        r = max(unv, key=lambda r: r.level)
+            return Verdict(method, "reference", r, math.nan, r.wall_time, message=f"{method} is the reference of "
+                           f"{scene}", note=note)
+    if v["level"] >= 0 and v["status"]:
+        r = next((x for x in runs if x.level == v["level"]), None)
+        return Verdict(method, v["status"], r, v["error"], v["time"], message=r.message if r else "", note=note)
+    ran = [r for r in runs if r.has_result or (r.status == "failed" and r.reason_kind != "timeout")]
+    if ran:
+        r = max(ran, key=lambda x: x.level)
+        if r.status == "failed":
+            return Verdict(method, "failed", None, reason_kind=r.reason_kind, message=r.message, note=note)
+        status = r.status
         h = data.scene[scene].headline
         rich = next((o.richardson for o in data.orders.get(scene, []) if o.method == method and o.metric == h),
-                    math.nan)
-        return Verdict(method, "unverified", r, math.nan, r.wall_time, message=r.message, richardson=rich)
+                    math.nan) if status == "unverified" else math.nan
+        return Verdict(method, status, r, r.headline_error, r.wall_time, message=r.message or note, richardson=rich,
+                       note=note)
     failed = [r for r in runs if r.status == "failed"]
     pick = failed or [r for r in runs if r.status == "refused"] or runs
     r = pick[0]
     kinds = sorted({x.reason_kind for x in pick if x.reason_kind})
     return Verdict(method, r.status if r.status in ("failed", "refused") else "none", None,
-                   reason_kind=", ".join(kinds), message=r.message)
+                   reason_kind=", ".join(kinds), message=r.message, note=note)
 
 
 def group_verdict(verdicts: list[Verdict], method: str) -> Verdict:
@@ -159,8 +238,14 @@ def group_verdict(verdicts: list[Verdict], method: str) -> Verdict:
     errs = [v.error for v in present if math.isfinite(v.error)]
     times = [v.time for v in present if math.isfinite(v.time)]
     kinds = sorted({v.reason_kind for v in present if v.reason_kind})
+    notes = "; ".join(dict.fromkeys(v.note for v in present if v.note))
     return Verdict(method, worst.status, None, max(errs) if errs else math.nan, max(times) if times else math.nan,
-                   reason_kind=", ".join(kinds), message=worst.message, members=verdicts)
+                   reason_kind=", ".join(kinds), message=worst.message, members=verdicts, note=notes)
+
+
+def marks(v: Verdict) -> list[str]:
+    """The words a cell adds from its verdict message: "non-monotone", "reference not converged"."""
+    return [w for w in ("non-monotone", "reference not converged") if w in v.note]
 
 
 def scorecard(data: StudyData, table_rows: list[Row]) -> dict:
@@ -198,7 +283,7 @@ def cell(v: Verdict) -> Cell:
     if v.status == "reference":   # the scene's reference method: not a verdict (no error, no status colour)
         pre = "≤" if v.members else ""
         return Cell(" · ".join(["reference"] + ([pre + duration(v.time)] if math.isfinite(v.time) else [])
-                               + ([f"L{v.run.level}"] if v.run is not None else [])), "reference")
+                               + ([f"L{v.run.level}"] if v.run is not None else []) + marks(v)), "reference")
     if v.members:
         n = len(v.members)
         k = sum(1 for x in v.members if x.status == v.status)
@@ -210,9 +295,9 @@ def cell(v: Verdict) -> Cell:
             parts.append("≤" + duration(v.time))
         if v.reason_kind and v.status in ("refused", "failed"):
             parts[0] += f" ({v.reason_kind})"
-        return Cell(" · ".join(parts), v.status)
+        return Cell(" · ".join(parts + marks(v)), v.status)
     if v.status in ("refused", "failed"):
-        return Cell(v.status + (f" ({v.reason_kind})" if v.reason_kind else ""), v.status)
+        return Cell(" · ".join([v.status + (f" ({v.reason_kind})" if v.reason_kind else "")] + marks(v)), v.status)
     parts = [v.status]
     if v.status == "unverified":
         parts.append("no reference")
@@ -227,7 +312,7 @@ def cell(v: Verdict) -> Cell:
         parts.append(f"L{v.run.level}")
     if v.status == "unverified" and math.isfinite(v.richardson):
         parts.append(f"Richardson ≈{pct(v.richardson)}")
-    return Cell(" · ".join(parts), v.status)
+    return Cell(" · ".join(parts + marks(v)), v.status)
 
 
 def creep_force_source(stages: dict[str, str]) -> str:
@@ -253,6 +338,79 @@ def acting(data, scene: str, method: str) -> str:
     if stages.get("heat_source") == "given" and model and model != method:
         return f"{method} ({model}'s temperatures; the heat source is given)"
     return method
+
+
+def _signed_range(errors: list[float]) -> str:
+    """"+27 to +31 %" (signed percentages, smallest to largest)."""
+    lo, hi = min(errors), max(errors)
+    return pct(lo, signed=True) if pct(lo, signed=True) == pct(hi, signed=True) else \
+        f"{pct(lo, unit=False, signed=True)} to {pct(hi, signed=True)}"
+
+
+def contact_split(data, table_rows: list[Row]) -> list[str]:
+    """Key findings on scenes whose reference is an exact-contact method: the contact model's share of the
+    headline error (a method with the reference's temperature model and another tangential model, against the
+    reference) and the thermal model's (a method with that tangential model and another temperature model,
+    against the contact method: (1 + e_total) / (1 + e_contact) − 1), from metrics.nc's signed headline
+    errors at each method's finest level."""
+    signed = stored_verdicts(data)
+    groups: dict = {}
+    for row in table_rows:
+        for s in row.scenes:
+            ref = data.scene[s].reference_kind
+            if ref not in data.methods:
+                continue
+            st_ref = data.stages(s, ref)
+            if not st_ref.get("tangential"):
+                continue
+            for c in data.methods:
+                st_c = data.stages(s, c)
+                if c == ref or not st_c.get("tangential") or st_c.get("tangential") == st_ref["tangential"] \
+                        or st_c.get("temperature") != st_ref.get("temperature"):
+                    continue
+                e_c = _finest_signed(data, signed, s, c)
+                if e_c is None:
+                    continue
+                key = (ref, c, st_c["tangential"], row.headline)
+                groups.setdefault(key, {"scenes": [], "contact": [], "thermal": {}})
+                g = groups[key]
+                g["scenes"].append(s)
+                g["contact"].append(e_c)
+                for t in data.methods:
+                    st_t = data.stages(s, t)
+                    e_t = _finest_signed(data, signed, s, t)
+                    if t in (c, ref) or e_t is None or st_t.get("tangential") != st_c["tangential"] \
+                            or not st_t.get("temperature") or st_t.get("temperature") == st_c.get("temperature"):
+                        continue
+                    g["thermal"].setdefault((t, st_t["temperature"]), []).append((1 + e_t) / (1 + e_c) - 1)
+    out = []
+    for (ref, c, model, h), g in groups.items():
+        what = QUANTITY.get(h, h)
+        where = _scene_span(g["scenes"])
+        text = (f"On {where} (reference {ref}, exact contact), the {model} contact model alone costs "
+                f"{_signed_range(g['contact'])} in {what} ({c}: the same temperature model as {ref})")
+        for (t, temp), errs in g["thermal"].items():
+            text += f"; the {temp} thermal model adds {_signed_range(errs)} ({t} against {c})"
+        out.append(text + ".")
+    return out
+
+
+def _finest_signed(data, signed: dict, scene: str, method: str):
+    r = data.finest_result(scene, method)
+    if r is None:
+        return None
+    e = signed.get((scene, method, r.level), math.nan)
+    return e if isinstance(e, float) and math.isfinite(e) else None
+
+
+def _scene_span(scenes: list[str]) -> str:
+    """"`ek-exact-*`" for scenes sharing a prefix, else their names."""
+    import os
+    names = list(dict.fromkeys(scenes))
+    if len(names) == 1:
+        return f"`{names[0]}`"
+    prefix = os.path.commonprefix(names).rstrip("-")
+    return f"`{prefix}-*` ({len(names)} scenes)" if len(prefix) >= 3 else ", ".join(f"`{n}`" for n in names)
 
 
 def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5) -> list[str]:
@@ -305,10 +463,17 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
                 misses.append(f"No level of {who} is within {tol_text} on {where} (worst {what} error "
                               f"{pct(worst)}{'; ' + why if why else ''}){tail}.")
         for v in vs:
+            if "non-monotone" in v.note and not row.group:
+                words = next(w for w in v.note.split("; ") if w.startswith("non-monotone"))
+                misses.append(f"On {where}, {v.method} is {words}; no level is quoted unless it holds at every finer "
+                              "level.")
             if v.status == "unverified":
                 rich = f"; Richardson estimate of its finest level's error {pct(v.richardson)}" \
                     if math.isfinite(v.richardson) else ""
-                unverified.append(f"{v.method} is unverified on {where}: no independent reference, "
+                checked = v.message.split("; checked: ", 1)[1] if "; checked: " in v.message else ""
+                unverified.append(f"{v.method} is unverified on {where}: its {what} is not checked against an "
+                                  f"independent reference (checked: {short(checked, 120)}){rich}." if checked else
+                                  f"{v.method} is unverified on {where}: no independent reference, "
                                   f"only self-convergence{rich}.")
     failed = [r for r in data.runs if r.status == "failed"]
     out = []
@@ -321,6 +486,8 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
                  for (m, s), rs in list(by.items())[:3]]
         more = f" and {len(by) - 3} more" if len(by) > 3 else ""
         out.append(f"{len(failed)} run{'s' if len(failed) > 1 else ''} failed: " + "; ".join(parts) + more + ".")
+    split = contact_split(data, table_rows) if hasattr(data, "scene") else []
+    out += split[:1]
     compare.sort(key=lambda t: -t[0])
     pairs, first, rest = set(), [], []
     for _, text, pair in compare:  # one sentence per pair of methods first
@@ -329,7 +496,7 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
     out += first[:2]
     out += misses[:1]
     out += unverified[:1]
-    out += (first[2:] + rest)[:1] + misses[1:2]
+    out += (first[2:] + rest)[:1] + misses[1:2] + split[1:2]
     refused = [r for r in data.runs if r.status == "refused"]
     if refused and len(out) < limit:
         kinds = {}

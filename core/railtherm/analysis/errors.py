@@ -1,0 +1,218 @@
+"""Relative errors of one result against its references (contract: ``docs/verdicts.md``).
+
+Each error is relative and records what it was taken against: ``analytic:<tag>`` (core's exact
+reference), ``method:<name>`` (another method's finest successful level) or ``self:finest`` (the run's
+own method at its finest level: an estimate of discretisation error, never a verification).
+
+An error is not taken at all when it would compare a computation with itself: a model of the run's chain
+that *is* the exact reference (the Hertz patch against Hertz), or a reference method that runs the same
+stage models up to the stage that produces the quantity (:func:`railtherm.analysis.verdicts.shares_stage`).
+A metric is not scored where its reference is zero by symmetry or below its noise floor
+(:func:`railtherm.analysis.verdicts.unscored`). A value that is not finite where its reference is finite
+scores ``inf`` (the metric fails), and so does a field that cannot be put on the run's grid; the reason is
+recorded in ``notes``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .rises import bulk_of as _bulk
+from .trace_metrics import TRACE_METRICS, trace_errors
+from .verdicts import shares_stage, unscored
+
+SCALARS = ("max_surface_temperature", "mean_contact_temperature", "max_pressure", "semi_axis_a",
+           "creep_force_x", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
+FIELDS = ("surface_temperature", "pressure")
+METRICS = SCALARS + tuple(f + "_l2" for f in FIELDS)
+#: cells at which an analytic field reference is evaluated per run (a regular subsample of the grid)
+MAX_FIELD_POINTS = 1500
+
+
+def rel_error(scene, name: str, value, reference) -> float:
+    """Max-norm relative error of ``value`` against ``reference`` [1]; temperatures on their rise.
+
+    Over the entries where the reference is finite; ``inf`` when the value is not finite at one of them;
+    NaN when no reference entry is finite or the shapes differ.
+
+    Parameters
+    ----------
+    scene : Scene
+        For the bulk temperatures of the bodies [degC].
+    name : str
+        Quantity name (decides whether the rise above bulk is compared).
+    value, reference : array_like
+        Same shape.
+    """
+    v, r = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
+    if v.shape != r.shape or v.size == 0:
+        return math.nan
+    b = _bulk(scene, name, v.shape)
+    v, r = v - b, r - b
+    fin = np.isfinite(r)
+    if not fin.any():
+        return math.nan
+    if not np.all(np.isfinite(v[fin])):
+        return math.inf
+    scale = np.max(np.abs(r[fin]))
+    if scale == 0:
+        return math.nan if np.max(np.abs(v[fin])) > 0 else 0.0
+    return float(np.max(np.abs(v - r)[fin]) / scale)
+
+
+def signed_error(scene, name: str, value, reference) -> float:
+    """The signed version of :func:`rel_error` [1]: (value − reference) / max |reference| at the entry where
+    |value − reference| is largest (its magnitude is :func:`rel_error`); temperatures on their rise."""
+    v, r = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
+    e = rel_error(scene, name, v, r)
+    if not math.isfinite(e) or e == 0:
+        return e
+    b = _bulk(scene, name, v.shape)
+    d = np.where(np.isfinite(r), (v - b) - (r - b), 0.0)
+    return math.copysign(e, float(np.ravel(d)[int(np.argmax(np.abs(d)))]))
+
+
+def rel_l2(scene, name, v, r) -> float:
+    """Relative L2 norm of ``v − r`` against ``r`` [1] (rises for temperatures), over the finite reference
+    entries; ``inf`` when ``v`` is not finite at one of them."""
+    v, r = np.asarray(v, float), np.asarray(r, float)
+    if v.shape != r.shape:
+        return math.nan
+    b = _bulk(scene, name, v.shape)
+    v, r = v - b, r - b
+    fin = np.isfinite(r)
+    if not fin.any():
+        return math.nan
+    if not np.all(np.isfinite(v[fin])):
+        return math.inf
+    den = np.sqrt(np.sum(r[fin] ** 2))
+    if den == 0:
+        return math.nan
+    return float(np.sqrt(np.sum((v - r)[fin] ** 2)) / den)
+
+
+def _interp_to(ref, ds, name):
+    """Field ``name`` of run ``ref`` on the grid of run ``ds`` (linear, extrapolating at the edges)."""
+    da = ref[name]
+    kw = {d: ds[d] for d in ("x", "y") if d in da.dims and d in ds.dims}
+    return da.interp(kw, kwargs={"fill_value": "extrapolate"}).values
+
+
+def chain_references(ds) -> set[str]:
+    """Tags of core's exact references that a model of the run's chain reproduces by construction."""
+    from ..solving.plugins import get_host
+    host = get_host()
+    tags = set()
+    for part in str(ds.attrs.get("stages", "")).split():
+        stage, _, name = part.rpartition(":")
+        info = host.models.get(name)
+        cls = None
+        if info is not None:
+            try:
+                cls = info.for_stage(stage) if stage else info.cls
+            except KeyError:
+                cls = info.cls
+        tag = getattr(cls, "exact_reference", None)
+        if tag:
+            tags.add(tag)
+    return tags
+
+
+def _exact_fields(scene, ds, values):
+    """(subsample of ``ds``, exact fields on it): at most ~:data:`MAX_FIELD_POINTS` cells of a regular
+    subsample; ``(ds, {})`` when there is nothing exact or the result has no surface grid (a Zarr row)."""
+    from .analytic import reference_fields
+    if not values or "x" not in ds.dims:
+        return ds, {}
+    n = ds.sizes["x"] * ds.sizes.get("y", 1)
+    stride = max(1, int(math.ceil(math.sqrt(n / MAX_FIELD_POINTS))))
+    sub = ds.isel({d: slice(stride // 2, None, stride) for d in ("x", "y") if d in ds.dims})
+    return sub, reference_fields(scene, sub)
+
+
+def run_errors(scene, ds, ref_values: dict, ref_ds=None, *, ref_tag: str = "", sources: dict | None = None,
+               notes: dict | None = None, signed: dict | None = None) -> dict[str, tuple[float, str]]:
+    """Relative errors of one result: metric -> (error [1], reference tag).
+
+    Parameters
+    ----------
+    scene : Scene
+    ds : xarray.Dataset
+        The result (a run file, or a row of the Zarr store without fields).
+    ref_values : dict
+        Exact values (:func:`railtherm.analytic.reference_values`); ``"_sources"`` (quantity -> tag)
+        names them, or ``sources``.
+    ref_ds : xarray.Dataset, optional
+        A reference run for quantities without an exact value.
+    ref_tag : str
+        Tag of ``ref_ds`` (``method:<name>`` or ``self:finest``).
+    notes : dict, optional
+        Filled with metric -> why it is not scored (NaN error) or why it fails (``inf``).
+    signed : dict, optional
+        Filled with scalar metric -> its error with the sign of (value − reference) (:func:`signed_error`).
+    """
+    notes = {} if notes is None else notes
+    signed = {} if signed is None else signed
+    sources = dict(sources if sources is not None else ref_values.get("_sources", {}))
+    values = {k: v for k, v in ref_values.items() if not k.startswith("_")}
+    same = chain_references(ds) if values else set()
+    if scene.heat_source is not None:  # every method takes a given source as it is
+        same.add("given-source")
+    sub, fields = _exact_fields(scene, ds, values)
+    err: dict[str, tuple[float, str]] = {}
+
+    def exact(name):
+        tag = sources.get(name, "analytic")
+        return None if tag in same else f"analytic:{tag}"
+
+    def shared(name) -> bool:
+        if ref_ds is None or not ref_tag.startswith("method:"):
+            return False
+        model = shares_stage(name, ds.attrs.get("stages", ""), ref_ds.attrs.get("stages", ""))
+        if model:
+            notes[name] = f"not independent: {ref_tag} runs the same {model} model"
+        return bool(model)
+
+    def score(name, value, reference, tag, l2=False):
+        quantity = name.removesuffix("_l2")
+        why = unscored(scene, name, reference, _bulk(scene, quantity, np.shape(reference)))
+        if why:
+            notes[name] = why
+            err[name] = (math.nan, tag)
+            return
+        e = (rel_l2 if l2 else rel_error)(scene, quantity, value, reference)
+        if math.isinf(e):
+            notes[name] = "not finite where its reference is"
+        elif not l2:
+            signed[name] = signed_error(scene, name, value, reference)
+        err[name] = (e, tag)
+
+    for name in SCALARS:
+        if name not in ds:
+            continue
+        if name in values:
+            tag = exact(name)
+            if tag:
+                score(name, ds[name].values, values[name], tag)
+        elif ref_ds is not None and name in ref_ds and not shared(name):
+            score(name, ds[name].values, ref_ds[name].values, ref_tag)
+    for name in FIELDS:
+        if name not in ds or name not in ds.data_vars or "x" not in ds[name].dims:
+            continue
+        if name in fields:
+            tag = exact(name)
+            if tag:
+                score(name + "_l2", sub[name].values, fields[name], tag, l2=True)
+        elif ref_ds is not None and name in ref_ds and not shared(name + "_l2"):
+            try:
+                on_grid = _interp_to(ref_ds, ds, name)
+            except Exception as exc:  # noqa: BLE001 - recorded: the metric fails, it does not drop out
+                err[name + "_l2"] = (math.inf, ref_tag)
+                notes[name + "_l2"] = f"the reference field could not be put on the run's grid ({exc})"
+                continue
+            score(name + "_l2", ds[name].values, on_grid, ref_tag, l2=True)
+    if ref_ds is not None and any(n in ds for n in TRACE_METRICS) and shared("peak_temperature"):
+        ref_ds = None                       # the trace of the same temperature model: not a check
+    err.update(trace_errors(scene, ds, fields, values, ref_ds, ref_tag, exact, notes=notes))
+    return err

