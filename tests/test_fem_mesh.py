@@ -173,7 +173,7 @@ def _skfem_thermal_load(es, theta, depth, intorder=12):
 
 
 def test_thermal_load_and_its_operator_equal_scikit_fem_assembly():
-    """The kept-quadrature thermal load, and the grid operator E (E theta = load of theta's bilinear
+    """The kept-quadrature thermal load, and the grid operator E (E(theta) = load of theta's bilinear
     interpolant), equal scikit-fem's assembly of the same form, for two fields in turn on one grid (the
     second is not served the first's values) and for a second depth (its own quadrature)."""
     from railtherm_fem.coupled import _interpolator
@@ -190,7 +190,7 @@ def test_thermal_load_and_its_operator_equal_scikit_fem_assembly():
             scale = np.abs(ref).max()
             assert scale > 0
             assert np.abs(es.thermal_load(theta, depth=depth) - ref).max() <= 1e-12 * scale
-            assert np.abs(E @ values.ravel() - ref).max() <= 1e-12 * scale
+            assert np.abs(E(values) - ref).max() <= 1e-12 * scale
 
 
 def _steel(**kw):

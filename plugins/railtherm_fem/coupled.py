@@ -315,11 +315,11 @@ class _Mechanics:
         ``operators``: :meth:`thermal_operators`; ``theta_rail``, ``theta_wheel``: rises on its grid [K].
         """
         win = self.mesh.window
-        u_r = self.rail.solve(operators[0] @ np.ravel(theta_rail))
+        u_r = self.rail.solve(operators[0](theta_rail))
         ux, uy = u_r[self.rail.node_dofs[0, win]], u_r[self.rail.node_dofs[1, win]]
         W0, U0 = -uy, -ux   # rail surface rising closes the gap
         if self.wheel is not None and theta_wheel is not None:
-            u_w = self.wheel.solve(operators[1] @ np.ravel(theta_wheel))
+            u_w = self.wheel.solve(operators[1](theta_wheel))
             W0 = W0 - u_w[self.wheel.node_dofs[1, win]]
             U0 = U0 + u_w[self.wheel.node_dofs[0, win]]
         return W0, U0, u_r
@@ -586,7 +586,7 @@ def solve_fem(prob: FemProblem) -> FemSolution:
     f = mech.rail.window_load(-sol.traction * mech.w, -sol.pressure * mech.w)
     if theta is not None and prob.rail.thermal_expansion:
         E = operators[0] if operators is not None else mech.rail.thermal_load_operator(grid, depth=grid.z[-1])
-        f = f + E @ theta[1].ravel()
+        f = f + E(theta[1])
     u = mech.rail.solve(f)
     power = V * np.abs(sol.traction * np.nan_to_num(sol.slip)) if frictional else np.zeros_like(sol.x)
     diag = dict(dofs=int(mech.rail.ndofs), window_nodes=int(m), surface_spacing=float(mech.x[1] - mech.x[0]),

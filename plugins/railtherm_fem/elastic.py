@@ -23,7 +23,7 @@ from .condense import CondensedStiffness
 from .mesh import StripMesh
 from .thermal import bilinear_weights
 
-__all__ = ["ElasticStrip", "stiffness_matrix", "node_adjacency"]
+__all__ = ["ElasticStrip", "GridThermalLoad", "stiffness_matrix", "node_adjacency"]
 
 
 class ElasticStrip:
@@ -108,27 +108,21 @@ class ElasticStrip:
         f[self.fixed_dofs] = 0.0
         return f
 
-    def thermal_load_operator(self, grid, intorder: int = 12, depth: float | None = None) -> sp.csr_matrix:
-        """Matrix E [N/K] with ``E @ theta.ravel()`` = :meth:`thermal_load` of the bilinear interpolant of a
-        rise ``theta`` given at the nodes of a tensor grid (shape (grid.x.size, grid.z.size), 0 outside it).
+    def thermal_load_operator(self, grid, intorder: int = 12, depth: float | None = None) -> "GridThermalLoad":
+        """The thermal load of a rise given at the nodes of a tensor grid: ``op(theta)`` =
+        :meth:`thermal_load` of the bilinear interpolant of ``theta`` (shape (grid.x.size, grid.z.size),
+        0 outside the grid).
 
         The interpolation weights at the Gauss points are computed once: a loop that loads the strip with
-        a new temperature field on the same grid then costs one sparse product per load.
+        a new temperature field on the same grid then costs a weighted gather and a sum per load.
         """
-        n_grid = grid.x.size * grid.z.size
         q = self._layer_quadrature(int(intorder), None if depth is None else float(depth))
         if q is None or self.alpha == 0.0:
-            return sp.csr_matrix((self.ndofs, n_grid))
-        beta = self.alpha * (3.0 * self.lam + 2.0 * self.mu)
-        ne, nq = q["x"].shape
+            return GridThermalLoad(None, None, None, None, self.ndofs, self.fixed_dofs)
         nodes, weights = bilinear_weights(grid.x, grid.z, q["x"], q["z"])          # (4, ne nq)
-        rows = np.broadcast_to(np.repeat(np.arange(ne), nq), nodes.shape)
-        W = sp.csr_matrix(((weights * q["w"].ravel()).ravel(), (rows.ravel(), nodes.ravel())), shape=(ne, n_grid))
-        keep = np.ones(self.ndofs)
-        keep[self.fixed_dofs] = 0.0
-        D = sp.csr_matrix((beta * q["grad"].ravel() * keep[q["dofs"]], (q["dofs"], np.tile(np.arange(ne), 6))),
-                          shape=(self.ndofs, ne))
-        return (D @ W).tocsr()
+        beta = self.alpha * (3.0 * self.lam + 2.0 * self.mu)
+        return GridThermalLoad(nodes, weights * q["w"].ravel(), q["dofs"], beta * q["grad"], self.ndofs,
+                               self.fixed_dofs)
 
     def _layer_quadrature(self, intorder: int, depth: float | None):
         """Quadrature of the elements with a node shallower than ``depth`` (all without it); None if none.
@@ -213,6 +207,38 @@ class ElasticStrip:
         sxy = 2 * self.mu * exy                                  # shear; sign flips with z = -y
         szz_out = self.lam * tr - beta * th
         return np.vstack([sxx, syy, -sxy, szz_out])
+
+
+class GridThermalLoad:
+    """Nodal thermal load [N] of a temperature rise given on a tensor grid (:meth:`ElasticStrip.thermal_load_operator`).
+
+    Parameters
+    ----------
+    nodes, weights : ndarray, shape (4, n_elements n_points) or None
+        Grid nodes (flat) of each Gauss point's bilinear interpolant and their weights times the Gauss
+        weight [m^2]; None: no heated element (the load is 0).
+    dofs : ndarray, shape (6 n_elements,)
+        Unknowns of the elements' nodes (x of the three nodes, then y).
+    grad : ndarray, shape (6, n_elements)
+        alpha (3 lambda + 2 mu) times the matching hat gradients [Pa/(K m)].
+    ndofs : int
+    fixed_dofs : ndarray
+        Constrained unknowns (their load is 0).
+    """
+
+    def __init__(self, nodes, weights, dofs, grad, ndofs, fixed_dofs):
+        self.nodes, self.weights, self.dofs, self.grad = nodes, weights, dofs, grad
+        self.ndofs, self.fixed_dofs = int(ndofs), fixed_dofs
+
+    def __call__(self, theta: np.ndarray) -> np.ndarray:
+        """Load vector [N] of the rise ``theta`` [K] on the grid."""
+        if self.nodes is None:
+            return np.zeros(self.ndofs)
+        at_points = np.sum(np.ravel(theta)[self.nodes] * self.weights, axis=0)             # [K m^2]
+        integral = at_points.reshape(self.grad.shape[1], -1).sum(axis=1)                     # per element
+        f = np.bincount(self.dofs, weights=(self.grad * integral).ravel(), minlength=self.ndofs)
+        f[self.fixed_dofs] = 0.0
+        return f
 
 
 def node_adjacency(t: np.ndarray, n_nodes: int) -> sp.csr_matrix:
