@@ -100,3 +100,32 @@ def test_two_methods_of_one_plugin_with_the_same_models_run_once(railtherm_regis
     assert why.startswith("method 'twin-a' runs the same stage models as method 'twin-b'")
     with pytest.raises(Refused, match="its result is twin-b's"):
         railtherm.solve(sc, "twin-a", 0, peers=peers)
+
+
+@pytest.mark.xfail(strict=True, reason="the runner (railtherm.run.runner) does not yet pass the study's other "
+                                       "methods to solve(..., peers=...)")
+def test_a_study_refuses_kalker_on_a_given_heat_source_and_does_not_score_it(green_kalker, tmp_path):
+    study = tmp_path / "study.toml"
+    study.write_text('''schema_version = 1
+[study]
+name = "dup"
+methods = ["green", "kalker"]
+levels = [0]
+repeat = 1
+[defaults.wheel]
+shear_modulus = 82e9
+poisson_ratio = 0.28
+[defaults.rail]
+shear_modulus = 82e9
+[[scene]]
+name = "given"
+speed = 1.0
+heat_source = { flux = 1e6, shape = "uniform", semi_axes = [4e-3, 4e-3] }
+heat_partition = 0.0
+outputs = ["max_surface_temperature"]
+''')
+    m = railtherm.run_study(railtherm.load_study(study), tmp_path / "out", report=False)
+    status = dict(zip(m["method"].values.tolist(), m["status"].values.tolist()))
+    assert status["kalker"] == "refused" and status["green"] != "refused"
+    message = dict(zip(m["method"].values.tolist(), m["message"].values.tolist()))["kalker"]
+    assert "runs no stage of its own" in message and "its result is green's" in message

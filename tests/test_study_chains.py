@@ -20,6 +20,7 @@ STUDY = textwrap.dedent('''
     levels = [0]
     [study.options.green]
     cells = 8
+    depth_points = 81     # another temperature computation than the chain's (41): not a duplicate of green
     [study.chains.hertz-fastsim-green]
     normal = "hertz"
     tangential = ["fastsim"]
