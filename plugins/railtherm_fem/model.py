@@ -314,7 +314,7 @@ class FemModel(CoupledModel):
         eps = float(np.mean(eps)) if np.ndim(eps) else float(eps)
         solver = ThermalSolver(tgrid, bodies, two_d)
         theta = solver.solve([eps * load, (1 - eps) * load])
-        # one sparse LU solve: a direct stage (0 iterations), its relative residual ||A theta - b|| / ||b||
+        # one direct solve (banded LU per depth mode): 0 iterations, its relative residual ||A theta - b|| / ||b||
         diag = dict(converged=bool(np.isfinite(solver.residual) and solver.residual < THERMAL_RESIDUAL_LIMIT),
                     iterations=0, residual=float(solver.residual),
                     thermal_unknowns=int(solver.unknowns), thermal_model="2d" if two_d else "1d")
