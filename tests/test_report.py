@@ -229,16 +229,16 @@ def test_verdict_comes_first(study_out):
 
 
 def test_scorecard_cells(study_out):
-    """line-sliding: the dummies' errors (20 % and 10 %) exceed the 5 % tolerance, so each cell shows its most
-    accurate level as inaccurate (alpha: level 1; broken and picky: level 0, the only one they ran); creep
-    is refused (its contact model needs creepage)."""
+    """line-sliding: the dummies' errors (20 % and 10 %) exceed the 5 % tolerance, so each cell shows the status
+    of the finest level that ran (alpha: level 1 inaccurate; broken: level 1 failed; picky: level 0, the only one
+    it ran); creep is refused (its contact model needs creepage)."""
     out, _ = study_out
     verdict = _sections((out / "report.md").read_text())["Verdict"]
     row = next(line for line in verdict.splitlines() if line.startswith("| [line-sliding]"))
     cells = [c.strip() for c in row.strip("|").split("|")]
     assert cells[0] == "[line-sliding](#scene-line-sliding) · max T"
     assert cells[1].startswith("inaccurate · ") and cells[1].endswith("· L1")
-    assert cells[2].startswith("inaccurate · ") and cells[2].endswith("· L0")
+    assert cells[2].startswith("failed")
     assert cells[4].startswith("inaccurate · ") and cells[4].endswith("· L0")
     assert cells[3].startswith("refused")
     sweep = next(line for line in verdict.splitlines() if line.startswith("| [carter]"))
@@ -272,7 +272,7 @@ def test_sweep_is_one_section(study_out):
     sec = _sections(md)
     assert not any(t.startswith(tuple(f"{i}. Scene `carter" for i in range(10))) for t in sec)
     title = next(t for t in sec if "Sweep `carter`" in t)
-    assert "over creepage.longitudinal (5 scenes)" in title
+    assert "over longitudinal creepage (5 scenes)" in title
     body = sec[title]
     assert body.count("**Table ") == 1 and body.count("**Figure ") == 1
     assert any(p.name.startswith("003-sweep-carter") for p in paths)
@@ -283,7 +283,7 @@ def test_sweep_is_one_section(study_out):
     sc = load_study(out.parent / "study.toml").scene("carter--creepage.longitudinal=-0.0004")
     ratio = carter_2d(-4e-4, hertz_geometry(sc)[0], sc.friction, sc.wheel_radius).force_ratio
     assert 0.3 < ratio < 0.95  # partial slip: the curve is not trivially saturated here
-    header = next(line for line in body.splitlines() if line.startswith("| creepage.longitudinal |"))
+    header = next(line for line in body.splitlines() if line.startswith("| longitudinal creepage |"))
     header = [c.strip() for c in header.strip("|").split("|")]
     row = next(line for line in body.splitlines() if line.startswith("| -0.0004 |"))
     cells = dict(zip(header, (c.strip() for c in row.strip("|").split("|"))))
@@ -325,7 +325,7 @@ def test_benchmarks_and_footer(study_out):
     sec = _sections((out / "report.md").read_text())
     assert "| test_green_speed | 12 ms | 10 ms |" in sec["Benchmarks"]
     assert "error_max_surface_temperature=0.001234" in sec["Benchmarks"]
-    env = sec["Environment"]
+    env = sec["Environment and code"]
     for word in ("numpy", "scipy", "xarray", "numba", "fipy", "scikit-fem", "OMP_NUM_THREADS",
                  "OPENBLAS_NUM_THREADS", "NUMBA_NUM_THREADS", "os.cpu_count()", "CPU:", "Command line of the run"):
         assert word in env, word
@@ -366,7 +366,7 @@ def test_report_without_study_or_curves(study_out, tmp_path):
     assert "Benchmarks" not in md
     assert "Exact reference curves are not drawn: `references.nc` is missing" in md
     # the sweep is still one section (from the run records), without the exact curve
-    assert "Sweep `carter` over creepage.longitudinal (5 scenes)" in md and "could not be drawn" not in md
+    assert "Sweep `carter` over longitudinal creepage (5 scenes)" in md and "could not be drawn" not in md
 
 
 def test_missing_metrics(tmp_path):

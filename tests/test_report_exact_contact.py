@@ -85,7 +85,8 @@ def test_error_cells_recomputed_from_the_run_files(out):
     by_q = {r[1]: r for r in rows}
     k, g, f = (_run(out, "ek-combined", m) for m in ("kalker", "green", "fastsim-fdm"))
     # contact model: green against kalker, creep force
-    row = by_q["creep force Fx [N]"]
+    row = by_q["creep force Fx [kN]"]                           # forces in kN, three significant digits
+    assert row[col["kalker (exact contact) [unit]"]] == f"{float(k['creep_force_x']) / 1e3:.3g}"
     err = (float(g["creep_force_x"]) - float(k["creep_force_x"])) / abs(float(k["creep_force_x"]))
     assert str(row[col["contact-model error of green, reference kalker [%]"]]) == pct(err, signed=True, floor=1e-9)
     assert abs(err) > 0.01                                      # FASTSIM is visibly off the exact theory
@@ -98,7 +99,7 @@ def test_error_cells_recomputed_from_the_run_files(out):
     assert str(row[col["total error of fastsim-fdm, reference kalker [%]"]]) == pct((tf - tk) / tk, signed=True,
                                                                                    floor=1e-9)
     # the levels each error used are named in the row
-    assert row[-1] == "kalker L0, green L0, fastsim-fdm L0"
+    assert row[-1] == "kalker level 0, green level 0, fastsim-fdm level 0"
 
 
 def test_contact_error_is_the_metrics_error_against_kalker(out):

@@ -100,15 +100,18 @@ def test_section_figures_and_table(small):
     md = (out / "report.md").read_text()
     assert "## Thermal trace: behind the patch and in depth" in md
     trace = md.split("## Thermal trace")[1].split("\n## ")[0]
-    for name in ("trace-x-locked-rail", "trace-z-locked-rail", "trace-map-locked-rail", "trace-x-band-wheel",
-                 "trace-z-band-rail"):
+    for name in ("trace-locked-rail", "trace-map-locked-rail", "trace-band-wheel", "trace-band-rail"):
         assert f"figures/{name}.png" in trace, name
         assert (out / "figures" / f"{name}.png").stat().st_size > 10_000
     assert "trace-map-band" not in trace   # a line contact has no map
-    assert "trace-x-locked-wheel" not in trace   # the locked wheel takes no heat
+    assert "trace-locked-wheel" not in trace   # the locked wheel takes no heat
+    # the maps are behind a closed box; the scene's own section links here instead of repeating figures
+    assert trace.index("<details><summary>Surface maps of the trace of `locked`") < trace.index("trace-map-locked-rail")
+    scene = re.split(r"^## \d+\. Scene `locked`", md, flags=re.M)[1].split("\n## ")[0]
+    assert "figures/" not in scene and "(#trace-locked)" in scene
     assert "could not be drawn" not in md
     # the section comes after the verdict and before the scenes' own sections
-    assert md.index("## Verdict") < md.index("## Thermal trace") < md.index("`plain`")
+    assert md.index("## Verdict") < md.index("## Thermal trace") < re.search(r"^## \d+\. Scene `plain`", md, re.M).start()
 
 
 def _table_rows(md: str) -> list[list[str]]:
@@ -129,7 +132,7 @@ def test_table_values_match_the_store(small):
     c = curves["locked"]
     i = next(k for k, r in enumerate(rows) if r[0].startswith("`locked`"))
     exact, green = rows[i], rows[i + 1]
-    assert exact[1] == "rail" and exact[2] == "**exact**" and green[2] == "green (L0)"
+    assert exact[1] == "rail" and exact[2] == "**exact**" and green[2] == "green (level 0)"
     num = lambda s: float(re.sub(r"[^0-9eE+.\-]", "", s.replace("−", "-")))
     assert num(exact[3]) == pytest.approx(float(c["trace_peak_temperature"][1, 0]), rel=1e-3)
     assert num(exact[5]) == pytest.approx(1e3 * float(c["trace_heated_depth"][1]), rel=1e-3)

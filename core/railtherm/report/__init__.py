@@ -42,12 +42,14 @@ from pathlib import Path
 
 from ..output import store
 from .document import Document
+from .environment import benchmark_section, environment_section
 from .exact_contact import exact_contact_section
 from .friction_section import friction_section
 from .figures import Palette, method_colour
 from .load import load
-from .trace_section import trace_section
-from .sections import Context, benchmark_section, environment_section, scene_section, sweep_section, verdict_section
+from .sections import Context, scene_section, sweep_section, verdict_section
+from .study_section import intro, study_section
+from .trace_section import trace_anchor, trace_scenes, trace_section
 from .verdict import rows, sweep_groups
 
 __all__ = ["write_report", "MAX_SCENE_SECTIONS", "method_colour"]
@@ -96,6 +98,8 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     ctx = Context(data, fig_dir, Palette(data.methods))
     doc = Document()
     doc.heading(1, f"railtherm report: study `{data.name}`")
+    intro(doc, data)
+    doc.contents()
     groups = sweep_groups(data)
     table_rows = rows(data, groups)
     limit = MAX_SCENE_SECTIONS
@@ -104,8 +108,10 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     for row in left_out:  # no section: the scorecard row links nowhere
         row.anchor = ""
     verdict_section(doc, ctx, table_rows)
+    study_section(doc, ctx, table_rows)
     friction_section(doc, ctx)        # a friction study's point, before the long exact-contact tables
     exact_contact_section(doc, ctx)
+    traced = set(trace_scenes(data))
     trace_section(doc, ctx)
     idx = 0
     for row in table_rows:
@@ -113,13 +119,18 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
             continue
         idx += 1
         if row.group is None:
-            scene_section(doc, ctx, idx, row.scenes[0])
+            scene = row.scenes[0]
+            scene_section(doc, ctx, idx, scene, trace_anchor(scene) if scene in traced else "")
         else:
             sweep_section(doc, ctx, idx, row.group, row.anchor)
     if left_out:
         doc.paragraph(f"{len(left_out)} further scenes have no section of their own (limit {limit}); the "
                       "scorecard lists them: " + ", ".join(f"`{r.label}`" for r in left_out[:20])
                       + (" …" if len(left_out) > 20 else "") + ".", note=True)
+    if ctx.left_out:
+        doc.paragraph(f"{len(ctx.left_out)} figures are left out: the report draws at most {ctx.max_figures} "
+                      "(the run files hold the data): " + ", ".join(ctx.left_out[:12])
+                      + (" …" if len(ctx.left_out) > 12 else "") + ".", note=True)
     bench = Path(benchmarks) if benchmarks else out / "benchmarks.json"
     if benchmarks or bench.exists():
         benchmark_section(doc, bench)

@@ -1,8 +1,11 @@
 """The report's document model: blocks (headings, paragraphs, lists, numbered tables and figures,
-collapsible details) rendered once to Markdown and once to self-contained HTML.
+collapsible details, a table of contents) rendered once to Markdown and once to self-contained HTML.
 
-Inline markup understood in every text: `code`, **bold** and [text](#anchor) links. Table cells are
-strings or :class:`Cell` (a string with a CSS class: the HTML colours the status of a run).
+Inline markup understood in every text: `code`, **bold** and [text](#anchor) or [text](relative/file)
+links. Table cells are strings or :class:`Cell` (a string with a CSS class: the HTML colours the status
+of a run). Every section (a level-2 heading) has an anchor and, once the document has a table of
+contents, a link back to it; every table sits in a box that scrolls sideways when it is wider than the
+page, so that the page itself never does.
 """
 from __future__ import annotations
 
@@ -37,7 +40,7 @@ def inline_html(text: str) -> str:
             continue
         esc = html.escape(part)
         esc = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", esc)
-        esc = re.sub(r"\[([^\]]+)\]\((#[^)\s]+)\)", r'<a href="\2">\1</a>', esc)
+        esc = re.sub(r"\[([^\]]+)\]\((#[^)\s]+|[A-Za-z0-9_][A-Za-z0-9_./-]*)\)", r'<a href="\2">\1</a>', esc)
         out.append(esc)
     return "".join(out)
 
@@ -46,18 +49,50 @@ def _md_cell(c: CellLike) -> str:
     return str(c).replace("|", "\\|").replace("\n", " ")
 
 
+#: anchor of the table of contents, the target of every section's link back
+CONTENTS = "contents"
+
+
 @dataclass
 class _Heading:
     level: int
     text: str
     anchor: str | None
+    back: bool = False   # a link back to the table of contents (set when the document has one)
 
     def md(self) -> str:
-        return (f'<a id="{self.anchor}"></a>\n\n' if self.anchor else "") + "#" * self.level + " " + self.text
+        out = (f'<a id="{self.anchor}"></a>\n\n' if self.anchor else "") + "#" * self.level + " " + self.text
+        return out + (f"\n\n[↑ back to contents](#{CONTENTS})" if self.back else "")
 
     def html(self) -> str:
         anchor = f' id="{html.escape(self.anchor)}"' if self.anchor else ""
-        return f"<h{self.level}{anchor}>{inline_html(self.text)}</h{self.level}>"
+        back = f' <a class="back" href="#{CONTENTS}">↑ back to contents</a>' if self.back else ""
+        return f"<h{self.level}{anchor}>{inline_html(self.text)}{back}</h{self.level}>"
+
+
+@dataclass
+class _Contents:
+    """The table of contents: a link to every section (level-2 heading), filled in when rendered."""
+
+    entries: list = field(default_factory=list)   # [(anchor, text)]
+
+    def md(self) -> str:
+        return (f'<a id="{CONTENTS}"></a>\n\n**Contents**\n\n'
+                + "\n".join(f"{i}. [{_strip_links(t)}](#{a})" for i, (a, t) in enumerate(self.entries, 1)))
+
+    def html(self) -> str:
+        items = "".join(f'<li><a href="#{html.escape(a)}">{inline_html(_strip_links(t))}</a></li>'
+                        for a, t in self.entries)
+        return f'<nav id="{CONTENTS}"><b>Contents</b><ol class="toc">{items}</ol></nav>'
+
+
+def _strip_links(text: str) -> str:
+    return re.sub(r"\[([^\]]+)\]\([^)]*\)", r"\1", text)
+
+
+def anchor_text(text: str) -> str:
+    """An HTML id from a heading's text: 'Scene `ek-low`' -> 'scene-ek-low'."""
+    return re.sub(r"[^A-Za-z0-9]+", "-", _strip_links(text)).strip("-").lower() or "section"
 
 
 @dataclass
@@ -108,8 +143,8 @@ class _Table:
 
         rows = "".join("<tr>" + "".join(td(c) for c in r) + "</tr>" for r in self.rows)
         cls = f' class="{self.css}"' if self.css else ""
-        return (f'<table{cls}><caption><b>Table {self.number}.</b> {inline_html(self.caption)}</caption>'
-                f"<thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")
+        return (f'<div class="scroll"><table{cls}><caption><b>Table {self.number}.</b> {inline_html(self.caption)}'
+                f"</caption><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table></div>")
 
 
 @dataclass
@@ -118,12 +153,13 @@ class _Figure:
     src: str
     caption: str
     width: int | None  # CSS pixels (the PNG holds twice as many)
+    height: int | None = None
 
     def md(self) -> str:
         return f"![Figure {self.number}]({self.src})\n\n**Figure {self.number}.** {self.caption}"
 
     def html(self) -> str:
-        w = f' width="{self.width}"' if self.width else ""
+        w = (f' width="{self.width}"' if self.width else "") + (f' height="{self.height}"' if self.height else "")
         return (f'<figure><img src="{html.escape(self.src)}"{w} alt="Figure {self.number}">'
                 f"<figcaption><b>Figure {self.number}.</b> {inline_html(self.caption)}</figcaption></figure>")
 
@@ -147,40 +183,61 @@ body{font-family:system-ui,-apple-system,"Segoe UI",sans-serif;max-width:980px;m
 color:#222;line-height:1.4;font-size:15px}
 h1{font-size:1.5em;margin:0.3em 0}h2{border-bottom:1px solid #ccc;margin-top:1.8em;font-size:1.25em}
 h3{font-size:1.05em}
-table{border-collapse:collapse;margin:0.5em 0 0.9em;font-size:0.82em;max-width:100%}
+a.back{float:right;font-size:0.62em;font-weight:normal;color:#245;text-decoration:none;margin-top:0.45em}
+nav#contents{background:#f6f8fa;border:1px solid #dde;padding:6px 12px;margin:0.8em 0}
+ol.toc{columns:2;column-gap:2em;margin:0.3em 0;padding-left:1.6em;font-size:0.9em}ol.toc li{margin:0.1em 0}
+div.scroll{overflow-x:auto;max-width:100%;margin:0.5em 0 0.9em}
+table{border-collapse:collapse;font-size:0.82em}
 caption{caption-side:top;text-align:left;font-size:0.95em;color:#333;padding:2px 0}
 th,td{border:1px solid #bbb;padding:2px 5px;text-align:left;vertical-align:top;overflow-wrap:break-word}
-table.runs td{white-space:nowrap}
 th{background:#eee}
 td.ok{background:#dff0d8}td.inaccurate{background:#fbe3c8}td.unverified{background:#eeeeee;font-style:italic}
 td.refused{background:#f7f7f7;color:#666}td.failed{background:#f5c6c6}
 img{max-width:100%;height:auto}figure{margin:0.8em 0}figcaption{font-size:0.85em;color:#444}
 code{background:#f2f2f2;padding:0 3px;font-size:0.92em}
 details{margin:0.4em 0 0.8em}summary{cursor:pointer;color:#245}
-p.note{font-size:0.88em;color:#555}
+p.note{font-size:0.88em;color:#555}p.warning{background:#fff4e5;border-left:4px solid #e8a33d;padding:4px 8px}
 table.scorecard td:first-child{white-space:nowrap}li{margin:0.2em 0}
 """
 
 
 class Document:
-    """An ordered list of blocks; tables and figures are numbered in the order they are added."""
+    """An ordered list of blocks; tables and figures are numbered in the order they are added.
+
+    Every level-2 heading gets an anchor (from its text when none is given, made unique); after
+    :meth:`contents` the rendered document lists them there and each links back to it.
+    """
 
     def __init__(self):
         self.blocks: list = []
         self._stack: list[list] = [self.blocks]
         self.tables = 0
         self.figures = 0
+        self._contents: _Contents | None = None
+        self._anchors: set[str] = set()
 
     @property
     def _target(self) -> list:
         return self._stack[-1]
 
     def heading(self, level: int, text: str, anchor: str | None = None):
+        if level == 2 and not anchor:
+            anchor = anchor_text(text)
+        if anchor:
+            base, k = anchor, 2
+            while anchor in self._anchors:
+                anchor, k = f"{base}-{k}", k + 1
+            self._anchors.add(anchor)
         self._target.append(_Heading(level, text, anchor))
 
-    def paragraph(self, text: str, note: bool = False):
+    def contents(self):
+        """Place the table of contents here: every section added before or after is listed."""
+        self._contents = _Contents()
+        self._target.append(self._contents)
+
+    def paragraph(self, text: str, note: bool = False, css: str = ""):
         if text:
-            self._target.append(_Paragraph(text, "note" if note else ""))
+            self._target.append(_Paragraph(text, css or ("note" if note else "")))
 
     def bullets(self, items, css: str = ""):
         items = [t for t in items if t]
@@ -195,9 +252,9 @@ class Document:
         self._target.append(_Table(self.tables, caption, list(header), [list(r) for r in rows], css))
         return self.tables
 
-    def figure(self, src: str, caption: str, width: int | None = None) -> int:
+    def figure(self, src: str, caption: str, width: int | None = None, height: int | None = None) -> int:
         self.figures += 1
-        self._target.append(_Figure(self.figures, src, caption, width))
+        self._target.append(_Figure(self.figures, src, caption, width, height))
         return self.figures
 
     def details(self, summary: str):
@@ -217,10 +274,21 @@ class Document:
 
         return _Ctx()
 
+    def _finish(self):
+        """Fill the table of contents and give every section its link back."""
+        if self._contents is None:
+            return
+        sections = [b for b in self.blocks if isinstance(b, _Heading) and b.level == 2 and b.anchor]
+        self._contents.entries = [(b.anchor, b.text) for b in sections]
+        for b in sections:
+            b.back = True
+
     def markdown(self) -> str:
+        self._finish()
         return "\n\n".join(b.md() for b in self.blocks) + "\n"
 
     def html(self, title: str) -> str:
+        self._finish()
         body = "\n".join(b.html() for b in self.blocks)
         return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
                 f'<meta name="viewport" content="width=device-width, initial-scale=1">'

@@ -30,7 +30,8 @@ import numpy as np
 
 from . import exact_figures as XF
 from .document import Cell, Document
-from .format import finite, num, pct, short
+from .format import finite, num, pct, quantity, short
+from .format import unit as shown
 from .load import StudyData
 
 __all__ = ["ExactComparison", "QUANTITIES", "exact_comparisons", "exact_contact_section", "relative_error"]
@@ -158,7 +159,7 @@ def error_rows(data: StudyData, comp: ExactComparison) -> tuple[list[str], list[
                 continue
             b = bulk if q in TEMPERATURES else 0.0
             levels = {e: ref[1]}
-            row = [f"`{s}`", f"{label} [{unit}]", num(ref[0], 4)]
+            row = [f"`{s}`", f"{label} [{shown(unit)}]", quantity(ref[0], unit, with_unit=False)]
             got = {}
             for c in comp.contact:
                 v = _value(data, s, c, q)
@@ -167,7 +168,8 @@ def error_rows(data: StudyData, comp: ExactComparison) -> tuple[list[str], list[
                     row += ["–", "–"]
                     continue
                 levels[c] = v[1]
-                row += [num(v[0], 4), Cell(pct(relative_error(v[0], ref[0], b), signed=True, floor=ROUND_OFF),
+                row += [quantity(v[0], unit, with_unit=False),
+                        Cell(pct(relative_error(v[0], ref[0], b), signed=True, floor=ROUND_OFF),
                                            _css(relative_error(v[0], ref[0], b), data.tolerance))]
             for t, c in comp.thermal.items():
                 v = _value(data, s, t, q)
@@ -178,9 +180,10 @@ def error_rows(data: StudyData, comp: ExactComparison) -> tuple[list[str], list[
                 vc = got.get(c)
                 thermal = relative_error(v[0], vc[0], b) if vc is not None else math.nan
                 total = relative_error(v[0], ref[0], b)
-                row += [num(v[0], 4), Cell(pct(thermal, signed=True, floor=ROUND_OFF), _css(thermal, data.tolerance)),
+                row += [quantity(v[0], unit, with_unit=False),
+                        Cell(pct(thermal, signed=True, floor=ROUND_OFF), _css(thermal, data.tolerance)),
                         Cell(pct(total, signed=True, floor=ROUND_OFF), _css(total, data.tolerance))]
-            row.append(", ".join(f"{m} L{lv}" for m, lv in levels.items()))
+            row.append(", ".join(f"{m} level {lv}" for m, lv in levels.items()))
             rows.append(row)
     return header, rows
 
@@ -303,12 +306,12 @@ def _one(doc: Document, ctx, comp: ExactComparison):
             for x, v, lv in curve.values.get(m, []):
                 if x in ex:
                     err = relative_error(v, ex[x][0])
-                    rows.append([num(x, 4), num(ex[x][0], 4) + f" (L{ex[x][1]})", f"`{m}`", num(v, 4) + f" (L{lv})",
+                    rows.append([num(x), num(ex[x][0]) + f" (level {ex[x][1]})", f"`{m}`", num(v) + f" (level {lv})",
                                  Cell(pct(err, signed=True, floor=ROUND_OFF), _css(err, data.tolerance))])
-        doc.table(f"Creep-force curve of the sweep `{data.scene[members[0][1]].base}` over creepage.longitudinal [1]: "
+        doc.table(f"Creep-force curve of the sweep `{data.scene[members[0][1]].base}` over the longitudinal creepage ξ [1]: "
                   f"Fx / (μ N) [1] of the exact contact (`{e}`) and of each contact model, with the error of the "
                   f"latter against `{e}` [%] (level in brackets).",
-                  ["creepage.longitudinal [1]", f"Fx / (μ N) of {e} [1]", "method", "Fx / (μ N) [1]",
+                  ["longitudinal creepage ξ [1]", f"Fx / (μ N) of {e} [1]", "method", "Fx / (μ N) [1]",
                    f"error, reference {e} [%]"], rows)
         ctx.draw(doc, "exact-creep-curve", f"Creep-force curve: Fx / (μ N) against the longitudinal creepage of "
                  f"the exact contact (`{e}`, black) and of " + ", ".join(f"`{c}`" for c in comp.contact)
@@ -322,7 +325,7 @@ def _one(doc: Document, ctx, comp: ExactComparison):
                 for m in [e] + comp.contact if data.finest_result(combined, m) is not None}
         maps = {m: ds for m, ds in maps.items() if ds is not None}
         ctx.draw(doc, "exact-maps", f"`{combined}`: traction |q| [MPa], slip velocity |v_s| [m/s] and frictional "
-                 "power density [W/m²] (both bodies) side by side, exact contact against "
+                 "power density [MW/m²] (both bodies) side by side, exact contact against "
                  + ", ".join(f"`{c}`" for c in comp.contact) + " (finest levels; cells outside the contact "
                  "blank; one colour scale per column).", XF.maps_figure, maps, f"{combined}: exact vs simplified")
     for s in _gap_scenes(data, comp):
@@ -358,8 +361,8 @@ def _gap(doc: Document, ctx, comp: ExactComparison, scene: str, hertzian: str | 
         if v is None:
             continue
         h = _value(data, hertzian, e, q) if hertzian else None
-        rows.append([f"{label} [{unit}]", num(v[0], 4) + f" (L{v[1]})",
-                     (num(h[0], 4) + f" (L{h[1]})") if h else "–",
+        rows.append([f"{label} [{shown(unit)}]", quantity(v[0], unit, with_unit=False) + f" (level {v[1]})",
+                     (quantity(h[0], unit, with_unit=False) + f" (level {h[1]})") if h else "–",
                      pct(relative_error(v[0], h[0], _bulk(data, scene) if q in TEMPERATURES else 0.0), signed=True)
                      if h else "–"])
     doc.table(f"`{scene}` (non-Hertzian) by `{e}` beside the Hertzian ellipse `{hertzian}` by `{e}`: values in "

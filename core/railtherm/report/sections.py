@@ -4,11 +4,7 @@ by a sentence saying why (and a warning), never by an exception.
 """
 from __future__ import annotations
 
-import json
 import math
-import os
-import platform
-import shlex
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -17,21 +13,30 @@ from pathlib import Path
 import numpy as np
 
 from . import figures as F
+from . import scene_figures as S
 from .document import Cell, Document
-from .format import duration, finite, level_range, num, pct, short, slug
+from .format import duration, finite, label, level_range, num, pct, plain, quantity, short, slug
 from .load import StudyData
+from .study_section import hot_note
 from .sweep_maps import sweep_maps
 from .tables import (METRIC_SHORT, cross_tables, message_lines, order_table, published_table, reference_words,
                      refusal_lines, run_table)
-from .verdict import (QUANTITY, Row, SweepGroup, anchor_of, cell, choose, creep_force_source, findings, scorecard)
+from .verdict import (QUANTITY, SCORECARD_RULE, Row, SweepGroup, anchor_of, cell, choose, creep_force_source, findings,
+                      scorecard)
 
-PACKAGES = ("railtherm", "numpy", "scipy", "xarray", "netCDF4", "numba", "fipy", "scikit-fem", "matplotlib",
-            "pluggy", "dask", "pytest-benchmark")
-THREAD_ENV = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
+#: figures a report draws at most: a reader looks at forty figures, not at a hundred
+MAX_FIGURES = 40
 STATUS_LEGEND = ("**ok**: within the tolerance of an independent reference (exact solution or another method); "
                  "**inaccurate**: above it; **unverified**: ran, but nothing independent to compare with "
                  "(e.g. only its own finest level); **refused**: declined before starting (validity or budget); "
                  "**failed**: error, time-out, NaN or no convergence.")
+
+
+def png_size(path: Path) -> tuple[int, int]:
+    """(width, height) [px] of a PNG file, from its header."""
+    with open(path, "rb") as f:
+        head = f.read(24)
+    return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
 
 
 @dataclass
@@ -42,9 +47,15 @@ class Context:
     fig_dir: Path
     palette: F.Palette
     figures: list = field(default_factory=list)
+    max_figures: int = MAX_FIGURES
+    left_out: list = field(default_factory=list)   # names of figures beyond the budget
 
     def draw(self, doc: Document, name: str, caption: str, fn, *args, **kwargs):
-        """Draw one figure into ``fig_dir/name.png`` and add it with ``caption``; a failure becomes a sentence."""
+        """Draw one figure into ``fig_dir/name.png`` and add it with ``caption``; a failure becomes a sentence.
+        Beyond :attr:`max_figures` figures nothing is drawn and the figure's name is kept for a note."""
+        if len(self.figures) >= self.max_figures:
+            self.left_out.append(name)
+            return None
         t0 = time.perf_counter()
         try:
             res = fn(*args, path=self.fig_dir / f"{name}.png", **kwargs)
@@ -57,7 +68,8 @@ class Context:
             return None
         path, width = res
         self.figures.append(path)
-        doc.figure(f"figures/{path.name}", caption, width)
+        w, h = png_size(path)
+        doc.figure(f"figures/{path.name}", plain(caption), width, int(round(h * width / w)) if w and width else None)
         took = time.perf_counter() - t0
         if took > 20:
             doc.paragraph(f"(drawing this figure took {took:.0f} s)", note=True)
@@ -66,33 +78,35 @@ class Context:
 
 # -- verdict -------------------------------------------------------------------------------------------
 def verdict_section(doc: Document, ctx: Context, table_rows: list[Row], max_rows: int = 200):
+    """The verdict: key findings, the scorecard, why cells are not ok, and the work-precision figure."""
     data = ctx.data
     tol = data.tolerance
     doc.heading(2, "Verdict", "verdict")
     cards = scorecard(data, table_rows)
+    items = findings(data, table_rows, cards)
+    if items:
+        doc.heading(3, "Key findings")
+        doc.bullets([plain(t) for t in items])
     shown = table_rows[:max_rows]
     body = []
     for row in shown:
-        what = METRIC_SHORT.get(row.headline, row.headline) or "–"
-        label = (f"[{row.label}](#{row.anchor})" if row.anchor else row.label) \
+        what = METRIC_SHORT.get(row.headline) or label(row.headline) or "–"
+        name = (f"[{row.label}](#{row.anchor})" if row.anchor else row.label) \
             + (f" ({len(row.scenes)} scenes)" if row.group else "")
-        body.append([f"{label} · {what}"] + [cell(cards[(row.label, m)]) for m in data.methods])
-    doc.table(f"Scorecard. Each cell: the cheapest level (smallest wall time) whose headline quantity is within "
-              f"{pct(tol) if tol is not None else 'the tolerance'} of an independent reference (ok), with its "
-              "error, best wall time and level (L); when no level is ok, the best available with its status. "
-              "A sweep is one row: its worst member's status, the largest error and time (≤).",
+        body.append([f"{name} · {what}"] + [cell(cards[(row.label, m)]) for m in data.methods])
+    heads = dict.fromkeys(r.headline for r in shown if r.headline)
+    doc.table(f"Scorecard. {SCORECARD_RULE} L2 is level 2 of the ladder. Tolerance: "
+              f"{pct(tol) if tol is not None else 'not recorded'}. A sweep is one row: its worst member's status, the "
+              "largest error and time (≤). Headlines: "
+              + ", ".join(f"{METRIC_SHORT.get(h) or label(h)} = {label(h)}" for h in heads) + ".",
               ["scene · headline"] + data.methods, body, css="scorecard")
     if len(table_rows) > len(shown):
         doc.paragraph(f"{len(table_rows) - len(shown)} further rows are left out of the scorecard.", note=True)
     doc.paragraph(STATUS_LEGEND, note=True)
-    items = findings(data, table_rows, cards)
-    if items:
-        doc.heading(3, "Key findings")
-        doc.bullets(items)
     reasons = _cell_reasons(data, table_rows, cards)
     if reasons:
         with doc.details(f"Why cells are refused, failed or unverified ({len(reasons)} reasons)"):
-            doc.bullets(reasons)
+            doc.bullets([plain(t) for t in reasons])
     panels = [_panel(data, row) for row in shown[:24]]
     if panels:
         ctx.draw(doc, "000-work-precision", "Work-precision of every scene: relative error of the headline "
@@ -130,7 +144,7 @@ def _cell_reasons(data: StudyData, table_rows, cards) -> list[str]:
 
 
 def _panel(data: StudyData, row: Row) -> F.Panel:
-    title = f"{row.label}: {METRIC_SHORT.get(row.headline, row.headline)}"
+    title = f"{row.label}: {METRIC_SHORT.get(row.headline) or label(row.headline)}"
     if row.group:
         title += " (sweep, worst)"
     panel = F.Panel(short(title, 48))
@@ -162,41 +176,43 @@ def _panel(data: StudyData, row: Row) -> F.Panel:
 
 # -- one scene -----------------------------------------------------------------------------------------
 def describe_scene(sc) -> str:
+    """A scene's inputs in one line, in the units a researcher reads (kN, mm, MW/m², m/s)."""
     if sc is None:
         return ""
     parts = []
     try:
         if sc.heat_source is not None:
             hs = sc.heat_source
-            size = (f"semi-axes {hs.semi_axes[0] * 1e3:.3g} × {hs.semi_axes[1] * 1e3:.3g} mm" if hs.semi_axes is not None
-                    else f"half-width {hs.half_width * 1e3:.3g} mm")
-            parts.append(f"given heat source {hs.shape}, flux {hs.flux:.3g} W/m², {size}")
+            size = (f"semi-axes {num(hs.semi_axes[0] * 1e3)} × {num(hs.semi_axes[1] * 1e3)} mm"
+                    if hs.semi_axes is not None else f"half-width {quantity(hs.half_width, 'm')}")
+            parts.append(f"given heat source ({hs.shape}), flux {quantity(hs.flux, 'W/m2')}, {size}")
         else:
             geo = sc.contact_shape
             if sc.semi_axes is not None:
-                geo += f", semi-axes {sc.semi_axes[0] * 1e3:.4g} × {sc.semi_axes[1] * 1e3:.4g} mm"
+                geo += f", semi-axes {num(sc.semi_axes[0] * 1e3)} × {num(sc.semi_axes[1] * 1e3)} mm"
             elif sc.curvatures is not None:
-                geo += f", curvatures {sc.curvatures[0]:.4g}, {sc.curvatures[1]:.4g} 1/m"
+                geo += f", curvatures {num(sc.curvatures[0], 4)}, {num(sc.curvatures[1], 4)} 1/m"
             elif sc.contact_shape == "line":
-                geo += f", wheel radius {sc.wheel_radius:.3g} m"
+                geo += f", wheel radius {num(sc.wheel_radius * 1e3)} mm"
             parts.append(geo + " contact")
             if sc.normal_force is not None:
-                parts.append(f"normal force {sc.normal_force:.4g} {'N/m' if sc.contact_shape == 'line' else 'N'}")
+                parts.append("normal force " + quantity(sc.normal_force, "N/m" if sc.contact_shape == "line" else "N"))
             elif sc.penetration is not None:
-                parts.append(f"penetration {sc.penetration:.3g} m")
+                parts.append(f"penetration {quantity(sc.penetration, 'm')}")
             if sc.creepage is not None:
                 c = sc.creepage
-                parts.append(f"creepage ξ = {c.longitudinal:.4g}, η = {c.lateral:.4g}, φ = {c.spin:.4g} 1/m")
+                parts.append(f"creepage ξ = {num(c.longitudinal)}, η = {num(c.lateral)}, φ = {num(c.spin)} 1/m")
             elif sc.sliding_speed is not None:
-                parts.append(f"sliding speed {sc.sliding_speed:.4g} m/s")
+                parts.append(f"sliding speed {num(sc.sliding_speed)} m/s")
             if sc.friction is not None:
                 law = sc.friction_law
-                parts.append(f"μ = {sc.friction:.3g}" if law.kind == "constant" else f"friction {law.describe()}")
-        parts.append(f"speed {sc.speed:.4g} m/s")
+                parts.append(f"μ = {num(sc.friction)}" if law.kind == "constant" else f"friction {law.describe()}")
+        parts.append(f"speed {num(sc.speed)} m/s")
         hp = sc.heat_partition
-        parts.append(f"heat partition {hp if isinstance(hp, str) else format(hp, '.3g')}")
+        parts.append(f"heat partition {hp if isinstance(hp, str) else num(hp)}"
+                     + (" (all heat into the rail)" if hp == 0 else " (all heat into the wheel)" if hp == 1 else ""))
         if sc.convection:
-            parts.append(f"convection {sc.convection:.3g} W/(m² K)")
+            parts.append(f"convection {num(sc.convection)} W/(m² K)")
         if sc.wheel.rigid:
             parts.append("rigid wheel")
         if sc.mode != "steady":
@@ -253,7 +269,23 @@ def _status_counts(runs) -> str:
                                                                     "failed") else 9))
 
 
-def scene_section(doc: Document, ctx: Context, idx: int, scene: str):
+def _headline_line(data: StudyData, scenes: list[str]) -> str:
+    si = data.scene[scenes[0]]
+    runs = [r for s in scenes for r in data.runs_of(s)]
+    refs = _references(data, scenes)
+    head = QUANTITY.get(si.headline, si.headline) or "none"
+    ref_text = "; ".join(reference_words(r) for r in refs) or "none"
+    kind = {"analytic": "exact solutions where they exist", "finest": "each method's own finest level"}.get(
+        si.reference_kind, f"method {si.reference_kind}'s finest level" if si.reference_kind else "")
+    if kind:
+        ref_text = f"{kind} ({ref_text})" if refs else kind
+    return (f"Headline quantity: **{head}**. Errors taken against: {ref_text}. "
+            f"{len(runs)} runs: {_status_counts(runs)}.")
+
+
+def scene_section(doc: Document, ctx: Context, idx: int, scene: str, trace_anchor: str = ""):
+    """One scene: inputs, headline and references, refusals, published values, the runs (closed), and
+    its figures; a scene of the thermal-trace section links there instead of repeating its figures."""
     data = ctx.data
     si = data.scene[scene]
     runs = data.runs_of(scene)
@@ -261,22 +293,21 @@ def scene_section(doc: Document, ctx: Context, idx: int, scene: str):
     desc = describe_scene(si.scene)
     if desc:
         doc.paragraph(desc + ".")
-    refs = _references(data, [scene])
-    head = QUANTITY.get(si.headline, si.headline) or "none"
-    ref_text = "; ".join(reference_words(r) for r in refs) or "none"
-    if si.reference_kind:
-        ref_text = f"{si.reference_kind} ({ref_text})" if refs else si.reference_kind
-    doc.paragraph(f"Headline quantity: **{head}**. Errors taken against: {ref_text}. "
-                  f"{len(runs)} runs: {_status_counts(runs)}.")
-    doc.bullets(refusal_lines(runs))
+    doc.paragraph(_headline_line(data, [scene]))
+    doc.paragraph(hot_note(data, scene), css="warning")
+    doc.bullets([plain(t) for t in refusal_lines(runs)])
     src = _creep_sources(data, scene)
     if src:
         doc.paragraph(src)
-    _run_details(doc, data, scene)
     finest = _finest(data, scene)
     _published(doc, data, scene, finest)
+    _run_details(doc, data, scene)
     _orders(doc, data, scene)
     _cross(doc, data, scene)
+    if trace_anchor:
+        doc.paragraph(f"Figures of this scene (temperature along x, in depth, maps of the trace): "
+                      f"[thermal trace of `{scene}`](#{trace_anchor}).")
+        return
     _scene_figures(doc, ctx, idx, scene, finest)
 
 
@@ -291,9 +322,9 @@ def _run_details(doc: Document, data: StudyData, scene: str):
         if dropped:
             doc.paragraph("Columns left out (missing or zero in every run): " + ", ".join(dropped) + ".", note=True)
         for n in notes:
-            doc.paragraph(n + ".", note=True)
+            doc.paragraph(plain(n) + ".", note=True)
         if msgs:
-            doc.bullets(msgs)
+            doc.bullets([plain(m) for m in msgs])
 
 
 def _published(doc: Document, data: StudyData, scene: str, finest: dict):
@@ -305,11 +336,14 @@ def _published(doc: Document, data: StudyData, scene: str, finest: dict):
 
 def _orders(doc: Document, data: StudyData, scene: str):
     header, rows, notes = order_table(data, scene)
-    if rows:
-        doc.table("Fitted convergence order (slope of log error against log h, h = 2^-level), with the method's "
-                  "theoretical order (th.) where it declares one.", header, rows)
-    for n in notes:
-        doc.paragraph(n + ".", note=True)
+    if not rows and not notes:
+        return
+    with doc.details("Convergence orders" + (f" ({len(rows)} methods)" if rows else "")):
+        if rows:
+            doc.table("Fitted convergence order (slope of log error against log h, h = 2^-level), with the method's "
+                      "theoretical order (th.) where it declares one.", header, rows)
+        for n in notes:
+            doc.paragraph(plain(n) + ".", note=True)
 
 
 def _cross(doc: Document, data: StudyData, scene: str):
@@ -318,7 +352,7 @@ def _cross(doc: Document, data: StudyData, scene: str):
         return
     with doc.details(f"Differences between methods at their finest levels ({len(tables)} quantities)"):
         for q, header, rows in tables:
-            doc.table(f"{QUANTITY.get(q, q)}: relative difference |row − column| / |column| [%].", header, rows)
+            doc.table(f"{QUANTITY.get(q) or label(q)}: relative difference |row − column| / |column| [%].", header, rows)
 
 
 def _bulk(si) -> tuple | None:
@@ -329,25 +363,31 @@ def _bulk(si) -> tuple | None:
 
 
 def _scene_figures(doc: Document, ctx: Context, idx: int, scene: str, finest: dict):
+    """The surface-temperature figure, the depth figure (when there is a reference profile) and the
+    traction figure (when the scene asks for traction) of one scene."""
     data = ctx.data
     si = data.scene[scene]
     curve = (data.curves or {}).get(scene)
     base = f"{idx:03d}-{slug(scene)}"
-    missing = data.curves is None
     wants_curve = any("surface_temperature" in ds or "temperature" in ds or "traction_x" in ds
                       for ds in finest.values())
-    if finest and wants_curve and missing:
+    if finest and wants_curve and data.curves is None:
         doc.paragraph("Exact reference curves are not drawn: `references.nc` is missing from the output folder.",
                       note=True)
-    ref_name = curve.attrs.get("reference", "") if curve is not None else ""
-    ctx.draw(doc, f"{base}-surface", f"`{scene}`: surface temperature along y = 0 of each method's finest "
-             "successful level" + (f", with the exact solution ({ref_name}, grey band) and each method's "
-                                   "difference from it" if curve is not None and "surface_temperature" in curve else
-                                   "") + ".", F.surface, finest, curve, ctx.palette, f"{scene}: surface temperature")
-    ctx.draw(doc, f"{base}-depth", f"`{scene}`: temperature against depth through the hottest surface point "
-             "(heated layer)" + (", exact profile as a grey band" if curve is not None and "temperature" in curve
-                                 else "") + ".", F.depth, finest, curve, _bulk(si), ctx.palette,
-             f"{scene}: depth profile")
+    exact = curve is not None and "surface_temperature" in curve
+    ref_name = label(str(curve.attrs.get("reference", ""))) if curve is not None else ""
+    ref_method = si.reference_kind if si.reference_kind in finest else ""
+    bulk = _bulk(si) or (0.0, 0.0)
+    ref_words = (f", with the exact solution ({ref_name}, grey band) and each method's difference from it" if exact
+                 else f", with the reference method {ref_method} as a grey band" if ref_method else "")
+    ctx.draw(doc, f"{base}-surface", f"`{scene}`: surface temperature rise above the bulk along the rolling direction "
+             "through the hottest surface point, each method's finest successful level" + ref_words + ".",
+             S.surface, finest, curve, ctx.palette, f"{scene}: surface temperature", bulk=bulk, ref_method=ref_method)
+    exact_depth = curve is not None and "temperature" in curve
+    ctx.draw(doc, f"{base}-depth", f"`{scene}`: temperature rise against depth through the hottest surface point, "
+             + ("the exact profile as a grey band" if exact_depth else f"the reference method {ref_method} as a grey "
+                "band") + ".", S.depth, finest, curve, bulk, ctx.palette, f"{scene}: depth profile",
+             ref_method=ref_method)
     mu = getattr(si.scene, "friction", None) if si.scene is not None else None
     outputs = set(getattr(si.scene, "outputs", ()) or ())
     if si.scene is not None and not outputs & {"traction_x", "stick"}:
@@ -383,22 +423,21 @@ def sweep_section(doc: Document, ctx: Context, idx: int, group: SweepGroup, anch
     names = [n for _, n in group.members]
     first = data.scene[names[0]]
     h = first.headline
-    doc.heading(2, f"{idx}. Sweep `{group.label}` over {group.key} ({len(names)} scenes)", anchor)
+    key = label(group.key)
+    doc.heading(2, f"{idx}. Sweep `{group.label}` over {key} ({len(names)} scenes)", anchor)
     desc = describe_scene(first.scene)
     if desc:
-        doc.paragraph(desc + f"; swept: `{group.key}` = " + ", ".join(num(v, 4) for v, _ in group.members) + ".")
+        doc.paragraph(desc + f"; swept: {key} = " + ", ".join(num(v, 4) for v, _ in group.members) + ".")
     runs = [r for s in names for r in data.runs_of(s)]
-    refs = _references(data, names)
-    doc.paragraph(f"Headline quantity: **{QUANTITY.get(h, h) or 'none'}**. Errors taken against: "
-                  f"{'; '.join(reference_words(r) for r in refs) or 'none'}. {len(runs)} runs: {_status_counts(runs)}.")
-    doc.bullets(refusal_lines(runs))
+    doc.paragraph(_headline_line(data, names))
+    doc.bullets([plain(t) for t in refusal_lines(runs)])
     src = _creep_sources(data, names[0])
     if src:
         doc.paragraph(src)
     creep = h == "creep_force_x" and group.key == "creepage.longitudinal"
     normalise = creep and first.scene is not None
-    label = "creep force Fx / (μ N) [1]" if normalise else QUANTITY.get(h, h)
-    series = F.SweepSeries(group.key, label)
+    what = "creep force Fx / (μ N) [1]" if normalise else QUANTITY.get(h) or label(h)
+    series = F.SweepSeries(key, what)
     methods = _methods_with_results(data)
     ref_col = {}
     if creep:
@@ -423,12 +462,12 @@ def sweep_section(doc: Document, ctx: Context, idx: int, group: SweepGroup, anch
             series.values.setdefault(m, []).append((v, val, err, status))
             row.append(Cell(num(val, 4) + (f" ({pct(err)})" if finite(err) else ""), status))
         rows.append(row)
-    doc.table(f"{label} of each method's finest successful level over the sweep, its error against the "
+    doc.table(f"{what} of each method's finest successful level over the sweep, its error against the "
               "reference in brackets (cell colour: status of that level).",
-              [group.key] + (["exact"] if ref_col else []) + methods, rows)
+              [key] + (["exact"] if ref_col else []) + methods, rows)
     if series.values:
-        ctx.draw(doc, f"{idx:03d}-sweep-{slug(group.label)}", f"Sweep `{group.label}`: {label} against "
-                 f"{group.key} (left) and its relative error (right), each method at its finest successful level"
+        ctx.draw(doc, f"{idx:03d}-sweep-{slug(group.label)}", f"Sweep `{group.label}`: {what} against "
+                 f"{key} (left) and its relative error (right), each method at its finest successful level"
                  + ("; the exact curve as a grey band" if series.reference and not series.reference[3] else
                     "; Kalker's linear theory dashed" if series.reference else "") + ".",
                  F.sweep, series, ctx.palette, data.tolerance, group.label, methods=methods)
@@ -439,85 +478,4 @@ def sweep_section(doc: Document, ctx: Context, idx: int, group: SweepGroup, anch
     msgs = message_lines(runs)
     if msgs:
         with doc.details(f"Messages of runs with a result ({len(msgs)} distinct)"):
-            doc.bullets(msgs)
-
-
-# -- benchmarks, environment ---------------------------------------------------------------------------
-def benchmark_section(doc: Document, path: Path):
-    doc.heading(2, "Benchmarks", "benchmarks")
-    try:
-        data = json.loads(Path(path).read_text())
-    except Exception as exc:  # noqa: BLE001
-        doc.paragraph(f"Benchmark file `{path}` could not be read: {exc}.")
-        return
-    mi = data.get("machine_info", {})
-    cpu = mi.get("cpu", {}) if isinstance(mi.get("cpu"), dict) else {}
-    when = data.get("datetime", "")
-    rows = []
-    for b in data.get("benchmarks", []):
-        st = b.get("stats", {})
-        extra = b.get("extra_info", {}) or {}
-        info = ", ".join(f"{k}={num(v, 4) if isinstance(v, (int, float)) and not isinstance(v, bool) else v}"
-                         for k, v in extra.items())
-        rows.append([b.get("name", b.get("fullname", "?")), duration(st.get("mean")), duration(st.get("min")),
-                     duration(st.get("stddev")), str(st.get("rounds", "–")), short(info, 160)])
-    if not doc.table(f"pytest-benchmark results from `{path}`" + (f", {when}" if when else "")
-                     + (f", CPU {cpu.get('brand_raw')}" if cpu.get("brand_raw") else "")
-                     + "; `extra_info` holds the error of the timed run.",
-                     ["benchmark", "mean", "min", "stddev", "rounds", "extra_info"], rows):
-        doc.paragraph("The file holds no benchmarks.")
-
-
-def _cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.lower().startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine() or "unknown"
-
-
-def environment_section(doc: Document, data: StudyData, notes: list[str]):
-    import importlib.metadata as md
-    doc.heading(2, "Environment", "environment")
-    versions = []
-    for pkg in PACKAGES:
-        try:
-            versions.append(f"{pkg} {md.version(pkg)}")
-        except md.PackageNotFoundError:
-            versions.append(f"{pkg} (not installed)")
-    info = data.info
-    items = [f"Python {platform.python_version()} on {platform.platform()}",
-             "Packages: " + ", ".join(versions),
-             f"CPU: {_cpu_model()}; os.cpu_count() = {os.cpu_count()}"
-             + (f"; usable by this process: {len(os.sched_getaffinity(0))}" if hasattr(os, "sched_getaffinity") else "")]
-    env = info.get("environment") if isinstance(info.get("environment"), dict) else None
-    if env:
-        items.append("Threads during the run: " + ", ".join(f"{k}={env.get(k) or 'unset'}" for k in THREAD_ENV))
-    else:
-        items.append("Threads (of the process writing this report; the run did not record its own): "
-                     + ", ".join(f"{k}={os.environ.get(k, 'unset')}" for k in THREAD_ENV))
-    timing = info.get("timing") if isinstance(info.get("timing"), dict) else {}
-    if timing:
-        parts = [f"executor {timing.get('executor', '?')}"]
-        if timing.get("workers"):
-            parts.append(f"{timing['workers']} workers")
-        for k in ("setup", "runs", "metrics"):
-            if isinstance(timing.get(k), (int, float)):
-                parts.append(f"{k} {timing[k]:.3g} s")
-        items.append("Study run: " + ", ".join(parts))
-    study_path = info.get("path") or getattr(data.study, "path", None)
-    items.append(f"Study `{data.name}`, file `{study_path or 'unknown'}`; tolerance "
-                 f"{pct(data.tolerance) if data.tolerance is not None else 'unknown'}")
-    argv = info.get("argv")
-    if argv:
-        items.append("Command line of the run: `" + " ".join(shlex.quote(str(a)) for a in argv) + "`")
-    if data.legacy:
-        items.append("metrics.nc of the first release (no per-metric references): each error's reference is read "
-                     "from the run's reference text, and runs compared with nothing independent are shown as "
-                     "unverified")
-    items += notes
-    items.append(f"Report written {time.strftime('%Y-%m-%d %H:%M:%S %Z')} by railtherm.report.write_report")
-    doc.bullets(items)
-
+            doc.bullets([plain(m) for m in msgs])

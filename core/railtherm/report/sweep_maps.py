@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from . import figures as F
-from .format import slug
+from .format import label, slug
 from .load import StudyData
 
 #: status -> rank (worse is higher) and colour of a verdict map
@@ -70,7 +70,7 @@ def grids(data: StudyData, names: list[str], kx: str, ky: str, vx: list, vy: lis
             if r is not None and math.isfinite(r.headline_error):
                 err[i, j] = r.headline_error if math.isnan(err[i, j]) else max(err[i, j], r.headline_error)
         if np.isfinite(err).any():
-            out[f"{m}: error of {h}"] = ("error", err)
+            out[f"{m}: error of {label(h)}"] = ("error", err)
         elif np.isfinite(st).any():
             out[f"{m}: status"] = ("status", st)
     if len(methods) >= 2:
@@ -84,7 +84,7 @@ def grids(data: StudyData, names: list[str], kx: str, ky: str, vx: list, vy: lis
             if math.isfinite(v):
                 diff[i, j] = v if math.isnan(diff[i, j]) else max(diff[i, j], v)
         if np.isfinite(diff).any():
-            out[f"|{a} - {b}| / |{b}| of {h}"] = ("difference", diff)
+            out[f"|{a} − {b}| / |{b}| of {label(h)}"] = ("difference", diff)
     return out
 
 
@@ -93,8 +93,8 @@ def _ticks(ax, vx, vy, kx, ky):
         step = max(1, math.ceil(len(vals) / 10))
         setter(range(0, len(vals), step))
         labels([f"{v:g}" for v in vals[::step]])
-    ax.set_xlabel(kx)
-    ax.set_ylabel(ky)
+    ax.set_xlabel(label(kx))
+    ax.set_ylabel(label(ky))
 
 
 def draw(panels: dict, kx: str, ky: str, vx: list, vy: list, tol: float | None, title: str, *, path: Path):
@@ -144,10 +144,10 @@ def sweep_maps(doc, ctx, idx: int, base: str, methods: list[str]) -> None:
         return
     others = sorted({k for nm in names for k in ctx.data.scene[nm].sweep} - {kx, ky})
     ctx.draw(doc, f"{idx:03d}-sweep-map-{slug(base)}",
-             f"Sweep map of `{base}` over {kx} × {ky} ({len(names)} scenes)"
-             + (f", the worst over {', '.join(others)}" if others else "")
+             f"Sweep map of `{base}` over {label(kx)} × {label(ky)} ({len(names)} scenes)"
+             + (f", the worst over {', '.join(label(k) for k in others)}" if others else "")
              + ": relative error of the headline quantity against an independent reference (red line on the "
                "colour bar: the tolerance), or the status of the finest level where there is none"
              + ("; right: the relative difference between two methods at their finest levels" if any(
                  k == "difference" for k, _ in panels.values()) else "") + ".",
-             draw, panels, kx, ky, vx, vy, ctx.data.tolerance, f"{base}: {kx} × {ky}")
+             draw, panels, kx, ky, vx, vy, ctx.data.tolerance, f"{base}: {label(kx)} × {label(ky)}")

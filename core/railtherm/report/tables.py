@@ -11,16 +11,18 @@ import math
 import numpy as np
 
 from .document import Cell
-from .format import duration, exact, finite, level_range, memory, num, pct, short
+from .format import duration, exact, finite, label, level_range, memory, num, pct, short
 from .load import Run, StudyData
 
 __all__ = ["METRIC_SHORT", "run_table", "refusal_lines", "message_lines", "order_table", "published_table",
            "cross_tables", "reference_words"]
 
 METRIC_SHORT = {"max_surface_temperature": "max T", "mean_contact_temperature": "mean T",
-                "surface_temperature_l2": "T L2", "pressure_l2": "p L2", "max_pressure": "p max",
+                "surface_temperature_l2": "T (L2 norm)", "pressure_l2": "p (L2 norm)", "max_pressure": "p max",
                 "semi_axis_a": "a", "creep_force_x": "Fx", "frictional_power": "P",
-                "steady_wheel_temperature": "steady T wheel", "steady_mean_contact_temperature": "steady mean T"}
+                "steady_wheel_temperature": "steady T wheel", "steady_mean_contact_temperature": "steady mean T",
+                "peak_temperature": "peak T", "cooling_rate": "cooling rate", "cooling_rate_all_depths":
+                "cooling rate, all depths", "heated_depth": "isotherm depth", "time_above": "time above"}
 METRIC_ORDER = ("max_surface_temperature", "mean_contact_temperature", "surface_temperature_l2", "creep_force_x",
                 "max_pressure", "semi_axis_a", "pressure_l2", "frictional_power", "steady_wheel_temperature",
                 "steady_mean_contact_temperature")
@@ -34,17 +36,9 @@ def _metric_order(names) -> list[str]:
 
 
 def reference_words(ref: str) -> str:
-    """'analytic:jaeger' -> 'jaeger (exact)', 'method:green' -> 'green's finest level', 'self:finest' -> 'self-convergence'."""
-    if not ref:
-        return "none"
-    kind, _, name = ref.partition(":")
-    if kind == "self":
-        return "self-convergence (own finest level)"
-    if kind == "method":
-        return f"{name}'s finest level"
-    if kind == "analytic":
-        return f"{name} (exact)"
-    return ref
+    """A reference tag in words (:func:`~.format.label`): 'analytic:jaeger' -> 'exact Jaeger band',
+    'method:green' -> "green's finest level", 'self:finest' -> 'own finest level'."""
+    return label(ref) if ref else "none"
 
 
 def _timing(r: Run) -> str:
@@ -79,7 +73,7 @@ def run_table(data: StudyData, scene: str) -> tuple[list[str], list[list], list[
             if mark == METHOD_MARK:
                 marked.setdefault(ref, set()).add(r.method)
             return (r.errors[met], mark)
-        cols.append((f"err {METRIC_SHORT.get(met, met)} [%]", err, True))
+        cols.append((f"err {METRIC_SHORT.get(met) or label(met)} [%]", err, True))
     header, table, dropped = [], [[] for _ in runs], []
     for name, get, numeric in cols:
         vals = [get(r) for r in runs]
@@ -159,7 +153,7 @@ def order_table(data: StudyData, scene: str) -> tuple[list[str], list[list], lis
         return [], [], []
     metrics = _metric_order({o.metric for o in orders})
     methods = sorted({o.method for o in orders})
-    header = ["method"] + [METRIC_SHORT.get(m, m) for m in metrics]
+    header = ["method"] + [METRIC_SHORT.get(m) or label(m) for m in metrics]
     rows, independent_refs, method_refs = [], [], []
     for meth in methods:
         row = [meth]
@@ -192,7 +186,7 @@ def order_table(data: StudyData, scene: str) -> tuple[list[str], list[list], lis
                      "says how fast the ladder settles, not that it settles on the right answer")
     for o in rich:
         unc = f" ± {pct(o.richardson_uncertainty)}" if finite(o.richardson_uncertainty) else ""
-        notes.append(f"{o.method}, {METRIC_SHORT.get(o.metric, o.metric)}: Richardson estimate of the finest "
+        notes.append(f"{o.method}, {METRIC_SHORT.get(o.metric) or label(o.metric)}: Richardson estimate of the finest "
                      f"level's error {pct(o.richardson)}{unc}")
     return header, rows, notes
 
@@ -213,11 +207,26 @@ def _against(data: StudyData, scene: str, ref: str) -> str:
     return words
 
 
-def _value_text(v: np.ndarray) -> tuple[str, np.ndarray]:
+BODIES = ("wheel", "rail")
+
+
+def _value_text(v: np.ndarray, bulk=(0.0, 0.0)) -> tuple[str, np.ndarray]:
+    """A per-body value as text and the values to compare: both bodies when they differ, the heated one
+    alone when the other stays at its bulk temperature (an unheated body is not a −100 % error)."""
     v = np.atleast_1d(np.asarray(v, float))
-    if v.size == 2 and np.isfinite(v).all() and abs(v[0] - v[1]) > 1e-3 * max(abs(v[0]), abs(v[1]), 1e-300):
-        return f"{num(v[0], 4)} / {num(v[1], 4)} (wheel / rail)", v
+    if v.size == 2 and np.isfinite(v).all():
+        heated = [i for i in (0, 1) if abs(v[i] - bulk[i]) > 1e-9 * max(1.0, abs(v[i]))]
+        if len(heated) == 1:
+            i = heated[0]
+            return f"{num(v[i], 4)} ({BODIES[i]})", v[i:i + 1]
+        if abs(v[0] - v[1]) > 1e-3 * max(abs(v[0]), abs(v[1]), 1e-300):
+            return f"{num(v[0], 4)} / {num(v[1], 4)} (wheel / rail)", v
     return num(v.flat[0], 4), v[:1]
+
+
+#: unit of a published quantity, by the name of the result variable
+PUBLISHED_UNITS = {"max_surface_temperature": "°C", "mean_contact_temperature": "°C", "steady_wheel_temperature": "°C",
+                   "steady_mean_contact_temperature": "°C"}
 
 
 def published_table(data: StudyData, scene: str, finest: dict) -> tuple[list[str], list[list], str]:
@@ -225,16 +234,19 @@ def published_table(data: StudyData, scene: str, finest: dict) -> tuple[list[str
     pub = {k: v for k, v in data.scene[scene].published.items() if k != "source"}
     if not pub:
         return [], [], ""
+    sc = data.scene[scene].scene
+    bulk = (float(sc.wheel.bulk_temperature), float(sc.rail.bulk_temperature)) if sc is not None else (0.0, 0.0)
     methods = sorted(finest)
     rows = []
     for var, value in pub.items():
+        unit = PUBLISHED_UNITS.get(var, "")
         row = [f"`{var}`", exact(value)]
         for meth in methods:
             ds = finest[meth]
             if var not in ds:
                 row.append("–")
                 continue
-            text, vals = _value_text(ds[var].values)
+            text, vals = _value_text(ds[var].values, bulk if unit == "°C" else (0.0, 0.0))
             try:
                 ref = float(value)
                 deltas = " / ".join(pct((x - ref) / abs(ref), signed=True) for x in vals) if ref else ""

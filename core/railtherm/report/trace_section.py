@@ -1,4 +1,4 @@
-"""The report's thermal-trace section: temperatures behind the patch and in depth (issue 14, the seed
+"""The report's thermal-trace section: temperatures behind the patch and in depth (the seed
 paper's Figs 2-7 kinds of plot).
 
 For every scene with ``field`` whose exact trace is in ``references.nc`` (written by
@@ -27,10 +27,12 @@ import numpy as np
 from . import trace_figures as TF
 from .document import Cell, Document
 from .exact_contact import relative_error
-from .format import finite, num, pct
+from .document import anchor_text
+from .format import finite, label, num, pct
 from .load import StudyData
+from .study_section import hot_note
 
-__all__ = ["trace_scenes", "trace_rows", "trace_section", "BODIES"]
+__all__ = ["trace_scenes", "trace_rows", "trace_section", "trace_anchor", "BODIES"]
 
 BODIES = ("wheel", "rail")
 #: variables of a run that make it part of the section
@@ -57,7 +59,7 @@ def _finest(data: StudyData, scene: str) -> dict:
 
 
 def _levels(data: StudyData, scene: str, methods) -> str:
-    return ", ".join(f"{m} L{data.finest_result(scene, m).level}" for m in methods)
+    return ", ".join(f"{m} level {data.finest_result(scene, m).level}" for m in methods)
 
 
 def heated_bodies(curve) -> list[int]:
@@ -157,7 +159,7 @@ def trace_rows(data: StudyData, scenes: list[str] | None = None) -> tuple[list[s
             rows.append(row)
             for m in finest:
                 v = values(data, s, m, body)
-                row = ["", "", f"{m} (L{data.finest_result(s, m).level})"]
+                row = ["", "", f"{m} (level {data.finest_result(s, m).level})"]
                 for k, _, scale, _, digits in COLUMNS:
                     row += _cell(v[k], ref[k], scale, digits, bulk if k == "peak" else 0.0, data.tolerance)
                 rows.append(row)
@@ -193,27 +195,37 @@ def trace_section(doc: Document, ctx, scenes: list[str] | None = None):
         _scene(doc, ctx, s)
 
 
+def trace_anchor(scene: str) -> str:
+    """The anchor of a scene's part of the thermal-trace section."""
+    return "trace-" + anchor_text(scene)
+
+
 def _scene(doc: Document, ctx, scene: str):
+    """One scene: a heading, the constant-property note, one figure per heated body (along x above in
+    depth), and the surface maps of the trace behind a closed box."""
     data = ctx.data
     curve = data.curves[scene]
     finest = _finest(data, scene)
-    ref = str(curve.attrs.get("reference", "exact"))
+    ref = label(str(curve.attrs.get("reference", "exact")))
     zs = float(curve["trace_depth"].values)
     lv = _levels(data, scene, finest) if finest else "no method ran it"
     bodies = heated_bodies(curve) or [1]
+    doc.heading(3, f"`{scene}` behind the patch and in depth", trace_anchor(scene))
+    doc.paragraph(hot_note(data, scene), css="warning")
     for body in bodies:
         who = BODIES[body]
-        tag = f"{scene}-{who}"
-        ctx.draw(doc, f"trace-x-{tag}", f"`{scene}`, {who}: temperature along the rolling direction (y = 0) on "
-                 f"the surface (left) and at depth z* = {zs * 1e3:.3g} mm (right), including the trace behind the "
-                 f"patch; grey band: exact ({ref}); methods at their finest level ({lv}).",
-                 TF.along_x, finest, curve, body, ctx.palette, f"{scene} ({who}): temperature along x")
-        ctx.draw(doc, f"trace-z-{tag}", f"`{scene}`, {who}: temperature against depth at the hottest surface "
-                 f"point (left), the highest temperature each depth reaches during the pass (centre) and the "
-                 f"fastest cooling after it (right; exact: infinite at the surface); grey band: exact ({ref}); "
-                 f"methods at their finest level ({lv}).",
-                 TF.in_depth, finest, curve, body, ctx.palette, f"{scene} ({who}): temperature in depth")
-        if "surface_map" in curve:
-            ctx.draw(doc, f"trace-map-{tag}", f"`{scene}`, {who}: surface temperature [°C] over the patch (dashed "
-                     f"outline) and its trace behind it, exact ({ref}) and each method at its finest level ({lv}); "
-                     "one colour scale.", TF.maps, finest, curve, body, f"{scene} ({who}): thermal trace")
+        ctx.draw(doc, f"trace-{scene}-{who}", f"`{scene}`, {who}: temperature rise above the bulk along the rolling "
+                 f"direction (y = 0) on the surface and at depth z* = {num(zs * 1e3)} mm, including the trace "
+                 "behind the patch (top); rise against depth at the hottest surface point, the highest rise each "
+                 "depth reaches during the pass and the fastest cooling after it (bottom; exact: infinite at the "
+                 f"surface); grey band: exact ({ref}); methods at their finest level ({lv}).",
+                 TF.trace, finest, curve, body, ctx.palette, f"{scene} ({who}): thermal trace",
+                 bulk=_bulk(data, scene, body))
+    if "surface_map" in curve:
+        with doc.details(f"Surface maps of the trace of `{scene}` ({len(bodies)} figure{'s' if len(bodies) > 1 else ''})"):
+            for body in bodies:
+                who = BODIES[body]
+                ctx.draw(doc, f"trace-map-{scene}-{who}", f"`{scene}`, {who}: surface temperature rise [K] over the "
+                         f"patch (dashed outline) and its trace behind it, exact ({ref}) and each method at its "
+                         f"finest level ({lv}); one colour scale.", TF.maps, finest, curve, body,
+                         f"{scene} ({who}): surface temperature rise", bulk=_bulk(data, scene, body))

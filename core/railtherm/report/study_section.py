@@ -1,0 +1,126 @@
+"""The report's opening and its study section: what the study is, what each scene is and which table or
+figure of the seed paper it reproduces (in the study author's words, :mod:`.study_notes`), and a note
+on every scene whose temperature rise leaves the range of constant material properties."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .document import Document
+from .environment import files_line
+from .format import finite, level_range, num, short
+from .load import StudyData
+from .study_notes import scene_notes, seed_reference
+
+__all__ = ["intro", "study_section", "max_rise", "hot_note", "HOT", "MELTING"]
+
+#: temperature rise [K] above which steel's conductivity, heat capacity and yield stress change so much that
+#: the constant-property theory every method uses no longer holds
+HOT = 1000.0
+#: temperature [°C] above which rail steel melts (solidus ~1,450-1,500 °C)
+MELTING = 1500.0
+
+
+def intro(doc: Document, data: StudyData):
+    """The paragraph under the title: the study's own description, its size and its data files."""
+    study = data.study
+    desc = str(getattr(study, "description", "") or "").strip()
+    n_scenes = len(data.scenes)
+    text = (desc.rstrip(".") + ". " if desc else "") + (
+        f"{n_scenes} scenes × {len(data.methods)} methods ({', '.join(data.methods)}), levels "
+        f"{level_range(data.levels) or '–'} of the resolution ladder (each level halves the cell size); "
+        f"{len(data.runs)} runs.")
+    doc.paragraph(text)
+    line = files_line(data.out)
+    if line:
+        doc.paragraph(line, note=True)
+
+
+def _bulk(data: StudyData, scene: str, body: int) -> float:
+    sc = data.scene[scene].scene
+    try:
+        return float(sc.body(body).bulk_temperature)
+    except (AttributeError, TypeError):
+        return 0.0
+
+
+def max_rise(data: StudyData, scene: str) -> tuple[float, float]:
+    """(largest surface temperature rise above the bulk [K], that temperature [°C]) of a scene: the exact
+    value where ``metrics.nc`` has one, else the median over the methods' finest results (NaN: none)."""
+    exact = data.scene[scene].analytic.get("max_surface_temperature")
+    if exact is not None and np.isfinite(exact).any():
+        vals = np.atleast_1d(np.asarray(exact, float))
+    else:
+        per_method = []
+        for m in data.methods:
+            r = data.finest_result(scene, m)
+            ds = data.run_file(scene, m, r.level) if r is not None else None
+            if ds is not None and "max_surface_temperature" in ds:
+                per_method.append(np.atleast_1d(np.asarray(ds["max_surface_temperature"].values, float)))
+        if not per_method:
+            return math.nan, math.nan
+        width = max(v.size for v in per_method)
+        stack = np.array([np.pad(v, (0, width - v.size), constant_values=np.nan) for v in per_method])
+        vals = np.nanmedian(stack, axis=0)
+    rises = [(float(v) - _bulk(data, scene, i), float(v)) for i, v in enumerate(vals[:2]) if finite(v)]
+    return max(rises) if rises else (math.nan, math.nan)
+
+
+def hot_note(data: StudyData, scene: str) -> str:
+    """A warning when a scene's rise exceeds :data:`HOT` (constant properties no longer hold) or its
+    temperature passes :data:`MELTING`; '' otherwise."""
+    rise, temp = max_rise(data, scene)
+    if not finite(rise) or rise <= HOT:
+        return ""
+    text = (f"**Outside constant-property theory:** the surface temperature rises by {num(rise)} K (to "
+            f"{num(temp)} °C). Above a rise of about {num(HOT)} K the steel's conductivity, heat capacity and "
+            "strength change markedly, so the constant material properties every method here assumes no longer "
+            "hold")
+    if temp > MELTING:
+        text += f"; above about {num(MELTING)} °C rail steel melts, so the computed peak is not physical"
+    return text + ". The numbers still compare the methods on the same idealised problem."
+
+
+def _what(data: StudyData, scene: str, note) -> str:
+    from .sections import describe_scene
+    text = note.text if note is not None else ""
+    if not text:
+        text = describe_scene(data.scene[scene].scene)
+    return short(text, 260) if text else "–"
+
+
+def _source(seed: str, group: str) -> str:
+    """'seed 5.4 Table 1' and the group 'seed 5.4, Table 1' -> 'seed 5.4, Table 1' (said once)."""
+    flat = group.replace(",", "")
+    extra = [p for p in seed.split("; ") if p and p.replace(",", "") not in flat]
+    return " · ".join(x for x in (group, "; ".join(extra)) if x) or "–"
+
+
+def study_section(doc: Document, ctx, table_rows) -> None:
+    """One row per scorecard row: the scene (linked to its section), what it is, the seed paper's
+    table or figure it reproduces, and a flag when it leaves constant-property theory."""
+    data = ctx.data
+    study = data.study
+    path = getattr(study, "path", None) or data.info.get("path")
+    scenes = list(getattr(study, "scenes", ()) or [])
+    notes = scene_notes(path, scenes or data.scenes) if (scenes or path) else {}
+    doc.heading(2, "The study and its scenes", "study")
+    rows = []
+    for row in table_rows:
+        scene = row.scenes[0]
+        note = notes.get(scene)
+        name = (f"[{row.label}](#{row.anchor})" if row.anchor else row.label) \
+            + (f" ({len(row.scenes)} scenes)" if row.group else "")
+        src = seed_reference(note) if note is not None else ""
+        group = note.group if note is not None else ""
+        hot = max((max_rise(data, s)[0] for s in row.scenes), default=math.nan) if not row.group else math.nan
+        flag = f"rise {num(hot)} K: past melting" if finite(hot) and hot + _bulk(data, scene, 0) > MELTING else \
+            f"rise {num(hot)} K: beyond constant properties" if finite(hot) and hot > HOT else ""
+        rows.append([name, _what(data, scene, note), _source(src, group), flag])
+    if not any(r[3] for r in rows):
+        rows = [r[:3] for r in rows]
+    doc.table("The scenes in the study's order, as the study file describes them (its comments), with the seed "
+              "paper's section, table or figure each reproduces and the study file's group; a scene whose "
+              f"temperature rise exceeds {num(HOT)} K is flagged (see its section).",
+              ["scene", "what it is", "seed paper · group"] + (["note"] if len(rows[0]) > 3 else []), rows)
