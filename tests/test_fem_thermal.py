@@ -101,17 +101,20 @@ def _assembled(grid, bodies, two_d, hc=None):
     return A.tocsr()[free][:, free].tocsc(), free
 
 
-@pytest.mark.parametrize("two_d,conductance", [(True, False), (False, False), (True, True)])
-def test_factorised_solver_equals_a_fresh_sparse_solve(two_d, conductance):
+@pytest.mark.parametrize("two_d,conductance,equal", [(True, False, False), (False, False, False), (True, True, False),
+                                                     (True, False, True)])
+def test_factorised_solver_equals_a_fresh_sparse_solve(two_d, conductance, equal):
     """ThermalSolver (depth modes x banded x-factors; with a contact conductance one sparse LU), factorised
     once and solved for two different loads, equals a fresh sparse LU of the system assembled term by term:
-    two bodies of different conductivity, speed and convection on a graded grid (surface spacing 1/50 of
-    the heated half-width, depth ratio 1.2)."""
+    two bodies of different conductivity, speed and convection (or two equal ones, which share a
+    factorisation) on a graded grid (surface spacing 1/50 of the heated half-width, depth ratio 1.2)."""
     import scipy.sparse.linalg as spla
     from railtherm_fem.thermal import ThermalSolver
     V = 2 * KAP * 50 / A
     g = thermal_grid(A, A / 10, -6 * A, 2 * A, 0.02 * A, 2 * A, 1.2, 1.2)
     bodies = [ThermalBody(LAM, RC, V, 5e4), ThermalBody(0.5 * LAM, 1.3 * RC, 1.1 * V, 0.0)]
+    if equal:
+        bodies = [bodies[0], ThermalBody(LAM, RC, V, 5e4)]
     hc = np.where(np.abs(g.x) <= A, 2e6, 0.0) if conductance else None
     solver = ThermalSolver(g, bodies, two_d, hc)
     A_free, free = _assembled(g, bodies, two_d, hc)

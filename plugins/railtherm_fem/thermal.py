@@ -240,9 +240,10 @@ class ThermalSolver:
     the bodies are uncoupled and each is solved exactly through the generalised eigenvectors of
     (Kz', M_z) (``Phi^T Kz' Phi = diag(mu)``, ``Phi^T M_z Phi = I``, on the nodes above the bottom): in
     that basis the system splits into one banded x-system ``(mu_j M_x + G_x) eta_j = Phi[0, j] load``
-    per depth mode (bandwidths 1 below, 2 above), all factorised once at construction (LAPACK
-    ``gbtrf``; O(nx nz) work and storage instead of a sparse 2-D LU of O((nx nz)^1.5)); each
-    :meth:`solve` is then one banded back-substitution and two small dense products. Same discrete
+    per depth mode (bandwidths 1 below, 2 above), all factorised once at construction (a dense
+    eigenproblem of size nz and LAPACK ``gbtrf`` on nx nz rows: O(nz^3 + nx nz), against O((nx nz)^1.5)
+    for a sparse LU of the 2-D system; two bodies with equal properties and speed share theirs); each
+    :meth:`solve` is then one banded back-substitution and two dense products, O(nx nz^2). Same discrete
     solution as the assembled sparse system (to round-off; tests/test_fem_thermal.py compares them).
     With a contact conductance h_c(x) the surface nodes of the two bodies couple, the Kronecker
     structure is lost, and the assembled system is factorised once by sparse LU.
@@ -292,8 +293,13 @@ class ThermalSolver:
         self.residual = 0.0
         coupled = conductance is not None and self.nb == 2
         self._lu = _SparseCoupled(self, conductance) if coupled else None
-        self._modes = None if coupled else [_ModalFactor(G, Kzb, self._Mz, self._mx[fx])
-                                            for G, Kzb in zip(self._G, self._Kz)]
+        self._modes = None
+        if not coupled:
+            self._modes = []
+            for j, b in enumerate(bodies):
+                same = next((k for k in range(j) if bodies[k] == b), None)
+                self._modes.append(self._modes[same] if same is not None
+                                   else _ModalFactor(self._G[j], self._Kz[j], self._Mz, self._mx[fx]))
 
     def _apply(self, j: int, theta: np.ndarray) -> np.ndarray:
         """A_j theta of body j on the free nodes, theta shape (nx-1, nz-1) [W/m]."""
