@@ -102,8 +102,6 @@ def test_two_methods_of_one_plugin_with_the_same_models_run_once(railtherm_regis
         railtherm.solve(sc, "twin-a", 0, peers=peers)
 
 
-@pytest.mark.xfail(strict=True, reason="the runner (railtherm.run.runner) does not yet pass the study's other "
-                                       "methods to solve(..., peers=...)")
 def test_a_study_refuses_kalker_on_a_given_heat_source_and_does_not_score_it(green_kalker, tmp_path):
     study = tmp_path / "study.toml"
     study.write_text('''schema_version = 1

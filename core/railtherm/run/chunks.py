@@ -78,7 +78,8 @@ class ChunkTask:
             elif t.run_id and str(cols["run_id"][j]) == t.run_id:
                 out.append(True)
             else:
-                out.append(resume and status in ("ok", "refused") and str(cols["run_hash"][j]) == t.run_hash)
+                out.append(resume and not t.duplicate and status in ("ok", "refused")
+                           and str(cols["run_hash"][j]) == t.run_hash)
         return out
 
     def record(self, j: int, cols: dict, record_values, resumed: bool = True) -> store.RunRecord:

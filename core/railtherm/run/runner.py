@@ -29,7 +29,6 @@ import json
 import math
 import os
 import sys
-import threading
 import time
 import traceback
 import uuid
@@ -47,6 +46,7 @@ from ..output.store import (RunRecord, _direct_writable, _write_netcdf4, read_at
                     status_path, write_atomic_bytes, write_dataset_atomic)
 from ..input.study import Study, load_study
 from .timelimit import WATCHDOG, RunTimeout, Watchdog, _async_raise, _time_limit  # noqa: F401
+from .timing import TIMING_BUDGET, RSSPeak, compile_watch, more_solves
 
 _remove_stale_tmp = store.remove_stale_tmp  # re-exported for one release
 
@@ -79,6 +79,8 @@ class RunTask:
     trace_memory: bool = True
     #: the level the per-process warm-up solves (the study's coarsest)
     warmup_level: int = 0
+    #: why this run would repeat another study method's computation (refused, not run); "" otherwise
+    duplicate: str = ""
     #: the stage models of a chain the study composes (``[study.chains.<method>]``); None: a registered method
     chain: dict | None = None
 
@@ -225,125 +227,6 @@ def _written_since(task: RunTask, since: float) -> bool:
     return False
 
 
-class RSSPeak:
-    """Peak resident set size of this process during a block, and its growth [bytes].
-
-    ``peak`` is the process's absolute high-water mark during the block (interpreter, libraries and
-    whatever the solver keeps between calls included: what a machine must hold to run it);
-    ``growth`` is that peak minus the resident set at the start (what the block itself took).
-
-    On Linux the kernel's high-water mark (``VmHWM``) is reset by writing ``5`` to
-    ``/proc/self/clear_refs`` before the block and read after it; where that is not possible, a
-    thread samples the RSS (psutil) every millisecond. The value counts everything the process
-    allocates (numpy, numba, SuperLU, FiPy), unlike :mod:`tracemalloc`; it does not slow the code.
-    Under a threaded executor (dask workers run several tasks in one process) it includes what the
-    other threads allocate meanwhile. Memory the process already holds is not counted: freed heap
-    memory is handed back to the OS first (``malloc_trim``), but pools that a library keeps to itself
-    (numba, FiPy caches) are reused without growth.
-    """
-
-    def __init__(self):
-        self.peak = math.nan
-        self.growth = math.nan
-
-    @staticmethod
-    def native() -> bool:
-        """True where the kernel's high-water mark can be reset and read (Linux): no sampling thread,
-        so the memory can be measured in a timed solve without perturbing it."""
-        try:
-            with open("/proc/self/clear_refs", "w") as fh:
-                fh.write("5")
-            RSSPeak._status("VmHWM")
-            return True
-        except OSError:
-            return False
-
-    @staticmethod
-    def _status(key: str) -> float:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith(key + ":"):
-                    return float(line.split()[1]) * 1024.0
-        raise OSError(key)
-
-    @staticmethod
-    def _trim() -> None:
-        """Return freed heap memory to the OS (glibc ``malloc_trim``), so that a solve reusing it counts."""
-        try:
-            import ctypes
-            ctypes.CDLL("libc.so.6").malloc_trim(0)
-        except (OSError, AttributeError):  # pragma: no cover - not glibc
-            pass
-
-    def __enter__(self):
-        self._sampler = None
-        self._trim()
-        try:
-            with open("/proc/self/clear_refs", "w") as fh:
-                fh.write("5")
-            self._base = self._status("VmRSS")
-            self._mode = "hwm"
-        except OSError:
-            import psutil
-            proc = psutil.Process()
-            self._base = float(proc.memory_info().rss)
-            self._mode = "sample"
-            self._max = self._base
-            self._stop = threading.Event()
-
-            def sample():
-                while not self._stop.wait(0.001):
-                    self._max = max(self._max, float(proc.memory_info().rss))
-            self._sampler = threading.Thread(target=sample, daemon=True)
-            self._sampler.start()
-        return self
-
-    def __exit__(self, *exc):
-        if self._mode == "hwm":
-            self.peak = max(self._status("VmHWM"), self._base)
-        else:
-            self._stop.set()
-            self._sampler.join()
-            self.peak = max(self._max, self._base)
-        self.growth = self.peak - self._base
-        return False
-
-
-#: seconds of timed solving after which a run stops repeating its solve (at most ``repeat`` solves)
-TIMING_BUDGET = 0.5
-
-
-def more_solves(times: list[float], repeat: int, adaptive: bool) -> bool:
-    """Whether a run times one more solve, given its timed solves so far ``times`` [s].
-
-    A verification study (``adaptive``) repeats a solve only while it is short: until about
-    :data:`TIMING_BUDGET` seconds of timing are collected, at most ``repeat`` solves; a solve over
-    0.5 s is timed once (the result's own solve). A sweep (not ``adaptive``) takes exactly ``repeat``.
-    """
-    if len(times) >= max(1, repeat):
-        return False
-    return sum(times) < TIMING_BUDGET if adaptive else True
-
-
-@contextlib.contextmanager
-def compile_watch():
-    """Yield a list that holds, after the block, the numba compilations that happened inside it.
-
-    A timed solve that compiled (a kernel the warm-up did not reach, e.g. another scheme at a finer
-    level) is not a timing: :func:`_solve_timed` solves once more. Loading a kernel from numba's
-    on-disk cache is not a compilation (milliseconds).
-    """
-    events: list = []
-    try:
-        from numba.core import event
-    except ImportError:  # pragma: no cover - numba is a dependency; plugins need not use it
-        yield events
-        return
-    with event.install_recorder("numba:compile") as rec:
-        yield events
-    events.extend(rec.buffer)
-
-
 def _failure(exc: BaseException, timeout: float) -> tuple[str, str, str]:
     """(status, reason kind, message) of a run that raised ``exc``."""
     from ..contract.errors import SolverError
@@ -397,6 +280,8 @@ def _solve_timed(task: RunTask, rec: RunRecord, phases: dict, t_begin: float):
     from ..contract.schema import history_line
 
     hwm = RSSPeak.native()  # memory read in the timed solve itself (Linux); else a separate solve
+    if task.duplicate:
+        raise Refused(task.duplicate, kind="validity")
     with _time_limit(task.timeout):
         phases["warmup"] = _warm_up(task)
         t0 = time.perf_counter()
@@ -417,10 +302,13 @@ def _solve_timed(task: RunTask, rec: RunRecord, phases: dict, t_begin: float):
                 continue
             times.append(t)
         phases["repeats"] = time.perf_counter() - t1
+        # every solve this run cost: warm-up, timed solves, solves that compiled (and a memory solve below)
+        phases["solves"] = float((phases["warmup"] > 0) + len(times) + recompiled)
         if task.trace_memory and not hwm:
             t2 = time.perf_counter()
             _, _, _, mem = _measured_solve(task, False, True)
             phases["memory"] = time.perf_counter() - t2
+            phases["solves"] += 1.0
     times = times or [first]
     if mem is not None:
         rec.peak_rss, rec.rss_growth = mem.peak, mem.growth
@@ -470,7 +358,7 @@ def execute_run(task: RunTask, *, resume: bool = False) -> RunRecord:
         problem of the run itself.
     """
     t_begin, cpu_begin = time.perf_counter(), time.thread_time()
-    if resume:
+    if resume and not task.duplicate:
         rec = _existing(task)
         if rec is not None:
             return rec
@@ -594,7 +482,23 @@ def make_tasks(study: Study, out, methods: Iterable[str] | None = None, levels: 
                                      study.warmup, study.timeout,
                                      trace_memory=study.warmup or i % MEMORY_SAMPLE == 0, warmup_level=min(lv),
                                      chain=chains.get(m)))
+    _mark_duplicates(tasks, host)
     return tasks
+
+
+def _mark_duplicates(tasks: list[RunTask], host) -> None:
+    """Mark each task whose executed stage models are another study method's on its scene
+    (:func:`railtherm.solving.pipeline.duplicate_of`): it is refused without running, every invocation
+    deciding afresh from the study's current methods (a resumed study never reuses a stale decision)."""
+    from ..solving.pipeline import duplicate_of
+    peers = list({t.method: (t.spec, t.options) for t in tasks}.values())
+    if len(peers) < 2:
+        return
+    for t in tasks:
+        try:
+            t.duplicate = duplicate_of(t.scene, t.spec, t.level, peers, t.options, host) or ""
+        except Exception:  # noqa: BLE001 - a method that cannot be planned reports that when it runs
+            t.duplicate = ""
 
 
 def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str | None = None,
