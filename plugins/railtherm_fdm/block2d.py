@@ -133,7 +133,8 @@ def transient_line(grid, flux, cover, speed, conductivity, density, specific_hea
     dt, nsteps, ncheck = plan.dt, plan.steps, plan.check_step
     source = MovingSource(xn, d, grid.x_edges, np.asarray(flux, dtype=float).reshape(-1),
                           np.asarray(cover, dtype=float).reshape(-1), d, cap_top, dt * h * d / cap_top, h, X0,
-                          speed, dt, period=plan.per_cell)
+                          speed, dt, period=plan.period,
+                          period_cells=plan.period_cells)
     src, hloss = source.src[0], source.hloss[0]
     ledger = EnergyLedger(dt, lam, d, wz, d, cap_top)
     r = kappa * dt / d ** 2

@@ -21,7 +21,8 @@ Three schemes share this model:
     node grid of spacing d (dual-cell finite volumes, surface nodes on z = 0). Stable for
     ``dt <= 1 / (6 kappa/d^2 + 2 h/(rho c d))`` = d^2/(6 kappa) without convection; the seed's
     condition "V >= 6 alpha/d" is this limit for its choice dt = d/V (the source advances one cell
-    per step). The default step is ``min(dt_stable, d/V)``.
+    per step). The default step is the largest ``q d / (p V) <= min(dt_stable, d/V)`` with q <= 8
+    (p steps per q cells, :func:`railtherm_fdm.layout.plan_steps`).
 ``implicit``
     Same grid and moving source, backward Euler (convection lagged), each step solved by conjugate
     gradients with a symmetric z-line Gauss-Seidel preconditioner; any step (default d/V).
@@ -164,7 +165,8 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     Axy_b = d * wy                                        # bottom-adjacent face areas per (i, j) [m^2]
     # two source/loss buffers (the fused explicit kernel advances two steps at once)
     source = MovingSource(xn, d, grid.x_edges, q @ Wy.T, cov @ Wy.T if h > 0 else None, d * wy, cap_top,
-                          dt * h * d * wy / (rc * vol_top), h, X0, speed, dt, buffers=2, period=plan.per_cell)
+                          dt * h * d * wy / (rc * vol_top), h, X0, speed, dt, buffers=2, period=plan.period,
+                          period_cells=plan.period_cells)
     (src, src2), (hls, hls2) = source.src, source.hloss
     ledger = EnergyLedger(dt, lam, d, Ayz, Axy_b, cap_top)
 

@@ -161,6 +161,14 @@ def node_grid(a: float, extent: Extent, d: float) -> NodeGrid:
     return NodeGrid(d, start, nx, nz)
 
 
+#: largest number of node spacings over which the source's offset to the nodes may repeat [1]
+MAX_PERIOD_CELLS = 8
+#: fraction of the explicit stability limit a default step may reach [1]: at the limit the
+#: checkerboard mode (amplification 1 - 2 dt/limit) is not damped, and the step's share of the
+#: error would differ from level to level
+STABLE_FRACTION = 0.9
+
+
 @dataclass(frozen=True)
 class StepPlan:
     """Time steps of a transient run.
@@ -175,15 +183,35 @@ class StepPlan:
         Distance the source travels, steps x V dt [m].
     check_step : int
         Step after which the patch-frame field is sampled a second time for the quasi-steady check.
-    per_cell : int or None
-        Steps per node spacing of source travel (None for a forced step).
+    period : int or None
+        Steps after which the source sits at the same offset to the nodes again (None for a forced step).
+    period_cells : int
+        Node spacings the source travels in ``period`` steps [1].
     """
 
     dt: float
     steps: int
     travel: float
     check_step: int
-    per_cell: int | None
+    period: int | None
+    period_cells: int = 1
+
+
+def steps_per_cells(need: float, max_cells: int = MAX_PERIOD_CELLS) -> tuple[int, int]:
+    """``(p, q)``: the smallest ratio p/q >= ``need`` with q <= ``max_cells`` (the smallest q among
+    equal ratios); ``(1, 1)`` when ``need`` <= 1.
+
+    p steps per q node spacings is the least number of steps the source may take per node spacing
+    when each step may advance it at most 1/``need`` of a spacing.
+    """
+    if need <= 1.0:
+        return 1, 1
+    best = None
+    for q in range(1, max_cells + 1):
+        p = int(math.ceil(need * q * (1.0 - 1e-12)))
+        if best is None or p * best[1] < best[0] * q:
+            best = (p, q)
+    return best
 
 
 def plan_steps(d: float, speed: float, travel: float, stability_limit: float, *, scheme: str = "explicit",
@@ -191,11 +219,13 @@ def plan_steps(d: float, speed: float, travel: float, stability_limit: float, *,
                a: float = 0.0) -> StepPlan:
     """Time step, number of steps and quasi-steady checkpoint of a transient run.
 
-    Without a forced ``time_step`` the source advances d/m per step, m the smallest integer with a
-    step at most ``courant d / V`` (and, explicit scheme, at most ``stability_limit``): every m
-    steps the patch sits at the same offset to the nodes, so patch-frame fields sampled m k steps
-    apart differ only by what is still changing in time (no interpolation noise in the quasi-steady
-    check).
+    Without a forced ``time_step`` the source advances q d / p per step, p/q the smallest ratio
+    (q <= :data:`MAX_PERIOD_CELLS`, :func:`steps_per_cells`) with a step at most ``courant d / V``
+    (and, explicit scheme, at most ``stability_limit``): every p steps the patch sits at the same
+    offset to the nodes, so patch-frame fields sampled p k steps apart differ only by what is still
+    changing in time (no interpolation noise in the quasi-steady check). A whole number of steps
+    per spacing (q = 1, the seed's one step per cell when that is stable) would waste up to half
+    the steps below the stability limit: 2 steps per cell where 1.2 are stable.
 
     Parameters
     ----------
@@ -217,20 +247,22 @@ def plan_steps(d: float, speed: float, travel: float, stability_limit: float, *,
     a : float
         Semi-axis of the patch along rolling [m].
     """
+    p, q = None, 1
     if time_step is not None:
         dt = float(time_step)
-        per_cell = None
     else:
-        target = min(stability_limit, courant * d / speed) if scheme == "explicit" else courant * d / speed
-        per_cell = max(1, int(math.ceil(d / (speed * target) * (1.0 - 1e-12))))
-        dt = d / (per_cell * speed)
+        target = courant * d / speed
+        if scheme == "explicit":
+            target = min(STABLE_FRACTION * stability_limit, target)
+        p, q = steps_per_cells(d / (speed * target))
+        dt = q * d / (p * speed)
     nsteps = max(2, int(math.ceil(travel / (speed * dt) - 1e-9)))
     back = checkpoint if checkpoint is not None else a
-    if per_cell is not None:
-        nback = per_cell * max(1, int(round(back / d)))
+    if p is not None:
+        nback = p * max(1, int(round(back / (q * d))))
     else:
         nback = max(1, int(round(back / (speed * dt))))
-    return StepPlan(dt, nsteps, nsteps * speed * dt, max(1, nsteps - nback), per_cell)
+    return StepPlan(dt, nsteps, nsteps * speed * dt, max(1, nsteps - nback), p, q)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -87,13 +87,16 @@ class MovingSource:
     buffers : int
         Independent (src, hloss) buffer pairs (the fused explicit kernel loads two steps at once).
     period : int, optional
-        Steps after which the source has moved exactly one node spacing (``V dt period = d``): step n
-        then loads what step ``n mod period`` loads, shifted by ``n // period`` nodes, and the overlaps
-        are computed once per phase instead of once per step (equal to rounding).
+        Steps after which the source has moved exactly ``period_cells`` node spacings
+        (``V dt period = period_cells d``): step n then loads what step ``n mod period`` loads, shifted
+        by ``period_cells (n // period)`` nodes, and the overlaps are computed once per phase instead of
+        once per step (equal to rounding).
+    period_cells : int
+        Node spacings travelled in ``period`` steps [1].
     """
 
     def __init__(self, x_nodes, d, x_edges, flux, cover, cover_width, capacity, base_loss, convection, start,
-                 speed, dt, buffers=1, period=None):
+                 speed, dt, buffers=1, period=None, period_cells=1):
         self.x, self.d, self.pxe = x_nodes, float(d), np.asarray(x_edges, dtype=float)
         self.flux, self.cover, self.cover_width = flux, cover, cover_width
         self.capacity, self.base_loss, self.h = capacity, base_loss, float(convection)
@@ -106,6 +109,7 @@ class MovingSource:
                 hl[1:-1] = base_loss
         self._prev = [(1, 1)] * buffers
         self.period = int(period) if period else None
+        self.period_cells = int(period_cells)
         self._phases = {}
 
     def load(self, n: int, slot: int = 0) -> float:
@@ -116,6 +120,7 @@ class MovingSource:
         if self.h > 0:
             hloss[lo_prev:hi_prev] = self.base_loss
         shift, phase = (0, n) if self.period is None else divmod(n, self.period)
+        shift *= self.period_cells
         lo, hi, s, hl, energy = self._phase(phase) if self.period is not None else self._step(n)
         lo, hi = lo + shift, hi + shift
         if lo < 1 or hi > self.x.size - 1:          # the block's end cuts the footprint: load it directly
