@@ -229,3 +229,30 @@ def test_quarter_point_collocation_is_second_order_only_with_aligned_edges():
 
 def order(hs, errors):
     return float(np.polyfit(np.log(hs), np.log(np.abs(errors)), 1)[0])
+
+
+def test_circulant_preconditioner_keeps_the_pressure_and_cuts_the_iterations():
+    """The FFT-preconditioned CG (the inverse of the Strang circulant of Love's operator) gives the plain CG's
+    pressure (1e-8 of the peak) and the Hertz force, in fewer than half its iterations (measured at 72 x 72
+    elements from the Hertz pressure: 11 against 47); with the force or the approach prescribed."""
+    from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
+    from railtherm_kalker.influence import normal_operator
+    from railtherm_kalker.normal_solver import solve_normal
+    from railtherm_kalker.potential_area import hertz_curvatures
+    a, b, force, e_star = 5.88e-3, 10.54e-3, 100e3, G / (1 - NU)
+    area = potential_area(a, b, 64, margin=4)
+    X, Y = area.mesh()
+    ca, cb = hertz_curvatures(a, b, force, e_star)
+    hz = hertz_from_curvatures(ca, cb, force, e_star)
+    conv = normal_operator(*area.shape, area.dx, area.dy, e_star)
+    h, dA = ca * X ** 2 + cb * Y ** 2, area.dx * area.dy
+    p0 = hertz_pressure(X, Y, hz.a, hz.b, hz.max_pressure)
+    pre = solve_normal(conv, h, dA, force=force, initial=p0)
+    plain = solve_normal(conv, h, dA, force=force, initial=p0, precondition=False)
+    assert pre.converged and plain.converged and pre.residual < 1e-9
+    np.testing.assert_allclose(pre.pressure, plain.pressure, atol=1e-8 * plain.pressure.max())
+    assert pre.force == pytest.approx(force, rel=1e-12)
+    assert pre.iterations < 0.5 * plain.iterations
+    by_approach = solve_normal(conv, h, dA, approach=pre.approach)
+    assert by_approach.converged
+    np.testing.assert_allclose(by_approach.pressure, pre.pressure, atol=1e-7 * pre.pressure.max())

@@ -8,7 +8,7 @@ influence
 potential_area
     The undeformed gap, the potential contact area chosen from it and the border check.
 normal_solver
-    Polonsky-Keer's conjugate gradients for the normal problem (force or approach prescribed).
+    Vollebregt's FFT-preconditioned conjugate gradients for the normal problem (force or approach prescribed).
 tangential_solver
     Steady rolling with creepage: slip, Coulomb's law per element, semismooth Newton-GMRES.
 normal_model, tangential_model

@@ -36,13 +36,14 @@ References
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 import scipy.fft as sfft
 
 __all__ = ["rectangle_integrals", "normal_kernel", "tangential_kernels", "line_kernel", "Convolution",
-           "rolling_kernel"]
+           "rolling_kernel", "normal_operator"]
 
 
 def _times_asinh(a, b):
@@ -93,6 +94,38 @@ def _offsets(n: int, extra: int = 0) -> np.ndarray:
     return np.arange(-(n - 1) - extra, n + extra)
 
 
+def _corner_lattice(nx: int, ny: int, dx: float, dy: float, extra: int, kinds) -> dict:
+    """Corner functions of ``kinds`` on the lattice of element corners, mirrored from one quadrant.
+
+    The rectangle integrals at all offsets are second differences of one corner function F on the
+    corners ``(m - 1/2) dx`` (m = -(nx - 1) - extra ... nx + extra) and ``(l - 1/2) dy``, so F is
+    evaluated once per corner instead of four times per offset. The corners never lie on an axis,
+    and F is odd in x and in y ("1/r", "xx", "yy") or even in both ("xy"): it is evaluated on the
+    positive quadrant only, with ``x asinh(y/x) = x ln((y + r)/x)`` for x, y > 0 (no cancellation).
+    """
+    mx, my = nx + extra, ny
+    xs = (np.arange(mx) + 0.5) * dx
+    ys = (np.arange(my) + 0.5) * dy
+    X, Y = np.meshgrid(xs, ys, indexing="ij")
+    R = np.hypot(X, Y)
+    need = set(kinds)
+    xa = X * np.log((Y + R) / X) if need & {"1/r", "yy"} else None      # x asinh(y/x)
+    ya = Y * np.log((X + R) / Y) if need & {"1/r", "xx"} else None      # y asinh(x/y)
+    quad = {"1/r": lambda: xa + ya, "xx": lambda: ya, "yy": lambda: xa, "xy": lambda: -R}
+    out = {}
+    for kind in kinds:
+        q = quad[kind]()
+        sx, sy = (1.0, 1.0) if kind == "xy" else (-1.0, -1.0)
+        q = np.concatenate([sx * q[::-1], q], axis=0)
+        out[kind] = np.concatenate([sy * q[:, ::-1], q], axis=1)
+    return out
+
+
+def _second_difference(F: np.ndarray) -> np.ndarray:
+    """Corner sum F(x+, y+) - F(x-, y+) - F(x+, y-) + F(x-, y-) over each element of the lattice."""
+    return F[1:, 1:] - F[:-1, 1:] - F[1:, :-1] + F[:-1, :-1]
+
+
 def normal_kernel(nx: int, ny: int, dx: float, dy: float, e_star: float, extra: int = 0) -> np.ndarray:
     """Love's influence coefficients of the normal problem for all element offsets.
 
@@ -113,8 +146,8 @@ def normal_kernel(nx: int, ny: int, dx: float, dy: float, e_star: float, extra: 
         Normal displacement difference [m/Pa] at offset (i - j, k - l); index 0 is offset
         -(nx - 1) - extra.
     """
-    X, Y = np.meshgrid(_offsets(nx, extra) * dx, _offsets(ny) * dy, indexing="ij")
-    return rectangle_integrals("1/r", X, Y, dx, dy) / (math.pi * e_star)
+    F = _corner_lattice(nx, ny, dx, dy, extra, ("1/r",))["1/r"]
+    return _second_difference(F) / (math.pi * e_star)
 
 
 def tangential_kernels(nx: int, ny: int, dx: float, dy: float, shear_modulus: float, poisson_ratio: float,
@@ -140,12 +173,12 @@ def tangential_kernels(nx: int, ny: int, dx: float, dy: float, shear_modulus: fl
         ``{"xx", "xy", "yy"}`` -> ndarray of shape (2 nx - 1 + 2 extra, 2 ny - 1) [m/Pa]
         (``A_yx = A_xy``).
     """
-    X, Y = np.meshgrid(_offsets(nx, extra) * dx, _offsets(ny) * dy, indexing="ij")
     nu, c = float(poisson_ratio), 1.0 / (math.pi * shear_modulus)
-    inv_r = rectangle_integrals("1/r", X, Y, dx, dy)
-    return {"xx": c * ((1.0 - nu) * inv_r + nu * rectangle_integrals("xx", X, Y, dx, dy)),
-            "xy": c * nu * rectangle_integrals("xy", X, Y, dx, dy),
-            "yy": c * ((1.0 - nu) * inv_r + nu * rectangle_integrals("yy", X, Y, dx, dy))}
+    F = _corner_lattice(nx, ny, dx, dy, extra, ("1/r", "xx", "yy", "xy"))
+    inv_r = _second_difference(F["1/r"])
+    return {"xx": c * ((1.0 - nu) * inv_r + nu * _second_difference(F["xx"])),
+            "xy": c * nu * _second_difference(F["xy"]),
+            "yy": c * ((1.0 - nu) * inv_r + nu * _second_difference(F["yy"]))}
 
 
 def line_kernel(nx: int, dx: float, compliance: float, extra: int = 0, length: float | None = None) -> np.ndarray:
@@ -217,17 +250,24 @@ class Convolution:
         Element grid (nx, ny); ny = 1 for a line contact.
     symmetric : bool
         Whether the cross kernel is shared (``A_yx = A_xy``).
+    circulant : ndarray, optional
+        For a one-component operator: the kernel over the offsets -(M/2) ... M/2 of the padded grid
+        (M = :attr:`padded`; ``(2 (M_x // 2) + 1, 2 (M_y // 2) + 1)``), whose circulant (Strang's
+        choice) is inverted by :meth:`precondition`.
 
     Notes
     -----
-    ``apply(p)`` with p of shape (ncomp, nx, ny) returns u of the same shape. ``single=True``
-    evaluates in float32 (for inexact inner Krylov products; about twice as fast).
+    ``apply(p)`` with p of shape (ncomp, nx, ny) returns u of the same shape. The padded grid is the
+    smallest fast real-FFT length >= 2 n - 1 per axis (the circulant embedding of an n-element
+    Toeplitz operator needs 2 n - 1). All components are transformed in one real-to-complex call
+    (``scipy.fft.rfftn``, one worker). ``single=True`` evaluates in float32 (for inexact inner Krylov
+    products and preconditioners; about twice as fast).
     """
 
     #: offsets kept in :attr:`near` on each side [elements]
     NEAR = 2
 
-    def __init__(self, kernels: dict, shape: tuple[int, int], symmetric: bool = True):
+    def __init__(self, kernels: dict, shape: tuple[int, int], symmetric: bool = True, circulant=None):
         nx, ny = shape
         self.shape = (int(nx), int(ny))
         self.ncomp = 1 + max(max(k) for k in kernels)
@@ -239,12 +279,7 @@ class Convolution:
             k = np.asarray(k, dtype=float)
             if k.shape != (2 * nx - 1, 2 * ny - 1):
                 raise ValueError(f"kernel {key} has shape {k.shape}, expected {(2 * nx - 1, 2 * ny - 1)}")
-            emb = np.zeros((mx, my))
-            # offset o goes to index o mod m (circulant embedding)
-            ix = np.arange(-(nx - 1), nx) % mx
-            iy = np.arange(-(ny - 1), ny) % my
-            emb[np.ix_(ix, iy)] = k
-            spectra[key] = sfft.rfft2(emb) if my > 1 else sfft.rfft(emb[:, 0])[:, None]
+            spectra[key] = self._embed(k, nx - 1, ny - 1)
         if symmetric and (0, 1) in spectra and (1, 0) not in spectra:
             spectra[(1, 0)] = spectra[(0, 1)]
         #: the (0, 0) kernel at offset zero (an element's influence on itself)
@@ -259,18 +294,33 @@ class Convolution:
             self.near[(1, 0)] = self.near[(0, 1)]
         self._spec = spectra
         self._spec32 = {k: v.astype(np.complex64) for k, v in spectra.items()}
+        self._inverse32 = None
+        if circulant is not None:
+            c = np.asarray(circulant, dtype=float)
+            lam = self._embed(c, mx // 2, my // 2).real
+            if lam.min() <= 0.0:
+                raise ValueError("the circulant of the kernel is not positive definite")
+            self._inverse32 = (1.0 / lam).astype(np.float32)
         self.products = 0
 
+    def _embed(self, k, hx, hy):
+        """Spectrum of kernel k over offsets -hx..hx, -hy..hy placed circulantly (offset o at o mod M)."""
+        mx, my = self.padded
+        emb = np.zeros((mx, my))
+        emb[np.ix_(np.arange(-hx, hx + 1) % mx, np.arange(-hy, hy + 1) % my)] = k
+        return sfft.rfftn(emb, axes=(0,) if my == 1 else (0, 1), workers=1)
+
     def _fwd(self, a):
+        """Spectra of the fields a (..., nx, ny), zero-padded."""
         if self.padded[1] == 1:
-            return sfft.rfft(a[:, 0], n=self.padded[0])[:, None]
-        return sfft.rfft2(a, s=self.padded)
+            return sfft.rfft(a, n=self.padded[0], axis=-2, workers=1)
+        return sfft.rfftn(a, s=self.padded, axes=(-2, -1), workers=1)
 
     def _inv(self, f):
         nx, ny = self.shape
         if self.padded[1] == 1:
-            return sfft.irfft(f[:, 0], n=self.padded[0])[:nx, None]
-        return sfft.irfft2(f, s=self.padded)[:nx, :ny]
+            return sfft.irfft(f, n=self.padded[0], axis=-2, workers=1)[..., :nx, :]
+        return sfft.irfftn(f, s=self.padded, axes=(-2, -1), workers=1)[..., :nx, :ny]
 
     def apply(self, p: np.ndarray, single: bool = False) -> np.ndarray:
         """u = A p for tractions p of shape (ncomp, nx, ny) [Pa]; returns (ncomp, nx, ny)."""
@@ -278,15 +328,47 @@ class Convolution:
         dt = np.float32 if single else np.float64
         spec = self._spec32 if single else self._spec
         p = np.asarray(p, dtype=dt).reshape((self.ncomp,) + self.shape)
-        fp = [self._fwd(p[j]) if np.any(p[j]) else None for j in range(self.ncomp)]
-        out = np.zeros((self.ncomp,) + self.shape, dtype=dt)
+        if self.ncomp == 1:
+            return self._inv(spec[(0, 0)] * self._fwd(p[0]))[None]
+        fp = self._fwd(p)
+        acc = np.empty_like(fp)
         for i in range(self.ncomp):
-            acc = None
-            for j in range(self.ncomp):
-                k = spec.get((i, j))
-                if k is None or fp[j] is None:
-                    continue
-                acc = k * fp[j] if acc is None else acc + k * fp[j]
-            if acc is not None:
-                out[i] = self._inv(acc)
-        return out
+            acc[i] = spec[(i, 0)] * fp[0] if (i, 0) in spec else 0.0
+            for j in range(1, self.ncomp):
+                if (i, j) in spec:
+                    acc[i] += spec[(i, j)] * fp[j]
+        return self._inv(acc)
+
+    def precondition(self, r: np.ndarray) -> np.ndarray:
+        """The inverse of the Strang circulant applied to r (nx, ny), in float32 (an approximate inverse of A
+        whose error is corrected by the Krylov iteration); returns float64 (nx, ny)."""
+        if self._inverse32 is None:
+            raise ValueError("no circulant given for this operator")
+        return self._inv(self._inverse32 * self._fwd(np.asarray(r, dtype=np.float32))).astype(float)
+
+
+@functools.lru_cache(maxsize=8)
+def normal_operator(nx: int, ny: int, dx: float, dy: float | None, e_star: float) -> Convolution:
+    """Love's normal operator on an (nx, ny) grid with its circulant preconditioner, computed once per grid.
+
+    Cached (keyed by the grid and the contact modulus) so that the solves of a study, a friction loop
+    and a wheelset's patches on the same grid share the influence coefficients and their spectra.
+
+    Parameters
+    ----------
+    nx, ny : int
+        Elements [1] (ny = 1 and dy None for a line contact).
+    dx, dy : float
+        Element sides [m].
+    e_star : float
+        Contact modulus E* [Pa].
+    """
+    mx = sfft.next_fast_len(2 * nx - 1, real=True)
+    if dy is None:
+        L = 4.0 * math.e * nx * dx
+        return Convolution({(0, 0): line_kernel(nx, dx, 1.0 / e_star, length=L)}, (nx, 1),
+                           circulant=line_kernel(mx // 2 + 1, dx, 1.0 / e_star, length=L))
+    my = sfft.next_fast_len(2 * ny - 1, real=True)
+    hx, hy = mx // 2 + 1, my // 2 + 1
+    full = normal_kernel(hx, hy, dx, dy, e_star)
+    return Convolution({(0, 0): full[hx - nx:hx + nx - 1, hy - ny:hy + ny - 1]}, (nx, ny), circulant=full)

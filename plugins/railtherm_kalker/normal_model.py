@@ -1,8 +1,8 @@
 """Normal-contact model "kalker": the exact half-space pressure for the scene's undeformed gap.
 
 The gap (:func:`railtherm_kalker.potential_area.scene_gap`) is solved on a rectangular grid of
-elements over the potential contact area (Love's influence coefficients, FFT products, Polonsky &
-Keer's conjugate gradients; :mod:`railtherm_kalker.normal_solver`). For an elliptical or line
+elements over the potential contact area (Love's influence coefficients, FFT products, Vollebregt's
+FFT-preconditioned active-set conjugate gradients; :mod:`railtherm_kalker.normal_solver`). For an elliptical or line
 contact the gap is the scene's Hertz quadratic, so the exact solution is the Hertz patch and the
 result converges to it; a scene with ``contact = { shape = "gap", ... }`` gets its non-Hertzian patch.
 
@@ -15,7 +15,7 @@ References
 ----------
 .. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, Kluwer, 1990, ch. 5.
    doi:10.1007/978-94-015-7889-9
-.. [2] I.A. Polonsky, L.M. Keer, Wear 231 (1999) 206-219. doi:10.1016/S0043-1648(99)00113-1
+.. [2] E.A.H. Vollebregt, J. Comput. Phys. 257 (2014) 333-351. doi:10.1016/j.jcp.2013.10.005
 """
 from __future__ import annotations
 
@@ -26,7 +26,7 @@ from railtherm import Capabilities, ContactPatch, NormalContactModel, Option, Re
 from railtherm.physics import contact_modulus
 from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
 
-from .influence import Convolution, line_kernel, normal_kernel
+from .influence import normal_operator
 from .normal_solver import NORMAL_TOLERANCE, solve_normal
 from .potential_area import check_border, potential_area, rolling_refinement, scene_gap
 
@@ -78,9 +78,7 @@ def contact_extent(x, y, pressure, dx: float, dy: float) -> tuple[float, float, 
 
 def _normal_operator(area, e_star):
     nx, ny = area.shape
-    if area.y_edges is None:
-        return Convolution({(0, 0): line_kernel(nx, area.dx, 1.0 / e_star)}, (nx, ny))
-    return Convolution({(0, 0): normal_kernel(nx, ny, area.dx, area.dy, e_star)}, (nx, ny))
+    return normal_operator(nx, ny, float(area.dx), None if area.y_edges is None else float(area.dy), float(e_star))
 
 
 def _estimate_area(scene, gap, e_star, load):
@@ -167,7 +165,7 @@ def solve_scene_normal(scene, level: int, cells: int = DEFAULT_CELLS, tol: float
 class KalkerNormal(NormalContactModel):
     """Kalker's exact normal contact on the elastic half-space: the pressure of the scene's undeformed
     gap on a grid of elements over the potential contact area (Love's influence coefficients applied
-    by FFT, Polonsky & Keer's conjugate gradients). A Hertzian scene's gap is its Hertz quadratic
+    by FFT, FFT-preconditioned conjugate gradients). A Hertzian scene's gap is its Hertz quadratic
     (the solution converges to the Hertz patch); a ``shape = "gap"`` scene gives a non-Hertzian one.
 
     References
@@ -178,7 +176,7 @@ class KalkerNormal(NormalContactModel):
 
     name = "kalker"
     description = ("Kalker's exact normal contact on the half-space: pressure of the undeformed gap (Hertz "
-                   "quadratic or non-Hertzian) by FFT influence coefficients and Polonsky-Keer CG")
+                   "quadratic or non-Hertzian) by FFT influence coefficients and FFT-preconditioned CG")
     capabilities = Capabilities(contacts=frozenset({"ellipse", "line", "gap"}),
                                 provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b",
                                                     "max_pressure", "contact_area"}))

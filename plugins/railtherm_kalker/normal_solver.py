@@ -1,24 +1,30 @@
-"""The normal contact problem on the potential contact area: Polonsky & Keer's conjugate gradients.
+"""The normal contact problem on the potential contact area: FFT-preconditioned conjugate gradients.
 
 Find the pressure p >= 0 per element and the approach delta such that the deformed gap
 ``e = h + A p - delta`` is >= 0, zero where p > 0 (complementarity), with the total force
 ``sum p dA = N`` prescribed (or delta prescribed). A is Love's influence matrix
 (:func:`railtherm_kalker.influence.normal_kernel`), applied by FFT.
 
-The iteration is Polonsky & Keer's (1999) constrained conjugate gradients: CG on the current
-contact set with the mean gap as the approach estimate, projection on p >= 0, re-entry of elements
-that penetrate (which restarts the conjugate directions), and rescaling to the prescribed force. It
-converges from a uniform pressure in a few tens of iterations, each with one or two FFT products
-(the displacement is updated from the search direction's when the contact set did not change).
+The iteration is Vollebregt's (2014) active-set conjugate gradients ("BCCG+" of CONTACT's NormCG):
+CG on the current contact set C for ``A_CC p_C = delta - h_C``, with the search directions, the
+residual and the products projected on zero mean over C when the force is prescribed (the constant
+vector deflated: the approach is the mean gap and every step keeps the force), Polak-Ribiere's beta
+(>= 0) so that the active-set changes need no restart, and after every step the elements with p < 0
+moved out of C (the force rescaled) and the exterior elements that penetrate moved in. The
+preconditioner is the inverse of the Strang circulant of A on the padded FFT grid
+(:meth:`railtherm_kalker.influence.Convolution.precondition`, float32, one FFT pair): it makes the
+iteration count almost independent of the grid (Vollebregt's Table 2; here 10-20 iterations from the
+Hertz pressure against 50-60 without). The displacement is updated from the search direction's
+product, and recomputed only when the active set changed.
 
 References
 ----------
-.. [1] I.A. Polonsky, L.M. Keer, A numerical method for solving rough contact problems based on the
-   multi-level multi-summation and conjugate gradient techniques, Wear 231 (1999) 206-219.
-   doi:10.1016/S0043-1648(99)00113-1
-.. [2] E.A.H. Vollebregt, A new solver for the elastic normal contact problem using conjugate
+.. [1] E.A.H. Vollebregt, A new solver for the elastic normal contact problem using conjugate
    gradients, deflation, and an FFT-based preconditioner, J. Comput. Phys. 257 (2014) 333-351.
    doi:10.1016/j.jcp.2013.10.005
+.. [2] I.A. Polonsky, L.M. Keer, A numerical method for solving rough contact problems based on the
+   multi-level multi-summation and conjugate gradient techniques, Wear 231 (1999) 206-219.
+   doi:10.1016/S0043-1648(99)00113-1
 """
 from __future__ import annotations
 
@@ -77,30 +83,43 @@ def _complementarity(p, e, u) -> float:
     return max(r1, r2) / scale
 
 
+def _initial_pressure(h, cell_area, force, approach, initial):
+    """Starting pressure [Pa]: the given one (scaled to the force), uniform, or unit on the overlap."""
+    if initial is not None and np.any(np.asarray(initial) > 0):
+        p = np.clip(np.asarray(initial, dtype=float).reshape(h.shape), 0.0, None)
+        return p * (force / (float(p.sum()) * cell_area)) if force is not None else p
+    if force is not None:
+        return np.full(h.shape, force / (cell_area * h.size))
+    return np.where(h < approach, 1.0, 0.0)
+
+
 def solve_normal(conv, gap: np.ndarray, cell_area: float, *, force: float | None = None,
-                 approach: float | None = None, initial: np.ndarray | None = None, tol: float = NORMAL_TOLERANCE,
-                 maxiter: int = 500) -> NormalSolution:
-    """Solve the normal contact problem with Polonsky & Keer's constrained conjugate gradients.
+                 approach: float | None = None, initial: np.ndarray | None = None,
+                 tol: float = NORMAL_TOLERANCE, maxiter: int = 500, precondition: bool = True) -> NormalSolution:
+    """Solve the normal contact problem by active-set preconditioned conjugate gradients.
 
     Parameters
     ----------
     conv : railtherm_kalker.influence.Convolution
-        Love's influence operator (one component) on the element grid [m/Pa].
+        Normal influence operator (one component) [m/Pa]; with a circulant
+        (:func:`railtherm_kalker.influence.normal_operator`) for the preconditioner.
     gap : ndarray (nx, ny)
         Undeformed gap h at the element centres [m].
     cell_area : float
-        Element area [m^2] (element length [m] for a line contact).
+        Element area [m^2] ([m] for a line contact).
     force : float, optional
-        Prescribed normal force N [N] ([N/m] for a line contact).
+        Prescribed total force [N] ([N/m] for a line contact).
     approach : float, optional
-        Prescribed approach delta [m] (instead of the force).
+        Prescribed approach delta [m] (exactly one of force and approach).
     initial : ndarray (nx, ny), optional
-        Initial pressure [Pa] (e.g. the Hertz pressure of the gap's quadratic part); default a
-        uniform pressure (force prescribed) or a unit pressure on the geometric overlap.
+        Initial pressure (e.g. Hertz's) [Pa].
     tol : float
-        Stop when the relative pressure change and the complementarity residual are below tol [1].
+        Stop when the relative pressure update ``sum |p - p_old| / sum p`` and the complementarity
+        residual are below tol [1].
     maxiter : int
         Iteration limit [1].
+    precondition : bool
+        Use the circulant preconditioner when the operator has one (False: plain CG, for comparison).
 
     Returns
     -------
@@ -109,76 +128,65 @@ def solve_normal(conv, gap: np.ndarray, cell_area: float, *, force: float | None
     if (force is None) == (approach is None):
         raise ValueError("give exactly one of force [N] and approach [m]")
     h = np.asarray(gap, dtype=float)
-    shape = h.shape
+    use_m = precondition and getattr(conv, "_inverse32", None) is not None
 
     def A(v):
         return conv.apply(v[None])[0]
 
     n0 = conv.products
-    if initial is not None and np.any(np.asarray(initial) > 0):
-        p = np.clip(np.asarray(initial, dtype=float).reshape(shape), 0.0, None)
-        if force is not None:
-            p = p * (force / (float(p.sum()) * cell_area))
-    elif force is not None:
-        p = np.full(shape, force / (cell_area * h.size))
-    else:
-        p = np.where(h < approach, 1.0, 0.0)   # unit pressure on the geometric overlap
+    p = _initial_pressure(h, cell_area, force, approach, initial)
     u = A(p)
-    t = np.zeros(shape)
-    g_old, restart = 1.0, True
-    history = []
-    converged = False
-    it = 0
-    res = np.inf
+    C = p > 0
+    if not C.any():
+        C = h <= h.min()
+    v = np.zeros_like(h)
+    r_prev, rz_old = None, 0.0
+    history, converged, it, res = [], False, 0, np.inf
     for it in range(1, maxiter + 1):
-        contact = p > 0
-        if not contact.any():
-            contact = h <= h.min()
         e = h + u
+        delta = float(e[C].mean()) if force is not None else float(approach)
+        r = np.where(C, delta - e, 0.0)                      # residual of A_CC p = delta - h (mean-free)
+        z = np.where(C, conv.precondition(r), 0.0) if use_m else r
         if force is not None:
-            e = e - e[contact].mean()
-        else:
-            e = e - approach
-        G = float(np.sum(e[contact] ** 2))
-        if restart:
-            t = np.where(contact, e, 0.0)
-        else:
-            t = np.where(contact, e + (G / g_old) * t, 0.0)
-        g_old = G
-        r = A(t)
-        rc = r - r[contact].mean() if force is not None else r
-        den = float(np.sum(rc[contact] * t[contact]))
-        tau = float(np.sum(e[contact] * t[contact])) / den if den != 0.0 else 0.0
-        p_old = p
-        p = p - tau * t
-        clipped = p < 0.0
-        p = np.where(clipped, 0.0, p)
-        overlap = (p == 0.0) & (e < 0.0) & ~contact
-        restart = bool(overlap.any())
-        if restart:
-            p = np.where(overlap, p - tau * e, p)
+            z[C] -= z[C].mean()
+        rz = float(np.sum(z * r))
+        beta = max(0.0, (rz - float(np.sum(z * r_prev))) / rz_old) if (r_prev is not None and rz_old > 0) else 0.0
+        v = z + beta * np.where(C, v, 0.0)
         if force is not None:
-            total = float(p.sum()) * cell_area
-            scale = force / total if total > 0 else 1.0
-            p = p * scale
-        else:
-            scale = 1.0
-        # displacement: incremental when nothing was clipped or re-entered (exact), else recomputed
-        if restart or bool((clipped & contact).any()):
+            v[C] -= v[C].mean()
+        q = A(v)
+        qc = q - float(q[C].mean()) if force is not None else q
+        vav = float(np.sum(np.where(C, qc, 0.0) * v))
+        alpha = float(np.sum(r * v)) / vav if vav > 0 else 0.0
+        p = p + alpha * v
+        u = u + alpha * q
+        r_prev, rz_old = r, rz
+        change = abs(alpha) * float(np.sum(np.abs(v))) / max(float(np.sum(np.abs(p))), 1e-300)
+        # active set: negative pressures leave (force rescaled), penetrating exterior elements enter
+        neg = C & (p < 0.0)
+        changed = bool(neg.any())
+        if changed:
+            p = np.where(neg, 0.0, p)
+            if force is not None:
+                total = float(p.sum()) * cell_area
+                p = p * (force / total) if total > 0 else np.where(h <= h.min(), 1.0, 0.0)
             u = A(p)
-        else:
-            u = scale * (u - tau * r)
-        change = float(np.sum(np.abs(p - p_old))) / max(float(np.sum(np.abs(p))), 1e-300)
+            C = C & ~neg
+            if not C.any():
+                C = h <= h.min()
+        e = h + u
+        delta = float(e[C].mean()) if force is not None else float(approach)
+        enter = ~C & (e < delta)
+        if enter.any():
+            C = C | enter
+            changed = True
         history.append(change)
-        if change < tol:
-            u = A(p)
-            e = h + u
-            contact = p > 0
-            delta = float(e[contact].mean()) if force is not None else float(approach)
+        if not changed and change < tol:
             res = _complementarity(p, e - delta, u)
             if res < max(tol, 1e-12) * 10.0 or change == 0.0:
                 converged = True
                 break
+    u = A(p)
     e = h + u
     contact = p > 0
     delta = float(e[contact].mean()) if (force is not None and contact.any()) else float(approach or 0.0)

@@ -21,7 +21,7 @@ def railtherm_register_methods():
     return [Method("kalker", {"normal": ("kalker",), "tangential": ("kalker",), "heat_source": ("frictional",),
                               "temperature": ("green",)},
                    description="Kalker's exact rolling contact on the half-space (FFT influence coefficients; "
-                               "Polonsky-Keer normal, semismooth Newton-GMRES tangential) -> frictional heat "
+                               "FFT-preconditioned CG normal, semismooth Newton-GMRES tangential) -> frictional heat "
                                "-> 1-D moving Green-function temperatures",
                    default_cells=DEFAULT_CELLS,
                    orders={
