@@ -11,8 +11,9 @@ patch only steady 113 ms (49 x 24 x 54 cells), patch only auto/explicit 46 ms, f
 5.9e5 cells: x 3 along x for the trail, x 1.5 in depth, GMRES on the larger grid): ratio 7.9 (same scheme), 19
 (auto); at load ~1 (session 4): steady 49 ms, auto 22 ms, field 263 ms: ratio 5.3 (same scheme), 12 (auto).
 The ratios are printed and recorded (``extra_info``), not asserted: timings are measured, never verdicts.
+``test_seed_paper_level3`` times the main study's two costliest fdm runs (below).
 Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_fdm_field_benchmark.py -m benchmark
---benchmark-enable -p no:cacheprovider -s``.
+--benchmark-enable -p no:cacheprovider -n 0 -s``.
 """
 from __future__ import annotations
 
@@ -43,3 +44,33 @@ def test_extended_field(benchmark):
     ds = benchmark.pedantic(railtherm.solve, args=(FIELD, "fastsim-fdm"), kwargs={"level": LEVEL}, rounds=3,
                             iterations=1)
     assert ds.attrs["fdm_rail_scheme"] == "steady"
+
+
+@pytest.mark.benchmark
+@pytest.mark.parametrize("name", ["fdm-elliptic-q1", "fdm-circular-q10"])
+def test_seed_paper_level3(benchmark, name):
+    """The main study's costliest fdm runs: ``fastsim-fdm`` at level 3 on the seed paper's uniform sources
+    (1 m/s, field 5 mm behind and 3 mm deep), the explicit block with cells of 78 um. Best of 3 solves
+    after a warm-up, with the block's node shape and step count in ``extra_info``.
+
+    Measured (this machine, 2 cores shared with 5 other jobs, load 4-6, one numba thread; CPU time of
+    the solve): elliptic 0.46 s (308 x 193 x 44 nodes), circular 0.31 s (308 x 129 x 44 nodes), 256 steps
+    each; wall time 1.5-2x that under this load.
+    """
+    import time
+    from pathlib import Path
+
+    scene = railtherm.load_study(Path(__file__).parents[1] / "studies" / "seed_paper.toml").scene(name)
+    ds = railtherm.solve(scene, "fastsim-fdm", level=3)
+    assert ds.attrs["fdm_rail_scheme"] == "explicit"
+
+    def solve():
+        t0 = time.process_time()
+        railtherm.solve(scene, "fastsim-fdm", level=3)
+        return time.process_time() - t0
+
+    cpu = benchmark.pedantic(solve, rounds=3, iterations=1)          # the last round's CPU time
+    print(f"fdm {name} level 3: best wall {benchmark.stats.stats.min:.2f} s, cpu (last) {cpu:.2f} s, "
+          f"{ds.attrs['fdm_rail_node_shape']} nodes, {ds.attrs['fdm_rail_steps']} steps")
+    benchmark.extra_info.update(node_shape=ds.attrs["fdm_rail_node_shape"], steps=int(ds.attrs["fdm_rail_steps"]),
+                                cpu_s_last=cpu)
