@@ -478,14 +478,15 @@ def test_a_lucky_level_is_not_the_scorecard_verdict():
 
 
 def test_scorecard_reads_the_verdict_stored_in_metrics():
-    """The cell shows metrics.nc's verdict_* (here a level the run table alone would not give), and its message's
-    "reference not converged" beside it."""
+    """The cell shows metrics.nc's verdict_* (here a level the run table alone would not give) with the headline
+    error's sign (headline_signed_error), and its message's "reference not converged" beside it."""
     from railtherm.report.verdict import cell, choose
     data = _ladder_data([0.24, 0.03, 0.01, 0.004], signed={
         ("ek-exact", "green"): {"level": 2, "error": 0.01, "time": 0.1, "status": "ok",
-                                "message": "reference not converged: kalker's own finest-level error is 2.9 %"}})
+                                "message": "reference not converged: kalker's own finest-level error is 2.9 %"},
+        ("ek-exact", "green", 2): -0.01})
     text = cell(choose(data, "ek-exact", "green")).text
-    assert text.startswith("ok · 1.0 %") and "L2" in text and "reference not converged" in text, text
+    assert text.startswith("ok · −1.0 %") and "L2" in text and "reference not converged" in text, text
 
 
 def test_key_findings_split_the_contact_model_from_the_thermal_model():

@@ -38,12 +38,35 @@ def _reference_estimates(ds, by_sm: dict, snames: list, mnames: list, metrics: l
     return est
 
 
+def compared(rows: list[dict], reference: str, headline: str) -> list[str]:
+    """The metrics of one scene that some run compares with ``method:<reference>`` (finite or failing), the
+    headline first."""
+    tag = f"method:{reference}"
+    got = {k[len("reference_"):] for r in rows for k, v in r.items()
+           if k.startswith("reference_") and v == tag and not math.isnan(r.get("error_" + k[len("reference_"):],
+                                                                                 math.nan))}
+    return sorted(got, key=lambda k: (k != headline, k))
+
+
+def _reference_words(reference: str, est, metrics_compared: list[str], metrics: list[str], tol: float) -> str:
+    """"reference not converged: ..." naming each compared metric whose reference estimate is not below a
+    quarter of the tolerance ("" when none)."""
+    bad = [reference_note(reference, float(est[metrics.index(k)]), tol, k) for k in metrics_compared if k in metrics]
+    bad = [b for b in bad if b]
+    if not bad:
+        return ""
+    head = bad[0].split(": ", 1)[0]
+    return head + ": " + "; ".join(b.split(": ", 1)[1] for b in bad)
+
+
 def verdict_vars(ds, rows: list[dict], snames: list, mnames: list, tol: float):
     """Add ``verdict_level``, ``verdict_error``, ``verdict_time``, ``verdict_status``, ``verdict_message``
     (scene_name × method_name) and ``reference_convergence_error`` (scene_name × metric) to ``ds``."""
     by_sm: dict = {}
+    rows_of: dict = {}
     for r in rows:
         by_sm.setdefault((r["scene"], r["method"]), []).append(r)
+        rows_of.setdefault(r["scene"], []).append(r)
     shape = (len(snames), len(mnames))
     level, error, time = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
     status, message = np.full(shape, "", dtype=object), np.full(shape, "", dtype=object)
@@ -52,10 +75,8 @@ def verdict_vars(ds, rows: list[dict], snames: list, mnames: list, tol: float):
     heads = [str(h) for h in ds["headline"].values]
     kinds = [str(k) for k in ds["reference_kind"].values]
     for i, s in enumerate(snames):
-        h = heads[i]
-        note = ""
-        if kinds[i] in mnames and h in metrics:
-            note = reference_note(kinds[i], float(est[i, metrics.index(h)]), tol, h)
+        note = _reference_words(kinds[i], est[i], compared(rows_of.get(s, []), kinds[i], heads[i]), metrics, tol) \
+            if kinds[i] in mnames else ""
         for j, m in enumerate(mnames):
             ladder = [{"level": r["level"], "status": r["status"], "reason_kind": r.get("reason_kind", ""),
                        "headline_error": float(r.get("headline_error", math.nan)),

@@ -186,8 +186,9 @@ def run_status(errs: dict, energy: float, energy_ref: str, tol: float, headline:
     indep = {k: (v, t) for k, (v, t) in scored.items() if independent(t)}
     checked = "; ".join(f"{name(k)} against {t} ({v:.3g})" for k, (v, t) in sorted(indep.items()))
     if headline in indep:
-        return "ok", f"headline {name(headline)} within {tol:g} of {indep[headline][1]}" + (
-            f"; checked: {checked}" if checked else "")
+        also = "; ".join(f"{name(k)} against {t} ({v:.3g})" for k, (v, t) in sorted(indep.items()) if k != headline)
+        return "ok", (f"headline {name(headline)} within {tol:g} of {indep[headline][1]} ({indep[headline][0]:.3g})"
+                      + (f"; also checked: {also}" if also else ""))
     if not headline:
         head = "no headline quantity"
     elif headline in scored:
@@ -196,9 +197,12 @@ def run_status(errs: dict, energy: float, energy_ref: str, tol: float, headline:
         head = f"headline {name(headline)} not checked against an independent reference"
     if indep:
         return "unverified", f"{head}; checked: {checked}"
+    others = sorted(k for k in scored if k != headline)
+    if others:
+        return "unverified", (f"{head}; no independent reference: only self-convergence (errors against its own "
+                              "finest level) of " + ", ".join(name(k) for k in others))
     if scored:
-        return "unverified", (f"{head}; compared only with its own finest level (self-convergence): "
-                              + ", ".join(name(k) for k in sorted(scored)))
+        return "unverified", f"{head} (self-convergence); no independent reference"
     return "unverified", f"{head}: nothing independent to compare with" + (f" ({why})" if why else "")
 
 

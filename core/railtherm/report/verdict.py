@@ -69,6 +69,8 @@ class Verdict:
     richardson: float = math.nan
     members: list = field(default_factory=list)  # a sweep's member verdicts
     note: str = ""                               # metrics.nc's verdict_message (non-monotone, reference not converged)
+    signed: float = math.nan                     # the headline error with its sign (metrics.nc), NaN when not stored
+    cooling_depth: float = math.nan              # shallowest depth [m] its cooling-rate error scores (metrics.nc)
 
 
 def _numeric(v) -> bool:
@@ -150,10 +152,10 @@ def stored_verdicts(data) -> dict:
                                 "status": str(m["verdict_status"].values[i, j] or ""),
                                 "message": str(m["verdict_message"].values[i, j] or "")
                                 if "verdict_message" in m else ""}
-        if "headline_signed_error" in m:
-            for s, me, lv, e in zip(m["scene"].values, m["method"].values, m["level"].values,
-                                    m["headline_signed_error"].values):
-                out[(str(s), str(me), int(lv))] = float(e)
+        for var, extra in (("headline_signed_error", ()), ("cooling_rate_depth", ("cooling_rate_depth",))):
+            if var in m:
+                for s, me, lv, e in zip(m["scene"].values, m["method"].values, m["level"].values, m[var].values):
+                    out[(str(s), str(me), int(lv)) + extra] = float(e)
     try:
         data._stored_verdicts = out
     except AttributeError:  # pragma: no cover - a frozen stand-in
@@ -196,6 +198,15 @@ def _verdict_of(data, scene: str, method: str, runs: list) -> dict:
     return ladder_rule(runs, data.tolerance if data.tolerance is not None else 0.05)
 
 
+def _signed(data, scene: str, method: str, level: int) -> float:
+    e = stored_verdicts(data).get((scene, method, level), math.nan)
+    return e if isinstance(e, float) else math.nan
+
+
+def _depth(data, scene: str, method: str, level: int) -> float:
+    return stored_verdicts(data).get((scene, method, level, "cooling_rate_depth"), math.nan)
+
+
 def choose(data: StudyData, scene: str, method: str) -> Verdict:
     """The scorecard verdict of one method on one scene (metrics.nc's ``verdict_*``)."""
     runs = data.runs_of(scene, method)
@@ -210,7 +221,9 @@ def choose(data: StudyData, scene: str, method: str) -> Verdict:
                            f"{scene}", note=note)
     if v["level"] >= 0 and v["status"]:
         r = next((x for x in runs if x.level == v["level"]), None)
-        return Verdict(method, v["status"], r, v["error"], v["time"], message=r.message if r else "", note=note)
+        return Verdict(method, v["status"], r, v["error"], v["time"], message=r.message if r else "", note=note,
+                       signed=_signed(data, scene, method, v["level"]),
+                       cooling_depth=_depth(data, scene, method, v["level"]))
     ran = [r for r in runs if r.has_result or (r.status == "failed" and r.reason_kind != "timeout")]
     if ran:
         r = max(ran, key=lambda x: x.level)
@@ -221,7 +234,8 @@ def choose(data: StudyData, scene: str, method: str) -> Verdict:
         rich = next((o.richardson for o in data.orders.get(scene, []) if o.method == method and o.metric == h),
                     math.nan) if status == "unverified" else math.nan
         return Verdict(method, status, r, r.headline_error, r.wall_time, message=r.message or note, richardson=rich,
-                       note=note)
+                       note=note, signed=_signed(data, scene, method, r.level),
+                       cooling_depth=_depth(data, scene, method, r.level))
     failed = [r for r in runs if r.status == "failed"]
     pick = failed or [r for r in runs if r.status == "refused"] or runs
     r = pick[0]
@@ -244,7 +258,10 @@ def group_verdict(verdicts: list[Verdict], method: str) -> Verdict:
 
 
 def marks(v: Verdict) -> list[str]:
-    """The words a cell adds from its verdict message: "non-monotone", "reference not converged"."""
+    """The words a cell adds from its verdict message: "non-monotone", "reference not converged" (none for a
+    refused cell: nothing ran to be judged)."""
+    if v.status in ("refused", "none"):
+        return []
     return [w for w in ("non-monotone", "reference not converged") if w in v.note]
 
 
@@ -260,20 +277,34 @@ def scorecard(data: StudyData, table_rows: list[Row]) -> dict:
     return out
 
 
+#: metrics shown but never used by a status (metrics.nc: analysis.metrics.UNSCORED_BY_STATUS)
+NOT_A_VERDICT = ("cooling_rate_all_depths",)
+
+
+def metric_words(name: str, cooling_depth: float = math.nan) -> str:
+    """A metric's name in words; the cooling rate with the depths it is scored at ("cooling rate, z ≥ 26 µm")."""
+    if name == "cooling_rate" and math.isfinite(cooling_depth):
+        return f"cooling rate, z ≥ {cooling_depth * 1e6:.3g} µm"
+    if name == "cooling_rate_all_depths":
+        return "cooling rate, all depths"
+    return QUANTITY.get(name, name.replace("_", " "))
+
+
 def _worst_other(v: Verdict) -> str:
     """For an inaccurate run whose headline error is smaller than its worst error against an independent
-    reference: that metric and its error ("cooling rate 20 %"), so that the cell says why it is inaccurate."""
+    reference: that metric and its error ("cooling rate, z ≥ 26 µm 20 %"), so that the cell says why it is
+    inaccurate."""
     if v.status != "inaccurate" or v.run is None:
         return ""
     refs = getattr(v.run, "references", {}) or {}
     errs = [(k, e) for k, e in (v.run.errors or {}).items()
-            if isinstance(e, float) and math.isfinite(e) and independent(refs.get(k, ""))]
+            if isinstance(e, float) and math.isfinite(e) and independent(refs.get(k, "")) and k not in NOT_A_VERDICT]
     if not errs:
         return ""
     name, err = max(errs, key=lambda t: t[1])
     if math.isfinite(v.error) and err <= v.error:
         return ""
-    return f"{name.replace('_', ' ')} {pct(err)}"
+    return f"{metric_words(name, v.cooling_depth)} {pct(err)}"
 
 
 def cell(v: Verdict) -> Cell:
@@ -301,6 +332,10 @@ def cell(v: Verdict) -> Cell:
     parts = [v.status]
     if v.status == "unverified":
         parts.append("no reference")
+    elif v.error == math.inf:
+        parts.append("not finite")
+    elif math.isfinite(v.signed):
+        parts.append(pct(v.signed, signed=True))
     elif math.isfinite(v.error):
         parts.append(pct(v.error))
     worst = _worst_other(v)
@@ -386,13 +421,32 @@ def contact_split(data, table_rows: list[Row]) -> list[str]:
     out = []
     for (ref, c, model, h), g in groups.items():
         what = QUANTITY.get(h, h)
-        where = _scene_span(g["scenes"])
-        text = (f"On {where} (reference {ref}, exact contact), the {model} contact model alone costs "
-                f"{_signed_range(g['contact'])} in {what} ({c}: the same temperature model as {ref})")
+        tol = data.tolerance if data.tolerance is not None else 0.05
+        groups_of = _clusters(list(zip(g["scenes"], g["contact"])), tol)
+        if len(groups_of) == 1:
+            costs = f"{_signed_range(g['contact'])} in {what}"
+            where = f"On {_scene_span(g['scenes'])} (reference {ref}, exact contact), the"
+        else:
+            costs = f"in {what} " + "; ".join(
+                f"{_signed_range([e for _, e in b])} on " + ", ".join(f"`{sc}`" for sc, _ in b) for b in groups_of)
+            where = f"Against {ref} (exact contact), the"
+        text = f"{where} {model} contact model alone costs {costs} ({c}: the same temperature model as {ref})"
         for (t, temp), errs in g["thermal"].items():
             text += f"; the {temp} thermal model adds {_signed_range(errs)} ({t} against {c})"
         out.append(text + ".")
     return out
+
+
+def _clusters(pairs: list, gap: float) -> list[list]:
+    """(scene, error) pairs grouped where sorted errors lie within ``gap`` of their neighbour, largest first."""
+    pairs = sorted(pairs, key=lambda t: t[1])
+    out = [[pairs[0]]] if pairs else []
+    for p in pairs[1:]:
+        if p[1] - out[-1][-1][1] > gap:
+            out.append([p])
+        else:
+            out[-1].append(p)
+    return out[::-1]
 
 
 def _finest_signed(data, signed: dict, scene: str, method: str):
