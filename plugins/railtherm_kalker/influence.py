@@ -43,7 +43,7 @@ import numpy as np
 import scipy.fft as sfft
 
 __all__ = ["rectangle_integrals", "normal_kernel", "tangential_kernels", "line_kernel", "Convolution",
-           "rolling_kernel", "normal_operator"]
+           "rolling_kernel", "normal_operator", "element_size"]
 
 
 def _times_asinh(a, b):
@@ -345,6 +345,12 @@ class Convolution:
         if self._inverse32 is None:
             raise ValueError("no circulant given for this operator")
         return self._inv(self._inverse32 * self._fwd(np.asarray(r, dtype=np.float32))).astype(float)
+
+
+def element_size(edges) -> float:
+    """Element size of uniform edges [m], (last - first) / n rounded to 12 significant digits: the key of the
+    operator caches, so that grids equal up to round-off (patches at other positions) share one operator."""
+    return float(f"{(float(edges[-1]) - float(edges[0])) / (len(edges) - 1):.12g}")
 
 
 @functools.lru_cache(maxsize=8)

@@ -26,7 +26,7 @@ from railtherm import Capabilities, ContactPatch, NormalContactModel, Option, Re
 from railtherm.physics import contact_modulus
 from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
 
-from .influence import normal_operator
+from .influence import element_size, normal_operator
 from .normal_solver import NORMAL_TOLERANCE, solve_normal
 from .potential_area import check_border, potential_area, rolling_refinement, scene_gap
 
@@ -78,7 +78,8 @@ def contact_extent(x, y, pressure, dx: float, dy: float) -> tuple[float, float, 
 
 def _normal_operator(area, e_star):
     nx, ny = area.shape
-    return normal_operator(nx, ny, float(area.dx), None if area.y_edges is None else float(area.dy), float(e_star))
+    return normal_operator(nx, ny, element_size(area.x_edges), None if area.y_edges is None else element_size(area.y_edges),
+                           float(e_star))
 
 
 def _estimate_area(scene, gap, e_star, load):

@@ -22,12 +22,14 @@ References
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from railtherm import Capabilities, Option, Refused, TangentialContactModel
 from railtherm.physics import combined_elastic, creep_speeds
 
 from .friction_laws import solve_with_law
-from .influence import Convolution, line_kernel, rolling_kernel, tangential_kernels
+from .influence import Convolution, element_size, line_kernel, rolling_kernel, tangential_kernels
 from .tangential_solver import TANGENTIAL_TOLERANCE, solve_tangential_nested
 
 __all__ = ["KalkerTangential", "rolling_operator", "patch_creepages", "solve_patch_tangential"]
@@ -61,12 +63,21 @@ def rolling_operator(x_edges, y_edges, shear_modulus: float, poisson_ratio: floa
         Components x (and y) [1/Pa].
     """
     nx = len(x_edges) - 1
-    dx = float(x_edges[1] - x_edges[0])
+    dx = element_size(x_edges)
     if y_edges is None:
+        return _rolling_operator(nx, dx, 1, None, float(shear_modulus), float(poisson_ratio))
+    return _rolling_operator(nx, dx, len(y_edges) - 1, element_size(y_edges), float(shear_modulus),
+                             float(poisson_ratio))
+
+
+
+@functools.lru_cache(maxsize=16)
+def _rolling_operator(nx, dx, ny, dy, shear_modulus, poisson_ratio):
+    """:func:`rolling_operator` of a grid, computed once per grid and material (the solves of a study, a
+    friction loop, the nested grids and a wheelset's patches share it)."""
+    if dy is None:
         k = line_kernel(nx, dx, (1.0 - poisson_ratio) / shear_modulus, extra=1)
         return Convolution({(0, 0): rolling_kernel(k, dx)}, (nx, 1))
-    ny = len(y_edges) - 1
-    dy = float(y_edges[1] - y_edges[0])
     k = tangential_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio, extra=1)
     return Convolution({(0, 0): rolling_kernel(k["xx"], dx), (0, 1): rolling_kernel(k["xy"], dx),
                         (1, 1): rolling_kernel(k["yy"], dx)}, (nx, ny))

@@ -192,7 +192,7 @@ class LocalPreconditioner:
 
     def factor(self, D1, D2):
         """Prepare for ``M = D1 + D2 B_near``; D1, D2 of shape (nin, nc, nc) (per-element blocks)."""
-        self.minv = np.ascontiguousarray(np.linalg.inv(D1 + D2 @ self.K0))
+        self.minv = np.ascontiguousarray(_inverse_blocks(D1 + D2 @ self.K0))
         self.coup = np.ascontiguousarray(D2 @ self.K1)
 
     def solve(self, v):
@@ -201,8 +201,18 @@ class LocalPreconditioner:
         return sweep(v, self.minv, self.coup, self.order, self.nb, self.columns).ravel()
 
 
+def _inverse_blocks(M):
+    """Inverses of the 1 x 1 or 2 x 2 blocks M (n, nc, nc) by the explicit formula (vectorised)."""
+    if M.shape[1] == 1:
+        return 1.0 / M
+    a, b, c, d = M[:, 0, 0], M[:, 0, 1], M[:, 1, 0], M[:, 1, 1]
+    det = a * d - b * c
+    return np.stack([np.stack([d, -b], axis=-1), np.stack([-c, a], axis=-1)], axis=1) / det[:, None, None]
+
+
 def _gmres(matvec, psolve, b, rtol, maxiter):
-    """Right-preconditioned GMRES (no restart; classical Gram-Schmidt with reorthogonalisation).
+    """Right-preconditioned GMRES (no restart; classical Gram-Schmidt, repeated when the new vector lost
+    more than 30 % of its norm: Kahan-Parlett's "twice is enough").
 
     Returns the solution and the iterations; stops when ``|b - A x| <= rtol |b|`` (true residual of
     the unpreconditioned system, up to round-off) or after ``maxiter`` steps.
@@ -222,12 +232,15 @@ def _gmres(matvec, psolve, b, rtol, maxiter):
     for k in range(maxiter):
         Z[k] = psolve(V[k])
         w = matvec(Z[k])
+        wn = float(np.linalg.norm(w))
         h = V[:k + 1] @ w
         w = w - h @ V[:k + 1]
-        h2 = V[:k + 1] @ w
-        w = w - h2 @ V[:k + 1]
-        h = h + h2
         hn = float(np.linalg.norm(w))
+        if hn < 0.7 * wn:                        # cancellation: orthogonalise once more ("twice is enough")
+            h2 = V[:k + 1] @ w
+            w = w - h2 @ V[:k + 1]
+            h = h + h2
+            hn = float(np.linalg.norm(w))
         col = np.append(h, hn)
         for m in range(k):                       # earlier rotations
             t = cs[m] * col[m] + sn[m] * col[m + 1]
@@ -296,7 +309,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         return out.reshape(full_shape)
 
     def restrict(a):
-        return a.reshape(nc, -1)[:, idx]
+        return np.take(a.reshape(nc, -1), idx, axis=1)
 
     gin = g.ravel()[idx]
     p = np.zeros(full_shape) if initial is None else np.where(inside, np.asarray(initial, dtype=float), 0.0)
@@ -395,10 +408,69 @@ def _coarsen(a: np.ndarray, line: bool) -> np.ndarray:
     return 0.25 * (a[..., 0::2, 0::2] + a[..., 1::2, 0::2] + a[..., 0::2, 1::2] + a[..., 1::2, 1::2])
 
 
-def _refine(a: np.ndarray, line: bool) -> np.ndarray:
-    """Piecewise-constant prolongation of a coarse field to the elements twice as fine."""
-    a = np.repeat(a, 2, axis=-2)
-    return a if line else np.repeat(a, 2, axis=-1)
+def _interpolate2(a: np.ndarray, axis: int) -> np.ndarray:
+    """Linear interpolation to the element centres twice as fine along ``axis`` (weights 3/4, 1/4; the
+    outermost values held)."""
+    a = np.moveaxis(a, axis, -1)
+    lo = np.concatenate([a[..., :1], a[..., :-1]], axis=-1)
+    hi = np.concatenate([a[..., 1:], a[..., -1:]], axis=-1)
+    out = np.empty(a.shape[:-1] + (2 * a.shape[-1],))
+    out[..., 0::2] = 0.75 * a + 0.25 * lo
+    out[..., 1::2] = 0.75 * a + 0.25 * hi
+    return np.moveaxis(out, -1, axis)
+
+
+def _refine(p: np.ndarray, g_coarse: np.ndarray, g_fine: np.ndarray, line: bool) -> np.ndarray:
+    """Prolongation of a coarse traction (ncomp, nx, ny) to the elements twice as fine.
+
+    The traction's ratio to the coarse bound, p / g (length <= 1, = 1 in slip), is interpolated
+    linearly over the loaded coarse elements (weights renormalised at the contact edge) and
+    multiplied by the fine bound: the slip zone stays on the bound, the stick zone's traction is
+    smooth. Elements without a loaded coarse neighbour get the piecewise-constant value.
+    """
+    inside = g_coarse > 0
+    q = np.where(inside, p / np.where(inside, g_coarse, 1.0), 0.0)
+    w = inside.astype(float)
+    axes = (1,) if line else (1, 2)
+    for ax in axes:
+        q = _interpolate2(q, ax)
+        w = _interpolate2(w, ax - 1)
+    const = np.repeat(p / np.where(inside, g_coarse, 1.0), 2, axis=-2)
+    const = const if line else np.repeat(const, 2, axis=-1)
+    q = np.where(w > 0, q / np.where(w > 0, w, 1.0), const)
+    return q * g_fine
+
+
+#: the full-slip traction -g w/|w| starts the finest grid directly (no coarse grids) when its residual
+#: max |F| / max g is below this [1] (the prolonged coarse solutions start at 0.1-0.2)
+FULL_SLIP_START = 0.05
+
+
+def _centres(xe, ye, offset, line):
+    """Element centres (X, Y) [m], x shifted by ``offset`` elements."""
+    xc = 0.5 * (xe[1:] + xe[:-1]) + offset * (xe[1] - xe[0])
+    if line:
+        return xc[:, None], np.zeros((xc.size, 1))
+    return np.meshgrid(xc, 0.5 * (ye[1:] + ye[:-1]), indexing="ij")
+
+
+def _full_slip_start(conv_for, level, creepage, offset, line):
+    """The full-slip traction -g w/|w| of the rigid slip w on the finest grid when its residual is below
+    :data:`FULL_SLIP_START` (creepages beyond saturation: the elastic slip is a small part of w, so the
+    coarse grids would only reproduce it), else None; and the products spent [1]."""
+    xe, ye, g = level
+    w = rigid_slip(*_centres(xe, ye, offset, line), *creepage, line=line)
+    nw = np.sqrt(np.sum(w * w, axis=0))
+    if not (g > 0).any() or np.any((g > 0) & (nw == 0)):
+        return None, 0
+    conv = conv_for(xe, ye)
+    p = -g * w / np.where(nw > 0, nw, 1.0)
+    r = 1.0 / abs(float(conv.self_coefficient))
+    z = p - r * (w - conv.apply(p))
+    proj, _ = _project(z, g)
+    F = np.where(g > 0, p - proj, 0.0)
+    res = float(np.max(np.sqrt(np.sum(F * F, axis=0)))) / float(g.max())
+    return (p if res < FULL_SLIP_START else None), 1
 
 
 def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_elements: int = 12,
@@ -451,6 +523,9 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
     line = y_edges is None
     levels = [(np.asarray(x_edges, dtype=float), None if line else np.asarray(y_edges, dtype=float),
                np.asarray(bound, dtype=float))]
+    products = 0
+    if initial is None:
+        initial, products = _full_slip_start(conv_for, levels[0], creepage, offset, line)
     while initial is None:
         xe, ye, g = levels[-1]
         nx, ny = g.shape
@@ -460,20 +535,15 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         levels.append((xe[::2], None if line else ye[::2], _coarsen(g, line)))
     p = None if initial is None else np.asarray(initial, dtype=float)
     coarse = []
-    products = linear = 0
+    linear = 0
     sol = None
     for k in range(len(levels) - 1, -1, -1):
         xe, ye, g = levels[k]
-        xc = 0.5 * (xe[1:] + xe[:-1]) + offset * (xe[1] - xe[0])
-        if line:
-            X, Y = xc[:, None], np.zeros((xc.size, 1))
-        else:
-            X, Y = np.meshgrid(xc, 0.5 * (ye[1:] + ye[:-1]), indexing="ij")
-        w = rigid_slip(X, Y, *creepage, line=line)
+        w = rigid_slip(*_centres(xe, ye, offset, line), *creepage, line=line)
         conv = conv_for(xe, ye)
         init = None
         if p is not None:
-            init, _ = _project(p if p.shape[1:] == g.shape else _refine(p, line), g)
+            init, _ = _project(p if p.shape[1:] == g.shape else _refine(p, levels[k + 1][2], g, line), g)
         last = k == 0
         sol = solve_tangential(conv, g, w, tol=tol if last else max(tol, coarse_tol), maxiter=maxiter, initial=init)
         products += sol.products
