@@ -84,7 +84,7 @@ def _rolling_operator(nx, dx, ny, dy, shear_modulus, poisson_ratio):
 
 
 def solve_patch_tangential(patch, friction, creepages, shear_modulus: float, poisson_ratio: float,
-                           tol: float = TANGENTIAL_TOLERANCE, initial=None):
+                           tol: float = TANGENTIAL_TOLERANCE, initial=None, offset: float = 0.0):
     """Solve the steady rolling problem on a patch's grid and pressure.
 
     Parameters
@@ -101,6 +101,9 @@ def solve_patch_tangential(patch, friction, creepages, shear_modulus: float, poi
         Solver tolerance [1].
     initial : ndarray (ncomp, nx, ny), optional
         Warm start [Pa] (the previous solve of a friction loop on the same patch).
+    offset : float
+        Rigid slip evaluated at x + offset dx [elements] (0: the element centre; 1/6: CONTACT's steady-state
+        discretisation, see docs/kalker.md). The returned slip is the slip at that evaluation point.
 
     Returns
     -------
@@ -120,7 +123,7 @@ def solve_patch_tangential(patch, friction, creepages, shear_modulus: float, poi
         X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
     g = friction * np.clip(p, 0.0, None)
     sol = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, shear_modulus, poisson_ratio),
-                                  grid.x_edges, grid.y_edges, g, creepages, tol=tol, initial=initial)
+                                  grid.x_edges, grid.y_edges, g, creepages, tol=tol, initial=initial, offset=offset)
     # polish: stick has zero slip, slip has its traction on the bound against the slip (both to the
     # solver's residual already; exact here so that -p . s = mu p |s| holds to round-off)
     s = np.where(sol.stick[None], 0.0, sol.slip)
@@ -154,7 +157,10 @@ class KalkerTangential(TangentialContactModel):
                             "creep_force_x", "creep_force_y", "spin_moment"}),
         friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}))
     options = {"tangential_tolerance": Option(TANGENTIAL_TOLERANCE, "tolerance of the tangential solver, "
-                                              "max |F| / max(mu p) [1]", minimum=0.0)}
+                                              "max |F| / max(mu p) [1]", minimum=0.0),
+               "slip_offset": Option(0.0, "rigid slip (and so the slip, the traction direction and the frictional "
+                                     "power) evaluated at x + offset dx [elements]; 0: element centre, 1/6: CONTACT's "
+                                     "steady-state discretisation (docs/kalker.md)", minimum=0.0)}
 
     def compute_tangential(self, scene, patch, level, options):
         xi, eta, phi = patch_creepages(scene, patch)
@@ -167,19 +173,20 @@ class KalkerTangential(TangentialContactModel):
             raise Refused(f"model 'kalker': {exc}") from exc
         V = float(scene.speed)
         tol = float(options.get("tangential_tolerance", TANGENTIAL_TOLERANCE))
+        off = float(options.get("slip_offset", 0.0))
         law_diag = {}
         if scene.friction_law.kind == "constant":
-            sol, X, Y = solve_patch_tangential(patch, float(scene.friction), (xi, eta, phi), G, nu, tol)
+            sol, X, Y = solve_patch_tangential(patch, float(scene.friction), (xi, eta, phi), G, nu, tol, offset=off)
         else:
             # warm start: the previous solve of core's temperature loop on this patch and creepage (this instance
             # serves one run) or of the slip-law iteration
             key = (patch.grid.x_edges.tobytes(), None if patch.b is None else patch.grid.y_edges.tobytes(),
-                   np.asarray(patch.pressure).tobytes(), (xi, eta, phi), G, nu, tol)
+                   np.asarray(patch.pressure).tobytes(), (xi, eta, phi), G, nu, tol, off)
             warm = self.__dict__.setdefault("_warm", {})
 
             def solve(mu, previous=None):
                 start = previous[0].traction if previous is not None else warm.get(key)
-                out = solve_patch_tangential(patch, mu, (xi, eta, phi), G, nu, tol, initial=start)
+                out = solve_patch_tangential(patch, mu, (xi, eta, phi), G, nu, tol, initial=start, offset=off)
                 warm[key] = out[0].traction
                 return out
 
