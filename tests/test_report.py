@@ -256,7 +256,7 @@ def test_scene_sections(study_out):
     assert "**picky refused level 1**" in line and "refuses fine grids" in line
     assert "**creep refused levels 0–1**" in line
     assert "| broken | 1 |" not in line and "| creep |" not in line
-    assert "<details><summary>Runs with a result" in line
+    assert re.search(r"<details><summary>Details of `line-sliding`: the \d+ runs with a result", line)
     assert "Fitted convergence order" in line
     for kind in ("surface", "depth"):
         assert f"figures/001-line-sliding-{kind}.png" in line, kind

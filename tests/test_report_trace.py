@@ -106,7 +106,7 @@ def test_section_figures_and_table(small):
     assert "trace-map-band" not in trace   # a line contact has no map
     assert "trace-locked-wheel" not in trace   # the locked wheel takes no heat
     # the maps are behind a closed box; the scene's own section links here instead of repeating figures
-    assert trace.index("<details><summary>Surface maps of the trace of `locked`") < trace.index("trace-map-locked-rail")
+    assert trace.index("<details><summary>Surface map of the trace of `locked`") < trace.index("trace-map-locked-rail")
     scene = re.split(r"^## \d+\. Scene `locked`", md, flags=re.M)[1].split("\n## ")[0]
     assert "figures/" not in scene and "(#trace-locked)" in scene
     assert "could not be drawn" not in md

@@ -258,18 +258,21 @@ class Document:
         return self.figures
 
     def details(self, summary: str):
-        """Context manager: blocks added inside go into a collapsible ``<details>``."""
+        """Context manager: blocks added inside go into a collapsible ``<details>`` (closed; none when empty)."""
         doc = self
 
         class _Ctx:
             def __enter__(self_):
-                d = _Details(summary)
+                d = self_.block = _Details(summary)
                 doc._target.append(d)
                 doc._stack.append(d.blocks)
                 return d
 
             def __exit__(self_, *exc):
-                doc._stack.pop()
+                blocks = doc._stack.pop()
+                parent = doc._target
+                if not blocks and parent and parent[-1] is self_.block:   # nothing went in: no empty box
+                    parent.pop()
                 return False
 
         return _Ctx()

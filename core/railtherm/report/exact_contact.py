@@ -188,6 +188,31 @@ def error_rows(data: StudyData, comp: ExactComparison) -> tuple[list[str], list[
     return header, rows
 
 
+def _split_summary(data: StudyData, comp: ExactComparison, q: str = "max_surface_temperature") -> str:
+    """One sentence: the range over the scenes of the contact model's and the thermal model's signed error on
+    the wheel's maximum surface temperature ('' when there is nothing to compare)."""
+    parts = []
+    scenes = _thermal_scenes(data, comp)
+    for who, ref_of in [(c, lambda c: comp.exact) for c in comp.contact] + [(t, (lambda t: comp.thermal[t]))
+                                                                          for t in comp.thermal]:
+        ref_m = ref_of(who)
+        errs = []
+        for s in scenes:
+            v, r = _value(data, s, who, q), _value(data, s, ref_m, q)
+            if v is not None and r is not None:
+                errs.append(relative_error(v[0], r[0], _bulk(data, s)))
+        errs = [e for e in errs if finite(e)]
+        if errs:
+            kind = "contact model" if who in comp.contact else "thermal model"
+            span = pct(min(errs), signed=True) if len(errs) == 1 or pct(min(errs)) == pct(max(errs)) else \
+                f"{pct(min(errs), signed=True)} to {pct(max(errs), signed=True)}"
+            parts.append(f"the {kind} of `{who}` (against `{ref_m}`) {span}")
+    if not parts:
+        return ""
+    return (f"On the wheel's maximum surface temperature over the {len(scenes)} scenes: " + "; ".join(parts)
+            + " (finest levels).")
+
+
 def _css(err: float, tol: float | None) -> str:
     if not finite(err) or tol is None:
         return ""
@@ -213,15 +238,21 @@ def creep_curve(data: StudyData, comp: ExactComparison) -> XF.CreepCurve | None:
     if len(members) < 2:
         return None
     curve = XF.CreepCurve(comp.exact)
-    for m in comp.contact:
-        tang = _stages(data, [s for _, s in members], m).get("tangential")
-        curve.labels[m] = f"{m} ({tang} contact)" if tang else m
+    names = [s for _, s in members]
+    exact_tang = _stages(data, names, comp.exact).get("tangential")
+    compared, seen = [], set()
+    for m in comp.contact + list(comp.thermal):     # one line per other contact model, by the first that ran it
+        tang = _stages(data, names, m).get("tangential")
+        if tang and tang != exact_tang and tang not in seen and any(data.finest_result(s, m) for s in names):
+            seen.add(tang)
+            compared.append(m)
+            curve.labels[m] = f"{m} ({tang} contact)"
     for xi, s in members:
         sc = data.scene[s].scene
         mu = getattr(sc, "friction", None)
         if sc is None:        # no study at hand: the friction coefficient is unknown
             mu, curve.ylabel = 1.0, "Fx / N [1] (μ unknown: the study file was not loaded)"
-        for m in [comp.exact] + comp.contact:
+        for m in [comp.exact] + compared:
             fx = _value(data, s, m, "creep_force_x")
             n = _value(data, s, m, "normal_force")
             if fx is None or n is None or not mu:
@@ -288,33 +319,36 @@ def _one(doc: Document, ctx, comp: ExactComparison):
     if rows and len({str(r[-1]) for r in rows}) == 1:   # one set of levels: say it once, keep the rows short
         levels_note = f"for every row: {rows[0][-1]}"
         header, rows = header[:-1], [r[:-1] for r in rows]
+    doc.paragraph(_split_summary(data, comp))
     if rows:
-        doc.table(f"Contact-model and thermal-model errors against the exact contact. Values in the unit of their "
-                  f"row; each error column names its reference method (finest successful level, {levels_note}); "
-                  f"cell colour: within (green) or above (orange) the study's tolerance "
-                  f"{pct(data.tolerance) if data.tolerance is not None else '–'}. `{e}`'s own error is its "
-                  f"discretisation error (it is the reference; see each scene's section). Forces and moments that "
-                  f"vanish by symmetry (|{e}| < {NEGLIGIBLE:g} N or N m) are left out.", header, rows)
+        with doc.details(f"Contact-model and thermal-model errors, scene by scene ({len(rows)} rows)"):
+            doc.table(f"Contact-model and thermal-model errors against the exact contact. Values in the unit of their "
+                      f"row; each error column names its reference method (finest successful level, {levels_note}); "
+                      f"cell colour: within (green) or above (orange) the study's tolerance "
+                      f"{pct(data.tolerance) if data.tolerance is not None else '–'}. `{e}`'s own error is its "
+                      f"discretisation error (it is the reference; see each scene's section). Forces and moments "
+                      f"that vanish by symmetry (|{e}| < {NEGLIGIBLE:g} N or N m) are left out.", header, rows)
     else:
         doc.paragraph(f"No scene measured against `{e}` has temperatures of `{e}`: no error table.", note=True)
     curve = creep_curve(data, comp)
     if curve is not None:
         members = _sweep_scenes(data, comp)
         rows = []
-        for m in comp.contact:
+        for m in [m for m in curve.values if m != e]:
             ex = dict((x, (v, lv)) for x, v, lv in curve.values.get(e, []))
             for x, v, lv in curve.values.get(m, []):
                 if x in ex:
                     err = relative_error(v, ex[x][0])
                     rows.append([num(x), num(ex[x][0]) + f" (level {ex[x][1]})", f"`{m}`", num(v) + f" (level {lv})",
                                  Cell(pct(err, signed=True, floor=ROUND_OFF), _css(err, data.tolerance))])
-        doc.table(f"Creep-force curve of the sweep `{data.scene[members[0][1]].base}` over the longitudinal creepage ξ [1]: "
-                  f"Fx / (μ N) [1] of the exact contact (`{e}`) and of each contact model, with the error of the "
-                  f"latter against `{e}` [%] (level in brackets).",
-                  ["longitudinal creepage ξ [1]", f"Fx / (μ N) of {e} [1]", "method", "Fx / (μ N) [1]",
-                   f"error, reference {e} [%]"], rows)
+        with doc.details(f"Creep-force curve as a table ({len(rows)} rows)"):
+            doc.table(f"Creep-force curve of the sweep `{data.scene[members[0][1]].base}` over the longitudinal "
+                      f"creepage ξ [1]: Fx / (μ N) [1] of the exact contact (`{e}`) and of each contact model, with "
+                      f"the error of the latter against `{e}` [%] (level in brackets).",
+                      ["longitudinal creepage ξ [1]", f"Fx / (μ N) of {e} [1]", "method", "Fx / (μ N) [1]",
+                       f"error, reference {e} [%]"], rows)
         ctx.draw(doc, "exact-creep-curve", f"Creep-force curve: Fx / (μ N) against the longitudinal creepage of "
-                 f"the exact contact (`{e}`, black) and of " + ", ".join(f"`{c}`" for c in comp.contact)
+                 f"the exact contact (`{e}`, black) and of " + ", ".join(f"`{c}`" for c in curve.values if c != e)
                  + (f"; dashed: {curve.linear[2]} (core, `references.nc`), valid at small creepage" if curve.linear
                     else "") + ". Right: relative error against the exact contact.",
                  XF.creep_curve_figure, curve, ctx.palette)
@@ -324,6 +358,7 @@ def _one(doc: Document, ctx, comp: ExactComparison):
         maps = {m: data.run_file(combined, m, data.finest_result(combined, m).level)
                 for m in [e] + comp.contact if data.finest_result(combined, m) is not None}
         maps = {m: ds for m, ds in maps.items() if ds is not None}
+        ctx.shown.add((combined, "traction"))
         ctx.draw(doc, "exact-maps", f"`{combined}`: traction |q| [MPa], slip velocity |v_s| [m/s] and frictional "
                  "power density [MW/m²] (both bodies) side by side, exact contact against "
                  + ", ".join(f"`{c}`" for c in comp.contact) + " (finest levels; cells outside the contact "
@@ -370,6 +405,7 @@ def _gap(doc: Document, ctx, comp: ExactComparison, scene: str, hertzian: str | 
               ["quantity [unit]", f"{scene}", f"{hertzian} (reference)", "difference [%]"], rows)
     ds = data.run_file(scene, e, r.level)
     if ds is not None:
+        ctx.shown.add((scene, "traction"))
         ctx.draw(doc, "exact-gap-maps", f"`{scene}`: pressure, traction |q| and frictional power density of `{e}` "
                  "on the non-Hertzian patch (finest level).", XF.maps_figure, {e: ds}, f"{scene} ({e})",
                  pressure=True)

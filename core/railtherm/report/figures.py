@@ -118,9 +118,9 @@ def work_precision(panels: list[Panel], palette: Palette, tol: float | None, *, 
     """Small multiples: headline error (x) against wall time (y), log-log, one panel per scene."""
     from matplotlib.lines import Line2D
     n = len(panels)
-    ncol = min(3, n)
+    ncol = min(4, n)
     nrow = math.ceil(n / ncol)
-    fig = figure(10.0, 2.75 * nrow + 0.9)
+    fig = figure(10.0, 2.15 * nrow + 0.8)
     axes = np.atleast_1d(fig.subplots(nrow, ncol, squeeze=False)).ravel()
     used_self = used_hollow = used_zero = False
     drawn = set()
@@ -151,7 +151,7 @@ def work_precision(panels: list[Panel], palette: Palette, tol: float | None, *, 
                 drawn.add(meth)
         if tol is not None and math.isfinite(tol) and any_pt:
             ax.axvline(tol, color="firebrick", lw=0.9, ls="--")
-        ax.set_title(panel.title, fontsize=9)
+        ax.set_title(panel.title, fontsize=8)
         if any_pt:
             ax.set_xscale("log")
             ax.set_yscale("log")

@@ -64,11 +64,11 @@ def surface(finest: dict, curve, palette: Palette, title: str, path: Path, bulk=
         from scipy.interpolate import PchipInterpolator
         xr_ = ref["x"].values
         ref_at = [PchipInterpolator(xr_, ref["surface_temperature"].values[i]) for i in (0, 1)]
-        fig = figure(10, 5.0)
+        fig = figure(10, 4.5)
         grid = fig.subplots(2, 2, sharex=True, height_ratios=[2.2, 1])
         axes, daxes = grid[0], grid[1]
     else:
-        fig = figure(10, 3.4)
+        fig = figure(10, 3.1)
         axes, daxes = fig.subplots(1, 2), (None, None)
     a = next((float(ds["semi_axis_a"]) for ds in have.values() if "semi_axis_a" in ds), None)
     for body, (ax, dax) in enumerate(zip(axes, daxes)):
@@ -150,7 +150,7 @@ def depth(finest: dict, curve, bulk: tuple | None, palette: Palette, title: str,
     band = have.get(ref_method) if exact is None else None
     if not have or (exact is None and band is None):
         return None
-    fig = figure(10, 3.5)
+    fig = figure(10, 3.2)
     axes = fig.subplots(1, 2)
     zmax = max(float(ds["z"].max()) for ds in have.values())
     for body, ax in enumerate(axes):

@@ -24,6 +24,8 @@ from .tables import (METRIC_SHORT, cross_tables, message_lines, order_table, pub
 from .verdict import (QUANTITY, SCORECARD_RULE, Row, SweepGroup, anchor_of, cell, choose, creep_force_source, findings,
                       scorecard)
 
+#: a refusal or failure is shown in full behind a closed box when its message is longer than this
+REFUSAL_CHARS = 150
 #: figures a report draws at most: a reader looks at forty figures, not at a hundred
 MAX_FIGURES = 40
 STATUS_LEGEND = ("**ok**: within the tolerance of an independent reference (exact solution or another method); "
@@ -49,6 +51,7 @@ class Context:
     figures: list = field(default_factory=list)
     max_figures: int = MAX_FIGURES
     left_out: list = field(default_factory=list)   # names of figures beyond the budget
+    shown: set = field(default_factory=set)        # (scene, kind) drawn by a study-wide section
 
     def draw(self, doc: Document, name: str, caption: str, fn, *args, **kwargs):
         """Draw one figure into ``fig_dir/name.png`` and add it with ``caption``; a failure becomes a sentence.
@@ -147,7 +150,7 @@ def _panel(data: StudyData, row: Row) -> F.Panel:
     title = f"{row.label}: {METRIC_SHORT.get(row.headline) or label(row.headline)}"
     if row.group:
         title += " (sweep, worst)"
-    panel = F.Panel(short(title, 48))
+    panel = F.Panel(short(title, 38))
     h = row.headline
     for m in data.methods:
         by_level: dict = {}
@@ -291,19 +294,26 @@ def scene_section(doc: Document, ctx: Context, idx: int, scene: str, trace_ancho
     runs = data.runs_of(scene)
     doc.heading(2, f"{idx}. Scene `{scene}`", anchor_of(scene))
     desc = describe_scene(si.scene)
-    if desc:
-        doc.paragraph(desc + ".")
-    doc.paragraph(_headline_line(data, [scene]))
+    doc.paragraph((desc + ". " if desc else "") + _headline_line(data, [scene]))
     doc.paragraph(hot_note(data, scene), css="warning")
-    doc.bullets([plain(t) for t in refusal_lines(runs)])
+    brief, full = refusal_lines(runs, REFUSAL_CHARS), refusal_lines(runs, 4000)
+    doc.bullets([plain(t) for t in brief])
+    cut = [plain(f) for b, f in zip(brief, full) if b != f]
+    if cut:
+        with doc.details(f"Refusals and failures in full ({len(cut)})"):
+            doc.bullets(cut)
     src = _creep_sources(data, scene)
     if src:
         doc.paragraph(src)
     finest = _finest(data, scene)
     _published(doc, data, scene, finest)
-    _run_details(doc, data, scene)
-    _orders(doc, data, scene)
-    _cross(doc, data, scene)
+    n_runs = sum(1 for r in runs if r.has_result)
+    with doc.details(f"Details of `{scene}`: the {n_runs} run{'s' if n_runs != 1 else ''} with a result (status, "
+                     "time, memory, errors), "
+                     "convergence orders, differences between methods"):
+        _run_details(doc, data, scene)
+        _orders(doc, data, scene)
+        _cross(doc, data, scene)
     if trace_anchor:
         doc.paragraph(f"Figures of this scene (temperature along x, in depth, maps of the trace): "
                       f"[thermal trace of `{scene}`](#{trace_anchor}).")
@@ -312,19 +322,19 @@ def scene_section(doc: Document, ctx: Context, idx: int, scene: str, trace_ancho
 
 
 def _run_details(doc: Document, data: StudyData, scene: str):
+    """The runs with a result as a table, the columns left out, the reference marks and the runs' messages."""
     header, rows, dropped, notes = run_table(data, scene)
     if not rows:
         return
     msgs = message_lines(data.runs_of(scene))
-    with doc.details(f"Runs with a result ({len(rows)}): status, time, memory, errors"):
-        doc.table(f"Runs of `{scene}` with a result. Time: best / median of the timed solves (number of solves); "
-                  f"errors relative, in %.", header, rows, css="runs")
-        if dropped:
-            doc.paragraph("Columns left out (missing or zero in every run): " + ", ".join(dropped) + ".", note=True)
-        for n in notes:
-            doc.paragraph(plain(n) + ".", note=True)
-        if msgs:
-            doc.bullets([plain(m) for m in msgs])
+    doc.table(f"Runs of `{scene}` with a result. Time: best / median of the timed solves (number of solves); "
+              f"errors relative, in %.", header, rows, css="runs")
+    if dropped:
+        doc.paragraph("Columns left out (missing or zero in every run): " + ", ".join(dropped) + ".", note=True)
+    for n in notes:
+        doc.paragraph(plain(n) + ".", note=True)
+    if msgs:
+        doc.bullets([plain(m) for m in msgs])
 
 
 def _published(doc: Document, data: StudyData, scene: str, finest: dict):
@@ -336,23 +346,17 @@ def _published(doc: Document, data: StudyData, scene: str, finest: dict):
 
 def _orders(doc: Document, data: StudyData, scene: str):
     header, rows, notes = order_table(data, scene)
-    if not rows and not notes:
-        return
-    with doc.details("Convergence orders" + (f" ({len(rows)} methods)" if rows else "")):
-        if rows:
-            doc.table("Fitted convergence order (slope of log error against log h, h = 2^-level), with the method's "
-                      "theoretical order (th.) where it declares one.", header, rows)
-        for n in notes:
-            doc.paragraph(plain(n) + ".", note=True)
+    if rows:
+        doc.table("Fitted convergence order (slope of log error against log h, h = 2^-level), with the method's "
+                  "theoretical order (th.) where it declares one.", header, rows)
+    for n in notes:
+        doc.paragraph(plain(n) + ".", note=True)
 
 
 def _cross(doc: Document, data: StudyData, scene: str):
-    tables = cross_tables(data, scene)
-    if not tables:
-        return
-    with doc.details(f"Differences between methods at their finest levels ({len(tables)} quantities)"):
-        for q, header, rows in tables:
-            doc.table(f"{QUANTITY.get(q) or label(q)}: relative difference |row − column| / |column| [%].", header, rows)
+    for q, header, rows in cross_tables(data, scene):
+        doc.table(f"Difference between methods at their finest levels, {QUANTITY.get(q) or label(q)}: "
+                  "|row − column| / |column| [%].", header, rows)
 
 
 def _bulk(si) -> tuple | None:
@@ -384,18 +388,19 @@ def _scene_figures(doc: Document, ctx: Context, idx: int, scene: str, finest: di
              "through the hottest surface point, each method's finest successful level" + ref_words + ".",
              S.surface, finest, curve, ctx.palette, f"{scene}: surface temperature", bulk=bulk, ref_method=ref_method)
     exact_depth = curve is not None and "temperature" in curve
-    ctx.draw(doc, f"{base}-depth", f"`{scene}`: temperature rise against depth through the hottest surface point, "
-             + ("the exact profile as a grey band" if exact_depth else f"the reference method {ref_method} as a grey "
-                "band") + ".", S.depth, finest, curve, bulk, ctx.palette, f"{scene}: depth profile",
-             ref_method=ref_method)
     mu = getattr(si.scene, "friction", None) if si.scene is not None else None
     outputs = set(getattr(si.scene, "outputs", ()) or ())
-    if si.scene is not None and not outputs & {"traction_x", "stick"}:
-        return  # traction the scene did not ask for (e.g. full sliding: slip everywhere) is not drawn
-    ctx.draw(doc, f"{base}-traction", f"`{scene}`: tangential traction and stick (black) / slip (grey) of each "
-             "method's finest level" + (", with Carter's exact solution" if curve is not None
-                                        and "carter_traction_x" in curve else "") + ".",
-             F.traction, finest, curve, mu, ctx.palette, f"{scene}: traction and stick/slip")
+    traction = si.scene is None or bool(outputs & {"traction_x", "stick"})   # full sliding: slip everywhere
+    with doc.details(f"More figures of `{scene}`: " + ("depth profile and traction" if traction else "depth profile")):
+        ctx.draw(doc, f"{base}-depth", f"`{scene}`: temperature rise against depth through the hottest surface "
+                 "point, " + ("the exact profile as a grey band" if exact_depth else f"the reference method "
+                              f"{ref_method} as a grey band") + ".", S.depth, finest, curve, bulk, ctx.palette,
+                 f"{scene}: depth profile", ref_method=ref_method)
+        if traction and (scene, "traction") not in ctx.shown:   # the exact-contact section's maps show it
+            ctx.draw(doc, f"{base}-traction", f"`{scene}`: tangential traction and stick (black) / slip (grey) of "
+                     "each method's finest level" + (", with Carter's exact solution" if curve is not None
+                                                     and "carter_traction_x" in curve else "") + ".",
+                     F.traction, finest, curve, mu, ctx.palette, f"{scene}: traction and stick/slip")
 
 
 # -- sweeps --------------------------------------------------------------------------------------------

@@ -102,9 +102,9 @@ def run_table(data: StudyData, scene: str) -> tuple[list[str], list[list], list[
     return header, table, dropped, notes
 
 
-def refusal_lines(runs: list[Run]) -> list[str]:
+def refusal_lines(runs: list[Run], n: int = 260) -> list[str]:
     """One line per (status, reason): 'fipy refused levels 2–3 (budget): <reason>'; methods sharing a
-    reason are named together, and the reason is said once."""
+    reason are named together, and the reason is said once, shortened at a word to ``n`` characters."""
     groups: dict = {}
     for r in runs:
         if r.status in ("refused", "failed"):
@@ -116,7 +116,7 @@ def refusal_lines(runs: list[Run]) -> list[str]:
         who = (", ".join(sorted(by_method)) + f" {status} level{'s' if len(next(iter(by_method.values()))) > 1 else ''} "
                f"{next(iter(lv.values()))}") if same else \
             "; ".join(f"{m} {status} levels {v}" for m, v in sorted(lv.items()))
-        lines.append(f"**{who}**" + (f" ({kind})" if kind else "") + f": {short(msg, 260) or 'no message'}")
+        lines.append(f"**{who}**" + (f" ({kind})" if kind else "") + f": {short(msg, n) or 'no message'}")
     return lines
 
 

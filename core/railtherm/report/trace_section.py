@@ -184,13 +184,15 @@ def trace_section(doc: Document, ctx, scenes: list[str] | None = None):
         "after it, and the surface-temperature maps of the patch and its trace. A peak at the end of a "
         "method's field is NaN (the field was too short), never a peak.")
     header, rows = trace_rows(data, scenes)
-    doc.table("The thermal trace per heated body: peak surface temperature, depth of the isotherm of the "
-              "scene's `field.threshold` (°C, in brackets with z*), time the surface spends above it, and "
-              "cooling rate after the peak at depth z* (methods: linear interpolation of their profile), each "
-              "method's finest successful level against the exact values, error (value − exact) / |exact| "
-              "[%] (the temperature on its rise above the bulk temperature); cell colour: within (green) or "
-              f"above (orange) the study's tolerance {pct(data.tolerance) if data.tolerance is not None else '–'}.",
-              header, rows)
+    with doc.details(f"The trace in numbers: peak, isotherm depth, time above, cooling rate per method and body "
+                     f"({len(rows)} rows)"):
+        doc.table("The thermal trace per heated body: peak surface temperature, depth of the isotherm of the "
+                  "scene's `field.threshold` (°C, in brackets with z*), time the surface spends above it, and "
+                  "cooling rate after the peak at depth z* (methods: linear interpolation of their profile), each "
+                  "method's finest successful level against the exact values, error (value − exact) / |exact| "
+                  "[%] (the temperature on its rise above the bulk temperature); cell colour: within (green) or "
+                  f"above (orange) the study's tolerance {pct(data.tolerance) if data.tolerance is not None else '–'}.",
+                  header, rows)
     for s in scenes:
         _scene(doc, ctx, s)
 
@@ -212,18 +214,26 @@ def _scene(doc: Document, ctx, scene: str):
     bodies = heated_bodies(curve) or [1]
     doc.heading(3, f"`{scene}` behind the patch and in depth", trace_anchor(scene))
     doc.paragraph(hot_note(data, scene), css="warning")
-    for body in bodies:
+    rises = {b: float(np.nanmax(np.asarray(curve["trace_peak_temperature"].values[b], float))) - _bulk(data, scene, b)
+             for b in bodies}
+    main = max(bodies, key=lambda b: rises[b])
+    for body in [main] + [b for b in bodies if b != main]:
         who = BODIES[body]
-        ctx.draw(doc, f"trace-{scene}-{who}", f"`{scene}`, {who}: temperature rise above the bulk along the rolling "
-                 f"direction (y = 0) on the surface and at depth z* = {num(zs * 1e3)} mm, including the trace "
-                 "behind the patch (top); rise against depth at the hottest surface point, the highest rise each "
-                 "depth reaches during the pass and the fastest cooling after it (bottom; exact: infinite at the "
-                 f"surface); grey band: exact ({ref}); methods at their finest level ({lv}).",
-                 TF.trace, finest, curve, body, ctx.palette, f"{scene} ({who}): thermal trace",
-                 bulk=_bulk(data, scene, body))
+        caption = (f"`{scene}`, {who}: temperature rise above the bulk along the rolling direction (y = 0) on the "
+                   f"surface and at depth z* = {num(zs * 1e3)} mm, including the trace behind the patch (top); rise "
+                   "against depth at the hottest surface point, the highest rise each depth reaches during the pass "
+                   "and the fastest cooling after it (bottom; exact: infinite at the surface); grey band: exact "
+                   f"({ref}); methods at their finest level ({lv}).")
+        args = (TF.trace, finest, curve, body, ctx.palette, f"{scene} ({who}): thermal trace")
+        if body == main:
+            ctx.draw(doc, f"trace-{scene}-{who}", caption, *args, bulk=_bulk(data, scene, body))
+        else:
+            with doc.details(f"The {who}'s trace (its rise peaks at {num(rises[body])} K, the {BODIES[main]}'s at "
+                             f"{num(rises[main])} K)"):
+                ctx.draw(doc, f"trace-{scene}-{who}", caption, *args, bulk=_bulk(data, scene, body))
     if "surface_map" in curve:
-        with doc.details(f"Surface maps of the trace of `{scene}` ({len(bodies)} figure{'s' if len(bodies) > 1 else ''})"):
-            for body in bodies:
+        with doc.details(f"Surface map of the trace of `{scene}` ({BODIES[main]})"):
+            for body in [main]:
                 who = BODIES[body]
                 ctx.draw(doc, f"trace-map-{scene}-{who}", f"`{scene}`, {who}: surface temperature rise [K] over the "
                          f"patch (dashed outline) and its trace behind it, exact ({ref}) and each method at its "
