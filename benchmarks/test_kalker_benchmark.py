@@ -1,15 +1,22 @@
-"""Speed of the "kalker" plugin: normal + tangential solve on the Ertz & Knothe ellipse with creepage
-(xi, eta, phi) = (-2e-3, 1e-3, 0.2 1/m), mu = 0.3, from zero traction, at 100 x 100 and 200 x 200
-elements in the potential contact area (92 and 184 elements across 2a and 2b, margins of 4 and 8),
-as the model solves it: nested iteration from zero traction on the grid of 4 x 4 (8 x 8) times larger
-elements, semismooth Newton with GMRES preconditioned by the upwind sweep on each grid. ``newton_steps``
-are the finest grid's, ``gmres_iterations`` and ``tangential_products`` are summed over all grids.
-The grids are square-celled (``potential_area(..., refine_x=1)``, as the model's for this ellipse, a/b =
-0.56); for a > 0.71 b the model's grids have m = 2 or 4 times more elements along x
-(:func:`railtherm_kalker.potential_area.rolling_refinement`), and the solve time grows about in proportion.
+"""Speed of the "kalker" plugin, per stage: normal (operator set-up + FFT-preconditioned CG) and tangential
+(nested semismooth Newton-GMRES) on the Ertz & Knothe ellipse (a = 5.88 mm, b = 10.54 mm, 100 kN, mu = 0.3,
+G = 82 GPa, nu = 0.28) for three cases: combined creepage (xi, eta, phi) = (-2e-3, 1e-3, 0.2 1/m),
+longitudinal xi = -5e-4, full slip xi = -0.05; from zero traction, with the Hertz pressure as the normal
+solver's start. Grids of 50^2, 100^2, 200^2, 400^2 elements over the potential contact area (46, 92, 184, 368
+across 2a and 2b with margins of 2, 4, 8, 16; square cells, as the model's for this ellipse, a/b = 0.56).
 
-Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_kalker_benchmark.py -m benchmark
---benchmark-enable -p no:cacheprovider``. Targets (issue 13): <= 0.3 s at 100 x 100, < 2 s at 200 x 200.
+Each solve starts with empty operator caches (the set-up is part of the normal and tangential times), so the
+time is that of a study's first solve on a grid; later solves on the grid (a friction or temperature loop, a
+wheelset's patches) skip the set-up. ``extra_info`` records the CPU time per stage [s] (``normal_setup``,
+``normal_solve``, ``tangential``), iteration and product counts and the forces.
+
+Scaling with N elements per side, fitted (least squares of log time on log N over 100^2-400^2, CPU time,
+shared 2-core machine under load): total time ~ N^2.3 for the combined and longitudinal cases
+(O(N^2 log N) per FFT product times a slowly growing number of GMRES steps: 147, 241, ~360 summed over the
+nested grids) and ~ N^2.2 in full slip (a fixed number of products: 15 normal, 12 tangential).
+
+Run: ``OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 NUMBA_NUM_THREADS=1 python -m pytest
+benchmarks/test_kalker_benchmark.py -m benchmark --benchmark-enable -p no:cacheprovider -n 0``.
 """
 from __future__ import annotations
 
@@ -20,35 +27,41 @@ import time
 import numpy as np
 import pytest
 
-from railtherm.physics import contact_modulus
 from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
-from railtherm_kalker.influence import Convolution, normal_kernel
+from railtherm_kalker import tangential_model
+from railtherm_kalker.influence import normal_operator
 from railtherm_kalker.normal_solver import solve_normal
 from railtherm_kalker.potential_area import hertz_curvatures, potential_area
 from railtherm_kalker.tangential_model import rolling_operator
 from railtherm_kalker.tangential_solver import solve_tangential_nested
 
 A, B, N, MU, G, NU = 5.88e-3, 10.54e-3, 100e3, 0.3, 82e9, 0.28
-CREEPAGE = (-2e-3, 1e-3, 0.2)
+CASES = {"combined": (-2e-3, 1e-3, 0.2), "longitudinal": (-5e-4, 0.0, 0.0), "full-slip": (-0.05, 0.0, 0.0)}
+#: elements per side of the potential contact area -> (elements across 2a and 2b, margin)
+GRIDS = {50: (46, 2), 100: (92, 4), 200: (184, 8), 400: (368, 16)}
 
 
-def solve_both(n, margin):
+def solve_both(n, margin, creepage):
+    """Normal and tangential solve from empty caches; CPU time per stage [s]."""
+    normal_operator.cache_clear()
+    tangential_model._rolling_operator.cache_clear()
     e_star = G / (1 - NU)
     area = potential_area(A, B, n, margin=margin)
     X, Y = area.mesh()
     ca, cb = hertz_curvatures(A, B, N, e_star)
     hz = hertz_from_curvatures(ca, cb, N, e_star)
-    t0 = time.perf_counter()
-    conv = Convolution({(0, 0): normal_kernel(*area.shape, area.dx, area.dy, e_star)}, area.shape)
+    t0 = time.process_time()
+    conv = normal_operator(*area.shape, area.dx, area.dy, e_star)
+    t1 = time.process_time()
     ns = solve_normal(conv, ca * X ** 2 + cb * Y ** 2, area.dx * area.dy, force=N,
                       initial=hertz_pressure(X, Y, hz.a, hz.b, hz.max_pressure))
-    t1 = time.perf_counter()
+    t2 = time.process_time()
     ts = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, G, NU), area.x_edges, area.y_edges,
-                                 MU * ns.pressure, CREEPAGE)
-    t2 = time.perf_counter()
+                                 MU * ns.pressure, creepage)
+    t3 = time.process_time()
     dA = area.dx * area.dy
-    return {"shape": area.shape, "normal_time": t1 - t0, "tangential_time": t2 - t1,
-            "normal_iterations": ns.iterations, "normal_products": ns.products,
+    return {"shape": list(area.shape), "normal_setup": t1 - t0, "normal_solve": t2 - t1, "tangential": t3 - t2,
+            "total": t3 - t0, "normal_iterations": ns.iterations, "normal_products": ns.products,
             "newton_steps": ts.iterations, "gmres_iterations": ts.linear_iterations,
             "coarse_newton_steps": [[list(shape), steps] for shape, steps in ts.coarse],
             "tangential_products": ts.products, "residual": ts.residual, "converged": ts.converged,
@@ -57,16 +70,26 @@ def solve_both(n, margin):
             "stick_elements": int(ts.stick.sum()), "contact_elements": int((ns.pressure > 0).sum())}
 
 
+def scaling_exponent(sizes, times) -> float:
+    """Least-squares slope of log(time) against log(elements per side) [1]."""
+    return float(np.polyfit(np.log(sizes), np.log(times), 1)[0])
+
+
 @pytest.mark.benchmark
-@pytest.mark.parametrize("n, margin", [(92, 4), (184, 8)], ids=["100x100", "200x200"])
-def test_benchmark_kalker_ertz_knothe(benchmark, n, margin):
-    out = {}
+@pytest.mark.parametrize("case", list(CASES))
+@pytest.mark.parametrize("side", list(GRIDS), ids=[f"{s}x{s}" for s in GRIDS])
+def test_benchmark_kalker_ertz_knothe(benchmark, side, case):
+    n, margin = GRIDS[side]
+    best = {}
 
     def run():
-        out.update(solve_both(n, margin))
+        out = solve_both(n, margin, CASES[case])
+        if not best or out["total"] < best["total"]:
+            best.update(out)
 
-    benchmark.pedantic(run, rounds=3 if n < 150 else 1, iterations=1)
-    assert out["shape"] == (n + 2 * margin, n + 2 * margin) and out["converged"]
-    benchmark.extra_info.update({k: (list(v) if isinstance(v, tuple) else v) for k, v in out.items()})
+    solve_both(max(8, n // 4), 2, CASES[case])          # compile the sweep before timing
+    benchmark.pedantic(run, rounds=3 if side <= 100 else (2 if side <= 200 else 1), iterations=1)
+    assert best["shape"] == [side, side] and best["converged"]
+    benchmark.extra_info.update(best)
     benchmark.extra_info["OPENBLAS_NUM_THREADS"] = os.environ.get("OPENBLAS_NUM_THREADS", "unset")
-    assert math.hypot(out["creep_force_x"], out["creep_force_y"]) < MU * N
+    assert math.hypot(best["creep_force_x"], best["creep_force_y"]) < MU * N * (1 + 1e-9)
