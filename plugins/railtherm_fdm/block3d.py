@@ -176,8 +176,8 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     fused = scheme == "explicit" and T.size >= K.PARALLEL_MIN_NODES
     if fused:
         import numba
-        chunk = max(4, (nx - 2) // (4 * numba.get_num_threads()))
-        acc = np.zeros((((nx - 2) + chunk - 1) // chunk, 6))
+        split = 4 * numba.get_num_threads()        # chunks of the active planes per call
+        acc = np.zeros((((nx - 2) + 3) // 4, 6))
     r = kappa * dt / d ** 2
     if scheme == "implicit":
         implicit = BackwardEuler(backward_euler_operator(nx, ny, nz, d, wy, wz, lam, rc, dt), cap_top[None, :], dt)
@@ -195,8 +195,9 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
             ledger.energy_in += source.load(n, 0) + source.load(n + 1, 1)
             front = max(front + 1, source.reach(0)) + 1
             front = max(front, source.reach(1))
-            K.explicit_two_steps(T, Tn, r, src, hls, src2, hls2, Ayz, Axy_b, cap_top, chunk, acc,
-                                 min(nx - 1, front + 1))
+            stop = min(nx - 1, front + 1)
+            chunk = max(4, -(-(stop - 1) // split))
+            K.explicit_two_steps(T, Tn, r, src, hls, src2, hls2, Ayz, Axy_b, cap_top, chunk, acc, stop)
             tot = acc.sum(axis=0)         # losses at levels n+1 and n (the kernel sums both)
             ledger.fixed_faces += ledger.g * (tot[3] + tot[4]) + ledger.g * (tot[0] + tot[1])
             ledger.convection += (tot[5] + tot[2]) if h > 0 else 0.0

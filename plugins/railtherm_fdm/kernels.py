@@ -4,7 +4,8 @@
   grid (the seed's spreadsheet scheme), parallel over the outer (x) index with ``prange``;
   :func:`explicit_step_serial` is the same body compiled without threads, for small grids;
 * :func:`explicit_two_steps` -- two such steps in one pass over memory (temporal blocking), for
-  large grids where the stencil is memory bound;
+  large grids where the stencil is memory bound, with the loss sums of both levels
+  (:func:`plane_losses`);
 * :func:`explicit_step_2d` -- the explicit step of the 2-D (x-z) block of a line contact;
 * :func:`stencil_matvec` (and ``_serial``, the same body), :func:`zline_factor`, :func:`sgs_zline` --
   a general 7-point operator and its symmetric block Gauss-Seidel preconditioner with z-lines as
@@ -145,9 +146,10 @@ def explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chu
 
     Planes ``i >= stop`` are not visited: the caller guarantees that they are zero in ``T`` and ``T2``
     and stay zero over the two steps (no heat has reached them: the explicit stencil moves a
-    disturbance by one plane per step). Skipping them gives the same numbers bit for bit -- the
-    chunks, and so the order of the loss sums, do not depend on ``stop`` -- and saves the planes ahead
-    of the heat while the source starts out on a cold block.
+    disturbance by one plane per step). Skipping them gives the same field bit for bit and saves the
+    planes ahead of the heat while the source starts out on a cold block; the chunks split the planes
+    below ``stop`` (so that threads share the work evenly), which orders the loss sums differently
+    (rounding only).
 
     Parameters
     ----------
@@ -165,25 +167,27 @@ def explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chu
         Heat capacity of the surface nodes per unit rise [J/K] (convective loss of step 2 is
         ``hloss2 * wtop2 * Tm``, of step 1 ``hloss1 * wtop2 * T``).
     chunk : int
-        Planes per parallel chunk.
-    acc : ndarray (nchunks, 6)
-        Output: per chunk, the sums at the intermediate level Tm of the x-face losses (planes 1 and
-        nx-2, weighted by wyz), the bottom losses (plane k = nz-2, weighted by wy) and the convective
-        loss of step 2 [J] (:func:`plane_losses`); then the same three at level n (input ``T``, the
-        convective loss of step 1 with ``hloss1``).
+        Planes per parallel chunk (chunks start at plane 1).
+    acc : ndarray (at least ceil((nx - 2) / chunk), 6)
+        Output: per chunk (rows beyond the chunks below ``stop`` are zeroed), the sums at the
+        intermediate level Tm of the x-face losses (planes 1 and nx-2, weighted by wyz), the bottom
+        losses (plane k = nz-2, weighted by wy) and the convective loss of step 2 [J]
+        (:func:`plane_losses`); then the same three at level n (input ``T``, the convective loss of
+        step 1 with ``hloss1``).
     stop : int
         First plane known to be zero at both levels (``nx - 1``: every plane is updated).
     """
     nx, ny, nz = T.shape
-    nint = nx - 2
-    nch = (nint + chunk - 1) // chunk
-    for c in prange(nch):
-        i0 = 1 + c * chunk
-        i1 = min(nx - 1, i0 + chunk, max(stop, 1))
+    end = min(nx - 1, max(stop, 1))
+    nch = (end - 1 + chunk - 1) // chunk
+    for c in range(nch, acc.shape[0]):
         for m in range(6):
             acc[c, m] = 0.0
-        if i0 >= i1:
-            continue
+    for c in prange(nch):
+        i0 = 1 + c * chunk
+        i1 = min(end, i0 + chunk)
+        for m in range(6):
+            acc[c, m] = 0.0
         buf = np.zeros((3, ny, nz))
         for p in range(i0 - 1, i1 + 1):
             slot = p % 3
