@@ -45,3 +45,16 @@ def test_each_kind_of_difference_is_named(tmp_path):
 def test_a_missing_file_is_a_user_error(tmp_path, capsys):
     assert main(["diff", str(tmp_path / "nope"), str(tmp_path)]) == 2
     assert "neither a metrics.nc nor an output folder" in capsys.readouterr().err
+
+
+def test_a_metric_that_goes_from_not_scored_to_failing_is_a_difference(tmp_path):
+    """metrics.nc's NaN (not scored) and inf (a value not finite where its reference is: the metric fails) are
+    different results; both non-finite, they compared equal."""
+    import warnings
+    a = _metrics(tmp_path / "a.nc", err=(1e-3, np.inf, np.nan))
+    b = _metrics(tmp_path / "b.nc", err=(1e-3, np.nan, np.inf))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")          # inf - inf is never evaluated
+        found = {d.variable: d for d in diff_metrics(a, b)}
+        assert diff_metrics(a, a) == []
+    assert found["error_max_t"].kind == "finite in one only" and found["error_max_t"].count == 2

@@ -331,7 +331,8 @@ def _score(ctx: _Study, rec) -> dict:
         row[f"error_{k}"], row[f"reference_{k}"] = v, tag
     for k, v in signed.items():
         row[f"signed_error_{k}"] = v
-    row["not_scored"] = "; ".join(f"{label(k)}: {w}" for k, w in sorted(notes.items())
+    named = lambda k: label(k, row["cooling_rate_depth"])  # noqa: E731
+    row["not_scored"] = "; ".join(f"{named(k)}: {w}" for k, w in sorted(notes.items())
                                   if k not in errs or not math.isinf(errs[k][0]))
     e, eref, _ = ctx.summary(rec)
     row["energy_balance"], row["energy_reference"] = e, eref
@@ -339,7 +340,7 @@ def _score(ctx: _Study, rec) -> dict:
     if hq in errs and independent(errs[hq][1]) and not math.isnan(errs[hq][0]):
         row["headline_error"], row["headline_reference"] = errs[hq][0], errs[hq][1]
         row["headline_signed_error"] = signed.get(hq, math.nan)
-    labels = {"cooling_rate": label("cooling_rate", row["cooling_rate_depth"])}
+    labels = {"cooling_rate": named("cooling_rate")}
     scored = {k: v for k, v in errs.items() if k not in UNSCORED_BY_STATUS}
     row["status"], row["message"] = run_status(scored, e, eref, ctx.tol, hq, labels, why, notes)
     return row

@@ -87,12 +87,15 @@ def diff_metrics(before, after, *, rtol: float = 1e-12, atol: float = 0.0,
         if xv.dtype.kind in "fciu" and yv.dtype.kind in "fciu":
             xv, yv = xv.astype(float), yv.astype(float)
             fx, fy = np.isfinite(xv), np.isfinite(yv)
-            pattern = fx != fy
+            # NaN (not scored), +inf (a failing metric) and finite are different kinds of value
+            pattern = (fx != fy) | (~fx & ~fy & (np.isnan(xv) != np.isnan(yv))) | (np.isinf(xv) & np.isinf(yv)
+                                                                                & (np.sign(xv) != np.sign(yv)))
             if pattern.any():
                 i = tuple(int(j) for j in np.argwhere(pattern)[0])
                 out.append(Difference(name, "finite in one only", int(pattern.sum()),
                                       example=f"{_label(x, i)}: {xv[i]!r} -> {yv[i]!r}"))
             both = fx & fy
+            xv, yv = np.where(both, xv, 0.0), np.where(both, yv, 0.0)
             scale = np.maximum(np.abs(xv), np.abs(yv))
             rel = np.where(both & (scale > 0), np.abs(xv - yv) / np.where(scale > 0, scale, 1.0), 0.0)
             bad = both & (np.abs(xv - yv) > atol + rtol * scale)
