@@ -7,14 +7,16 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 if os.environ.get("PYTEST_XDIST_WORKER"):
-    # one test worker per core: each numerical library gets one thread, or N workers oversubscribe N cores
-    for _var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    # one test worker per core: each numerical library gets one thread, or N workers oversubscribe N cores.
+    # NUMBA_NUM_THREADS only before numba is imported: numba re-reads it when it compiles and refuses a
+    # change of its thread count ("Cannot set NUMBA_NUM_THREADS"); afterwards set_num_threads (below)
+    for _var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS") + (() if "numba" in sys.modules else ("NUMBA_NUM_THREADS",)):
         os.environ.setdefault(_var, "1")
 
 
-@pytest.fixture(scope="session", autouse=True)
+@pytest.fixture(autouse=True)
 def _one_numba_thread_per_test_worker():
-    """numba may have been imported (and read NUMBA_NUM_THREADS) before this file: set it at run time."""
+    """Under xdist, numba's parallel kernels use one thread (set at run time: numba may be loaded already)."""
     if os.environ.get("PYTEST_XDIST_WORKER") and "numba" in sys.modules:
         import numba
         numba.set_num_threads(1)
