@@ -288,18 +288,23 @@ def test_trace_reference_fast_path_equals_the_slow_one():
     assert np.all(fast["peak_temperature"][0] == bulk)                         # the wheel gets no heat
 
 
-def test_trace_reference_41_depths_on_the_circle_under_2_s():
-    """Issue 14: the exact trace at 41 depths of the 3-D circle (Pe 1000) took ~16 s; now < 2 s of CPU time
-    (measured 1.2-1.5 s on a loaded 2-core machine; 7.0 s before): fewer samples per depth (fast path), 3x cheaper points
-    (moving_source: Hertz tangents not graded, negligible rays skipped, cached panel tables)."""
+@pytest.mark.benchmark
+def test_benchmark_trace_reference_41_depths_on_the_circle(benchmark):
+    """The exact trace at 41 depths of the 3-D circle (Pe 1000): CPU time in ``extra_info`` (1.2-1.5 s
+    measured on a loaded 2-core machine); recorded, not asserted (a timing is not a pass/fail fact)."""
     import time
     from railtherm.analysis import analytic
     sc = _circle_scene()
     z = 3e-4 * (np.arange(41) / 40) ** 2
     analytic.trace_reference(sc, z[[0, -1]])                                   # warm-up (numba cache)
-    analytic._TRACE_CACHE.clear()
-    t0 = time.process_time()
-    tr = analytic.trace_reference(sc, z)
-    cpu = time.process_time() - t0
+    cpu = []
+
+    def run():
+        analytic._TRACE_CACHE.clear()
+        t0 = time.process_time()
+        out = analytic.trace_reference(sc, z)
+        cpu.append(time.process_time() - t0)
+        return out
+    tr = benchmark.pedantic(run, rounds=3, iterations=1)
+    benchmark.extra_info["cpu_time_min"] = min(cpu)
     assert np.isfinite(tr["peak_temperature"][1]).all() and np.isfinite(tr["heated_depth"][1])
-    assert cpu < 2.0, cpu
