@@ -156,6 +156,7 @@ def test_figures_once_and_each_in_its_section(report):
     assert len(srcs) == len(set(srcs)) <= 40
     scene = _scene(md, "hot-band")   # a trace scene: its figures are in the trace section
     assert "figures/" not in scene and "(#trace-hot-band)" in scene
+    assert '<a href="#trace-hot-band">thermal trace of <code>hot-band</code></a>' in html   # a link with code in it
     for src in srcs:                                          # each image states its size: the page does not jump
         assert re.search(rf'<img src="{re.escape(src)}" width="\d+" height="\d+"', html), src
 

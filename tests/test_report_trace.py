@@ -133,21 +133,22 @@ def test_table_values_match_the_store(small):
     i = next(k for k, r in enumerate(rows) if r[0].startswith("`locked`"))
     exact, green = rows[i], rows[i + 1]
     assert exact[1] == "rail" and exact[2] == "**exact**" and green[2] == "green (level 0)"
+    # the table prints three significant digits
     num = lambda s: float(re.sub(r"[^0-9eE+.\-]", "", s.replace("−", "-")))
-    assert num(exact[3]) == pytest.approx(float(c["trace_peak_temperature"][1, 0]), rel=1e-3)
-    assert num(exact[5]) == pytest.approx(1e3 * float(c["trace_heated_depth"][1]), rel=1e-3)
-    assert num(exact[7]) == pytest.approx(1e3 * float(c["trace_time_above"][1, 0]), rel=1e-3)
-    assert num(exact[9]) == pytest.approx(float(c["trace_depth_cooling_rate"][1]), rel=1e-3)
+    assert num(exact[3]) == pytest.approx(float(c["trace_peak_temperature"][1, 0]), rel=5e-3)
+    assert num(exact[5]) == pytest.approx(1e3 * float(c["trace_heated_depth"][1]), rel=5e-3)
+    assert num(exact[7]) == pytest.approx(1e3 * float(c["trace_time_above"][1, 0]), rel=5e-3)
+    assert num(exact[9]) == pytest.approx(float(c["trace_depth_cooling_rate"][1]), rel=5e-3)
     peak = float(ds["peak_temperature"].isel(body=1, z=0))
     depth = float(ds["heated_depth"][1])
-    assert num(green[3]) == pytest.approx(peak, rel=1e-3)
-    assert num(green[5]) == pytest.approx(1e3 * depth, rel=1e-3)
+    assert num(green[3]) == pytest.approx(peak, rel=5e-3)
+    assert num(green[5]) == pytest.approx(1e3 * depth, rel=5e-3)
     ref_depth = float(c["trace_heated_depth"][1])
     assert num(green[6]) == pytest.approx(100 * (depth - ref_depth) / ref_depth, abs=0.051)
     zs = float(c["trace_depth"])
     cool = np.asarray(ds["cooling_rate"].isel(body=1).values, float)
     ok = np.isfinite(cool)
-    assert num(green[9]) == pytest.approx(np.interp(zs, ds["z"].values[ok], cool[ok]), rel=1e-3)
+    assert num(green[9]) == pytest.approx(np.interp(zs, ds["z"].values[ok], cool[ok]), rel=5e-3)
     # the band scene lists both bodies (each takes part of the heat)
     bodies = [r[1] for r in rows if r[2] == "**exact**"]
     assert bodies.count("wheel") == 1 and bodies.count("rail") == 2

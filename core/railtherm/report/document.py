@@ -31,17 +31,28 @@ class Cell:
 CellLike = Union[str, Cell]
 
 
-def inline_html(text: str) -> str:
-    """HTML-escape ``text`` keeping `code`, **bold** and [text](#anchor) links."""
+_LINK = re.compile(r"\[([^\]]+)\]\((#[^)\s]+|[A-Za-z0-9_][A-Za-z0-9_./-]*)\)")
+
+
+def _code_bold(text: str) -> str:
     out = []
-    for part in re.split(r"(`[^`]*`)", str(text)):
+    for part in re.split(r"(`[^`]*`)", text):
         if len(part) >= 2 and part.startswith("`") and part.endswith("`"):
             out.append(f"<code>{html.escape(part[1:-1])}</code>")
             continue
-        esc = html.escape(part)
-        esc = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", esc)
-        esc = re.sub(r"\[([^\]]+)\]\((#[^)\s]+|[A-Za-z0-9_][A-Za-z0-9_./-]*)\)", r'<a href="\2">\1</a>', esc)
-        out.append(esc)
+        out.append(re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", html.escape(part)))
+    return "".join(out)
+
+
+def inline_html(text: str) -> str:
+    """HTML-escape ``text`` keeping `code`, **bold** and [text](#anchor) or [text](file) links (whose text
+    may hold `code` and **bold** itself)."""
+    text, out, pos = str(text), [], 0
+    for m in _LINK.finditer(text):
+        out.append(_code_bold(text[pos:m.start()]))
+        out.append(f'<a href="{html.escape(m.group(2))}">{_code_bold(m.group(1))}</a>')
+        pos = m.end()
+    out.append(_code_bold(text[pos:]))
     return "".join(out)
 
 

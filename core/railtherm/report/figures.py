@@ -120,7 +120,7 @@ def work_precision(panels: list[Panel], palette: Palette, tol: float | None, *, 
     n = len(panels)
     ncol = min(4, n)
     nrow = math.ceil(n / ncol)
-    fig = figure(10.0, 2.15 * nrow + 0.8)
+    fig = figure(10.0, 2.05 * nrow + 0.8)
     axes = np.atleast_1d(fig.subplots(nrow, ncol, squeeze=False)).ravel()
     used_self = used_hollow = used_zero = False
     drawn = set()

@@ -64,11 +64,11 @@ def surface(finest: dict, curve, palette: Palette, title: str, path: Path, bulk=
         from scipy.interpolate import PchipInterpolator
         xr_ = ref["x"].values
         ref_at = [PchipInterpolator(xr_, ref["surface_temperature"].values[i]) for i in (0, 1)]
-        fig = figure(10, 4.5)
+        fig = figure(10, 4.2)
         grid = fig.subplots(2, 2, sharex=True, height_ratios=[2.2, 1])
         axes, daxes = grid[0], grid[1]
     else:
-        fig = figure(10, 3.1)
+        fig = figure(10, 2.9)
         axes, daxes = fig.subplots(1, 2), (None, None)
     a = next((float(ds["semi_axis_a"]) for ds in have.values() if "semi_axis_a" in ds), None)
     for body, (ax, dax) in enumerate(zip(axes, daxes)):

@@ -87,7 +87,7 @@ def _what(data: StudyData, scene: str, note) -> str:
     text = note.text if note is not None else ""
     if not text:
         text = describe_scene(data.scene[scene].scene)
-    return short(text, 180) if text else "–"
+    return short(text, 150) if text else "–"
 
 
 def _source(seed: str, group: str) -> str:

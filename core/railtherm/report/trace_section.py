@@ -123,10 +123,10 @@ def values(data: StudyData, scene: str, method: str | None, body: int) -> dict:
 
 
 #: (key, header, unit scale, unit, digits)
-COLUMNS = (("peak", "peak surface temperature [°C]", 1.0, "°C", 4),
-           ("depth", "depth of the threshold isotherm [mm]", 1e3, "mm", 4),
-           ("above", "time above the threshold at the surface [ms]", 1e3, "ms", 4),
-           ("cooling", "cooling rate at z* [K/s]", 1.0, "K/s", 4))
+COLUMNS = (("peak", "peak surface temperature [°C]", 1.0, "°C", 3),
+           ("depth", "depth of the threshold isotherm [mm]", 1e3, "mm", 3),
+           ("above", "time above the threshold at the surface [ms]", 1e3, "ms", 3),
+           ("cooling", "cooling rate at z* [K/s]", 1.0, "K/s", 3))
 
 
 def _cell(v: float | None, ref: float, scale: float, digits: int, bulk: float, tol) -> list:
