@@ -288,3 +288,21 @@ def test_the_friction_study_reference_is_converged_where_the_issue_found_it_was_
     for q in ("creep_force_x", "frictional_power", "max_surface_temperature", "mean_contact_temperature"):
         a, b = float(np.ravel(lo[q].values)[0]), float(np.ravel(hi[q].values)[0])
         assert abs(a - b) / abs(b) < 0.25 * st.tolerance, (q, a, b)
+
+
+def test_a_reference_field_that_cannot_be_put_on_the_run_grid_fails_the_metric():
+    """An interpolation that raised (or gave another shape) dropped the field error silently."""
+    sc = _scene(creepage={"longitudinal": -1e-3})
+    x = np.linspace(-1e-3, 1e-3, 5)
+    run = _result(FASTSIM, creep_force_x=-2000.0)
+    run["surface_temperature"] = (("body", "x"), np.ones((2, 5)))
+    run = run.assign_coords(x=x)
+    ref = _result(KALKER, creep_force_x=-2010.0)
+    ref["surface_temperature"] = (("body", "x", "y"), np.ones((2, 5, 3)))
+    ref = ref.assign_coords(x=x, y=np.linspace(-1e-3, 1e-3, 3))
+    notes = {}
+    err = run_errors(sc, run, {}, ref, ref_tag="method:kalker", notes=notes)
+    assert err["surface_temperature_l2"][0] == math.inf and "grid" in notes["surface_temperature_l2"]
+    from railtherm.analysis.verdicts import run_status
+    st, msg = run_status(err, math.nan, "", 0.05, "creep_force_x", notes=notes)
+    assert st == "inaccurate" and "surface_temperature_l2" in msg and "grid" in msg

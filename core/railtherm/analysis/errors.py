@@ -207,6 +207,8 @@ def run_errors(scene, ds, ref_values: dict, ref_ds=None, *, ref_tag: str = "", s
         elif ref_ds is not None and name in ref_ds and not shared(name + "_l2"):
             try:
                 on_grid = _interp_to(ref_ds, ds, name)
+                if on_grid.shape != ds[name].shape:
+                    raise ValueError(f"shape {on_grid.shape} on the run's grid, the run's is {ds[name].shape}")
             except Exception as exc:  # noqa: BLE001 - recorded: the metric fails, it does not drop out
                 err[name + "_l2"] = (math.inf, ref_tag)
                 notes[name + "_l2"] = f"the reference field could not be put on the run's grid ({exc})"
