@@ -210,7 +210,7 @@ def test_scorecard_cheapest_ok_level(report):
     assert card[("ek", "fipy")] == "ok · 0.40 % · 0.40 s · L2"
     assert card[("ek", "green")] == "ok · 0.40 % · 1.0 ms · L0"
     assert card[("ek", "fem")].startswith("refused")
-    assert card[("strip", "fem")].startswith("unverified · no reference")
+    assert card[("strip", "fem")].startswith("unverified · headline not checked independently")
     assert card[("strip", "green")].startswith("failed")
     assert '<td class="ok">ok · 0.40 % · 1.0 ms · L0</td>' in html
     assert '<td class="unverified">unverified' in html

@@ -331,7 +331,7 @@ def cell(v: Verdict) -> Cell:
         return Cell(" · ".join([v.status + (f" ({v.reason_kind})" if v.reason_kind else "")] + marks(v)), v.status)
     parts = [v.status]
     if v.status == "unverified":
-        parts.append("no reference")
+        parts.append("headline not checked independently")
     elif v.error == math.inf:
         parts.append("not finite")
     elif math.isfinite(v.signed):
