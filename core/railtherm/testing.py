@@ -330,7 +330,8 @@ def _exact_errors(scene, ds) -> dict[str, tuple[float, str]]:
     out = {}
     for k, v in run_errors(scene, ds, ref).items():
         err, tag = v
-        if k in SCALARS and np.isfinite(err) and str(tag).startswith("analytic"):
+        # inf: a non-finite result against a finite reference, a failing error (never dropped); NaN: no score
+        if k in SCALARS and not np.isnan(err) and str(tag).startswith("analytic"):
             out[k] = (float(err), str(tag))
     return out
 
