@@ -1,39 +1,35 @@
 """The study report: ``report.md``, ``report.html`` and ``figures/*.png`` of a study output folder.
 
 :func:`write_report` reads what ``railtherm run`` wrote (``metrics.nc``, ``study.json``, the run files
-and ``references.nc``) and writes, in this order:
+and ``references.nc``) and writes a document a researcher reads in ten minutes: a table of contents
+(every section links back to it), then in this order:
 
-1. the **verdict**: a scorecard (scenes × methods: the cheapest level within the tolerance of an
-   independent reference on the scene's headline quantity, or the best available with its status),
-   key findings computed from the metrics, and a work-precision figure with one panel per scene;
-2. when a creepage sweep has a friction law: the friction-law section (:mod:`.friction_section`), creep
-   curves and flash temperatures per sweep and each curve's maximum against the reference method;
-   then, when scenes take an exact-contact method as their reference (``reference = "kalker"``): the
-   exact-contact section (:mod:`.exact_contact`), the contact model's error (same thermal model, other
-   contact) separated from the thermal model's (same contact, other thermal model), the creep-force
-   curve, traction/slip/power-density maps side by side and a non-Hertzian scene;
-3. when scenes report temperatures behind the patch and in depth (``field``) with an exact trace in
-   ``references.nc``: the thermal-trace section (:mod:`.trace_section`), the seed paper's Figs 2-7
-   kinds of plot, every method's finest level against the exact trace (temperature along the rolling
-   direction on the surface and at depth, temperature against depth, peak temperature and cooling rate
-   per depth, surface-temperature maps of the trace) and a table of the threshold isotherm's depth, the
-   time above it and the cooling rate per method with relative errors;
-4. one section per scene: inputs, references, refusals and failures (one line per reason), the runs
-   with a result (collapsible table: status, timing min/median, peak RSS, energy balance,
-   errors), published values beside the results, convergence orders beside the theoretical ones,
-   differences between methods, and the temperature and traction figures with the exact curves;
-5. one section per sweep (scenes generated from one list value): one table and one curve;
-6. benchmarks (a pytest-benchmark JSON file) and the environment.
+1. the **verdict**: key findings computed from the metrics, the scorecard (scenes × methods, read from
+   ``metrics.nc``'s ``verdict_*``: :mod:`.verdict`) with the rule it applies, and a work-precision
+   figure with one panel per scene;
+2. **the study and its scenes** (:mod:`.study_section`): what each scene is and which table or figure
+   of the seed paper it reproduces, in the study file's own words (:mod:`.study_notes`), with a flag on
+   scenes whose temperature rise leaves the range of constant material properties;
+3. when a creepage sweep has a friction law: the friction-law section (:mod:`.friction_section`); when
+   scenes take an exact-contact method as their reference: the exact-contact section
+   (:mod:`.exact_contact`), the contact model's error separated from the thermal model's;
+4. when scenes report temperatures behind the patch and in depth (``field``): the thermal-trace section
+   (:mod:`.trace_section`), the seed paper's Figs 2-7 kinds of plot against the exact trace;
+5. one section per scene and per sweep: inputs in a researcher's units, headline and references,
+   refusals (shortened at a word, in full behind a box), published values, the surface-temperature
+   figure; the runs, convergence orders, differences between methods and further figures behind closed
+   ``<details>`` boxes; a scene of the thermal-trace section links there instead of repeating figures;
+6. benchmarks, and the environment: the data files (linked), the commit id and every plugin's version.
 
-The report is a pure reader: it computes no physics (the exact curves come from ``references.nc``,
-written by :func:`railtherm.reference_curves.write_reference_curves`). A figure that cannot be drawn
-becomes a sentence in its place.
+Every figure appears once, at most :data:`~.sections.MAX_FIGURES` of them; every table scrolls in its
+own box; every stored name is printed through one mapping (:func:`.format.label`). The report is a
+pure reader: it computes no physics (the exact curves come from ``references.nc``). A figure that
+cannot be drawn becomes a sentence in its place.
 
 Modules: :mod:`.load` (reading), :mod:`.verdict` (scorecard and findings), :mod:`.tables` (table
-rows), :mod:`.figures` (matplotlib), :mod:`.sections` (page order), :mod:`.exact_contact` and
-:mod:`.exact_figures` (the exact-contact section), :mod:`.trace_section` and :mod:`.trace_figures` (the
-thermal-trace section), :mod:`.document` (Markdown and HTML), :mod:`.format`
-(numbers).
+rows), :mod:`.figures`, :mod:`.scene_figures`, :mod:`.exact_figures`, :mod:`.trace_figures` (matplotlib),
+:mod:`.sections` (verdict, scene and sweep sections), :mod:`.document` (Markdown and HTML),
+:mod:`.format` (numbers, units, labels), :mod:`.environment` (the last sections).
 """
 from __future__ import annotations
 
@@ -60,6 +56,18 @@ MAX_SCENE_SECTIONS = 40
 
 def _write_atomic(path: Path, text: str):
     store.write_text_atomic(path, text)
+
+
+def _left_out_notes(doc: Document, ctx: Context, scenes: list, limit: int):
+    """Say which scenes have no section and which figures were not drawn (the figure budget)."""
+    if scenes:
+        doc.paragraph(f"{len(scenes)} further scenes have no section of their own (limit {limit}); the "
+                      "scorecard lists them: " + ", ".join(f"`{r.label}`" for r in scenes[:20])
+                      + (" …" if len(scenes) > 20 else "") + ".", note=True)
+    if ctx.left_out:
+        doc.paragraph(f"{len(ctx.left_out)} figures are left out: the report draws at most {ctx.max_figures} "
+                      "(the run files hold the data): " + ", ".join(ctx.left_out[:12])
+                      + (" …" if len(ctx.left_out) > 12 else "") + ".", note=True)
 
 
 def write_report(out, study=None, benchmarks=None) -> list[Path]:
@@ -123,14 +131,7 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
             scene_section(doc, ctx, idx, scene, trace_anchor(scene) if scene in traced else "")
         else:
             sweep_section(doc, ctx, idx, row.group, row.anchor)
-    if left_out:
-        doc.paragraph(f"{len(left_out)} further scenes have no section of their own (limit {limit}); the "
-                      "scorecard lists them: " + ", ".join(f"`{r.label}`" for r in left_out[:20])
-                      + (" …" if len(left_out) > 20 else "") + ".", note=True)
-    if ctx.left_out:
-        doc.paragraph(f"{len(ctx.left_out)} figures are left out: the report draws at most {ctx.max_figures} "
-                      "(the run files hold the data): " + ", ".join(ctx.left_out[:12])
-                      + (" …" if len(ctx.left_out) > 12 else "") + ".", note=True)
+    _left_out_notes(doc, ctx, left_out, limit)
     bench = Path(benchmarks) if benchmarks else out / "benchmarks.json"
     if benchmarks or bench.exists():
         benchmark_section(doc, bench)

@@ -64,8 +64,8 @@ def code_versions(data: StudyData) -> tuple[str, list[str]]:
             found[name] = ver
         m = re.match(r"railtherm ([0-9][^\s;]*)", src)
         if m:
-            found.setdefault("railtherm (runs)", m.group(1))
-    if not any(k != "railtherm (runs)" for k in found):
+            found.setdefault("railtherm", m.group(1))
+    if not any(k != "railtherm" for k in found):
         try:
             for ep in md.entry_points(group="railtherm.plugins"):
                 found[ep.name] = f"{ep.dist.version} ({ep.dist.name})" if ep.dist else "?"

@@ -82,12 +82,22 @@ def hot_note(data: StudyData, scene: str) -> str:
     return text + ". The numbers still compare the methods on the same idealised problem."
 
 
-def _what(data: StudyData, scene: str, note) -> str:
+def _what(data: StudyData, scene: str, note, shared: dict) -> str:
+    """The author's words for a scene, shortened; when several scenes share them, the inputs that set this
+    scene apart ('creepage ξ = 0, η = 0, φ = 0.4 1/m')."""
     from .sections import describe_scene
     text = note.text if note is not None else ""
     if not text:
-        text = describe_scene(data.scene[scene].scene)
-    return short(text, 150) if text else "–"
+        return short(describe_scene(data.scene[scene].scene), 150) or "–"
+    others = [s for s in shared.get(note.text, []) if s != scene]
+    text = short(text, 110 if others else 150)
+    if others:
+        mine = describe_scene(data.scene[scene].scene).split("; ")
+        theirs = [set(describe_scene(data.scene[s].scene).split("; ")) for s in others]
+        own = [p for p in mine if p and all(p not in t for t in theirs)]
+        if own:
+            text += " This scene: " + "; ".join(own) + "."
+    return text
 
 
 def _source(seed: str, group: str) -> str:
@@ -106,7 +116,11 @@ def study_section(doc: Document, ctx, table_rows) -> None:
     scenes = list(getattr(study, "scenes", ()) or [])
     notes = scene_notes(path, scenes or data.scenes) if (scenes or path) else {}
     doc.heading(2, "The study and its scenes", "study")
-    rows = []
+    rows, shared = [], {}
+    for row in table_rows:
+        note = notes.get(row.scenes[0])
+        if note is not None and note.text:
+            shared.setdefault(note.text, []).append(row.scenes[0])
     for row in table_rows:
         scene = row.scenes[0]
         note = notes.get(scene)
@@ -114,10 +128,10 @@ def study_section(doc: Document, ctx, table_rows) -> None:
             + (f" ({len(row.scenes)} scenes)" if row.group else "")
         src = seed_reference(note) if note is not None else ""
         group = note.group if note is not None else ""
-        hot = max((max_rise(data, s)[0] for s in row.scenes), default=math.nan) if not row.group else math.nan
-        flag = f"rise {num(hot)} K: past melting" if finite(hot) and hot + _bulk(data, scene, 0) > MELTING else \
+        hot, temp = max_rise(data, scene) if not row.group else (math.nan, math.nan)
+        flag = f"rise {num(hot)} K: past melting" if finite(hot) and hot > HOT and temp > MELTING else \
             f"rise {num(hot)} K: beyond constant properties" if finite(hot) and hot > HOT else ""
-        rows.append([name, _what(data, scene, note), _source(src, group), flag])
+        rows.append([name, _what(data, scene, note, shared), _source(src, group), flag])
     if not any(r[3] for r in rows):
         rows = [r[:3] for r in rows]
     doc.table("The scenes in the study's order, as the study file describes them (its comments), with the seed "

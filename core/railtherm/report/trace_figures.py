@@ -9,7 +9,8 @@ result against the exact trace of ``references.nc``.
 * :func:`maps`: the surface temperature over the patch and its trace, one panel per method and the
   exact one, on one colour scale (seed Figs 4-7).
 
-The functions only read and interpolate stored arrays; every exact value is ``references.nc``'s.
+Temperatures are drawn as rises above the body's bulk temperature [K] (the threshold isotherm is named
+in °C). The functions only read and interpolate stored arrays; every exact value is ``references.nc``'s.
 """
 from __future__ import annotations
 
