@@ -98,6 +98,12 @@ def test_error_cells_recomputed_from_the_run_files(out):
     tk = float(k["max_surface_temperature"][0])
     assert str(row[col["total error of fastsim-fdm, reference kalker [%]"]]) == pct((tf - tk) / tk, signed=True,
                                                                                    floor=1e-9)
+    # the sentence above the (closed) table says the same split
+    md = (out / "report.md").read_text()
+    contact = pct((tg - tk) / tk, signed=True, floor=1e-9)
+    thermal = pct((tf - tg) / tg, signed=True, floor=1e-9)
+    assert (f"On the wheel's maximum surface temperature over its one scene: the contact model of `green` (against "
+            f"`kalker`) {contact}; the thermal model of `fastsim-fdm` (against `green`) {thermal}") in md
     # the levels each error used are named in the row
     assert row[-1] == "kalker level 0, green level 0, fastsim-fdm level 0"
 

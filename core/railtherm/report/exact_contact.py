@@ -209,8 +209,8 @@ def _split_summary(data: StudyData, comp: ExactComparison, q: str = "max_surface
             parts.append(f"the {kind} of `{who}` (against `{ref_m}`) {span}")
     if not parts:
         return ""
-    return (f"On the wheel's maximum surface temperature over the {len(scenes)} scenes: " + "; ".join(parts)
-            + " (finest levels).")
+    over = "its one scene" if len(scenes) == 1 else f"the {len(scenes)} scenes"
+    return f"On the wheel's maximum surface temperature over {over}: " + "; ".join(parts) + " (finest levels)."
 
 
 def _css(err: float, tol: float | None) -> str:
