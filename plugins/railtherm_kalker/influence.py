@@ -353,7 +353,7 @@ def element_size(edges) -> float:
     return float(f"{(float(edges[-1]) - float(edges[0])) / (len(edges) - 1):.12g}")
 
 
-@functools.lru_cache(maxsize=8)
+@functools.lru_cache(maxsize=4)
 def normal_operator(nx: int, ny: int, dx: float, dy: float | None, e_star: float) -> Convolution:
     """Love's normal operator on an (nx, ny) grid with its circulant preconditioner, computed once per grid.
 

@@ -71,7 +71,7 @@ def rolling_operator(x_edges, y_edges, shear_modulus: float, poisson_ratio: floa
 
 
 
-@functools.lru_cache(maxsize=16)
+@functools.lru_cache(maxsize=8)
 def _rolling_operator(nx, dx, ny, dy, shear_modulus, poisson_ratio):
     """:func:`rolling_operator` of a grid, computed once per grid and material (the solves of a study, a
     friction loop, the nested grids and a wheelset's patches share it)."""
