@@ -315,7 +315,6 @@ def test_contact_discretisation_power_is_the_evaluation_point_slip_times_the_tra
     ref = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, G, NU), patch.grid.x_edges,
                                   patch.grid.y_edges, g, (-2e-3, 1e-3, 0.2), offset=1 / 6)
     np.testing.assert_allclose(r6.traction_x, ref.traction[0], atol=1e-8 * g.max())
-    V = float(sc.speed)
     slipping = np.nan_to_num(r6.stick, nan=1.0) == 0
     tx, ty, sx, sy = r6.traction_x, r6.traction_y, r6.slip_velocity_x, r6.slip_velocity_y
     frpow = -float(np.sum(np.where(slipping, tx * sx + ty * sy, 0.0))) * patch.grid.cell_area

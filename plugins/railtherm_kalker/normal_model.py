@@ -78,8 +78,8 @@ def contact_extent(x, y, pressure, dx: float, dy: float) -> tuple[float, float, 
 
 def _normal_operator(area, e_star):
     nx, ny = area.shape
-    return normal_operator(nx, ny, element_size(area.x_edges), None if area.y_edges is None else element_size(area.y_edges),
-                           float(e_star))
+    dy = None if area.y_edges is None else element_size(area.y_edges)
+    return normal_operator(nx, ny, element_size(area.x_edges), dy, float(e_star))
 
 
 def _estimate_area(scene, gap, e_star, load):
