@@ -89,12 +89,12 @@ class _Contents:
 
     def md(self) -> str:
         return (f'<a id="{CONTENTS}"></a>\n\n**Contents**\n\n'
-                + "\n".join(f"{i}. [{_strip_links(t)}](#{a})" for i, (a, t) in enumerate(self.entries, 1)))
+                + "\n".join(f"- [{_strip_links(t)}](#{a})" for a, t in self.entries))
 
     def html(self) -> str:
         items = "".join(f'<li><a href="#{html.escape(a)}">{inline_html(_strip_links(t))}</a></li>'
                         for a, t in self.entries)
-        return f'<nav id="{CONTENTS}"><b>Contents</b><ol class="toc">{items}</ol></nav>'
+        return f'<nav id="{CONTENTS}"><b>Contents</b><ul class="toc">{items}</ul></nav>'
 
 
 def _strip_links(text: str) -> str:
@@ -196,7 +196,8 @@ h1{font-size:1.5em;margin:0.3em 0}h2{border-bottom:1px solid #ccc;margin-top:1.8
 h3{font-size:1.05em}
 a.back{float:right;font-size:0.62em;font-weight:normal;color:#245;text-decoration:none;margin-top:0.45em}
 nav#contents{background:#f6f8fa;border:1px solid #dde;padding:6px 12px;margin:0.8em 0}
-ol.toc{columns:2;column-gap:2em;margin:0.3em 0;padding-left:1.6em;font-size:0.9em}ol.toc li{margin:0.1em 0}
+ul.toc{columns:2;column-gap:2em;margin:0.3em 0;padding-left:0.4em;list-style:none;font-size:0.9em}
+ul.toc li{margin:0.1em 0}
 div.scroll{overflow-x:auto;max-width:100%;margin:0.5em 0 0.9em}
 table{border-collapse:collapse;font-size:0.82em}
 caption{caption-side:top;text-align:left;font-size:0.95em;color:#333;padding:2px 0}
