@@ -52,7 +52,7 @@ def code_versions(data: StudyData) -> tuple[str, list[str]]:
     try:
         version = md.version("railtherm")
     except md.PackageNotFoundError:
-        from .._version import __version__ as version
+        version = "unknown (railtherm is not installed as a distribution)"
     found: dict[str, str] = {}
     seen = set()
     for r in data.runs:

@@ -17,7 +17,7 @@ from . import scene_figures as S
 from .document import Cell, Document
 from .format import duration, finite, label, level_range, num, pct, plain, quantity, short, slug
 from .load import StudyData
-from .study_section import hot_note
+from .study_section import describe_scene, hot_note
 from .sweep_maps import sweep_maps
 from .tables import (METRIC_SHORT, cross_tables, message_lines, order_table, published_table, reference_words,
                      refusal_lines, run_table)
@@ -98,7 +98,7 @@ def verdict_section(doc: Document, ctx: Context, table_rows: list[Row], max_rows
             + (f" ({len(row.scenes)} scenes)" if row.group else "")
         body.append([f"{name} · {what}"] + [cell(cards[(row.label, m)]) for m in data.methods])
     heads = dict.fromkeys(r.headline for r in shown if r.headline)
-    doc.table(f"Scorecard. {SCORECARD_RULE} L2 is level 2 of the ladder. Tolerance: "
+    doc.table(f"Scorecard. {SCORECARD_RULE} Tolerance: "
               f"{pct(tol) if tol is not None else 'not recorded'}. A sweep is one row: its worst member's status, the "
               "largest error and time (≤). Headlines: "
               + ", ".join(f"{METRIC_SHORT.get(h) or label(h)} = {label(h)}" for h in heads) + ".",
@@ -178,53 +178,6 @@ def _panel(data: StudyData, row: Row) -> F.Panel:
 
 
 # -- one scene -----------------------------------------------------------------------------------------
-def describe_scene(sc) -> str:
-    """A scene's inputs in one line, in the units a researcher reads (kN, mm, MW/m², m/s)."""
-    if sc is None:
-        return ""
-    parts = []
-    try:
-        if sc.heat_source is not None:
-            hs = sc.heat_source
-            size = (f"semi-axes {num(hs.semi_axes[0] * 1e3)} × {num(hs.semi_axes[1] * 1e3)} mm"
-                    if hs.semi_axes is not None else f"half-width {quantity(hs.half_width, 'm')}")
-            parts.append(f"given heat source ({hs.shape}), flux {quantity(hs.flux, 'W/m2')}, {size}")
-        else:
-            geo = sc.contact_shape
-            if sc.semi_axes is not None:
-                geo += f", semi-axes {num(sc.semi_axes[0] * 1e3)} × {num(sc.semi_axes[1] * 1e3)} mm"
-            elif sc.curvatures is not None:
-                geo += f", curvatures {num(sc.curvatures[0], 4)}, {num(sc.curvatures[1], 4)} 1/m"
-            elif sc.contact_shape == "line":
-                geo += f", wheel radius {num(sc.wheel_radius * 1e3)} mm"
-            parts.append(geo + " contact")
-            if sc.normal_force is not None:
-                parts.append("normal force " + quantity(sc.normal_force, "N/m" if sc.contact_shape == "line" else "N"))
-            elif sc.penetration is not None:
-                parts.append(f"penetration {quantity(sc.penetration, 'm')}")
-            if sc.creepage is not None:
-                c = sc.creepage
-                parts.append(f"creepage ξ = {num(c.longitudinal)}, η = {num(c.lateral)}, φ = {num(c.spin)} 1/m")
-            elif sc.sliding_speed is not None:
-                parts.append(f"sliding speed {num(sc.sliding_speed)} m/s")
-            if sc.friction is not None:
-                law = sc.friction_law
-                parts.append(f"μ = {num(sc.friction)}" if law.kind == "constant" else f"friction {law.describe()}")
-        parts.append(f"speed {num(sc.speed)} m/s")
-        hp = sc.heat_partition
-        parts.append(f"heat partition {hp if isinstance(hp, str) else num(hp)}"
-                     + (" (all heat into the rail)" if hp == 0 else " (all heat into the wheel)" if hp == 1 else ""))
-        if sc.convection:
-            parts.append(f"convection {num(sc.convection)} W/(m² K)")
-        if sc.wheel.rigid:
-            parts.append("rigid wheel")
-        if sc.mode != "steady":
-            parts.append(f"mode {sc.mode}")
-    except Exception:  # noqa: BLE001 - a description is optional
-        pass
-    return "; ".join(parts)
-
-
 def _references(data: StudyData, scenes: list[str]) -> list[str]:
     refs = []
     for s in scenes:

@@ -9,11 +9,11 @@ import numpy as np
 
 from .document import Document
 from .environment import files_line
-from .format import finite, level_range, num, short
+from .format import finite, level_range, num, quantity, short
 from .load import StudyData
 from .study_notes import scene_notes, seed_reference
 
-__all__ = ["intro", "study_section", "max_rise", "hot_note", "HOT", "MELTING"]
+__all__ = ["intro", "study_section", "max_rise", "hot_note", "describe_scene", "HOT", "MELTING"]
 
 #: temperature rise [K] above which steel's conductivity, heat capacity and yield stress change so much that
 #: the constant-property theory every method uses no longer holds
@@ -21,6 +21,53 @@ HOT = 1000.0
 #: temperature [°C] above which rail steel melts (solidus ~1,450-1,500 °C)
 MELTING = 1500.0
 
+
+
+def describe_scene(sc) -> str:
+    """A scene's inputs in one line, in the units a researcher reads (kN, mm, MW/m², m/s)."""
+    if sc is None:
+        return ""
+    parts = []
+    try:
+        if sc.heat_source is not None:
+            hs = sc.heat_source
+            size = (f"semi-axes {num(hs.semi_axes[0] * 1e3)} × {num(hs.semi_axes[1] * 1e3)} mm"
+                    if hs.semi_axes is not None else f"half-width {quantity(hs.half_width, 'm')}")
+            parts.append(f"given heat source ({hs.shape}), flux {quantity(hs.flux, 'W/m2')}, {size}")
+        else:
+            geo = sc.contact_shape
+            if sc.semi_axes is not None:
+                geo += f", semi-axes {num(sc.semi_axes[0] * 1e3)} × {num(sc.semi_axes[1] * 1e3)} mm"
+            elif sc.curvatures is not None:
+                geo += f", curvatures {num(sc.curvatures[0], 4)}, {num(sc.curvatures[1], 4)} 1/m"
+            elif sc.contact_shape == "line":
+                geo += f", wheel radius {num(sc.wheel_radius * 1e3)} mm"
+            parts.append(geo + " contact")
+            if sc.normal_force is not None:
+                parts.append("normal force " + quantity(sc.normal_force, "N/m" if sc.contact_shape == "line" else "N"))
+            elif sc.penetration is not None:
+                parts.append(f"penetration {quantity(sc.penetration, 'm')}")
+            if sc.creepage is not None:
+                c = sc.creepage
+                parts.append(f"creepage ξ = {num(c.longitudinal)}, η = {num(c.lateral)}, φ = {num(c.spin)} 1/m")
+            elif sc.sliding_speed is not None:
+                parts.append(f"sliding speed {num(sc.sliding_speed)} m/s")
+            if sc.friction is not None:
+                law = sc.friction_law
+                parts.append(f"μ = {num(sc.friction)}" if law.kind == "constant" else f"friction {law.describe()}")
+        parts.append(f"speed {num(sc.speed)} m/s")
+        hp = sc.heat_partition
+        parts.append(f"heat partition {hp if isinstance(hp, str) else num(hp)}"
+                     + (" (all heat into the rail)" if hp == 0 else " (all heat into the wheel)" if hp == 1 else ""))
+        if sc.convection:
+            parts.append(f"convection {num(sc.convection)} W/(m² K)")
+        if sc.wheel.rigid:
+            parts.append("rigid wheel")
+        if sc.mode != "steady":
+            parts.append(f"mode {sc.mode}")
+    except Exception:  # noqa: BLE001 - a description is optional
+        pass
+    return "; ".join(parts)
 
 def intro(doc: Document, data: StudyData):
     """The paragraph under the title: the study's own description, its size and its data files."""
@@ -85,7 +132,6 @@ def hot_note(data: StudyData, scene: str) -> str:
 def _what(data: StudyData, scene: str, note, shared: dict) -> str:
     """The author's words for a scene, shortened; when several scenes share them, the inputs that set this
     scene apart ('creepage ξ = 0, η = 0, φ = 0.4 1/m')."""
-    from .sections import describe_scene
     text = note.text if note is not None else ""
     if not text:
         return short(describe_scene(data.scene[scene].scene), 150) or "–"
