@@ -170,16 +170,20 @@ def test_resume_recomputes_a_result_of_other_options(tmp_path):
     with xr.open_dataset(t16.path) as ds:
         assert ds.sizes["x"] == 16 and ds.attrs["run_hash"] == t16.run_hash
     again = execute_run(t16, resume=True)
-    assert again.resumed and again.path == str(t16.path) and again.timing_runs >= 3
+    assert again.resumed and again.path == str(t16.path) and again.timing_runs == rec.timing_runs >= 1
     assert again.wall_time == rec.wall_time and again.peak_rss == rec.peak_rss
     assert run_hash(sc, "green", 0, {"cells": 16}) == t16.run_hash
 
 
 # --- 7. timing and memory ------------------------------------------------------------------------
-def test_fast_runs_are_timed_three_times_after_a_warm_up_and_memory_is_native(tmp_path):
+def test_fast_runs_are_timed_up_to_three_times_after_a_warm_up_and_memory_is_native(tmp_path, monkeypatch):
+    """A short solve (green level 1: milliseconds) is timed ``repeat`` = 3 times after the process's
+    warm-up of the method; the memory is the process's (interpreter included)."""
+    from railtherm.run import runner
+    monkeypatch.setattr(runner, "_WARM", set())
     sc = study(tmp_path).scenes[0]
-    rec = execute_run(RunTask(sc, "green", 1, {}, str(tmp_path / "out"), repeat=1))
-    assert rec.timing_runs >= 3 and rec.wall_time <= rec.wall_time_median
+    rec = execute_run(RunTask(sc, "green", 1, {}, str(tmp_path / "out"), repeat=3))
+    assert rec.timing_runs == 3 and rec.wall_time <= rec.wall_time_median
     assert rec.phases["warmup"] > 0 and rec.peak_rss > 50e6 and rec.rss_growth >= 0  # interpreter included
 
 
