@@ -70,6 +70,30 @@ def test_local_preconditioner_is_the_exact_inverse_of_the_cut_jacobian():
     np.testing.assert_allclose(M @ pre.solve(v), v, rtol=1e-10, atol=1e-10 * np.abs(v).max())
 
 
+def test_newton_blocks_equal_the_blocks_of_the_assembled_jacobian():
+    """The one-pass blocks of the Newton Jacobian (numba) equal the vectorised D1 + D2 K0 inverse and D2 K1
+    with D1, D2 assembled from the slipping set, the unit z and g/|z| (a mix of stick and slip)."""
+    area, X, Y, g = _setup(10, 2)
+    conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
+    idx = np.nonzero(g.ravel() > 0)[0]
+    nin, nc, r = idx.size, 2, 0.7 / abs(conv.self_coefficient)
+    rng = np.random.default_rng(5)
+    slipping = rng.random(nin) < 0.6
+    z = rng.normal(size=(nc, nin))
+    zh = np.where(slipping, z / np.linalg.norm(z, axis=0), 0.0)
+    fac = np.where(slipping, rng.uniform(0.2, 0.9, nin), 0.0)
+    P = np.eye(2)[None] - zh.T[:, :, None] * zh.T[:, None, :]
+    sl = slipping[:, None, None]
+    D1 = np.where(sl, np.eye(2)[None] - fac[:, None, None] * P, 0.0)
+    D2 = np.where(sl, -r * fac[:, None, None] * P, -r * np.eye(2)[None])
+    ref, new = LocalPreconditioner(conv, idx), LocalPreconditioner(conv, idx)
+    ref.factor(D1, D2)
+    new.factor_newton(slipping, zh, fac, r)
+    np.testing.assert_allclose(new.coup, ref.coup, rtol=1e-12, atol=1e-12 * np.abs(ref.coup).max())
+    np.testing.assert_allclose(new.minv, ref.minv, rtol=1e-10, atol=1e-12 * np.abs(ref.minv).max())
+    assert slipping.any() and not slipping.all()
+
+
 def test_preconditioner_and_nesting_keep_the_solution_and_cut_the_work():
     """Same tractions (1e-8 of mu p) with and without the preconditioner and with nested iteration; the
     preconditioner needs fewer GMRES steps. Measured at 32 x 32 elements: 10 Newton / 137 GMRES steps plain,

@@ -1,10 +1,10 @@
-"""The backward sweep of :class:`railtherm_kalker.tangential_solver.LocalPreconditioner` (compiled by numba
-when available; a column-by-column numpy loop otherwise)."""
+"""The backward sweep of :class:`railtherm_kalker.tangential_solver.LocalPreconditioner` and its per-element
+blocks from the Newton Jacobian (compiled by numba when available; vectorised numpy otherwise)."""
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["sweep"]
+__all__ = ["sweep", "newton_blocks"]
 
 
 def _sweep_py(v, minv, coup, order, nb, columns):
@@ -46,8 +46,87 @@ try:  # pragma: no cover - exercised when numba is installed (a declared depende
                     acc += minv[e, a, b] * rhs[b]
                 z[a, e] = acc
         return z
+
+    @njit(cache=True, nogil=True)
+    def _blocks_nb(slipping, zh, fac, r, K0, K1):
+        nc, nin = zh.shape
+        minv = np.empty((nin, nc, nc))
+        coup = np.empty((nin, nc, nc))
+        S = np.empty((nc, nc))
+        M = np.empty((nc, nc))
+        for e in range(nin):
+            for a in range(nc):
+                for b in range(nc):
+                    if slipping[e]:
+                        S[a, b] = fac[e] * ((1.0 if a == b else 0.0) - zh[a, e] * zh[b, e])
+                    else:
+                        S[a, b] = 1.0 if a == b else 0.0
+            for a in range(nc):
+                for b in range(nc):
+                    m0 = 0.0
+                    c1 = 0.0
+                    for c in range(nc):
+                        m0 += S[a, c] * K0[c, b]
+                        c1 += S[a, c] * K1[c, b]
+                    M[a, b] = -r * m0 + (((1.0 if a == b else 0.0) - S[a, b]) if slipping[e] else 0.0)
+                    coup[e, a, b] = -r * c1
+            if nc == 1:
+                minv[e, 0, 0] = 1.0 / M[0, 0]
+            else:
+                det = M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0]
+                minv[e, 0, 0] = M[1, 1] / det
+                minv[e, 0, 1] = -M[0, 1] / det
+                minv[e, 1, 0] = -M[1, 0] / det
+                minv[e, 1, 1] = M[0, 0] / det
+        return minv, coup
 except Exception:  # numba missing or unusable
-    _sweep_nb = None
+    _sweep_nb = _blocks_nb = None
+
+
+def _inverse_blocks(M):
+    """Inverses of the 1 x 1 or 2 x 2 blocks M (n, nc, nc) by the explicit formula (vectorised)."""
+    if M.shape[1] == 1:
+        return 1.0 / M
+    a, b, c, d = M[:, 0, 0], M[:, 0, 1], M[:, 1, 0], M[:, 1, 1]
+    det = a * d - b * c
+    return np.stack([np.stack([d, -b], axis=-1), np.stack([-c, a], axis=-1)], axis=1) / det[:, None, None]
+
+
+def newton_blocks(slipping, zh, fac, r, K0, K1):
+    """Diagonal-block inverses and upstream coupling blocks of the cut Newton Jacobian ``D1 + D2 B_near``.
+
+    Per element, with S = fac (I - zh zh^T) where slipping and S = I where sticking: D2 = -r S, and
+    D1 = I - S (slipping) or 0 (sticking); the blocks are ``(D1 + D2 K0)^{-1}`` and ``D2 K1``, with K0 and K1
+    the rolling kernel at the offsets 0 and -1 along x (nc x nc). One pass, without the (nin, nc, nc)
+    intermediates of the vectorised form (a tenth of its time at 200^2 elements).
+
+    Parameters
+    ----------
+    slipping : ndarray (nin,) of bool
+    zh : ndarray (nc, nin)
+        Unit vector of z = p - r s on slipping elements [1].
+    fac : ndarray (nin,)
+        g / |z| on slipping elements [1].
+    r : float
+        Scaling of the slip in the projection form [Pa].
+    K0, K1 : ndarray (nc, nc)
+        Near kernels [1/Pa].
+
+    Returns
+    -------
+    (minv, coup) : ndarrays (nin, nc, nc)
+    """
+    slipping = np.ascontiguousarray(slipping, dtype=np.bool_)
+    zh = np.ascontiguousarray(zh, dtype=float)
+    fac = np.ascontiguousarray(fac, dtype=float)
+    if _blocks_nb is not None:
+        return _blocks_nb(slipping, zh, fac, float(r), np.ascontiguousarray(K0), np.ascontiguousarray(K1))
+    nc = zh.shape[0]
+    eye = np.eye(nc)
+    sl = slipping[:, None, None]
+    S = np.where(sl, fac[:, None, None] * (eye[None] - zh.T[:, :, None] * zh.T[:, None, :]), eye[None])
+    minv = _inverse_blocks(np.where(sl, eye[None] - S, 0.0) - r * (S @ K0))
+    return minv, -r * (S @ K1)
 
 
 def sweep(v, minv, coup, order, nb, columns):

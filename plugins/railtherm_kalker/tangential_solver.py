@@ -61,7 +61,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._sweep import sweep
+from ._sweep import _inverse_blocks, newton_blocks, sweep
 
 __all__ = ["TangentialSolution", "solve_tangential", "solve_tangential_nested", "rigid_slip", "TANGENTIAL_TOLERANCE"]
 
@@ -197,19 +197,16 @@ class LocalPreconditioner:
         self.minv = np.ascontiguousarray(_inverse_blocks(D1 + D2 @ self.K0))
         self.coup = np.ascontiguousarray(D2 @ self.K1)
 
+    def factor_newton(self, slipping, zh, fac, r):
+        """Prepare for the semismooth Newton Jacobian of :func:`solve_tangential`: D2 = -r S, D1 = I - S on
+        slipping elements (S = fac (I - zh zh^T)) and D1 = 0, D2 = -r I on sticking ones
+        (:func:`railtherm_kalker._sweep.newton_blocks`)."""
+        self.minv, self.coup = newton_blocks(slipping, zh, fac, r, self.K0, self.K1)
+
     def solve(self, v):
         """M^{-1} v for v of shape (nc * nin,) in the solver's component-major layout."""
         v = v.reshape(self.nc, -1)
         return sweep(v, self.minv, self.coup, self.order, self.nb, self.columns).ravel()
-
-
-def _inverse_blocks(M):
-    """Inverses of the 1 x 1 or 2 x 2 blocks M (n, nc, nc) by the explicit formula (vectorised)."""
-    if M.shape[1] == 1:
-        return 1.0 / M
-    a, b, c, d = M[:, 0, 0], M[:, 0, 1], M[:, 1, 0], M[:, 1, 1]
-    det = a * d - b * c
-    return np.stack([np.stack([d, -b], axis=-1), np.stack([-c, a], axis=-1)], axis=1) / det[:, None, None]
 
 
 def _gmres(matvec, psolve, b, rtol, maxiter, dtype=np.float64):
@@ -335,7 +332,6 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
     converged = res <= tol
     it = 0
     pre = LocalPreconditioner(conv, idx) if (precondition and nin) else None
-    eye = np.eye(nc)
     eta_prev = FORCING_MAX
     while not converged and it < maxiter:
         it += 1
@@ -373,11 +369,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
 
         # Newton: J d = -F, with J = -r B (stick) / I - fac P (I + r B) (slip) = D1 + D2 B
         if pre is not None:
-            P = eye[None] - zh.T[:, :, None] * zh.T[:, None, :]             # (nin, nc, nc)
-            sl = slipping[:, None, None]
-            D1 = np.where(sl, eye[None] - fac[:, None, None] * P, 0.0)
-            D2 = np.where(sl, -r * fac[:, None, None] * P, -r * eye[None])
-            pre.factor(D1, D2)
+            pre.factor_newton(slipping, zh, fac, r)
             psolve = pre.solve
         else:
             def psolve(v):
