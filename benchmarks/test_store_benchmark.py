@@ -46,7 +46,7 @@ def _run(study, out, executor="processes"):
 
 
 def _green_or_skip():
-    from railtherm.plugins import get_host
+    from railtherm.solving.plugins import get_host
     if "green" not in get_host().methods:
         pytest.skip("method 'green' is not installed")
 

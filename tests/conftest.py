@@ -29,7 +29,7 @@ def _one_numba_thread_per_test_worker():
 def flat_host():
     """A plugin host with core and the fixture plugins only (no entry points)."""
     from fixture_plugins import FlatPlugin
-    from railtherm import plugins
+    from railtherm.solving import plugins
     saved = plugins._HOST
     host = plugins.new_host([("flat", FlatPlugin())], autoload=False, strict=True)
     plugins.set_host(host)

@@ -65,7 +65,7 @@ class Plateau(TemperatureModel):
     capabilities = Capabilities(provides=PROVIDES)
 
     def compute_temperature(self, scene, source, level, options):
-        from railtherm.analytic import reference_values
+        from railtherm.analysis.analytic import reference_values
         tmax = reference_values(scene)["max_surface_temperature"]
         surface = np.stack([np.full(source.grid.shape, t) for t in tmax])
         return TemperatureField.from_surface(source.grid, surface)

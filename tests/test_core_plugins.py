@@ -5,7 +5,8 @@ import warnings
 import pytest
 
 import railtherm
-from railtherm import hookspec, plugins
+from railtherm.contract import hookspec
+from railtherm.solving import plugins
 from fixture_plugins import DuplicatePlugin, FlatPlugin, RaisingPlugin
 
 

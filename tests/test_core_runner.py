@@ -12,7 +12,7 @@ import pytest
 import xarray as xr
 
 import railtherm
-from railtherm.runner import run_path
+from railtherm.output.store import run_path
 
 
 def test_run_writes_every_run_with_units(flat_host, write_study, tmp_path):
@@ -73,7 +73,7 @@ KILL_SCRIPT = textwrap.dedent("""
     import sys, time
     sys.path.insert(0, {tests!r})
     from fixture_plugins import FlatPlugin, FlatTemperature
-    from railtherm import plugins
+    from railtherm.solving import plugins
     import railtherm
     orig = FlatTemperature.compute_temperature
     def slow(self, *a, **k):
@@ -122,7 +122,7 @@ def test_refused_output_names_what_is_possible(flat_host):
 
 
 def test_validator_names_plugin_and_variable(flat_host):
-    from railtherm.schema import validate_dataset
+    from railtherm.contract.schema import validate_dataset
     from railtherm.testing import canonical
     ds = railtherm.solve(canonical("ellipse-full-sliding"), "flat", 0)
     bad = ds.copy()

@@ -4,8 +4,8 @@ import math
 import pytest
 
 import railtherm
-from railtherm.scene import load_scene
-from railtherm.study import parse_study
+from railtherm.input.scene import load_scene
+from railtherm.input.study import parse_study
 
 BASE = {"name": "s", "normal_force": 100e3, "contact": {"shape": "ellipse", "semi_axes": [5.88e-3, 10.54e-3]},
         "speed": 30.0, "sliding_speed": 1.0, "friction": 0.3}

@@ -11,7 +11,7 @@
 * the direct netCDF writer writes what ``xarray.Dataset.to_netcdf`` writes.
 
 Workers are separate processes: they rebuild the plugin host of the test (fixture plugins sent by
-reference, with this folder on their ``sys.path``; see :func:`railtherm.executors.host_spec`).
+reference, with this folder on their ``sys.path``; see :func:`railtherm.run.executors.host_spec`).
 """
 from __future__ import annotations
 
@@ -32,7 +32,8 @@ import xarray as xr
 
 import railtherm
 from railtherm import Method, Option, hookimpl
-from railtherm.runner import RunTimeout, _time_limit, execute_run, make_tasks, run_tasks
+from railtherm.run.runner import execute_run, make_tasks, run_tasks
+from railtherm.run.timelimit import RunTimeout, _time_limit
 
 from fixture_plugins import FlatPlugin, FlatTemperature
 
@@ -108,7 +109,7 @@ def sweep(path: Path, methods='["flat"]', speeds=None, timeout=60, options="", s
 @pytest.fixture(scope="module")
 def hosts():
     """Core + the flat and sleepy fixture plugins, installed for this module's tests."""
-    from railtherm import plugins
+    from railtherm.solving import plugins
     saved = plugins._HOST
     host = plugins.new_host([("flat", FlatPlugin()), ("sleepy", SleepyPlugin())], autoload=False, strict=True)
     plugins.set_host(host)
@@ -228,7 +229,7 @@ def test_processes_worker_killed_mid_study(hosts, tmp_path):
 def test_runs_whose_worker_dies_or_hangs_are_failed_then_resume_completes(hosts, tmp_path):
     """Speed 11 kills its worker every time (recorded failed after the retry); speed 12 hangs in a
     call that ignores SIGALRM (its worker is ended after the time limit and the grace period)."""
-    from railtherm.executors import ProcessExecutor
+    from railtherm.run.executors import ProcessExecutor
     path = sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0, 12.0], sliding="0.5", timeout=1.0,
                  options="[study.options.sleepy]\ndie_at_speed = 11.0\nstuck_at_speed = 12.0\n")
     out = tmp_path / "out"
@@ -318,7 +319,7 @@ def test_dask_worker_killed_mid_study(loopback_cluster, tmp_path):
 
 def test_dask_stuck_run_ends_with_its_worker(loopback_cluster, tmp_path):
     """A run stuck in a call that the soft (asynchronous) limit cannot interrupt ends its worker."""
-    from railtherm.executors import DaskExecutor
+    from railtherm.run.executors import DaskExecutor
     cluster, client = loopback_cluster
     study = railtherm.load_study(sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0], timeout=1.0,
                                        sliding="0.5", options="[study.options.sleepy]\nstuck_at_speed = 11.0\n"))
@@ -338,7 +339,7 @@ def test_dask_stuck_run_ends_with_its_worker(loopback_cluster, tmp_path):
 def test_direct_netcdf_writer_matches_xarray(hosts, tmp_path):
     import netCDF4
 
-    from railtherm.runner import _direct_writable, write_dataset_atomic
+    from railtherm.output.store import _direct_writable, write_dataset_atomic
     from railtherm.testing import canonical
     for name in ("ellipse-full-sliding", "line-full-sliding", "line-given-flux"):
         ds = railtherm.solve(canonical(name), "flat", 1)
@@ -402,7 +403,7 @@ heat_source = { flux = 1e7, shape = "hertz", half_width = 2e-3 }
 def green_host():
     """Core and the built-in green plugin (sent to workers by reference)."""
     green_plugin = pytest.importorskip("railtherm_green.plugin")
-    from railtherm import plugins
+    from railtherm.solving import plugins
     saved = plugins._HOST
     host = plugins.new_host([("green", green_plugin)], autoload=False, strict=True)
     plugins.set_host(host)

@@ -8,7 +8,7 @@ References
 * The closed-form FASTSIM curve of the 2-D simplified theory (``fastsim_line_force_ratio``), derived
   in ``railtherm_fastsim.fastsim_line``.
 * Jaeger's moving band source at any Péclet number (core ``railtherm.references.jaeger``) for the
-  2-D block; the 3-D block of ``fdm_solvers`` with a laterally uniform source (exact identity).
+  2-D block; the 3-D block of ``railtherm_fdm.block3d`` with a laterally uniform source (exact identity).
 
 Errors of temperatures are relative to the exact maximum: ``max`` (of the maxima) and ``l2`` (rms
 over the patch-grid points). Run: ``python -m pytest tests/test_fastsim_line.py -q``
@@ -24,16 +24,16 @@ import pytest
 import railtherm
 import railtherm_fastsim.plugin as fastsim_plugin
 from railtherm import Material, SurfaceGrid, surface_grid
-from railtherm.analytic import reference_values
+from railtherm.analysis.analytic import reference_values
 from railtherm.models.shapes import cell_average
 from railtherm.references.carter import carter_2d, carter_normal_load
 from railtherm.references.jaeger import jaeger_band_temperature
-from railtherm.scene import load_scene
+from railtherm.input.scene import load_scene
 from railtherm.testing import CANONICAL_SCENES, check_method
 from railtherm_fastsim.fastsim_line import (fastsim_line, fastsim_line_force_ratio, line_flexibility,
                                             stick_slip_boundary)
-from railtherm_fastsim.fdm_line import line_extent, line_stability_limit, steady_line, transient_line
-from railtherm_fastsim.fdm_solvers import Extent, steady_block, transient_block
+from railtherm_fdm.block2d import line_extent, line_stability_limit, steady_line, transient_line
+from railtherm_fdm.block3d import Extent, steady_block, transient_block
 
 STEEL = Material()                                  # G 82 GPa, nu 0.28, rho 7850, c 450, lambda 50
 KAPPA = STEEL.diffusivity
@@ -304,7 +304,7 @@ def test_convergence_orders():
 
 
 def test_two_d_block_is_the_three_d_block_with_a_uniform_source():
-    """The 2-D solver equals the 3-D block of ``fdm_solvers`` (insulated lateral faces) when the source
+    """The 2-D solver equals the 3-D block of ``railtherm_fdm.block3d`` (insulated lateral faces) when the source
     covers the block's whole width uniformly: explicit to 3e-16, implicit and steady (exponential
     fluxes, as 3-D) to 1e-12 of the maximum, with and without convection."""
     a, d = 2e-3, 2e-3 / 8
@@ -345,7 +345,7 @@ def test_heat_balance_closed(scheme, h):
 def test_implicit_cg_branch():
     """High Péclet number (capacity term >= 10 x conduction): the implicit scheme solves by CG (tolerance
     1e-12): heat balance within 1e-6, same answer as the LU branch to 1e-9 of the maximum."""
-    import railtherm_fastsim.fdm_line as FL
+    import railtherm_fdm.block2d as FL
     res, g, V = line_run("implicit", 400, 0)
     d = res.diagnostics
     assert d["linear_solver"] == "cg" and d["cg_iterations"] > 0

@@ -1,41 +1,15 @@
-"""Plugin "fdm" as a package: the deprecated ``railtherm_fastsim.fdm_*`` paths, the one explicit kernel
-body compiled twice, and the registration of the model."""
+"""Plugin "fdm" as a package: its public names, the one explicit kernel body compiled twice, and the
+registration of the model."""
 from __future__ import annotations
 
-import importlib
-import sys
 
 import numpy as np
-import pytest
 
 import railtherm
 from railtherm import Method
 from railtherm.testing import canonical
 
-OLD_PATHS = {"fdm_model": "model", "fdm_solvers": "block3d", "fdm_line": "block2d", "fdm_kernel": "kernels"}
-
-
-@pytest.mark.parametrize("old,new", sorted(OLD_PATHS.items()))
-def test_old_paths_alias_the_moved_modules_with_a_warning(old, new):
-    import railtherm_fastsim
-    name = f"railtherm_fastsim.{old}"
-    saved = sys.modules.pop(name, None)
-    saved_attr = railtherm_fastsim.__dict__.pop(old, None)
-    try:
-        with pytest.warns(DeprecationWarning, match=f"railtherm_fastsim.{old} moved to railtherm_fdm.{new}"):
-            module = importlib.import_module(name)
-        moved = importlib.import_module(f"railtherm_fdm.{new}")
-        assert module is moved and sys.modules[name] is moved       # an alias: monkeypatching reaches the code
-        for public in moved.__all__:
-            assert getattr(module, public) is getattr(moved, public)
-    finally:
-        if saved is not None:
-            sys.modules[name] = saved
-        if saved_attr is not None:
-            railtherm_fastsim.__dict__[old] = saved_attr
-
-
-def test_public_names_of_the_old_modules_are_kept():
+def test_public_names_of_the_fdm_modules():
     from railtherm_fdm import block2d, block3d, kernels, model
     assert {"FDMTemperature", "choose_scheme", "explicit_cost"} <= set(model.__all__)
     assert {"BlockResult", "Extent", "block_extent", "transient_block", "steady_block", "explicit_stability_limit",

@@ -277,7 +277,7 @@ def test_fastsim_power_density_if_registered():
     """Any power density on the grid works, e.g. FASTSIM's (creepage, stick at the leading edge):
     the wheel's steady heat input is the grid integral of its flux, and the flash field is that
     of the strip quadrature (checked directly against the kernel)."""
-    from railtherm.plugins import get_host
+    from railtherm.solving.plugins import get_host
     if "fastsim" not in get_host().models:
         pytest.skip("tangential model 'fastsim' not registered")
     from railtherm.testing import canonical

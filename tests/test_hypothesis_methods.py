@@ -28,8 +28,8 @@ from hypothesis import HealthCheck, Phase, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 import railtherm  # noqa: E402
-from railtherm.runner import RunTimeout, _time_limit  # noqa: E402
-from railtherm.schema import VARIABLES  # noqa: E402
+from railtherm.run.timelimit import RunTimeout, _time_limit  # noqa: E402
+from railtherm.contract.schema import VARIABLES  # noqa: E402
 
 HUNT = int(os.environ.get("RAILTHERM_HYPOTHESIS_EXAMPLES", "0"))
 #: seconds one solve at level 0 may take before it counts as a hang
@@ -43,7 +43,7 @@ BUDGET = float(os.environ.get("RAILTHERM_HYPOTHESIS_BUDGET", "15"))
 def _methods():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        from railtherm.plugins import new_host
+        from railtherm.solving.plugins import new_host
         return sorted(new_host().methods)
 
 
@@ -81,7 +81,7 @@ def kinds_of(method: str) -> tuple[str, ...]:
     refused at once; a few of them are still drawn to check that)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        from railtherm.plugins import new_host
+        from railtherm.solving.plugins import new_host
         info = new_host().methods[method]
     shapes = set.intersection(*(set(m.cls.capabilities.contacts) for m in info.models))
     keep = tuple(k for k in KINDS if ("line" in k and "line" in shapes) or ("line" not in k and "ellipse" in shapes))

@@ -20,8 +20,8 @@ from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 import railtherm  # noqa: E402
-from railtherm.scene import MATERIAL_KEYS, SCENE_KEYS, Table, load_scene  # noqa: E402
-from railtherm.study import STUDY_KEYS, parse_study  # noqa: E402
+from railtherm.input.scene import MATERIAL_KEYS, SCENE_KEYS, Table, load_scene  # noqa: E402
+from railtherm.input.study import STUDY_KEYS, parse_study  # noqa: E402
 
 #: RAILTHERM_HYPOTHESIS_EXAMPLES=5000 runs a longer, random (not derandomized) hunt
 HUNT = int(os.environ.get("RAILTHERM_HYPOTHESIS_EXAMPLES", "0"))
@@ -135,7 +135,7 @@ def test_sweeps_expand_and_round_trip(tmp_path_factory, speeds, frictions, parti
     study = check(doc)
     n = len(speeds) * len(frictions) * len(partitions)
     if study is None:  # names that collide after formatting (e.g. 1e-3 and 0.001000001 both print as 0.001)
-        from railtherm.study import _fmt
+        from railtherm.input.study import _fmt
         labels = {(_fmt(s), _fmt(f), _fmt(p)) for s in speeds for f in frictions for p in partitions}
         assert len(labels) < n
         return

@@ -5,6 +5,8 @@ that imports nothing above it; the report reads only through the store; nothing 
 kit imports the runner; plugins import only the public API (tests/test_physics.py)."""
 from pathlib import Path
 
+import pytest
+
 from import_graphs import cycles, import_graph as _graph
 
 import railtherm
@@ -19,10 +21,10 @@ LAYERS = ("_version", "references", "contract", "physics", "models", "input", "o
 #: the body speeds, from physics modules that import nothing of railtherm themselves
 EXCEPTIONS = {("railtherm.contract.stages", "railtherm.physics.kinematics"),
               ("railtherm.contract.stages", "railtherm.physics.scales")}
-#: the flat module paths of 0.1, kept for one release as aliases of the moved modules
-SHIMS = {f"railtherm.{n}" for n in ("errors", "grid", "hookspec", "stages", "schema", "options", "scene", "study",
-                                    "materials", "store", "plugins", "pipeline", "metrics", "results",
-                                    "reference_curves", "analytic", "runner", "executors", "timelimit")}
+#: the flat module paths of 0.1 (removed: each concept has one home in its layer)
+OLD_PATHS = {f"railtherm.{n}" for n in ("errors", "grid", "hookspec", "stages", "schema", "options", "scene", "study",
+                                        "materials", "store", "plugins", "pipeline", "metrics", "results",
+                                        "reference_curves", "analytic", "runner", "executors", "timelimit")}
 
 
 def layer(mod: str) -> str:
@@ -33,8 +35,8 @@ def layer(mod: str) -> str:
 
 
 def import_graph() -> dict[str, set[str]]:
-    """Core module -> core modules it imports (the 0.1 aliases left out)."""
-    return _graph(CORE.parent, "railtherm", exclude=SHIMS)
+    """Core module -> core modules it imports."""
+    return _graph(CORE.parent, "railtherm")
 
 
 
@@ -68,12 +70,15 @@ def test_the_exceptions_import_nothing_of_railtherm():
         assert graph[target] == set(), target
 
 
-def test_shims_alias_the_moved_modules():
+def test_no_alias_modules():
+    """No flat 0.1 path is importable and no core or plugin module replaces itself in sys.modules."""
     import importlib
-    for old in sorted(SHIMS):
-        mod = importlib.import_module(old)
-        assert mod.__name__ != old and mod.__name__.endswith(old.rsplit(".", 1)[1]), old
-        assert importlib.import_module(mod.__name__) is mod
+    for old in sorted(OLD_PATHS):
+        with pytest.raises(ModuleNotFoundError):
+            importlib.import_module(old)
+    roots = [CORE] + sorted(p for p in (CORE.parent.parent / "plugins").iterdir() if p.is_dir())
+    aliases = [str(f) for r in roots for f in r.rglob("*.py") if "sys.modules[__name__]" in f.read_text()]
+    assert aliases == []
 
 
 def test_report_reads_only_through_the_store():

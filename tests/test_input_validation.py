@@ -1,4 +1,4 @@
-"""Input validation before anything runs: method options (railtherm.options.check_options), a whole
+"""Input validation before anything runs: method options (railtherm.contract.options.check_options), a whole
 study (check_study: methods, option tables, keys and values, references, levels) and the study file
 itself (load_study: a folder, a non-UTF-8 or missing file, a TOML syntax error). Every error is a
 railtherm.SceneError whose message names the key, the value and what is allowed."""
@@ -8,8 +8,8 @@ import pytest
 
 import railtherm
 from railtherm import SceneError
-from railtherm.options import check_options, check_study
-from railtherm.study import load_study, parse_study
+from railtherm.contract.options import check_options, check_study
+from railtherm.input.study import load_study, parse_study
 from railtherm.testing import canonical
 
 STUDY = {

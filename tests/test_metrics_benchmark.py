@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 
 import railtherm
-from railtherm.metrics import energy_balance
+from railtherm.analysis.metrics import energy_balance
 
 
 def _scene(tmp_path):

@@ -6,7 +6,7 @@ import pytest
 import xarray as xr
 
 import railtherm
-from railtherm.runner import run_path
+from railtherm.output.store import run_path
 
 STUDY = """
 schema_version = 1
@@ -134,7 +134,7 @@ SWEEP_FILE = __import__("pathlib").Path(__file__).resolve().parents[1] / "studie
 
 def _sweep_study(**lists):
     import tomllib
-    from railtherm.study import parse_study
+    from railtherm.input.study import parse_study
     doc = tomllib.loads(SWEEP_FILE.read_text())
     doc["scene"][0].update(lists)
     return parse_study(doc, path=str(SWEEP_FILE))
@@ -142,7 +142,7 @@ def _sweep_study(**lists):
 
 def _green_or_skip():
     import warnings
-    from railtherm.plugins import get_host
+    from railtherm.solving.plugins import get_host
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if "green" not in get_host().methods:
@@ -229,7 +229,7 @@ def test_run_file_carries_its_sweep_as_json(flat_host, tmp_path):
 
 
 def test_sweep_json_round_trip_and_release_01_attributes():
-    from railtherm.results import encode_sweep, sweep_of
+    from railtherm.analysis.results import encode_sweep, sweep_of
     sw = {"creepage.longitudinal": -1e-3, "wheel.bulk_temperature": 20.0, "heat_partition": "equal-temperature"}
     assert sweep_of({"sweep": encode_sweep(sw)}) == sw
     assert sweep_of({"sweep": "{}"}) == {} and sweep_of({"scene": "x"}) == {}

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import railtherm
-from railtherm.grid import MAX_SURFACE_CELLS, surface_grid
+from railtherm.contract.grid import MAX_SURFACE_CELLS, surface_grid
 
 STEEL = {"shear_modulus": 82e9, "poisson_ratio": 0.28, "density": 7850.0, "specific_heat": 450.0,
          "conductivity": 50.0}
@@ -136,7 +136,7 @@ def test_fem_coupling_cut_short_is_not_converged():
     relative change of 1 (theta from 0), so the model says converged = False with its numbers, and
     railtherm.solve raises SolverError naming them (a study records the run as failed)."""
     from railtherm_fem.model import FemModel
-    from railtherm.scene import load_scene
+    from railtherm.input.scene import load_scene
     opts = {"coupling_max_iterations": 1, "coupling_tolerance": 0.0}
     model = FemModel()
     sc = load_scene(FEM)
@@ -159,7 +159,7 @@ def test_fem_coupling_cut_short_is_not_converged():
 def test_fdm_cg_cut_short_is_not_converged(monkeypatch):
     """An implicit step whose CG stops above its tolerance CG_RTOL (here: one iteration allowed) makes
     the FDM report converged = False, and solve raises SolverError."""
-    from railtherm_fastsim import fdm_solvers
+    from railtherm_fdm import block3d as fdm_solvers
     sc = scene(LINE, mode="transient", numerics={"scheme": "implicit"})
     monkeypatch.setattr(fdm_solvers._cg, "__defaults__", (fdm_solvers.CG_RTOL, 1))
     with pytest.raises(railtherm.SolverError, match="fdm_residual"):
@@ -270,7 +270,7 @@ def test_green_convective_area_says_it_was_fitted_to_table_1():
 # ---------------------------------------------------------------------------------------------
 @pytest.mark.parametrize("method", ["green", "fipy", "fastsim-fdm", "fem"])
 def test_methods_declare_orders(method):
-    from railtherm.plugins import get_host
+    from railtherm.solving.plugins import get_host
     orders = get_host().method(method).method.orders
     assert orders, method
     assert set(orders) <= set(METRICS), set(orders) - set(METRICS)

@@ -17,7 +17,7 @@ import pytest
 from scipy import integrate
 from scipy.special import erf, erfc
 
-from railtherm.materials import Material
+from railtherm.input.materials import Material
 from railtherm.references import carter, flash, hertz, jaeger, moving_source
 from railtherm.references._quadrature import GRADING_RATIO, graded_rule
 from railtherm.references.carter import carter_2d, carter_normal_load

@@ -1,4 +1,4 @@
-"""railtherm.reference_curves: the exact curves the report overlays, written to out/references.nc."""
+"""railtherm.analysis.reference_curves: the exact curves the report overlays, written to out/references.nc."""
 from __future__ import annotations
 
 import numpy as np
@@ -61,14 +61,14 @@ convection = 100.0
 
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
-    from railtherm.study import load_study
+    from railtherm.input.study import load_study
     p = tmp_path_factory.mktemp("curves") / "study.toml"
     p.write_text(STUDY)
     return load_study(p)
 
 
 def test_curves_carry_their_meaning(study):
-    from railtherm.reference_curves import reference_curves
+    from railtherm.analysis.reference_curves import reference_curves
     curves = reference_curves(study)
     assert "convective" not in curves  # no exact reference with convection
     assert {"band", "ellipse-creep"} <= set(curves)
@@ -88,7 +88,7 @@ def test_curves_carry_their_meaning(study):
 
 
 def test_carter_curve_holds_the_swept_values(study):
-    from railtherm.reference_curves import reference_curves
+    from railtherm.analysis.reference_curves import reference_curves
     from railtherm.references.carter import carter_2d
     curves = reference_curves(study)
     ds = curves["carter--creepage.longitudinal=-0.0004"]
@@ -102,7 +102,7 @@ def test_carter_curve_holds_the_swept_values(study):
 
 
 def test_written_atomically_and_read_back(study, tmp_path):
-    from railtherm.reference_curves import read_reference_curves, reference_curves, write_reference_curves
+    from railtherm.analysis.reference_curves import read_reference_curves, reference_curves, write_reference_curves
     path = write_reference_curves(study, tmp_path)
     assert path == tmp_path / "references.nc"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["references.nc"]  # no temporary file left

@@ -1,11 +1,11 @@
-"""railtherm.store, the output folder's one owner: layout, atomic writes, reader, run and crash records."""
+"""railtherm.output.store, the output folder's one owner: layout, atomic writes, reader, run and crash records."""
 import json
 from types import SimpleNamespace
 
 import numpy as np
 import xarray as xr
 
-from railtherm import store
+from railtherm.output import store
 
 
 def test_layout(tmp_path):

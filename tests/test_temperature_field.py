@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from railtherm import BodyTemperature, TemperatureField
-from railtherm.grid import surface_grid
+from railtherm.contract.grid import surface_grid
 
 
 @pytest.fixture

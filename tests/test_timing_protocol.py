@@ -1,4 +1,4 @@
-"""The timing protocol of a run (:func:`railtherm.runner.execute_run`) and the default executor.
+"""The timing protocol of a run (:func:`railtherm.run.runner.execute_run`) and the default executor.
 
 * a short solve is repeated until about 0.5 s of timing is collected, at most ``repeat`` times; a
   solve over 0.5 s is timed once (its own solve), and ``timing_runs`` says how many were timed;

@@ -10,8 +10,8 @@ import xarray as xr
 
 import railtherm
 from railtherm import Capabilities, Method, TemperatureField, TemperatureModel, hookimpl
-from railtherm.metrics import (compute_metrics, energy_balance, half_space_energy, rel_error, richardson)
-from railtherm.runner import RunTask, execute_run, run_hash
+from railtherm.analysis.metrics import (compute_metrics, energy_balance, half_space_energy, rel_error, richardson)
+from railtherm.run.runner import RunTask, execute_run, run_hash
 
 STUDY = """
 schema_version = 1
@@ -88,7 +88,7 @@ class FixturePlugin:
 
 @pytest.fixture
 def fixture_host():
-    from railtherm import plugins
+    from railtherm.solving import plugins
     saved = plugins._HOST
     host = plugins.new_host([("verdict-fixtures", FixturePlugin())], autoload=True)
     plugins.set_host(host)
@@ -188,7 +188,7 @@ def test_fast_runs_are_timed_up_to_three_times_after_a_warm_up_and_memory_is_nat
 
 
 def test_rss_peak_sees_native_allocations():
-    from railtherm.runner import RSSPeak
+    from railtherm.run.runner import RSSPeak
     with RSSPeak() as mem:
         a = np.ones(50_000_000 // 8)  # 50 MB, touched
         del a
@@ -229,7 +229,7 @@ def test_half_space_energy_of_a_ramp_converges_at_order_one_and_a_half():
 
 def test_energy_balance_of_the_exact_field_and_of_wrong_physics(fixture_host, tmp_path):
     """Finding 8: heat_balance compared the heat source with itself (1e-16 for every run)."""
-    from railtherm.analytic import reference_fields
+    from railtherm.analysis.analytic import reference_fields
     sc = study(tmp_path).scenes[0]
     ds = railtherm.solve(sc, "green", 1)
     exact = ds.copy(deep=True)

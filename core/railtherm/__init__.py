@@ -21,8 +21,6 @@ contract/        what a plugin implements: stages, hooks, errors, grid, result s
 references/      exact and published solutions (pure functions)
 
 Plugins import ``railtherm`` (this module), ``railtherm.physics`` and ``railtherm.references`` only.
-The old flat module paths (``railtherm.stages``, ``railtherm.runner``, ...) are aliases of the new ones
-for one release.
 """
 from __future__ import annotations
 
@@ -33,7 +31,7 @@ from .contract.grid import SurfaceGrid, surface_grid
 from .contract.hookspec import hookimpl
 from .input.materials import Material
 from .physics import combined_elastic, equal_temperature_partition, scene_partition
-from .contract.stages import (BODIES, STAGES, BodyTemperature, Capabilities, ContactModel, ContactPatch, CoupledModel,
+from .contract.stages import (BODIES, STAGES, BodyTemperature, Capabilities, ContactPatch, CoupledModel,
                      HeatSource, HeatSourceModel, Method, NormalContactModel, Option, StageModel,
                      TangentialContactModel, TemperatureField, TemperatureModel, Upstream)
 
@@ -56,7 +54,7 @@ def __getattr__(name):  # lazy: keep `railtherm validate` / `methods` fast
 
 
 __all__ = ["__version__", "PluginError", "Refused", "SceneError", "SolverError", "SurfaceGrid", "surface_grid",
-           "hookimpl", "Material", "combined_elastic", "equal_temperature_partition", "scene_partition", "BODIES", "STAGES", "Capabilities", "ContactModel", "ContactPatch",
+           "hookimpl", "Material", "combined_elastic", "equal_temperature_partition", "scene_partition", "BODIES", "STAGES", "Capabilities", "ContactPatch",
            "CoupledModel", "HeatSource", "HeatSourceModel", "Method", "NormalContactModel", "Option", "StageModel",
            "TangentialContactModel", "Upstream",
            "TemperatureField", "BodyTemperature", "TemperatureModel", *_LAZY]

@@ -321,7 +321,7 @@ def _exact_errors(scene, ds) -> dict[str, tuple[float, str]]:
     """Errors of scalar results against core's exact references: quantity -> (error, reference tag).
 
     Quantities that a model of the chain reproduces by construction (e.g. Hertz's pressure from the
-    ``hertz`` model) are not errors (see :func:`railtherm.metrics.run_errors`).
+    ``hertz`` model) are not errors (see :func:`railtherm.analysis.metrics.run_errors`).
     """
     from .analysis.analytic import reference_values
     from .analysis.metrics import SCALARS, run_errors
@@ -366,10 +366,10 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
 
     * the method solves at least one scene (refusing everything fails);
     * on at least one scene it is *verified*: the scene's headline quantity (docs/verdicts.md) has
-      an exact reference in core (:func:`railtherm.analytic.reference_values`) and every scalar
+      an exact reference in core (:func:`railtherm.analysis.analytic.reference_values`) and every scalar
       with an exact reference is within ``tolerance`` (10 %) of it;
     * on every verified scene, the energy balance of the computed temperature field
-      (:func:`railtherm.metrics.energy_balance`) is within ``energy_tolerance`` (10 %) where it
+      (:func:`railtherm.analysis.metrics.energy_balance`) is within ``energy_tolerance`` (10 %) where it
       can be evaluated (a field right at its maximum but wrong elsewhere fails here). A scene whose
       headline is off by more than ``tolerance`` is reported, and tolerated, as long as another scene
       is verified (coarse levels may be inaccurate).

@@ -13,7 +13,6 @@ Stage models
 
 Method ``fastsim-fdm`` chains wheelset | hertz -> fastsim -> frictional -> ``fdm``, the finite-difference
 temperature model of the separate plugin ``railtherm_fdm``. The stages stay composable: other methods
-name ``fastsim`` as their tangential model. The modules ``fdm_model``, ``fdm_kernel``, ``fdm_line`` and
-``fdm_solvers`` are deprecated aliases of ``railtherm_fdm``'s, kept for one release.
+name ``fastsim`` as their tangential model.
 """
 __version__ = "0.2.0"

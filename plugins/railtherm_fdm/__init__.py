@@ -15,8 +15,5 @@ Registers the temperature model ``fdm`` (:class:`railtherm_fdm.model.FDMTemperat
     loading; the heat balance; reading fields off on the patch grid; backward Euler, CG and GMRES.
 ``kernels``
     The numba kernels (one explicit stencil, compiled parallel and serial).
-
-The old paths ``railtherm_fastsim.fdm_model``, ``fdm_solvers``, ``fdm_line`` and ``fdm_kernel`` are
-aliases of ``model``, ``block3d``, ``block2d`` and ``kernels`` for one release.
 """
 __version__ = "0.2.0"

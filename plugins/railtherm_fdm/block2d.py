@@ -47,8 +47,7 @@ from .linear_solvers import BackwardEuler, backward_euler_operator
 from .sampling import BlockResult, linear_rows, surface_from_top_cells
 from .source_loading import MovingSource, graded_surface_source
 
-#: the solvers, and the names the old path ``railtherm_fastsim.fdm_line`` (an alias of this module for one
-#: release) exported from here
+#: the 2-D (line contact) solvers and their limits
 __all__ = ["transient_line", "steady_line", "X_SCHEMES", "CG_MIN_CAPACITY_RATIO", "line_stability_limit",
            "line_extent"]
 

@@ -55,14 +55,12 @@ from .linear_solvers import CG_RTOL, BackwardEuler, backward_euler_operator, cg,
 from .sampling import BlockResult, bilinear, linear_rows, surface_from_top_cells
 from .source_loading import MovingSource, box_overlap, graded_surface_source
 
-#: the solvers, and the names the old path ``railtherm_fastsim.fdm_solvers`` (an alias of this module
-#: for one release) exported from here
+#: the 3-D block solvers and what they return
 __all__ = ["transient_block", "steady_block", "BlockResult", "Extent", "block_extent", "explicit_stability_limit",
            "box_overlap"]
 
-#: old private name of :func:`railtherm_fdm.linear_solvers.cg` (the same function object; with
-#: ``CG_RTOL``, what tests/test_plugin_verdicts.py patches through ``railtherm_fastsim.fdm_solvers``);
-#: kept one release with the alias
+#: the conjugate-gradient solver the steady block calls (:func:`railtherm_fdm.linear_solvers.cg`; with
+#: ``CG_RTOL``, what tests/test_plugin_verdicts.py patches to starve it)
 _cg = cg
 
 

@@ -45,8 +45,7 @@ from .layout import Trail
 from .scheme_choice import (SCHEMES, check_explicit_step, choose_line_scheme, choose_scheme, explicit_cost,
                             requested_scheme)
 
-#: the model, and the names the old path ``railtherm_fastsim.fdm_model`` (an alias of this module for one
-#: release) exported from here
+#: the model and its scheme choice
 __all__ = ["FDMTemperature", "choose_scheme", "explicit_cost"]
 
 BODY_NAMES = ("wheel", "rail")

@@ -119,7 +119,7 @@ def moving_frame_mesh(x_patch_edges: np.ndarray, a: float, speed: float, diffusi
         Smallest depth of the mesh [m] (the scene's ``field.depth``); the graded z reaches
         ``max(D, min_depth)``.
 
-    ``x_patch_edges`` may also be an *extended* grid (:func:`railtherm.grid.extended_grid`, scene key
+    ``x_patch_edges`` may also be an *extended* grid (:func:`railtherm.contract.grid.extended_grid`, scene key
     ``field``): uniform cells from ``x_patch_edges[0] < -a`` up to ``a``. The uniform cells then run
     through the whole trail behind the patch and the outflow grading starts at its end; the domain
     length, and with it the depth ``D``, grows with the trail (the grading follows the trail).

@@ -65,7 +65,7 @@ class GreenTemperature(TemperatureModel):
     recover behind the patch; this field is added exactly (:func:`steady.contact_conduction_surface`).
 
     Behind the patch (scene key ``field``): the same strip integrals, evaluated on the extended grid
-    (:func:`railtherm.grid.extended_grid`, cells of the patch's size reaching ``field.behind`` beyond
+    (:func:`railtherm.contract.grid.extended_grid`, cells of the patch's size reaching ``field.behind`` beyond
     the trailing edge) with zero flux there, i.e. the 1-D solution continued with zero flux: each
     strip cools by conduction into the depth only. The surface and depth values at every x are the
     exact cell integrals above, so the trace behind the patch has the patch's accuracy; the model error

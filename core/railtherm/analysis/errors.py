@@ -141,7 +141,7 @@ def run_errors(scene, ds, ref_values: dict, ref_ds=None, *, ref_tag: str = "", s
     ds : xarray.Dataset
         The result (a run file, or a row of the Zarr store without fields).
     ref_values : dict
-        Exact values (:func:`railtherm.analytic.reference_values`); ``"_sources"`` (quantity -> tag)
+        Exact values (:func:`railtherm.analysis.analytic.reference_values`); ``"_sources"`` (quantity -> tag)
         names them, or ``sources``.
     ref_ds : xarray.Dataset, optional
         A reference run for quantities without an exact value.

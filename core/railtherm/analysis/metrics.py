@@ -48,7 +48,7 @@ from ..output.store import STATUSES
 
 
 def _open(path):
-    """A run's Dataset, read through the output folder's owner (:func:`railtherm.store.open_result`: a run
+    """A run's Dataset, read through the output folder's owner (:func:`railtherm.output.store.open_result`: a run
     file or a run of the Zarr store)."""
     return store.open_result(path)
 

@@ -315,7 +315,7 @@ def scene_reference_curves(scene, group_values: list[float] | None = None):
                     coords={k: xr.Variable(*v) for k, v in coords.items()})
     from .._version import __version__
     ds.attrs.update({"Conventions": "CF-1.11", "title": f"railtherm reference curves of scene {scene.name}",
-                     "source": f"railtherm {__version__} (railtherm.reference_curves)",
+                     "source": f"railtherm {__version__} (railtherm.analysis.reference_curves)",
                      "scene": scene.name, "scene_hash": scene.hash, "reference": "; ".join(names)})
     return ds
 
@@ -325,7 +325,7 @@ def reference_curves(study) -> dict:
 
     Parameters
     ----------
-    study : railtherm.study.Study
+    study : railtherm.input.study.Study
         The study (its scenes after sweep expansion).
 
     Returns

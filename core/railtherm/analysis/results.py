@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..output import store
-# the sweep attribute is part of the run file's format: railtherm.store owns it (importable from here)
+# the sweep attribute is part of the run file's format: railtherm.output.store owns it (importable from here)
 from ..output.store import SWEEP_ATTR, _dotted, encode_sweep, run_sweeps, sweep_of  # noqa: F401
 
 def _sweep_coord_attrs(key: str) -> dict:

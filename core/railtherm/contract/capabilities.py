@@ -47,10 +47,10 @@ class Capabilities:
         The model works in the frame moving with the contact and needs both bodies' surfaces to
         move through the patch (surface speed > 0).
     provides : frozenset of str
-        Result variables the model fills (names of :data:`railtherm.schema.VARIABLES`).
+        Result variables the model fills (names of :data:`railtherm.contract.schema.VARIABLES`).
     field : bool
         The model reports temperatures behind the patch and in depth as the scene's ``field`` asks
-        (on :func:`railtherm.grid.extended_grid`, depth down to ``field.depth``) and the thermal trace
+        (on :func:`railtherm.contract.grid.extended_grid`, depth down to ``field.depth``) and the thermal trace
         (:func:`railtherm.physics.with_thermal_trace`); False refuses a scene with ``field``.
     friction_laws : frozenset of {"constant", "slip-velocity", "polach", "temperature"}
         Friction laws (scene key ``friction``, :mod:`railtherm.physics.friction`) the model applies cell

@@ -149,7 +149,7 @@ def surface_grid(a: float, b: float | None, level: int, cells: int | None = None
         raise Refused(
             f"the surface grid of level {level} needs {_shape(n, ny)} = {total:.3g} cells "
             f"({base} cells along 2a at level 0, a = {a:.4g} m" + (f", b = {b:.4g} m" if b is not None else "")
-            + f"), above the budget railtherm.grid.MAX_SURFACE_CELLS = {MAX_SURFACE_CELLS:.3g} cells "
+            + f"), above the budget railtherm.contract.grid.MAX_SURFACE_CELLS = {MAX_SURFACE_CELLS:.3g} cells "
             f"({8 * total / 1e6:.0f} MB per field, about 20 fields per run); {within} with {base} cells at "
             "level 0", kind="budget")
     x_edges = np.linspace(-a, a, n + 1)
@@ -194,7 +194,7 @@ def extended_grid(grid: SurfaceGrid, behind: float) -> SurfaceGrid:
     if nx * ny > MAX_SURFACE_CELLS:
         raise Refused(f"the surface grid extended {behind:.4g} m behind the patch (field.behind) needs "
                       f"{_shape(nx, None if grid.line else ny)} = {nx * ny:.3g} cells of {dx:.3g} m, above the "
-                      f"budget railtherm.grid.MAX_SURFACE_CELLS = {MAX_SURFACE_CELLS:.3g}: use a lower level or a "
+                      f"budget railtherm.contract.grid.MAX_SURFACE_CELLS = {MAX_SURFACE_CELLS:.3g}: use a lower level or a "
                       "shorter field.behind", kind="budget")
     x0 = float(grid.x_edges[0])
     x_edges = np.concatenate([x0 - dx * np.arange(n, 0, -1), np.asarray(grid.x_edges, dtype=float)])

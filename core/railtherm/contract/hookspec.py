@@ -30,7 +30,7 @@ def railtherm_register_models() -> list:
     Returns
     -------
     list of type
-        Subclasses of :class:`railtherm.ContactModel`, :class:`railtherm.HeatSourceModel`,
+        Subclasses of :class:`railtherm.NormalContactModel`, :class:`railtherm.HeatSourceModel`,
         :class:`railtherm.TemperatureModel` or :class:`railtherm.CoupledModel`, each with a unique
         ``name``. A name registered twice is reported and the later one is skipped.
     """

@@ -69,7 +69,7 @@ def check_options(method_info, options: Mapping[str, Any] | None, *, method: str
 
     Parameters
     ----------
-    method_info : railtherm.plugins.MethodInfo
+    method_info : railtherm.solving.plugins.MethodInfo
         The method (its ``models`` declare the allowed options).
     options : mapping or None
         Option key -> value.
@@ -151,8 +151,8 @@ def check_study(study, host, methods: Iterable[str] | None = None, levels: Itera
 
     Parameters
     ----------
-    study : railtherm.study.Study
-    host : railtherm.plugins.PluginHost
+    study : railtherm.input.study.Study
+    host : railtherm.solving.plugins.PluginHost
         The plugin host the study will run with (``host.methods``: name -> MethodInfo).
     methods, levels : optional
         Restrictions given on the command line or to :func:`railtherm.run_study`.

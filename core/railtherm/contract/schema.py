@@ -108,7 +108,7 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
     Every variable a stage computed is included (what was asked and what was computed); nothing
     is invented for stages that did not run. When the temperature field lies on an extended grid
     (``temperature.grid``, a scene with ``field``), that grid is the result's: the contact and heat
-    fields are put on it with zeros behind the patch (``stick`` NaN, :func:`railtherm.grid.embed`).
+    fields are put on it with zeros behind the patch (``stick`` NaN, :func:`railtherm.contract.grid.embed`).
     """
     import xarray as xr
     from .grid import embed

@@ -17,7 +17,7 @@ at once and receives what the plan gives it (:class:`Upstream`: the results of t
 its first one, a given heat source included); it never calls back into the pipeline.
 Each model declares what it can do (:class:`Capabilities`) and answers :meth:`StageModel.supports`
 before it runs. Plugins register model classes and :class:`Method` chains through the hooks in
-:mod:`railtherm.hookspec`.
+:mod:`railtherm.contract.hookspec`.
 
 Conventions (all SI, temperatures in degC as rises above the body's bulk temperature unless a
 field says otherwise): x is the rolling direction with the origin at the patch centre and the
@@ -194,7 +194,7 @@ class TemperatureField:
     diagnostics : dict
     grid : SurfaceGrid or None
         The grid the fields lie on when it is not the heat source's: the
-        :func:`railtherm.grid.extended_grid` of a scene with ``field`` (x reaching behind the patch).
+        :func:`railtherm.contract.grid.extended_grid` of a scene with ``field`` (x reaching behind the patch).
         None: the heat source's grid.
     peak_temperature, cooling_rate, time_above : ndarray or None, shape (2, nz)
         The thermal trace of a material point on the centre line at each depth ``z``: highest
@@ -246,7 +246,7 @@ class TemperatureField:
         Parameters
         ----------
         grid : SurfaceGrid
-            Surface grid of the fields: the heat source's, or its :func:`railtherm.grid.extended_grid`
+            Surface grid of the fields: the heat source's, or its :func:`railtherm.contract.grid.extended_grid`
             for a scene with ``field`` (then kept as :attr:`grid` of the result).
         bulk : (float, float)
             Bulk temperatures of wheel and rail [degC].
@@ -499,10 +499,6 @@ class NormalContactModel(StageModel):
         raise NotImplementedError
 
 
-#: plugin API 1 name of :class:`NormalContactModel` (kept for one release)
-ContactModel = NormalContactModel
-
-
 class TangentialContactModel(StageModel):
     """Tangential-contact stage: traction, slip, stick/slip and creep forces on a given patch
     (core's ``full-sliding``; FASTSIM)."""
@@ -607,7 +603,7 @@ class Method:
     along 2a at level 0.
 
     ``orders`` declares the theoretical convergence order of the method per error metric
-    (``{"max_surface_temperature": 2.0, ...}``; metric names of :data:`railtherm.metrics.METRICS`):
+    (``{"max_surface_temperature": 2.0, ...}``; metric names of :data:`railtherm.analysis.metrics.METRICS`):
     the report prints it beside each fitted order. Undeclared metrics have no stated order.
     """
 

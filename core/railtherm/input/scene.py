@@ -534,7 +534,7 @@ def load_scene(mapping: Mapping[str, Any] | "Scene", *, name: str | None = None,
     Parameters
     ----------
     mapping : mapping or Scene
-        Scene keys as in docs/DESIGN.md. Lists are not expanded here (see :func:`railtherm.study.expand_sweeps`):
+        Scene keys as in docs/DESIGN.md. Lists are not expanded here (see :func:`railtherm.input.study.expand_sweeps`):
         a list where a scalar belongs is an error.
     name : str, optional
         Scene name when the mapping has none.

@@ -302,7 +302,7 @@ def load_study(path: str | Path) -> Study:
 
 def _chains(raw) -> dict[str, dict[str, tuple[str, ...]]]:
     """``[study.chains.<name>]`` tables: stage -> model name or list of names (form only; the plugin
-    host checks that the models exist and implement their stages, :func:`railtherm.options.check_study`)."""
+    host checks that the models exist and implement their stages, :func:`railtherm.contract.options.check_study`)."""
     allowed = ("tables [study.chains.<name>] with keys " + ", ".join(CHAIN_STAGES)
                + ", each a model name or a list of them")
     if not isinstance(raw, Mapping):

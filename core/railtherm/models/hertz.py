@@ -3,12 +3,12 @@ from __future__ import annotations
 
 from ..contract.grid import BASE_CELLS
 from ..physics.hertz import hertz_geometry, hertz_patch
-from ..contract.stages import Capabilities, ContactModel, Option
+from ..contract.stages import Capabilities, NormalContactModel, Option
 
 __all__ = ["HertzContact", "hertz_geometry"]  # hertz_geometry: moved to railtherm.physics, kept for one release
 
 
-class HertzContact(ContactModel):
+class HertzContact(NormalContactModel):
     """Hertz's elastic half-space patch: semi-axes from the scene or from the gap curvatures
     (complete elliptic integrals), pressure p0 sqrt(1 - x²/a² - y²/b²) averaged exactly over each cell.
 

@@ -412,7 +412,7 @@ class RunRecord:
     timing_runs: int = 0
     path: str = ""
     scene_hash: str = ""
-    #: :func:`railtherm.runner.run_hash` of the run (what --resume compares)
+    #: :func:`railtherm.run.runner.run_hash` of the run (what --resume compares)
     run_hash: str = ""
     #: median of the timed solves [s]
     wall_time_median: float = float("nan")
@@ -426,7 +426,7 @@ class RunRecord:
     resumed: bool = False
     run_id: str = ""
     #: (heat entering through the surface of the computed temperature field - frictional power)
-    #: / frictional power [1], and how it was obtained (see :func:`railtherm.metrics.energy_balance`)
+    #: / frictional power [1], and how it was obtained (see :func:`railtherm.analysis.metrics.energy_balance`)
     energy_balance: float = float("nan")
     energy_reference: str = ""
     #: scalar results (RECORD_VALUES present in the result): name -> float or [wheel, rail]

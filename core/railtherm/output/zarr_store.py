@@ -2,7 +2,7 @@
 
 One Zarr (format 3) group holds every run of a study as rows of arrays indexed by ``run``; run
 ``i`` is (scene ``i // (M L)``, method ``(i // L) % M``, level ``i % L``) of the study's scenes, its M
-methods and L levels (the order of :func:`railtherm.runner.make_tasks`). The ``run`` dimension is cut
+methods and L levels (the order of :func:`railtherm.run.runner.make_tasks`). The ``run`` dimension is cut
 into chunks of whole scenes (:func:`chunk_scenes`); one task (a local worker process or a dask task)
 runs the runs of one chunk and writes that chunk of every array itself (:func:`write_chunk`), without
 a lock: no two tasks write the same chunk, and each chunk file is written to a temporary file and

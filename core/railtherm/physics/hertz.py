@@ -177,7 +177,7 @@ def hertz_patch(scene, level: int, cells: int | None = None, *, model: str = "he
     level : int
         Grid level k [1].
     cells : int, optional
-        Cells along 2a at level 0 [1] (default :data:`railtherm.grid.BASE_CELLS`).
+        Cells along 2a at level 0 [1] (default :data:`railtherm.contract.grid.BASE_CELLS`).
     model : str
         Name of the model asking, for messages.
 

@@ -53,7 +53,7 @@ from ..contract.grid import embed as embed_field, extended_grid
 __all__ = ["Trace", "thermal_trace", "with_thermal_trace", "field_grid", "embed_field", "extended_grid", "TRACE_OUTPUTS",
            "FIELD_TOO_SHORT"]
 
-#: result variables of the trace (railtherm.schema.VARIABLES)
+#: result variables of the trace (railtherm.contract.schema.VARIABLES)
 TRACE_OUTPUTS = ("peak_temperature", "cooling_rate", "heated_depth", "time_above")
 #: why a trace value is NaN
 FIELD_TOO_SHORT = "field too short"
@@ -256,9 +256,9 @@ def thermal_trace(x, z, temperature, speed: float, threshold: float) -> Trace:
 
 def field_grid(grid, scene):
     """The grid a temperature model reports on: ``grid`` extended ``scene.field.behind`` [m] beyond the
-    trailing edge (:func:`railtherm.grid.extended_grid`), or ``grid`` itself without ``field``.
+    trailing edge (:func:`railtherm.contract.grid.extended_grid`), or ``grid`` itself without ``field``.
 
-    Contact and heat fields go onto it with :func:`embed_field` (:func:`railtherm.grid.embed`: zero behind the
+    Contact and heat fields go onto it with :func:`embed_field` (:func:`railtherm.contract.grid.embed`: zero behind the
     patch)."""
     fld = getattr(scene, "field", None)
     return grid if fld is None else extended_grid(grid, fld.behind)

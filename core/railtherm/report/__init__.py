@@ -78,7 +78,7 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     out : path
         Output folder of ``railtherm run`` (holds ``metrics.nc``, ``study.json``, ``runs/`` and
         ``references.nc``).
-    study : railtherm.study.Study, optional
+    study : railtherm.input.study.Study, optional
         The study that was run; when None it is re-loaded from the path recorded in ``study.json``
         (if that file still exists). It supplies the scene inputs, the sweeps and the published
         values; without it the report is written from the output folder alone.

@@ -2,7 +2,7 @@
 paper's Figs 2-7 kinds of plot).
 
 For every scene with ``field`` whose exact trace is in ``references.nc`` (written by
-:func:`railtherm.reference_curves.write_reference_curves`), each method's finest successful level
+:func:`railtherm.analysis.reference_curves.write_reference_curves`), each method's finest successful level
 (read from its run file through the store) is drawn against the exact reference
 (:mod:`.trace_figures`): the temperature along the rolling direction on the surface and at the depth
 z* of the reference, including the trace behind the patch; the temperature against depth at the

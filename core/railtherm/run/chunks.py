@@ -1,7 +1,7 @@
 """Runs of a study written to the Zarr store (``[study] store = "zarr"``): one task per chunk.
 
 A :class:`ChunkTask` is the runs of whole scenes that fill one chunk of the store
-(:mod:`railtherm.output.zarr_store`); :func:`railtherm.runner.execute_chunk` runs them in one worker
+(:mod:`railtherm.output.zarr_store`); :func:`railtherm.run.runner.execute_chunk` runs them in one worker
 and writes the chunk once. This module holds what needs no runner: the store's layout of a list of
 run tasks, the chunk tasks, and the translation between run records and rows of the store.
 """
@@ -18,7 +18,7 @@ from ..output import store, zarr_store
 
 
 def layout_of(tasks, keep_fields=False) -> zarr_store.Layout:
-    """The store layout of run tasks in :func:`railtherm.runner.make_tasks` order (scene, method, level)."""
+    """The store layout of run tasks in :func:`railtherm.run.runner.make_tasks` order (scene, method, level)."""
     scenes, methods, levels = [], [], []
     for t in tasks:
         if not scenes or scenes[-1] is not t.scene:

@@ -1,11 +1,11 @@
 """Executors of study runs: serial, local processes (the command line's default), dask.distributed.
 
-Every executor calls the same :func:`railtherm.runner.execute_run` on each task and yields
+Every executor calls the same :func:`railtherm.run.runner.execute_run` on each task and yields
 ``(index, record)`` pairs as runs finish, so the results are identical bit for bit whichever runs
 them. Workers rebuild the plugin host of the calling process (:func:`host_spec`): entry points when
 the caller loaded them, and every plugin registered in memory (``new_host([...])``, the conformance
 kit's ``railtherm_register``), sent by reference (cloudpickle) with the caller's ``sys.path``.
-Crash records are written through :mod:`railtherm.store`; this module never imports the runner (a
+Crash records are written through :mod:`railtherm.output.store`; this module never imports the runner (a
 task's ``existing()`` finds what a worker wrote before it died).
 
 Faults
@@ -14,7 +14,7 @@ Faults
   is executed once more on a fresh worker and recorded as ``failed`` if its worker dies again. What
   was already written stays on disk (atomic writes); a result written just before the death is
   found by the retry and not written again (same ``run_id``); ``--resume`` completes the study.
-* A run past its time limit is stopped inside the worker (:func:`railtherm.timelimit._time_limit`);
+* A run past its time limit is stopped inside the worker (:func:`railtherm.run.timelimit._time_limit`);
   a run stuck in a C call that ignores it is ended with its worker ``grace`` seconds later and
   recorded as ``failed`` (not retried).
 

@@ -6,8 +6,8 @@ exceeds the per-run time limit or returns NaN is recorded as ``failed`` with its
 outside a method's validity is ``refused``; neither stops the study. Results go to
 ``<out>/runs/<scene>/<method>/level-<k>.nc`` (temporary file, then rename); refusals and failures
 are recorded beside them as ``level-<k>.status.json``. ``resume`` skips runs whose file exists for
-the same scene hash (failed runs are retried). :mod:`railtherm.store` owns the folder's layout, its
-atomic writes and the run records; :mod:`railtherm.timelimit` the per-run time limit.
+the same scene hash (failed runs are retried). :mod:`railtherm.output.store` owns the folder's layout, its
+atomic writes and the run records; :mod:`railtherm.run.timelimit` the per-run time limit.
 
 Every invocation of :func:`run_tasks` has a ``run_id``; each file and status record carries the
 ``run_id`` that wrote it. A run that is executed again within the same invocation (its worker died
@@ -41,16 +41,11 @@ import numpy as np
 from ..output import store
 from ..contract.errors import Refused, SceneError
 from ..input.scene import Scene
-# re-exported for one release: the output folder moved to railtherm.store, time limits to railtherm.timelimit
-from ..output.store import (RunRecord, _direct_writable, _write_netcdf4, read_attrs, run_path,  # noqa: F401
-                    status_path, write_atomic_bytes, write_dataset_atomic)
+from ..output.store import RunRecord
 from ..input.study import Study, load_study
-from .timelimit import WATCHDOG, RunTimeout, Watchdog, _async_raise, _time_limit  # noqa: F401
+from .timelimit import RunTimeout, _time_limit
 from .timing import TIMING_BUDGET, RSSPeak, compile_watch, more_solves
 
-_remove_stale_tmp = store.remove_stale_tmp  # re-exported for one release
-
-from ..output.store import STATUSES  # noqa: F401 - re-exported
 
 #: a run-sweep study (``warmup = false``) traces the memory of one run in this many per (method, level)
 MEMORY_SAMPLE = 100

@@ -2,7 +2,7 @@
 and validate the result Dataset.
 
 Planning (:func:`plan`): each requested output belongs to one of the four stages (normal,
-tangential, heat source, temperature; :data:`railtherm.schema.VARIABLES`); the stages up to the last
+tangential, heat source, temperature; :data:`railtherm.contract.schema.VARIABLES`); the stages up to the last
 one needed run, no others. A scene that gives its heat source runs no normal or tangential stage
 (core model "given" supplies the source, also to a coupled model).
 """
@@ -88,7 +88,7 @@ def plan(scene: Scene, method: "str | Mapping[str, Any] | MethodInfo", level: in
          host: PluginHost | None = None) -> Plan:
     """Choose the models and the stages to run; raises :class:`railtherm.Refused` when impossible.
 
-    Each output belongs to one stage (:data:`railtherm.schema.VARIABLES`); the stages up to the last
+    Each output belongs to one stage (:data:`railtherm.contract.schema.VARIABLES`); the stages up to the last
     one an output needs run, no others, and the model selected for an output's stage must declare
     it in ``capabilities.provides``. A scene that gives its heat source runs no normal or
     tangential stage: core's ``given`` is its heat-source stage.
