@@ -17,7 +17,7 @@ import pytest
 
 import railtherm
 from railtherm import ContactPatch, TangentialContactModel, TemperatureField, TemperatureModel
-from railtherm.plugins import get_host, new_host, set_host
+from railtherm.solving.plugins import get_host, new_host, set_host
 
 STUDY = """
 schema_version = 1
@@ -237,9 +237,9 @@ def test_scorecard_cells(study_out):
     row = next(line for line in verdict.splitlines() if line.startswith("| [line-sliding]"))
     cells = [c.strip() for c in row.strip("|").split("|")]
     assert cells[0] == "[line-sliding](#scene-line-sliding) · max T"
-    assert cells[1].startswith("inaccurate · ") and cells[1].endswith("· L1")
+    assert cells[1].startswith("inaccurate · ") and cells[1].endswith("· level 1")
     assert cells[2].startswith("failed")
-    assert cells[4].startswith("inaccurate · ") and cells[4].endswith("· L0")
+    assert cells[4].startswith("inaccurate · ") and cells[4].endswith("· level 0")
     assert cells[3].startswith("refused")
     sweep = next(line for line in verdict.splitlines() if line.startswith("| [carter]"))
     assert "(5 scenes) · Fx" in sweep

@@ -207,12 +207,12 @@ def test_scorecard_cheapest_ok_level(report):
     """fipy on ek: level 0 is inaccurate, levels 1 and 2 are ok and level 2 is the cheaper one."""
     _, _, md, html = report
     card = _scorecard(md)
-    assert card[("ek", "fipy")] == "ok · 0.40 % · 0.40 s · L2"
-    assert card[("ek", "green")] == "ok · 0.40 % · 1.0 ms · L0"
+    assert card[("ek", "fipy")] == "ok · 0.40 % · 0.40 s · level 2"
+    assert card[("ek", "green")] == "ok · 0.40 % · 1.0 ms · level 0"
     assert card[("ek", "fem")].startswith("refused")
     assert card[("strip", "fem")].startswith("unverified · headline not checked independently")
     assert card[("strip", "green")].startswith("failed")
-    assert '<td class="ok">ok · 0.40 % · 1.0 ms · L0</td>' in html
+    assert '<td class="ok">ok · 0.40 % · 1.0 ms · level 0</td>' in html
     assert '<td class="unverified">unverified' in html
 
 
@@ -376,7 +376,7 @@ def test_reference_method_cell_is_not_a_verdict(status):
     v = choose(data, "ek-exact", "kalker")
     c = cell(v)
     assert v.status == "reference" and v.run.level == 2
-    assert c.text.startswith("reference") and "L2" in c.text and "%" not in c.text
+    assert c.text.startswith("reference") and "level 2" in c.text and "%" not in c.text
     assert "inaccurate" not in c.text and c.css not in ("ok", "inaccurate", "unverified", "refused", "failed")
     g = choose(data, "ek-exact", "green")
     assert g.status == "inaccurate" and cell(g).text.startswith("inaccurate")
@@ -486,7 +486,7 @@ def test_scorecard_reads_the_verdict_stored_in_metrics():
                                 "message": "reference not converged: kalker's own finest-level error is 2.9 %"},
         ("ek-exact", "green", 2): -0.01})
     text = cell(choose(data, "ek-exact", "green")).text
-    assert text.startswith("ok · −1.0 %") and "L2" in text and "reference not converged" in text, text
+    assert text.startswith("ok · −1.0 %") and "level 2" in text and "reference not converged" in text, text
 
 
 def test_key_findings_split_the_contact_model_from_the_thermal_model():

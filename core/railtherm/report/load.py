@@ -50,6 +50,9 @@ class Run:
     energy_reference: str = ""
     headline_error: float = math.nan
     headline_reference: str = ""
+    signed: dict = field(default_factory=dict)       # metric -> error with the sign of (value − reference)
+    not_scored: dict = field(default_factory=dict)   # metric -> why it is not scored (its error is NaN)
+    cooling_depth: float = math.nan                  # shallowest depth [m] at which the cooling rate is scored
 
     @property
     def has_result(self) -> bool:
@@ -249,9 +252,12 @@ def _runs(m, metrics: list[str], legacy: bool) -> list[Run]:
     legacy_ref = col("reference", "")
     errs = {k: col(f"error_{k}") for k in metrics}
     refs = {k: col(f"reference_{k}", "") for k in metrics}
+    signs = {k: m[f"signed_error_{k}"].values for k in metrics if f"signed_error_{k}" in m}
+    unscored, depth = col("not_scored", ""), col("cooling_rate_depth")
     runs = []
     for i in range(n):
-        errors = {k: _float(v[i]) for k, v in errs.items() if math.isfinite(_float(v[i]))}
+        # inf is kept: a value that is not finite where its reference is fails the metric (docs/verdicts.md)
+        errors = {k: _float(v[i]) for k, v in errs.items() if not math.isnan(_float(v[i]))}
         if legacy:
             references = {k: v for k, v in _legacy_references(_str(legacy_ref[i]), str(method[i]), errors).items()}
         else:
@@ -259,8 +265,33 @@ def _runs(m, metrics: list[str], legacy: bool) -> list[Run]:
         runs.append(Run(str(scene[i]), str(method[i]), int(level[i]), str(status[i]), _str(message[i]),
                         _str(reason[i]), _float(wall[i]), _float(median[i]), _float(nruns[i]), _float(mem[i]),
                         errors, references, _float(energy[i]), _str(energy_ref[i]), _float(h_err[i]),
-                        _str(h_ref[i])))
+                        _str(h_ref[i]), {k: _float(v[i]) for k, v in signs.items() if not math.isnan(_float(v[i]))},
+                        not_scored_reasons(_str(unscored[i]), metrics), _float(depth[i])))
     return runs
+
+
+def not_scored_reasons(text: str, metrics) -> dict[str, str]:
+    """metrics.nc's ``not_scored`` text ("creep force x: zero by symmetry ...; cooling rate, z ≥ 26 µm: ...")
+    as metric -> reason; a part that names no metric continues the reason before it."""
+    out: dict[str, str] = {}
+    last = None
+    for part in (text.split("; ") if text else []):
+        name, sep, why = part.partition(": ")
+        k = next((k for k in metrics if sep and _stored_words(k, name)), None)
+        if k is not None:
+            out[k], last = why, k
+        elif last is not None:
+            out[last] += "; " + part
+    return out
+
+
+def _stored_words(metric: str, name: str) -> bool:
+    """True when ``name`` is how metrics.nc's ``not_scored`` names ``metric``."""
+    if metric == "cooling_rate":
+        return name == "cooling rate" or name.startswith("cooling rate, z ≥")
+    if metric == "cooling_rate_all_depths":
+        return name == "cooling rate, all depths"
+    return name == metric.replace("_", " ")
 
 
 def _per_scene(m, var: str, scene: str):

@@ -14,7 +14,7 @@ from .document import Cell
 from .format import duration, exact, finite, label, level_range, memory, num, pct, short
 from .load import Run, StudyData
 
-__all__ = ["METRIC_SHORT", "run_table", "refusal_lines", "message_lines", "order_table", "published_table",
+__all__ = ["METRIC_SHORT", "metric_name", "error_text", "run_table", "refusal_lines", "message_lines", "order_table", "published_table",
            "cross_tables", "reference_words"]
 
 METRIC_SHORT = {"max_surface_temperature": "max T", "mean_contact_temperature": "mean T",
@@ -50,10 +50,52 @@ def _timing(r: Run) -> str:
     return t
 
 
+def metric_name(metric: str, depths=()) -> str:
+    """A metric's short column name; the cooling rate with the depths it is scored at (metrics.nc's
+    ``cooling_rate_depth``: "cooling rate, z ≥ 26 µm") and the all-depths variant marked as not used by the
+    verdict."""
+    if metric == "cooling_rate":
+        zs = sorted({float(f"{z * 1e6:.3g}") for z in depths if finite(z)})
+        if zs:
+            return "cooling rate, z ≥ " + (f"{num(zs[0])} µm" if len(zs) == 1 else f"{num(zs[0])}–{num(zs[-1])} µm")
+    if metric == "cooling_rate_all_depths":
+        return "cooling rate, all depths (not used by the verdict)"
+    return METRIC_SHORT.get(metric) or label(metric)
+
+
+def error_text(r: Run, metric: str) -> str:
+    """A run's error on ``metric`` as the run table prints it: signed where metrics.nc stores the sign,
+    "not finite" for an infinite error (a value that is not finite where its reference is), "—" when the
+    metric is not scored (metrics.nc's ``not_scored`` says why), "–" when there is none."""
+    e = r.errors.get(metric, math.nan)
+    if e == math.inf:
+        return "not finite"
+    if finite(e):
+        s = r.signed.get(metric, math.nan)
+        return pct(s, unit=False, signed=True) if finite(s) else pct(e, unit=False)
+    return "—" if metric in r.not_scored else "–"
+
+
+def _error_column(r: Run, met: str, marked: dict):
+    text = error_text(r, met)
+    if text in ("–", "—"):
+        return text
+    ref = r.references.get(met, "")
+    mark = SELF_MARK if ref.startswith("self") else METHOD_MARK if ref.startswith("method:") else ""
+    if mark == METHOD_MARK:
+        marked.setdefault(ref, set()).add(r.method)
+    return text + mark
+
+
 def run_table(data: StudyData, scene: str) -> tuple[list[str], list[list], list[str], list[str]]:
-    """Runs with a result: header, rows, names of dropped columns, notes (references of marked errors)."""
+    """Runs with a result: header, rows, names of dropped columns, notes (references of marked errors, the
+    reasons of metrics not scored)."""
     runs = sorted((r for r in data.runs_of(scene) if r.has_result), key=lambda r: (r.method, r.level))
-    metrics = _metric_order({k for r in runs for k in r.errors})
+    metrics = _metric_order({k for r in runs for k in list(r.errors) + list(r.not_scored)})
+    if "cooling_rate_all_depths" in metrics and "cooling_rate" in metrics:   # beside the scored one
+        metrics.remove("cooling_rate_all_depths")
+        metrics.insert(metrics.index("cooling_rate") + 1, "cooling_rate_all_depths")
+    depths = [r.cooling_depth for r in runs]
     median = any(finite(r.wall_time_median) for r in runs)
     time_head = "time min" + (" / median" if median else "") + (" (n)" if any(finite(r.timing_runs) for r in runs)
                                                                  else "")
@@ -65,32 +107,22 @@ def run_table(data: StudyData, scene: str) -> tuple[list[str], list[list], list[
             (energy_head, lambda r: r.energy_balance, True)]
     marked = {}
     for met in metrics:
-        def err(r, met=met):
-            if met not in r.errors:
-                return math.nan
-            ref = r.references.get(met, "")
-            mark = SELF_MARK if ref.startswith("self") else METHOD_MARK if ref.startswith("method:") else ""
-            if mark == METHOD_MARK:
-                marked.setdefault(ref, set()).add(r.method)
-            return (r.errors[met], mark)
-        cols.append((f"err {METRIC_SHORT.get(met) or label(met)} [%]", err, True))
+        cols.append((f"err {metric_name(met, depths)} [%]", lambda r, met=met: _error_column(r, met, marked), False))
     header, table, dropped = [], [[] for _ in runs], []
     for name, get, numeric in cols:
         vals = [get(r) for r in runs]
-        if numeric:
-            raw = [v[0] if isinstance(v, tuple) else v for v in vals]
-            if all(not finite(x) or float(x) == 0.0 for x in raw):
-                dropped.append(name)
-                continue
+        if numeric and all(not finite(x) or float(x) == 0.0 for x in vals):
+            dropped.append(name)
+            continue
+        if name.startswith("err ") and all(v in ("–", "0") for v in vals):
+            dropped.append(name)
+            continue
         header.append(name)
         for row, v in zip(table, vals):
             if name == data.memory_label:
                 row.append(memory(v))
             elif name == energy_head:
                 row.append(pct(v, unit=False, floor=1e-9))
-            elif numeric:
-                e, mark = v if isinstance(v, tuple) else (v, "")
-                row.append(pct(e, unit=False) + mark if finite(e) else "–")
             else:
                 row.append(v)
     notes = []
@@ -99,7 +131,24 @@ def run_table(data: StudyData, scene: str) -> tuple[list[str], list[list], list[
                      "error, not a verification")
     for ref, methods in sorted(marked.items()):
         notes.append(f"{METHOD_MARK} error of {', '.join(sorted(methods))} against {reference_words(ref)}")
+    if any("not finite" in str(c) for row in table for c in row):
+        notes.append("not finite: the run's value is NaN or infinite where its reference is finite; the metric "
+                     "fails (inaccurate)")
+    notes += _not_scored_notes(runs, metrics, depths)
     return header, table, dropped, notes
+
+
+def _not_scored_notes(runs: list[Run], metrics: list[str], depths) -> list[str]:
+    """One note per (metric, reason) of the runs whose metric is not scored: '— creep force Fx: zero by
+    symmetry ... (green levels 0–2)'."""
+    by: dict = {}
+    for r in runs:
+        for met in metrics:
+            if met in r.not_scored and not finite(r.errors.get(met, math.nan)) and r.errors.get(met) != math.inf:
+                by.setdefault((met, r.not_scored[met]), {}).setdefault(r.method, []).append(r.level)
+    return [f"— {metric_name(met, depths)} not scored: {short(why, 200)} ("
+            + "; ".join(f"{m} level {level_range(lv)}" for m, lv in sorted(who.items())) + ")"
+            for (met, why), who in by.items()]
 
 
 def refusal_lines(runs: list[Run], n: int = 260) -> list[str]:

@@ -17,7 +17,7 @@ import math
 from dataclasses import dataclass, field
 
 from .document import Cell
-from .format import duration, level_range, pct, short
+from .format import duration, label, level, level_range, pct, ratio, short
 from .load import Run, StudyData, independent
 
 __all__ = ["SweepGroup", "Row", "Verdict", "sweep_groups", "rows", "choose", "scorecard", "findings",
@@ -31,7 +31,7 @@ SEVERITY = ("failed", "inaccurate", "unverified", "refused", "ok", "reference", 
 QUANTITY = {"max_surface_temperature": "max. surface temperature", "mean_contact_temperature":
             "mean contact temperature", "creep_force_x": "creep force", "max_pressure": "max. pressure",
             "semi_axis_a": "semi-axis a", "frictional_power": "frictional power",
-            "surface_temperature_l2": "surface temperature (L2)", "pressure_l2": "pressure (L2)",
+            "surface_temperature_l2": "surface temperature (L2 norm)", "pressure_l2": "pressure (L2 norm)",
             "steady_wheel_temperature": "steady wheel temperature",
             "steady_mean_contact_temperature": "steady mean contact temperature"}
 
@@ -122,8 +122,8 @@ def anchor_of(scene: str) -> str:
 #: the rule the scorecard's caption states
 SCORECARD_RULE = ("Each cell: the cheapest level (smallest wall time) whose headline quantity is within the tolerance "
                   "of an independent reference (an exact solution or another method, never the method's own finest "
-                  "level) together with every finer level that ran, with its status, headline error, best wall time "
-                  "and level (L); \"ok\" also needs every other error within the tolerance. When no level qualifies: "
+                  "level) together with every finer level that ran, with its status, signed headline error, best wall "
+                  "time and level; \"ok\" also needs every other error within the tolerance. When no level qualifies: "
                   "the status of the finest level that ran. \"non-monotone\": the headline error rises again under "
                   "refinement; \"reference not converged\": the reference method's own finest-level error exceeds "
                   "a quarter of the tolerance.")
@@ -286,8 +286,8 @@ def metric_words(name: str, cooling_depth: float = math.nan) -> str:
     if name == "cooling_rate" and math.isfinite(cooling_depth):
         return f"cooling rate, z ≥ {cooling_depth * 1e6:.3g} µm"
     if name == "cooling_rate_all_depths":
-        return "cooling rate, all depths"
-    return QUANTITY.get(name, name.replace("_", " "))
+        return "cooling rate, all depths (not used by the verdict)"
+    return QUANTITY.get(name) or label(name)
 
 
 def _worst_other(v: Verdict) -> str:
@@ -298,13 +298,16 @@ def _worst_other(v: Verdict) -> str:
         return ""
     refs = getattr(v.run, "references", {}) or {}
     errs = [(k, e) for k, e in (v.run.errors or {}).items()
-            if isinstance(e, float) and math.isfinite(e) and independent(refs.get(k, "")) and k not in NOT_A_VERDICT]
+            if isinstance(e, float) and not math.isnan(e) and independent(refs.get(k, "")) and k not in NOT_A_VERDICT]
     if not errs:
         return ""
     name, err = max(errs, key=lambda t: t[1])
-    if math.isfinite(v.error) and err <= v.error:
+    if not math.isnan(v.error) and err <= v.error:
         return ""
-    return f"{metric_words(name, v.cooling_depth)} {pct(err)}"
+    signed = (getattr(v.run, "signed", {}) or {}).get(name, math.nan)
+    depth = v.cooling_depth if math.isfinite(v.cooling_depth) else getattr(v.run, "cooling_depth", math.nan)
+    text = "not finite" if err == math.inf else pct(signed, signed=True) if math.isfinite(signed) else pct(err)
+    return f"{metric_words(name, depth)} {text}"
 
 
 def cell(v: Verdict) -> Cell:
@@ -314,7 +317,7 @@ def cell(v: Verdict) -> Cell:
     if v.status == "reference":   # the scene's reference method: not a verdict (no error, no status colour)
         pre = "≤" if v.members else ""
         return Cell(" · ".join(["reference"] + ([pre + duration(v.time)] if math.isfinite(v.time) else [])
-                               + ([f"L{v.run.level}"] if v.run is not None else []) + marks(v)), "reference")
+                               + ([level(v.run.level)] if v.run is not None else []) + marks(v)), "reference")
     if v.members:
         n = len(v.members)
         k = sum(1 for x in v.members if x.status == v.status)
@@ -344,7 +347,7 @@ def cell(v: Verdict) -> Cell:
     if math.isfinite(v.time):
         parts.append(duration(v.time))
     if v.run is not None:
-        parts.append(f"L{v.run.level}")
+        parts.append(level(v.run.level))
     if v.status == "unverified" and math.isfinite(v.richardson):
         parts.append(f"Richardson ≈{pct(v.richardson)}")
     return Cell(" · ".join(parts + marks(v)), v.status)
@@ -480,13 +483,13 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
         ok = sorted((v for v in vs if v.status == "ok" and math.isfinite(v.time)), key=lambda v: v.time)
         if len(ok) >= 2:
             fast, slow = ok[0], ok[-1]
-            ratio = slow.time / fast.time if fast.time > 0 else math.inf
+            times = slow.time / fast.time if fast.time > 0 else math.inf
             pre = "≤" if row.group else ""
             text = (f"For {where} ({what}), {acting(data, row.scenes[0], fast.method)} reaches {pre}{pct(fast.error)} "
                     f"error in {pre}{duration(fast.time)}; {acting(data, row.scenes[0], slow.method)} needs "
                     f"{pre}{duration(slow.time)} for {pre}{pct(slow.error)}"
-                    + (f" ({ratio:.0f}× slower)." if ratio >= 10 else "."))
-            compare.append((ratio, text, (fast.method, slow.method)))
+                    + (f" ({ratio(times)} of {fast.method})." if 10 <= times < math.inf else "."))
+            compare.append((times, text, (fast.method, slow.method)))
         elif len(ok) == 1 and len([v for v in vs if v.status != "none"]) > 1:
             v = ok[0]
             compare.append((0.0, f"For {where} ({what}), only {acting(data, row.scenes[0], v.method)} is within "
