@@ -23,7 +23,7 @@ from railtherm.references.carter import carter_2d
 from railtherm.references.hertz import hertz_from_curvatures, hertz_line
 from railtherm.references.kalker import kalker_coefficients
 from railtherm.testing import canonical, check_method
-from railtherm_kalker.influence import Convolution, rectangle_integrals, tangential_kernels
+from railtherm_kalker.influence import Convolution, line_kernel, rectangle_integrals, tangential_kernels
 from railtherm_kalker.normal_model import KalkerNormal, solve_scene_normal
 from railtherm_kalker.potential_area import hertz_curvatures, scene_gap
 from railtherm_kalker.tangential_model import KalkerTangential
@@ -75,6 +75,28 @@ def test_fft_product_equals_dense_sum():
             dense[0, i, j] = np.sum(k["xx"][o] * p[0] + k["xy"][o] * p[1])
             dense[1, i, j] = np.sum(k["xy"][o] * p[0] + k["yy"][o] * p[1])
     np.testing.assert_allclose(C.apply(p), dense, rtol=1e-12, atol=1e-12 * np.abs(dense).max())
+
+
+def test_product_on_a_subset_equals_the_full_product_restricted():
+    """apply_at (scatter into the x-padded array, gather from the inverse) equals the full product of the
+    traction that is zero off the subset, taken on the subset: to round-off in float64, to 1e-6 in float32;
+    for a two-component 2-D operator and a line contact."""
+    rng = np.random.default_rng(2)
+    nx, ny = 9, 6
+    k = tangential_kernels(nx, ny, 0.3, 0.5, G, NU)
+    line = line_kernel(11, 0.2, 1.0)
+    for C in (Convolution({(0, 0): k["xx"], (0, 1): k["xy"], (1, 1): k["yy"]}, (nx, ny)),
+              Convolution({(0, 0): line}, (11, 1))):
+        nc, shape = C.ncomp, C.shape
+        idx = np.sort(rng.choice(shape[0] * shape[1], size=shape[0] * shape[1] // 2, replace=False))
+        v = rng.random((nc, idx.size))
+        p = np.zeros((nc, shape[0] * shape[1]))
+        p[:, idx] = v
+        full = C.apply(p.reshape((nc,) + shape)).reshape(nc, -1)[:, idx]
+        np.testing.assert_allclose(C.apply_at(v, idx), full, rtol=1e-12, atol=1e-12 * np.abs(full).max())
+        single = C.apply_at(v.astype(np.float32), idx, single=True)
+        assert single.dtype == np.float32
+        np.testing.assert_allclose(single, full, atol=1e-6 * np.abs(full).max())
 
 
 def test_hertz_gap_from_semi_axes_gives_the_scene_patch():

@@ -308,13 +308,13 @@ def test_single_precision_products_keep_the_double_precision_solution(monkeypatc
     conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
     w = rigid_slip(X, Y, -2e-3, 1e-3, 0.2)
     calls = []
-    apply = conv.apply
+    apply_at = conv.apply_at
 
-    def counted(p, single=False):
+    def counted(v, idx, single=False):
         calls.append(single)
-        return apply(p, single=single)
+        return apply_at(v, idx, single=single)
 
-    monkeypatch.setattr(conv, "apply", counted)
+    monkeypatch.setattr(conv, "apply_at", counted)
     mixed = solve_tangential(conv, g, w)
     assert any(calls) and not all(calls)             # both precisions were used
     monkeypatch.setattr(ts, "SINGLE_BELOW", math.inf)

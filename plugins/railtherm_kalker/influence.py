@@ -330,6 +330,18 @@ class Convolution:
             f = sfft.ifft(f, axis=-1, workers=1, overwrite_x=True)[..., :ny]
         return sfft.irfft(f, n=self.padded[0], axis=-2, workers=1)[..., :nx, :]
 
+    def _product(self, fp, spec):
+        """Spectra of the outputs from the inputs' spectra fp (ncomp, ...): sum_j spec[(i, j)] fp[j]."""
+        if self.ncomp == 2 and _mac2 is not None and fp.ndim == 3:
+            return _mac2(fp, spec[(0, 0)], spec[(0, 1)], spec[(1, 0)], spec[(1, 1)])
+        acc = np.empty_like(fp)
+        for i in range(self.ncomp):
+            acc[i] = spec[(i, 0)] * fp[0] if (i, 0) in spec else 0.0
+            for j in range(1, self.ncomp):
+                if (i, j) in spec:
+                    acc[i] += spec[(i, j)] * fp[j]
+        return acc
+
     def apply(self, p: np.ndarray, single: bool = False) -> np.ndarray:
         """u = A p for tractions p of shape (ncomp, nx, ny) [Pa]; returns (ncomp, nx, ny)."""
         self.products += 1
@@ -338,14 +350,32 @@ class Convolution:
         p = np.asarray(p, dtype=dt).reshape((self.ncomp,) + self.shape)
         if self.ncomp == 1:
             return self._inv(spec[(0, 0)] * self._fwd(p[0]))[None]
-        fp = self._fwd(p)
-        acc = np.empty_like(fp)
-        for i in range(self.ncomp):
-            acc[i] = spec[(i, 0)] * fp[0] if (i, 0) in spec else 0.0
-            for j in range(1, self.ncomp):
-                if (i, j) in spec:
-                    acc[i] += spec[(i, j)] * fp[j]
-        return self._inv(acc)
+        return self._inv(self._product(self._fwd(p), spec))
+
+    def apply_at(self, v: np.ndarray, idx: np.ndarray, single: bool = False) -> np.ndarray:
+        """(A p)[idx] for the tractions p that are v on the elements ``idx`` and zero elsewhere.
+
+        v : ndarray (ncomp, len(idx)) [Pa]; idx: flat indices into the (nx, ny) grid. The values are
+        scattered straight into the array padded along x (a flat index i ny + j is the same in the
+        (M_x, ny) array) and gathered from the unpadded inverse: no zero-padding copies. Returns
+        (ncomp, len(idx)), float32 when ``single``.
+        """
+        self.products += 1
+        nc, (nx, ny), (mx, my) = self.ncomp, self.shape, self.padded
+        dt = np.float32 if single else np.float64
+        spec = self._spec32 if single else self._spec
+        buf = np.zeros((nc, mx * ny), dtype=dt)
+        v = np.asarray(v, dtype=dt).reshape(nc, -1)
+        for c in range(nc):                      # np.put: about twice as fast as fancy assignment
+            np.put(buf[c], idx, v[c])
+        f = sfft.rfft(buf.reshape(nc, mx, ny), axis=-2, workers=1)
+        if my > 1:
+            f = sfft.fft(f, n=my, axis=-1, workers=1, overwrite_x=True)
+        f = self._product(f, spec)
+        if my > 1:
+            f = sfft.ifft(f, axis=-1, workers=1, overwrite_x=True)[..., :ny]
+        u = sfft.irfft(f, n=mx, axis=-2, workers=1)
+        return np.take(u.reshape(nc, mx * ny), idx, axis=1)
 
     def precondition(self, r: np.ndarray) -> np.ndarray:
         """The inverse of the Strang circulant applied to r (nx, ny), in float32 (an approximate inverse of A
@@ -353,6 +383,24 @@ class Convolution:
         if self._inverse32 is None:
             raise ValueError("no circulant given for this operator")
         return self._inv(self._inverse32 * self._fwd(np.asarray(r, dtype=np.float32))).astype(float)
+
+
+try:  # pragma: no cover - exercised when numba is installed (a declared dependency)
+    from numba import njit
+
+    @njit(cache=True, nogil=True)
+    def _mac2(fp, s00, s01, s10, s11):
+        """The two-component spectral product in one pass (no temporaries)."""
+        out = np.empty_like(fp)
+        n0, n1 = fp.shape[1], fp.shape[2]
+        for i in range(n0):
+            for j in range(n1):
+                a, b = fp[0, i, j], fp[1, i, j]
+                out[0, i, j] = s00[i, j] * a + s01[i, j] * b
+                out[1, i, j] = s10[i, j] * a + s11[i, j] * b
+        return out
+except Exception:  # numba missing or unusable
+    _mac2 = None
 
 
 def element_size(edges) -> float:

@@ -78,6 +78,12 @@ FORCING, FORCING_MAX = 0.05, 0.5
 #: products are evaluated in double precision (float32 products stagnate near 1e-6)
 LINEAR_MIN, LINEAR_MAXITER, SINGLE_BELOW = 1e-8, 200, 1e-4
 
+#: a step whose forcing term would reach the tolerance stops at FINAL_MARGIN tol / res instead (the relative
+#: residual of the linearised system predicts the next max |F| to within a factor 2 once the stick/slip division
+#: is settled); 0.3 took 203/189 FFT products (combined/longitudinal creepage, E&K ellipse, 200^2) against
+#: 212/199 at 0.1
+FINAL_MARGIN = 0.3
+
 #: Eisenstat-Walker's gamma (forcing choice 2, exponent 2)
 EW_GAMMA = 0.9
 
@@ -302,8 +308,9 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
     n0 = conv.products
     r = rscale / abs(float(conv.self_coefficient))     # inverse of the self-influence |B_xx(0)|
 
-    def slip_of(p, single=False):
-        return w - conv.apply(p, single=single)
+    def slip_of(p):
+        """Slip s = w - B p on the unknown elements (nc, nin) of a traction p (nc, nx, ny) zero outside them."""
+        return w_in - conv.apply_at(restrict(p), idx)
 
     def embed(v):
         out = np.zeros((nc, g.size), dtype=v.dtype)
@@ -316,11 +323,12 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         return np.take(a.reshape(nc, -1), idx, axis=1)
 
     gin = g.ravel()[idx]
+    w_in = restrict(w)
     p = np.zeros(full_shape) if initial is None else np.where(inside, np.asarray(initial, dtype=float), 0.0)
     s = slip_of(p)
 
     def residual_of(p, s):
-        z = restrict(p) - r * restrict(s)
+        z = restrict(p) - r * s
         proj, nz = _project(z, gin)
         return restrict(p) - proj, z, nz
 
@@ -341,7 +349,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         # inexact Newton: relative GMRES tolerance. Eisenstat & Walker's choice 2, eta = 0.9 (res / res_prev)^2
         # (loose while the stick/slip division still moves and Newton converges only linearly), at most
         # FORCING_MAX and at least FORCING res (superlinear at the end), but never tighter than needed to
-        # reach tol in this step (0.1 tol / res)
+        # reach tol in this step (FINAL_MARGIN tol / res)
         if forcing == "ew" and len(history) > 1:
             eta_k = EW_GAMMA * (res / history[-2]) ** 2
             if EW_GAMMA * eta_prev ** 2 > 0.1:
@@ -351,16 +359,16 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
             eta_k = FORCING_MAX
         else:
             eta_k = min(FORCING_MAX, FORCING * res)
-        eta_k = max(eta_k, LINEAR_MIN, 0.1 * tol / max(res, 1e-300))
+        eta_k = max(eta_k, LINEAR_MIN, FINAL_MARGIN * tol / max(res, 1e-300))
         eta_prev = eta_k
         single = eta_k > SINGLE_BELOW
 
         def jac(v):
             v = v.reshape(nc, nin)
             if single:
-                bv = restrict(conv.apply(embed(v.astype(np.float32)), single=True)).astype(float)
+                bv = conv.apply_at(v.astype(np.float32), idx, single=True).astype(float)
             else:
-                bv = restrict(conv.apply(embed(v)))
+                bv = conv.apply_at(v, idx)
             stick_row = -r * bv                                          # F = r s, s = w - B p
             q = v + r * bv                                               # (I + r B) v
             proj_q = q - zh * np.sum(zh * q, axis=0)                     # (I - zz^T) q
@@ -393,7 +401,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
     stick = np.zeros(g.shape, dtype=bool)
     stick.ravel()[idx] = nz <= gin
     # tractions exactly on the bound where slipping; zero slip outside the contact
-    s_out = np.where(inside[None], s, 0.0)
+    s_out = embed(s)
     return TangentialSolution(traction=p, slip=s_out, stick=stick, converged=converged, iterations=it,
                               residual=res, history=history, linear_iterations=lin_total,
                               products=conv.products - n0)
