@@ -284,8 +284,8 @@ def test_circulant_preconditioner_keeps_the_pressure_and_cuts_the_iterations():
 
 def test_full_slip_starts_on_the_finest_grid_with_the_same_solution():
     """Beyond saturation (xi = -0.05) the full-slip traction -mu p w/|w| starts the finest grid (no coarse
-    grids) and gives the tractions of the solve from zero (1e-8 of mu p); under partial slip the coarse grids
-    are kept. The rolling operator of a grid is computed once (the same object for the same grid)."""
+    grids) and gives the tractions of the solve from zero (1e-8 of mu p) in 2 Newton steps, its product reused;
+    under partial slip the coarse grids are kept. The rolling operator of a grid is computed once (the same object for the same grid)."""
     area, X, Y, g = _setup(24, 4)
     conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
     assert rolling_operator(area.x_edges + 1.0, area.y_edges, G, NU) is conv
@@ -293,6 +293,9 @@ def test_full_slip_starts_on_the_finest_grid_with_the_same_solution():
                                    g, (-0.05, 0.0, 0.0), min_elements=8)
     ref = solve_tangential(conv, g, rigid_slip(X, Y, -0.05, 0.0, 0.0))
     assert full.converged and not full.coarse and full.history[0] < 0.05
+    # the start's product gives the first residual (one product per GMRES step and per Newton step's new slip
+    # besides it), and its first Newton step is tight: 2 Newton steps (4 from the loose FORCING_MAX)
+    assert full.products == 1 + full.linear_iterations + full.iterations and full.iterations <= 2
     np.testing.assert_allclose(full.traction, ref.traction, atol=1e-8 * g.max())
     partial = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, G, NU), area.x_edges, area.y_edges,
                                       g, (-2e-3, 1e-3, 0.2), min_elements=8)

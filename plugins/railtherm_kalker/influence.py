@@ -388,7 +388,7 @@ class Convolution:
 try:  # pragma: no cover - exercised when numba is installed (a declared dependency)
     from numba import njit
 
-    @njit(cache=True, nogil=True)
+    @njit(cache=True, nogil=True, fastmath=True)
     def _mac2(fp, s00, s01, s10, s11):
         """The two-component spectral product in one pass (no temporaries)."""
         out = np.empty_like(fp)

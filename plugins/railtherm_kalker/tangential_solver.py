@@ -84,6 +84,12 @@ LINEAR_MIN, LINEAR_MAXITER, SINGLE_BELOW = 1e-8, 200, 1e-4
 #: 212/199 at 0.1
 FINAL_MARGIN = 0.3
 
+#: a start whose residual max |F| / max g is below GOOD_START (the full-slip traction beyond saturation, a
+#: previous solve's traction) already has the stick/slip division: its first Newton step uses the forcing term
+#: GOOD_START_FORCING res instead of FORCING_MAX (full slip, E&K ellipse, 200^2: 2 Newton steps and 10 FFT
+#: products against 4 and 13). The prolonged coarse solutions start at 0.09-0.2, where FORCING_MAX is better.
+GOOD_START, GOOD_START_FORCING = 0.05, 3.0
+
 #: Eisenstat-Walker's gamma (forcing choice 2, exponent 2)
 EW_GAMMA = 0.9
 
@@ -272,7 +278,8 @@ def _gmres(matvec, psolve, b, rtol, maxiter, dtype=np.float64):
 
 def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TANGENTIAL_TOLERANCE,
                      maxiter: int = 60, initial: np.ndarray | None = None, rscale: float = 1.0,
-                     precondition: bool = True, forcing: str = "ew") -> TangentialSolution:
+                     precondition: bool = True, forcing: str = "ew",
+                     initial_slip: np.ndarray | None = None) -> TangentialSolution:
     """Solve Kalker's steady rolling problem with semismooth Newton-GMRES.
 
     Parameters
@@ -290,6 +297,8 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         Newton step limit [1].
     initial : ndarray (ncomp, nx, ny), optional
         Initial traction [Pa] (default zero).
+    initial_slip : ndarray (ncomp, nx, ny), optional
+        The slip w - B p of ``initial`` when the caller has computed it [1] (saves one product).
     precondition : bool
         Precondition GMRES with :class:`LocalPreconditioner` (False: plain GMRES, for comparison).
 
@@ -325,7 +334,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
     gin = g.ravel()[idx]
     w_in = restrict(w)
     p = np.zeros(full_shape) if initial is None else np.where(inside, np.asarray(initial, dtype=float), 0.0)
-    s = slip_of(p)
+    s = slip_of(p) if initial_slip is None else restrict(np.asarray(initial_slip, dtype=float))
 
     def residual_of(p, s):
         z = restrict(p) - r * s
@@ -356,7 +365,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
                 eta_k = max(eta_k, EW_GAMMA * eta_prev ** 2)
             eta_k = min(FORCING_MAX, max(eta_k, FORCING * res))
         elif forcing == "ew":
-            eta_k = FORCING_MAX
+            eta_k = min(FORCING_MAX, GOOD_START_FORCING * res) if res < GOOD_START else FORCING_MAX
         else:
             eta_k = min(FORCING_MAX, FORCING * res)
         eta_k = max(eta_k, LINEAR_MIN, FINAL_MARGIN * tol / max(res, 1e-300))
@@ -464,20 +473,21 @@ def _centres(xe, ye, offset, line):
 def _full_slip_start(conv_for, level, creepage, offset, line):
     """The full-slip traction -g w/|w| of the rigid slip w on the finest grid when its residual is below
     :data:`FULL_SLIP_START` (creepages beyond saturation: the elastic slip is a small part of w, so the
-    coarse grids would only reproduce it), else None; and the products spent [1]."""
+    coarse grids would only reproduce it), else None; its slip w - B p (handed to the solve, which then
+    needs no product for its first residual); and the products spent [1]."""
     xe, ye, g = level
     w = rigid_slip(*_centres(xe, ye, offset, line), *creepage, line=line)
     nw = np.sqrt(np.sum(w * w, axis=0))
     if not (g > 0).any() or np.any((g > 0) & (nw == 0)):
-        return None, 0
+        return None, None, 0
     conv = conv_for(xe, ye)
-    p = -g * w / np.where(nw > 0, nw, 1.0)
+    p, _ = _project(-g * w / np.where(nw > 0, nw, 1.0), g)
     r = 1.0 / abs(float(conv.self_coefficient))
-    z = p - r * (w - conv.apply(p))
-    proj, _ = _project(z, g)
+    s = w - conv.apply(p)
+    proj, _ = _project(p - r * s, g)
     F = np.where(g > 0, p - proj, 0.0)
     res = float(np.max(np.sqrt(np.sum(F * F, axis=0)))) / float(g.max())
-    return (p if res < FULL_SLIP_START else None), 1
+    return (p, s, 1) if res < FULL_SLIP_START else (None, None, 1)
 
 
 def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_elements: int = 12,
@@ -530,9 +540,9 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
     line = y_edges is None
     levels = [(np.asarray(x_edges, dtype=float), None if line else np.asarray(y_edges, dtype=float),
                np.asarray(bound, dtype=float))]
-    products = 0
+    products, slip0 = 0, None
     if initial is None:
-        initial, products = _full_slip_start(conv_for, levels[0], creepage, offset, line)
+        initial, slip0, products = _full_slip_start(conv_for, levels[0], creepage, offset, line)
     while initial is None:
         xe, ye, g = levels[-1]
         nx, ny = g.shape
@@ -549,10 +559,13 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         w = rigid_slip(*_centres(xe, ye, offset, line), *creepage, line=line)
         conv = conv_for(xe, ye)
         init = None
-        if p is not None:
+        if slip0 is not None:                      # the full-slip start: projected, and its slip known
+            init = p
+        elif p is not None:
             init, _ = _project(p if p.shape[1:] == g.shape else _refine(p, levels[k + 1][2], g, line), g)
         last = k == 0
-        sol = solve_tangential(conv, g, w, tol=tol if last else max(tol, coarse_tol), maxiter=maxiter, initial=init)
+        sol = solve_tangential(conv, g, w, tol=tol if last else max(tol, coarse_tol), maxiter=maxiter, initial=init,
+                               initial_slip=slip0)
         products += sol.products
         linear += sol.linear_iterations
         if not last:
