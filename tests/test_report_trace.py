@@ -121,34 +121,71 @@ def _table_rows(md: str) -> list[list[str]]:
 
 
 def test_table_values_match_the_store(small):
-    """Each table value is the run file's (green's level 0) or references.nc's, and each error is
-    (value - exact) / |exact| of those."""
+    """Each table value is the run file's (green's level 0), metrics.nc's or references.nc's; each error of a
+    metric is metrics.nc's; each difference at a point is (value - exact) / |exact| of those."""
     import xarray as xr
     from railtherm.analysis.reference_curves import read_reference_curves
     _, out, _ = small
     rows = _table_rows((out / "report.md").read_text())
     curves = read_reference_curves(out / "references.nc")
     ds = xr.open_dataset(out / "runs" / "locked" / "green" / "level-0.nc")
+    m = xr.open_dataset(out / "metrics.nc")
     c = curves["locked"]
     i = next(k for k, r in enumerate(rows) if r[0].startswith("`locked`"))
     exact, green = rows[i], rows[i + 1]
     assert exact[1] == "rail" and exact[2] == "**exact**" and green[2] == "green (level 0)"
     # the table prints three significant digits
     num = lambda s: float(re.sub(r"[^0-9eE+.\-]", "", s.replace("−", "-")))
-    assert num(exact[3]) == pytest.approx(float(c["trace_peak_temperature"][1, 0]), rel=5e-3)
+    exact_peak = float(m["analytic_max_surface_temperature"].sel(scene_name="locked").values[1])
+    assert num(exact[3]) == pytest.approx(exact_peak, rel=5e-3)
     assert num(exact[5]) == pytest.approx(1e3 * float(c["trace_heated_depth"][1]), rel=5e-3)
     assert num(exact[7]) == pytest.approx(1e3 * float(c["trace_time_above"][1, 0]), rel=5e-3)
     assert num(exact[9]) == pytest.approx(float(c["trace_depth_cooling_rate"][1]), rel=5e-3)
-    peak = float(ds["peak_temperature"].isel(body=1, z=0))
-    depth = float(ds["heated_depth"][1])
-    assert num(green[3]) == pytest.approx(peak, rel=5e-3)
-    assert num(green[5]) == pytest.approx(1e3 * depth, rel=5e-3)
-    ref_depth = float(c["trace_heated_depth"][1])
-    assert num(green[6]) == pytest.approx(100 * (depth - ref_depth) / ref_depth, abs=0.051)
+    run = int(np.flatnonzero((m["scene"].values == "locked") & (m["method"].values == "green"))[0])
+    assert num(green[3]) == pytest.approx(float(ds["max_surface_temperature"][1]), rel=5e-3)
+    assert num(green[4]) == pytest.approx(100 * float(m["signed_error_max_surface_temperature"][run]), rel=0.051)
+    assert num(green[5]) == pytest.approx(1e3 * float(ds["heated_depth"][1]), rel=5e-3)
+    assert num(green[6]) == pytest.approx(100 * float(m["error_heated_depth"][run]), rel=0.051)
     zs = float(c["trace_depth"])
     cool = np.asarray(ds["cooling_rate"].isel(body=1).values, float)
     ok = np.isfinite(cool)
     assert num(green[9]) == pytest.approx(np.interp(zs, ds["z"].values[ok], cool[ok]), rel=5e-3)
+    assert num(green[11]) == pytest.approx(100 * float(m["error_cooling_rate"][run]), rel=0.051)
+    assert num(green[12]) == pytest.approx(100 * float(m["error_cooling_rate_all_depths"][run]), rel=0.051)
     # the band scene lists both bodies (each takes part of the heat)
     bodies = [r[1] for r in rows if r[2] == "**exact**"]
     assert bodies.count("wheel") == 1 and bodies.count("rail") == 2
+
+
+def _run_table(md: str, scene: str) -> tuple[list[str], list[list[str]]]:
+    part = re.split(rf"^## \d+\. Scene `{scene}`", md, flags=re.M)[1].split("\n## ")[0]
+    lines = [ln for ln in part.splitlines() if ln.startswith("| method | level")]
+    start = part.splitlines().index(lines[0])
+    body = []
+    for ln in part.splitlines()[start + 2:]:
+        if not ln.startswith("|"):
+            break
+        body.append([c.strip() for c in ln.strip("|").split("|")])
+    return [c.strip() for c in lines[0].strip("|").split("|")], body
+
+
+def test_one_metric_one_number(small):
+    """The cooling-rate error and the maximum surface temperature read the same in the trace table, the scene's
+    run table and the published/scene values: one number per metric (the trace table once printed the cooling
+    rate at z* and the surface peak of the trace profile under the metrics' names)."""
+    _, out, _ = small
+    md = (out / "report.md").read_text()
+    rows = _table_rows(md)
+    header = [c.strip() for c in [ln for ln in md.split("## Thermal trace")[1].splitlines()
+                                  if ln.startswith("| scene")][0].strip("|").split("|")]
+    depth_name = next(h for h in header if h.startswith("error of cooling rate, z ≥"))
+    for scene in ("locked", "band"):
+        i = next(k for k, r in enumerate(rows) if r[0].startswith(f"`{scene}`"))
+        trace = rows[i + 1]
+        run_head, run_rows = _run_table(md, scene)
+        green = next(r for r in run_rows if r[0] == "green")
+        scored = next(h for h in run_head if h.startswith("err cooling rate, z ≥"))   # e.g. "z ≥ 45.6 µm"
+        assert scored[len("err "):-len(" [%]")] + " scored" in rows[i][0], (scored, rows[i][0])
+        assert trace[header.index(depth_name)].removesuffix(" %") == green[run_head.index(scored)]
+        assert trace[4].removesuffix(" %") == green[run_head.index("err max T [%]")]
+    assert "cooling rate at z* [K/s]" in header and "difference at z* [%]" in header

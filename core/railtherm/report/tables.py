@@ -202,7 +202,8 @@ def order_table(data: StudyData, scene: str) -> tuple[list[str], list[list], lis
         return [], [], []
     metrics = _metric_order({o.metric for o in orders})
     methods = sorted({o.method for o in orders})
-    header = ["method"] + [METRIC_SHORT.get(m) or label(m) for m in metrics]
+    depths = [r.cooling_depth for r in data.runs_of(scene) if r.has_result]
+    header = ["method"] + [metric_name(m, depths) for m in metrics]
     rows, independent_refs, method_refs = [], [], []
     for meth in methods:
         row = [meth]
@@ -235,7 +236,7 @@ def order_table(data: StudyData, scene: str) -> tuple[list[str], list[list], lis
                      "says how fast the ladder settles, not that it settles on the right answer")
     for o in rich:
         unc = f" ± {pct(o.richardson_uncertainty)}" if finite(o.richardson_uncertainty) else ""
-        notes.append(f"{o.method}, {METRIC_SHORT.get(o.metric) or label(o.metric)}: Richardson estimate of the finest "
+        notes.append(f"{o.method}, {metric_name(o.metric, depths)}: Richardson estimate of the finest "
                      f"level's error {pct(o.richardson)}{unc}")
     return header, rows, notes
 

@@ -8,11 +8,13 @@ For every scene with ``field`` whose exact trace is in ``references.nc`` (writte
 z* of the reference, including the trace behind the patch; the temperature against depth at the
 hottest surface point, the peak temperature each depth reaches and the cooling rate after it; and the
 surface-temperature maps of the patch and its trace (ellipses). One table per study lists, for each
-heated body, the peak surface temperature (a run's ``peak_temperature`` at z = 0, else the maximum of
-its surface temperature along y = 0), the depth of the ``field.threshold`` isotherm
-(``heated_depth``), the time the surface spends above it (``time_above`` at z = 0) and the cooling
-rate at z* per method beside the exact values, with signed relative errors (value − exact) / |exact|
-[%] (temperatures on their rise above the bulk temperature).
+heated body, the maximum surface temperature (the run's ``max_surface_temperature``, the number every other
+table shows), the depth of the ``field.threshold`` isotherm (``heated_depth``), the time the surface spends
+above it (``time_above`` at z = 0) and the cooling rate at z* per method beside the exact values. The errors of
+metrics are ``metrics.nc``'s (one per run, signed where stored, the cooling rate's named with the depths it
+is scored at, its all-depths error beside it); the time above and the cooling rate at z* are single points
+of a profile, so their signed differences (value − exact) / |exact| are named "difference at the surface"
+and "difference at z*".
 
 The report computes no physics: the methods' values are their run files', interpolated linearly in
 depth to z* where needed (cooling rate, temperature along x at z*); every exact value is
@@ -30,6 +32,7 @@ from .exact_contact import relative_error
 from .document import anchor_text
 from .format import finite, label, num, pct
 from .load import StudyData
+from .tables import error_text, metric_name
 from .study_section import hot_note
 
 __all__ = ["trace_scenes", "trace_rows", "trace_section", "trace_anchor", "BODIES"]
@@ -103,18 +106,24 @@ def _scalar(ds, name: str, body: int) -> float:
 
 
 def values(data: StudyData, scene: str, method: str | None, body: int) -> dict:
-    """The table's quantities of one method (None: the exact reference) for one body, in SI units (None:
-    the run has no such variable; NaN: the run's own NaN, a peak at the end of its field)."""
+    """The table's values of one method (None: the exact reference) for one body, in SI units (None: the run
+    has no such variable; NaN: the run's own NaN, a peak at the end of its field). The surface peak is the
+    scene's ``max_surface_temperature``: the run file's value, and metrics.nc's exact value
+    (``analytic_max_surface_temperature``), so that it is the same number as in every other table."""
     curve = data.curves[scene]
     zs = float(curve["trace_depth"].values)
     if method is None:
-        return {"peak": float(curve["trace_peak_temperature"].values[body, 0]),
-                "depth": float(curve["trace_heated_depth"].values[body]),
+        exact = np.atleast_1d(data.scene[scene].analytic.get("max_surface_temperature", np.nan))
+        peak = float(exact[body]) if exact.size > body and finite(exact[body]) else \
+            float(curve["trace_peak_temperature"].values[body, 0])
+        return {"peak": peak, "depth": float(curve["trace_heated_depth"].values[body]),
                 "above": float(curve["trace_time_above"].values[body, 0]),
                 "cooling": float(curve["trace_depth_cooling_rate"].values[body])}
     r = data.finest_result(scene, method)
     ds = data.run_file(scene, method, r.level) if r is not None else None
-    peak = _surface(ds, "peak_temperature", body)
+    peak = _scalar(ds, "max_surface_temperature", body)
+    if peak is None:
+        peak = _surface(ds, "peak_temperature", body)
     if peak is None:   # depth axis not starting at the surface (cell centres): the surface line's maximum
         line = TF.surface_line(ds, body)
         peak = float(np.nanmax(line[1])) if line is not None and np.isfinite(line[1]).any() else None
@@ -122,14 +131,32 @@ def values(data: StudyData, scene: str, method: str | None, body: int) -> dict:
             "above": _surface(ds, "time_above", body), "cooling": _interp(ds, "cooling_rate", body, zs)}
 
 
-#: (key, header, unit scale, unit, digits)
-COLUMNS = (("peak", "peak surface temperature [°C]", 1.0, "°C", 3),
-           ("depth", "depth of the threshold isotherm [mm]", 1e3, "mm", 3),
-           ("above", "time above the threshold at the surface [ms]", 1e3, "ms", 3),
-           ("cooling", "cooling rate at z* [K/s]", 1.0, "K/s", 3))
+#: (key, header, unit scale, digits, metric of metrics.nc whose error stands beside it, or None: a
+#: difference at one point, computed here and named as such)
+COLUMNS = (("peak", "max. surface temperature [°C]", 1.0, 3, "max_surface_temperature"),
+           ("depth", "depth of the threshold isotherm [mm]", 1e3, 3, "heated_depth"),
+           ("above", "time above the threshold at the surface [ms]", 1e3, 3, None),
+           ("cooling", "cooling rate at z* [K/s]", 1.0, 3, None))
+#: metrics.nc errors that have no value column: the scored cooling rate and its all-depths variant
+STORED = ("cooling_rate", "cooling_rate_all_depths")
+DIFFERENCE = {"above": "difference at the surface [%]", "cooling": "difference at z* [%]"}
+
+
+def _css(text: str, err: float, tol) -> str:
+    if text == "not finite":
+        return "inaccurate"
+    return "" if not finite(err) or tol is None else ("ok" if abs(err) <= tol else "inaccurate")
+
+
+def _stored(run, metric: str, tol) -> Cell:
+    """A run's error on ``metric`` as metrics.nc stores it (signed where the sign is stored)."""
+    text = error_text(run, metric) if run is not None else "–"
+    return Cell(text + (" %" if text not in ("–", "—", "not finite") else ""),
+                _css(text, run.errors.get(metric, math.nan) if run is not None else math.nan, tol))
 
 
 def _cell(v: float | None, ref: float, scale: float, digits: int, bulk: float, tol) -> list:
+    """A value and its difference from the exact value at the same point (signed)."""
     if v is None:
         return ["–", "–"]
     if not finite(v):
@@ -139,31 +166,53 @@ def _cell(v: float | None, ref: float, scale: float, digits: int, bulk: float, t
     return [num(v * scale, digits), Cell(pct(err, signed=True) if finite(err) else "–", css)]
 
 
-def trace_rows(data: StudyData, scenes: list[str] | None = None) -> tuple[list[str], list[list]]:
-    """Header and rows of the thermal-trace table (exact row first per scene and body)."""
+def _depths(data: StudyData, scene: str) -> list[float]:
+    return [r.cooling_depth for r in data.runs_of(scene) if r.has_result]
+
+
+def trace_header(data: StudyData, scenes: list[str]) -> list[str]:
+    depths = [z for s in scenes for z in _depths(data, s)]
     header = ["scene", "body", "method (level)"]
-    for _, h, _, _, _ in COLUMNS:
-        header += [h, "error [%]"]
+    for key, h, _, _, metric in COLUMNS:
+        header += [h, "error [%]" if metric else DIFFERENCE[key]]
+    return header + [f"error of {metric_name(m, depths)} [%]" for m in STORED]
+
+
+def trace_rows(data: StudyData, scenes: list[str] | None = None) -> tuple[list[str], list[list]]:
+    """Header and rows of the thermal-trace table (exact row first per scene and body). Errors of metrics are
+    metrics.nc's, one per run (over its heated bodies: in the method's first row); the differences at the
+    surface and at z* are per body and point."""
+    scenes = trace_scenes(data) if scenes is None else scenes
     rows = []
-    for s in trace_scenes(data) if scenes is None else scenes:
+    for s in scenes:
         curve = data.curves[s]
         thr = float(curve["trace_threshold"].values)
         zs = float(curve["trace_depth"].values)
         finest = _finest(data, s)
+        first = set()
         for body in heated_bodies(curve):
             bulk = _bulk(data, s, body)
             ref = values(data, s, None, body)
-            row = [f"`{s}` ({thr:g} °C; z* = {zs * 1e3:.3g} mm)", BODIES[body], "**exact**"]
-            for k, _, scale, _, digits in COLUMNS:
+            scored = metric_name("cooling_rate", _depths(data, s))
+            row = [f"`{s}` ({thr:g} °C; z* = {zs * 1e3:.3g} mm" + (f"; {scored} scored" if "≥" in scored else "")
+                   + ")", BODIES[body], "**exact**"]
+            for k, _, scale, digits, _ in COLUMNS:
                 row += [num(ref[k] * scale, digits) if finite(ref[k]) else "–", ""]
-            rows.append(row)
+            rows.append(row + [""] * len(STORED))
             for m in finest:
+                run = data.finest_result(s, m)
                 v = values(data, s, m, body)
-                row = ["", "", f"{m} (level {data.finest_result(s, m).level})"]
-                for k, _, scale, _, digits in COLUMNS:
-                    row += _cell(v[k], ref[k], scale, digits, bulk if k == "peak" else 0.0, data.tolerance)
-                rows.append(row)
-    return header, rows
+                row = ["", "", f"{m} (level {run.level})"]
+                for k, _, scale, digits, metric in COLUMNS:
+                    if metric is None:
+                        row += _cell(v[k], ref[k], scale, digits, bulk if k == "peak" else 0.0, data.tolerance)
+                    else:
+                        row += [_cell(v[k], ref[k], scale, digits, 0.0, None)[0],
+                                _stored(run, metric, data.tolerance) if m not in first else "″"]
+                rows.append(row + ([_stored(run, x, data.tolerance) for x in STORED] if m not in first
+                                   else ["″"] * len(STORED)))
+                first.add(m)
+    return trace_header(data, scenes), rows
 
 
 def trace_section(doc: Document, ctx, scenes: list[str] | None = None):
@@ -186,13 +235,16 @@ def trace_section(doc: Document, ctx, scenes: list[str] | None = None):
     header, rows = trace_rows(data, scenes)
     with doc.details(f"The trace in numbers: peak, isotherm depth, time above, cooling rate per method and body "
                      f"({len(rows)} rows)"):
-        doc.table("The thermal trace per heated body: peak surface temperature, depth of the isotherm of the "
+        doc.table("The thermal trace per heated body: maximum surface temperature, depth of the isotherm of the "
                   "scene's `field.threshold` (°C, in brackets with z*), time the surface spends above it, and "
                   "cooling rate after the peak at depth z* (methods: linear interpolation of their profile), each "
-                  "method's finest successful level against the exact values, error (value − exact) / |exact| "
-                  "[%] (the temperature on its rise above the bulk temperature); cell colour: within (green) or "
-                  f"above (orange) the study's tolerance {pct(data.tolerance) if data.tolerance is not None else '–'}.",
-                  header, rows)
+                  "method's finest successful level beside the exact values. \"error\": the run's error in "
+                  "`metrics.nc` (signed where stored; one per run over its heated bodies, in the method's first "
+                  "row, ″ below), the same number as in the scene's run table and the scorecard; the cooling rate "
+                  "is scored at the depths named in its header, and its all-depths error is not used by the "
+                  "verdict. \"difference at the surface\" and \"difference at z*\": (value − exact) / |exact| at "
+                  "that one point and body. Cell colour: within (green) or above (orange) the study's tolerance "
+                  f"{pct(data.tolerance) if data.tolerance is not None else '–'}.", header, rows)
     for s in scenes:
         _scene(doc, ctx, s)
 
