@@ -143,3 +143,23 @@ def test_relative_error_signs_and_rise():
     assert relative_error(30.0, 20.0, bulk=10.0) == pytest.approx(1.0)
     assert math.isnan(relative_error(1.0, 0.0))
     assert np.isnan(relative_error(1.0, 5.0, bulk=5.0))
+
+
+def test_contact_and_total_errors_are_read_from_metrics(out, tmp_path):
+    """The contact-model and total errors are metrics.nc's signed errors (the run table's number), not a second
+    computation from the run files: a stored value that differs from the files' is the one shown."""
+    import shutil
+    copy = tmp_path / "out"
+    shutil.copytree(out, copy)
+    m = store.read_metrics(copy).load()
+    for meth, value in (("green", 0.5), ("fastsim-fdm", -0.25)):
+        i = [k for k in range(m.sizes["run"]) if str(m.scene.values[k]) == "ek-combined"
+             and str(m.method.values[k]) == meth]
+        m["signed_error_creep_force_x"].values[i] = value
+    m.to_netcdf(copy / "metrics.nc", engine="netcdf4")
+    data = load(copy)
+    (comp,) = exact_comparisons(data)
+    header, rows = error_rows(data, comp)
+    row = next(r for r in rows if r[1] == "creep force Fx [kN]")
+    assert str(row[header.index("contact-model error of green, reference kalker [%]")]) == "+50 %"
+    assert str(row[header.index("total error of fastsim-fdm, reference kalker [%]")]) == "−25 %"

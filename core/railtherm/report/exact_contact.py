@@ -11,9 +11,11 @@ method's finest successful level (read from the run files through the store):
   temperature model (``fastsim-fdm`` = FASTSIM -> fdm against ``green``), reference = that method;
 * the **total**: the thermal method against the exact method (what ``metrics.nc`` records for it).
 
-Errors are signed and relative, ``(value - reference) / |reference - bulk|`` [1], temperatures on
-their rise above the wheel's bulk temperature (as ``docs/verdicts.md`` defines the errors;
-``metrics.nc`` stores their magnitude, max-normed over the bodies). The section also draws the
+Errors are signed and relative [1], temperatures on their rise above the bulk temperature. The contact
+model's and the total error are ``metrics.nc``'s signed errors (``signed_error_<quantity>``, taken against
+the exact method), the number the run tables and the scorecard print; quantities ``metrics.nc`` does not score
+(Fy, Mz) and the thermal model's error (a method against another method that is not the scene's reference)
+are ``(value - reference) / |reference - bulk|`` of the run files' values (the wheel's). The section also draws the
 creep-force curve of a creepage sweep (the compared method's Fx / (mu N) against the exact method's,
 with core's linear theory from ``references.nc``), the traction, slip and power-density maps of one
 combined-creepage scene side by side, and a scene whose gap is not Hertzian (which only the exact
@@ -82,6 +84,23 @@ def _bulk(data: StudyData, scene: str) -> float:
         return float(sc.wheel.bulk_temperature)
     except AttributeError:
         return 0.0
+
+
+def stored_error(data: StudyData, scene: str, method: str, q: str, reference: str) -> float:
+    """metrics.nc's signed error of ``q`` at the method's finest successful level when it was taken against
+    method ``reference`` (NaN otherwise): the number the run table and the scorecard print."""
+    r = data.finest_result(scene, method)
+    if r is None or r.references.get(q) != f"method:{reference}":
+        return math.nan
+    return r.signed.get(q, math.nan)
+
+
+def _against(data: StudyData, scene: str, method: str, q: str, value: tuple, ref_method: str, ref: tuple,
+             bulk: float) -> float:
+    """The signed error of ``method`` against ``ref_method`` on ``q``: metrics.nc's where it stores it, else
+    (quantities metrics.nc does not score, such as Fy and Mz) from the two run files' values."""
+    e = stored_error(data, scene, method, q, ref_method)
+    return e if finite(e) else relative_error(value[0], ref[0], bulk)
 
 
 def relative_error(value: float, reference: float, bulk: float = 0.0) -> float:
@@ -168,9 +187,9 @@ def error_rows(data: StudyData, comp: ExactComparison) -> tuple[list[str], list[
                     row += ["–", "–"]
                     continue
                 levels[c] = v[1]
+                contact = _against(data, s, c, q, v, e, ref, b)
                 row += [quantity(v[0], unit, with_unit=False),
-                        Cell(pct(relative_error(v[0], ref[0], b), signed=True, floor=ROUND_OFF),
-                                           _css(relative_error(v[0], ref[0], b), data.tolerance))]
+                        Cell(pct(contact, signed=True, floor=ROUND_OFF), _css(contact, data.tolerance))]
             for t, c in comp.thermal.items():
                 v = _value(data, s, t, q)
                 if v is None:
@@ -179,7 +198,7 @@ def error_rows(data: StudyData, comp: ExactComparison) -> tuple[list[str], list[
                 levels[t] = v[1]
                 vc = got.get(c)
                 thermal = relative_error(v[0], vc[0], b) if vc is not None else math.nan
-                total = relative_error(v[0], ref[0], b)
+                total = _against(data, s, t, q, v, e, ref, b)
                 row += [quantity(v[0], unit, with_unit=False),
                         Cell(pct(thermal, signed=True, floor=ROUND_OFF), _css(thermal, data.tolerance)),
                         Cell(pct(total, signed=True, floor=ROUND_OFF), _css(total, data.tolerance))]
@@ -200,7 +219,7 @@ def _split_summary(data: StudyData, comp: ExactComparison, q: str = "max_surface
         for s in scenes:
             v, r = _value(data, s, who, q), _value(data, s, ref_m, q)
             if v is not None and r is not None:
-                errs.append(relative_error(v[0], r[0], _bulk(data, s)))
+                errs.append(_against(data, s, who, q, v, ref_m, r, _bulk(data, s)))
         errs = [e for e in errs if finite(e)]
         if errs:
             kind = "contact model" if who in comp.contact else "thermal model"
