@@ -119,3 +119,16 @@ def test_an_inaccurate_cell_says_which_metric_is_not_finite():
     r.references = {k: "analytic:moving-source" for k in r.errors}
     text = cell(Verdict("fipy", "inaccurate", r, 0.005, 0.1)).text
     assert "surface temperature (L2 norm) not finite" in text and "level 1" in text, text
+
+
+def test_findings_quote_signed_headline_errors():
+    from types import SimpleNamespace
+    from railtherm.report.load import Run
+    from railtherm.report.verdict import Row, Verdict, findings
+    runs = [Run(scene="s", method=m, level=0, status="ok") for m in ("fast", "slow")]
+    data = SimpleNamespace(tolerance=0.05, methods=["fast", "slow"], runs=runs, stages=lambda *a: {})
+    cards = {("s", "fast"): Verdict("fast", "ok", runs[0], 0.012, 1e-3, signed=-0.012),
+             ("s", "slow"): Verdict("slow", "ok", runs[1], 0.004, 1.0, signed=0.004)}
+    out = findings(data, [Row("s", "scene-s", ["s"], "max_surface_temperature")], cards)
+    text = next(t for t in out if t.startswith("For `s`"))
+    assert "reaches −1.2 % error" in text and "for +0.40 %" in text and "1,000× the time of fast" in text, text

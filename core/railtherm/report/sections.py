@@ -373,7 +373,8 @@ def _headline_value(data: StudyData, scene: str, method: str, headline: str, nor
         if not mu or not n:
             return None
         v = v / (mu * n)
-    return v, r.headline_error, r.status
+    signed = r.signed.get(headline, math.nan)
+    return v, signed if finite(signed) else r.headline_error, r.status
 
 
 def sweep_section(doc: Document, ctx: Context, idx: int, group: SweepGroup, anchor: str):
@@ -417,8 +418,9 @@ def sweep_section(doc: Document, ctx: Context, idx: int, group: SweepGroup, anch
                 row.append(Cell(st if st != "none" else "–", st if st != "none" else ""))
                 continue
             val, err, status = got
-            series.values.setdefault(m, []).append((v, val, err, status))
-            row.append(Cell(num(val, 4) + (f" ({pct(err)})" if finite(err) else ""), status))
+            series.values.setdefault(m, []).append((v, val, abs(err), status))   # the figure's axis is log
+            text = "not finite" if err == math.inf else pct(err, signed=True) if finite(err) else ""
+            row.append(Cell(num(val, 4) + (f" ({text})" if text else ""), status))
         rows.append(row)
     doc.table(f"{what} of each method's finest successful level over the sweep, its error against the "
               "reference in brackets (cell colour: status of that level).",

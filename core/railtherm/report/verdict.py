@@ -470,6 +470,11 @@ def _scene_span(scenes: list[str]) -> str:
     return f"`{prefix}-*` ({len(names)} scenes)" if len(prefix) >= 3 else ", ".join(f"`{n}`" for n in names)
 
 
+def _error(v: Verdict) -> str:
+    """A verdict's headline error in words: signed where metrics.nc stores the sign."""
+    return pct(v.signed, signed=True) if math.isfinite(v.signed) else pct(v.error)
+
+
 def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5) -> list[str]:
     """3-5 sentences computed from the metrics: who is fastest at the tolerance, what misses it, what is
     unverified, what failed."""
@@ -485,15 +490,15 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
             fast, slow = ok[0], ok[-1]
             times = slow.time / fast.time if fast.time > 0 else math.inf
             pre = "≤" if row.group else ""
-            text = (f"For {where} ({what}), {acting(data, row.scenes[0], fast.method)} reaches {pre}{pct(fast.error)} "
+            text = (f"For {where} ({what}), {acting(data, row.scenes[0], fast.method)} reaches {pre}{_error(fast)} "
                     f"error in {pre}{duration(fast.time)}; {acting(data, row.scenes[0], slow.method)} needs "
-                    f"{pre}{duration(slow.time)} for {pre}{pct(slow.error)}"
+                    f"{pre}{duration(slow.time)} for {pre}{_error(slow)}"
                     + (f" ({ratio(times)} of {fast.method})." if 10 <= times < math.inf else "."))
             compare.append((times, text, (fast.method, slow.method)))
         elif len(ok) == 1 and len([v for v in vs if v.status != "none"]) > 1:
             v = ok[0]
             compare.append((0.0, f"For {where} ({what}), only {acting(data, row.scenes[0], v.method)} is within "
-                                 f"{tol_text}: {pct(v.error)} "
+                                 f"{tol_text}: {_error(v)} "
                                  f"in {duration(v.time)}.", (v.method,)))
         bad = [v for v in vs if v.status == "inaccurate"]
         if bad:
