@@ -20,6 +20,7 @@ from railtherm.testing import canonical
 from railtherm_kalker.normal_model import KalkerNormal
 from railtherm_kalker.potential_area import MAX_ROLLING_REFINEMENT, potential_area, rolling_refinement
 from railtherm_kalker.tangential_model import KalkerTangential, rolling_operator
+from railtherm_kalker._band import LinePreconditioner
 from railtherm_kalker.tangential_solver import (LocalPreconditioner, rigid_slip, solve_tangential,
                                                 solve_tangential_nested)
 
@@ -68,6 +69,44 @@ def test_local_preconditioner_is_the_exact_inverse_of_the_cut_jacobian():
                     M[a * nin + e, b * nin + f] = blk[a, b]
     v = rng.normal(size=nc * nin)
     np.testing.assert_allclose(M @ pre.solve(v), v, rtol=1e-10, atol=1e-10 * np.abs(v).max())
+
+
+def test_line_preconditioner_is_the_exact_inverse_of_the_four_offset_jacobian():
+    """M = D1 + D2 B_cut with B cut to the x offsets +1, 0, -1, -2 (D1, D2 of the Newton Jacobian from a mix of
+    stick and slip): the line LU solves M z = v to round-off, on the contact's elements and on a random subset
+    of them (lines with gaps)."""
+    area, X, Y, g = _setup(10, 2)
+    conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
+    nx, ny = conv.shape
+    rx, ry = conv.near_radius
+    rng = np.random.default_rng(4)
+    full = np.nonzero(g.ravel() > 0)[0]
+    for idx in (full, np.sort(rng.choice(full, size=2 * full.size // 3, replace=False))):
+        nin, nc, r = idx.size, 2, 0.7 / abs(conv.self_coefficient)
+        slipping = rng.random(nin) < 0.5
+        z = rng.normal(size=(nc, nin))
+        zh = np.where(slipping, z / np.linalg.norm(z, axis=0), 0.0)
+        fac = np.where(slipping, rng.uniform(0.2, 0.9, nin), 0.0)
+        S = np.where(slipping[:, None, None], fac[:, None, None] * (np.eye(2)[None] - zh.T[:, :, None] * zh.T[:, None, :]),
+                     np.eye(2)[None])
+        D1 = np.where(slipping[:, None, None], np.eye(2)[None] - S, 0.0)
+        D2 = -r * S
+        pre = LinePreconditioner(conv, idx)
+        pre.factor_newton(slipping, zh, fac, r)
+        ii, jj = np.unravel_index(idx, (nx, ny))
+        M = np.zeros((nc * nin, nc * nin))
+        for e in range(nin):
+            for f in range(nin):
+                o = (ii[e] - ii[f], jj[e] - jj[f])
+                if o[1] != 0 or o[0] not in (1, 0, -1, -2):
+                    continue
+                K = np.array([[conv.near[(a, b)][rx + o[0], ry] for b in range(2)] for a in range(2)])
+                blk = D2[e] @ K + (D1[e] if o[0] == 0 else 0.0)
+                for a in range(2):
+                    for b in range(2):
+                        M[a * nin + e, b * nin + f] = blk[a, b]
+        v = rng.normal(size=nc * nin)
+        np.testing.assert_allclose(M @ pre.solve(v), v, rtol=1e-9, atol=1e-9 * np.abs(v).max())
 
 
 def test_newton_blocks_equal_the_blocks_of_the_assembled_jacobian():
