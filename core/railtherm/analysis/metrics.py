@@ -18,6 +18,8 @@ is not checked independently; ``refused`` and ``failed`` come from the runner.
 """
 from __future__ import annotations
 
+import functools
+
 import math
 from pathlib import Path
 
@@ -495,16 +497,42 @@ def _convergence_vars(ds, ctx: _Study, by_sm: dict, snames: list, mnames: list, 
     return ds
 
 
-def compute_metrics(study, out, records, tolerance: float | None = None):
+def score_runs(study, records, tol: float, indices) -> list[tuple[int, dict]]:
+    """The metrics rows of ``records[i]`` for ``i`` in ``indices``: a worker's share of :func:`compute_metrics`.
+    A run is scored with nothing but the study and the records (its references are exact values or runs of
+    the same scene, read from the output folder), so runs can be scored in separate processes."""
+    ctx = _Study(study, records, tol)
+    return [(i, _score(ctx, records[i])) for i in indices]
+
+
+def scene_groups(records) -> list[list[int]]:
+    """Indices of ``records`` grouped by scene, the groups with the most runs to score first (a pool that
+    takes them in this order finishes the long ones early). One scene's runs stay in one process: they share
+    its exact references (a thermal trace at the same depths is computed once)."""
+    groups: dict[str, list[int]] = {}
+    for i, r in enumerate(records):
+        groups.setdefault(r.scene, []).append(i)
+    return sorted(groups.values(), key=lambda g: -sum(records[i].status == "ok" for i in g))
+
+
+def compute_metrics(study, out, records, tolerance: float | None = None, *, map=None):
     """Build the metrics Dataset of a study from its run records (and the run files or Zarr store).
 
-    See ``docs/verdicts.md`` for every variable.
+    ``map``: a ``map(fn, iterable)`` that may run in other processes (e.g. a process pool's), to score
+    the scenes in parallel (:func:`score_runs`); the rows are the same as scored here. See
+    ``docs/verdicts.md`` for every variable.
     """
     from .scorecard import verdict_vars
     tol = tolerance if tolerance is not None else getattr(study, "tolerance", 0.05)
     metrics = METRICS + (TRACE_METRICS if any(getattr(s, "field", None) is not None for s in study.scenes) else ())
     ctx = _Study(study, records, tol)
-    rows = [_score(ctx, rec) for rec in records]
+    if map is None:
+        rows = [_score(ctx, rec) for rec in records]
+    else:
+        rows = [None] * len(records)
+        for part in map(functools.partial(score_runs, study, records, tol), scene_groups(records)):
+            for i, row in part:
+                rows[i] = row
     ds = _run_table(rows, metrics)
     snames = [s.name for s in study.scenes]
     mnames = sorted({r.method for r in records})

@@ -544,6 +544,33 @@ def _children_cpu() -> float:
         return math.nan
 
 
+#: a study scores its runs in the local worker processes when it has at least this many results
+PARALLEL_METRICS_MIN_RUNS = 40
+
+
+def _metrics(study, out, records, executor: str, workers: int):
+    """metrics.nc's Dataset: the scenes scored in ``workers`` local processes (spawned with this process's
+    plugin host) when the runs used local processes, else here; a pool that breaks costs only the time."""
+    from ..analysis.metrics import compute_metrics
+    scored = sum(r.status == "ok" for r in records)
+    if executor != "processes" or workers < 2 or scored < PARALLEL_METRICS_MIN_RUNS:
+        return compute_metrics(study, out, records)
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+    from .executors import host_spec, install_host, worker_threads
+    try:
+        with worker_threads(workers):
+            pool = ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"), initializer=install_host,
+                                       initargs=(host_spec(),))
+        with pool:
+            return compute_metrics(study, out, records, map=pool.map)
+    except Exception as exc:  # noqa: BLE001 - the metrics are computed here instead
+        import warnings
+        warnings.warn(f"scoring in worker processes failed ({type(exc).__name__}: {exc}); scoring here",
+                      RuntimeWarning, stacklevel=2)
+        return compute_metrics(study, out, records)
+
+
 def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike = "out", *, executor: str = "serial",
               scheduler: str | None = None, methods: Iterable[str] | None = None, levels: Iterable[int] | None = None,
               resume: bool = False, report: bool = True, workers: int | None = None):
@@ -577,7 +604,6 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     xarray.Dataset
         The metrics (also written to ``out/metrics.nc``).
     """
-    from ..analysis.metrics import compute_metrics
 
     t0, c0, w0 = time.perf_counter(), time.process_time(), _children_cpu()
     study = study_or_path if isinstance(study_or_path, Study) else load_study(study_or_path)
@@ -603,7 +629,7 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     records = run_tasks(tasks, executor=executor, scheduler=scheduler, resume=resume, workers=workers,
                         desc=study.name)
     t2 = time.perf_counter()
-    metrics = compute_metrics(study, out, records)
+    metrics = _metrics(study, out, records, executor, workers)
     metrics.attrs.update({"executor": executor, "workers": int(workers),
                           "workers_comment": "worker processes that shared the machine while runs were timed"})
     store.write_dataset_atomic(metrics, store.metrics_path(out))
