@@ -132,3 +132,17 @@ def test_findings_quote_signed_headline_errors():
     out = findings(data, [Row("s", "scene-s", ["s"], "max_surface_temperature")], cards)
     text = next(t for t in out if t.startswith("For `s`"))
     assert "reaches −1.2 % error" in text and "for +0.40 %" in text and "1,000× the time of fast" in text, text
+
+
+def test_a_finding_on_a_headline_that_is_not_finite_says_so():
+    from types import SimpleNamespace
+    from railtherm.report.load import Run
+    from railtherm.report.verdict import Row, Verdict, findings
+    r = Run(scene="s", method="fipy", level=0, status="inaccurate")
+    r.errors = {"max_surface_temperature": math.inf}
+    r.references = {"max_surface_temperature": "analytic:moving-source"}
+    data = SimpleNamespace(tolerance=0.05, methods=["fipy"], runs=[r], stages=lambda *a: {})
+    out = findings(data, [Row("s", "scene-s", ["s"], "max_surface_temperature")],
+                   {("s", "fipy"): Verdict("fipy", "inaccurate", r, math.inf, 0.5)})
+    miss = next(t for t in out if t.startswith("No level of fipy"))
+    assert "worst max. surface temperature error not finite" in miss, miss

@@ -502,7 +502,8 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
                                  f"in {duration(v.time)}.", (v.method,)))
         bad = [v for v in vs if v.status == "inaccurate"]
         if bad:
-            worst = max((v.error for v in bad if math.isfinite(v.error)), default=math.nan)
+            worst = max((v.error for v in bad if not math.isnan(v.error)), default=math.nan)
+            worst_text = "not finite" if worst == math.inf else pct(worst)
             if row.group:
                 counts = [sum(1 for x in v.members if x.status == "inaccurate") for v in bad]
                 at = f" at {max(counts)} of {len(row.scenes)} {row.group.key} values"
@@ -518,12 +519,12 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
             who = _names([v.method for v in bad])
             if row.group:
                 misses.append(f"On {where}, {who} miss the {tol_text} tolerance at every level for{at[3:]} "
-                              f"(worst {pct(worst)}){tail}.")
+                              f"(worst {worst_text}){tail}.")
             else:
                 # the headline may be within the tolerance while another metric is not: name it
                 why = "; ".join(f"{v.method}: {w}" for v in bad for w in [_worst_other(v)] if w)
                 misses.append(f"No level of {who} is within {tol_text} on {where} (worst {what} error "
-                              f"{pct(worst)}{'; ' + why if why else ''}){tail}.")
+                              f"{worst_text}{'; ' + why if why else ''}){tail}.")
         for v in vs:
             if "non-monotone" in v.note and not row.group:
                 words = next(w for w in v.note.split("; ") if w.startswith("non-monotone"))
