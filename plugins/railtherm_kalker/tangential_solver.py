@@ -27,15 +27,19 @@ that of a slipping element ``I - (g/|z|)(I - z z^T/|z|^2)(I + r B)`` (z = p - r 
 step is one non-symmetric linear system ``(D1 + D2 B) d = -F`` with 2 x 2 blocks D1, D2 per element,
 solved by GMRES with FFT products (single precision while the step's tolerance is above 1e-4).
 
-GMRES is right-preconditioned by :class:`LocalPreconditioner`, the exact inverse of the Jacobian
-with B cut to its two dominant offsets along x (0 and -1, the upwind difference of the
-self-influence): a backward sweep from the leading edge, O(N). The forcing terms follow Eisenstat &
-Walker (loose while the stick/slip division still moves, superlinear at the end, never tighter
-than the tolerance needs). :func:`solve_tangential_nested` starts from zero traction on a grid of 4
-x 4 (or 8 x 8) times larger elements and hands each grid's solution to the next finer one (the
+GMRES is right-preconditioned by the exact inverse of the Jacobian with B cut to a few offsets along x:
+:class:`railtherm_kalker._band.LinePreconditioner` (offsets +1, 0, -1, -2, antisymmetric about -1/2 like
+the kernel; a block LU per grid line, O(N)) from a coarse or zero start, and :class:`LocalPreconditioner`
+(the upwind pair 0 and -1 only: one backward sweep from the leading edge, O(N)) from a good start, which
+needs few GMRES steps. The products with B are evaluated on the unknown elements only
+(:meth:`railtherm_kalker.influence.Convolution.apply_at`). The forcing terms follow Eisenstat & Walker
+(loose while the stick/slip division still moves, superlinear at the end, never tighter than the tolerance
+needs, and tight from a good start). :func:`solve_tangential_nested` starts from zero traction on a grid
+of 4 x 4 (or 8 x 8) times larger elements and hands each grid's solution to the next finer one (the
 traction's ratio to the bound interpolated linearly), so the finest grid needs 5-7 Newton steps (the
 first ones loose, the last one tight); beyond saturation the full-slip traction starts the finest grid
-directly. Measured (``benchmarks/test_kalker_benchmark.py``, CPU time): see docs/kalker.md.
+directly, with its slip (2 Newton steps). Measured (``benchmarks/test_kalker_benchmark.py``, CPU time):
+see docs/kalker.md.
 Diagnostics record the residual history ``max |F| / max g``.
 
 References
@@ -85,11 +89,11 @@ LINEAR_MIN, LINEAR_MAXITER, SINGLE_BELOW = 1e-8, 200, 1e-4
 #: 212/199 at 0.1
 FINAL_MARGIN = 0.3
 
-#: a start whose residual max |F| / max g is below GOOD_START (the full-slip traction beyond saturation, a
-#: previous solve's traction) already has the stick/slip division: its first Newton step uses the forcing term
-#: GOOD_START_FORCING res instead of FORCING_MAX (full slip, E&K ellipse, 200^2: 2 Newton steps and 10 FFT
-#: products against 4 and 13). The prolonged coarse solutions start at 0.09-0.2, where FORCING_MAX is better.
-GOOD_START, GOOD_START_FORCING = 0.05, 3.0
+#: a good start (``good_start``: the full-slip traction beyond saturation, which already has the final slip
+#: area) takes its first Newton step with the forcing term GOOD_START_FORCING res instead of FORCING_MAX (full
+#: slip, E&K ellipse, 200^2: 2 Newton steps and 10 FFT products against 4 and 13). Not for the prolonged coarse
+#: solutions, whose stick/slip boundary still moves (at 400^2 they start at res 0.05 and need 8-9 Newton steps).
+GOOD_START_FORCING = 3.0
 
 #: Eisenstat-Walker's gamma (forcing choice 2, exponent 2)
 EW_GAMMA = 0.9
@@ -222,7 +226,7 @@ class LocalPreconditioner:
         return sweep(v, self.minv, self.coup, self.order, self.nb, self.columns).ravel()
 
 
-#: GMRES's right preconditioner in :func:`solve_tangential` from a start that is not good (see GOOD_START):
+#: GMRES's right preconditioner in :func:`solve_tangential` (except from a good start, see GOOD_START_FORCING):
 #: 20-27 % fewer GMRES steps than the upwind sweep :class:`LocalPreconditioner` at 1.5 times its cost per
 #: application and 4 times per factorisation (both small against an FFT product)
 PRECONDITIONER = LinePreconditioner
@@ -286,7 +290,7 @@ def _gmres(matvec, psolve, b, rtol, maxiter, dtype=np.float64):
 def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TANGENTIAL_TOLERANCE,
                      maxiter: int = 60, initial: np.ndarray | None = None, rscale: float = 1.0,
                      precondition: bool = True, forcing: str = "ew",
-                     initial_slip: np.ndarray | None = None) -> TangentialSolution:
+                     initial_slip: np.ndarray | None = None, good_start: bool = False) -> TangentialSolution:
     """Solve Kalker's steady rolling problem with semismooth Newton-GMRES.
 
     Parameters
@@ -306,6 +310,9 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         Initial traction [Pa] (default zero).
     initial_slip : ndarray (ncomp, nx, ny), optional
         The slip w - B p of ``initial`` when the caller has computed it [1] (saves one product).
+    good_start : bool
+        ``initial`` already has the final stick/slip division (the full-slip start): a tight first Newton step
+        (:data:`GOOD_START_FORCING`) and the cheaper sweep preconditioner (few GMRES steps in all).
     precondition : bool
         Precondition GMRES with :class:`LocalPreconditioner` (False: plain GMRES, for comparison).
 
@@ -356,7 +363,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
     converged = res <= tol
     it = 0
     # a good start needs a few GMRES steps in all: the sweep's cheaper factorisation then wins
-    kind = LocalPreconditioner if res < GOOD_START else PRECONDITIONER
+    kind = LocalPreconditioner if good_start else PRECONDITIONER
     pre = kind(conv, idx) if (precondition and nin) else None
     eta_prev = FORCING_MAX
     while not converged and it < maxiter:
@@ -374,7 +381,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
                 eta_k = max(eta_k, EW_GAMMA * eta_prev ** 2)
             eta_k = min(FORCING_MAX, max(eta_k, FORCING * res))
         elif forcing == "ew":
-            eta_k = min(FORCING_MAX, GOOD_START_FORCING * res) if res < GOOD_START else FORCING_MAX
+            eta_k = min(FORCING_MAX, GOOD_START_FORCING * res) if good_start else FORCING_MAX
         else:
             eta_k = min(FORCING_MAX, FORCING * res)
         eta_k = max(eta_k, LINEAR_MIN, FINAL_MARGIN * tol / max(res, 1e-300))
@@ -574,7 +581,7 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
             init, _ = _project(p if p.shape[1:] == g.shape else _refine(p, levels[k + 1][2], g, line), g)
         last = k == 0
         sol = solve_tangential(conv, g, w, tol=tol if last else max(tol, coarse_tol), maxiter=maxiter, initial=init,
-                               initial_slip=slip0)
+                               initial_slip=slip0, good_start=slip0 is not None)
         products += sol.products
         linear += sol.linear_iterations
         if not last:
