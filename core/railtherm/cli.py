@@ -10,6 +10,7 @@ and none of our options collides with FiPy's (``--petsc``, ``--scipy``, ``--tril
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import warnings
 
@@ -163,7 +164,7 @@ def _report(args) -> int:
     if args.benchmarks is not None and not Path(args.benchmarks).is_file():
         raise SceneError(f"--benchmarks {args.benchmarks!r} is not a file (a pytest-benchmark JSON file)",
                          key="benchmarks", value=args.benchmarks, allowed="a pytest-benchmark JSON file")
-    for p in write_report(out, benchmarks=args.benchmarks):
+    for p in write_report(out, benchmarks=args.benchmarks, workers=os.cpu_count() or 1):
         print(p)
     return 0
 

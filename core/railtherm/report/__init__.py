@@ -41,7 +41,7 @@ from .document import Document
 from .environment import benchmark_section, environment_section
 from .exact_contact import exact_contact_section
 from .friction_section import friction_section
-from .figures import Palette, method_colour
+from .figures import Palette, method_colour, rendering
 from .load import load
 from .sections import Context, scene_section, sweep_section, verdict_section
 from .study_section import intro, study_section
@@ -70,7 +70,7 @@ def _left_out_notes(doc: Document, ctx: Context, scenes: list, limit: int):
                       + (" …" if len(ctx.left_out) > 12 else "") + ".", note=True)
 
 
-def write_report(out, study=None, benchmarks=None) -> list[Path]:
+def write_report(out, study=None, benchmarks=None, workers: int = 1) -> list[Path]:
     """Write ``report.md``, ``report.html`` and ``figures/*.png`` for a study output folder.
 
     Parameters
@@ -85,6 +85,8 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     benchmarks : path, optional
         A pytest-benchmark JSON file (``--benchmark-json``); ``out/benchmarks.json`` is used when it
         exists and none is given.
+    workers : int
+        Processes that draw the figures (spawned; 1: drawn in this process).
 
     Returns
     -------
@@ -115,23 +117,24 @@ def write_report(out, study=None, benchmarks=None) -> list[Path]:
     left_out = singles[limit:]
     for row in left_out:  # no section: the scorecard row links nowhere
         row.anchor = ""
-    verdict_section(doc, ctx, table_rows)
-    study_section(doc, ctx, table_rows)
-    friction_section(doc, ctx)        # a friction study's point, before the long exact-contact tables
-    exact_contact_section(doc, ctx)
-    traced = set(trace_scenes(data))
-    trace_section(doc, ctx)
-    idx = 0
-    for row in table_rows:
-        if row in left_out:
-            continue
-        idx += 1
-        if row.group is None:
-            scene = row.scenes[0]
-            scene_section(doc, ctx, idx, scene, trace_anchor(scene) if scene in traced else "")
-        else:
-            sweep_section(doc, ctx, idx, row.group, row.anchor)
-    _left_out_notes(doc, ctx, left_out, limit)
+    with rendering(workers):  # figures are drawn in worker processes while the sections are written
+        verdict_section(doc, ctx, table_rows)
+        study_section(doc, ctx, table_rows)
+        friction_section(doc, ctx)        # a friction study's point, before the long exact-contact tables
+        exact_contact_section(doc, ctx)
+        traced = set(trace_scenes(data))
+        trace_section(doc, ctx)
+        idx = 0
+        for row in table_rows:
+            if row in left_out:
+                continue
+            idx += 1
+            if row.group is None:
+                scene = row.scenes[0]
+                scene_section(doc, ctx, idx, scene, trace_anchor(scene) if scene in traced else "")
+            else:
+                sweep_section(doc, ctx, idx, row.group, row.anchor)
+        _left_out_notes(doc, ctx, left_out, limit)
     bench = Path(benchmarks) if benchmarks else out / "benchmarks.json"
     if benchmarks or bench.exists():
         benchmark_section(doc, bench)

@@ -7,6 +7,8 @@ methods' lines; stick/slip is drawn in grey and black, never in a method's colou
 """
 from __future__ import annotations
 
+import contextlib
+
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -67,13 +69,65 @@ def figure(w: float, h: float):
     return fig
 
 
+#: the pool that renders figures while the report goes on (:func:`rendering`), or None: render here
+_RENDER = None
+#: pixel size (width, height) of every PNG written by :func:`save`, known before the file is (the canvas is
+#: the figure size times the resolution, as matplotlib's Agg canvas sizes it)
+SIZES: dict = {}
+
+
+def _render(blob: bytes, path: str) -> str:
+    """Render a pickled figure to ``path`` (in a worker process of :func:`rendering`)."""
+    import pickle
+    pickle.loads(blob).savefig(path, dpi=PNG_DPI)
+    return path
+
+
+@contextlib.contextmanager
+def rendering(workers: int):
+    """Within the block, :func:`save` hands each figure (pickled) to ``workers`` processes, which lay it
+    out and write the PNG while the report goes on; leaving the block waits for every file. Drawing is
+    most of a report's time (constrained layout draws each figure twice). With ``workers`` < 2, or a
+    figure that cannot be pickled, the figure is written here."""
+    global _RENDER
+    if workers < 2:
+        yield
+        return
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+    pool, jobs = ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn")), []
+    _RENDER = (pool, jobs)
+    try:
+        yield
+        for job in jobs:
+            job.result()
+    finally:
+        _RENDER = None
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
 def save(fig, path: Path) -> tuple[Path, int]:
-    """Write ``fig`` as PNG at 2x and return (path, CSS width [px])."""
+    """Write ``fig`` as PNG at 2x (here, or by the pool of :func:`rendering`) and return (path, CSS width [px])."""
+    import pickle
     path.parent.mkdir(parents=True, exist_ok=True)
     width = int(round(fig.get_figwidth() * CSS_DPI))
-    fig.savefig(path, dpi=PNG_DPI)
+    SIZES[Path(path)] = (int(fig.get_figwidth() * PNG_DPI), int(fig.get_figheight() * PNG_DPI))
+    blob = None
+    if _RENDER is not None:
+        try:
+            blob = pickle.dumps(fig)
+        except Exception:  # noqa: BLE001 - an unpicklable artist: written here
+            blob = None
+    if blob is None:
+        fig.savefig(path, dpi=PNG_DPI)
+    else:
+        _RENDER[1].append(_RENDER[0].submit(_render, blob, str(path)))
     fig.clear()
     return path, width
+
+
+def _plain_number(v, _pos) -> str:
+    return f"{v:g}"
 
 
 def log_ticks(axis, lo: float, hi: float):
@@ -82,7 +136,7 @@ def log_ticks(axis, lo: float, hi: float):
     decades = math.log10(hi / lo) if lo > 0 and hi > 0 else 99
     subs = (1.0, 2.0, 5.0) if decades < 2.2 else (1.0,)
     axis.set_major_locator(LogLocator(base=10.0, subs=subs))
-    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_major_formatter(FuncFormatter(_plain_number))
     axis.set_minor_formatter(NullFormatter())
 
 

@@ -71,7 +71,7 @@ class Context:
             return None
         path, width = res
         self.figures.append(path)
-        w, h = png_size(path)
+        w, h = F.SIZES.get(Path(path)) or png_size(path)
         doc.figure(f"figures/{path.name}", plain(caption), width, int(round(h * width / w)) if w and width else None)
         took = time.perf_counter() - t0
         if took > 20:

@@ -655,5 +655,5 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
                             indent=1, default=str)
     if report:
         from ..report import write_report
-        write_report(out, study=study)
+        write_report(out, study=study, workers=workers if executor == "processes" else 1)
     return metrics
