@@ -187,3 +187,23 @@ def test_plugin_guide_states_the_sign_conventions_core_uses():
     assert np.all(ds.traction_x.values[inside] > 0) and np.all(ds.slip_velocity_x.values[inside] == -1.0)
     assert float(ds.creep_force_x) > 0
     assert float(ds.frictional_power) == pytest.approx(0.3 * 100e3 * 1.0, rel=1e-12)
+
+
+def test_every_path_of_designs_layout_table_exists():
+    """docs/DESIGN.md's layout table names folders and modules of the tree: each exists (indented rows are
+    inside core/railtherm/), and every layer folder of core/railtherm/ is in the table."""
+    import re
+    root = DOCS.parent
+    text = (DOCS / "DESIGN.md").read_text()
+    table = text[text.index("## Layout"):]
+    table = table[:table.index("\n\n")]
+    named = []
+    for line in table.splitlines()[2:]:
+        cell = line.split("|")[1].strip()
+        inside = cell.startswith("`  ")                      # indented: a part of core/railtherm/
+        for path in re.findall(r"`\s*([\w./-]+)`", cell):
+            named.append(root / "core" / "railtherm" / path if inside else root / path)
+    missing = [str(p.relative_to(root)) for p in named if not p.exists()]
+    assert named and missing == []
+    layers = {p.name for p in (root / "core" / "railtherm").iterdir() if p.is_dir() and (p / "__init__.py").exists()}
+    assert layers <= {p.name for p in named}, layers - {p.name for p in named}
