@@ -5,6 +5,8 @@ computed from the run files (one cell recomputed here from the files), each name
 contact-model error agrees with metrics.nc's error against method:kalker, and the figures are written."""
 from __future__ import annotations
 
+import re
+
 import math
 import textwrap
 
@@ -156,6 +158,9 @@ def test_contact_and_total_errors_are_read_from_metrics(out, tmp_path):
         i = [k for k in range(m.sizes["run"]) if str(m.scene.values[k]) == "ek-combined"
              and str(m.method.values[k]) == meth]
         m["signed_error_creep_force_x"].values[i] = value
+    member = [k for k in range(m.sizes["run"]) if str(m.scene.values[k]) == "ek-curve--creepage.longitudinal=-0.003"
+              and str(m.method.values[k]) == "fastsim-fdm"]
+    m["signed_error_creep_force_x"].values[member] = 0.75
     m.to_netcdf(copy / "metrics.nc", engine="netcdf4")
     data = load(copy)
     (comp,) = exact_comparisons(data)
@@ -163,3 +168,6 @@ def test_contact_and_total_errors_are_read_from_metrics(out, tmp_path):
     row = next(r for r in rows if r[1] == "creep force Fx [kN]")
     assert str(row[header.index("contact-model error of green, reference kalker [%]")]) == "+50 %"
     assert str(row[header.index("total error of fastsim-fdm, reference kalker [%]")]) == "−25 %"
+    from railtherm.report import write_report
+    md = write_report(copy)[0].read_text()                      # the creep curve's table: Fx's stored error
+    assert re.search(r"^\| -0\.003 \| [^|]+ \| `fastsim-fdm` \| [^|]+ \| \+75 % \|$", md, flags=re.M)
