@@ -99,3 +99,14 @@ def test_store_and_time_limits_import_nothing_above_them():
     for mod, deps in graph.items():
         if layer(mod) != "top" and mod != "railtherm.run.runner":
             assert "railtherm.run.runner" not in deps, mod
+
+
+def test_importing_railtherm_and_its_kit_loads_no_numerical_library():
+    """``import railtherm.testing`` (a pytest plugin, loaded by every pytest run) loads no numba, scipy,
+    xarray or matplotlib: a fresh interpreter shows what the import itself pulls in."""
+    import subprocess
+    import sys
+    code = ("import sys, railtherm, railtherm.testing; "
+            "print(sorted(m for m in ('numba', 'scipy', 'xarray', 'matplotlib') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]", out
