@@ -173,8 +173,8 @@ class DummyPlugin:
 def study_out(tmp_path_factory):
     """Run the dummy study once, write its reference curves and its report."""
     import railtherm.report as report
-    from railtherm.reference_curves import write_reference_curves
-    from railtherm.study import load_study
+    from railtherm.analysis.reference_curves import write_reference_curves
+    from railtherm.input.study import load_study
     tmp = tmp_path_factory.mktemp("report")
     path = tmp / "study.toml"
     path.write_text(STUDY)
@@ -279,7 +279,7 @@ def test_sweep_is_one_section(study_out):
     # Fx/(mu N) of the finest level: Carter's ratio times (1 + delta(1)), beside the exact ratio
     from railtherm.models.hertz import hertz_geometry
     from railtherm.references.carter import carter_2d
-    from railtherm.study import load_study
+    from railtherm.input.study import load_study
     sc = load_study(out.parent / "study.toml").scene("carter--creepage.longitudinal=-0.0004")
     ratio = carter_2d(-4e-4, hertz_geometry(sc)[0], sc.friction, sc.wheel_radius).force_ratio
     assert 0.3 < ratio < 0.95  # partial slip: the curve is not trivially saturated here

@@ -322,7 +322,7 @@ def test_number_formats():
 
 
 def test_report_imports_no_physics(tmp_path):
-    """The report is a pure reader: writing one imports neither railtherm.analytic, railtherm.references
+    """The report is a pure reader: writing one imports neither railtherm.analysis.analytic, railtherm.references
     nor any stage model beyond what `import railtherm` itself loads."""
     out = _folder(tmp_path, new=True)
     code = textwrap.dedent(f"""
@@ -332,7 +332,7 @@ def test_report_imports_no_physics(tmp_path):
         from railtherm.report import write_report
         write_report({str(out)!r})
         mods = set(sys.modules)
-        bad = sorted(m for m in mods if m.startswith(("railtherm.analytic", "railtherm.references"))
+        bad = sorted(m for m in mods if m.startswith(("railtherm.analysis", "railtherm.references"))
                      or m.startswith("railtherm.models") and m not in before)
         print("BAD", bad)
     """)

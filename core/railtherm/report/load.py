@@ -1,5 +1,5 @@
 """Everything the report reads, in one place: ``metrics.nc``, ``study.json``, the study file, the run
-files' attributes and ``references.nc``, all through :mod:`railtherm.store` (the output folder's owner).
+files' attributes and ``references.nc``, all through :mod:`railtherm.output.store` (the output folder's owner).
 The report is a pure reader: it computes no physics.
 
 ``metrics.nc`` is read as ``docs/verdicts.md`` describes it; every column of the second release
