@@ -35,13 +35,9 @@ except Exception:  # numba missing: a plain-Python loop (correct, slow)
 
 
 @njit(cache=True, nogil=True)
-def _factor(q, nbr, line, sweep_order, slipping, zh, fac, r, K):
-    """Block LU (no pivoting between blocks) of M = D1 + D2 B_cut along each grid line, the leading edge first.
-
-    q[e] is element e's position on its line; the cut couples it to the positions q[e] + d, d in {-2, -1, 0,
-    +1} (its line neighbours line[e] = (k - 2, k - 1, k + 1, k + 2) as elements, -1 where none). The lines are
-    factored together in ``sweep_order`` (descending x, y inner: memory order). Returns Uinv (diagonal-block
-    inverses), Usup (block to k + 1), L1, L2 (blocks to k - 1, k - 2 of the unit lower factor), per element."""
+def _assemble(q, nbr, slipping, zh, fac, r, K):
+    """Blocks of M = D1 + D2 B_cut per element e: to itself (A0), and to the positions q[e] + 1, - 1, - 2 on
+    its line (Asup, As1, As2); q[e] is element e's position on its grid line, the leading edge first."""
     nc, nin = zh.shape
     A0 = np.zeros((nin, nc, nc))
     Asup = np.zeros((nin, nc, nc))
@@ -74,6 +70,19 @@ def _factor(q, nbr, line, sweep_order, slipping, zh, fac, r, K):
                         As1[e, a, b] += val
                     else:
                         As2[e, a, b] += val
+    return A0, Asup, As1, As2
+
+
+@njit(cache=True, nogil=True)
+def _factor(q, nbr, line, sweep_order, slipping, zh, fac, r, K):
+    """Block LU (no pivoting between blocks) of M = D1 + D2 B_cut along each grid line, the leading edge first.
+
+    The cut couples element e to the positions q[e] + d, d in {-2, -1, 0, +1} on its line (its line neighbours
+    line[e] = (k - 2, k - 1, k + 1, k + 2) as elements, -1 where none). The lines are factored together in
+    ``sweep_order`` (descending x, y inner: memory order). Returns Uinv (diagonal-block inverses), Usup (block
+    to k + 1), L1, L2 (blocks to k - 1, k - 2 of the unit lower factor), per element."""
+    nc, nin = zh.shape
+    A0, Asup, As1, As2 = _assemble(q, nbr, slipping, zh, fac, r, K)
     Uinv = np.zeros((nin, nc, nc))
     L1 = np.zeros((nin, nc, nc))
     L2 = np.zeros((nin, nc, nc))

@@ -287,6 +287,27 @@ def _gmres(matvec, psolve, b, rtol, maxiter, dtype=np.float64):
     return (y.astype(dtype) @ Z[:k]).astype(float), k
 
 
+def _forcing_term(history, eta_prev, tol, forcing, good_start):
+    """Relative GMRES tolerance of the next inexact Newton step [1] from the residual history max |F| / max g.
+
+    Eisenstat & Walker's choice 2, eta = 0.9 (res / res_prev)^2 (loose while the stick/slip division still
+    moves and Newton converges only linearly), at most FORCING_MAX and at least FORCING res (superlinear at
+    the end), but never tighter than needed to reach tol in this step (FINAL_MARGIN tol / res); the first
+    step FORCING_MAX, or GOOD_START_FORCING res from a good start. ``forcing`` other than "ew": FORCING res.
+    """
+    res = history[-1]
+    if forcing == "ew" and len(history) > 1:
+        eta_k = EW_GAMMA * (res / history[-2]) ** 2
+        if EW_GAMMA * eta_prev ** 2 > 0.1:
+            eta_k = max(eta_k, EW_GAMMA * eta_prev ** 2)
+        eta_k = min(FORCING_MAX, max(eta_k, FORCING * res))
+    elif forcing == "ew":
+        eta_k = min(FORCING_MAX, GOOD_START_FORCING * res) if good_start else FORCING_MAX
+    else:
+        eta_k = min(FORCING_MAX, FORCING * res)
+    return max(eta_k, LINEAR_MIN, FINAL_MARGIN * tol / max(res, 1e-300))
+
+
 def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TANGENTIAL_TOLERANCE,
                      maxiter: int = 60, initial: np.ndarray | None = None, rscale: float = 1.0,
                      precondition: bool = True, forcing: str = "ew",
@@ -371,20 +392,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         slipping = nz > gin
         zh = np.where(slipping, z / np.where(nz > 0, nz, 1.0), 0.0)        # unit z on slipping elements
         fac = np.where(slipping, gin / np.where(nz > 0, nz, 1.0), 0.0)    # g/|z|
-        # inexact Newton: relative GMRES tolerance. Eisenstat & Walker's choice 2, eta = 0.9 (res / res_prev)^2
-        # (loose while the stick/slip division still moves and Newton converges only linearly), at most
-        # FORCING_MAX and at least FORCING res (superlinear at the end), but never tighter than needed to
-        # reach tol in this step (FINAL_MARGIN tol / res)
-        if forcing == "ew" and len(history) > 1:
-            eta_k = EW_GAMMA * (res / history[-2]) ** 2
-            if EW_GAMMA * eta_prev ** 2 > 0.1:
-                eta_k = max(eta_k, EW_GAMMA * eta_prev ** 2)
-            eta_k = min(FORCING_MAX, max(eta_k, FORCING * res))
-        elif forcing == "ew":
-            eta_k = min(FORCING_MAX, GOOD_START_FORCING * res) if good_start else FORCING_MAX
-        else:
-            eta_k = min(FORCING_MAX, FORCING * res)
-        eta_k = max(eta_k, LINEAR_MIN, FINAL_MARGIN * tol / max(res, 1e-300))
+        eta_k = _forcing_term(history, eta_prev, tol, forcing, good_start)
         eta_prev = eta_k
         single = eta_k > SINGLE_BELOW
 
