@@ -15,7 +15,7 @@ load 2.5-5): total time ~ N^2.45-2.5 (combined), N^2.4-2.6 (longitudinal), N^2.0
 and N^2.2, N^2.2-2.3, N^1.7-1.9 over 50^2-400^2. One FFT product is O(N^2 log N); the GMRES steps grow slowly
 (58, 88, 135, 205 summed over the nested grids for combined creepage at 50^2-400^2) while full slip needs a
 fixed number of products (12 normal iterations, 9 tangential products); the 750^2 padded transforms at 400^2
-no longer fit the cache. Measured (CPU): 100^2 0.11-0.13, 0.13, 0.03 s; 200^2 0.71-0.80, 0.61-0.72, 0.12-0.16 s;
+no longer fit the cache. Measured (CPU): 100^2 0.11, 0.11, 0.03 s; 200^2 0.59, 0.56, 0.10 s;
 400^2 3.8, 3.9-4.6, 0.51-0.66 s (combined, longitudinal, full slip; docs/kalker.md has the per-stage table).
 :func:`scaling_exponent` fits a run's ``extra_info``.
 
