@@ -361,7 +361,7 @@ class Convolution:
         (ncomp, len(idx)), float32 when ``single``.
         """
         self.products += 1
-        nc, (nx, ny), (mx, my) = self.ncomp, self.shape, self.padded
+        nc, ny, (mx, my) = self.ncomp, self.shape[1], self.padded
         dt = np.float32 if single else np.float64
         spec = self._spec32 if single else self._spec
         buf = np.zeros((nc, mx * ny), dtype=dt)
