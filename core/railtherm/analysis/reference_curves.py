@@ -40,6 +40,8 @@ References
 """
 from __future__ import annotations
 
+import builtins
+
 import math
 import re
 import warnings
@@ -320,13 +322,16 @@ def scene_reference_curves(scene, group_values: list[float] | None = None):
     return ds
 
 
-def reference_curves(study) -> dict:
+def reference_curves(study, map=None) -> dict:
     """Exact reference curves of each scene of ``study`` that has one.
 
     Parameters
     ----------
     study : railtherm.input.study.Study
         The study (its scenes after sweep expansion).
+    map : callable, optional
+        A ``map(fn, iterable)`` that may run in other processes (a process pool's): the scenes' curves
+        are independent, so they are computed in parallel; the result is the same.
 
     Returns
     -------
@@ -336,33 +341,42 @@ def reference_curves(study) -> dict:
         A scene whose reference cannot be evaluated is left out with a warning.
     """
     groups = _sweep_groups(study.scenes)
+    jobs = [(sc, groups.get(sc.name)) for sc in study.scenes]
+    done = (map or builtins.map)(_scene_curves, jobs)
     out = {}
-    for sc in study.scenes:
-        try:
-            ds = scene_reference_curves(sc, groups.get(sc.name))
-        except Refused:  # no exact theory for this scene (e.g. a line contact given by penetration)
-            continue
-        except Exception as exc:  # noqa: BLE001 - one scene's reference never stops the others
-            warnings.warn(f"reference curves of scene {sc.name!r} left out: {type(exc).__name__}: {exc}",
-                          RuntimeWarning, stacklevel=2)
-            continue
-        if ds is not None:
+    for (sc, _), (ds, problem) in zip(jobs, done):
+        if problem:
+            warnings.warn(f"reference curves of scene {sc.name!r} left out: {problem}", RuntimeWarning, stacklevel=2)
+        elif ds is not None:
             out[sc.name] = ds
     return out
+
+
+def _scene_curves(job) -> tuple:
+    """(curves or None, problem text or "") of one ``(scene, sweep group)``: no exact theory for the scene
+    (e.g. a line contact given by penetration) is None; any other error is the problem, never raised (one
+    scene's reference never stops the others)."""
+    sc, group = job
+    try:
+        return scene_reference_curves(sc, group), ""
+    except Refused:
+        return None, ""
+    except Exception as exc:  # noqa: BLE001 - reported by the caller
+        return None, f"{type(exc).__name__}: {exc}"
 
 
 def _group_name(i: int, scene: str) -> str:
     return f"s{i:04d}_" + re.sub(r"[^A-Za-z0-9_]+", "_", scene)[:60]
 
 
-def write_reference_curves(study, out) -> Path:
+def write_reference_curves(study, out, map=None) -> Path:
     """Write :func:`reference_curves` of ``study`` to ``out/references.nc`` (atomically) and return the path.
 
     One netCDF4 group per scene; the group's attribute ``scene`` holds the scene name. The file is
     written even when no scene has a reference (then it holds none), so that a reader can tell
-    "no reference" from "not computed".
+    "no reference" from "not computed". ``map``: as for :func:`reference_curves`.
     """
-    curves = reference_curves(study)
+    curves = reference_curves(study, map)
     attrs = {"Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}",
              "study": study.name, "scenes": len(curves)}
     groups = {_group_name(i, name): ds for i, (name, ds) in enumerate(curves.items())}

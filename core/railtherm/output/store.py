@@ -168,27 +168,32 @@ def _write_netcdf4(ds, path) -> None:
 
     nc = netCDF4.Dataset(path, "w", format="NETCDF4")
     try:
-        for d, n in ds.sizes.items():
-            nc.createDimension(d, n)
-        for name, v in ds.variables.items():
-            kind = v.dtype.kind
-            if kind == "U":
-                var = nc.createVariable(name, str, v.dims)
-                var.set_auto_maskandscale(False)
-                var.setncatts(dict(v.attrs))
-                if v.size:
-                    var[...] = np.asarray(v.values, dtype=object)
-                continue
-            var = nc.createVariable(name, v.dtype, v.dims, fill_value=np.nan if kind == "f" else None)
-            var.set_auto_maskandscale(False)
-            var.setncatts(dict(v.attrs))
-            if v.ndim == 0:
-                var.assignValue(v.values)
-            elif v.size:
-                var[...] = v.values
-        nc.setncatts(dict(ds.attrs))
+        _fill_netcdf4(ds, nc)
     finally:
         nc.close()
+
+
+def _fill_netcdf4(ds, nc) -> None:
+    """Write ``ds`` into an open netCDF4 Dataset or Group ``nc`` (see :func:`_write_netcdf4`)."""
+    for d, n in ds.sizes.items():
+        nc.createDimension(d, n)
+    for name, v in ds.variables.items():
+        kind = v.dtype.kind
+        if kind == "U":
+            var = nc.createVariable(name, str, v.dims)
+            var.set_auto_maskandscale(False)
+            var.setncatts(dict(v.attrs))
+            if v.size:
+                var[...] = np.asarray(v.values, dtype=object)
+            continue
+        var = nc.createVariable(name, v.dtype, v.dims, fill_value=np.nan if kind == "f" else None)
+        var.set_auto_maskandscale(False)
+        var.setncatts(dict(v.attrs))
+        if v.ndim == 0:
+            var.assignValue(v.values)
+        elif v.size:
+            var[...] = v.values
+    nc.setncatts(dict(ds.attrs))
 
 
 def write_dataset_atomic(ds, path) -> Path:
@@ -209,9 +214,15 @@ def write_references(path, attrs: Mapping[str, Any], groups: Mapping[str, Any]) 
     import netCDF4
 
     def write(tmp):
-        with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
+        rest = {}
+        with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:  # one session: reopening per group is O(n^2)
             nc.setncatts(dict(attrs))
-        for name, ds in groups.items():
+            for name, ds in groups.items():
+                if _direct_writable(ds):
+                    _fill_netcdf4(ds, nc.createGroup(name))
+                else:
+                    rest[name] = ds
+        for name, ds in rest.items():
             ds.to_netcdf(tmp, mode="a", group=name, engine="netcdf4")
     return write_atomic(path, write)
 

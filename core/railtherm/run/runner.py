@@ -32,6 +32,7 @@ import sys
 import time
 import traceback
 import uuid
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable, Mapping
@@ -548,27 +549,47 @@ def _children_cpu() -> float:
 PARALLEL_METRICS_MIN_RUNS = 40
 
 
-def _metrics(study, out, records, executor: str, workers: int):
-    """metrics.nc's Dataset: the scenes scored in ``workers`` local processes (spawned with this process's
-    plugin host) when the runs used local processes, else here; a pool that breaks costs only the time."""
-    from ..analysis.metrics import compute_metrics
-    scored = sum(r.status == "ok" for r in records)
+@contextlib.contextmanager
+def _analysis_pool(executor: str, workers: int, scored: int):
+    """Yield a ``map`` over ``workers`` local processes (spawned with this process's plugin host) for the
+    scoring and the reference curves when the runs used local processes, else None (computed here)."""
     if executor != "processes" or workers < 2 or scored < PARALLEL_METRICS_MIN_RUNS:
-        return compute_metrics(study, out, records)
+        yield None
+        return
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
     from .executors import host_spec, install_host, worker_threads
-    try:
-        with worker_threads(workers):
-            pool = ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"), initializer=install_host,
-                                       initargs=(host_spec(),))
-        with pool:
-            return compute_metrics(study, out, records, map=pool.map)
-    except Exception as exc:  # noqa: BLE001 - the metrics are computed here instead
-        import warnings
-        warnings.warn(f"scoring in worker processes failed ({type(exc).__name__}: {exc}); scoring here",
-                      RuntimeWarning, stacklevel=2)
-        return compute_metrics(study, out, records)
+    with worker_threads(workers):
+        pool = ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"), initializer=install_host,
+                                   initargs=(host_spec(),))
+    with pool:
+        yield pool.map
+
+
+def _metrics(study, out, records, pmap):
+    """metrics.nc's Dataset, the scenes scored through ``pmap`` (:func:`_analysis_pool`) or here; a pool
+    that breaks costs only the time."""
+    from ..analysis.metrics import compute_metrics
+    if pmap is not None:
+        try:
+            return compute_metrics(study, out, records, map=pmap)
+        except Exception as exc:  # noqa: BLE001 - scored here instead
+            warnings.warn(f"scoring in worker processes failed ({type(exc).__name__}: {exc}); scoring here",
+                          RuntimeWarning, stacklevel=2)
+    return compute_metrics(study, out, records)
+
+
+def _reference_curves(study, out, pmap) -> None:
+    """references.nc, the scenes' curves computed through ``pmap`` or here (as :func:`_metrics`)."""
+    from ..analysis.reference_curves import write_reference_curves
+    if pmap is not None:
+        try:
+            write_reference_curves(study, out, map=pmap)
+            return
+        except Exception as exc:  # noqa: BLE001 - computed here instead
+            warnings.warn(f"reference curves in worker processes failed ({type(exc).__name__}: {exc}); "
+                          "computing them here", RuntimeWarning, stacklevel=2)
+    write_reference_curves(study, out)
 
 
 def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike = "out", *, executor: str = "serial",
@@ -629,18 +650,19 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     records = run_tasks(tasks, executor=executor, scheduler=scheduler, resume=resume, workers=workers,
                         desc=study.name)
     t2 = time.perf_counter()
-    metrics = _metrics(study, out, records, executor, workers)
-    metrics.attrs.update({"executor": executor, "workers": int(workers),
-                          "workers_comment": "worker processes that shared the machine while runs were timed"})
-    store.write_dataset_atomic(metrics, store.metrics_path(out))
-    if kind == "zarr" and not getattr(study, "keep_fields", False):
-        # a scalar sweep keeps no field to overlay exact curves on (and they cost ~0.1 s per scene)
-        store.write_references(store.references_path(out), {
-            "Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}", "study": study.name,
-            "scenes": 0, "comment": "not computed: the study keeps its runs in the Zarr store without fields"}, {})
-    else:
-        from ..analysis.reference_curves import write_reference_curves
-        write_reference_curves(study, out)  # the exact curves the report overlays (it never recomputes physics)
+    with _analysis_pool(executor, workers, sum(r.status == "ok" for r in records)) as pmap:
+        metrics = _metrics(study, out, records, pmap)
+        metrics.attrs.update({"executor": executor, "workers": int(workers),
+                              "workers_comment": "worker processes that shared the machine while runs were timed"})
+        store.write_dataset_atomic(metrics, store.metrics_path(out))
+        if kind == "zarr" and not getattr(study, "keep_fields", False):
+            # a scalar sweep keeps no field to overlay exact curves on (and they cost ~0.1 s per scene)
+            store.write_references(store.references_path(out), {
+                "Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}",
+                "study": study.name, "scenes": 0,
+                "comment": "not computed: the study keeps its runs in the Zarr store without fields"}, {})
+        else:
+            _reference_curves(study, out, pmap)  # the exact curves the report overlays (it never recomputes physics)
     t3 = time.perf_counter()
     timing = {"setup": t1 - t0, "runs": t2 - t1, "metrics": t3 - t2, "executor": executor, "store": kind,
               "workers": workers, "runs_total": len(records),
