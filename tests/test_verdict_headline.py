@@ -180,10 +180,10 @@ def test_a_nan_against_a_finite_reference_fails_the_metric():
 
 
 def test_nan_trace_depths_fail_the_trace_metric():
-    from railtherm.analysis.trace_metrics import rel_error_finite
+    from railtherm.analysis.rises import rel_error
     ref = np.array([[np.nan, np.nan], [10.0, 5.0]])
-    assert rel_error_finite(None, "time_above", np.array([[1.0, 1.0], [10.0, 5.0]]), ref) == 0.0
-    assert rel_error_finite(None, "time_above", np.array([[1.0, 1.0], [10.0, np.nan]]), ref) == math.inf
+    assert rel_error(None, "time_above", np.array([[1.0, 1.0], [10.0, 5.0]]), ref) == 0.0
+    assert rel_error(None, "time_above", np.array([[1.0, 1.0], [10.0, np.nan]]), ref) == math.inf
 
 
 # --- 9. shared stages are not checks; references must be converged ---------------------------------------

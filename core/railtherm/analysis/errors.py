@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from .rises import bulk_of as _bulk
+from .rises import bulk_of as _bulk, rel_error, rel_l2
 from .trace_metrics import TRACE_METRICS, trace_errors
 from .verdicts import shares_stage, unscored
 
@@ -28,37 +28,6 @@ FIELDS = ("surface_temperature", "pressure")
 METRICS = SCALARS + tuple(f + "_l2" for f in FIELDS)
 #: cells at which an analytic field reference is evaluated per run (a regular subsample of the grid)
 MAX_FIELD_POINTS = 1500
-
-
-def rel_error(scene, name: str, value, reference) -> float:
-    """Max-norm relative error of ``value`` against ``reference`` [1]; temperatures on their rise.
-
-    Over the entries where the reference is finite; ``inf`` when the value is not finite at one of them;
-    NaN when no reference entry is finite or the shapes differ.
-
-    Parameters
-    ----------
-    scene : Scene
-        For the bulk temperatures of the bodies [degC].
-    name : str
-        Quantity name (decides whether the rise above bulk is compared).
-    value, reference : array_like
-        Same shape.
-    """
-    v, r = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
-    if v.shape != r.shape or v.size == 0:
-        return math.nan
-    b = _bulk(scene, name, v.shape)
-    v, r = v - b, r - b
-    fin = np.isfinite(r)
-    if not fin.any():
-        return math.nan
-    if not np.all(np.isfinite(v[fin])):
-        return math.inf
-    scale = np.max(np.abs(r[fin]))
-    if scale == 0:
-        return math.nan if np.max(np.abs(v[fin])) > 0 else 0.0
-    return float(np.max(np.abs(v - r)[fin]) / scale)
 
 
 def signed_error(scene, name: str, value, reference) -> float:
@@ -71,25 +40,6 @@ def signed_error(scene, name: str, value, reference) -> float:
     b = _bulk(scene, name, v.shape)
     d = np.where(np.isfinite(r), (v - b) - (r - b), 0.0)
     return math.copysign(e, float(np.ravel(d)[int(np.argmax(np.abs(d)))]))
-
-
-def rel_l2(scene, name, v, r) -> float:
-    """Relative L2 norm of ``v − r`` against ``r`` [1] (rises for temperatures), over the finite reference
-    entries; ``inf`` when ``v`` is not finite at one of them."""
-    v, r = np.asarray(v, float), np.asarray(r, float)
-    if v.shape != r.shape:
-        return math.nan
-    b = _bulk(scene, name, v.shape)
-    v, r = v - b, r - b
-    fin = np.isfinite(r)
-    if not fin.any():
-        return math.nan
-    if not np.all(np.isfinite(v[fin])):
-        return math.inf
-    den = np.sqrt(np.sum(r[fin] ** 2))
-    if den == 0:
-        return math.nan
-    return float(np.sqrt(np.sum((v - r)[fin] ** 2)) / den)
 
 
 def _interp_to(ref, ds, name):

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from .rises import bulk_of
+from .rises import rel_error
 
 #: metrics of the thermal trace (scenes with ``field``): relative max-norm errors over the depths where
 #: both the run and the reference have a value (the run's NaN, "field too short", are left out), the
@@ -50,26 +50,6 @@ def _shallow_nan(values, z, z_c) -> np.ndarray:
     v = np.array(values, dtype=float)
     v[np.asarray(z, float)[None, :] < np.asarray(z_c, float)[:, None]] = np.nan
     return v
-
-
-def rel_error_finite(scene, name: str, value, reference) -> float:
-    """Max-norm relative error [1] over the entries where the reference is finite (the infinite exact cooling
-    rate at the surface and depths left out by the caller are NaN there): ``inf`` when the run is not finite
-    at one of them (a depth it flags "field too short" fails the metric), NaN when there are none."""
-    v, r = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
-    if v.shape != r.shape or v.size == 0:
-        return math.nan
-    b = bulk_of(scene, name, v.shape)
-    v, r = v - b, r - b
-    ok = np.isfinite(r)
-    if not ok.any():
-        return math.nan
-    if not np.all(np.isfinite(v[ok])):
-        return math.inf
-    scale = np.max(np.abs(r[ok]))
-    if scale == 0:
-        return math.nan if np.max(np.abs(v[ok])) > 0 else 0.0
-    return float(np.max(np.abs(v - r)[ok]) / scale)
 
 
 def _on_depths(ref_ds, ds, name):
@@ -155,10 +135,10 @@ def trace_errors(scene, ds, fields: dict, values: dict, ref_ds=None, ref_tag: st
         if not tag:
             continue
         if name == "cooling_rate":           # the resolvable depths only (COOLING_TRAVEL); all depths beside it
-            err["cooling_rate_all_depths"] = (rel_error_finite(scene, name, value, ref), tag)
+            err["cooling_rate_all_depths"] = (rel_error(scene, name, value, ref), tag)
             z_c = cooling_rate_depth(scene, _semi_axis(scene, ds))
             value, ref = _shallow_nan(value, ds["z"].values, z_c), _shallow_nan(ref, ds["z"].values, z_c)
-        err[name] = (rel_error_finite(scene, name, value, ref), tag)
+        err[name] = (rel_error(scene, name, value, ref), tag)
         if math.isinf(err[name][0]):
             notes[name] = "not finite at a depth where its reference is"
     return err
