@@ -35,6 +35,19 @@ except Exception:  # numba missing: a plain-Python loop (correct, slow)
 
 
 @njit(cache=True, nogil=True)
+def invert_block(M, out):
+    """Write the inverse of the 1x1 or 2x2 block ``M`` (the traction components of one element) into ``out``."""
+    if M.shape[0] == 1:
+        out[0, 0] = 1.0 / M[0, 0]
+    else:
+        det = M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0]
+        out[0, 0] = M[1, 1] / det
+        out[0, 1] = -M[0, 1] / det
+        out[1, 0] = -M[1, 0] / det
+        out[1, 1] = M[0, 0] / det
+
+
+@njit(cache=True, nogil=True)
 def _assemble(q, nbr, slipping, zh, fac, r, K):
     """Blocks of M = D1 + D2 B_cut per element e: to itself (A0), and to the positions q[e] + 1, - 1, - 2 on
     its line (Asup, As1, As2); q[e] is element e's position on its grid line, the leading edge first."""
@@ -96,14 +109,7 @@ def _factor(q, nbr, line, sweep_order, slipping, zh, fac, r, K):
                     for c in range(nc):
                         acc -= L1[e, a, c] * Asup[p1, c, b]
                 M[a, b] = acc
-        if nc == 1:
-            Uinv[e, 0, 0] = 1.0 / M[0, 0]
-        else:
-            det = M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0]
-            Uinv[e, 0, 0] = M[1, 1] / det
-            Uinv[e, 0, 1] = -M[0, 1] / det
-            Uinv[e, 1, 0] = -M[1, 0] / det
-            Uinv[e, 1, 1] = M[0, 0] / det
+        invert_block(M, Uinv[e])
         if n1 >= 0:                              # L_{k+1,k} = (A_{k+1,k} - L_{k+1,k-1} U_{k-1,k}) U_kk^-1
             for a in range(nc):
                 for b in range(nc):

@@ -24,6 +24,8 @@ def _sweep_py(v, minv, coup, order, nb, columns):
 try:  # pragma: no cover - exercised when numba is installed (a declared dependency)
     from numba import njit
 
+    from ._band import invert_block
+
     @njit(cache=True, nogil=True)
     def _sweep_nb(v, minv, coup, order, nb):
         nc, nin = v.shape
@@ -70,14 +72,7 @@ try:  # pragma: no cover - exercised when numba is installed (a declared depende
                         c1 += S[a, c] * K1[c, b]
                     M[a, b] = -r * m0 + (((1.0 if a == b else 0.0) - S[a, b]) if slipping[e] else 0.0)
                     coup[e, a, b] = -r * c1
-            if nc == 1:
-                minv[e, 0, 0] = 1.0 / M[0, 0]
-            else:
-                det = M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0]
-                minv[e, 0, 0] = M[1, 1] / det
-                minv[e, 0, 1] = -M[0, 1] / det
-                minv[e, 1, 0] = -M[1, 0] / det
-                minv[e, 1, 1] = M[0, 0] / det
+            invert_block(M, minv[e])
         return minv, coup
 except Exception:  # numba missing or unusable
     _sweep_nb = _blocks_nb = None
