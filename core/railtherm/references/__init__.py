@@ -14,6 +14,8 @@ jaeger
     Jaeger's moving band heat source on a half-plane at any Péclet number.
 moving_source
     Moving elliptical surface heat source on a half-space at any Péclet number.
+transient
+    Fixed-frame temperature history under moving band/ellipse sources: passes, heat-input schedule.
 
 Import the submodule you need, e.g. ``from railtherm.references.hertz import hertz_from_curvatures``;
 submodules are loaded lazily on attribute access (``railtherm.references.hertz``).
@@ -22,7 +24,7 @@ from __future__ import annotations
 
 import importlib
 
-_SUBMODULES = ("hertz", "kalker", "carter", "flash", "jaeger", "moving_source")
+_SUBMODULES = ("hertz", "kalker", "carter", "flash", "jaeger", "moving_source", "transient")
 __all__ = list(_SUBMODULES)
 
 
