@@ -26,7 +26,7 @@ import pytest
 
 import railtherm
 from railtherm.contract.errors import Refused
-from railtherm.solving import friction_loop
+from railtherm.physics.friction import LOOP_FORCE_TOLERANCE, LOOP_MU_TOLERANCE
 from railtherm_fastsim.fastsim_kernel import slip_law_bound
 
 SLIP = {"law": "slip-velocity", "static": 0.36, "kinetic": 0.18, "decay": 0.5}
@@ -258,13 +258,13 @@ def test_coupled_temperature_loop_converges_and_its_fixed_point_is_the_law(speed
     n = int(h["iterations"])
     dmu, df = np.asarray(h["mu_change"]), np.asarray(h["force_change"])
     assert 2 <= n <= 10 and dmu.size == n
-    assert dmu[-1] < friction_loop.MU_TOLERANCE and df[-1] < friction_loop.FORCE_TOLERANCE
+    assert dmu[-1] < LOOP_MU_TOLERANCE and df[-1] < LOOP_FORCE_TOLERANCE
     assert np.all(np.diff(np.log(dmu)) < 0)                # each step shrinks the residual
     p, t, st = ds.pressure.values, ds.traction_x.values, ds.stick.values
     T = 0.5 * (ds.surface_temperature.sel(body="wheel").values + ds.surface_temperature.sel(body="rail").values)
     slip = (st == 0) & (p > 0)
     law_mu = np.clip(0.3 - 0.15 * T[slip] / 400.0, 0.15, 0.3)
-    assert np.max(np.abs(np.abs(t[slip]) / p[slip] - law_mu)) < 2 * friction_loop.MU_TOLERANCE
+    assert np.max(np.abs(np.abs(t[slip]) / p[slip] - law_mu)) < 2 * LOOP_MU_TOLERANCE
     mu_mean = float(np.asarray(h["mean_mu"])[-1])
     assert 0.15 < mu_mean < 0.3 and abs(float(ds.creep_force_x)) / N < 0.3
 

@@ -20,9 +20,11 @@ import pytest
 import railtherm
 from railtherm.contract.errors import Refused
 from railtherm.input.scene import load_scene
+from railtherm.physics import equal_temperature_partition
+from railtherm.physics.friction import LOOP_MU_TOLERANCE, SLIP_MU_TOLERANCE, contact_temperature
 from railtherm.references.carter import carter_normal_load
 from railtherm_fem.coupled import solve_fem
-from railtherm_fem.friction import MU_TOLERANCE, SLIP_MU_TOLERANCE, node_contact_temperature
+from railtherm_fem.friction import node_surface_temperatures
 from railtherm_fem.model import FemModel
 
 G, NU, R, A = 82e9, 0.28, 0.5, 1e-3
@@ -95,13 +97,13 @@ def test_temperature_law_loop_converges_to_mu_of_the_fems_own_contact_temperatur
     d = sol.diagnostics
     dmu = np.array([float(h) for h in d["friction_loop_mu_change"].split(",")])
     assert d["friction_loop_iterations"] == dmu.size == sol.coupling_iterations and sol.coupling_converged
-    assert dmu[-1] < MU_TOLERANCE and np.all(np.diff(np.log(dmu)) < 0)
+    assert dmu[-1] < LOOP_MU_TOLERANCE and np.all(np.diff(np.log(dmu)) < 0)
     c = sol.contact
-    T = node_contact_temperature(c.x, sol.thermal_grid, sol.theta, 0.0, 0.0)
+    T = contact_temperature(*node_surface_temperatures(c.x, sol.thermal_grid, sol.theta, 0.0, 0.0))
     law = np.clip(0.3 - 0.15 * T / 5.0, 0.15, 0.3)
     slipping = (c.pressure > 0) & ~c.stick
     assert slipping.sum() >= 5
-    assert np.max(np.abs(np.abs(c.traction[slipping]) / c.pressure[slipping] - law[slipping])) < MU_TOLERANCE
+    assert np.max(np.abs(np.abs(c.traction[slipping]) / c.pressure[slipping] - law[slipping])) < LOOP_MU_TOLERANCE
     mean_mu = float(d["friction_loop_mean_mu"].split(",")[-1])
     assert 0.15 < mean_mu < 0.3 and c.tangential_force / c.normal_force < 0.3
     # energy: friction opposes the slip at every node; the heat is the traction's power
@@ -115,3 +117,22 @@ def test_slip_law_is_odd_in_the_creepage():
     different iterates; measured 6e-10 relative)."""
     f = [fem(SLIP, creepage={"longitudinal": x}).contact.tangential_force for x in (-1e-3, 1e-3)]
     assert f[0] > 0 > f[1] and f[0] == pytest.approx(-f[1], rel=SLIP_MU_TOLERANCE)
+
+
+def test_heat_partition_keys_each_have_one_meaning_on_the_fem():
+    """"equal-temperature" is Blok's fraction at the FEM's own body speeds, exactly as every other method
+    computes it (physics.equal_temperature_partition, rtol 1e-15); "equal-mean-temperature" is the FEM's own
+    rule: the wheel's and the rail's mean surface temperatures over the patch come out equal (to 1e-9 of the
+    rise, the coupling's own tolerance is 1e-6). With a wheel 2 K warmer than the rail the two differ
+    (measured 0.504 against 0.422): one key, one meaning."""
+    warm = {**MAT, "bulk_temperature": 2.0}
+    blok = fem(0.3, sliding_speed=1.0, heat_partition="equal-temperature", wheel=warm)
+    sc = load_scene(scene(0.3, sliding_speed=1.0, wheel=warm))
+    assert blok.heat_partition == pytest.approx(equal_temperature_partition(sc.wheel, sc.rail, *blok.body_speed),
+                                                rel=1e-15)
+    mean = fem(0.3, sliding_speed=1.0, heat_partition="equal-mean-temperature", wheel=warm)
+    g = mean.thermal_grid
+    on = (g.x >= mean.centre - mean.half_width) & (g.x <= mean.centre + mean.half_width)
+    t_wheel, t_rail = 2.0 + mean.theta[0][on, 0].mean(), mean.theta[1][on, 0].mean()
+    assert mean.coupling_converged and abs(t_wheel - t_rail) < 1e-9 * t_rail
+    assert blok.heat_partition - mean.heat_partition > 0.05

@@ -17,9 +17,8 @@ import pytest
 import railtherm
 from railtherm.contract.errors import Refused, SceneError
 from railtherm.input.scene import load_scene
-from railtherm.physics.friction import (ConstantFriction, PolachFriction, SlipVelocityFriction, TemperatureFriction,
-                                        friction_law)
-from railtherm.solving import friction_loop
+from railtherm.physics.friction import (LOOP_FORCE_TOLERANCE, LOOP_MU_TOLERANCE, ConstantFriction, PolachFriction,
+                                        SlipVelocityFriction, TemperatureFriction, friction_law)
 
 SLIP = {"law": "slip-velocity", "static": 0.36, "kinetic": 0.18, "decay": 0.5}
 TEMP = {"law": "temperature", "reference": 0.3, "reference_temperature": 0.0, "change": -0.15, "over": 400.0}
@@ -64,6 +63,32 @@ def test_scene_keeps_the_law_and_a_nominal_coefficient():
     c = load_scene(scene(0.3))
     assert c.friction == 0.3 and c.friction_law == ConstantFriction(0.3)
     assert load_scene(scene(0.3)).hash == load_scene(scene(0.3)).hash
+
+
+def test_the_scene_validator_takes_each_laws_parameters_from_the_law():
+    """One declaration per law: the validator's keys, units and lower bounds are the law's Parameter list
+    (in its order), the DESIGN scene table names every key with its unit, and a declared (open) lower bound
+    is refused at the bound itself, naming the key."""
+    from pathlib import Path
+
+    from railtherm.input.scene import Friction
+    from railtherm.physics.friction import LAWS
+    design = (Path(__file__).parents[1] / "docs" / "DESIGN.md").read_text()
+    row = next(line for line in design.splitlines() if line.startswith("| `friction` |"))
+    valid = {"slip-velocity": SLIP, "polach": POLACH, "temperature": TEMP}
+    assert set(LAWS) == set(Friction.PARAMETER_CHECKS) == set(valid)
+    for kind, law in LAWS.items():
+        checks = Friction.PARAMETER_CHECKS[kind]
+        assert list(checks) == [p.name for p in law.PARAMETERS] == [k for k in valid[kind] if k != "law"]
+        assert f'law = "{kind}", ' + ", ".join(p.label for p in law.PARAMETERS) in row
+        for p in law.PARAMETERS:
+            assert (checks[p.name].unit, checks[p.name].lo, checks[p.name].lo_open) == (p.unit, p.lower, p.lower_open)
+            if p.lower > -math.inf:
+                assert p.lower_open
+                with pytest.raises(SceneError) as err:
+                    load_scene(scene({**valid[kind], p.name: p.lower}))
+                assert err.value.key == f"friction.{p.name}"
+        assert friction_law(valid[kind]).kind == kind
 
 
 # --- the laws -------------------------------------------------------------------------------------------
@@ -136,7 +161,7 @@ def test_coupled_loop_converges_as_a_contraction_and_its_history_is_recorded():
     n = int(h["iterations"])
     assert 2 <= n <= 8
     dmu = np.asarray(h["mu_change"])
-    assert dmu[-1] < friction_loop.MU_TOLERANCE and np.asarray(h["force_change"])[-1] < friction_loop.FORCE_TOLERANCE
+    assert dmu[-1] < LOOP_MU_TOLERANCE and np.asarray(h["force_change"])[-1] < LOOP_FORCE_TOLERANCE
     assert np.all(np.diff(np.log(dmu[dmu > 0])) < 0)           # each step shrinks the residual (contraction)
     # hotter -> less friction: the converged mean mu lies between the law's bounds and below mu_ref
     assert 0.15 < h["mean_mu"][-1] < 0.3
@@ -153,7 +178,7 @@ def test_coupled_loop_fixed_point_satisfies_the_law_cell_by_cell():
     t_contact = 0.5 * (ds.surface_temperature.sel(body="wheel").values + ds.surface_temperature.sel(body="rail").values)
     mu_used = ds.traction_x.values[inside] / p[inside]
     mu_law = friction_law(TEMP).mu(0.0, t_contact[inside])
-    assert np.max(np.abs(mu_used - mu_law)) < 2 * friction_loop.MU_TOLERANCE
+    assert np.max(np.abs(mu_used - mu_law)) < 2 * LOOP_MU_TOLERANCE
     # energy balance: the heat is the traction's power, mu(T) p |v_s| integrated
     assert float(ds.frictional_power) == pytest.approx(float(ds.creep_force_x) * 1.0, rel=1e-12)
 

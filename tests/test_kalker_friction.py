@@ -78,9 +78,9 @@ def test_slip_law_too_steep_is_refused_naming_the_limit():
 def test_slip_iteration_that_does_not_converge_is_a_failed_run_not_a_refusal(monkeypatch):
     """kappa < 1 (inside the law's validity) but the outer iteration stopped before its tolerance: a solver
     that did not converge, recorded as failed (not-converged), never refused (docs/verdicts.md)."""
-    import railtherm_kalker.friction_laws as fl
+    from railtherm.physics.friction import slip_iteration
     from railtherm.run.runner import _failure
-    monkeypatch.setattr(fl, "MAX_OUTER", 2)     # the steep law below needs more than 2 steps
+    monkeypatch.setattr(slip_iteration, "SLIP_MAX_STEPS", 2)     # the steep law below needs more than 2 steps
     with pytest.raises(SolverError, match="did not converge in 2 steps") as err:
         solve({**SLIP, "decay": 0.05}, {"longitudinal": -5e-3})
     assert not isinstance(err.value, Refused)

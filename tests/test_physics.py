@@ -182,9 +182,32 @@ def test_partition_with_zero_or_negative_speed(v_wheel, v_rail, expected):
 def test_scene_partition():
     assert physics.scene_partition(_scene(heat_partition=0.3), 31.0, 30.0) == 0.3
     assert physics.scene_partition(_scene(), 31.0, 30.0) == physics.equal_temperature_partition(STEEL, STEEL, 31, 30)
-    from railtherm.models.partition import equal_temperature_partition, scene_partition   # old path, one release
-    assert equal_temperature_partition is physics.equal_temperature_partition
-    assert scene_partition is physics.scene_partition
+
+
+def test_heat_partition_is_resolved_once_with_one_meaning_per_rule():
+    """A scene's heat_partition becomes a HeatPartition at load time: a number is that fraction,
+    "equal-temperature" is Blok's fraction (exact: eq. of equal_temperature_partition) for every method, and
+    "equal-mean-temperature" (the FEM's rule, which needs the temperatures) is refused by a fraction fixed
+    before them, naming the rule and what to use instead."""
+    from railtherm.input.scene import load_scene
+    from railtherm.physics.partition import HeatPartition
+    base = {"name": "hp", "speed": 30.0, "normal_force": 1e5, "contact": {"shape": "ellipse", "semi_axes": [6e-3, 1e-2]},
+            "sliding_speed": 1.0, "friction": 0.3, "wheel": {"conductivity": 40.0}}
+    fixed = load_scene({**base, "heat_partition": 0.3})
+    assert fixed.partition == HeatPartition("fraction", 0.3) and fixed.heat_partition == 0.3
+    blok = load_scene({**base, "heat_partition": "equal-temperature"})
+    assert blok.partition == load_scene(base).partition == HeatPartition("equal-temperature")
+    assert physics.scene_partition(blok, 31.0, 30.0) == physics.equal_temperature_partition(blok.wheel, blok.rail,
+                                                                                            31.0, 30.0) != 0.5
+    mean = load_scene({**base, "heat_partition": "equal-mean-temperature"})
+    assert mean.heat_partition == "equal-mean-temperature" and mean.partition.needs_temperatures
+    with pytest.raises(railtherm.Refused, match=r"scene 'hp': heat_partition = 'equal-mean-temperature'.*'fem'.*"
+                                                r"'equal-temperature'") as err:
+        physics.scene_partition(mean, 31.0, 30.0)
+    assert err.value.kind == "validity"
+    assert HeatPartition.of(mean.partition) is mean.partition
+    with pytest.raises(ValueError, match="equal-mean-temperature"):
+        HeatPartition.of("equal-temp")
 
 
 # ------------------------------------------------------------------ thermal scales

@@ -12,7 +12,7 @@ Creepages: the patch's own (the wheelset kinematics of seed section 6.1, normal 
 (``scene.sliding_speed`` v_s as the longitudinal creepage xi = -v_s/V: the wheel surface moves at
 V + v_s, seed eqs. 32-33).
 
-Friction laws (issue 15; :mod:`railtherm.physics.friction`), cell by cell: a temperature law gives mu of
+Friction laws (:mod:`railtherm.physics.friction`), cell by cell: a temperature law gives mu of
 each cell at the contact temperature on the patch (core's coupled loop puts it there) and the bound mu p;
 an exponential slip-velocity law (or Polach's) makes the bound of a slipping cell mu(v) p with v its own
 slip speed, v = V |L (q - h)| / dx, solved per cell in the sweep
@@ -129,8 +129,8 @@ class FastsimTangential(TangentialContactModel):
 
 
 def friction_of(scene, patch):
-    """(friction, slip_law) for :func:`~railtherm_fastsim.simplified_theory.fastsim`: the constant mu (a float,
-    as before laws existed), mu per cell of a temperature law at the patch's contact temperature, or the
+    """(friction, slip_law) for :func:`~railtherm_fastsim.simplified_theory.fastsim`: the constant mu (a float),
+    mu per cell of a temperature law at the patch's contact temperature, or the
     nominal mu and the slip-velocity law solved in the sweep."""
     law = getattr(scene, "friction_law", None)
     if law is None or law.kind == "constant":

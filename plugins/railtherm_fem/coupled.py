@@ -17,9 +17,14 @@ partition eps (fraction into the wheel): the rail receives (1 - eps) P, the whee
 proportion to the temperature (a positive feedback without physical meaning) and it would be scaled
 by the partition; we apply it as a conductance between the two surfaces, not scaled. The seed's
 temperature-dependent friction factor (1 - k rho c theta / mu) has no value of k in section 4.2; the scene's
-friction law (issue 15) takes its place: a temperature law sets mu per contact node from the surface
-temperatures of this loop, which then also stops on the change of mu; a slip-velocity law is solved with
-each contact solve (:mod:`.friction`).
+friction law takes its place: a temperature law sets mu per contact node from the surface temperatures of
+this loop, which then also stops on the change of mu; a slip-velocity law is solved with each contact solve
+(:mod:`.friction`).
+
+Heat partition (:class:`railtherm.physics.partition.HeatPartition`): a given fraction; ``"equal-temperature"``,
+Blok's fraction at the FEM's body speeds, as every method uses it; ``"equal-mean-temperature"``, the FEM's own
+rule: in every Step 3 the fraction that makes the wheel's and the rail's mean absolute surface temperatures
+over the patch equal (the temperatures are affine in the fraction: two solves and a root).
 """
 from __future__ import annotations
 
@@ -32,10 +37,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from railtherm import Refused, SolverError
+from railtherm.physics.friction import LOOP_MU_TOLERANCE, contact_temperature
+from railtherm.physics.partition import HeatPartition
 
 from .contact import ContactSolution, solve_contact, upstream_derivative
 from .elastic import ElasticStrip
-from .friction import MU_TOLERANCE, node_contact_temperature, solve_with_slip_law
+from .friction import node_surface_temperatures, solve_with_slip_law
 from .mesh import graded_strip_mesh
 from .thermal import ThermalBody, ThermalGrid, ThermalSolver, bilinear_weights, hat_load, thermal_grid
 
@@ -70,7 +77,8 @@ class FemProblem:
         Friction regularisation eps [1] (relative micro-slip of the stick zone, see :mod:`.contact`);
         default 0: exact Coulomb. A value that is not small against |creepage| biases the creep force
         (about Fx = mu N |xi| / eps when eps > |xi|); the diagnostics report eps / |xi|.
-    heat_partition : float or "equal-temperature"
+    heat_partition : HeatPartition
+        (Built from the scene's value too: a number, "equal-temperature" or "equal-mean-temperature".)
     convection : float
         [W/(m^2 K)] on the free surfaces.
     thermal_resistance : float
@@ -84,7 +92,7 @@ class FemProblem:
     two_d : bool
         2-D conduction (True) or the seed's eq. 16 (False).
     field_behind, field_depth : float or None
-        The scene's ``field`` (issue 14) [m]: the thermal layer must reach ``field_behind`` beyond the
+        The scene's ``field`` [m]: the thermal layer must reach ``field_behind`` beyond the
         trailing edge and ``field_depth`` deep. None (no field): everything as without it. With it the
         default strip is lengthened to at least 2 (behind + FIELD_MARGIN a) and deepened to at least
         2 depth, the thermal layer reaches 2 depth, and its x-spacing grows gently behind the patch
@@ -103,7 +111,7 @@ class FemProblem:
     creepage: float | None = None
     sliding_speed: float | None = None
     regularization: float = 0.0
-    heat_partition: object = 0.5
+    heat_partition: HeatPartition = HeatPartition("fraction", 0.5)
     convection: float = 0.0
     thermal_resistance: float = 0.0
     strip_length: float | None = None
@@ -118,6 +126,9 @@ class FemProblem:
     frictionless: bool = False
     field_behind: float | None = None
     field_depth: float | None = None
+
+    def __post_init__(self):
+        self.heat_partition = HeatPartition.of(self.heat_partition)
 
 
 @dataclass
@@ -411,8 +422,8 @@ def solve_fem(prob: FemProblem) -> FemSolution:
     law_state = {"mu": None, "mu_change": [], "mean_mu": [], "grid": None, "theta": None}
 
     def node_mu(x):
-        t = node_contact_temperature(x, law_state["grid"], law_state["theta"], prob.wheel.bulk_temperature,
-                                     prob.rail.bulk_temperature)
+        t = contact_temperature(*node_surface_temperatures(x, law_state["grid"], law_state["theta"],
+                                                           prob.wheel.bulk_temperature, prob.rail.bulk_temperature))
         return np.asarray(law.mu(0.0, t), dtype=float)
 
     def contact(mech, common, W0, U0, initial=None):
@@ -469,13 +480,15 @@ def solve_fem(prob: FemProblem) -> FemSolution:
     history, omegas = [], []
     theta = None
     grid = None
-    eps_part = prob.heat_partition if isinstance(prob.heat_partition, (int, float)) else 0.5
     u_r = None
     left, right = contact_edges(sol.x, sol.pressure)
     a = 0.5 * (right - left)
     power = V * np.abs(sol.traction * np.nan_to_num(sol.slip)) if frictional else np.zeros_like(sol.x)
     vs_mean = V * float(np.sum(power) / max(np.sum(np.abs(sol.traction)) * V, 1e-300)) if frictional else 0.0
     body_speed = (V + abs(vs_mean), V)
+    partition = prob.heat_partition
+    # the equal-mean-temperature fraction is found with the temperatures (Step 3); without them it stays 0.5
+    eps_part = 0.5 if partition.needs_temperatures else partition.wheel_fraction(prob.wheel, prob.rail, *body_speed)
     it = 0
     converged = True
     thermal_unknowns = 0
@@ -521,7 +534,7 @@ def solve_fem(prob: FemProblem) -> FemSolution:
             dT = wheel.bulk_temperature - rail.bulk_temperature
             # bulk difference drives conduction through h_c: load on wheel -h_c dT, on rail +h_c dT
             cond = np.zeros(nx) if hc is None else hc * dT * np.asarray(_lumped(grid.x))
-            if isinstance(prob.heat_partition, str):
+            if partition.needs_temperatures:
                 t_w1, t_r1 = solver.solve([load - cond, cond])
                 t_w0, t_r0 = solver.solve([-cond, load + cond])
                 sel = (grid.x >= left) & (grid.x <= right)
@@ -568,7 +581,7 @@ def solve_fem(prob: FemProblem) -> FemSolution:
                 on = sol.pressure > 0
                 law_state["mu_change"].append(float(np.max(np.abs(mu_next - used)[on], initial=0.0)))
                 law_state["mean_mu"].append(float(np.mean(used[on])) if on.any() else float(prob.friction))
-                mu_ok = law_state["mu_change"][-1] < MU_TOLERANCE
+                mu_ok = law_state["mu_change"][-1] < LOOP_MU_TOLERANCE
             if (history[-1] <= prob.coupling_tolerance and mu_ok) or one_way:
                 converged = True
                 break
@@ -618,7 +631,7 @@ def fem_law_diagnostics(law, state) -> dict:
         out.update(friction_loop_iterations=len(state["mu_change"]),
                    friction_loop_mu_change=",".join(f"{h:.3e}" for h in state["mu_change"]),
                    friction_loop_mean_mu=",".join(f"{h:.5f}" for h in state["mean_mu"]),
-                   friction_loop_tolerance=MU_TOLERANCE)
+                   friction_loop_tolerance=LOOP_MU_TOLERANCE)
     return out
 
 

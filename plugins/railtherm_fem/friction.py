@@ -1,36 +1,31 @@
-"""Friction laws in the FEM's contact (issue 15; :mod:`railtherm.physics.friction`): mu per window node.
+"""Friction laws in the FEM's contact (:mod:`railtherm.physics.friction`): mu per window node.
 
-The FEM's friction is already local (one Coulomb bound mu p per window node, :mod:`.contact`); a law gives
-that mu node by node:
+The FEM's friction is local (one Coulomb bound mu p per window node, :mod:`.contact`); a law gives that mu
+node by node:
 
-* a temperature law: mu at the node's contact temperature, the mean of the wheel's and the rail's surface
-  temperature (bulk + rise of the FEM's own thermal layer at z = 0, interpolated to the node), updated in the
-  Steps 1-4 loop of :mod:`.coupled` after every thermal solve, which then also stops on the change of mu
-  (:data:`MU_TOLERANCE`) and records its history;
-* a slip-velocity law (exponential or Polach's): mu(v) with v = V |s| the node's own slip speed, by a
-  monotone outer iteration around the contact solve started at the law's value at zero slip (the slip each
-  bound produces gives the next bound), stopped when max |mu_{k+1} - mu_k| over the contact nodes is below
-  :data:`SLIP_MU_TOLERANCE`. The local equation g = mu(V |s(g)|) p of a slipping node has one solution and the
-  iteration contracts when kappa = |dmu/dv(0)| p V |(D A_tt)_ii| < 1 (the law's slope against the slip the
-  node's own traction drives through the condensed compliance A_tt and the upstream derivative D; core's
+* a temperature law: mu at the node's contact temperature
+  (:func:`railtherm.physics.friction.contact_temperature` of the wheel's and the rail's surface temperature,
+  bulk + rise of the FEM's own thermal layer at z = 0, interpolated to the node: :func:`node_surface_temperatures`),
+  updated in the Steps 1-4 loop of :mod:`.coupled` after every thermal solve, which then also stops on the
+  change of mu (:data:`railtherm.physics.friction.LOOP_MU_TOLERANCE`) and records its history;
+* a slip-velocity law (exponential or Polach's): mu(v) with v = V |s| the node's own slip speed, by core's
+  monotone outer iteration around the contact solve (:func:`railtherm.physics.friction.iterate_slip_law`,
+  its tolerance :data:`~railtherm.physics.friction.SLIP_MU_TOLERANCE`). The iteration contracts when
+  kappa = |dmu/dv(0)| p V |(D A_tt)_ii| < 1 (the law's slope against the slip the node's own traction drives
+  through the condensed compliance A_tt and the upstream derivative D; core's
   :func:`~railtherm.physics.friction.contraction_limit`); kappa >= 1 is refused.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from railtherm.physics.friction import SLIP_MAX_OUTER, SLIP_MU_TOLERANCE, contraction_limit, iterate_slip_law
+from railtherm.physics.friction import contraction_limit, iterate_slip_law
 
-__all__ = ["MU_TOLERANCE", "SLIP_MU_TOLERANCE", "MAX_OUTER", "node_contact_temperature", "solve_with_slip_law"]
-
-#: the Steps 1-4 loop under a temperature law also stops only when mu changes by less than this [1]
-MU_TOLERANCE = 1e-4
-#: the slip-velocity outer iteration: core's tolerance on mu [1] and step limit
-MAX_OUTER = SLIP_MAX_OUTER
+__all__ = ["node_surface_temperatures", "solve_with_slip_law"]
 
 
-def node_contact_temperature(x, grid, theta, wheel_bulk, rail_bulk):
-    """Contact temperature at the window nodes [degC]: mean of wheel and rail surface temperatures.
+def node_surface_temperatures(x, grid, theta, wheel_bulk, rail_bulk):
+    """Surface temperatures of wheel and rail at the window nodes [degC]: bulk + the thermal layer's rise.
 
     Parameters
     ----------
@@ -42,12 +37,16 @@ def node_contact_temperature(x, grid, theta, wheel_bulk, rail_bulk):
         Temperature rises (wheel, rail) on ``grid`` [K]; row 0 along z is the surface.
     wheel_bulk, rail_bulk : float
         Bulk temperatures [degC].
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        Wheel and rail surface temperature at ``x`` [degC].
     """
-    t = np.full(np.shape(x), 0.5 * (float(wheel_bulk) + float(rail_bulk)))
+    bulk = (float(wheel_bulk), float(rail_bulk))
     if grid is None or theta is None:
-        return t
-    rise = [np.interp(x, grid.x, np.asarray(th)[:, 0], left=0.0, right=0.0) for th in theta]
-    return t + 0.5 * (rise[0] + rise[1])
+        return tuple(np.full(np.shape(x), b) for b in bulk)
+    return tuple(b + np.interp(x, grid.x, np.asarray(th)[:, 0], left=0.0, right=0.0) for b, th in zip(bulk, theta))
 
 
 def solve_with_slip_law(law, solve, speed, self_slip):
@@ -78,4 +77,4 @@ def solve_with_slip_law(law, solve, speed, self_slip):
         return kappa, inside
 
     return iterate_slip_law(law, solve, lambda sol: V * np.abs(np.nan_to_num(sol.slip)), np.shape(self_slip),
-                            kappa_of, model="fem", speed=V, tol=SLIP_MU_TOLERANCE, max_outer=MAX_OUTER)
+                            kappa_of, model="fem", speed=V)

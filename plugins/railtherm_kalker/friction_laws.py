@@ -12,20 +12,15 @@
   can follow, no unique local solution, and the run is refused naming kappa
   (:func:`railtherm.physics.friction.contraction_limit`).
 
-The outer iteration is core's (:func:`railtherm.physics.friction.iterate_slip_law`, shared with the FEM); it
-stops when max |mu_{k+1} - mu_k| over the contact is below :data:`MU_TOLERANCE`.
+The outer iteration is core's (:func:`railtherm.physics.friction.iterate_slip_law`, shared with the FEM), with
+core's stopping rule (:data:`railtherm.physics.friction.SLIP_MU_TOLERANCE`, :data:`~railtherm.physics.friction.SLIP_MAX_STEPS`).
 """
 from __future__ import annotations
 
 import numpy as np
-from railtherm.physics.friction import (SLIP_MAX_OUTER, SLIP_MU_TOLERANCE, contraction_limit, iterate_slip_law,
-                                        local_friction)
+from railtherm.physics.friction import contraction_limit, iterate_slip_law, local_friction
 
-__all__ = ["MU_TOLERANCE", "MAX_OUTER", "solve_with_law"]
-
-#: the slip-velocity iteration: core's tolerance on mu [1] and step limit
-MU_TOLERANCE = SLIP_MU_TOLERANCE
-MAX_OUTER = SLIP_MAX_OUTER
+__all__ = ["solve_with_law"]
 
 
 def _mu_of(scene, patch, shape, slip_speed=0.0):
@@ -76,6 +71,6 @@ def solve_with_law(scene, patch, solve, self_coefficient: float, speed: float):
     (sol, X, Y), mu, history, kappa = iterate_slip_law(
         law, solve,
         lambda out: V * np.sqrt(np.sum(np.asarray(out[0].slip) ** 2, axis=0)), shape,
-        lambda _out: (kappa, inside), model="kalker", speed=V, tol=MU_TOLERANCE, max_outer=MAX_OUTER)
+        lambda _out: (kappa, inside), model="kalker", speed=V)
     return sol, X, Y, mu, {"friction_iterations": len(history), "friction_mu_change": np.asarray(history),
                            "friction_contraction": kappa}

@@ -33,8 +33,9 @@ TAG = {"contact": "hertz", "carter": "carter", "ms": "moving-source", "jaeger": 
 
 
 def _thermal_case(scene):
-    """(a, b, shape, peak flux, (v_wheel, v_rail), eps) of the scene's heat source, or None."""
-    if scene.convection > 0:
+    """(a, b, shape, peak flux, (v_wheel, v_rail), eps) of the scene's heat source, or None (no closed form:
+    convection, or a heat partition that depends on the temperatures)."""
+    if scene.convection > 0 or scene.partition.needs_temperatures:
         return None
     if scene.heat_source is not None:
         hs = scene.heat_source

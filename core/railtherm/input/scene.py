@@ -14,6 +14,9 @@ from dataclasses import asdict, dataclass, field, fields
 from typing import Any, Mapping
 
 from ..contract.errors import SceneError
+from ..physics.friction import LAWS as FRICTION_LAWS
+from ..physics.friction import FrictionLaw, Parameter, friction_law
+from ..physics.partition import HeatPartition
 from .materials import Material
 
 SCHEMA_VERSION = 1
@@ -240,29 +243,36 @@ class Table(_Check):
         return out
 
 
+def _parameter_check(p: Parameter) -> Num:
+    """The scene check of one law parameter, from the range the law declares."""
+    return Num(p.lower, lo_open=p.lower_open, unit=p.unit)
+
+
+def _friction_allowed() -> str:
+    """What the key ``friction`` allows, in words, from the laws' parameters."""
+    tables = ["{ law = " + f'"{kind}", ' + ", ".join(p.label for p in law.PARAMETERS) + " }"
+              for kind, law in FRICTION_LAWS.items()]
+    return "a number >= 0, or a table " + ", ".join(tables[:-1]) + " or " + tables[-1]
+
+
 class Friction(_Check):
     """Scene key ``friction``: a number >= 0 (constant coefficient) or a friction-law table
-    ``{ law = "slip-velocity" | "polach" | "temperature", ... }`` (:mod:`railtherm.physics.friction`)."""
+    ``{ law = ..., ... }`` whose keys and ranges the law declares (:mod:`railtherm.physics.friction`)."""
 
     unit = "1"
-    LAWS = {
-        "slip-velocity": {"static": Num(0, lo_open=True), "kinetic": Num(0, lo_open=True),
-                          "decay": Num(0, lo_open=True, unit="m s-1")},
-        "polach": {"mu0": Num(0, lo_open=True), "A": Num(0, lo_open=True), "B": Num(0, lo_open=True, unit="s m-1")},
-        "temperature": {"reference": Num(0, lo_open=True), "reference_temperature": Num(-273.15, lo_open=True, unit="degC"),
-                        "change": Num(), "over": Num(0, lo_open=True, unit="K")},
-    }
-    allowed = ("a number >= 0, or a table { law = \"slip-velocity\", static, kinetic, decay [m/s] }, "
-               "{ law = \"polach\", mu0, A, B [s/m] } or { law = \"temperature\", reference, "
-               "reference_temperature [degC], change, over [K] }")
+    #: law -> its parameters' checks, built from the laws' own :class:`~railtherm.physics.friction.Parameter`
+    PARAMETER_CHECKS = {kind: {p.name: _parameter_check(p) for p in law.PARAMETERS}
+                        for kind, law in FRICTION_LAWS.items()}
+    allowed = _friction_allowed()
 
     def __call__(self, scene, key, value):
         if not isinstance(value, Mapping):
             return Num(0)(scene, key, value)
         law = value.get("law")
-        if law not in self.LAWS:
-            raise SceneError.bad_value(scene, f"{key}.law", law, "one of " + ", ".join(repr(k) for k in self.LAWS))
-        keys = self.LAWS[law]
+        if law not in self.PARAMETER_CHECKS:
+            raise SceneError.bad_value(scene, f"{key}.law", law,
+                                       "one of " + ", ".join(repr(k) for k in self.PARAMETER_CHECKS))
+        keys = self.PARAMETER_CHECKS[law]
         out = {"law": law}
         for k, v in value.items():
             if k == "law":
@@ -277,10 +287,10 @@ class Friction(_Check):
             raise SceneError(f"scene {scene!r}: key '{key}.{missing[0]}' is missing: the law {law!r} needs "
                              f"{', '.join(repr(k) for k in missing)} (it takes {', '.join(keys)})", scene=scene, key=f"{key}.{missing[0]}", value=None,
                              allowed=keys[missing[0]].allowed)
-        if law == "temperature" and out["reference"] + out["change"] <= 0:
-            raise SceneError.bad_value(scene, f"{key}.change", out["change"],
-                                       f"a number > {-out['reference']:g} (reference + change is the friction above "
-                                       "reference_temperature + over and must stay > 0)")
+        conflict = FRICTION_LAWS[law].parameter_conflict(out)
+        if conflict is not None:
+            k, allowed = conflict
+            raise SceneError.bad_value(scene, f"{key}.{k}", out[k], allowed)
         return out
 
 
@@ -319,7 +329,7 @@ SCENE_KEYS: dict[str, _Check] = {
     "sliding_speed": Num(0, unit="m s-1"),
     "creepage": Table({"longitudinal": Num(-1, 1), "lateral": Num(-1, 1), "spin": Num(unit="m-1")}),
     "friction": Friction(),
-    "heat_partition": Either(Num(0, 1), Choice("equal-temperature")),
+    "heat_partition": Either(Num(0, 1), Choice(*HeatPartition.RULES)),
     "convection": Num(0, unit="W m-2 K-1"),
     "outputs": Names(_variable_names),
     "heat_source": Table({"flux": Num(0, unit="W m-2"), "shape": Choice("uniform", "hertz"),
@@ -454,7 +464,10 @@ class Scene:
     #: the nominal coefficient of friction [1]: the constant law's value, else the law's mu at zero slip and
     #: at the reference temperature (:attr:`friction_law` holds the law itself)
     friction: float | None = None
-    heat_partition: float | str = "equal-temperature"
+    #: the law of key ``friction`` (None without it), resolved once at load time
+    friction_law: FrictionLaw | None = None
+    #: key ``heat_partition`` resolved once (default Blok's equal-temperature fraction)
+    partition: HeatPartition = HeatPartition("equal-temperature")
     convection: float = 0.0
     outputs: tuple[str, ...] = DEFAULT_OUTPUTS
     heat_source: GivenHeatSource | None = None
@@ -474,13 +487,10 @@ class Scene:
     field: Field | None = None
 
     @property
-    def friction_law(self):
-        """The :class:`railtherm.physics.friction.FrictionLaw` of key ``friction`` (None without it)."""
-        raw = self.source.get("friction")
-        if raw is None:
-            return None
-        from ..physics.friction import friction_law
-        return friction_law(raw)
+    def heat_partition(self) -> float | str:
+        """The scene's value of ``heat_partition``: the fraction entering the wheel [1], or the rule's name
+        (:attr:`partition` is the resolved :class:`~railtherm.physics.partition.HeatPartition`)."""
+        return self.partition.value
 
     @property
     def wheel_radius(self) -> float:
@@ -646,9 +656,11 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
             if k in c:
                 kw[k] = c[k]
     if "friction" in c:
-        from ..physics.friction import friction_law
-        kw["friction"] = friction_law(c["friction"]).nominal
-    for k in ("heat_partition", "convection", "outputs", "mode", "reference"):
+        kw["friction_law"] = friction_law(c["friction"])
+        kw["friction"] = kw["friction_law"].nominal
+    if "heat_partition" in c:
+        kw["partition"] = HeatPartition.of(c["heat_partition"])
+    for k in ("convection", "outputs", "mode", "reference"):
         if k in c:
             kw[k] = c[k]
     if kw["contact_shape"] == "line" and "outputs" in kw:

@@ -1,9 +1,16 @@
-"""Heat partition between wheel and rail: Blok's equal-temperature fraction."""
+"""Heat partition between wheel and rail (scene key ``heat_partition``), resolved once into a
+:class:`HeatPartition`: a given fraction, Blok's equal-temperature fraction, or the rule that equalises the
+two bodies' mean surface temperatures over the patch (which needs the temperatures it produces).
+"""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import ClassVar
 
-__all__ = ["equal_temperature_partition", "scene_partition"]
+from ..contract.errors import Refused
+
+__all__ = ["HeatPartition", "equal_temperature_partition", "scene_partition"]
 
 
 def equal_temperature_partition(wheel, rail, wheel_speed: float, rail_speed: float) -> float:
@@ -47,21 +54,95 @@ def equal_temperature_partition(wheel, rail, wheel_speed: float, rail_speed: flo
     return gw / (gw + gr)
 
 
+@dataclass(frozen=True)
+class HeatPartition:
+    """The scene's heat partition: which fraction of the frictional heat enters the wheel.
+
+    Attributes
+    ----------
+    rule : str
+        ``"fraction"``: the given number; ``"equal-temperature"``: Blok's fraction
+        (:func:`equal_temperature_partition`), the same constant for every method; ``"equal-mean-temperature"``:
+        the fraction that makes the wheel's and the rail's mean absolute surface temperatures over the patch
+        equal, found by a model that solves both bodies' temperatures with the split (the FEM); it differs
+        from Blok's where the bulk temperatures differ, conduction is not one-dimensional or a contact
+        conductance couples the surfaces.
+    fraction : float or None
+        The given fraction [1] of rule ``"fraction"``, in [0, 1].
+    """
+
+    rule: str
+    fraction: float | None = None
+
+    #: the scene's words for the rules that are not a number
+    RULES: ClassVar[tuple[str, ...]] = ("equal-temperature", "equal-mean-temperature")
+
+    @classmethod
+    def of(cls, value) -> "HeatPartition":
+        """The partition of a scene value: a number in [0, 1], one of :data:`RULES`, or a HeatPartition."""
+        if isinstance(value, HeatPartition):
+            return value
+        if isinstance(value, str):
+            if value not in cls.RULES:
+                raise ValueError(f"heat_partition {value!r}: allowed a number in [0, 1] or one of {cls.RULES}")
+            return cls(value)
+        return cls("fraction", float(value))
+
+    @property
+    def value(self) -> float | str:
+        """The scene's value: the number, or the rule's name."""
+        return self.fraction if self.rule == "fraction" else self.rule
+
+    @property
+    def needs_temperatures(self) -> bool:
+        """Whether the fraction depends on the temperatures it produces (only a model that solves both
+        bodies together can apply it)."""
+        return self.rule == "equal-mean-temperature"
+
+    def wheel_fraction(self, wheel, rail, wheel_speed: float, rail_speed: float) -> float:
+        """Fraction of the heat entering the wheel [1].
+
+        Parameters
+        ----------
+        wheel, rail : Material-like
+            With ``effusivity`` [W s^0.5 m^-2 K^-1] (Blok's rule).
+        wheel_speed, rail_speed : float
+            Surface speeds through the patch [m/s].
+
+        Raises
+        ------
+        railtherm.Refused
+            (validity) for ``"equal-mean-temperature"``, which a fraction fixed before the temperatures
+            are known cannot honour.
+        """
+        if self.rule == "fraction":
+            return float(self.fraction)
+        if self.rule == "equal-temperature":
+            return equal_temperature_partition(wheel, rail, wheel_speed, rail_speed)
+        raise Refused("heat_partition = 'equal-mean-temperature' equalises the mean surface temperatures of wheel "
+                      "and rail, which needs the temperatures the split produces: only a model that solves both "
+                      "bodies' temperatures with the split applies it (the FEM, 'fem'); use 'equal-temperature' "
+                      "(Blok's fraction) or a number", kind="validity")
+
+
 def scene_partition(scene, wheel_speed: float, rail_speed: float) -> float:
-    """The scene's heat partition: its number, or the equal-temperature fraction.
+    """The scene's heat partition: the fraction of the heat entering the wheel [1].
 
     Parameters
     ----------
     scene : Scene-like
-        With ``heat_partition`` (a number [1] or "equal-temperature"), ``wheel`` and ``rail``.
+        With ``partition`` (:class:`HeatPartition`; a scene-like object may give ``heat_partition``, the
+        scene's value, instead), ``wheel`` and ``rail``.
     wheel_speed, rail_speed : float
         Surface speeds through the patch [m/s] (:func:`railtherm.physics.body_speeds`).
 
-    Returns
-    -------
-    float
-        Fraction of the heat entering the wheel [1].
+    Raises
+    ------
+    railtherm.Refused
+        For a partition that needs the temperatures (:meth:`HeatPartition.wheel_fraction`).
     """
-    if isinstance(scene.heat_partition, str):
-        return equal_temperature_partition(scene.wheel, scene.rail, wheel_speed, rail_speed)
-    return float(scene.heat_partition)
+    partition = getattr(scene, "partition", None) or HeatPartition.of(scene.heat_partition)
+    try:
+        return partition.wheel_fraction(scene.wheel, scene.rail, wheel_speed, rail_speed)
+    except Refused as exc:
+        raise Refused(f"scene {getattr(scene, 'name', None)!r}: {exc}", kind=exc.kind) from None

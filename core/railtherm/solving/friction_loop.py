@@ -7,14 +7,16 @@ friction makes. :func:`solve_coupled` runs the chain's own stage models around t
 model of the chain, green by default in the methods that have it, or any other):
 
 1. the tangential model solves with the contact temperature on the patch (first: the bulk temperature);
-2. core's heat source and the chain's temperature model give the surface temperatures; the contact
-   temperature of a cell is the mean of the wheel's and the rail's [degC];
+2. core's heat source and the chain's temperature model give the surface temperatures, and they the contact
+   temperature of each cell (:func:`railtherm.physics.friction.field_contact_temperature`) [degC];
 3. the next contact temperature is an Anderson-mixed update (depth 2) of the last ones, so that the
    negative feedback (hotter -> less friction -> less heat) converges in a few steps instead of
    oscillating;
-4. stop when the largest change of mu over the contact cells is below :data:`MU_TOLERANCE` and the change of
-   the creep force below :data:`FORCE_TOLERANCE` x mu_ref N; after :data:`MAX_ITERATIONS` the run fails
-   (``SolverError``: not converged), naming the history.
+4. stop when the largest change of mu over the contact cells is below
+   :data:`~railtherm.physics.friction.LOOP_MU_TOLERANCE` and the change of the creep force below
+   :data:`~railtherm.physics.friction.LOOP_FORCE_TOLERANCE` x mu_ref N; after
+   :data:`~railtherm.physics.friction.LOOP_MAX_ITERATIONS` the run fails (``SolverError``: not converged),
+   naming the history.
 
 The iteration history goes into the diagnostics: ``friction_loop_iterations``, ``friction_loop_mu_change``
 (per iteration, [1]), ``friction_loop_force_change`` (per iteration, [1] relative to mu_ref N),
@@ -28,17 +30,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..contract.errors import SolverError
-from ..contract.grid import behind_cells
+from ..physics.friction import (LOOP_FORCE_TOLERANCE, LOOP_MAX_ITERATIONS, LOOP_MU_TOLERANCE, contact_temperature,
+                                field_contact_temperature)
 
-__all__ = ["MU_TOLERANCE", "FORCE_TOLERANCE", "MAX_ITERATIONS", "LoopHistory", "needs_loop", "solve_coupled",
-           "contact_temperature_of"]
+__all__ = ["LoopHistory", "needs_loop", "solve_coupled"]
 
-#: stop when max |mu_k - mu_{k-1}| over the contact cells is below this [1] ...
-MU_TOLERANCE = 1e-4
-#: ... and |F_k - F_{k-1}| below this times mu_ref N (creep force magnitude) [1]
-FORCE_TOLERANCE = 1e-4
-#: the loop fails (not converged) after this many tangential solves
-MAX_ITERATIONS = 30
 #: depth of the Anderson mixing (number of earlier residuals used)
 ANDERSON_DEPTH = 2
 
@@ -47,16 +43,6 @@ def needs_loop(scene) -> bool:
     """Whether the scene's friction depends on the temperature (and the scene computes its traction)."""
     law = scene.friction_law
     return scene.heat_source is None and law is not None and law.depends_on_temperature
-
-
-def contact_temperature_of(temp, patch) -> np.ndarray:
-    """The contact temperature of each patch cell from a temperature field [degC]: the mean of wheel and rail
-    surface temperatures, taken from the patch's cells of an extended field grid."""
-    surf = np.asarray(temp.surface_temperature, dtype=float)
-    if temp.grid is not None and temp.grid.shape != patch.grid.shape:
-        n = behind_cells(patch.grid, temp.grid)
-        surf = surf[:, n:]
-    return 0.5 * (surf[0] + surf[1])
 
 
 @dataclass
@@ -131,24 +117,25 @@ def solve_coupled(scene, patch, run_tangential, run_source, run_temperature):
     Raises
     ------
     railtherm.SolverError
-        When the loop has not converged after :data:`MAX_ITERATIONS` solves.
+        When the loop has not converged after
+        :data:`~railtherm.physics.friction.LOOP_MAX_ITERATIONS` solves.
     """
     law = scene.friction_law
     inside = np.asarray(patch.pressure) > 0
     scale = law.nominal * float(patch.normal_force)
-    bulk = 0.5 * (float(scene.wheel.bulk_temperature) + float(scene.rail.bulk_temperature))
+    bulk = float(contact_temperature(scene.wheel.bulk_temperature, scene.rail.bulk_temperature))
     t_in = np.full(patch.grid.shape, bulk)
     mix = _Anderson(ANDERSON_DEPTH)
     hist = LoopHistory()
     mu_old = f_old = None
-    for _ in range(MAX_ITERATIONS):
+    for _ in range(LOOP_MAX_ITERATIONS):
         p_in = dataclasses.replace(patch, contact_temperature=t_in)
         tang = run_tangential(p_in)
         source = run_source(tang)
         temp = run_temperature(source)
         mu = np.asarray(law.mu(0.0, t_in), dtype=float)
         force = _force(tang)
-        t_out = contact_temperature_of(temp, patch)
+        t_out = field_contact_temperature(temp, patch)
         hist.mean_mu.append(float(mu[inside].mean()) if inside.any() else float(law.nominal))
         hist.max_temperature.append(float(t_out[inside].max()) if inside.any() else bulk)
         mu_next = np.asarray(law.mu(0.0, t_out), dtype=float)
@@ -156,10 +143,10 @@ def solve_coupled(scene, patch, run_tangential, run_source, run_temperature):
         df = abs(force - f_old) / scale if f_old is not None and scale > 0 else (np.nan if scale > 0 else 0.0)
         hist.mu_change.append(dmu)
         hist.force_change.append(float(df))
-        if dmu < MU_TOLERANCE and df < FORCE_TOLERANCE:
+        if dmu < LOOP_MU_TOLERANCE and df < LOOP_FORCE_TOLERANCE:
             return tang, source, temp, hist
         mu_old, f_old = mu, force
         t_in = mix.next(t_in, t_out)
-    raise SolverError(f"scene {scene.name!r}: the temperature-friction loop did not converge in {MAX_ITERATIONS} "
-                      f"iterations (tolerances: mu {MU_TOLERANCE:g}, creep force {FORCE_TOLERANCE:g} mu N); "
+    raise SolverError(f"scene {scene.name!r}: the temperature-friction loop did not converge in {LOOP_MAX_ITERATIONS} "
+                      f"iterations (tolerances: mu {LOOP_MU_TOLERANCE:g}, creep force {LOOP_FORCE_TOLERANCE:g} mu N); "
                       f"history: {hist.text()}")
