@@ -19,7 +19,7 @@ circle in closed form (the "contact locus" of Wang and Cooperrider); it is exact
 roll (no small-angle approximation in the search). The vertical gap g(s) = z_rail(y(s)) - z(s)
 between the locus and the rail has its local minima where the two profiles' slopes match; every
 minimum within ``max_separation`` of the smallest (up to ``max_patches``) is a patch. Each is refined
-by a parabola through the three samples around it.
+by parabolas through the smooth gap (the profiles' splines) at shrinking steps.
 
 Per patch: the contact point on the rail (lateral position in the rail profile's own coordinates, as
 CONTACT reports ``ycp_r``) and on the wheel, the contact angle (of the rail's tangent in the wheel's
@@ -126,8 +126,9 @@ class Patch:
         Contact point on the wheel in wheel-profile coordinates [m].
     x : float
         Longitudinal position of the contact point relative to the wheelset centre [m] (yaw moves it).
-    y_track : float
-        Lateral position of the contact point in the wheel's axes [m].
+    y_track, z_track : float
+        Lateral and vertical position of the contact point on the rail in the wheel's axes [m] (z
+        downwards from the rail top).
     contact_angle : float
         Angle of the contact plane about x [rad]: atan(dz/dy) of the rail at the contact point.
     rolling_radius : float
@@ -148,6 +149,7 @@ class Patch:
     z_wheel: float
     x: float
     y_track: float
+    z_track: float
     contact_angle: float
     rolling_radius: float
     separation: float
@@ -368,24 +370,47 @@ def contact_search(ws: WheelsetOnTrack, side: str = "right", speed: float | None
         where = f"wheel y = {s_w[i0] * 1e3:.2f} mm, rail y = {yr[i0] * 1e3:.2f} mm"
         raise ProfileError(f"side {side}: the closest approach lies at the end of a profile ({where}): the "
                            f"wheel runs off the rail (lateral_shift = {ws.lateral_shift!r} m)")
-    patches = []
-    g0 = float(g[i0])
-    for k, i in enumerate(_minima(g, max_separation, max_patches)):
-        patches.append(_patch(k, i, g, g0, t_w, ws, placed, rot, shift, zc, wheel_offset, offset, top,
-                              sign, speed, section_half_width, t_r, y_r))
+    frame = (ws, placed, rot, shift, zc, wheel_offset, offset, top)
+    found = sorted((_refine(frame, t_w, g, i, wheel_spacing) for i in _minima(g, max_separation, max_patches)),
+                   key=lambda tg: tg[1])
+    g0 = found[0][1]
+    patches = [_patch(k, t, gk - g0, g0, frame, sign, speed, section_half_width)
+               for k, (t, gk) in enumerate(found) if gk - g0 <= max_separation]
     return WheelContact(side=side, patches=tuple(patches), rail_offset=offset, wheel_offset=wheel_offset)
 
 
-def _patch(k, i, g, g0, t_w, ws, placed, rot, shift, zc, wheel_offset, offset, top, sign, speed,
-           half_width, t_r, y_r) -> Patch:
-    """Refine the minimum at table index i and evaluate the patch's quantities there."""
+def _gap_at(frame, t) -> np.ndarray:
+    """Vertical gap [m] between the wheel's locus and the rail at wheel arc lengths ``t`` (smooth)."""
+    ws, placed, rot, shift, zc, wheel_offset, offset, top = frame
+    s, zw, dzw, _ = ws.wheel_profile.at_arc(t)
+    _, y, z = _locus(float(ws.nominal_radius) + zw, dzw, wheel_offset + s, rot, shift, zc)
+    return placed.z_at(y - offset) - top - z
+
+
+def _refine(frame, t_w, g, i, spacing) -> tuple[float, float]:
+    """Arc length and gap of the minimum near table index i: the tables' parabola, then two parabolas
+    through the smooth gap at steps spacing/4 and spacing/100 (the position to well under 0.1 um)."""
     den = g[i - 1] - 2.0 * g[i] + g[i + 1]
     f = 0.5 * (g[i - 1] - g[i + 1]) / den if den > 0 else 0.0
     t = t_w[i] + f * (t_w[i + 1] - t_w[i])
-    wp = ws.wheel_profile
-    s, zw, dzw, kw = (float(v) for v in wp.at_arc(t))
-    R0 = float(ws.nominal_radius)
-    r = R0 + zw
+    lo, hi = t_w[max(i - 1, 0)], t_w[min(i + 1, t_w.size - 1)]
+    gt = None
+    for h in (0.25 * spacing, 0.01 * spacing):
+        t = min(max(t, lo + h), hi - h)
+        gm, gt, gp = _gap_at(frame, np.array([t - h, t, t + h]))
+        den = gm - 2.0 * gt + gp
+        if den > 0:
+            step = float(np.clip(0.5 * h * (gm - gp) / den, -h, h))
+            t += step
+            gt = gt - 0.25 * (gm - gp) * step / h   # the parabola's value at its vertex
+    return float(t), float(gt)
+
+
+def _patch(k, t, separation, g0, frame, sign, speed, half_width) -> Patch:
+    """The patch's quantities at the refined wheel arc length t."""
+    ws, placed, rot, shift, zc, wheel_offset, offset, top = frame
+    s, zw, dzw, kw = (float(v) for v in ws.wheel_profile.at_arc(t))
+    r = float(ws.nominal_radius) + zw
     x, y, z = (float(v) for v in _locus(np.array(r), np.array(dzw), wheel_offset + s, rot, shift, zc))
     yr_inc = y - offset
     z_rail_inc, slope, kr = (float(v) for v in placed.at_y(yr_inc))
@@ -394,15 +419,13 @@ def _patch(k, i, g, g0, t_w, ws, placed, rot, shift, zc, wheel_offset, offset, t
     b = float(ws.rail_inclination)
     cb, sb = np.cos(b), np.sin(b)
     y_own, z_own = cb * yr_inc - sb * z_rail_inc, sb * yr_inc + cb * z_rail_inc
-    sep = float(np.interp(t, t_w, g)) - g0
     creep = None
     if speed is not None and ws.pitch_velocity is not None:
         creep = _creepages(float(speed), float(ws.pitch_velocity), rot, np.array([x, y - shift, z - zc]), delta)
-    section = functools.partial(_section, ws, placed, rot, shift, zc, wheel_offset, offset, top, t,
-                                np.array([x, y, z]), delta, half_width)
+    section = functools.partial(_section, frame, t, np.array([x, y, z_rail_inc - top]), delta, half_width, g0)
     alpha = np.arctan(dzw)
     return Patch(index=k, y_rail=float(y_own), z_rail=float(z_own), y_wheel=s, z_wheel=zw, x=x, y_track=y,
-                 contact_angle=delta, rolling_radius=r, separation=sep,
+                 z_track=z_rail_inc - top, contact_angle=delta, rolling_radius=r, separation=float(separation),
                  curvature_wheel_x=float(np.cos(alpha) / r), curvature_wheel_y=-float(kw), curvature_rail_y=kr,
                  creepage=creep, _section_of=section)
 
@@ -418,32 +441,35 @@ def _creepages(V: float, omega: float, rot: np.ndarray, arm: np.ndarray, delta: 
     return float(v[0] / V), float(v @ ey / V), float(w @ n / V)
 
 
-def _section(ws, placed, rot, shift, zc, wheel_offset, offset, top, t0, p0, delta, half_width) -> dict:
+def _section(frame, t0, p0, delta, half_width, g0) -> dict:
     """The lateral section of the gap on the contact plane around the patch, for :meth:`Patch.gap`.
 
-    Rail and wheel locus points within +-1.5 half-widths of the contact point, expressed in the plane's
-    lateral coordinate eta and normal coordinate zeta (into the rail); their zeta difference at equal eta
-    is the lateral gap; the wheel's x offset and normal curvature along x come with each slice.
+    Rail and wheel locus points within +-1.5 half-widths of the contact point p0 (on the rail; its x
+    from the locus), expressed in the plane's lateral coordinate eta and normal coordinate zeta (into
+    the rail), the wheel lowered by g0 so that the wheel's closest approach touches; their zeta
+    difference at equal eta is the lateral gap; each slice brings its x offset and curvature along x.
     """
+    ws, placed, rot, shift, zc, wheel_offset, offset, top = frame
     cd, sd = np.cos(delta), np.sin(delta)
     span = 1.5 * half_width
     wp = ws.wheel_profile
-    tw = np.linspace(max(t0 - span, wp.arc_length[0]), min(t0 + span, wp.arc_length[-1]), 241)
+    tw = np.linspace(max(t0 - span, wp.arc_length[0]), min(t0 + span, wp.arc_length[-1]), 721)
     s, zw, dzw, _ = wp.at_arc(tw)
     r = float(ws.nominal_radius) + zw
     x, y, z = _locus(r, dzw, wheel_offset + s, rot, shift, zc)
+    z = z + g0                  # the wheelset lowered onto the rail: its closest approach closes
     eta_w = (y - p0[1]) * cd + (z - p0[2]) * sd
     zeta_w = -(y - p0[1]) * sd + (z - p0[2]) * cd
     kx = np.cos(np.arctan(dzw)) / r
     yr0 = p0[1] - offset
-    ys = np.linspace(yr0 - span, yr0 + span, 241)
+    ys = np.linspace(yr0 - span, yr0 + span, 721)
     ys = ys[(ys >= placed.y[0]) & (ys <= placed.y[-1])]
     zr = placed.z_at(ys) - top
     eta_r = (ys + offset - p0[1]) * cd + (zr - p0[2]) * sd
     zeta_r = -(ys + offset - p0[1]) * sd + (zr - p0[2]) * cd
     lo = max(-half_width, eta_w.min(), eta_r.min())
     hi = min(half_width, eta_w.max(), eta_r.max())
-    eta = np.linspace(lo, hi, 481)
+    eta = np.linspace(lo, hi, 961)
     # eta increases along both curves near the patch; keep the monotone runs only
     ok_w, ok_r = np.all(np.diff(eta_w) > 0), np.all(np.diff(eta_r) > 0)
     if not (ok_w and ok_r):
