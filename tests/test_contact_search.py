@@ -100,6 +100,16 @@ def test_cone_on_circle_gap_on_the_contact_plane():
     assert np.all(np.isinf(p.gap(0.0, 0.02)))     # outside the sampled section
 
 
+def test_cone_on_circle_gap_polynomial_for_the_scene():
+    """The fit's y2 and y4 are the circle's Taylor terms 1/(2R), 1/(8R^3); x2 is cos(delta)/(2r)."""
+    (p,) = contact_search(_cone_on_circle()).patches
+    c, residual = p.gap_coefficients(4e-3, 5e-3)
+    assert c["y2"] == pytest.approx(1 / (2 * R_RAIL), rel=1e-5)
+    assert c["y4"] == pytest.approx(1 / (8 * R_RAIL ** 3), rel=1e-2)
+    assert c["x2"] == pytest.approx(np.cos(p.contact_angle) / (2 * p.rolling_radius), rel=1e-6)
+    assert abs(c["x1y1"]) < 1e-6 and residual < 1e-9
+
+
 def test_yawed_rolled_wheel_locus_is_the_minimum_over_the_wheel_surface(mbench):
     """The closed-form locus angle against a direct minimisation of the vertical gap over the wheel's
     surface (s, theta), at a yawed, rolled wheelset in flange contact (Manchester position 14)."""

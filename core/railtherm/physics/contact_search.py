@@ -15,8 +15,8 @@ centre. The wheelset is rotated by R = Rz(yaw) Rx(roll) about its centre.
 
 Search. The rail is prismatic along x, so at a contact the wheel's surface normal has no x
 component. For every wheel-profile position s that condition fixes the angle theta(s) on the wheel
-circle in closed form (the "contact locus" of Wang and Cooperrider); it is exact for any yaw and
-roll (no small-angle approximation in the search). The vertical gap g(s) = z_rail(y(s)) - z(s)
+circle in closed form (the "contact locus" [1]); it is exact for any yaw and roll (no small-angle
+approximation in the search). The vertical gap g(s) = z_rail(y(s)) - z(s)
 between the locus and the rail has its local minima where the two profiles' slopes match; every
 minimum within ``max_separation`` of the smallest (up to ``max_patches``) is a patch. Each is refined
 by parabolas through the smooth gap (the profiles' splines) at shrinking steps.
@@ -35,16 +35,17 @@ per unit rolling distance): longitudinal xi = v . e_x / V, lateral eta = v . e_y
 phi = omega . n / V [1/m], with v the velocity of the wheel material at the contact point, omega the
 wheelset's angular velocity (pitch velocity about the axle), e_y the lateral direction in the contact
 plane towards the field side and n = e_x x e_y the normal into the rail. CONTACT reports the rail
-relative to the wheel: its creepages are minus these (see the tests against its A-2.2 results).
+relative to the wheel: its creepages are minus these; and it reports the left wheel along the track's
+y, so there its lateral position, contact angle, lateral creepage and spin change sign once more (see
+the tests against its A-2.2 results).
 
 References
 ----------
-.. [1] K. Wang, N. K. Cooperrider, The contact locus of wheel and rail... as summarised in:
-   J. Santamaria, E. G. Vadillo, J. Gomez, A comprehensive method for the elastic calculation of the
-   two-point wheel-rail contact, Vehicle System Dynamics 44 sup1 (2006) 240-250.
-   doi:10.1080/00423110600870337
-.. [2] E. A. H. Vollebregt, User guide for CONTACT, Vollebregt & Kalker's rolling and sliding contact
-   model, Technical report TR09-03, VORtech (2020-2024), module 1 (wheel-rail contact).
+.. [1] E. A. H. Vollebregt, Detailed wheel/rail geometry processing using the planar contact approach,
+   Vehicle System Dynamics 60 (2022) 1253-1291 (the contact locus approach, creepages from rigid-body
+   kinematics, CONTACT's module 1). doi:10.1080/00423114.2020.1853180
+.. [2] E. A. H. Vollebregt, User guide for CONTACT, Rolling and sliding contact with friction,
+   Technical report TR09-03, Vtech CMCC (module 1, wheel-rail contact; no DOI).
 .. [3] P. Shackleton, S. Iwnicki, Comparison of wheel-rail contact codes for railway vehicle simulation:
    an introduction to the Manchester Contact Benchmark and initial results, Vehicle System Dynamics 46
    (2008) 3-28. doi:10.1080/00423110701245083
@@ -55,6 +56,7 @@ import functools
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.interpolate import CubicSpline
 
 from .profiles import Profile, ProfileError
 
@@ -194,6 +196,33 @@ class Patch:
         xc = np.interp(y, s["eta"], s["xc"])
         k = np.interp(y, s["eta"], s["kx"])
         return np.where(inside, lat + 0.5 * k * (x - xc) ** 2, np.inf)
+
+    def gap_coefficients(self, half_x: float, half_y: float, degree: int = 6, step: float = 0.1e-3):
+        """A polynomial fit of the gap for the scene's ``contact = {shape = "gap", coefficients = ...}``.
+
+        h(x, y) - h(0, 0) ~ sum c_ij x^i y^j over i <= 2, 2 <= i + j <= ``degree`` (no constant or
+        linear term: the patch's own minimum is at the origin; h(0, 0) is :attr:`separation` along the
+        normal, which a multi-patch solver adds itself), least squares on a grid of ``step`` [m] over
+        |x| <= half_x, |y| <= half_y [m].
+
+        Returns
+        -------
+        coefficients : dict
+            ``{"x2": ..., "x1y1": ..., "y2": ..., ...}`` [m^(1 - i - j)], SI.
+        residual : float
+            Largest |fit - gap| on the grid [m].
+        """
+        x = np.arange(-half_x, half_x + 0.5 * step, step)
+        y = np.arange(-half_y, half_y + 0.5 * step, step)
+        X, Y = (a.ravel() for a in np.meshgrid(x, y))
+        h = self.gap(X, Y) - self.gap(0.0, 0.0)
+        ok = np.isfinite(h)
+        terms = [(i, j) for i in range(3) for j in range(degree + 1) if 2 <= i + j <= degree]
+        A = np.stack([X[ok] ** i * Y[ok] ** j for i, j in terms], 1)
+        scale = np.abs(A).max(0)
+        c = np.linalg.lstsq(A / scale, h[ok], rcond=None)[0] / scale
+        names = [("" if i == 0 else f"x{i}") + ("" if j == 0 else f"y{j}") for i, j in terms]
+        return dict(zip(names, (float(v) for v in c))), float(np.abs(A @ c - h[ok]).max())
 
     def gap_grid(self, dx: float, dy: float, half_x: float, half_y: float):
         """The gap on a grid of element centres, for a non-Hertzian normal solver.
@@ -467,15 +496,26 @@ def _section(frame, t0, p0, delta, half_width, g0) -> dict:
     zr = placed.z_at(ys) - top
     eta_r = (ys + offset - p0[1]) * cd + (zr - p0[2]) * sd
     zeta_r = -(ys + offset - p0[1]) * sd + (zr - p0[2]) * cd
+    # the curves turn back beyond +-90 deg from the contact plane (a flange seen from the tread): keep the
+    # run of increasing eta through the contact point
+    w, rr = _monotone_run(eta_w), _monotone_run(eta_r)
+    eta_w, zeta_w, x, kx = eta_w[w], zeta_w[w], x[w], kx[w]
+    eta_r, zeta_r = eta_r[rr], zeta_r[rr]
     lo = max(-half_width, eta_w.min(), eta_r.min())
     hi = min(half_width, eta_w.max(), eta_r.max())
-    eta = np.linspace(lo, hi, 961)
-    # eta increases along both curves near the patch; keep the monotone runs only
-    ok_w, ok_r = np.all(np.diff(eta_w) > 0), np.all(np.diff(eta_r) > 0)
-    if not (ok_w and ok_r):
-        mw = np.concatenate([[True], np.diff(eta_w) > 0])
-        mr = np.concatenate([[True], np.diff(eta_r) > 0])
-        eta_w, zeta_w, x, kx = eta_w[mw], zeta_w[mw], x[mw], kx[mw]
-        eta_r, zeta_r = eta_r[mr], zeta_r[mr]
-    h = np.interp(eta, eta_r, zeta_r) - np.interp(eta, eta_w, zeta_w)
-    return {"eta": eta, "h": h, "xc": np.interp(eta, eta_w, x) - p0[0], "kx": np.interp(eta, eta_w, kx)}
+    eta = np.linspace(lo, hi, 1921)
+    h = CubicSpline(eta_r, zeta_r)(eta) - CubicSpline(eta_w, zeta_w)(eta)
+    return {"eta": eta, "h": h, "xc": CubicSpline(eta_w, x)(eta) - p0[0], "kx": CubicSpline(eta_w, kx)(eta)}
+
+
+def _monotone_run(eta: np.ndarray) -> slice:
+    """The longest stretch of strictly increasing ``eta`` that contains the point nearest eta = 0."""
+    i = int(np.argmin(np.abs(eta)))
+    up = np.diff(eta) > 0
+    a = i
+    while a > 0 and up[a - 1]:
+        a -= 1
+    b = i
+    while b < up.size and up[b]:
+        b += 1
+    return slice(a, b + 1)
