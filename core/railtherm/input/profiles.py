@@ -349,8 +349,7 @@ def wheelset_geometry_from_table(scene_name: str, table: Mapping, base: str | No
             out[k] = v
             continue
         word = {"roll_angle": " or 'balance'", "pitch_velocity": " or 'free'"}.get(k, "")
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not lo < v < hi \
-                or (k == "gauge_height" and v < 0):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not lo < v < hi:
             raise SceneError.bad_value(scene_name, key, v, f"the {meaning}: a number in ({lo:g}, {hi:g}) {unit}{word}")
         out[k] = float(v)
     side = table.get("side", "right")

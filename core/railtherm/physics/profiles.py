@@ -394,7 +394,7 @@ def uic60(spacing: float = 1.0e-4) -> Profile:
     """The head of rail 60E1 (UIC60, EN 13674-1), upright, from its arcs: both sides of the crown.
 
     Running surface from flank to flank: R300 (|y| <= 10.228 mm), R80 (to |y| = 26.027 mm), R13 down to the
-    1:20 flanks, which end where the R3 fillet under the head begins (z = 36.8 mm below the crown); the
+    1:20 flanks, which end where the R3 fillet under the head begins (35.3 mm below the crown); the
     fillet and the underside turn back and are not a function of y. Origin at the crown, z downwards.
 
     Parameters
