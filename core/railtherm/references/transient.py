@@ -374,7 +374,7 @@ def _as_depth(depth):
 
 
 def pass_response(theta, depth, source: MovingSource, material, schedule: Schedule | None = None,
-                  arrival: float = 0.0, quad_points: int = 8, inner_points: int = 48,
+                  arrival: float = 0.0, quad_points: int = 12, inner_points: int = 48,
                   via_time_integral: bool = False) -> np.ndarray:
     """Temperature rise of the fixed material point under one pass of a moving source.
 
@@ -479,7 +479,7 @@ def _shifted_curve(theta, live, depth, source, material, via_time_integral, opts
 
 def temperature_history(time, depth, source: MovingSource, material, count: int = 1,
                         interval: float | None = None, schedule: Schedule | None = None,
-                        quad_points: int = 8, inner_points: int = 48,
+                        quad_points: int = 12, inner_points: int = 48,
                         via_time_integral: bool = False) -> np.ndarray:
     """Temperature rise history of the fixed material point under ``count`` passes.
 
@@ -544,7 +544,7 @@ def _own_pass(t, k, step, depth_j, source, material, schedule, opts):
 
 def pass_summary(depth, source: MovingSource, material, count: int = 1, interval: float | None = None,
                  schedule: Schedule | None = None, samples_per_contact: int = 40, tail_samples: int = 40,
-                 quad_points: int = 8, inner_points: int = 48, refine: bool = True) -> PassSummary:
+                 quad_points: int = 12, inner_points: int = 48, refine: bool = True) -> PassSummary:
     """Per-pass peak rise and residual rise of the fixed material point.
 
     The history is sampled on :func:`history_time_axis`; each pass's largest sample is then refined
