@@ -28,7 +28,8 @@ xi = a - V t' the point's position relative to the source centre at emission. In
   centred on the centre line, y' = b sin(psi)) by Gauss-Legendre over its window |y'| <= 6.5 s;
 * Hertz ellipse: the y' integral in closed form,
   ``int_{-c}^{c} sqrt(c^2 - y^2) exp(-y^2/s^2) dy = (pi c^2/2) [I0e(w) + I1e(w)]``, w = c^2/(2 s^2)
-  (Gradshteyn & Ryzhik 3.387), the x' integral (x' = -a cos(phi)) by Gauss-Legendre over the window
+  (y = c sin(theta), then 2 theta = phi and I_n(w) = (1/pi) int_0^pi exp(w cos phi) cos(n phi) dphi,
+  Abramowitz & Stegun 9.6.19), the x' integral (x' = -a cos(phi)) by Gauss-Legendre over the window
   |x' - xi| <= 6.5 s; the Hertz band likewise. The Gaussian's tail beyond 6.5 s is e^-42.
 
 The outer time integral uses u = sqrt(tau) (removes the tau^(-1/2) singularity of the surface point
@@ -51,8 +52,7 @@ References
    10.3 and 10.7. ISBN 978-0198533689
 .. [2] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy. Soc.
    New South Wales 76 (1942) 203-224.
-.. [3] I.S. Gradshteyn, I.M. Ryzhik, Table of Integrals, Series, and Products, 7th ed., Academic Press,
-   2007, 3.387. doi:10.1016/C2009-0-22516-5
+.. [3] M. Abramowitz, I.A. Stegun, Handbook of Mathematical Functions, NBS, 1964, 9.6.19 and 9.7.1.
 """
 from __future__ import annotations
 
