@@ -167,7 +167,8 @@ class Schedule:
 class PassSummary:
     """Per-pass results: ``peak`` [K] and ``peak_time`` [s] of shape (count, depths), the maximum rise
     over [k interval, (k + 1) interval); ``residual`` [K] of shape (count, depths), the rise at
-    (k + 1) interval (just before the next pass; after the last, one interval after it)."""
+    (k + 1) interval left by passes 0 .. k (just before the next pass, without the conduction ahead of
+    the arriving contact, which a 1-D model cannot have; after the last pass, one interval after it)."""
 
     peak: np.ndarray
     peak_time: np.ndarray
@@ -480,7 +481,7 @@ def _shifted_curve(theta, live, depth, source, material, via_time_integral, opts
 def temperature_history(time, depth, source: MovingSource, material, count: int = 1,
                         interval: float | None = None, schedule: Schedule | None = None,
                         quad_points: int = 12, inner_points: int = 48,
-                        via_time_integral: bool = False) -> np.ndarray:
+                        via_time_integral: bool = False, through_pass=None) -> np.ndarray:
     """Temperature rise history of the fixed material point under ``count`` passes.
 
     The response to the schedule's first value (held from t = -inf) is one curve for every pass,
@@ -508,6 +509,8 @@ def temperature_history(time, depth, source: MovingSource, material, count: int 
         See :func:`pass_response`.
     via_time_integral : bool
         See :func:`pass_response`.
+    through_pass : array_like of int or None
+        Per time, the last pass counted [1] (passes after it left out); None: all.
 
     Returns
     -------
@@ -522,6 +525,8 @@ def temperature_history(time, depth, source: MovingSource, material, count: int 
     theta = time[:, None] - step * np.arange(count)[None, :]
     # a pass still further ahead than its upstream reach adds less than e^-45 of its rise: skipped
     live = theta > -(_upstream_reach(0.0, source, kappa) + source.contact_duration)
+    if through_pass is not None:
+        live &= np.arange(count)[None, :] <= np.asarray(through_pass).reshape(-1, 1)
     opts = dict(quad_points=quad_points, inner_points=inner_points)
     const, sched, minus = _split(schedule, via_time_integral)
     out = np.zeros((time.size, depth.size))
@@ -545,7 +550,7 @@ def _own_pass(t, k, step, depth_j, source, material, schedule, opts):
 def pass_summary(depth, source: MovingSource, material, count: int = 1, interval: float | None = None,
                  schedule: Schedule | None = None, samples_per_contact: int = 40, tail_samples: int = 40,
                  quad_points: int = 12, inner_points: int = 48, refine: bool = True) -> PassSummary:
-    """Per-pass peak rise and residual rise of the fixed material point.
+    """Per-pass peak rise and residual rise of the fixed material point (see :class:`PassSummary`).
 
     The history is sampled on :func:`history_time_axis`; each pass's largest sample is then refined
     by a bounded scalar search (Brent, to 1e-7 D) over the two neighbouring sample intervals, with the
@@ -588,7 +593,9 @@ def pass_summary(depth, source: MovingSource, material, count: int = 1, interval
     per = (axis.size - 1) // count
     peak = np.empty((count, depth.size))
     when = np.empty((count, depth.size))
-    residual = hist[per * np.arange(1, count + 1)]
+    # the passes up to k at the next arrival: the arriving pass's forerunning conduction left out
+    residual = temperature_history(interval * np.arange(1, count + 1), depth, source, material, count, interval,
+                                   schedule, **opts, through_pass=np.arange(count))
     d = source.contact_duration
     for k in range(count):
         seg = slice(k * per, (k + 1) * per)
