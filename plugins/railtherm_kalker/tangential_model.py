@@ -47,7 +47,18 @@ def patch_creepages(scene, patch) -> tuple[float, float, float]:
     raise Refused(f"scene {scene.name!r}: no creepage or sliding speed for model 'kalker'")
 
 
-def rolling_operator(x_edges, y_edges, shear_modulus: float, poisson_ratio: float) -> Convolution:
+#: order of the rolling difference by default (:func:`railtherm_kalker.influence.rolling_kernel`): the
+#: second-order upwind difference at the element centre. With CONTACT's first-order difference Kalker's C33 was
+#: +3.8 / +7.6 % off at b/a = 0.3 / 0.2 at level 3 (first order in dx, growing like (a/b)^2 dx / a), with the
+#: second-order one +1.2 / +2.1 %, C11, C22, C23 within 0.6 % with both (docs/kalker.md)
+ROLLING_ORDER = 2
+
+#: the option ``rolling_scheme``: name -> order of the rolling difference
+ROLLING_SCHEMES = {"second-order": 2, "first-order": 1}
+
+
+def rolling_operator(x_edges, y_edges, shear_modulus: float, poisson_ratio: float,
+                     order: int = ROLLING_ORDER) -> Convolution:
     """The rolling influence operator B (slip = w - B p) on a uniform element grid.
 
     Parameters
@@ -56,35 +67,50 @@ def rolling_operator(x_edges, y_edges, shear_modulus: float, poisson_ratio: floa
         Element edges [m] (y_edges None for a line contact).
     shear_modulus, poisson_ratio : float
         Combined G [Pa] and nu [1].
+    order : {1, 2}
+        Order of the upwind rolling difference [1] (:func:`railtherm_kalker.influence.rolling_kernel`; 1 is
+        CONTACT's).
 
     Returns
     -------
     Convolution
-        Components x (and y) [1/Pa].
+        Components x (and y) [1/Pa]. Its :attr:`~railtherm_kalker.influence.Convolution.near` kernels (the cut
+        the local preconditioners invert) are the first-order operator's for either order: the second-order
+        operator is the first-order one times ``(3 - S) / 2`` (S the shift by one element upstream), whose
+        symbol has its real part in [1, 2], so the first-order cut preconditions it well; its own cut to the
+        offsets +1 ... -2 leaves out the offset -3, of the size of +1, and its block LU broke down on elements
+        4 times shorter along x than across (a = 8, b = 4 mm, 64 elements across 2b, m = 4), while the
+        first-order cut converged there in fewer GMRES steps than the first-order operator itself.
     """
     nx = len(x_edges) - 1
     dx = element_size(x_edges)
     if y_edges is None:
-        return _rolling_operator(nx, dx, 1, None, float(shear_modulus), float(poisson_ratio))
+        return _rolling_operator(nx, dx, 1, None, float(shear_modulus), float(poisson_ratio), int(order))
     return _rolling_operator(nx, dx, len(y_edges) - 1, element_size(y_edges), float(shear_modulus),
-                             float(poisson_ratio))
-
+                             float(poisson_ratio), int(order))
 
 
 @functools.lru_cache(maxsize=8)
-def _rolling_operator(nx, dx, ny, dy, shear_modulus, poisson_ratio):
-    """:func:`rolling_operator` of a grid, computed once per grid and material (the solves of a study, a
+def _rolling_operator(nx, dx, ny, dy, shear_modulus, poisson_ratio, order):
+    """:func:`rolling_operator` of a grid, computed once per grid, material and order (the solves of a study, a
     friction loop, the nested grids and a wheelset's patches share it)."""
     if dy is None:
-        k = line_kernel(nx, dx, (1.0 - poisson_ratio) / shear_modulus, extra=1)
-        return Convolution({(0, 0): rolling_kernel(k, dx)}, (nx, 1))
-    k = tangential_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio, extra=1)
-    return Convolution({(0, 0): rolling_kernel(k["xx"], dx), (0, 1): rolling_kernel(k["xy"], dx),
-                        (1, 1): rolling_kernel(k["yy"], dx)}, (nx, ny))
+        k = {"xx": line_kernel(nx, dx, (1.0 - poisson_ratio) / shear_modulus, extra=order)}
+        keys = {(0, 0): "xx"}
+    else:
+        k = tangential_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio, extra=order)
+        keys = {(0, 0): "xx", (0, 1): "xy", (1, 1): "yy"}
+    kernels = {key: rolling_kernel(k[name], dx, order) for key, name in keys.items()}
+    near = None
+    if order != 1:
+        near = {key: rolling_kernel(k[name][order - 1:k[name].shape[0] - order + 1], dx, 1)
+                for key, name in keys.items()}
+    return Convolution(kernels, (nx, ny), near_kernels=near)
 
 
 def solve_patch_tangential(patch, friction, creepages, shear_modulus: float, poisson_ratio: float,
-                           tol: float = TANGENTIAL_TOLERANCE, initial=None, offset: float = 0.0):
+                           tol: float = TANGENTIAL_TOLERANCE, initial=None, offset: float = 0.0,
+                           order: int = ROLLING_ORDER):
     """Solve the steady rolling problem on a patch's grid and pressure.
 
     Parameters
@@ -103,7 +129,10 @@ def solve_patch_tangential(patch, friction, creepages, shear_modulus: float, poi
         Warm start [Pa] (the previous solve of a friction loop on the same patch).
     offset : float
         Rigid slip evaluated at x + offset dx [elements] (0: the element centre; 1/6: CONTACT's steady-state
-        discretisation, see docs/kalker.md). The returned slip is the slip at that evaluation point.
+        discretisation with ``order = 1``, see docs/kalker.md). The returned slip is the slip at that evaluation
+        point.
+    order : {1, 2}
+        Order of the upwind rolling difference [1] (:func:`rolling_operator`).
 
     Returns
     -------
@@ -122,7 +151,7 @@ def solve_patch_tangential(patch, friction, creepages, shear_modulus: float, poi
     else:
         X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
     g = friction * np.clip(p, 0.0, None)
-    sol = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, shear_modulus, poisson_ratio),
+    sol = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, shear_modulus, poisson_ratio, order),
                                   grid.x_edges, grid.y_edges, g, creepages, tol=tol, initial=initial, offset=offset)
     # polish: stick has zero slip, slip has its traction on the bound against the slip (both to the
     # solver's residual already; exact here so that -p . s = mu p |s| holds to round-off)
@@ -158,9 +187,14 @@ class KalkerTangential(TangentialContactModel):
         friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}))
     options = {"tangential_tolerance": Option(TANGENTIAL_TOLERANCE, "tolerance of the tangential solver, "
                                               "max |F| / max(mu p) [1]", minimum=0.0),
+               "rolling_scheme": Option("second-order", "the rolling derivative of the steady-state slip: "
+                                        "'second-order' upwind difference at the element centre, or 'first-order', "
+                                        "CONTACT's (u(x + dx) - u(x)) / dx (docs/kalker.md)",
+                                        choices=tuple(ROLLING_SCHEMES)),
                "slip_offset": Option(0.0, "rigid slip (and so the slip, the traction direction and the frictional "
-                                     "power) evaluated at x + offset dx [elements]; 0: element centre, 1/6: CONTACT's "
-                                     "steady-state discretisation (docs/kalker.md)", minimum=0.0)}
+                                     "power) evaluated at x + offset dx [elements] with the first-order scheme (an "
+                                     "offset other than 0 selects it); 1/6: CONTACT's steady-state discretisation "
+                                     "(docs/kalker.md)", minimum=0.0)}
 
     def compute_tangential(self, scene, patch, level, options):
         xi, eta, phi = patch_creepages(scene, patch)
@@ -174,23 +208,26 @@ class KalkerTangential(TangentialContactModel):
         V = float(scene.speed)
         tol = float(options.get("tangential_tolerance", TANGENTIAL_TOLERANCE))
         off = float(options.get("slip_offset", 0.0))
+        order = 1 if off != 0.0 else ROLLING_SCHEMES[options.get("rolling_scheme", "second-order")]
         law_diag = {}
         if scene.friction_law.kind == "constant":
-            sol, X, Y = solve_patch_tangential(patch, float(scene.friction), (xi, eta, phi), G, nu, tol, offset=off)
+            sol, X, Y = solve_patch_tangential(patch, float(scene.friction), (xi, eta, phi), G, nu, tol, offset=off,
+                                               order=order)
         else:
             # warm start: the previous solve of core's temperature loop on this patch and creepage (this instance
             # serves one run) or of the slip-law iteration
             key = (patch.grid.x_edges.tobytes(), None if patch.b is None else patch.grid.y_edges.tobytes(),
-                   np.asarray(patch.pressure).tobytes(), (xi, eta, phi), G, nu, tol, off)
+                   np.asarray(patch.pressure).tobytes(), (xi, eta, phi), G, nu, tol, off, order)
             warm = self.__dict__.setdefault("_warm", {})
 
             def solve(mu, previous=None):
                 start = previous[0].traction if previous is not None else warm.get(key)
-                out = solve_patch_tangential(patch, mu, (xi, eta, phi), G, nu, tol, initial=start, offset=off)
+                out = solve_patch_tangential(patch, mu, (xi, eta, phi), G, nu, tol, initial=start, offset=off,
+                                             order=order)
                 warm[key] = out[0].traction
                 return out
 
-            b0 = abs(float(rolling_operator(patch.grid.x_edges, patch.grid.y_edges, G, nu).self_coefficient))
+            b0 = abs(float(rolling_operator(patch.grid.x_edges, patch.grid.y_edges, G, nu, order).self_coefficient))
             sol, X, Y, _, law_diag = solve_with_law(scene, patch, solve, b0, V)
         grid = patch.grid
         area = grid.cell_area
@@ -219,6 +256,6 @@ class KalkerTangential(TangentialContactModel):
                 "slip_elements": int(np.count_nonzero(~sol.stick & inside)),
                 "combined_shear_modulus": G, "combined_poisson_ratio": nu,
                 "creepage_longitudinal": xi, "creepage_lateral": eta, "creepage_spin": phi,
-                "local_power": local_power, "global_power": global_power, **law_diag}
+                "local_power": local_power, "global_power": global_power, "rolling_order": order, **law_diag}
         return patch.with_tangential(**fields, body_speed=creep_speeds(V, xi), dissipation=q.reshape(shape),
                                      diagnostics=diag)
