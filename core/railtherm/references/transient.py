@@ -69,7 +69,7 @@ from .jaeger import jaeger_band_temperature
 from .moving_source import moving_source_temperature
 
 __all__ = ["MovingSource", "Schedule", "PassSummary", "history_time_axis", "pass_response",
-           "temperature_history", "pass_summary"]
+           "temperature_history", "pass_summary", "shifted_sum"]
 
 #: half-width of the Gaussian windows of the inner quadratures in units of s = 2 sqrt(kappa tau):
 #: the tail beyond is erfc(6.5) ~ e^-42 / 11
@@ -468,14 +468,64 @@ def history_time_axis(source: MovingSource, count: int = 1, interval: float | No
     return np.concatenate([k * span + offsets[:-1] for k in range(count)] + [[count * span]])
 
 
-def _shifted_curve(theta, live, depth, source, material, via_time_integral, opts):
-    """Constant-factor response at every live (sample, pass) shift, evaluated once per distinct shift."""
-    scale = max(1.0, float(np.max(np.abs(theta[live]))))
-    uniq, inv = np.unique(np.round(theta[live] / scale, 13), return_inverse=True)
-    vals = _constant_part(uniq * scale, depth, source, material, via_time_integral, **opts)
-    out = np.zeros((theta.shape[0], depth.size))
-    np.add.at(out, np.nonzero(live)[0], vals[inv.ravel()])
-    return out
+def shifted_sum(time, count: int, interval: float | None, curve, reach: float = 0.0,
+                through_pass=None) -> np.ndarray:
+    """Sum of one pass's response over passes: ``out(t) = sum_k curve(t - k interval)``, k = 0 .. count - 1.
+
+    Each time is split into its pass index n and phase t - n interval; ``curve`` is evaluated once per
+    (distinct phase, n) and the passes are summed by cumulative sums over n. On an axis whose passes share
+    their offsets (:func:`history_time_axis`) that is (offsets) x (count) evaluations and no
+    (samples) x (count) work at all.
+
+    Parameters
+    ----------
+    time : array_like
+        Times [s].
+    count : int
+        Passes [1].
+    interval : float or None
+        Time between passes [s] (None: one pass).
+    curve : callable
+        Response of one pass arriving at 0, ``curve(theta) -> array (theta.size, m)`` [any unit].
+    reach : float
+        A pass contributes only where t - k interval > -reach [s] (its response ahead of arrival).
+    through_pass : array_like of int or None
+        Per time, the last pass counted [1]; None: all.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (time.size, m).
+    """
+    time = np.atleast_1d(np.asarray(time, dtype=float)).ravel()
+    last = np.full(time.size, count - 1) if through_pass is None else \
+        np.minimum(np.asarray(through_pass, dtype=int).ravel(), count - 1)
+    if interval is None or count == 1:
+        live = (time > -reach) & (last >= 0)
+        first = curve(time[live]) if np.any(live) else np.zeros((0, 1))
+        out = np.zeros((time.size, first.shape[1]))
+        out[live] = first
+        return out
+    step = float(interval)
+    k = np.floor(time / step + 1e-9).astype(int)
+    phase = np.maximum(time - k * step, 0.0)
+    uph, inv = np.unique(np.round(phase / step, 12), return_inverse=True)
+    inv = inv.ravel()
+    uph = uph * step
+    n_lo = -int(math.ceil(reach / step)) - 1
+    n_hi = max(int(k.max()), n_lo)
+    ns = np.arange(n_lo, n_hi + 1)
+    theta = uph[:, None] + step * ns[None, :]
+    live = theta > -reach
+    vals = curve(theta[live])
+    table = np.zeros(theta.shape + (vals.shape[1],))
+    table[live] = vals
+    cum = np.concatenate([np.zeros((uph.size, 1, vals.shape[1])), np.cumsum(table, axis=1)], axis=1)
+    # passes j = 0 .. last: n = k - j from k - last to k, within the table's n range
+    hi = np.clip(k - n_lo + 1, 0, ns.size)
+    lo = np.clip(k - last - n_lo, 0, ns.size)
+    lo = np.minimum(lo, hi)
+    return cum[inv, hi] - cum[inv, lo]
 
 
 def temperature_history(time, depth, source: MovingSource, material, count: int = 1,
@@ -522,21 +572,21 @@ def temperature_history(time, depth, source: MovingSource, material, count: int 
     depth = _as_depth(depth)
     lam, kappa = thermal_properties(material)
     step = 0.0 if interval is None else float(interval)
-    theta = time[:, None] - step * np.arange(count)[None, :]
-    # a pass still further ahead than its upstream reach adds less than e^-45 of its rise: skipped
-    live = theta > -(_upstream_reach(0.0, source, kappa) + source.contact_duration)
-    if through_pass is not None:
-        live &= np.arange(count)[None, :] <= np.asarray(through_pass).reshape(-1, 1)
+    reach = _upstream_reach(0.0, source, kappa) + source.contact_duration
     opts = dict(quad_points=quad_points, inner_points=inner_points)
     const, sched, minus = _split(schedule, via_time_integral)
     out = np.zeros((time.size, depth.size))
-    if const != 0.0 and np.any(live):
-        out += const * _shifted_curve(theta, live, depth, source, material, via_time_integral, opts)
+    if const != 0.0:
+        # a pass still further ahead than its upstream reach adds less than e^-45 of its rise: skipped
+        out += const * shifted_sum(time, count, interval,
+                                   lambda th: _constant_part(th, depth, source, material, via_time_integral, **opts),
+                                   reach=reach, through_pass=through_pass)
     if sched is not None:
+        last = np.full(time.size, count - 1) if through_pass is None else np.asarray(through_pass).ravel()
         for k in range(count):
-            rows = np.nonzero(live[:, k])[0]
+            rows = np.nonzero((time - k * step > -reach) & (k <= last))[0]
             if rows.size:
-                out[rows] += _schedule_part(theta[rows, k], depth, source, material, sched, minus, k * step,
+                out[rows] += _schedule_part(time[rows] - k * step, depth, source, material, sched, minus, k * step,
                                             **opts)
     return out
 
