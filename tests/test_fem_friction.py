@@ -21,7 +21,7 @@ import railtherm
 from railtherm.contract.errors import Refused
 from railtherm.input.scene import load_scene
 from railtherm.physics import equal_temperature_partition
-from railtherm.physics.friction import LOOP_MU_TOLERANCE, SLIP_MU_TOLERANCE, contact_temperature
+from railtherm.physics.friction import LOOP_FORCE_TOLERANCE, LOOP_MU_TOLERANCE, SLIP_MU_TOLERANCE, contact_temperature
 from railtherm.references.carter import carter_normal_load
 from railtherm_fem.coupled import solve_fem
 from railtherm_fem.friction import node_surface_temperatures
@@ -96,8 +96,10 @@ def test_temperature_law_loop_converges_to_mu_of_the_fems_own_contact_temperatur
     sol = fem(TEMP, creepage={"longitudinal": -1e-2})
     d = sol.diagnostics
     dmu = np.array([float(h) for h in d["friction_loop_mu_change"].split(",")])
-    assert d["friction_loop_iterations"] == dmu.size == sol.coupling_iterations and sol.coupling_converged
+    steps = [int(n) for n in d["friction_loop_coupling_iterations"].split(",")]
+    assert d["friction_loop_iterations"] == dmu.size == len(steps) and sol.coupling_converged
     assert dmu[-1] < LOOP_MU_TOLERANCE and np.all(np.diff(np.log(dmu)) < 0)
+    assert float(d["friction_loop_force_change"].split(",")[-1]) < LOOP_FORCE_TOLERANCE
     c = sol.contact
     T = contact_temperature(*node_surface_temperatures(c.x, sol.thermal_grid, sol.theta, 0.0, 0.0))
     law = np.clip(0.3 - 0.15 * T / 5.0, 0.15, 0.3)
@@ -110,6 +112,20 @@ def test_temperature_law_loop_converges_to_mu_of_the_fems_own_contact_temperatur
     assert np.all(c.traction * np.nan_to_num(c.slip) <= 0)
     w = np.gradient(c.x)
     assert sol.frictional_power == pytest.approx(-V * float(np.sum(c.traction * np.nan_to_num(c.slip) * w)), rel=1e-12)
+
+
+def test_the_fems_temperature_law_runs_cores_loop(monkeypatch):
+    """The FEM's Steps 1-4 solve is the solve of core's temperature-friction loop: core's step limit stops it
+    with core's message (a failed run, not converged), and with the limit restored the loop converges in the
+    steps its history records."""
+    from railtherm.contract.errors import SolverError
+    from railtherm.physics.friction import temperature_loop
+    monkeypatch.setattr(temperature_loop, "LOOP_MAX_ITERATIONS", 2)
+    with pytest.raises(SolverError, match=r"model 'fem': the temperature-friction loop did not converge in 2 "
+                                          r"iterations .*history: 1: dmu"):
+        fem(TEMP, creepage={"longitudinal": -1e-2})
+    monkeypatch.undo()
+    assert fem(TEMP, creepage={"longitudinal": -1e-2}).diagnostics["friction_loop_iterations"] > 2
 
 
 def test_slip_law_is_odd_in_the_creepage():

@@ -17,9 +17,10 @@ partition eps (fraction into the wheel): the rail receives (1 - eps) P, the whee
 proportion to the temperature (a positive feedback without physical meaning) and it would be scaled
 by the partition; we apply it as a conductance between the two surfaces, not scaled. The seed's
 temperature-dependent friction factor (1 - k rho c theta / mu) has no value of k in section 4.2; the scene's
-friction law takes its place: a temperature law sets mu per contact node from the surface temperatures of
-this loop, which then also stops on the change of mu; a slip-velocity law is solved with each contact solve
-(:mod:`.friction`).
+friction law takes its place: under a temperature law this Steps 1-4 solve, at fixed mu per contact node,
+is the solve of core's temperature-friction loop
+(:func:`railtherm.physics.friction.iterate_temperature_law`), which iterates the nodes' contact temperature;
+a slip-velocity law is solved with each contact solve (:mod:`.friction`).
 
 Heat partition (:class:`railtherm.physics.partition.HeatPartition`): a given fraction; ``"equal-temperature"``,
 Blok's fraction at the FEM's body speeds, as every method uses it; ``"equal-mean-temperature"``, the FEM's own
@@ -37,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from railtherm import Refused, SolverError
-from railtherm.physics.friction import LOOP_MU_TOLERANCE, contact_temperature
+from railtherm.physics.friction import LOOP_MU_TOLERANCE, LoopStep, contact_temperature, iterate_temperature_law
 from railtherm.physics.partition import HeatPartition
 
 from .contact import ContactSolution, solve_contact, upstream_derivative
@@ -393,7 +394,57 @@ def clear_cache() -> None:
 
 
 def solve_fem(prob: FemProblem) -> FemSolution:
-    """Solve the (coupled) FEM problem: mechanics on a graded mesh, then the Steps 1-4 loop."""
+    """Solve the (coupled) FEM problem: mechanics on a graded mesh, then the Steps 1-4 loop.
+
+    Under a temperature law (with the thermal part), the Steps 1-4 solve at fixed mu per window node is the
+    solve of the one temperature-friction loop, :func:`railtherm.physics.friction.iterate_temperature_law`,
+    on the contact temperature of the window nodes; its history goes into the diagnostics
+    (``friction_loop_*``, comma-separated; ``friction_loop_coupling_iterations``: the Steps 1-4 iterations
+    of each of its solves).
+    """
+    law = prob.friction_law
+    if (prob.thermal and law is not None and law.depends_on_temperature and not prob.frictionless
+            and prob.friction > 0):
+        return _solve_under_temperature_law(prob, law)
+    return _solve_steps(prob)
+
+
+def _solve_under_temperature_law(prob: FemProblem, law) -> FemSolution:
+    """The Steps 1-4 solve with mu = law(T_c) per window node, T_c iterated by core's temperature-friction
+    loop on the window nodes of its first solve (the mesh, and with it the nodes, is the same in every solve;
+    np.interp keeps a node that moved on the loop's points)."""
+    bulk = (prob.wheel.bulk_temperature, prob.rail.bulk_temperature)
+    nodes, steps = {}, []
+
+    def solve(t_in):
+        if "x" in nodes:
+            xs, ts = nodes["x"], np.asarray(t_in, dtype=float)
+            sol = _solve_steps(prob, lambda x: np.interp(x, xs, ts))
+        else:
+            sol = _solve_steps(prob, lambda x: np.full(np.shape(x), float(t_in)))
+        c = sol.contact
+        x = nodes.setdefault("x", c.x.copy())
+        t_out = contact_temperature(*node_surface_temperatures(c.x, sol.thermal_grid, sol.theta, *bulk))
+        steps.append(sol.coupling_iterations)
+        return LoopStep(sol, np.interp(x, c.x, t_out), abs(float(c.tangential_force)),
+                        law.nominal * float(c.normal_force), np.interp(x, c.x, c.pressure) > 0)
+
+    sol, hist = iterate_temperature_law(law, solve, float(contact_temperature(*bulk)), what="model 'fem'")
+    sol.diagnostics.update(friction_loop_iterations=len(hist.mu_change),
+                           friction_loop_mu_change=",".join(f"{h:.3e}" for h in hist.mu_change),
+                           friction_loop_force_change=",".join(f"{h:.3e}" for h in hist.force_change),
+                           friction_loop_mean_mu=",".join(f"{h:.5f}" for h in hist.mean_mu),
+                           friction_loop_max_contact_temperature=",".join(f"{h:.6g}" for h in hist.max_temperature),
+                           friction_loop_coupling_iterations=",".join(str(n) for n in steps),
+                           friction_loop_tolerance=LOOP_MU_TOLERANCE)
+    return sol
+
+
+# one Steps 1-4 solve from mesh set-up to the result, kept in one piece: its stages share the mesh, the
+# window, the thermal grid and the relaxation state, which a split would pass around as a dozen arguments
+def _solve_steps(prob: FemProblem, node_temperature=None) -> FemSolution:
+    """One FEM solve: mechanics on a graded mesh, then the Steps 1-4 loop, with mu of a temperature law from
+    ``node_temperature(x)`` [degC] at the window nodes x (default: that of the bulk temperatures)."""
     t_start = time.perf_counter()
     why = fem_limits(prob)
     if why:
@@ -419,12 +470,13 @@ def solve_fem(prob: FemProblem) -> FemSolution:
     law = prob.friction_law if frictional and prob.friction_law is not None else None
     law = None if law is None or law.kind == "constant" else law
     temperature_law = law is not None and law.depends_on_temperature
-    law_state = {"mu": None, "mu_change": [], "mean_mu": [], "grid": None, "theta": None}
+    law_state = {"mu": None}
+    if node_temperature is None:
+        bulk = float(contact_temperature(prob.wheel.bulk_temperature, prob.rail.bulk_temperature))
+        node_temperature = lambda x: np.full(np.shape(x), bulk)     # noqa: E731
 
     def node_mu(x):
-        t = contact_temperature(*node_surface_temperatures(x, law_state["grid"], law_state["theta"],
-                                                           prob.wheel.bulk_temperature, prob.rail.bulk_temperature))
-        return np.asarray(law.mu(0.0, t), dtype=float)
+        return np.asarray(law.mu(0.0, node_temperature(x)), dtype=float)
 
     def contact(mech, common, W0, U0, initial=None):
         """solve_contact on ``mech`` with mu per node from the law (as before without one)."""
@@ -565,27 +617,18 @@ def solve_fem(prob: FemProblem) -> FemSolution:
                     omega = min(1.0, omega * 1.5) if omega < 1.0 else 1.0
             omegas.append(omega)
             theta = [theta[j] + omega * r[j] for j in range(2)]
-            law_state.update(grid=grid, theta=theta)
             r_prev = r
             coupling_residual = history[-1]
             expansion = bool(prob.rail.thermal_expansion or (mech.wheel is not None and prob.wheel.thermal_expansion))
-            one_way = not expansion and not temperature_law
+            one_way = not expansion
             if one_way:
-                # nothing couples back (no thermal expansion, friction independent of temperature): T(theta)
-                # does not depend on theta, so one pass is the fixed point and its residual is exactly 0
+                # nothing couples back (no thermal expansion; mu is fixed during these steps): T(theta) does
+                # not depend on theta, so one pass is the fixed point and its residual is exactly 0
                 coupling_residual = 0.0
-            mu_ok = True
-            if temperature_law:      # mu per node from the relaxed temperatures; stop only when mu settles too
-                used = law_state["mu"]
-                mu_next = node_mu(mech.x)
-                on = sol.pressure > 0
-                law_state["mu_change"].append(float(np.max(np.abs(mu_next - used)[on], initial=0.0)))
-                law_state["mean_mu"].append(float(np.mean(used[on])) if on.any() else float(prob.friction))
-                mu_ok = law_state["mu_change"][-1] < LOOP_MU_TOLERANCE
-            if (history[-1] <= prob.coupling_tolerance and mu_ok) or one_way:
+            if history[-1] <= prob.coupling_tolerance or one_way:
                 converged = True
                 break
-            # Step 2: contact with the thermal expansion of theta^{k+1} (and mu of its temperatures)
+            # Step 2: contact with the thermal expansion of theta^{k+1}
             W0 = U0 = None
             if expansion:
                 if operators is None:
@@ -619,19 +662,14 @@ def solve_fem(prob: FemProblem) -> FemSolution:
 
 
 def fem_law_diagnostics(law, state) -> dict:
-    """Diagnostics of the friction law (empty without one): the slip law's outer iteration, or the
-    temperature law's change of mu per Steps 1-4 iteration (comma-separated, as ``coupling_history``)."""
+    """Diagnostics of the friction law (empty without one): its kind and the slip law's outer iteration
+    (the temperature law's loop adds its own, :func:`solve_fem`)."""
     if law is None:
         return {}
     out = {"friction_law": law.kind}
     if law.depends_on_slip and "slip_history" in state:
         out.update(friction_iterations=len(state["slip_history"]), friction_contraction=float(state["kappa"]),
                    friction_mu_change=",".join(f"{h:.3e}" for h in state["slip_history"]))
-    if law.depends_on_temperature:
-        out.update(friction_loop_iterations=len(state["mu_change"]),
-                   friction_loop_mu_change=",".join(f"{h:.3e}" for h in state["mu_change"]),
-                   friction_loop_mean_mu=",".join(f"{h:.5f}" for h in state["mean_mu"]),
-                   friction_loop_tolerance=LOOP_MU_TOLERANCE)
     return out
 
 

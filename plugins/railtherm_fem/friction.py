@@ -6,8 +6,8 @@ node by node:
 * a temperature law: mu at the node's contact temperature
   (:func:`railtherm.physics.friction.contact_temperature` of the wheel's and the rail's surface temperature,
   bulk + rise of the FEM's own thermal layer at z = 0, interpolated to the node: :func:`node_surface_temperatures`),
-  updated in the Steps 1-4 loop of :mod:`.coupled` after every thermal solve, which then also stops on the
-  change of mu (:data:`railtherm.physics.friction.LOOP_MU_TOLERANCE`) and records its history;
+  iterated by core's temperature-friction loop around the Steps 1-4 solve of :mod:`.coupled`
+  (:func:`railtherm.physics.friction.iterate_temperature_law`, its tolerances and history);
 * a slip-velocity law (exponential or Polach's): mu(v) with v = V |s| the node's own slip speed, by core's
   monotone outer iteration around the contact solve (:func:`railtherm.physics.friction.iterate_slip_law`,
   its tolerance :data:`~railtherm.physics.friction.SLIP_MU_TOLERANCE`). The iteration contracts when
