@@ -1,4 +1,4 @@
-"""FASTSIM under friction laws (issue 15): mu cell by cell from the scene's law.
+"""FASTSIM under friction laws: mu cell by cell from the scene's law.
 
 References and tolerances:
 
@@ -71,7 +71,7 @@ def _model_patch(friction, creep, temperature=None, level=1):
 @pytest.mark.parametrize("creep", [{"longitudinal": -1e-3}, {"longitudinal": -2e-3, "lateral": 1e-3, "spin": 0.3},
                                    {"longitudinal": -0.05}])
 def test_constant_law_is_the_float_path_bit_for_bit(creep):
-    """The model with ``friction = 0.3`` equals fastsim() called with the float mu, as before the laws."""
+    """The model with ``friction = 0.3`` equals fastsim() called with the float mu."""
     from railtherm import combined_elastic
     from railtherm_fastsim.simplified_theory import fastsim
     sc, patch, pt = _model_patch(0.3, creep)

@@ -1,7 +1,6 @@
-"""The FEM under friction laws (issue 15): mu per contact node from the scene's law.
+"""The FEM under friction laws: mu per contact node from the scene's law.
 
-References and tolerances: a temperature law with no change equals constant friction (rtol 1e-12; the
-constant law itself was checked bit for bit against the previous code when the change was made, 8 solves);
+References and tolerances: a temperature law with no change equals constant friction (rtol 1e-12);
 full sliding under the slip law gives mu(v_s) N (the elastic slip is < 1e-4 of v_s here) and every slipping
 node carries mu(V |s|) p to the outer iteration's tolerance; the temperature law's fixed point is mu = law(T)
 node by node with T the FEM's own contact temperature (to the loop's mu tolerance); friction opposes the slip
@@ -11,8 +10,6 @@ Small: level 0 (surface spacing a/10), ~1 s per solve.
 Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest -q tests/test_fem_friction.py``
 """
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import pytest

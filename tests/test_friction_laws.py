@@ -1,4 +1,4 @@
-"""Friction laws (issue 15): the scene vocabulary, the laws' formulas, core's full-sliding model under each
+"""Friction laws: the scene vocabulary, the laws' formulas, core's full-sliding model under each
 law, and core's coupled temperature-friction loop (railtherm.solving.friction_loop) on the green chain.
 
 References: the laws' own definitions (Polach 2005, doi:10.1016/j.wear.2004.03.046, eq. 6; CONTACT's

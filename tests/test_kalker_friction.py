@@ -1,4 +1,4 @@
-"""Plugin "kalker" under friction laws (issue 15): mu per element from the scene's law.
+"""Plugin "kalker" under friction laws: mu per element from the scene's law.
 
 References: the laws' definitions (railtherm.physics.friction); in full slip every element slips at nearly
 the rigid slip speed V |xi|, so |F| -> mu(V |xi|) N; a temperature law with no change equals constant

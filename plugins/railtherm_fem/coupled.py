@@ -479,7 +479,7 @@ def _solve_steps(prob: FemProblem, node_temperature=None) -> FemSolution:
         return np.asarray(law.mu(0.0, node_temperature(x)), dtype=float)
 
     def contact(mech, common, W0, U0, initial=None):
-        """solve_contact on ``mech`` with mu per node from the law (as before without one)."""
+        """solve_contact on ``mech`` with mu per node from the law (the constant mu without one)."""
         def run(mu, init):
             return solve_contact(mech.x, mech.w, mech.h0, *mech.blocks, W0=W0, U0=U0, initial=init,
                                  **{**common, "friction": mu})
