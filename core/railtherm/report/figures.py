@@ -172,9 +172,9 @@ def work_precision(panels: list[Panel], palette: Palette, tol: float | None, *, 
     """Small multiples: headline error (x) against wall time (y), log-log, one panel per scene."""
     from matplotlib.lines import Line2D
     n = len(panels)
-    ncol = min(4, n)
+    ncol = min(5, n)          # five across keeps a 20-scene study at four rows on one screen width
     nrow = math.ceil(n / ncol)
-    fig = figure(10.0, 2.05 * nrow + 0.8)
+    fig = figure(10.0, 1.9 * nrow + 0.8)
     axes = np.atleast_1d(fig.subplots(nrow, ncol, squeeze=False)).ravel()
     used_self = used_hollow = used_zero = False
     drawn = set()
@@ -219,9 +219,9 @@ def work_precision(panels: list[Panel], palette: Palette, tol: float | None, *, 
         ax.tick_params(labelsize=7.5)
     for ax in axes[n:]:
         ax.set_visible(False)
-    for ax in axes[:n]:
-        if ax.get_subplotspec().is_last_row() or not axes[min(n - 1, list(axes).index(ax) + ncol)].get_visible():
-            ax.set_xlabel("relative error of the headline quantity [1]", fontsize=8)
+    for i, ax in enumerate(axes[:n]):
+        if i + ncol >= n:              # nothing below it: the bottom of its column
+            ax.set_xlabel("headline error [1]", fontsize=8)
         if ax.get_subplotspec().is_first_col():
             ax.set_ylabel("wall time [s]", fontsize=8)
     handles = [Line2D([], [], **{**palette.style(m), "ls": palette.line(m)}, label=m) for m in methods if m in drawn]

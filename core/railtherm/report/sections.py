@@ -422,15 +422,17 @@ def sweep_section(doc: Document, ctx: Context, idx: int, group: SweepGroup, anch
             text = "not finite" if err == math.inf else pct(err, signed=True) if finite(err) else ""
             row.append(Cell(num(val, 4) + (f" ({text})" if text else ""), status))
         rows.append(row)
-    doc.table(f"{what} of each method's finest successful level over the sweep, its error against the "
-              "reference in brackets (cell colour: status of that level).",
-              [key] + (["exact"] if ref_col else []) + methods, rows)
     if series.values:
         ctx.draw(doc, f"{idx:03d}-sweep-{slug(group.label)}", f"Sweep `{group.label}`: {what} against "
                  f"{key} (left) and its relative error (right), each method at its finest successful level"
                  + ("; the exact curve as a grey band" if series.reference and not series.reference[3] else
                     "; Kalker's linear theory dashed" if series.reference else "") + ".",
                  F.sweep, series, ctx.palette, data.tolerance, group.label, methods=methods)
+    # the figure shows these values; the table is the detail behind it
+    with doc.details(f"{what} over the sweep as a table ({len(rows)} rows)"):
+        doc.table(f"{what} of each method's finest successful level over the sweep, its error against the "
+                  "reference in brackets (cell colour: status of that level).",
+                  [key] + (["exact"] if ref_col else []) + methods, rows)
     if creep and data.curves is None:
         doc.paragraph("The exact creep-force curve is not drawn: `references.nc` is missing from the output folder.",
                       note=True)

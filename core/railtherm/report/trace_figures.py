@@ -141,7 +141,7 @@ def _in_depth(fig, finest: dict, curve, body: int, palette: Palette, bulk: float
 def trace(finest: dict, curve, body: int, palette: Palette, title: str, *, path: Path, bulk: float = 0.0):
     """The thermal trace of one body in one figure: along x on the surface and at depth z* (top), and in
     depth: rise at the hottest point, peak rise per depth and the cooling rate after it (bottom)."""
-    fig = figure(10, 5.4)
+    fig = figure(10, 4.7)
     top, bottom = fig.subfigures(2, 1, height_ratios=[1.0, 1.15])
     handles = _along_x(top, finest, curve, body, palette, bulk)
     _in_depth(bottom, finest, curve, body, palette, bulk)
