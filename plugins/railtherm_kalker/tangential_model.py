@@ -53,6 +53,12 @@ def patch_creepages(scene, patch) -> tuple[float, float, float]:
 #: second-order one +1.2 / +2.1 %, C11, C22, C23 within 0.6 % with both (docs/kalker.md)
 ROLLING_ORDER = 2
 
+#: the second-order operator's preconditioner cut is the first-order operator's near kernels times this [1]
+#: (:func:`rolling_operator`): the factor (3 - S) / 2 between the two operators is between 1 and 2. GMRES steps
+#: (E&K ellipse, nested, combined / longitudinal creepage) at 100^2: 105 / 98 unscaled, 100 / 88 at 5/4,
+#: 101 / 87 at 3/2 (first-order operator: 88 / 85); at 200^2: 142 / 161, 140 / 123, 147 / 128 (135 / 122)
+SECOND_ORDER_CUT_SCALE = 1.25
+
 #: the option ``rolling_scheme``: name -> order of the rolling difference
 ROLLING_SCHEMES = {"second-order": 2, "first-order": 1}
 
@@ -75,7 +81,8 @@ def rolling_operator(x_edges, y_edges, shear_modulus: float, poisson_ratio: floa
     -------
     Convolution
         Components x (and y) [1/Pa]. Its :attr:`~railtherm_kalker.influence.Convolution.near` kernels (the cut
-        the local preconditioners invert) are the first-order operator's for either order: the second-order
+        the local preconditioners invert) are the first-order operator's for either order (times
+        :data:`SECOND_ORDER_CUT_SCALE` for the second order): the second-order
         operator is the first-order one times ``(3 - S) / 2`` (S the shift by one element upstream), whose
         symbol has its real part in [1, 2], so the first-order cut preconditions it well; its own cut to the
         offsets +1 ... -2 leaves out the offset -3, of the size of +1, and its block LU broke down on elements
@@ -103,7 +110,7 @@ def _rolling_operator(nx, dx, ny, dy, shear_modulus, poisson_ratio, order):
     kernels = {key: rolling_kernel(k[name], dx, order) for key, name in keys.items()}
     near = None
     if order != 1:
-        near = {key: rolling_kernel(k[name][order - 1:k[name].shape[0] - order + 1], dx, 1)
+        near = {key: SECOND_ORDER_CUT_SCALE * rolling_kernel(k[name][order - 1:k[name].shape[0] - order + 1], dx, 1)
                 for key, name in keys.items()}
     return Convolution(kernels, (nx, ny), near_kernels=near)
 
