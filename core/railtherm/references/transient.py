@@ -284,23 +284,35 @@ def _upstream_reach(theta, src, kappa):
     return (c + math.sqrt(c * c + 4.0 * v2 * c * th)) / (2.0 * v2)
 
 
-def _time_integral(theta, z, src, kappa, factor, start, breaks, n, nx):
-    """int_{start}^{theta} factor(t') K(theta - t', t') dt' [K per (q/(rho c))], u = sqrt(theta - t').
+def _far(p, q, theta, z, src, kappa):
+    """True when every emission in [p, q] (times after arrival) reaches the point with a Gaussian factor
+    exp(-(d^2 + z^2)/(4 kappa tau)) < e^-_FAR: d the distance from the point to the nearest source edge,
+    at least V (p - D) after departure or V (-q) before arrival, tau <= theta - p."""
+    d = src.speed * max(p - src.contact_duration, -q, 0.0)
+    return d * d + z * z > 4.0 * kappa * (theta - p) * _FAR
 
-    ``factor`` is a callable of the emission time relative to the pass's arrival; ``breaks`` the times
-    where it has kinks."""
+
+def _time_integral(theta, z, src, kappa, factor, start, breaks, n, nx, stop=math.inf):
+    """int_{start}^{min(stop, theta)} factor(t') K(theta - t', t') dt' [K per (q/(rho c))], u = sqrt(theta - t').
+
+    ``factor`` is a callable of the emission time relative to the pass's arrival, zero outside
+    [start, stop]; ``breaks`` the times where it has kinks. Pieces whose emissions are all too far from
+    the point (:func:`_far`) are left out."""
     lo = max(start, -_upstream_reach(theta, src, kappa))
-    if lo >= theta:
+    hi = min(stop, theta)
+    if lo >= hi:
         return 0.0
-    pts = [lo, theta]
-    pts += [b for b in breaks if lo < b < theta]
+    pts = [lo, hi]
+    pts += [b for b in breaks if lo < b < hi]
     for b in (0.0, src.contact_duration, theta - z * z / (4.0 * kappa)):
-        if lo < b < theta:
+        if lo < b < hi:
             pts.append(b)
     pts = np.unique(pts)
     t, w = two_sided_rule(int(n))
     total = 0.0
     for p, q in zip(pts[:-1], pts[1:]):
+        if _far(p, q, theta, z, src, kappa):
+            continue
         u1, u2 = math.sqrt(theta - q), math.sqrt(theta - p)
         u = u1 + (u2 - u1) * t
         te = theta - u * u
@@ -353,17 +365,24 @@ def _constant_part(theta, depth, source, material, via_time_integral, quad_point
 def _schedule_part(theta, depth, source, material, schedule, minus, arrival, quad_points, inner_points):
     """Rise [K] of one pass arriving at ``arrival`` due to the factor f(t) - minus, integrated in time."""
     lam, kappa = thermal_properties(material)
-    start = schedule.time[0] - arrival if minus != 0.0 else -math.inf
+    times = np.asarray(schedule.time)
+    nonzero = np.nonzero(np.asarray(schedule.factor) != minus)[0]
+    if nonzero.size == 0:
+        return np.zeros((theta.size, depth.size))
+    # f - minus is zero before the time preceding its first nonzero value, and (when f ends at minus)
+    # after the time following its last
+    start = -math.inf if nonzero[0] == 0 else times[nonzero[0] - 1] - arrival
+    stop = times[nonzero[-1] + 1] - arrival if nonzero[-1] + 1 < times.size else math.inf
 
     def factor(te):
         return schedule(te + arrival) - minus
-    breaks = tuple(t - arrival for t in schedule.time)
+    breaks = tuple(times - arrival)
     out = np.zeros((theta.size, depth.size))
     scale = source.flux * kappa / lam
     for i, th in enumerate(theta):
         for j, z in enumerate(depth):
             out[i, j] = scale * _time_integral(th, z, source, kappa, factor, start, breaks, quad_points,
-                                               inner_points)
+                                               inner_points, stop)
     return out
 
 
