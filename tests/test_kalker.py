@@ -250,7 +250,8 @@ def test_linear_theory_small_creepage(creep, coef):
 @pytest.mark.slow
 def test_linear_theory_finest_default_level():
     """C11, C22, C23, C33 at level 3 (128 x 128 elements on the patch) against core's table (1 %).
-    Measured: +0.48, +0.57, +0.01, +0.64 % (+0.30, +0.38, +0.18, +0.19 % at 256 elements)."""
+    Measured: -0.07, -0.01, -0.04, -0.45 % (CONTACT's first-order rolling difference: +0.48, +0.57, +0.01,
+    +0.64 %, and +0.30, +0.38, +0.18, +0.19 % at 256 elements)."""
     sc = ek_scene()
     a, b = 5.88e-3, 10.54e-3
     c11, c22, c23, c33 = kalker_coefficients(a, b, NU)
@@ -272,13 +273,13 @@ def test_finest_default_level_other_ellipses(a, b):
     does): C11, C22 and C23 (from Fy(phi) and from Mz(eta)) within 1 %, C33 within 3 %; and the
     frictional power (local, sum of mu p |v_s| dA, the heat source's) within 3 % of the global
     -V (xi Fx + eta Fy + phi Mz) at creepage (-2e-3, 1e-3, 0.2 1/m), mu = 0.3 (equal in the continuum).
-    Measured: b/a = 0.5: C11 +0.12, C22 +0.31, C23 +0.17 / +0.06, C33 +1.53 %, power -0.52 %;
-    b/a = 1: +0.13, +0.26, -0.27 / -0.28, +0.55 %, power -2.40 %; b/a = 2: +0.62, +0.56, -0.19 / -0.24,
-    +1.39 %, power -2.56 %. (Square elements, m = 1, gave C33 +4.7 % at b/a = 0.5 and power -4.75 % at
-    b/a = 1.) Not asserted, at b/a = 0.25 (m = 4): C11 -1.5, C22 -1.6, C23 -4.7, C33 +5.3 % (+3.5 % with
-    m = 8) against the table interpolated linearly between its rows 0.2 and 0.3 (a power law in b/a
-    through those rows gives C11 1.5 % and C23 4.4 % below the linear interpolation); at the row 0.3
-    itself +0.25, +0.59, -0.04, +3.8 % (C33 +2.5 % with m = 8)."""
+    Measured (default second-order rolling difference): b/a = 0.5: C11 -0.04, C22 +0.15, C23 +0.16 / +0.06,
+    C33 +0.39 %, power -0.00 %; b/a = 1: -0.16, -0.05, -0.28 / -0.29, -0.35 %, power -0.04 %; b/a = 2: +0.08,
+    -0.02, -0.24 / -0.29, +0.35 %, power -0.05 %. CONTACT's first-order difference (option rolling_scheme):
+    b/a = 0.5: +0.12, +0.31, +0.17 / +0.06, +1.53 %, power -0.52 %; b/a = 1: +0.13, +0.26, -0.27 / -0.28,
+    +0.55 %, power -2.40 %; b/a = 2: +0.62, +0.56, -0.19 / -0.24, +1.39 %, power -2.56 % (square elements,
+    m = 1, gave C33 +4.7 % at b/a = 0.5 and power -4.75 % at b/a = 1). Longer patches (b/a = 0.2 ... 0.3):
+    tests/test_kalker_long_patches.py."""
     sc = load_scene(canonical("ellipse-creepage", normal_force=100e3, contact={"shape": "ellipse",
                                                                                 "semi_axes": [a, b]}))
     c11, c22, c23, c33 = kalker_coefficients(a, b, NU)
