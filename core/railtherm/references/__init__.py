@@ -14,8 +14,10 @@ jaeger
     Jaeger's moving band heat source on a half-plane at any Péclet number.
 moving_source
     Moving elliptical surface heat source on a half-space at any Péclet number.
+transient_pass
+    One pass of a moving band/ellipse source over a fixed material point (exact fixed-frame integrals).
 transient
-    Fixed-frame temperature history under moving band/ellipse sources: passes, heat-input schedule.
+    Histories under repeated passes with a heat-input schedule: superposition, pass peaks, residuals.
 
 Import the submodule you need, e.g. ``from railtherm.references.hertz import hertz_from_curvatures``;
 submodules are loaded lazily on attribute access (``railtherm.references.hertz``).
@@ -24,7 +26,7 @@ from __future__ import annotations
 
 import importlib
 
-_SUBMODULES = ("hertz", "kalker", "carter", "flash", "jaeger", "moving_source", "transient")
+_SUBMODULES = ("hertz", "kalker", "carter", "flash", "jaeger", "moving_source", "transient_pass", "transient")
 __all__ = list(_SUBMODULES)
 
 

@@ -1,0 +1,427 @@
+"""One pass of a moving surface source over a fixed material point of a half-space: exact fixed-frame rise.
+
+A surface heat source (a 2-D band |x - x_c| <= a, or a 3-D ellipse ((x - x_c)/a)^2 + (y/b)^2 <= 1) moves
+with speed V in +x over the half-space z >= 0 (conductivity lambda, diffusivity kappa, rho c =
+lambda/kappa; the free surface is insulated outside the source). The observed material point sits at
+the fixed section x = 0, on the centre line y = 0, at depth z. The source's leading edge reaches the
+section at time 0 (centre x_c(t) = V t - a), so the point lies under the source for 0 <= t <= D,
+``D = 2 a / V`` (the contact duration). The flux is ``f(t) q(x - x_c, y)``: a shape q (uniform, or
+Hertzian ``q0 sqrt(1 - ((x - x_c)/a)^2 [- (y/b)^2]``) times a heat-input schedule f(t) (piecewise
+linear, constant end values outside the given times). The source exists for all times (it comes from
+far upstream and goes far downstream); a schedule that is 0 at both ends gives a finite heat input.
+
+Passes (:mod:`.transient`) shift this response: pass k arrives at k interval, the schedule staying in
+the time of the whole history (``arrival``).
+
+Fixed-frame integral (Carslaw & Jaeger 1959, 10.2-10.3: instantaneous line and point sources on the
+insulated surface, doubled by the image), with tau = t - t' and s = 2 sqrt(kappa tau):
+
+* band: ``T = 1/(rho c) int f(t') 2/(pi s^2) exp(-z^2/s^2) int q(x') exp(-(xi - x')^2/s^2) dx' dt'``,
+* ellipse: ``T = 1/(rho c) int f(t') 2/(pi^(3/2) s^3) exp(-z^2/s^2) int int q exp(-((xi - x')^2 + y'^2)/s^2)
+  dx' dy' dt'``,
+
+xi = a - V t' the point's position relative to the source centre at emission. Inner integrals:
+
+* uniform band: closed form, ``int = (s sqrt(pi)/2) [erf((xi + a)/s) - erf((xi - a)/s)]``;
+* uniform ellipse: the x' integral in closed form (erf) on each chord, the y' integral (a Gaussian
+  centred on the centre line, y' = b sin(psi)) by Gauss-Legendre over its window |y'| <= 6.5 s;
+* Hertz ellipse: the y' integral in closed form,
+  ``int_{-c}^{c} sqrt(c^2 - y^2) exp(-y^2/s^2) dy = (pi c^2/2) [I0e(w) + I1e(w)]``, w = c^2/(2 s^2)
+  (y = c sin(theta), then 2 theta = phi and I_n(w) = (1/pi) int_0^pi exp(w cos phi) cos(n phi) dphi,
+  Abramowitz & Stegun 9.6.19), the x' integral (x' = -a cos(phi)) by Gauss-Legendre over the window
+  |x' - xi| <= 6.5 s; the Hertz band likewise. The Gaussian's tail beyond 6.5 s is e^-42.
+
+The outer time integral uses u = sqrt(tau) (removes the tau^(-1/2) singularity of the surface point
+under the source: the integrand becomes bounded), split at the pass's edges (t' = 0, D), the
+schedule's times and the depth layer tau = z^2/(4 kappa), each piece by a composite Gauss-Legendre rule
+geometrically graded toward both ends (hp-quadrature, :mod:`._quadrature`), which resolves the boundary
+layers of any width at the edges; the error decays exponentially with the points per panel (see
+tests/test_references_transient.py). Emission times so far upstream that exp(-d^2/(4 kappa tau)) <
+e^-45 (d the distance to the source's leading edge) are left out.
+
+A constant factor (the schedule's first value, which holds from t = -inf) gives the steady moving
+field swept past the point, ``T(t) = T_steady(a - V t, 0, z)``, evaluated by the steady references
+(:mod:`.jaeger`, :mod:`.moving_source`); only the schedule's departure from it, ``f - f(-inf)``, is
+integrated in time. ``via_time_integral=True`` integrates everything in time (the check of the two
+routes against each other is a test).
+
+References
+----------
+.. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, sections 10.2,
+   10.3 and 10.7. ISBN 978-0198533689
+.. [2] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy. Soc.
+   New South Wales 76 (1942) 203-224.
+.. [3] M. Abramowitz, I.A. Stegun, Handbook of Mathematical Functions, NBS, 1964, 9.6.19 and 9.7.1.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.special import erf, erfc, ive
+
+from ._quadrature import two_sided_rule
+from .flash import thermal_properties
+from .jaeger import jaeger_band_temperature
+from .moving_source import moving_source_temperature
+
+__all__ = ["MovingSource", "Schedule", "pass_response", "upstream_reach"]
+
+#: half-width of the Gaussian windows of the inner quadratures in units of s = 2 sqrt(kappa tau):
+#: the tail beyond is erfc(6.5) ~ e^-42 / 11
+_WINDOW = 6.5
+#: emission left out where the Gaussian factor exp(-d^2/(4 kappa tau)) is below e^-_FAR
+_FAR = 45.0
+_SQRT_PI = math.sqrt(math.pi)
+
+
+@dataclass(frozen=True)
+class MovingSource:
+    """A surface heat source moving in +x over a half-space.
+
+    Parameters
+    ----------
+    kind : {"band", "ellipse"}
+        2-D band (per unit length in y) or 3-D ellipse.
+    half_width : float
+        Semi-axis a along the motion [m].
+    speed : float
+        Speed V of the source relative to the body [m/s], > 0.
+    flux : float
+        Flux into the body [W/m^2]: the uniform value, or the peak q0 of the Hertzian shape.
+    shape : {"uniform", "hertz"}
+        Flux distribution.
+    semi_axis_b : float or None
+        Lateral semi-axis b of the ellipse [m] (ellipse only).
+    """
+
+    kind: str
+    half_width: float
+    speed: float
+    flux: float = 1.0
+    shape: str = "uniform"
+    semi_axis_b: float | None = None
+
+    def __post_init__(self):
+        if self.kind not in ("band", "ellipse"):
+            raise ValueError(f"kind must be 'band' or 'ellipse', got {self.kind!r}")
+        if self.shape not in ("uniform", "hertz"):
+            raise ValueError(f"shape must be 'uniform' or 'hertz', got {self.shape!r}")
+        if not (self.half_width > 0 and math.isfinite(self.half_width)):
+            raise ValueError(f"half_width must be a positive number [m], got {self.half_width!r}")
+        if not (self.speed > 0 and math.isfinite(self.speed)):
+            raise ValueError(f"speed must be a positive number [m/s], got {self.speed!r}")
+        if self.kind == "ellipse" and not (self.semi_axis_b is not None and self.semi_axis_b > 0):
+            raise ValueError(f"an ellipse needs semi_axis_b > 0 [m], got {self.semi_axis_b!r}")
+
+    @property
+    def contact_duration(self) -> float:
+        """Time D = 2 a / V a material point spends under the source [s]."""
+        return 2.0 * self.half_width / self.speed
+
+
+@dataclass(frozen=True)
+class Schedule:
+    """Piecewise-linear heat-input factor f(t) [1]; before the first and after the last time it keeps
+    its end values.
+
+    Parameters
+    ----------
+    time : sequence of float
+        Strictly increasing times [s] (time 0: the first pass's leading edge reaches the section).
+    factor : sequence of float
+        Factors >= 0 at those times [1].
+    """
+
+    time: tuple
+    factor: tuple
+
+    def __post_init__(self):
+        t = np.asarray(self.time, dtype=float)
+        f = np.asarray(self.factor, dtype=float)
+        if t.ndim != 1 or t.size < 1 or t.shape != f.shape:
+            raise ValueError("schedule time and factor must be 1-D sequences of the same length >= 1")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(f))):
+            raise ValueError("schedule time and factor must be finite")
+        if np.any(np.diff(t) <= 0):
+            raise ValueError(f"schedule time must be strictly increasing, got {tuple(t)}")
+        if np.any(f < 0):
+            raise ValueError(f"schedule factor must be >= 0, got {tuple(f)}")
+        object.__setattr__(self, "time", tuple(float(v) for v in t))
+        object.__setattr__(self, "factor", tuple(float(v) for v in f))
+
+    def __call__(self, t):
+        """f(t) [1]."""
+        return np.interp(t, self.time, self.factor)
+
+    @property
+    def is_constant(self) -> bool:
+        return len(set(self.factor)) == 1
+
+
+# ------------------------------------------------------------------------------------------------
+# inner (space) integrals at given emission times, in the variable u = sqrt(tau)
+# ------------------------------------------------------------------------------------------------
+def _erf_diff(hi, lo):
+    """erf(hi) - erf(lo) for hi >= lo without cancellation in the tails."""
+    with np.errstate(invalid="ignore"):
+        return np.where(lo > 0, erfc(lo) - erfc(hi), np.where(hi < 0, erfc(-hi) - erfc(-lo), erf(hi) - erf(lo)))
+
+
+def _band_uniform(xi, s, src, nx):
+    """(1/s) int_{-a}^{a} exp(-(xi - x')^2/s^2) dx' [1]."""
+    a = src.half_width
+    return 0.5 * _SQRT_PI * _erf_diff((xi + a) / s, (xi - a) / s)
+
+
+def _gl(nx):
+    x, w = np.polynomial.legendre.leggauss(int(nx))
+    return (x + 1.0) / 2.0, w / 2.0
+
+
+def _x_window(xi, s, a):
+    """phi-window (x' = -a cos phi) of the Gaussian exp(-(xi - x')^2/s^2) on [-a, a]; empty where lo >= hi."""
+    lo = np.clip(xi - _WINDOW * s, -a, a)
+    hi = np.clip(xi + _WINDOW * s, -a, a)
+    return np.arccos(-lo / a), np.arccos(-hi / a)
+
+
+def _band_hertz(xi, s, src, nx):
+    """(1/s) int_{-a}^{a} sqrt(1 - x'^2/a^2) exp(-(xi - x')^2/s^2) dx' [1] (x' = -a cos phi)."""
+    a = src.half_width
+    p1, p2 = _x_window(xi, s, a)
+    t, w = _gl(nx)
+    phi = p1[:, None] + (p2 - p1)[:, None] * t[None, :]
+    sp = np.sin(phi)
+    g = sp * sp * a * np.exp(-((xi[:, None] + a * np.cos(phi)) / s[:, None]) ** 2)
+    return (g @ w) * np.maximum(p2 - p1, 0.0) / s
+
+
+def _ellipse_uniform(xi, s, src, nx):
+    """(1/s^2) int int_ellipse exp(-((xi - x')^2 + y'^2)/s^2) dx' dy' [1]: x' in closed form, y' = b sin psi."""
+    a, b = src.half_width, src.semi_axis_b
+    top = np.arcsin(np.minimum(1.0, _WINDOW * s / b))
+    t, w = _gl(nx)
+    psi = top[:, None] * t[None, :]
+    y = b * np.sin(psi)
+    cx = a * np.cos(psi)
+    sc = s[:, None]
+    g = np.exp(-(y / sc) ** 2) * _erf_diff((xi[:, None] + cx) / sc, (xi[:, None] - cx) / sc) * b * np.cos(psi)
+    # 2 (both signs of y') * (s sqrt(pi)/2) / s^2
+    return _SQRT_PI * (g @ w) * top / s
+
+
+def _bessel_sum(w):
+    """I0e(w) + I1e(w); above w = 1e6 (where scipy's ive returns nan from 1e10 on) its asymptotic series
+    2 (1 - 1/(8 w)) / sqrt(2 pi w), relative error < 1e-13 there (Abramowitz & Stegun 9.7.1)."""
+    big = w > 1e6
+    wb = np.where(big, w, 1.0)
+    ws = np.where(big, 0.0, w)
+    return np.where(big, 2.0 * (1.0 - 0.125 / wb) / np.sqrt(2.0 * math.pi * wb), ive(0, ws) + ive(1, ws))
+
+
+def _ellipse_hertz(xi, s, src, nx):
+    """(1/s^2) int int sqrt(1 - x'^2/a^2 - y'^2/b^2) exp(-((xi - x')^2 + y'^2)/s^2) dx' dy' [1]: y' in
+    closed form (Bessel), x' = -a cos phi by Gauss-Legendre."""
+    a, b = src.half_width, src.semi_axis_b
+    p1, p2 = _x_window(xi, s, a)
+    t, w = _gl(nx)
+    phi = p1[:, None] + (p2 - p1)[:, None] * t[None, :]
+    sp = np.sin(phi)
+    c = b * sp
+    sc = s[:, None]
+    wv = 0.5 * (c / sc) ** 2
+    ycut = 0.5 * math.pi * c * c / b * _bessel_sum(wv)
+    g = ycut * np.exp(-((xi[:, None] + a * np.cos(phi)) / sc) ** 2) * a * sp
+    return (g @ w) * np.maximum(p2 - p1, 0.0) / (s * s)
+
+
+_INNER = {("band", "uniform"): _band_uniform, ("band", "hertz"): _band_hertz,
+          ("ellipse", "uniform"): _ellipse_uniform, ("ellipse", "hertz"): _ellipse_hertz}
+
+
+def _integrand_u(u, theta_e, z, src, kappa, nx):
+    """rho c / q * (kernel integrated over the source) * dtau/du at tau = u^2, emission time theta_e."""
+    s = 2.0 * math.sqrt(kappa) * u
+    xi = src.half_width - src.speed * theta_e
+    out = np.zeros(u.shape)
+    ok = s > 0
+    if not np.any(ok):
+        return out
+    inner = _INNER[(src.kind, src.shape)](xi[ok], s[ok], src, nx)
+    with np.errstate(under="ignore"):
+        depth = np.exp(-(z / s[ok]) ** 2)
+    if src.kind == "band":
+        out[ok] = 2.0 / (math.pi * math.sqrt(kappa)) * inner * depth
+    else:
+        out[ok] = 2.0 / (math.pi ** 1.5 * math.sqrt(kappa)) * inner * depth
+    return out
+
+
+def upstream_reach(theta, src, kappa):
+    """Time L before arrival beyond which emissions are negligible at observation time theta: at emission
+    t' = -x the point is V x ahead of the leading edge and tau <= theta + x, V^2 x^2 / (4 kappa (theta + x))
+    > _FAR for x > L."""
+    v2 = src.speed ** 2
+    c = 4.0 * kappa * _FAR
+    th = max(theta, 0.0)
+    return (c + math.sqrt(c * c + 4.0 * v2 * c * th)) / (2.0 * v2)
+
+
+def _far(p, q, theta, z, src, kappa):
+    """True when every emission in [p, q] (times after arrival) reaches the point with a Gaussian factor
+    exp(-(d^2 + z^2)/(4 kappa tau)) < e^-_FAR: d the distance from the point to the nearest source edge,
+    at least V (p - D) after departure or V (-q) before arrival, tau <= theta - p."""
+    d = src.speed * max(p - src.contact_duration, -q, 0.0)
+    return d * d + z * z > 4.0 * kappa * (theta - p) * _FAR
+
+
+def _time_integral(theta, z, src, kappa, factor, start, breaks, n, nx, stop=math.inf):
+    """int_{start}^{min(stop, theta)} factor(t') K(theta - t', t') dt' [K per (q/(rho c))], u = sqrt(theta - t').
+
+    ``factor`` is a callable of the emission time relative to the pass's arrival, zero outside
+    [start, stop]; ``breaks`` the times where it has kinks. Pieces whose emissions are all too far from
+    the point (:func:`_far`) are left out."""
+    lo = max(start, -upstream_reach(theta, src, kappa))
+    hi = min(stop, theta)
+    if lo >= hi:
+        return 0.0
+    pts = [lo, hi]
+    pts += [b for b in breaks if lo < b < hi]
+    for b in (0.0, src.contact_duration, theta - z * z / (4.0 * kappa)):
+        if lo < b < hi:
+            pts.append(b)
+    pts = np.unique(pts)
+    t, w = two_sided_rule(int(n))
+    total = 0.0
+    for p, q in zip(pts[:-1], pts[1:]):
+        if _far(p, q, theta, z, src, kappa):
+            continue
+        u1, u2 = math.sqrt(theta - q), math.sqrt(theta - p)
+        u = u1 + (u2 - u1) * t
+        te = theta - u * u
+        total += (u2 - u1) * float(np.dot(w, factor(te) * _integrand_u(u, te, z, src, kappa, nx)))
+    return total
+
+
+# ------------------------------------------------------------------------------------------------
+# one pass
+# ------------------------------------------------------------------------------------------------
+def _steady_sweep(theta, z, src, material):
+    """Steady moving field at the point, T_steady(a - V theta, 0, z) [K] (source on for all times)."""
+    x = src.half_width - src.speed * theta
+    if src.kind == "band":
+        return jaeger_band_temperature(x, z, src.half_width, src.speed, material, src.flux, src.shape)
+    return moving_source_temperature(x, 0.0, z, (src.half_width, src.semi_axis_b), src.speed, material,
+                                     src.flux, src.shape)
+
+
+def _split(schedule, via_time_integral):
+    """(constant factor held from t = -inf, schedule whose time integral is added or None, subtract it)."""
+    if schedule is None:
+        return 1.0, None, 0.0
+    if schedule.is_constant:
+        return schedule.factor[0], None, 0.0
+    if via_time_integral:
+        return 0.0, schedule, 0.0
+    return schedule.factor[0], schedule, schedule.factor[0]
+
+
+def _constant_part(theta, depth, source, material, via_time_integral, quad_points, inner_points):
+    """Rise [K] of one pass with factor 1 for all times, shape (theta, depth)."""
+    out = np.empty((theta.size, depth.size))
+    if not via_time_integral:
+        for j, z in enumerate(depth):
+            out[:, j] = _steady_sweep(theta, z, source, material)
+        return out
+    lam, kappa = thermal_properties(material)
+    scale = source.flux * kappa / lam
+
+    def one(te):
+        return np.ones_like(te)
+    for i, th in enumerate(theta):
+        for j, z in enumerate(depth):
+            out[i, j] = scale * _time_integral(th, z, source, kappa, one, -math.inf, (), quad_points,
+                                               inner_points)
+    return out
+
+
+def _schedule_part(theta, depth, source, material, schedule, minus, arrival, quad_points, inner_points):
+    """Rise [K] of one pass arriving at ``arrival`` due to the factor f(t) - minus, integrated in time."""
+    lam, kappa = thermal_properties(material)
+    times = np.asarray(schedule.time)
+    nonzero = np.nonzero(np.asarray(schedule.factor) != minus)[0]
+    if nonzero.size == 0:
+        return np.zeros((theta.size, depth.size))
+    # f - minus is zero before the time preceding its first nonzero value, and (when f ends at minus)
+    # after the time following its last
+    start = -math.inf if nonzero[0] == 0 else times[nonzero[0] - 1] - arrival
+    stop = times[nonzero[-1] + 1] - arrival if nonzero[-1] + 1 < times.size else math.inf
+
+    def factor(te):
+        return schedule(te + arrival) - minus
+    breaks = tuple(times - arrival)
+    out = np.zeros((theta.size, depth.size))
+    scale = source.flux * kappa / lam
+    for i, th in enumerate(theta):
+        for j, z in enumerate(depth):
+            out[i, j] = scale * _time_integral(th, z, source, kappa, factor, start, breaks, quad_points,
+                                               inner_points, stop)
+    return out
+
+
+def _as_depth(depth):
+    depth = np.atleast_1d(np.asarray(depth, dtype=float)).ravel()
+    if np.any(depth < 0) or not np.all(np.isfinite(depth)):
+        raise ValueError(f"depth must be finite and >= 0 [m], got {depth}")
+    return depth
+
+
+def pass_response(theta, depth, source: MovingSource, material, schedule: Schedule | None = None,
+                  arrival: float = 0.0, quad_points: int = 12, inner_points: int = 48,
+                  via_time_integral: bool = False) -> np.ndarray:
+    """Temperature rise of the fixed material point under one pass of a moving source.
+
+    Parameters
+    ----------
+    theta : array_like
+        Time since the pass's leading edge reached the section [s] (negative: before).
+    depth : array_like
+        Depths z >= 0 of the point [m] (1-D).
+    source : MovingSource
+        The source (kind, half-width, speed, flux, shape).
+    material : Material-like
+        conductivity [W/(m K)] and diffusivity [m^2/s] (or density [kg/m^3] and specific_heat [J/(kg K)]).
+    schedule : Schedule or None
+        Heat-input factor f(t) in the history's time [1]; None: f = 1.
+    arrival : float
+        Time at which this pass's leading edge reaches the section, in the schedule's time [s].
+    quad_points : int
+        Gauss-Legendre points per graded panel of the time integral [1].
+    inner_points : int
+        Gauss-Legendre points of the inner window quadratures (Hertz shapes, uniform ellipse) [1].
+    via_time_integral : bool
+        Integrate the constant part f(-inf) in time too, instead of sweeping the steady field.
+
+    Returns
+    -------
+    numpy.ndarray
+        Rise [K], shape (theta.size, depth.size).
+
+    References
+    ----------
+    .. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, 10.2-10.7.
+       ISBN 978-0198533689
+    """
+    theta = np.atleast_1d(np.asarray(theta, dtype=float)).ravel()
+    depth = _as_depth(depth)
+    const, sched, minus = _split(schedule, via_time_integral)
+    out = np.zeros((theta.size, depth.size))
+    if const != 0.0:
+        out += const * _constant_part(theta, depth, source, material, via_time_integral, quad_points,
+                                      inner_points)
+    if sched is not None:
+        out += _schedule_part(theta, depth, source, material, sched, minus, arrival, quad_points, inner_points)
+    return out
