@@ -328,12 +328,15 @@ def test_full_slip_global_power_is_mu_n_v_xi_and_the_local_power_converges_to_it
 
 
 def test_contact_discretisation_power_is_the_evaluation_point_slip_times_the_traction():
-    """With ``slip_offset = 1/6`` (CONTACT's steady-state rigid slip at x + dx/6) the tractions are the nested
-    solver's with that offset (1e-8 of mu p), and the heat source is CONTACT's frictional power: the sum over the
-    slipping elements of -(traction . slip) dA with the slip at the evaluation point, recomputed here from the
-    returned fields (1e-12), mu p |s| per element; the offset moves the power by less than 1 % against the
-    first-order scheme at the element centre (measured +0.37 % at level 1) and the forces by less than 1 %. CONTACT's power falls short of the second-order scheme's by the first-order
-    numerical dissipation of its upwind slip (measured -3.5 % at level 1; checked between -6 % and -1 %)."""
+    """With ``slip_offset = 1/6`` (CONTACT's steady-state rigid slip at x + dx/6 with its first-order upwind
+    difference) the tractions are the nested solver's with that offset (1e-8 of mu p), and the heat source is
+    CONTACT's frictional power (``frpow = dxdy sum ps . ss / dt`` over the slipping elements, m_soutpt.f90): the
+    sum over the slipping elements of -(traction . slip) dA with the slip at the evaluation point, recomputed here
+    from the returned fields (1e-12), mu p |s| per element (CONTACT's heat input |ps| |ss| / dt, m_temperature.f90),
+    >= 0 per element, as the default's is with its own slip. The offset moves the power by less than 1 % against
+    the first-order scheme at the element centre (measured +0.37 % at level 1) and the forces by less than 1 %.
+    CONTACT's power falls short of the default second-order scheme's by the first-order numerical dissipation of
+    its upwind slip (measured -3.5 % at level 1; checked between -6 % and -1 %)."""
     from railtherm_kalker.tangential_model import rolling_operator
     from railtherm_kalker.tangential_solver import solve_tangential_nested
     sc = ek_scene()
@@ -349,6 +352,13 @@ def test_contact_discretisation_power_is_the_evaluation_point_slip_times_the_tra
     assert r6.diagnostics["local_power"] == pytest.approx(frpow, rel=1e-12)
     np.testing.assert_allclose(r6.dissipation, np.where(slipping, g * np.hypot(sx, sy), 0.0),
                                rtol=1e-10, atol=1e-12 * float(np.max(r6.dissipation)))
+    # the default's heat source is the same sum with its own (second-order, element-centre) slip; both >= 0 per
+    # element
+    for r in (r0, r6):
+        assert np.all(r.dissipation >= 0.0)
+        q = -(r.traction_x * r.slip_velocity_x + r.traction_y * r.slip_velocity_y)
+        np.testing.assert_allclose(r.dissipation, q, rtol=1e-12, atol=0)
+        assert r.diagnostics["local_power"] == pytest.approx(float(q.sum()) * patch.grid.cell_area, rel=1e-12)
     r1 = TANG.compute_tangential(sc, patch, 1, {**OPTS, "rolling_scheme": "first-order"})
     assert r6.diagnostics["rolling_order"] == r1.diagnostics["rolling_order"] == 1
     assert r0.diagnostics["rolling_order"] == 2

@@ -28,7 +28,9 @@ def railtherm_register_methods():
                        # piecewise-constant pressure with a square-root edge: the peak pressure converges at
                        # O(h^2) on the Hertz patch (tests/test_kalker_normal.py fits ~2), the edge location at O(h)
                        "max_pressure": 2.0,
-                       # the steady-state slip's upwind difference (CONTACT's) is first order in dx
+                       # the default second-order rolling difference leaves the contact edge's staircase, first
+                       # order in the element size (irregular), in the creep forces and the frictional power (its
+                       # numerical dissipation is second order: tests/test_kalker.py)
                        "creep_force_x": 1.0,
                        "frictional_power": 1.0,
                    })]

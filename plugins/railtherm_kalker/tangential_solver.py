@@ -8,12 +8,13 @@ body 2 per unit rolling distance is (Kalker)::
     s = w - d u / d x,     w = (xi - phi y, eta + phi x)
 
 with the rigid slip w of the creepages (xi, eta [1], spin phi [1/m]) and the tangential displacement
-difference u = A p (Boussinesq-Cerruti, :mod:`railtherm_kalker.influence`). The derivative is the
-steady-state discretisation of CONTACT, the upwind difference (u(x + dx) - u(x)) / dx, so
-``s = w - B p`` with the Toeplitz "rolling" influence operator B (one FFT product per evaluation).
-The scheme is first order in dx (the spin moment's error grows like (a/b)^2 dx / a, the frictional
-power's numerical dissipation like dx / a) and much less sensitive to dy, so the model's grids have
-more elements along x (:func:`railtherm_kalker.potential_area.rolling_refinement`).
+difference u = A p (Boussinesq-Cerruti, :mod:`railtherm_kalker.influence`). The derivative is an upwind
+difference, so ``s = w - B p`` with the Toeplitz "rolling" influence operator B (one FFT product per
+evaluation; :func:`railtherm_kalker.influence.rolling_kernel`): by default the second-order
+``(-u(x + 2 dx) + 4 u(x + dx) - 3 u(x)) / (2 dx)`` at the element centre, where the traction, the rigid slip
+and Coulomb's law are collocated; or CONTACT's steady-state discretisation, the first-order
+``(u(x + dx) - u(x)) / dx`` (a derivative at x + dx/2: its spin moment's error grows like (a/b)^2 dx / a, the
+frictional power's numerical dissipation like dx / a; docs/kalker.md).
 Coulomb's law holds element by element: |p| <= g = mu p_n; where |p| < g the element sticks (s = 0);
 where it slips, p = -g s / |s|. A positive creepage thus gives a negative force on the wheel
 (CONTACT's and :mod:`railtherm.references.kalker`'s sign law).
@@ -554,14 +555,15 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
     initial : ndarray (ncomp, nx, ny), optional
         A warm start on this grid [Pa]: no coarse solves.
     offset : float
-        Rigid slip evaluated at x + offset dx instead of the element centre [elements] (default 0, the
-        scheme of the model). Not a second-order scheme: ``offset = 1/4`` with the moment arm at
+        Rigid slip evaluated at x + offset dx instead of the element centre [elements] (default 0; 1/6 with the
+        first-order operator is CONTACT's discretisation). No offset makes the first-order operator a
+        second-order scheme: ``offset = 1/4`` with the moment arm at
         x - dx/4 keeps the exact reciprocity C23(Fy) = C23(Mz) and moves the first-order error of the spin
         moment into C23 by about as much (measured at 128 elements across 2a on a = 8, b = 4 mm:
         C33 +4.8 % -> +1.1 %, C23 +0.15 % -> +1.2 %; see tests/test_kalker_solver.py), so it is no default.
         (It is the discrete-vortex "1/4-3/4 rule", second order in 1-D only when the contact's edges
-        lie on element edges, which a uniform grid on an ellipse cannot give: the model instead refines
-        the grid along x, :func:`railtherm_kalker.potential_area.rolling_refinement`.)
+        lie on element edges, which a uniform grid on an ellipse cannot give; the model's default is the
+        second-order operator, :func:`railtherm_kalker.tangential_model.rolling_operator`.)
 
     Returns
     -------
