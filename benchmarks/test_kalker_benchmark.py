@@ -16,7 +16,9 @@ and N^2.2, N^2.2-2.3, N^1.7-1.9 over 50^2-400^2. One FFT product is O(N^2 log N)
 (58, 88, 135, 205 summed over the nested grids for combined creepage at 50^2-400^2) while full slip needs a
 fixed number of products (12 normal iterations, 9 tangential products); the 750^2 padded transforms at 400^2
 no longer fit the cache. Measured (CPU): 100^2 0.11, 0.11, 0.03 s; 200^2 0.59, 0.56, 0.10 s;
-400^2 3.8, 3.9-4.6, 0.51-0.66 s (combined, longitudinal, full slip; docs/kalker.md has the per-stage table).
+400^2 3.8, 3.9-4.6, 0.51-0.66 s (combined, longitudinal, full slip; docs/kalker.md has the per-stage table),
+with CONTACT's first-order rolling difference; the default second-order difference needs 128, 107, 9 tangential
+FFT products at 100^2 (112, 107, 9 first-order) and 177, 146, 9 at 200^2 (165, 147, 9).
 :func:`scaling_exponent` fits a run's ``extra_info``.
 
 Run: ``OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 NUMBA_NUM_THREADS=1 python -m pytest
@@ -36,7 +38,7 @@ from railtherm_kalker import tangential_model
 from railtherm_kalker.influence import normal_operator
 from railtherm_kalker.normal_solver import solve_normal
 from railtherm_kalker.potential_area import hertz_curvatures, potential_area
-from railtherm_kalker.tangential_model import rolling_operator
+from railtherm_kalker.tangential_model import ROLLING_ORDER, rolling_operator
 from railtherm_kalker.tangential_solver import solve_tangential_nested
 
 A, B, N, MU, G, NU = 5.88e-3, 10.54e-3, 100e3, 0.3, 82e9, 0.28
@@ -45,8 +47,9 @@ CASES = {"combined": (-2e-3, 1e-3, 0.2), "longitudinal": (-5e-4, 0.0, 0.0), "ful
 GRIDS = {50: (46, 2), 100: (92, 4), 200: (184, 8), 400: (368, 16)}
 
 
-def solve_both(n, margin, creepage):
-    """Normal and tangential solve from empty caches; CPU time per stage [s]."""
+def solve_both(n, margin, creepage, order=ROLLING_ORDER):
+    """Normal and tangential solve from empty caches; CPU time per stage [s]. ``order``: of the rolling difference
+    (2, the model's default; 1, CONTACT's), for before/after pairs in one process."""
     normal_operator.cache_clear()
     tangential_model._rolling_operator.cache_clear()
     e_star = G / (1 - NU)
@@ -60,11 +63,11 @@ def solve_both(n, margin, creepage):
     ns = solve_normal(conv, ca * X ** 2 + cb * Y ** 2, area.dx * area.dy, force=N,
                       initial=hertz_pressure(X, Y, hz.a, hz.b, hz.max_pressure))
     t2 = time.process_time()
-    ts = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, G, NU), area.x_edges, area.y_edges,
+    ts = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, G, NU, order), area.x_edges, area.y_edges,
                                  MU * ns.pressure, creepage)
     t3 = time.process_time()
     dA = area.dx * area.dy
-    return {"shape": list(area.shape), "normal_setup": t1 - t0, "normal_solve": t2 - t1, "tangential": t3 - t2,
+    return {"shape": list(area.shape), "rolling_order": order, "normal_setup": t1 - t0, "normal_solve": t2 - t1, "tangential": t3 - t2,
             "total": t3 - t0, "normal_iterations": ns.iterations, "normal_products": ns.products,
             "newton_steps": ts.iterations, "gmres_iterations": ts.linear_iterations,
             "coarse_newton_steps": [[list(shape), steps] for shape, steps in ts.coarse],
