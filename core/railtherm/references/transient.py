@@ -29,7 +29,7 @@ from .transient_pass import (MovingSource, Schedule, _as_depth, _constant_part, 
                              pass_response, upstream_reach)
 
 __all__ = ["MovingSource", "Schedule", "PassSummary", "history_time_axis", "pass_response",
-           "temperature_history", "pass_summary", "shifted_sum"]
+           "temperature_history", "pass_summary", "shifted_sum", "time_above"]
 
 
 @dataclass(frozen=True)
@@ -219,6 +219,86 @@ def _own_pass(t, k, step, depth_j, source, material, schedule, opts):
                                **opts)[0, 0])
 
 
+def _local_rise(axis, hist, i, j, k, interval, depth, source, material, schedule, opts):
+    """The rise near sample i (depth j) as pass k's own exact response plus the other passes' contribution,
+    smooth there (it varies on the scale of the interval, not of D), interpolated quadratically through
+    samples i - 1, i, i + 1."""
+    three = axis[i - 1:i + 2]
+    own = [_own_pass(t, k, interval, depth[j], source, material, schedule, opts) for t in three]
+    rest = np.polyfit(three, hist[i - 1:i + 2, j] - own, 2)
+
+    def rise(t):
+        return _own_pass(t, k, interval, depth[j], source, material, schedule, opts) + np.polyval(rest, t)
+    return rise
+
+
+def time_above(rise, depth, source: MovingSource, material, count: int = 1, interval: float | None = None,
+               schedule: Schedule | None = None, samples_per_contact: int = 40, tail_samples: int = 40,
+               quad_points: int = 12, inner_points: int = 48) -> np.ndarray:
+    """Time each pass keeps the fixed material point above a given rise.
+
+    Within [k interval, (k + 1) interval) the history is sampled on :func:`history_time_axis`; every sign
+    change of (history - rise) between two samples is located by Brent's method (to 1e-9 D) on the
+    pass's own exact response plus the others' interpolated contribution (as in :func:`pass_summary`).
+    Excursions shorter than the sampling (two crossings between neighbouring samples) are not seen:
+    ``samples_per_contact`` sets that resolution.
+
+    Parameters
+    ----------
+    rise : float
+        Threshold rise above the bulk temperature [K] (threshold minus bulk temperature).
+    depth : array_like
+        Depths [m], >= 0.
+    source : MovingSource
+        The source.
+    material : Material-like
+        conductivity [W/(m K)] and diffusivity [m^2/s] (or density and specific_heat).
+    count : int
+        Number of passes [1].
+    interval : float
+        Time between passes [s] (the last pass's window ends one interval after it).
+    schedule : Schedule or None
+        Heat-input factor [1].
+    samples_per_contact, tail_samples : int
+        Sampling of :func:`history_time_axis` [1].
+    quad_points, inner_points : int
+        See :func:`pass_response`.
+
+    Returns
+    -------
+    numpy.ndarray
+        Time above [s], shape (count, depth.size).
+    """
+    if interval is None:
+        raise ValueError("interval is needed: each pass's window is one interval long [s]")
+    depth = _as_depth(depth)
+    axis = history_time_axis(source, count, interval, samples_per_contact, tail_samples)
+    opts = dict(quad_points=quad_points, inner_points=inner_points)
+    hist = temperature_history(axis, depth, source, material, count, interval, schedule, **opts)
+    per = (axis.size - 1) // count
+    tol = 1e-9 * source.contact_duration
+    out = np.zeros((count, depth.size))
+    for k in range(count):
+        rows = np.arange(k * per, (k + 1) * per + 1)
+        for j in range(depth.size):
+            above = hist[rows, j] > rise
+            total = 0.0
+            since = axis[rows[0]] if above[0] else None
+            for m in np.nonzero(above[1:] != above[:-1])[0]:
+                i = rows[m] if rows[m] > 0 else rows[m] + 1
+                local = _local_rise(axis, hist, i, j, k, interval, depth, source, material, schedule, opts)
+                t = optimize.brentq(lambda t: local(t) - rise, axis[rows[m]], axis[rows[m] + 1], xtol=tol)
+                if above[m + 1]:
+                    since = t
+                else:
+                    total += t - since
+                    since = None
+            if since is not None:
+                total += axis[rows[-1]] - since
+            out[k, j] = total
+    return out
+
+
 def pass_summary(depth, source: MovingSource, material, count: int = 1, interval: float | None = None,
                  schedule: Schedule | None = None, samples_per_contact: int = 40, tail_samples: int = 40,
                  quad_points: int = 12, inner_points: int = 48, refine: bool = True) -> PassSummary:
@@ -276,15 +356,8 @@ def pass_summary(depth, source: MovingSource, material, count: int = 1, interval
             peak[k, j], when[k, j] = hist[i, j], axis[i]
             if not refine or i == 0:
                 continue
-            lo, mid, hi = axis[i - 1], axis[i], axis[i + 1]
-            own = [_own_pass(t, k, interval, depth[j], source, material, schedule, opts) for t in (lo, mid, hi)]
-            rest = np.polyfit([lo, mid, hi], [hist[i - 1, j] - own[0], hist[i, j] - own[1],
-                                              hist[i + 1, j] - own[2]], 2)
-
-            def minus_rise(t):
-                return -(_own_pass(t, k, interval, depth[j], source, material, schedule, opts)
-                         + np.polyval(rest, t))
-            res = optimize.minimize_scalar(minus_rise, bounds=(lo, hi), method="bounded",
+            rise = _local_rise(axis, hist, i, j, k, interval, depth, source, material, schedule, opts)
+            res = optimize.minimize_scalar(lambda t: -rise(t), bounds=(axis[i - 1], axis[i + 1]), method="bounded",
                                            options={"xatol": 1e-7 * d})
             if -res.fun > peak[k, j]:
                 peak[k, j], when[k, j] = -res.fun, res.x
