@@ -41,7 +41,7 @@ from numpy.polynomial import chebyshev
 from railtherm.references.transient import shifted_sum
 from scipy.special import erfc
 
-__all__ = ["strip_history", "strip_time_axis", "pass_peaks_and_residual"]
+__all__ = ["strip_history", "strip_time_axis", "pass_peaks_and_residual", "pass_time_above"]
 
 
 def _f_g(s, c):
@@ -280,3 +280,49 @@ def pass_peaks_and_residual(time, history, count: int, interval: float) -> tuple
         peak[k] = history[sel].max(axis=0)
         residual[k] = [np.interp((k + 1) * interval, time, history[:, j]) for j in range(history.shape[1])]
     return peak, residual
+
+
+def pass_time_above(time, history, count: int, interval: float, rise: float) -> np.ndarray:
+    """Time per pass above a rise, from a sampled history: the crossings linearly interpolated between
+    samples, each pass's window [k interval, (k + 1) interval] (error O(dt^2) per crossing for a smooth
+    history; the sampling sets which short excursions are seen).
+
+    Parameters
+    ----------
+    time : array_like
+        Increasing times [s] covering [0, count * interval].
+    history : array_like
+        Rise [K], shape (time.size, depths).
+    count : int
+        Passes [1].
+    interval : float
+        Time between passes [s].
+    rise : float
+        Threshold rise above the bulk temperature [K].
+
+    Returns
+    -------
+    numpy.ndarray
+        [s], shape (count, depths).
+    """
+    time = np.asarray(time, dtype=float)
+    history = np.asarray(history, dtype=float).reshape(time.size, -1)
+    out = np.zeros((count, history.shape[1]))
+    for k in range(count):
+        lo, hi = k * interval, (k + 1) * interval
+        # the window's samples with its ends interpolated in
+        inner = (time > lo) & (time < hi)
+        t = np.concatenate([[lo], time[inner], [hi]])
+        for j in range(history.shape[1]):
+            g = np.concatenate([[np.interp(lo, time, history[:, j])], history[inner, j],
+                                [np.interp(hi, time, history[:, j])]]) - rise
+            pos = np.clip(g, 0.0, None) > 0
+            dt = np.diff(t)
+            both = pos[:-1] & pos[1:]
+            total = float(dt[both].sum())
+            cross = pos[:-1] != pos[1:]
+            # on a crossing interval the part above is the fraction on the positive side
+            frac = np.abs(np.where(pos[:-1], g[:-1], g[1:])) / np.maximum(np.abs(g[1:] - g[:-1]), 1e-300)
+            total += float((dt * frac)[cross].sum())
+            out[k, j] = total
+    return out
