@@ -97,7 +97,7 @@ def test_single_pass_peak_is_the_steady_maximum_along_the_line(kind, shape):
                 return -float(jaeger_band_temperature(x, z, A, V, STEEL, Q, shape))
         else:
             def f(x):
-                return -float(moving_source_temperature(x, 0.0, z, (A, B), V, STEEL, Q, shape))
+                return -float(moving_source_temperature(x, 0.0, z, (A, B), V, STEEL, Q, shape, quad_points=12))
         xs = A - V * np.concatenate([np.linspace(0, 2 * d, 201), np.geomspace(2 * d, 100 * d, 200)[1:]])[::-1]
         i = int(np.argmin([f(x) for x in xs]))
         res = optimize.minimize_scalar(f, bounds=(xs[max(i - 1, 0)], xs[i + 1]), method="bounded",
