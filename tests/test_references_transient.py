@@ -86,7 +86,8 @@ def test_time_integral_of_a_source_on_for_ever_is_the_steady_field_swept_past(ki
 def test_single_pass_peak_is_the_steady_maximum_along_the_line(kind, shape):
     """The refined pass peak of one pass equals the maximum of the steady field along x (a bounded scalar
     search on the steady reference itself) at each depth, within 1e-7 relative; the peak time is a - V t =
-    x_max within 1e-4 a (the steady field searched on its own: 400 samples over 100 D, then Brent)."""
+    x_max within 1e-5 max(a, |x_max|) (measured 3e-6 for the peak 0.26 m behind the patch at 0.5 mm; the
+    steady field searched on its own: 400 samples over 100 D, then Brent)."""
     src = _source(kind, shape)
     depths = [0.0, 1e-4, 5e-4]
     d = src.contact_duration
@@ -103,7 +104,8 @@ def test_single_pass_peak_is_the_steady_maximum_along_the_line(kind, shape):
         res = optimize.minimize_scalar(f, bounds=(xs[max(i - 1, 0)], xs[i + 1]), method="bounded",
                                        options={"xatol": 1e-9 * A})
         assert got.peak[0, j] == pytest.approx(-res.fun, rel=1e-7)
-        assert A - V * got.peak_time[0, j] == pytest.approx(res.x, abs=1e-4 * A)
+        # a flat maximum (at depth, far behind the patch) fixes its place only to ~sqrt(value error)
+        assert A - V * got.peak_time[0, j] == pytest.approx(res.x, abs=1e-5 * max(A, abs(res.x)))
 
 
 # ------------------------------------------------------------------------------------------------
