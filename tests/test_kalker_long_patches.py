@@ -7,7 +7,7 @@ itself 1.5 and 4.4 % off at b/a = 0.25, so that ratio checks only C33); the exac
 contact (bounded traction at the leading edge) for the convergence orders.
 
 Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest -q tests/test_kalker_long_patches.py`` (``-m slow`` for b/a = 0.2,
-0.25, 0.5 and square elements).
+0.25, 0.5 and b/a = 0.5 with as many elements across 2a as across 2b).
 """
 from __future__ import annotations
 
@@ -72,14 +72,14 @@ def test_long_patch_at_level_3_with_the_default_options():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("b_over_a, options", [(0.2, None), (0.5, None), (0.5, {"rolling_refinement": 1})],
-                         ids=["b/a=0.2", "b/a=0.5", "b/a=0.5-square-elements"])
+                         ids=["b/a=0.2", "b/a=0.5", "b/a=0.5-m=1"])
 def test_long_patches_at_level_3(b_over_a, options):
     """At level 3, against Kalker's table: C11, C22, C23 within 1 %, C33 within 3 %. Measured (second-order
     default; CONTACT's first-order difference in parentheses): b/a = 0.2: +0.35, +0.58, +0.05 / +0.02, +2.10 %
-    (C33 +7.57 %); b/a = 0.5: -0.04, +0.15, +0.16 / +0.06, +0.39 % (C33 +1.53 %); b/a = 0.5 with square elements
-    (rolling_refinement = 1): -0.10, +0.15, +0.14 / +0.12, +0.25 % (C33 +4.80 %). The rest of C33's error at
-    b/a = 0.2 is the lateral discretisation: with 64 elements across 2b it stays at +2.4 % for 2, 4, 8, 16 times
-    as many along x (a = 8 mm)."""
+    (C33 +7.57 %); b/a = 0.5: -0.04, +0.15, +0.16 / +0.06, +0.39 % (C33 +1.53 %); b/a = 0.5 with as many
+    elements across 2a as across 2b (rolling_refinement = 1): -0.10, +0.15, +0.14 / +0.12, +0.25 % (C33
+    +4.80 %). The rest of C33's error at b/a = 0.2 is the lateral discretisation: with 64 elements across 2b it
+    stays at +2.4 % for 2, 4, 8, 16 times as many along x (a = 8 mm)."""
     check_targets(coefficient_errors(b_over_a, options))
 
 

@@ -224,7 +224,7 @@ def test_a_shifted_rigid_slip_trades_the_spin_error_for_the_c23_error():
     shifted C23 +1.2 %, C33 +1.1 % (ladder 32, 64, 128: C33 +18.4, +10.8, +4.8 % order 0.97 centre;
     C23 +4.0, +2.7, +1.2 % order 0.86 shifted). Both with CONTACT's first-order rolling difference; the model's
     default, the second-order difference at the centre, gives C23 +0.14 %, C33 +0.25 % at level 3 on this ellipse
-    with square elements (tests/test_kalker_long_patches.py)."""
+    with m = 1 (tests/test_kalker_long_patches.py)."""
     a, b = 8e-3, 4e-3
     sc = scene(a, b)
     _, _, c23, c33 = kalker_coefficients(a, b, NU)
