@@ -1,6 +1,6 @@
 """Executors: processes and dask.distributed give the serial results bit for bit; faults lose nothing.
 
-* a sweep of 100 runs on local processes and on a dask LocalCluster, every data variable of every
+* a sweep of 40 runs on local processes and on a dask LocalCluster, every data variable of every
   run file compared byte for byte with a serial run (attributes such as wall_time may differ);
 * a worker killed in the middle of a study (SIGKILL of a worker process: found with psutil for local
   processes, with ``client.run(os.getpid)`` on a scheduler and workers on loopback): files written
@@ -74,7 +74,7 @@ class SleepyPlugin:
 SWEEP = """
 schema_version = 1
 [study]
-name = "sweep100"
+name = "sweep40"
 methods = {methods}
 levels = [0, 1]
 reference = "finest"
@@ -101,7 +101,7 @@ outputs = ["max_surface_temperature", "mean_contact_temperature", "surface_tempe
 
 
 def sweep(path: Path, methods='["flat"]', speeds=None, timeout=60, options="", sliding="[0.5, 2.0]"):
-    speeds = speeds if speeds is not None else [float(v) for v in range(10, 35)]
+    speeds = speeds if speeds is not None else [float(v) for v in range(10, 20)]
     path.write_text(SWEEP.format(methods=methods, speeds=speeds, timeout=timeout, options=options, sliding=sliding))
     return path
 
@@ -122,11 +122,11 @@ def serial_sweep(hosts, tmp_path_factory):
     d = tmp_path_factory.mktemp("serial")
     study = sweep(d / "sweep.toml")
     m = railtherm.run_study(study, d / "out", report=False)
-    assert m.sizes["run"] == 100 and set(m["status"].values) <= RAN
+    assert m.sizes["run"] == 40 and set(m["status"].values) <= RAN
     return study, d / "out"
 
 
-def assert_same_runs(a: Path, b: Path, minimum: int = 100):
+def assert_same_runs(a: Path, b: Path, minimum: int = 40):
     """Every data variable (and coordinate) of every run file equal byte for byte."""
     fa = sorted(p.relative_to(a) for p in a.glob("runs/*/*/level-*.nc"))
     fb = sorted(p.relative_to(b) for p in b.glob("runs/*/*/level-*.nc"))
@@ -413,16 +413,17 @@ def green_host():
 
 def test_real_method_bit_for_bit_on_every_executor(green_host, tmp_path):
     """A real method (green, level 0; three runs of two scenes) gives the same result files in this
-    process, in local worker processes and on a dask LocalCluster: every data variable compared
+    process, in local worker processes (the default executor) and on a dask LocalCluster: every data variable compared
     byte for byte."""
     import json
     study = tmp_path / "green.toml"
     study.write_text(GREEN)
     ref = railtherm.run_study(study, tmp_path / "serial", report=False)
     assert ref.sizes["run"] == 3 and set(ref["status"].values) <= RAN, list(ref["message"].values)
-    for executor in ("processes", "dask", "auto"):
+    for executor in ("dask", "auto"):        # "auto" is the CLI's default: local processes here
         out = tmp_path / executor
         m = railtherm.run_study(study, out, executor=executor, workers=2, report=False)
+        assert m.attrs["executor"] == ("processes" if executor == "auto" else executor)
         assert list(m["status"].values) == list(ref["status"].values), executor
         assert_same_runs(tmp_path / "serial", out, minimum=3)
         recs = json.loads((out / "study.json").read_text())["records"]

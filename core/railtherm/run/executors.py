@@ -282,7 +282,9 @@ class ProcessExecutor:
             return
         ctx = mp.get_context("spawn")
         spec = host_spec()
-        pending = deque(range(n))
+        # finest levels first (longest-processing-time order): the long level-3 solves start while there is
+        # still short work to fill the other workers, instead of ending the study one worker at a time
+        pending = deque(sorted(range(n), key=lambda i: -getattr(tasks[i], "level", 0)))
         attempts = [0] * n
         with worker_threads(min(self.workers, n)):
             pool = [_Worker(ctx, spec, fn) for _ in range(min(self.workers, n))]
