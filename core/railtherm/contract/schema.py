@@ -62,7 +62,24 @@ VARIABLES: dict[str, Var] = {
                         "temperature"),
     "time_above": Var(("body", "z"), "s", "time a material point on the centre line at depth z spends above "
                       "field.threshold", "temperature"),
+    # transient scenes (mode = "transient"; railtherm.input.transient): the material point on the centre line
+    # y = 0 at the fixed section, at the depths z of field.depth, over the passes
+    "temperature_history": Var(("body", "time", "z"), "degC", "temperature of the material point on the centre "
+                               "line y = 0 at the fixed section, at depth z, over the passes", "temperature", True),
+    "pass_peak_temperature": Var(("body", "pass", "z"), "degC", "highest temperature of the material point at "
+                                 "depth z during each pass", "temperature", True),
+    "residual_rise": Var(("body", "pass"), "K", "surface temperature rise above the bulk temperature left by each "
+                         "pass just before the next (after the last: one interval after it)", "temperature"),
 }
+
+#: variables that are a temperature difference [K] (CF-1.11 ``units_metadata``)
+TEMP_DIFF = "temperature: difference"
+DIFFERENCE_VARIABLES = ("residual_rise",)
+
+#: variables whose dims differ in a transient scene (the time above the threshold per pass)
+TRANSIENT_DIMS = {"time_above": ("body", "pass", "z")}
+TRANSIENT_LONG_NAMES = {"time_above": "time a material point on the centre line at depth z spends above "
+                                      "field.threshold during each pass"}
 
 #: the thermal-trace variables: NaN where the field is too short to tell (never a false peak)
 TRACE_VARIABLES = ("peak_temperature", "cooling_rate", "heated_depth", "time_above")
@@ -72,6 +89,8 @@ COORDS = {
     "y": ("m", "lateral coordinate"),
     "z": ("m", "depth into the body"),
     "body": ("1", "body (wheel = body 1, rail = body 2)"),
+    "time": ("s", "time since the first pass's leading edge reached the fixed section"),
+    "pass": ("1", "pass over the fixed section (a revolution for the wheel), counted from 1"),
 }
 
 #: which pipeline stage produces the variables of each Var.stage group
@@ -79,8 +98,10 @@ STAGE_OF_GROUP = {"normal": "normal", "tangential": "tangential", "heat_source":
                   "temperature": "temperature", "steady": "temperature"}
 
 
-def dims_for(name: str, line: bool) -> tuple[str, ...]:
-    dims = VARIABLES[name].dims
+def dims_for(name: str, line: bool, transient: bool = False) -> tuple[str, ...]:
+    """The schema's dims of a variable (``y`` dropped for a line contact; a transient scene's per-pass
+    dims where they differ, :data:`TRANSIENT_DIMS`)."""
+    dims = TRANSIENT_DIMS.get(name, VARIABLES[name].dims) if transient else VARIABLES[name].dims
     return tuple(d for d in dims if not (line and d == "y"))
 
 
@@ -89,11 +110,13 @@ def stages_needed(outputs) -> set[str]:
     return {STAGE_OF_GROUP[VARIABLES[o].stage] for o in outputs}
 
 
-def variable_attrs(name: str) -> dict:
+def variable_attrs(name: str, transient: bool = False) -> dict:
     v = VARIABLES[name]
-    attrs = {"units": v.units, "long_name": v.long_name}
+    attrs = {"units": v.units, "long_name": TRANSIENT_LONG_NAMES.get(name, v.long_name) if transient else v.long_name}
     if v.temperature:
         attrs["units_metadata"] = TEMP_ABS
+    elif name in DIFFERENCE_VARIABLES:
+        attrs["units_metadata"] = TEMP_DIFF
     return attrs
 
 
@@ -160,7 +183,10 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
             put("temperature", temperature.temperature)
         put("steady_wheel_temperature", temperature.steady_wheel_temperature)
         put("steady_mean_contact_temperature", temperature.steady_mean_contact_temperature)
-        if temperature.z is not None:
+        history = getattr(temperature, "history", None)
+        if history is not None:
+            _put_history(data, history)
+        elif temperature.z is not None:
             for name in TRACE_VARIABLES:
                 value = getattr(temperature, name, None)
                 put(name, value)
@@ -173,9 +199,14 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
     if temperature is not None and temperature.z is not None and (
             "temperature" in data or any(n in data for n in TRACE_VARIABLES)):
         coords["z"] = ("z", np.asarray(temperature.z, dtype=float))
+    transient = temperature is not None and getattr(temperature, "history", None) is not None
+    if transient:
+        h = temperature.history
+        coords.update({"time": ("time", np.asarray(h.time, dtype=float)), "z": ("z", np.asarray(h.z, dtype=float)),
+                       "pass": ("pass", np.arange(1, np.asarray(h.residual).shape[1] + 1))})
     ds = xr.Dataset(data, coords=coords)
     for name in ds.data_vars:
-        ds[name].attrs.update(variable_attrs(name))
+        ds[name].attrs.update(variable_attrs(name, transient))
     for name in ds.coords:
         ds[name].attrs.update(coord_attrs(name))
     for name in nan_ok:
@@ -187,6 +218,15 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
     if nan_ok:
         ds.attrs["nan_allowed"] = " ".join(sorted(set(str(ds.attrs.get("nan_allowed", "")).split()) | set(nan_ok)))
     return ds
+
+
+def _put_history(data: dict, history) -> None:
+    """The transient variables of a :class:`railtherm.contract.transient.TransientHistory` into ``data``."""
+    data["temperature_history"] = (VARIABLES["temperature_history"].dims, np.asarray(history.temperature, float))
+    data["pass_peak_temperature"] = (VARIABLES["pass_peak_temperature"].dims, np.asarray(history.peak, float))
+    data["residual_rise"] = (VARIABLES["residual_rise"].dims, np.asarray(history.residual, float))
+    if history.time_above is not None:
+        data["time_above"] = (TRANSIENT_DIMS["time_above"], np.asarray(history.time_above, float))
 
 
 def history_line(text: str) -> str:
@@ -215,12 +255,13 @@ def validate_dataset(ds, plugin: str = "?", *, check_attrs: bool = True) -> None
     fields may be NaN outside their body's domain when the model says so in ``nan_allowed``).
     """
     line = "y" not in ds.dims
+    transient = "pass" in ds.dims
     nan_ok = set(str(ds.attrs.get("nan_allowed", "")).split()) | {"stick"}
     for name, da in ds.data_vars.items():
         if name not in VARIABLES:
             raise PluginError(f"plugin {plugin!r}: result variable {name!r} is not in the result schema "
                               f"(known: {', '.join(VARIABLES)})")
-        want = dims_for(name, line)
+        want = dims_for(name, line, transient)
         if tuple(da.dims) != want:
             raise PluginError(f"plugin {plugin!r}: variable {name!r} has dims {tuple(da.dims)}, the schema wants {want}")
         for key in ("units", "long_name"):

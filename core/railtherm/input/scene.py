@@ -18,6 +18,8 @@ from ..physics.friction import LAWS as FRICTION_LAWS
 from ..physics.friction import FrictionLaw, Parameter, friction_law
 from ..physics.partition import HeatPartition
 from .materials import Material
+from .transient import Transient, transient_from_table
+from .wheelset_profile import is_profile_wheelset, profile_contact
 
 SCHEMA_VERSION = 1
 
@@ -99,6 +101,18 @@ class Text(_Check):
 
     def __call__(self, scene, key, value):
         if not isinstance(value, str) or not value.strip() or "/" in value or "\\" in value:
+            self.fail(scene, key, value)
+        return value
+
+
+class ProfileSpec(_Check):
+    """A wheel or rail profile: a built-in name or a file path (read and checked by the wheelset)."""
+
+    allowed = "a built-in profile name ('s1002', 'uic60') or a profile file path"
+    sweepable = False
+
+    def __call__(self, scene, key, value):
+        if not isinstance(value, str) or not value.strip():
             self.fail(scene, key, value)
         return value
 
@@ -299,6 +313,29 @@ def _variable_names():
     return set(VARIABLES)
 
 
+class Numbers(_Check):
+    """A list of numbers, not a sweep (a schedule's times or factors); the transient vocabulary
+    (:func:`railtherm.input.transient.transient_from_table`) checks the values."""
+
+    sweepable = False
+
+    def __init__(self, unit="1", what="numbers"):
+        self.unit = unit
+        self.allowed = f"a list of {what}" + (f" [{unit}]" if unit != "1" else " [1]")
+
+    def __call__(self, scene, key, value):
+        if not isinstance(value, (list, tuple)):
+            self.fail(scene, key, value)
+        return list(value)
+
+
+class DepthList(Numbers):
+    """Depths of a transient scene's histories: one number or a list (the list itself, not a sweep)."""
+
+    def __init__(self):
+        super().__init__("m", "depths >= 0")
+
+
 POS = Num(0, lo_open=True, unit="m")
 NONNEG = Num(0)
 ANY = Num()
@@ -346,11 +383,24 @@ SCENE_KEYS: dict[str, _Check] = {
     "wheelset": Table({"conicity": Num(0, 1), "lateral_shift": Num(-0.1, 0.1, unit="m"),
                        "yaw_angle": Num(-0.1, 0.1, unit="rad"), "vertical_load": Num(0, lo_open=True, unit="N"),
                        "wheel_radius": Num(0, lo_open=True, unit="m"), "gauge": Num(0, lo_open=True, unit="m"),
-                       "contact": Choice(1, 2)}),
+                       "contact": Choice(1, 2),
+                       # a wheelset on real profiles (railtherm.input.wheelset_profile); checked in full by
+                       # railtherm.input.profiles.wheelset_geometry_from_table
+                       "wheel_profile": ProfileSpec(), "rail_profile": ProfileSpec(),
+                       "rail_inclination": Num(-0.1, 0.1, unit="rad"), "gauge_height": Num(0, 0.03, unit="m"),
+                       "flange_back_distance": Num(0, lo_open=True, unit="m"),
+                       "flange_back_position": Num(-0.2, 0.2, unit="m"),
+                       "nominal_radius": Num(0, lo_open=True, unit="m"),
+                       "roll_angle": Either(Num(-0.1, 0.1, unit="rad"), Choice("balance")),
+                       "pitch_velocity": Either(Num(-1e4, 1e4, unit="rad s-1"), Choice("free")),
+                       "vertical_force": Num(0, unit="N"), "side": Choice("right", "left"),
+                       "patch": Choice(1, 2, 3)}),
     "mode": Choice("steady", "transient"),
     "reference": Text(),
+    "passes": Table({"count": Int(1), "interval": Num(0, lo_open=True, unit="s")}),
+    "schedule": Table({"time": Numbers("s", "strictly increasing times"), "factor": Numbers("1", "factors >= 0")}),
     "field": Table({"behind": Num(0, unit="m", note="distance beyond the trailing edge"),
-                    "depth": Num(0, lo_open=True, unit="m"),
+                    "depth": Either(Num(0, lo_open=True, unit="m"), DepthList()),
                     "threshold": Num(-273.15, lo_open=True, unit="degC")}),
 }
 
@@ -476,6 +526,9 @@ class Scene:
     strip: Strip | None = None
     numerics: Mapping[str, Any] = field(default_factory=dict)
     wheelset: Wheelset | None = None
+    #: a wheelset on profiles (``[scene.wheelset]`` with profile keys): the patch whose gap, load and
+    #: creepages the scene carries (:class:`railtherm.input.wheelset_profile.ProfileContact`)
+    profile_contact: Any = None
     mode: str = "steady"
     reference: str | None = None
     #: the mapping the scene was parsed from (after defaults and sweep expansion)
@@ -485,6 +538,10 @@ class Scene:
     #: temperatures behind the patch and in depth (key ``field``); None: on the patch only, as before
     #: (declared last: the name shadows ``dataclasses.field`` in the class body)
     field: Field | None = None
+    #: passes, schedule, history depths and threshold of a scene with ``mode = "transient"`` (the
+    #: interval resolved: the wheel's revolution period 2 pi wheel_radius / speed unless given); None
+    #: for a steady scene
+    transient: Transient | None = None
 
     @property
     def heat_partition(self) -> float | str:
@@ -583,6 +640,59 @@ def _require(scene, cond, key, msg):
         raise SceneError(f"scene {scene!r}: {msg}", scene=scene, key=key, allowed=msg)
 
 
+def _contact_duration(c: dict, speed: float) -> float | None:
+    """2a/V [s] when the scene gives the semi-axis along rolling, else None (a Hertz patch from the load is
+    known only after the contact stage; the temperature model checks the interval then)."""
+    hs = c.get("heat_source") or {}
+    a = (hs.get("semi_axes") or (None,))[0] or hs.get("half_width") or ((c.get("contact") or {}).get("semi_axes")
+                                                                         or (None,))[0]
+    return None if a is None else 2.0 * float(a) / speed
+
+
+def _transient(name: str, c: dict, raw: Mapping, kw: dict) -> Transient | None:
+    """The scene's transient part (:func:`railtherm.input.transient.transient_from_table`), its interval
+    resolved: without ``passes.interval`` a pass is one revolution of the wheel, 2 pi wheel_radius / speed."""
+    import dataclasses
+    table = {k: c[k] for k in ("mode", "passes", "schedule") if k in c}
+    if "field" in c:
+        table["field"] = {k: v for k, v in c["field"].items() if k != "behind"}
+    if "outputs" in raw:
+        table["outputs"] = list(c.get("outputs", ()))
+    tr = transient_from_table(name, table, _contact_duration(c, kw["speed"]))
+    if tr is None:
+        return None
+    _require(name, "behind" not in c.get("field", {}), "field.behind",
+             "no 'behind' in a transient scene (its histories are at the fixed section: field = { depth = <m> or "
+             "[<m>, ...], threshold = <degC> })")
+    if tr.interval is None:
+        radius = kw.get("line_wheel_radius") or c.get("wheel", {}).get("radius", Material.radius)
+        tr = dataclasses.replace(tr, interval=2.0 * math.pi * float(radius) / kw["speed"])
+        duration = _contact_duration(c, kw["speed"])
+        if duration is not None and tr.interval < duration:
+            raise SceneError.bad_value(name, "passes.interval", None,
+                                       f"an interval >= the contact duration 2a/V = {duration:.6g} s (the wheel's "
+                                       f"revolution period {tr.interval:.6g} s is shorter: give passes.interval)")
+    return tr
+
+
+def _profile_wheelset(name: str, c: dict):
+    """A wheelset on profiles: the contact search's patch as the scene's gap, load and creepages
+    (:mod:`railtherm.input.wheelset_profile`); those keys must not be given as well."""
+    given = [k for k in ("contact", "normal_force", "penetration", "creepage", "sliding_speed") if k in c]
+    if given:
+        raise SceneError.bad_value(name, given[0], c[given[0]],
+                                   "nothing: a wheelset on profiles sets the contact, normal force and creepage")
+    law = friction_law(c["friction"]) if "friction" in c else None
+    pc = profile_contact(name, c["wheelset"], speed=c["speed"], wheel=_material(name, "wheel", c.get("wheel", {})),
+                         rail=_material(name, "rail", c.get("rail", {})),
+                         friction=None if law is None else law.nominal)
+    c["contact"] = {"shape": "gap", "coefficients": pc.gap_coefficients}
+    c["normal_force"] = pc.normal_force
+    xi, eta, phi = pc.creepage
+    c["creepage"] = {"longitudinal": xi, "lateral": eta, "spin": phi}
+    return pc
+
+
 def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
     given = c.get("heat_source")
     kw: dict[str, Any] = {"name": name}
@@ -603,6 +713,8 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
         if "contact" in c and c["contact"].get("shape") == "line":
             kw["line_wheel_radius"] = c["contact"].get("wheel_radius")
     else:
+        if is_profile_wheelset(c.get("wheelset")):
+            kw["profile_contact"] = _profile_wheelset(name, c)
         _require(name, "contact" in c, "contact",
                  "key 'contact' is missing: give contact = { shape = \"ellipse\", semi_axes = [a, b] } "
                  "(or curvatures, or shape = \"line\" with wheel_radius), or a heat_source")
@@ -635,7 +747,7 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
             _require(name, not ({"semi_axes", "curvatures", "coefficients"} & set(ct)), "contact",
                      "a line contact takes 'wheel_radius' only (no semi_axes/curvatures/coefficients)")
             kw["line_wheel_radius"] = ct["wheel_radius"]
-        ws = c.get("wheelset")
+        ws = None if "profile_contact" in kw else c.get("wheelset")
         if ws is not None and "normal_force" not in c and "penetration" not in c:
             # seed 6.1: the wheelset's kinematics sets the normal force; half the axle load starts it
             c["normal_force"] = Wheelset(**ws).vertical_load / 2.0
@@ -674,11 +786,14 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
     _require(name, not kw["rail"].rigid, "rail.rigid", "the rail cannot be rigid (only the wheel, paper section 4)")
     if "strip" in c:
         kw["strip"] = Strip(**c["strip"])
-    if "wheelset" in c:
+    if "wheelset" in c and "profile_contact" not in kw:
         kw["wheelset"] = Wheelset(**c["wheelset"])
-    if "field" in c:
+    kw["transient"] = _transient(name, c, raw, kw)
+    if "field" in c and kw["transient"] is None:
+        _require(name, not isinstance(c["field"].get("depth"), list), "field.depth",
+                 "one depth [m] > 0 in a steady scene (a list of depths belongs to mode = \"transient\")")
         kw["field"] = Field(**c["field"])
-    trace = [o for o in kw.get("outputs", ()) if o in TRACE_OUTPUTS]
+    trace = [o for o in kw.get("outputs", ()) if o in TRACE_OUTPUTS and not (kw["transient"] and o == "time_above")]
     if trace and "field" not in c:
         raise SceneError.bad_value(name, "outputs", trace[0],
                                    "a thermal-trace output (" + ", ".join(TRACE_OUTPUTS) + ") only with the "

@@ -24,7 +24,7 @@ from typing import Any, Mapping
 
 from ..contract.errors import SceneError
 
-__all__ = ["Transient", "TRANSIENT_OUTPUTS", "DEFAULT_THRESHOLD", "transient_from_table"]
+__all__ = ["Transient", "TRANSIENT_OUTPUTS", "DEFAULT_THRESHOLD", "transient_from_table", "asks_history"]
 
 #: outputs only a transient scene has (``time_above`` is per pass there)
 TRANSIENT_OUTPUTS = ("temperature_history", "pass_peak_temperature", "residual_rise", "time_above")
@@ -191,3 +191,14 @@ def transient_from_table(scene_name: str | None, table: Mapping[str, Any],
     depths, threshold = _field(scene_name, table.get("field"))
     return Transient(count=count, interval=interval, schedule_time=time, schedule_factor=factor, depths=depths,
                      threshold=threshold, outputs=_outputs(scene_name, table.get("outputs")))
+
+
+def asks_history(scene) -> bool:
+    """True when a transient scene asks for the pass histories: it gives ``passes`` or ``schedule`` or names
+    a transient output (``time_above`` counts only in a transient scene). A transient scene without
+    them may still mean a model's own transient (fipy's wheel over revolutions, ``numerics.duration``)."""
+    tr = getattr(scene, "transient", None)
+    if tr is None:
+        return False
+    source = getattr(scene, "source", {}) or {}
+    return "passes" in source or "schedule" in source or bool(tr.outputs)
