@@ -1,0 +1,238 @@
+"""A scene's contact from real wheel and rail profiles: the ``[scene.wheelset]`` profile keys turned into
+the contact, load and creepages of one patch.
+
+A scene whose ``wheelset`` table names profiles (``wheel_profile``, ``rail_profile``, ``nominal_radius``,
+``vertical_force``, ...; see :data:`railtherm.input.profiles.WHEELSET_KEYS`) runs the contact search
+(:func:`railtherm.physics.contact_search.contact_search`) when it is loaded, and the scene is then an
+ordinary one in the existing vocabulary:
+
+* ``contact = {shape = "gap", coefficients = ...}``: the patch's undeformed gap on its contact plane,
+  a least-squares polynomial (:meth:`Patch.gap_coefficients`, up to y^8, x^2 y^6) over a window of
+  :data:`WINDOW` times the Hertz-equivalent ellipse's semi-axes, so ``kalker`` solves the non-Hertzian
+  patch. Hertz-based chains get the Hertz-equivalent ellipse from the profiles' curvatures at the
+  contact point (as vehicle-dynamics codes do) through the normal model ``wheelset-profile``
+  (:mod:`railtherm.models.wheelset_profile`), which says so in its diagnostics.
+* ``creepage``: the patch's creepages from the wheelset's motion (speed, yaw, roll, pitch velocity),
+  railtherm's convention (wheel relative to rail; CONTACT's are minus these).
+* ``normal_force``: from the wheel's ``vertical_force`` Fz. With one patch the wheel's vertical
+  equilibrium is Fz = N cos(delta) - Fy sin(delta) (delta the contact angle, Fy the lateral creep force on
+  the wheel in the contact plane): the lateral creep force carries part of the load on a steep flange
+  (at Manchester position 13, 11 % of it). Fy is estimated here, before any contact model runs, with
+  Kalker's linear theory on the Hertz-equivalent ellipse saturated by Shen, Hedrick and Elkins' rule
+  [1]; N solves the equation with that estimate (:func:`normal_force_from_vertical`). The contact
+  model's own Fy then differs from the estimate; :attr:`ProfileContact.normal_force` says which force
+  was used and the result's attributes carry the estimate.
+
+Limitations: one patch per scene (key ``wheelset.patch``, 1 = the closest); with several patches the
+vertical force is not shared between them (each patch is given the whole ``vertical_force``), so a
+scene with two patches of comparable separation is refused unless ``patch`` is given explicitly.
+``roll_angle = "balance"`` and ``pitch_velocity = "free"`` are not solved here: such a scene is refused.
+
+References
+----------
+.. [1] Z. Y. Shen, J. K. Hedrick, J. A. Elkins, A comparison of alternative creep force models for rail
+   vehicle dynamic analysis, Vehicle System Dynamics 12 (1983) 79-83. doi:10.1080/00423118308968725
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from ..contract.errors import SceneError
+from ..physics.contact_search import contact_search
+from ..physics.elastic import combined_elastic
+from ..physics.profiles import ProfileError
+from ..references.hertz import contact_modulus, hertz_from_curvatures
+from ..references.kalker import kalker_linear_forces
+from .profiles import wheelset_geometry_from_table
+
+__all__ = ["PROFILE_ONLY_KEYS", "CONICAL_ONLY_KEYS", "ProfileContact", "is_profile_wheelset", "profile_contact",
+           "normal_force_from_vertical", "WINDOW", "GAP_DEGREE"]
+
+#: keys that make a ``wheelset`` table a profile wheelset (the conical one has none of them)
+PROFILE_ONLY_KEYS = frozenset({"wheel_profile", "rail_profile", "rail_inclination", "gauge_height",
+                               "flange_back_distance", "flange_back_position", "nominal_radius", "roll_angle",
+                               "pitch_velocity", "vertical_force", "side", "patch"})
+#: keys of the conical wheelset only
+CONICAL_ONLY_KEYS = frozenset({"conicity", "vertical_load", "wheel_radius", "contact"})
+#: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
+WINDOW = (1.6, 2.0)
+#: degree of the gap polynomial in the lateral coordinate
+GAP_DEGREE = 8
+
+
+def is_profile_wheelset(table) -> bool:
+    """Whether a ``wheelset`` table describes a wheelset on profiles (any profile-only key)."""
+    return isinstance(table, Mapping) and bool(PROFILE_ONLY_KEYS & set(table))
+
+
+@dataclass(frozen=True)
+class ProfileContact:
+    """One patch of a profile wheelset's wheel, as the scene uses it (SI units, the wheel's own axes).
+
+    Attributes
+    ----------
+    side : str
+        "right" or "left" (the left wheel's quantities are in its own mirrored axes).
+    patch : int
+        Which patch (1 = the closest) of ``patches`` found.
+    patches : int
+        Number of patches the search found.
+    contact_position_rail, contact_height_rail : float
+        Contact point on the rail in the rail profile's own coordinates [m].
+    contact_angle : float
+        Angle of the contact plane [rad].
+    rolling_radius : float
+        [m].
+    separation : float
+        The patch's undeformed vertical distance above the closest one [m].
+    hertz_curvatures : tuple of float
+        (A, B) [1/m] of the Hertz-equivalent gap A x^2 + B y^2.
+    gap_coefficients : dict
+        The gap polynomial's coefficients, scene keys ``x<i>y<j>`` [m^(1-i-j)].
+    gap_residual : float
+        Largest misfit of the polynomial on its window [m].
+    creepage : tuple of float
+        (longitudinal [1], lateral [1], spin [1/m]), railtherm's convention.
+    vertical_force : float
+        The wheel's vertical force Fz [N].
+    normal_force : float
+        N [N] from Fz and the estimated lateral creep force.
+    lateral_force_estimate : float
+        The estimated lateral creep force on the wheel in the contact plane [N] that N used.
+    """
+
+    side: str
+    patch: int
+    patches: int
+    contact_position_rail: float
+    contact_height_rail: float
+    contact_angle: float
+    rolling_radius: float
+    separation: float
+    hertz_curvatures: tuple[float, float]
+    gap_coefficients: dict
+    gap_residual: float
+    creepage: tuple[float, float, float]
+    vertical_force: float
+    normal_force: float
+    lateral_force_estimate: float
+
+
+def _saturated_lateral(a, b, G, nu, creepage, mu, N) -> float:
+    """Lateral creep force on the wheel [N]: Kalker's linear theory, saturated (Shen-Hedrick-Elkins)."""
+    fx, fy, _ = kalker_linear_forces(a, b, G, nu, *creepage)
+    f = math.hypot(fx, fy)
+    if f == 0.0 or mu * N == 0.0:
+        return 0.0
+    e = f / (mu * N)
+    scale = (1.0 - e / 3.0 + e * e / 27.0) if e < 3.0 else 1.0 / e
+    return fy * scale
+
+
+def normal_force_from_vertical(vertical_force, angle, curvatures, e_star, G, nu, creepage, friction,
+                               iterations: int = 30):
+    """N [N] with Fz = N cos(delta) - Fy(N) sin(delta), Fy the saturated linear-theory estimate.
+
+    Returns
+    -------
+    (normal_force, lateral_force) : tuple of float
+        N [N] and the Fy [N] (on the wheel, in the contact plane) it balances with.
+    """
+    c, s = math.cos(angle), math.sin(angle)
+    N, fy = vertical_force / c, 0.0
+    for _ in range(iterations):
+        h = hertz_from_curvatures(*curvatures, N, e_star)
+        fy = _saturated_lateral(h.a, h.b, G, nu, creepage, friction, N)
+        new = (vertical_force + fy * s) / c
+        if abs(new - N) <= 1e-10 * vertical_force:
+            N = new
+            break
+        N = new
+    return N, fy
+
+
+def _fail(scene_name, key, value, allowed):
+    raise SceneError.bad_value(scene_name, key, value, allowed)
+
+
+def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rail, friction: float | None,
+                    base: str | None = None) -> ProfileContact:
+    """The contact of a profile wheelset scene (module docstring).
+
+    Parameters
+    ----------
+    scene_name : str
+        Named in messages.
+    table : Mapping
+        The scene's ``wheelset`` table (profile keys).
+    speed : float
+        Forward speed [m/s].
+    wheel, rail : Material
+        The bodies (for the Hertz-equivalent ellipse and the creep-force estimate).
+    friction : float or None
+        Nominal coefficient of friction (None: no creep force estimate, N = Fz / cos(delta)).
+    base : str, optional
+        Folder of relative profile paths.
+
+    Raises
+    ------
+    SceneError
+        A key's value, a missing ``vertical_force`` or ``pitch_velocity``, a roll or pitch left to the
+        equilibrium, a wheel that finds no contact or runs off a profile, a patch number beyond those found.
+    """
+    mixed = sorted(CONICAL_ONLY_KEYS & set(table))
+    if mixed:
+        _fail(scene_name, f"wheelset.{mixed[0]}", table[mixed[0]],
+              "no conical-wheelset key in a wheelset on profiles (it has wheel_profile/rail_profile/...): "
+              "give nominal_radius and vertical_force instead of wheel_radius and vertical_load")
+    patch_no = table.get("patch", 1)
+    if isinstance(patch_no, bool) or patch_no not in (1, 2, 3):
+        _fail(scene_name, "wheelset.patch", patch_no, "1, 2 or 3: which patch of the wheel (1 = the closest)")
+    for k, what in (("nominal_radius", "the wheel radius at the wheel profile's origin [m]"),
+                    ("vertical_force", "the vertical force on this wheel [N], > 0"),
+                    ("pitch_velocity", "the wheelset's angular velocity about its axle [rad/s]")):
+        if k not in table:
+            raise SceneError(f"scene {scene_name!r}: key 'wheelset.{k}' is missing: {what}",
+                             scene=scene_name, key=f"wheelset.{k}", allowed=what)
+    rest = {k: v for k, v in table.items() if k != "patch"}
+    geo = wheelset_geometry_from_table(scene_name, rest, base)
+    for k, word in (("roll_angle", "balance"), ("pitch_velocity", "free")):
+        if getattr(geo, k) == word:
+            _fail(scene_name, f"wheelset.{k}", word, f"a number: the equilibrium that '{word}' asks for is not "
+                  "solved yet; give the value (e.g. from the benchmark's table)")
+    if not geo.vertical_force or geo.vertical_force <= 0.0:
+        _fail(scene_name, "wheelset.vertical_force", table.get("vertical_force"),
+              "the vertical force on this wheel [N], > 0")
+    try:
+        wc = contact_search(geo.on_track(), geo.side, speed=speed)
+    except ProfileError as exc:
+        raise SceneError(f"scene {scene_name!r}: key 'wheelset': no contact: {exc}", scene=scene_name,
+                         key="wheelset.lateral_shift", value=table.get("lateral_shift")) from None
+    if patch_no > len(wc.patches):
+        _fail(scene_name, "wheelset.patch", patch_no,
+              f"at most {len(wc.patches)}: the search found {len(wc.patches)} patch(es) on the {geo.side} wheel")
+    p = wc.patches[patch_no - 1]
+    curv = p.hertz_curvatures
+    if not (curv[0] > 0 and curv[1] > 0):
+        _fail(scene_name, "wheelset", f"patch {patch_no}",
+              f"a patch whose gap closes (Hertz-equivalent curvatures {curv[0]:.4g}, {curv[1]:.4g} 1/m): a "
+              "conformal contact (B <= 0) is not handled")
+    e_star = contact_modulus(wheel, rail)
+    G, nu = combined_elastic(wheel, rail)
+    if friction is None:
+        N, fy = geo.vertical_force / math.cos(p.contact_angle), 0.0
+    else:
+        N, fy = normal_force_from_vertical(geo.vertical_force, p.contact_angle, curv, e_star, G, nu,
+                                           p.creepage, friction)
+    h = hertz_from_curvatures(*curv, N, e_star)
+    coef, residual = p.gap_coefficients(WINDOW[0] * h.a, WINDOW[1] * h.b, degree=GAP_DEGREE,
+                                        step=min(h.a, h.b) / 12.0)
+    return ProfileContact(side=geo.side, patch=int(patch_no), patches=len(wc.patches),
+                          contact_position_rail=p.y_rail, contact_height_rail=p.z_rail,
+                          contact_angle=p.contact_angle, rolling_radius=p.rolling_radius, separation=p.separation,
+                          hertz_curvatures=(float(curv[0]), float(curv[1])), gap_coefficients=coef,
+                          gap_residual=residual, creepage=tuple(float(v) for v in p.creepage),
+                          vertical_force=float(geo.vertical_force), normal_force=float(N),
+                          lateral_force_estimate=float(fy))
