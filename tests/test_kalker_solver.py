@@ -326,6 +326,34 @@ def test_circulant_preconditioner_keeps_the_pressure_and_cuts_the_iterations():
     np.testing.assert_allclose(by_approach.pressure, pre.pressure, atol=1e-7 * pre.pressure.max())
 
 
+def test_fused_cg_passes_match_the_numpy_reference(monkeypatch):
+    """The normal solver's fused element-wise passes (numba, :mod:`railtherm_kalker._cg`) give the numpy reference
+    passes' pressure (1e-12 of the peak), force and iterations, with the force and with the approach prescribed."""
+    from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
+    from railtherm_kalker import _cg
+    from railtherm_kalker.influence import normal_operator
+    from railtherm_kalker.normal_solver import solve_normal
+    from railtherm_kalker.potential_area import hertz_curvatures
+    a, b, force, e_star = 5.88e-3, 10.54e-3, 100e3, G / (1 - NU)
+    area = potential_area(a, b, 48, margin=4)
+    X, Y = area.mesh()
+    ca, cb = hertz_curvatures(a, b, force, e_star)
+    hz = hertz_from_curvatures(ca, cb, force, e_star)
+    conv = normal_operator(*area.shape, area.dx, area.dy, e_star)
+    h, dA = ca * X ** 2 + cb * Y ** 2, area.dx * area.dy
+    p0 = hertz_pressure(X, Y, hz.a, hz.b, hz.max_pressure)
+    fused = [solve_normal(conv, h, dA, force=force, initial=p0), solve_normal(conv, h, dA, approach=hz.approach)]
+    for name in ("residual", "direction", "step", "enter"):
+        monkeypatch.setattr(_cg, name, getattr(_cg, f"_{name}_np"))
+    ref = [solve_normal(conv, h, dA, force=force, initial=p0), solve_normal(conv, h, dA, approach=hz.approach)]
+    for f, r in zip(fused, ref):
+        assert f.converged and r.converged and f.iterations == r.iterations
+        np.testing.assert_allclose(f.pressure, r.pressure, rtol=0, atol=1e-12 * r.pressure.max())
+        assert f.force == pytest.approx(r.force, rel=1e-12)
+        np.testing.assert_allclose(f.displacement, conv.apply(f.pressure[None])[0], rtol=0,
+                                   atol=1e-12 * np.abs(f.displacement).max())
+
+
 def test_full_slip_starts_on_the_finest_grid_with_the_same_solution():
     """Beyond saturation (xi = -0.05) the full-slip traction -mu p w/|w| starts the finest grid (no coarse
     grids) and gives the tractions of the solve from zero (1e-8 of mu p) in 2 Newton steps, its product reused;

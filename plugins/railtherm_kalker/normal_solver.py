@@ -32,6 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import _cg
+
 __all__ = ["NormalSolution", "solve_normal", "NORMAL_TOLERANCE"]
 
 #: default tolerance on the relative complementarity residual (see :class:`NormalSolution`)
@@ -131,66 +133,55 @@ def solve_normal(conv, gap: np.ndarray, cell_area: float, *, force: float | None
     use_m = precondition and getattr(conv, "_inverse32", None) is not None
 
     def A(v):
-        return conv.apply(v[None])[0]
+        return conv.apply(v.reshape((1,) + h.shape))[0].ravel()
 
     n0 = conv.products
-    p = _initial_pressure(h, cell_area, force, approach, initial)
+    fm = force is not None
+    a0 = 0.0 if fm else float(approach)
+    shape = h.shape
+    h = np.ascontiguousarray(h).ravel()
+    p = np.ascontiguousarray(_initial_pressure(h.reshape(shape), cell_area, force, approach, initial), dtype=float).ravel()
     u = A(p)
     C = p > 0
     if not C.any():
         C = h <= h.min()
-    v = np.zeros_like(h)
-    r_prev, rz_old = None, 0.0
+    v, r, r_prev = np.zeros_like(h), np.zeros_like(h), np.zeros_like(h)
+    rz_old = 0.0
     history, converged, it, res = [], False, 0, np.inf
+    # one FFT product, one preconditioner application and four fused element-wise passes (:mod:`._cg`) per step
     for it in range(1, maxiter + 1):
-        e = h + u
-        delta = float(e[C].mean()) if force is not None else float(approach)
-        r = np.where(C, delta - e, 0.0)                      # residual of A_CC p = delta - h (mean-free)
-        z = np.where(C, conv.precondition(r), 0.0) if use_m else r
-        if force is not None:
-            z[C] -= z[C].mean()
-        rz = float(np.sum(z * r))
-        beta = max(0.0, (rz - float(np.sum(z * r_prev))) / rz_old) if (r_prev is not None and rz_old > 0) else 0.0
-        v = z + beta * np.where(C, v, 0.0)
-        if force is not None:
-            v[C] -= v[C].mean()
+        _cg.residual(h, u, C, fm, a0, r)                     # residual of A_CC p = delta - h (mean-free)
+        z = np.ascontiguousarray(conv.precondition(r.reshape(shape)).ravel()) if use_m else r.copy()
+        rz = _cg.direction(z, r, r_prev, v, C, fm, rz_old, it == 1)
         q = A(v)
-        qc = q - float(q[C].mean()) if force is not None else q
-        vav = float(np.sum(np.where(C, qc, 0.0) * v))
-        alpha = float(np.sum(r * v)) / vav if vav > 0 else 0.0
-        p = p + alpha * v
-        u = u + alpha * q
-        r_prev, rz_old = r, rz
-        change = abs(alpha) * float(np.sum(np.abs(v))) / max(float(np.sum(np.abs(p))), 1e-300)
+        alpha, change, nneg = _cg.step(q, v, r, C, fm, p, u)
+        r, r_prev, rz_old = r_prev, r, rz
         # active set: negative pressures leave (force rescaled), penetrating exterior elements enter
-        neg = C & (p < 0.0)
-        changed = bool(neg.any())
+        changed = nneg > 0
         if changed:
-            p = np.where(neg, 0.0, p)
-            if force is not None:
+            neg = C & (p < 0.0)
+            p[neg] = 0.0
+            if fm:
                 total = float(p.sum()) * cell_area
                 p = p * (force / total) if total > 0 else np.where(h <= h.min(), 1.0, 0.0)
             u = A(p)
             C = C & ~neg
             if not C.any():
                 C = h <= h.min()
-        e = h + u
-        delta = float(e[C].mean()) if force is not None else float(approach)
-        enter = ~C & (e < delta)
-        if enter.any():
-            C = C | enter
-            changed = True
+        delta, nnew = _cg.enter(h, u, C, fm, a0)
+        changed = changed or nnew > 0
         history.append(change)
         if not changed and change < tol:
-            res = _complementarity(p, e - delta, u)
+            res = _complementarity(p, h + u - delta, u)
             if res < max(tol, 1e-12) * 10.0 or change == 0.0:
                 converged = True
                 break
-    u = A(p)
+    # u is A p: updated with every step's product, recomputed after every change of the active set
     e = h + u
     contact = p > 0
-    delta = float(e[contact].mean()) if (force is not None and contact.any()) else float(approach or 0.0)
+    delta = float(e[contact].mean()) if (fm and contact.any()) else float(approach or 0.0)
     res = _complementarity(p, e - delta, u)
+    p, u = p.reshape(shape), u.reshape(shape)
     return NormalSolution(pressure=p, approach=delta, displacement=u, force=float(p.sum()) * cell_area,
                           converged=converged, iterations=it, residual=res, history=history,
                           products=conv.products - n0)
