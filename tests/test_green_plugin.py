@@ -45,10 +45,18 @@ def test_bad_option_is_a_scene_error():
         railtherm.solve(scene, "green", options={"depth_points": 1})
 
 
-def test_transient_mode_refused():
+def test_transient_mode_runs_and_its_limits_are_refused():
+    """green computes transient scenes (the pass histories, railtherm_green.history); it refuses what
+    superposition cannot represent: bodies at different bulk temperatures, and the steady depth field."""
     scene = railtherm.testing.canonical("ellipse-full-sliding", mode="transient")
-    why = GreenTemperature().supports(railtherm.load_scene(scene), 0)
-    assert why is not None and "transient" in why
+    assert GreenTemperature().supports(railtherm.load_scene(scene), 0) is None
+    warm = railtherm.testing.canonical("ellipse-full-sliding", mode="transient")
+    warm["wheel"] = {**warm["wheel"], "bulk_temperature": 50.0}
+    why = GreenTemperature().supports(railtherm.load_scene(warm), 0)
+    assert why is not None and "bulk temperature" in why
+    deep = railtherm.testing.canonical("ellipse-full-sliding", mode="transient", outputs=["temperature"])
+    why = GreenTemperature().supports(railtherm.load_scene(deep), 0)
+    assert why is not None and "temperature_history" in why
 
 
 def test_study_file_matches_published_inputs_and_runs():

@@ -37,14 +37,16 @@ import numpy as np
 from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
 from railtherm.physics import (CONVECTIVE_AREA, equal_temperature_partition, field_grid, lumped_wheel,
                                peclet_number, thermal_scales, with_thermal_trace)
+from railtherm.contract.transient import with_history
 from railtherm.physics.lumped_wheel import CONVECTIVE_AREAS
 
-from . import kernel, steady, validity
+from . import history, kernel, steady, validity
 
 __all__ = ["GreenTemperature"]
 
 _STEADY = ("steady_wheel_temperature", "steady_mean_contact_temperature")
 _TRACE = ("peak_temperature", "cooling_rate", "heated_depth", "time_above")
+_TRANSIENT = ("temperature_history", "pass_peak_temperature", "residual_rise")
 
 
 class GreenTemperature(TemperatureModel):
@@ -112,13 +114,13 @@ class GreenTemperature(TemperatureModel):
         sources=frozenset({"computed", "given"}),
         tangential=frozenset({"full-sliding", "creepage"}),
         convection="long-term",   # the flash temperatures ignore it; the lumped steady wheel honours it
-        modes=frozenset({"steady"}),
+        modes=frozenset({"steady", "transient"}),   # transient: railtherm_green.history
         peclet=(validity.PECLET_MIN, math.inf),
         moving_surface=True,
         advice=validity.ADVICE,
         field=True,
         provides=frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature",
-                            "temperature", *_STEADY, *_TRACE}),
+                            "temperature", *_STEADY, *_TRACE, *_TRANSIENT}),
     )
     options = {
         "partition": Option("source", "heat partition: 'source' uses the heat source's (scene's) partition; "
@@ -143,8 +145,14 @@ class GreenTemperature(TemperatureModel):
     }
 
     # ------------------------------------------------------------------------------------------
-    def compute_temperature(self, scene, source, level, options):
+    def supports(self, scene, level):
+        """Core's capability checks, then the limits of green's transient (:func:`history.limits`)."""
+        return super().supports(scene, level) or history.limits(scene)
+
+    # the steady pass, then (transient scene) its histories: one flow for both keeps the flux shared
+    def compute_temperature(self, scene, source, level, options):  # noqa: C901 - over 80 lines: see above
         fld = getattr(scene, "field", None)
+        transient = getattr(scene, "transient", None)
         patch_grid = source.grid
         grid = field_grid(patch_grid, scene)
         a, b = grid.a, grid.b
@@ -200,8 +208,8 @@ class GreenTemperature(TemperatureModel):
         diag["model_error_note"] = validity.ERROR_NOTE
 
         z = depth_rise = None
-        trace = fld is not None and (want_all or any(o in outputs for o in _TRACE))
-        if want_all or "temperature" in outputs or trace:
+        trace = transient is None and fld is not None and (want_all or any(o in outputs for o in _TRACE))
+        if transient is None and (want_all or "temperature" in outputs or trace):
             z, depth_rise = self._depth(grid, flux, beta, speeds, (wheel, rail), d_bulk, eps_c, opts,
                                         None if fld is None else fld.depth, extended=extended, behind=behind)
 
@@ -238,8 +246,13 @@ class GreenTemperature(TemperatureModel):
         if fld is not None:
             diag.update({"field_behind": float(patch_grid.x_edges[0] - grid.x_edges[0]),
                          "field_cells_behind": int(grid.x.size - patch_grid.x.size)})
+        if transient is not None:
+            hist, hdiag = history.histories(scene, grid, history.centre_flux(grid, flux), (wheel, rail), speeds, t_bulk)
+            diag.update(hdiag)
         result = TemperatureField.from_bodies(grid, t_bulk, *bodies, z=z, steady_wheel_temperature=steady_wheel,
                                               steady_mean_contact_temperature=steady_mean, diagnostics=diag)
+        if transient is not None:
+            return with_history(result, hist)
         return with_thermal_trace(result, scene, source) if trace else result
 
     # ------------------------------------------------------------------------------------------

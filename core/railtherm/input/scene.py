@@ -18,7 +18,7 @@ from ..physics.friction import LAWS as FRICTION_LAWS
 from ..physics.friction import FrictionLaw, Parameter, friction_law
 from ..physics.partition import HeatPartition
 from .materials import Material
-from .transient import Transient, transient_from_table
+from .transient import Transient, scene_transient
 from .wheelset_profile import is_profile_wheelset, profile_contact
 
 SCHEMA_VERSION = 1
@@ -640,41 +640,6 @@ def _require(scene, cond, key, msg):
         raise SceneError(f"scene {scene!r}: {msg}", scene=scene, key=key, allowed=msg)
 
 
-def _contact_duration(c: dict, speed: float) -> float | None:
-    """2a/V [s] when the scene gives the semi-axis along rolling, else None (a Hertz patch from the load is
-    known only after the contact stage; the temperature model checks the interval then)."""
-    hs = c.get("heat_source") or {}
-    a = (hs.get("semi_axes") or (None,))[0] or hs.get("half_width") or ((c.get("contact") or {}).get("semi_axes")
-                                                                         or (None,))[0]
-    return None if a is None else 2.0 * float(a) / speed
-
-
-def _transient(name: str, c: dict, raw: Mapping, kw: dict) -> Transient | None:
-    """The scene's transient part (:func:`railtherm.input.transient.transient_from_table`), its interval
-    resolved: without ``passes.interval`` a pass is one revolution of the wheel, 2 pi wheel_radius / speed."""
-    import dataclasses
-    table = {k: c[k] for k in ("mode", "passes", "schedule") if k in c}
-    if "field" in c:
-        table["field"] = {k: v for k, v in c["field"].items() if k != "behind"}
-    if "outputs" in raw:
-        table["outputs"] = list(c.get("outputs", ()))
-    tr = transient_from_table(name, table, _contact_duration(c, kw["speed"]))
-    if tr is None:
-        return None
-    _require(name, "behind" not in c.get("field", {}), "field.behind",
-             "no 'behind' in a transient scene (its histories are at the fixed section: field = { depth = <m> or "
-             "[<m>, ...], threshold = <degC> })")
-    if tr.interval is None:
-        radius = kw.get("line_wheel_radius") or c.get("wheel", {}).get("radius", Material.radius)
-        tr = dataclasses.replace(tr, interval=2.0 * math.pi * float(radius) / kw["speed"])
-        duration = _contact_duration(c, kw["speed"])
-        if duration is not None and tr.interval < duration:
-            raise SceneError.bad_value(name, "passes.interval", None,
-                                       f"an interval >= the contact duration 2a/V = {duration:.6g} s (the wheel's "
-                                       f"revolution period {tr.interval:.6g} s is shorter: give passes.interval)")
-    return tr
-
-
 def _profile_wheelset(name: str, c: dict):
     """A wheelset on profiles: the contact search's patch as the scene's gap, load and creepages
     (:mod:`railtherm.input.wheelset_profile`); those keys must not be given as well."""
@@ -788,7 +753,7 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
         kw["strip"] = Strip(**c["strip"])
     if "wheelset" in c and "profile_contact" not in kw:
         kw["wheelset"] = Wheelset(**c["wheelset"])
-    kw["transient"] = _transient(name, c, raw, kw)
+    kw["transient"] = scene_transient(name, c, raw, kw)
     if "field" in c and kw["transient"] is None:
         _require(name, not isinstance(c["field"].get("depth"), list), "field.depth",
                  "one depth [m] > 0 in a steady scene (a list of depths belongs to mode = \"transient\")")

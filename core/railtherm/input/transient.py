@@ -24,7 +24,7 @@ from typing import Any, Mapping
 
 from ..contract.errors import SceneError
 
-__all__ = ["Transient", "TRANSIENT_OUTPUTS", "DEFAULT_THRESHOLD", "transient_from_table", "asks_history"]
+__all__ = ["Transient", "TRANSIENT_OUTPUTS", "DEFAULT_THRESHOLD", "transient_from_table", "scene_transient", "asks_history"]
 
 #: outputs only a transient scene has (``time_above`` is per pass there)
 TRANSIENT_OUTPUTS = ("temperature_history", "pass_peak_temperature", "residual_rise", "time_above")
@@ -191,6 +191,44 @@ def transient_from_table(scene_name: str | None, table: Mapping[str, Any],
     depths, threshold = _field(scene_name, table.get("field"))
     return Transient(count=count, interval=interval, schedule_time=time, schedule_factor=factor, depths=depths,
                      threshold=threshold, outputs=_outputs(scene_name, table.get("outputs")))
+
+
+def _contact_duration(c: dict, speed: float) -> float | None:
+    """2a/V [s] when the scene gives the semi-axis along rolling, else None (a Hertz patch from the load is
+    known only after the contact stage; the temperature model checks the interval then)."""
+    hs = c.get("heat_source") or {}
+    a = (hs.get("semi_axes") or (None,))[0] or hs.get("half_width") or ((c.get("contact") or {}).get("semi_axes")
+                                                                         or (None,))[0]
+    return None if a is None else 2.0 * float(a) / speed
+
+
+def scene_transient(name: str, c: dict, raw: Mapping, kw: dict) -> Transient | None:
+    """The scene loader's transient part (:func:`transient_from_table` on the checked keys ``c`` of the scene
+    ``raw``; ``kw`` the scene's resolved speed and line wheel radius), its interval resolved: without
+    ``passes.interval`` a pass is one revolution of the wheel, 2 pi wheel_radius / speed."""
+    import dataclasses
+
+    from .materials import Material
+    table = {k: c[k] for k in ("mode", "passes", "schedule") if k in c}
+    if "field" in c:
+        table["field"] = {k: v for k, v in c["field"].items() if k != "behind"}
+    if "outputs" in raw:
+        table["outputs"] = list(c.get("outputs", ()))
+    tr = transient_from_table(name, table, _contact_duration(c, kw["speed"]))
+    if tr is None:
+        return None
+    if "behind" in c.get("field", {}):
+        _fail(name, "field.behind", c["field"]["behind"], "no 'behind' in a transient scene (its histories are at "
+              "the fixed section: field = { depth = <m> or [<m>, ...], threshold = <degC> })")
+    if tr.interval is None:
+        radius = kw.get("line_wheel_radius") or c.get("wheel", {}).get("radius", Material.radius)
+        tr = dataclasses.replace(tr, interval=2.0 * math.pi * float(radius) / kw["speed"])
+        duration = _contact_duration(c, kw["speed"])
+        if duration is not None and tr.interval < duration:
+            raise SceneError.bad_value(name, "passes.interval", None,
+                                       f"an interval >= the contact duration 2a/V = {duration:.6g} s (the wheel's "
+                                       f"revolution period {tr.interval:.6g} s is shorter: give passes.interval)")
+    return tr
 
 
 def asks_history(scene) -> bool:

@@ -1,0 +1,112 @@
+"""Green's transient scenes: the histories at the fixed section from one pass's strip flux.
+
+The temperature model computes one pass's flux on its grid as for a steady scene; the material point on
+the centre strip y = 0 of each body then meets that flux once per pass (per revolution for the wheel)
+and :func:`railtherm_green.transient.strip_history` superposes the passes exactly in time (the 1-D
+Green function of the strip). What the strips neglect between passes is conduction along x (along the
+rail or the tread) and across the strips (y): a 3-D contact's centre strip also cools sideways, so the
+residual rise of an ellipse is an upper bound (tests/test_green_transient.py measures it).
+
+Superposition needs the passes to be independent: a friction law that depends on the temperature makes
+each pass's heat depend on the earlier ones (the coupled loop would run per pass), and bodies at
+different bulk temperatures exchange heat through the patch by a steady field that is not a pass
+response; green refuses both in a transient scene (:func:`limits`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from railtherm import SceneError
+from railtherm.contract.transient import TransientHistory
+
+from .transient import pass_peaks_and_residual, pass_time_above, strip_history, strip_time_axis
+
+__all__ = ["limits", "centre_flux", "histories"]
+
+
+def limits(scene) -> str | None:
+    """Why green cannot compute this transient scene, or None (also None for a steady scene)."""
+    tr = getattr(scene, "transient", None)
+    if tr is None:
+        return None
+    law = getattr(scene, "friction_law", None)
+    if scene.heat_source is None and law is not None and law.depends_on_temperature:
+        return ("green's transient superposes one pass's response over the passes, which holds only while the "
+                "heat input does not depend on the temperature; a temperature-dependent friction law needs the "
+                "coupled loop per pass, which green does not run: use a constant or slip-velocity friction law")
+    if float(scene.wheel.bulk_temperature) != float(scene.rail.bulk_temperature):
+        return ("green's transient superposes the frictional heat of the passes only; wheel and rail at "
+                f"different bulk temperatures ({scene.wheel.bulk_temperature:g} and {scene.rail.bulk_temperature:g} "
+                "degC) exchange heat through the patch by a steady field that is no pass response: give both "
+                "bodies one bulk temperature")
+    outputs = tuple(getattr(scene, "outputs", ()) or ())
+    steady_depth = [o for o in outputs if o in ("temperature", "peak_temperature", "cooling_rate", "heated_depth")]
+    if steady_depth:
+        return (f"green does not return {steady_depth[0]!r} in a transient scene (the steady depth field and its "
+                "trace are one pass's, on another depth axis than the histories): ask temperature_history, "
+                "pass_peak_temperature, residual_rise or time_above")
+    return None
+
+
+def centre_flux(grid, flux: np.ndarray) -> np.ndarray:
+    """Each body's flux on the centre strip y = 0 [W/m^2], shape (2, nx): a line's only strip, an
+    ellipse's linear in y at y = 0 (as green's depth field)."""
+    if grid.line:
+        return flux[:, :, 0]
+    y = grid.y
+    j = int(np.clip(np.searchsorted(y, 0.0) - 1, 0, y.size - 2))
+    w1 = (0.0 - y[j]) / (y[j + 1] - y[j])
+    return (1.0 - w1) * flux[:, :, j] + w1 * flux[:, :, j + 1]
+
+
+def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[TransientHistory, dict]:
+    """The :class:`TransientHistory` of both bodies and its diagnostics.
+
+    Parameters
+    ----------
+    scene : railtherm.Scene
+        A transient scene (``scene.transient`` set, its interval resolved).
+    grid : SurfaceGrid
+        Green's grid of the pass (x cell edges ``grid.x_edges``).
+    qc : ndarray, shape (2, nx)
+        Each body's flux on the centre strip [W/m^2].
+    bodies : (Material, Material)
+        Wheel and rail.
+    speeds : (float, float)
+        Each body's surface speed through the contact [m/s].
+    bulk : (float, float)
+        Bulk temperatures [degC].
+
+    Raises
+    ------
+    railtherm.SceneError
+        ``passes.interval`` shorter than a body's contact duration on green's grid.
+    """
+    tr = scene.transient
+    x_edges = np.asarray(grid.x_edges, dtype=float)
+    count, interval = int(tr.count), float(tr.interval)
+    for v in speeds:
+        duration = (x_edges[-1] - x_edges[0]) / v
+        if interval < duration:
+            raise SceneError.bad_value(scene.name, "passes.interval", interval,
+                                       f"a time >= the contact duration 2a/V = {duration:.6g} s (a pass must end "
+                                       "before the next begins)")
+    time = np.unique(np.concatenate([strip_time_axis(x_edges, v, count, interval) for v in speeds]))
+    z = np.asarray(tr.depths, dtype=float)
+    rise = np.stack([strip_history(time, z, x_edges, qc[i], m.effusivity, m.diffusivity, speeds[i], count=count,
+                                   interval=interval, schedule_time=tr.schedule_time,
+                                   schedule_factor=tr.schedule_factor) for i, m in enumerate(bodies)])
+    peak = np.empty((2, count, z.size))
+    residual = np.empty((2, count))
+    above = np.empty((2, count, z.size))
+    for i in range(2):
+        p, r = pass_peaks_and_residual(time, rise[i], count, interval)
+        peak[i], residual[i] = p + bulk[i], r[:, 0]
+        above[i] = pass_time_above(time, rise[i], count, interval, tr.threshold - bulk[i])
+    temperature = rise + np.asarray(bulk, dtype=float)[:, None, None]
+    hist = TransientHistory(time=time, z=z, temperature=temperature, peak=peak, residual=residual, time_above=above)
+    diag = {"transient_passes": count, "transient_interval": interval, "transient_time_samples": int(time.size),
+            "transient_method": "Duhamel superposition of the 1-D strip Green function (one pass's response "
+                                "reused for every pass with a constant schedule)",
+            "transient_neglects": "conduction along x and across the strips (y) between passes"}
+    return hist, diag
