@@ -39,8 +39,9 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+import numpy as np
 from ..contract.errors import SceneError
-from ..physics.contact_search import contact_search
+from ..physics.contact_search import _rotation, contact_search
 from ..physics.elastic import combined_elastic
 from ..physics.profiles import ProfileError
 from ..references.hertz import contact_modulus, hertz_from_curvatures
@@ -58,6 +59,8 @@ PROFILE_ONLY_KEYS = frozenset({"wheel_profile", "rail_profile", "rail_inclinatio
 CONICAL_ONLY_KEYS = frozenset({"conicity", "vertical_load", "wheel_radius", "contact"})
 #: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
 WINDOW = (1.6, 2.0)
+#: half-width [m] of the lateral section the contact search samples the gap on
+SECTION_HALF_WIDTH = 12e-3
 #: degree of the gap polynomial in the lateral coordinate
 GAP_DEGREE = 8
 
@@ -153,6 +156,72 @@ def normal_force_from_vertical(vertical_force, angle, curvatures, e_star, G, nu,
     return N, fy
 
 
+def _lateral_window(p, h) -> float:
+    """Half-width [m] of the gap fit across rolling: WINDOW[1] Hertz semi-axes b, widened to 1.2 times the
+    reach of the stretch around the contact point where the undeformed gap stays below the Hertz-equivalent
+    approach (a second, nearly touching minimum, as at Manchester position 1, lies in the elastic patch),
+    at most the sampled section's reach."""
+    y = np.linspace(-SECTION_HALF_WIDTH, SECTION_HALF_WIDTH, 2401)
+    g = p.gap(0.0, y)
+    i0 = int(np.argmin(np.abs(y)))
+    lo = hi = i0
+    while lo > 0 and g[lo - 1] < h.approach:
+        lo -= 1
+    while hi < y.size - 1 and g[hi + 1] < h.approach:
+        hi += 1
+    reach = max(-y[lo], y[hi])
+    return float(min(max(WINDOW[1] * h.b, 1.2 * reach), 0.95 * SECTION_HALF_WIDTH))
+
+
+def reference_point(geo, p, approach: float, speed: float) -> dict:
+    """The patch's reference point and contact plane, as the planar contact approach takes them.
+
+    The gap is solved on the plane at the gap minimum (``p``); the reported contact point is the
+    centroid of the undeformed interpenetration (approach - h(0, y))+ across rolling at the
+    Hertz-equivalent approach, and the contact angle the rail's there. The spin creepage is the
+    wheelset's angular velocity along that plane's normal, and the longitudinal and lateral creepages
+    are the rigid slip at the plane's origin (the minimum), so that kalker's slip field
+    (xi - phi y, eta + phi x) is the wheel's rigid slip at every point of the plane. Where the gap has
+    one clear minimum this is the minimum itself; where a second nearly touching minimum lies inside
+    the patch (a two-point geometry) the plane and the spin are those of the patch's middle, as CONTACT
+    reports them.
+
+    Returns
+    -------
+    dict
+        ``y_rail``, ``z_rail`` [m] (rail profile's own coordinates), ``angle`` [rad], ``creepage``.
+    """
+    y = np.linspace(-SECTION_HALF_WIDTH, SECTION_HALF_WIDTH, 2401)
+    w = np.clip(approach - p.gap(0.0, y), 0.0, None)
+    w[~np.isfinite(w)] = 0.0
+    eta = float((w * y).sum() / w.sum()) if w.sum() > 0 else 0.0
+    b = float(geo.rail_inclination)
+    rail = geo.rail_profile.rotated(b) if b else geo.rail_profile
+    cb, sb = math.cos(b), math.sin(b)
+    y_inc = cb * p.y_rail + sb * p.z_rail + eta * math.cos(p.contact_angle)
+    z_inc, slope, _ = (float(v) for v in rail.at_y(y_inc))
+    angle = math.atan(slope)
+    y0_inc = cb * p.y_rail + sb * p.z_rail
+    z0_inc = -sb * p.y_rail + cb * p.z_rail
+    sign = 1.0 if geo.side == "right" else -1.0
+    rot = _rotation(sign * float(geo.roll_angle), sign * float(geo.yaw_angle))
+    w_axle = float(geo.pitch_velocity) * rot[:, 1]
+    # the rigid slip of the wheel at the reference point on the (undeformed) rail surface
+    arm = np.array([p.x, p.y_track - sign * float(geo.lateral_shift), p.rolling_radius])
+    axle = rot[:, 1]
+    for _ in range(4):   # the wheel's contact point: its distance from the axle is the rolling radius
+        d = arm - (arm @ axle) * axle
+        arm[2] += (p.rolling_radius - math.sqrt(d @ d)) * math.sqrt(d @ d) / d[2]
+    arm = arm + np.array([0.0, y_inc - y0_inc, z_inc - z0_inc])
+    v = np.array([speed, 0.0, 0.0]) + np.cross(w_axle, arm)
+    ca, sa = math.cos(angle), math.sin(angle)
+    phi = float(w_axle[1] * -sa + w_axle[2] * ca) / speed
+    xi_ref, eta_ref = float(v[0]) / speed, float(v[1] * ca + v[2] * sa) / speed
+    # kalker's slip field (xi - phi y, eta + phi x) on the plane through the minimum equals it there
+    return {"y_rail": cb * y_inc - sb * z_inc, "z_rail": sb * y_inc + cb * z_inc, "angle": angle,
+            "creepage": (xi_ref + phi * eta, eta_ref, phi), "creepage_reference": (xi_ref, eta_ref, phi)}
+
+
 def _fail(scene_name, key, value, allowed):
     raise SceneError.bad_value(scene_name, key, value, allowed)
 
@@ -206,7 +275,7 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
         _fail(scene_name, "wheelset.vertical_force", table.get("vertical_force"),
               "the vertical force on this wheel [N], > 0")
     try:
-        wc = contact_search(geo.on_track(), geo.side, speed=speed)
+        wc = contact_search(geo.on_track(), geo.side, speed=speed, section_half_width=SECTION_HALF_WIDTH)
     except ProfileError as exc:
         raise SceneError(f"scene {scene_name!r}: key 'wheelset': no contact: {exc}", scene=scene_name,
                          key="wheelset.lateral_shift", value=table.get("lateral_shift")) from None
@@ -221,18 +290,20 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
               "conformal contact (B <= 0) is not handled")
     e_star = contact_modulus(wheel, rail)
     G, nu = combined_elastic(wheel, rail)
+    h0 = hertz_from_curvatures(*curv, geo.vertical_force / math.cos(p.contact_angle), e_star)
+    ref = reference_point(geo, p, h0.approach, speed)
     if friction is None:
-        N, fy = geo.vertical_force / math.cos(p.contact_angle), 0.0
+        N, fy = geo.vertical_force / math.cos(ref["angle"]), 0.0
     else:
-        N, fy = normal_force_from_vertical(geo.vertical_force, p.contact_angle, curv, e_star, G, nu,
-                                           p.creepage, friction)
+        N, fy = normal_force_from_vertical(geo.vertical_force, ref["angle"], curv, e_star, G, nu,
+                                           ref["creepage"], friction)
     h = hertz_from_curvatures(*curv, N, e_star)
-    coef, residual = p.gap_coefficients(WINDOW[0] * h.a, WINDOW[1] * h.b, degree=GAP_DEGREE,
+    coef, residual = p.gap_coefficients(WINDOW[0] * h.a, _lateral_window(p, h), degree=GAP_DEGREE,
                                         step=min(h.a, h.b) / 12.0)
     return ProfileContact(side=geo.side, patch=int(patch_no), patches=len(wc.patches),
-                          contact_position_rail=p.y_rail, contact_height_rail=p.z_rail,
-                          contact_angle=p.contact_angle, rolling_radius=p.rolling_radius, separation=p.separation,
+                          contact_position_rail=ref["y_rail"], contact_height_rail=ref["z_rail"],
+                          contact_angle=ref["angle"], rolling_radius=p.rolling_radius, separation=p.separation,
                           hertz_curvatures=(float(curv[0]), float(curv[1])), gap_coefficients=coef,
-                          gap_residual=residual, creepage=tuple(float(v) for v in p.creepage),
+                          gap_residual=residual, creepage=ref["creepage"],
                           vertical_force=float(geo.vertical_force), normal_force=float(N),
                           lateral_force_estimate=float(fy))
