@@ -1,0 +1,123 @@
+"""Transient scenes end to end: ``railtherm.solve(scene, "green", level=2)`` on scenes with passes and a
+schedule against core's exact transient references (the moving band, 2-D, and the moving ellipse, 3-D),
+and the bad input of the transient vocabulary as SceneErrors naming the key.
+
+Targets (docs/DESIGN.md "Result schema", transient): against the exact band at level 2, pass peaks and
+residual rise within 2 %, the history's max-norm within 3 % of its maximum rise; against the exact
+ellipse at 0.1 and 0.5 mm, pass peaks within 5 %."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import railtherm
+from railtherm import Refused, SceneError
+from railtherm.input.materials import Material
+from railtherm.references.transient import MovingSource, Schedule, pass_summary, temperature_history
+
+A, B, V, Q = 6e-3, 4e-3, 30.0, 1e8
+INTERVAL = 0.083
+SLIP = {"time": [0.0, 0.083, 0.0832, 0.0836, 0.0838, 0.2], "factor": [1.0, 1.0, 2.0, 2.0, 1.0, 1.0]}
+DEPTHS = [1e-4, 5e-4]
+STEEL = {"bulk_temperature": 20.0}
+CHEAP = dict(quad_points=8, inner_points=24)    # the references at ~1e-5 of their maximum
+
+
+def _scene(source: dict, **kw) -> dict:
+    """A given heat source into the rail only (heat_partition 0), transient."""
+    scene = {"name": "rail-section", "speed": V, "heat_source": {"flux": Q, **source}, "heat_partition": 0.0,
+             "rail": STEEL, "wheel": STEEL, "mode": "transient",
+             "outputs": ["temperature_history", "pass_peak_temperature", "residual_rise", "time_above"]}
+    scene.update(kw)
+    return scene
+
+
+@pytest.mark.parametrize("shape", ["uniform", "hertz"])
+def test_band_history_against_the_exact_2d_band(shape):
+    """4 passes 83 ms apart with a slip event on the second pass, at the surface and 0.1, 0.5 mm: the rail's
+    (body 2) pass peaks, residual rise and history from railtherm.solve against the exact moving band."""
+    scene = _scene({"shape": shape, "half_width": A}, passes={"count": 4, "interval": INTERVAL}, schedule=SLIP,
+                   field={"depth": DEPTHS, "threshold": 400.0})
+    ds = railtherm.solve(scene, "green", level=2)
+    for name, units in (("temperature_history", "degC"), ("pass_peak_temperature", "degC"), ("residual_rise", "K"),
+                        ("time_above", "s")):
+        assert ds[name].attrs["units"] == units
+    assert ds["residual_rise"].attrs["units_metadata"] == "temperature: difference"
+    assert ds.time.attrs["units"] == "s" and list(ds["pass"].values) == [1, 2, 3, 4]
+    depths = ds.z.values
+    assert list(depths) == [0.0, *DEPTHS]
+    src = MovingSource("band", A, V, Q, shape)
+    sched = Schedule(tuple(SLIP["time"]), tuple(SLIP["factor"]))
+    t = ds.time.values
+    got = ds.temperature_history.sel(body="rail").values - 20.0
+    exact = temperature_history(t, depths, src, Material(), 4, INTERVAL, sched, **CHEAP)
+    ref = pass_summary(depths, src, Material(), 4, INTERVAL, sched, **CHEAP)
+    peak = ds.pass_peak_temperature.sel(body="rail").values - 20.0
+    assert np.max(np.abs(peak / ref.peak - 1)) < 0.02
+    assert np.max(np.abs(ds.residual_rise.sel(body="rail").values / ref.residual[:, 0] - 1)) < 0.02
+    assert np.max(np.abs(got - exact).max(axis=0) / exact.max(axis=0)) < 0.03
+    # the wheel gets no heat (heat_partition 0): it stays at its bulk temperature
+    assert np.all(ds.temperature_history.sel(body="wheel").values == 20.0)
+    # at least 20 samples per contact duration around each pass
+    d = 2 * A / V
+    assert np.sum((t >= INTERVAL) & (t < INTERVAL + d)) >= 20
+
+
+def test_ellipse_pass_peaks_in_depth_against_the_exact_3d_ellipse():
+    """One pass of a Hertzian ellipse (a = 6, b = 4 mm): the rail's peaks at 0.1 and 0.5 mm within 5 % of the
+    exact moving ellipse (green's centre strip neglects the lateral conduction)."""
+    scene = _scene({"shape": "hertz", "semi_axes": [A, B]}, passes={"count": 1, "interval": INTERVAL},
+                   field={"depth": DEPTHS})
+    ds = railtherm.solve(scene, "green", level=2)
+    peak = ds.pass_peak_temperature.sel(body="rail").values[0, 1:] - 20.0
+    ref = pass_summary(DEPTHS, MovingSource("ellipse", A, V, Q, "hertz", B), Material(), 1, INTERVAL)
+    assert np.max(np.abs(peak / ref.peak[0] - 1)) < 0.05
+
+
+def test_wheel_interval_defaults_to_its_revolution():
+    """Without passes.interval a pass is one revolution of the wheel: 2 pi wheel.radius / speed."""
+    scene = railtherm.load_scene(_scene({"half_width": A}, passes={"count": 3}, wheel={**STEEL, "radius": 0.46}))
+    assert scene.transient.interval == pytest.approx(2 * np.pi * 0.46 / V, rel=1e-12)
+    assert scene.transient.count == 3
+
+
+def test_computed_contact_runs_and_steady_methods_refuse():
+    """A computed Hertz patch (full sliding) runs through green; fipy and fastsim-fdm refuse the histories
+    (they do not compute them) instead of returning a steady answer."""
+    import railtherm.testing
+    scene = railtherm.testing.canonical("ellipse-full-sliding", mode="transient", passes={"count": 3, "interval": 0.05},
+                                        outputs=["temperature_history", "residual_rise"])
+    ds = railtherm.solve(scene, "green", level=0)
+    assert ds.residual_rise.shape == (2, 3) and np.all(ds.residual_rise.values > 0)
+    for method in ("fipy", "fastsim-fdm"):
+        with pytest.raises(Refused, match="pass histories"):
+            railtherm.solve(scene, method, level=0)
+
+
+@pytest.mark.parametrize("change, key", [
+    ({"schedule": {"time": [0.0, 0.01, 0.01], "factor": [0.0, 1.0, 0.0]}}, "schedule.time"),
+    ({"schedule": {"time": [0.0, 0.01, 0.005], "factor": [0.0, 1.0, 0.0]}}, "schedule.time"),
+    ({"schedule": {"time": [0.0, 0.01], "factor": [1.0, -0.5]}}, "schedule.factor"),
+    ({"passes": {"count": 2, "interval": 1e-4}}, "passes.interval"),
+    ({"passes": {"count": 0, "interval": 0.1}}, "passes.count"),
+    ({"mode": "steady", "passes": {"count": 2, "interval": 0.1}, "outputs": ["max_surface_temperature"]}, "passes"),
+    ({"mode": "steady", "schedule": {"time": [0.0], "factor": [1.0]}, "outputs": ["max_surface_temperature"]},
+     "schedule"),
+    ({"mode": "steady", "outputs": ["residual_rise"]}, "outputs"),
+    ({"field": {"depth": [1e-4], "behind": 0.01}}, "field.behind"),
+])
+def test_bad_input_names_the_key(change, key):
+    with pytest.raises(SceneError) as err:
+        railtherm.load_scene(_scene({"half_width": A}, **change))
+    assert err.value.key == key
+    assert key in str(err.value)
+
+
+def test_interval_shorter_than_a_computed_patch():
+    """The interval against the contact duration of a patch known only after the contact stage: green's
+    SceneError names passes.interval."""
+    import railtherm.testing
+    scene = railtherm.testing.canonical("ellipse-full-sliding", mode="transient", passes={"count": 2, "interval": 1e-4})
+    with pytest.raises(SceneError) as err:
+        railtherm.solve(scene, "green", level=0)
+    assert err.value.key == "passes.interval"
