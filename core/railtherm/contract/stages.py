@@ -396,7 +396,12 @@ class StageModel:
         limit, the value and what would work instead.
         """
         caps = self.capabilities
-        if scene.contact_shape not in caps.contacts:
+        shape = scene.contact_shape
+        if shape == "gap" and getattr(scene, "profile_contact", None) is not None and "normal" not in self.stages:
+            # a wheelset on profiles: the later stages work on the normal stage's patch, for a Hertz-based
+            # chain the Hertz-equivalent ellipse (normal model "wheelset-profile")
+            shape = "ellipse"
+        if shape not in caps.contacts:
             if scene.contact_shape == "gap":
                 terms = ", ".join(f"x^{i} y^{j}" for (i, j) in sorted(scene.gap_coefficients or {}))
                 return (f"model {self.name!r} needs a Hertzian gap h = A x^2 + B y^2 (A, B > 0); the gap of scene "

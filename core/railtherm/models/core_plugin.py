@@ -8,7 +8,8 @@ from ..contract.hookspec import hookimpl
 def railtherm_register_models():
     from .hertz import HertzContact
     from .sliding import FrictionalHeat, FullSlidingTangential, GivenHeat
-    return [HertzContact, FullSlidingTangential, FrictionalHeat, GivenHeat]
+    from .wheelset_profile import WheelsetProfileHertz
+    return [HertzContact, WheelsetProfileHertz, FullSlidingTangential, FrictionalHeat, GivenHeat]
 
 
 @hookimpl
