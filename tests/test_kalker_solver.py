@@ -326,9 +326,42 @@ def test_circulant_preconditioner_keeps_the_pressure_and_cuts_the_iterations():
     np.testing.assert_allclose(by_approach.pressure, pre.pressure, atol=1e-7 * pre.pressure.max())
 
 
+def test_buffered_products_equal_scipy_fft_products():
+    """The operators' products in preallocated work arrays (pocketfft with ``out``) equal scipy.fft's (1e-15 of the
+    largest value), in float64 and float32, through apply, apply_at (also after other elements or a full apply,
+    which must clear the work field) and the normal preconditioner."""
+    from railtherm_kalker.influence import normal_operator
+    area, X, Y, g = _setup(24, 4)
+    conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
+    norm = normal_operator(*area.shape, area.dx, area.dy, G / (1 - NU))
+    if not conv._buffered_ok:
+        pytest.skip("scipy's pocketfft binding not available: scipy.fft is used")
+    idx = np.nonzero((g > 0).ravel())[0]
+    idx2 = idx[::2].copy()
+    rng = np.random.default_rng(3)
+    p, q = rng.random((2,) + area.shape), rng.random((1,) + area.shape)
+    v, v2 = rng.random((2, idx.size)), rng.random((2, idx2.size))
+
+    def run():
+        return [conv.apply_at(v, idx), conv.apply(p), conv.apply_at(v, idx), conv.apply_at(v2, idx2),
+                conv.apply_at(v, idx), conv.apply_at(v.astype(np.float32), idx, single=True),
+                conv.apply(p, single=True), norm.apply(q), norm.precondition(q[0])]
+
+    buffered = run()
+    conv._buffered_ok = norm._buffered_ok = False
+    try:
+        plain = run()
+    finally:
+        conv._buffered_ok = norm._buffered_ok = True
+    for a, b in zip(buffered, plain):
+        assert a.dtype == b.dtype and a.shape == b.shape
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-15 * np.abs(b).max())
+
+
 def test_fused_cg_passes_match_the_numpy_reference(monkeypatch):
     """The normal solver's fused element-wise passes (numba, :mod:`railtherm_kalker._cg`) give the numpy reference
-    passes' pressure (1e-12 of the peak), force and iterations, with the force and with the approach prescribed."""
+    passes' pressure (to the solver's tolerance 1e-10 of the peak: the sums are taken in another order), force
+    and iterations, with the force and with the approach prescribed."""
     from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
     from railtherm_kalker import _cg
     from railtherm_kalker.influence import normal_operator
@@ -348,8 +381,8 @@ def test_fused_cg_passes_match_the_numpy_reference(monkeypatch):
     ref = [solve_normal(conv, h, dA, force=force, initial=p0), solve_normal(conv, h, dA, approach=hz.approach)]
     for f, r in zip(fused, ref):
         assert f.converged and r.converged and f.iterations == r.iterations
-        np.testing.assert_allclose(f.pressure, r.pressure, rtol=0, atol=1e-12 * r.pressure.max())
-        assert f.force == pytest.approx(r.force, rel=1e-12)
+        np.testing.assert_allclose(f.pressure, r.pressure, rtol=0, atol=1e-10 * r.pressure.max())
+        assert f.force == pytest.approx(r.force, rel=1e-10)
         np.testing.assert_allclose(f.displacement, conv.apply(f.pressure[None])[0], rtol=0,
                                    atol=1e-12 * np.abs(f.displacement).max())
 

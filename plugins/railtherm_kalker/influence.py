@@ -42,6 +42,11 @@ import math
 import numpy as np
 import scipy.fft as sfft
 
+try:  # scipy's pocketfft binding: transforms into preallocated arrays (``out``); scipy.fft's public functions otherwise
+    from scipy.fft._pocketfft import pypocketfft as _pocketfft
+except Exception:  # pragma: no cover - another scipy layout
+    _pocketfft = None
+
 __all__ = ["rectangle_integrals", "normal_kernel", "tangential_kernels", "line_kernel", "Convolution",
            "rolling_kernel", "normal_operator", "element_size"]
 
@@ -327,6 +332,9 @@ class Convolution:
                 raise ValueError("the circulant of the kernel is not positive definite")
             self._inverse32 = (1.0 / lam).astype(np.float32)
         self.products = 0
+        #: work arrays of :meth:`_buffered` per precision: the padded fields, their spectra and the inverse
+        self._work = {}
+        self._buffered_ok = _pocketfft is not None and my > 1
 
     def _embed(self, k, hx, hy):
         """Spectrum of kernel k over offsets -hx..hx, -hy..hy placed circulantly (offset o at o mod M), in the
@@ -372,9 +380,47 @@ class Convolution:
         dt = np.float32 if single else np.float64
         spec = self._spec32 if single else self._spec
         p = np.asarray(p, dtype=dt).reshape((self.ncomp,) + self.shape)
+        if self._buffered_ok:
+            nx = self.shape[0]
+            work = self._work_arrays(dt, self.ncomp)
+            work[0][:, :nx, :] = p                   # rows nx.. stay zero
+            work[3] = None                           # no longer apply_at's field
+            return self._buffered(work, spec)[:, :nx, :].copy()
         if self.ncomp == 1:
             return self._inv(spec[(0, 0)] * self._fwd(p[0]))[None]
         return self._inv(self._product(self._fwd(p), spec))
+
+    def _work_arrays(self, dt, nc):
+        """The work arrays of precision dt for nc fields: (the fields padded along x (nc, M_x, ny), their spectra
+        (nc, M_x/2 + 1, M_y), the inverse (nc, M_x, ny)), allocated once per operator."""
+        key = (np.dtype(dt).char, nc)
+        work = self._work.get(key)
+        if work is None:
+            (mx, my), ny = self.padded, self.shape[1]
+            cdt = np.complex64 if np.dtype(dt) == np.float32 else np.complex128
+            work = self._work[key] = [np.zeros((nc, mx, ny), dtype=dt), np.zeros((nc, mx // 2 + 1, my), dtype=cdt),
+                                      np.empty((nc, mx, ny), dtype=dt), None]
+        return work
+
+    def _buffered(self, work, spec):
+        """Inverse transform of ``spec`` times the spectra of the padded fields work[0], in the work arrays (no
+        allocation: with scipy.fft's functions the temporaries of a product at 200^2 elements are 0.3-0.6 MB each,
+        and their allocation's page faults made a float64 product 2-3 times slower). Returns work[2] (nc, M_x, ny),
+        overwritten by the next call."""
+        buf, F, out = work[0], work[1], work[2]
+        ny = self.shape[1]
+        _pocketfft.r2c(buf, (1,), True, 0, F[..., :ny], 1)
+        F[..., ny:] = 0.0
+        _pocketfft.c2c(F, (2,), True, 0, F, 1)
+        if F.shape[0] == 1:
+            np.multiply(F[0], spec[(0, 0)] if isinstance(spec, dict) else spec, out=F[0])
+        elif F.shape[0] == 2 and _mac2 is not None:
+            _mac2(F, spec[(0, 0)], spec[(0, 1)], spec[(1, 0)], spec[(1, 1)], F)
+        else:
+            F[...] = self._product(F, spec)
+        _pocketfft.c2c(F, (2,), False, 2, F, 1)
+        _pocketfft.c2r(F[..., :ny], (1,), self.padded[0], False, 2, out, 1)
+        return out
 
     def apply_at(self, v: np.ndarray, idx: np.ndarray, single: bool = False) -> np.ndarray:
         """(A p)[idx] for the tractions p that are v on the elements ``idx`` and zero elsewhere.
@@ -388,8 +434,17 @@ class Convolution:
         nc, ny, (mx, my) = self.ncomp, self.shape[1], self.padded
         dt = np.float32 if single else np.float64
         spec = self._spec32 if single else self._spec
-        buf = np.zeros((nc, mx * ny), dtype=dt)
         v = np.asarray(v, dtype=dt).reshape(nc, -1)
+        if self._buffered_ok:
+            work = self._work_arrays(dt, nc)
+            buf = work[0].reshape(nc, mx * ny)
+            if work[3] is not idx:                   # other elements than the last call's: clear the field
+                buf[...] = 0.0
+                work[3] = idx
+            for c in range(nc):
+                np.put(buf[c], idx, v[c])
+            return np.take(self._buffered(work, spec).reshape(nc, mx * ny), idx, axis=1)
+        buf = np.zeros((nc, mx * ny), dtype=dt)
         for c in range(nc):                      # np.put: about twice as fast as fancy assignment
             np.put(buf[c], idx, v[c])
         f = sfft.rfft(buf.reshape(nc, mx, ny), axis=-2, workers=1)
@@ -406,6 +461,12 @@ class Convolution:
         whose error is corrected by the Krylov iteration); returns float64 (nx, ny)."""
         if self._inverse32 is None:
             raise ValueError("no circulant given for this operator")
+        if self._buffered_ok:
+            nx = self.shape[0]
+            work = self._work_arrays(np.float32, 1)
+            work[0][0, :nx, :] = r
+            work[3] = None
+            return self._buffered(work, self._inverse32)[0, :nx, :].astype(float)
         return self._inv(self._inverse32 * self._fwd(np.asarray(r, dtype=np.float32))).astype(float)
 
 
@@ -413,9 +474,10 @@ try:  # pragma: no cover - exercised when numba is installed (a declared depende
     from numba import njit
 
     @njit(cache=True, nogil=True, fastmath=True)
-    def _mac2(fp, s00, s01, s10, s11):
-        """The two-component spectral product in one pass (no temporaries)."""
-        out = np.empty_like(fp)
+    def _mac2(fp, s00, s01, s10, s11, out=None):
+        """The two-component spectral product in one pass (no temporaries); ``out`` may be ``fp``."""
+        if out is None:
+            out = np.empty_like(fp)
         n0, n1 = fp.shape[1], fp.shape[2]
         for i in range(n0):
             for j in range(n1):
