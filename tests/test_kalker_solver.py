@@ -431,3 +431,26 @@ def test_single_precision_products_keep_the_double_precision_solution(monkeypatc
     assert not any(calls)
     assert mixed.converged and double.converged and mixed.residual <= 1e-10
     np.testing.assert_allclose(mixed.traction, double.traction, atol=1e-9 * g.max())
+
+
+def test_contact_extent_equals_the_per_line_edges():
+    """contact_extent (all grid lines at once) gives exactly the extremes of the per-line edges of
+    _edge_positions, on random and elliptical pressures, 3-D and line contacts."""
+    from railtherm_kalker.normal_model import _edge_positions, contact_extent
+    rng = np.random.default_rng(0)
+    for t in range(200):
+        nx, ny = (int(v) for v in rng.integers(1, 30, 2))
+        x, y = np.arange(nx) * 0.1 + rng.random(), np.arange(ny) * 0.2
+        p = np.clip(rng.random((nx, ny)) - 0.8 * rng.random(), 0.0, None)
+        if t % 3 == 0:
+            X, Y = np.meshgrid(x - x.mean(), y - y.mean(), indexing="ij")
+            p = np.sqrt(np.clip(1 - (X / (0.05 * nx)) ** 2 - (Y / (0.1 * ny)) ** 2, 0.0, None))
+        if not (p > 0).any():
+            continue
+        xs = [e for j in range(ny) if (e := _edge_positions(x, p[:, j], 0.1)) is not None]
+        ys = [e for i in range(nx) if (e := _edge_positions(y, p[i, :], 0.2)) is not None]
+        expected = (min(e[0] for e in xs), max(e[1] for e in xs), min(e[0] for e in ys), max(e[1] for e in ys))
+        assert contact_extent(x, y, p, 0.1, 0.2) == expected
+        line = [e for e in [_edge_positions(x, p[:, 0], 0.1)] if e is not None]
+        if line:
+            assert contact_extent(x, None, p[:, :1], 0.1, 1.0) == (line[0][0], line[0][1], 0.0, 0.0)
