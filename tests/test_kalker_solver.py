@@ -454,3 +454,29 @@ def test_contact_extent_equals_the_per_line_edges():
         line = [e for e in [_edge_positions(x, p[:, 0], 0.1)] if e is not None]
         if line:
             assert contact_extent(x, None, p[:, :1], 0.1, 1.0) == (line[0][0], line[0][1], 0.0, 0.0)
+
+
+def test_fused_jacobian_rows_and_scatter_gather_equal_numpy():
+    """The Newton Jacobian's rows in one numba pass equal the numpy expression (-r B v in stick,
+    v - fac (I - zh zh^T)(v + r B v) in slip) to round-off, and the numba scatter/gather equal np.put/np.take."""
+    from railtherm_kalker import influence, tangential_solver
+    if tangential_solver._jacobian_rows is None or influence._scatter is None:
+        pytest.skip("numba not available: the numpy expressions are used")
+    rng = np.random.default_rng(5)
+    nc, nin, r = 2, 500, 3.7
+    v, bv = rng.standard_normal((nc, nin)), rng.standard_normal((nc, nin))
+    slipping = rng.random(nin) < 0.6
+    z = rng.standard_normal((nc, nin))
+    zh = np.where(slipping, z / np.sqrt((z * z).sum(axis=0)), 0.0)
+    fac = np.where(slipping, rng.random(nin), 0.0)
+    q = v + r * bv
+    expected = np.where(slipping, v - fac * (q - zh * np.sum(zh * q, axis=0)), -r * bv)
+    got = tangential_solver._jacobian_rows(v, bv, slipping, zh, fac, r)
+    np.testing.assert_allclose(got, expected, rtol=0, atol=1e-14 * np.abs(expected).max())
+    idx = np.sort(rng.choice(4000, nin, replace=False))
+    buf, ref = np.zeros((nc, 4000)), np.zeros((nc, 4000))
+    influence._scatter(buf, idx, v)
+    for c in range(nc):
+        np.put(ref[c], idx, v[c])
+    np.testing.assert_array_equal(buf, ref)
+    np.testing.assert_array_equal(influence._gather(ref, idx), np.take(ref, idx, axis=1))

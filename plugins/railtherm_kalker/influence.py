@@ -441,6 +441,9 @@ class Convolution:
             if work[3] is not idx:                   # other elements than the last call's: clear the field
                 buf[...] = 0.0
                 work[3] = idx
+            if _scatter is not None:
+                _scatter(buf, idx, v)
+                return _gather(self._buffered(work, spec).reshape(nc, mx * ny), idx)
             for c in range(nc):
                 np.put(buf[c], idx, v[c])
             return np.take(self._buffered(work, spec).reshape(nc, mx * ny), idx, axis=1)
@@ -485,8 +488,24 @@ try:  # pragma: no cover - exercised when numba is installed (a declared depende
                 out[0, i, j] = s00[i, j] * a + s01[i, j] * b
                 out[1, i, j] = s10[i, j] * a + s11[i, j] * b
         return out
+
+    @njit(cache=True, nogil=True)
+    def _scatter(buf, idx, v):
+        """buf[c, idx[k]] = v[c, k] (np.put per component in one pass)."""
+        for c in range(v.shape[0]):
+            for k in range(idx.size):
+                buf[c, idx[k]] = v[c, k]
+
+    @njit(cache=True, nogil=True)
+    def _gather(u, idx):
+        """u[:, idx] (np.take along the last axis in one pass)."""
+        out = np.empty((u.shape[0], idx.size), dtype=u.dtype)
+        for c in range(u.shape[0]):
+            for k in range(idx.size):
+                out[c, k] = u[c, idx[k]]
+        return out
 except Exception:  # numba missing or unusable
-    _mac2 = None
+    _mac2 = _scatter = _gather = None
 
 
 def element_size(edges) -> float:

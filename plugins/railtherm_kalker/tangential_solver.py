@@ -311,6 +311,31 @@ def _gmres(matvec, psolve, b, rtol, maxiter, dtype=np.float64):
     return (y.astype(dtype) @ Z[:k]).astype(float), k
 
 
+try:  # pragma: no cover - exercised when numba is installed (a declared dependency)
+    from numba import njit
+
+    @njit(cache=True, nogil=True)
+    def _jacobian_rows(v, bv, slipping, zh, fac, r):
+        """The Newton Jacobian's rows J v from v and B v in one pass: -r B v on sticking elements,
+        v - fac (I - zh zh^T)(v + r B v) on slipping ones (the numpy expression of :func:`solve_tangential`)."""
+        nc, nin = v.shape
+        out = np.empty((nc, nin))
+        for e in range(nin):
+            if slipping[e]:
+                dot = 0.0
+                for c in range(nc):
+                    dot += zh[c, e] * (v[c, e] + r * bv[c, e])
+                for c in range(nc):
+                    q = v[c, e] + r * bv[c, e]
+                    out[c, e] = v[c, e] - fac[e] * (q - zh[c, e] * dot)
+            else:
+                for c in range(nc):
+                    out[c, e] = -r * bv[c, e]
+        return out
+except Exception:  # numba missing or unusable
+    _jacobian_rows = None
+
+
 def _forcing_term(history, eta_prev, tol, forcing, good_start):
     """Relative GMRES tolerance of the next inexact Newton step [1] from the residual history max |F| / max g.
 
@@ -426,6 +451,8 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
                 bv = conv.apply_at(v.astype(np.float32), idx, single=True).astype(float)
             else:
                 bv = conv.apply_at(v, idx)
+            if _jacobian_rows is not None:
+                return _jacobian_rows(v, bv, slipping, zh, fac, r).ravel()
             stick_row = -r * bv                                          # F = r s, s = w - B p
             q = v + r * bv                                               # (I + r B) v
             proj_q = q - zh * np.sum(zh * q, axis=0)                     # (I - zz^T) q
