@@ -47,11 +47,13 @@ CASES = {"combined": (-2e-3, 1e-3, 0.2), "longitudinal": (-5e-4, 0.0, 0.0), "ful
 GRIDS = {50: (46, 2), 100: (92, 4), 200: (184, 8), 400: (368, 16)}
 
 
-def solve_both(n, margin, creepage, order=ROLLING_ORDER):
-    """Normal and tangential solve from empty caches; CPU time per stage [s]. ``order``: of the rolling difference
-    (2, the model's default; 1, CONTACT's), for before/after pairs in one process."""
-    normal_operator.cache_clear()
-    tangential_model._rolling_operator.cache_clear()
+def solve_both(n, margin, creepage, order=ROLLING_ORDER, cached=False):
+    """Normal and tangential solve; CPU time per stage [s]. ``order``: of the rolling difference (2, the model's
+    default; 1, CONTACT's), for before/after pairs in one process. ``cached``: the operators of the grid are kept
+    from an earlier solve (a study's later solves on the grid: no set-up) instead of computed (empty caches)."""
+    if not cached:
+        normal_operator.cache_clear()
+        tangential_model._rolling_operator.cache_clear()
     e_star = G / (1 - NU)
     area = potential_area(A, B, n, margin=margin)
     X, Y = area.mesh()
@@ -67,7 +69,7 @@ def solve_both(n, margin, creepage, order=ROLLING_ORDER):
                                  MU * ns.pressure, creepage)
     t3 = time.process_time()
     dA = area.dx * area.dy
-    return {"shape": list(area.shape), "rolling_order": order, "normal_setup": t1 - t0, "normal_solve": t2 - t1, "tangential": t3 - t2,
+    return {"shape": list(area.shape), "rolling_order": order, "cached_operators": cached, "normal_setup": t1 - t0, "normal_solve": t2 - t1, "tangential": t3 - t2,
             "total": t3 - t0, "normal_iterations": ns.iterations, "normal_products": ns.products,
             "newton_steps": ts.iterations, "gmres_iterations": ts.linear_iterations,
             "coarse_newton_steps": [[list(shape), steps] for shape, steps in ts.coarse],
@@ -83,18 +85,24 @@ def scaling_exponent(sizes, times) -> float:
 
 
 @pytest.mark.benchmark
+@pytest.mark.parametrize("operators", ["first", "cached"])
 @pytest.mark.parametrize("case", list(CASES))
 @pytest.mark.parametrize("side", list(GRIDS), ids=[f"{s}x{s}" for s in GRIDS])
-def test_benchmark_kalker_ertz_knothe(benchmark, side, case):
+def test_benchmark_kalker_ertz_knothe(benchmark, side, case, operators):
+    """One solve on the grid: ``first`` computes the operators (kernels, spectra, work arrays), ``cached`` reuses
+    them (a study's later solves, a friction loop, a wheelset's patches on the grid)."""
     n, margin = GRIDS[side]
     best = {}
+    cached = operators == "cached"
 
     def run():
-        out = solve_both(n, margin, CASES[case])
+        out = solve_both(n, margin, CASES[case], cached=cached)
         if not best or out["total"] < best["total"]:
             best.update(out)
 
     solve_both(max(8, n // 4), 2, CASES[case])          # compile the sweep before timing
+    if cached:
+        solve_both(n, margin, CASES[case])              # the grid's operators
     benchmark.pedantic(run, rounds=3 if side <= 100 else (2 if side <= 200 else 1), iterations=1)
     assert best["shape"] == [side, side] and best["converged"]
     benchmark.extra_info.update(best)

@@ -342,8 +342,12 @@ class Convolution:
         mx, my = self.padded
         emb = np.zeros((mx, my))
         emb[np.ix_(np.arange(-hx, hx + 1) % mx, np.arange(-hy, hy + 1) % my)] = k
-        f = sfft.rfft(emb, axis=0, workers=1)
-        return f if my == 1 else sfft.fft(f, axis=1, workers=1, overwrite_x=True)
+        if _pocketfft is None or my == 1:
+            f = sfft.rfft(emb, axis=0, workers=1)
+            return f if my == 1 else sfft.fft(f, axis=1, workers=1, overwrite_x=True)
+        f = np.empty((mx // 2 + 1, my), dtype=complex)      # both passes in one array (no temporaries)
+        _pocketfft.r2c(emb, (0,), True, 0, f, 1)
+        return _pocketfft.c2c(f, (1,), True, 0, f, 1)
 
     def _fwd(self, a):
         """Spectra of the fields a (..., nx, ny), zero-padded to M: a real transform along x of the ny
