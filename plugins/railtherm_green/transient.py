@@ -273,12 +273,12 @@ def pass_peaks_and_residual(time, history, count: int, interval: float) -> tuple
     """
     time = np.asarray(time, dtype=float)
     history = np.asarray(history, dtype=float).reshape(time.size, -1)
+    edges = interval * np.arange(count + 1)
+    lo = np.searchsorted(time, edges, side="left")        # first sample >= k interval: windows by index
     peak = np.empty((count, history.shape[1]))
-    residual = np.empty_like(peak)
     for k in range(count):
-        sel = (time >= k * interval) & (time < (k + 1) * interval)
-        peak[k] = history[sel].max(axis=0)
-        residual[k] = [np.interp((k + 1) * interval, time, history[:, j]) for j in range(history.shape[1])]
+        peak[k] = history[lo[k]:lo[k + 1]].max(axis=0)
+    residual = np.stack([np.interp(edges[1:], time, history[:, j]) for j in range(history.shape[1])], axis=1)
     return peak, residual
 
 
@@ -308,14 +308,17 @@ def pass_time_above(time, history, count: int, interval: float, rise: float) -> 
     time = np.asarray(time, dtype=float)
     history = np.asarray(history, dtype=float).reshape(time.size, -1)
     out = np.zeros((count, history.shape[1]))
+    ends = np.stack([np.interp(interval * np.arange(count + 1), time, history[:, j])
+                     for j in range(history.shape[1])], axis=1)
+    first = np.searchsorted(time, interval * np.arange(count + 1), side="right")    # first sample > k interval
+    last = np.searchsorted(time, interval * np.arange(count + 1), side="left")     # first sample >= k interval
     for k in range(count):
         lo, hi = k * interval, (k + 1) * interval
-        # the window's samples with its ends interpolated in
-        inner = (time > lo) & (time < hi)
+        # the window's samples with its ends interpolated in (samples strictly inside, by index)
+        inner = slice(first[k], max(first[k], last[k + 1]))
         t = np.concatenate([[lo], time[inner], [hi]])
         for j in range(history.shape[1]):
-            g = np.concatenate([[np.interp(lo, time, history[:, j])], history[inner, j],
-                                [np.interp(hi, time, history[:, j])]]) - rise
+            g = np.concatenate([[ends[k, j]], history[inner, j], [ends[k + 1, j]]]) - rise
             pos = np.clip(g, 0.0, None) > 0
             dt = np.diff(t)
             both = pos[:-1] & pos[1:]

@@ -336,6 +336,16 @@ class DepthList(Numbers):
         super().__init__("m", "depths >= 0")
 
 
+class FieldDepth(Either):
+    """``field.depth``: one depth [m] > 0, or (transient scenes) a list of the histories' depths, which is
+    the depths and not a sweep."""
+
+    sweepable = False
+
+    def __init__(self):
+        super().__init__(Num(0, lo_open=True, unit="m"), DepthList())
+
+
 POS = Num(0, lo_open=True, unit="m")
 NONNEG = Num(0)
 ANY = Num()
@@ -400,7 +410,7 @@ SCENE_KEYS: dict[str, _Check] = {
     "passes": Table({"count": Int(1), "interval": Num(0, lo_open=True, unit="s")}),
     "schedule": Table({"time": Numbers("s", "strictly increasing times"), "factor": Numbers("1", "factors >= 0")}),
     "field": Table({"behind": Num(0, unit="m", note="distance beyond the trailing edge"),
-                    "depth": Either(Num(0, lo_open=True, unit="m"), DepthList()),
+                    "depth": FieldDepth(),
                     "threshold": Num(-273.15, lo_open=True, unit="degC")}),
 }
 
