@@ -395,15 +395,17 @@ class Convolution:
         return self._inv(self._product(self._fwd(p), spec))
 
     def _work_arrays(self, dt, nc):
-        """The work arrays of precision dt for nc fields: (the fields padded along x (nc, M_x, ny), their spectra
-        (nc, M_x/2 + 1, M_y), the inverse (nc, M_x, ny)), allocated once per operator."""
+        """The work arrays of precision dt for nc fields: [the fields padded along x (nc, M_x, ny), their transforms
+        along x padded along y (nc, M_x/2 + 1, M_y; the padding is never written), the inverse (nc, M_x, ny), the
+        elements of apply_at's last field, the spectra (nc, M_x/2 + 1, M_y)], allocated once per operator."""
         key = (np.dtype(dt).char, nc)
         work = self._work.get(key)
         if work is None:
             (mx, my), ny = self.padded, self.shape[1]
             cdt = np.complex64 if np.dtype(dt) == np.float32 else np.complex128
             work = self._work[key] = [np.zeros((nc, mx, ny), dtype=dt), np.zeros((nc, mx // 2 + 1, my), dtype=cdt),
-                                      np.empty((nc, mx, ny), dtype=dt), None]
+                                      np.empty((nc, mx, ny), dtype=dt), None,
+                                      np.empty((nc, mx // 2 + 1, my), dtype=cdt)]
         return work
 
     def _buffered(self, work, spec):
@@ -411,11 +413,10 @@ class Convolution:
         allocation: with scipy.fft's functions the temporaries of a product at 200^2 elements are 0.3-0.6 MB each,
         and their allocation's page faults made a float64 product 2-3 times slower). Returns work[2] (nc, M_x, ny),
         overwritten by the next call."""
-        buf, F, out = work[0], work[1], work[2]
+        buf, half, out, F = work[0], work[1], work[2], work[4]
         ny = self.shape[1]
-        _pocketfft.r2c(buf, (1,), True, 0, F[..., :ny], 1)
-        F[..., ny:] = 0.0
-        _pocketfft.c2c(F, (2,), True, 0, F, 1)
+        _pocketfft.r2c(buf, (1,), True, 0, half[..., :ny], 1)      # half's columns ny.. stay zero
+        _pocketfft.c2c(half, (2,), True, 0, F, 1)
         if F.shape[0] == 1:
             np.multiply(F[0], spec[(0, 0)] if isinstance(spec, dict) else spec, out=F[0])
         elif F.shape[0] == 2 and _mac2 is not None:
