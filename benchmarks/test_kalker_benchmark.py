@@ -10,15 +10,14 @@ time is that of a study's first solve on a grid; later solves on the grid (a fri
 wheelset's patches) skip the set-up. ``extra_info`` records the CPU time per stage [s] (``normal_setup``,
 ``normal_solve``, ``tangential``), iteration and product counts and the forces.
 
-Scaling with N elements per side, fitted (least squares of log CPU time on log N, shared 2-core machine under
-load 2.5-5): total time ~ N^2.45-2.5 (combined), N^2.4-2.6 (longitudinal), N^2.0-2.1 (full slip) over 100^2-400^2,
-and N^2.2, N^2.2-2.3, N^1.7-1.9 over 50^2-400^2. One FFT product is O(N^2 log N); the GMRES steps grow slowly
-(58, 88, 135, 205 summed over the nested grids for combined creepage at 50^2-400^2) while full slip needs a
-fixed number of products (12 normal iterations, 9 tangential products); the 750^2 padded transforms at 400^2
-no longer fit the cache. Measured (CPU): 100^2 0.11, 0.11, 0.03 s; 200^2 0.59, 0.56, 0.10 s;
-400^2 3.8, 3.9-4.6, 0.51-0.66 s (combined, longitudinal, full slip; docs/kalker.md has the per-stage table),
-with CONTACT's first-order rolling difference; the default second-order difference needs 128, 107, 9 tangential
-FFT products at 100^2 (112, 107, 9 first-order) and 177, 146, 9 at 200^2 (165, 147, 9).
+Scaling with N elements per side, fitted (least squares of log CPU time on log N, first solve, shared 2-core
+machine under load 5-7): total time ~ N^2.28 (combined), N^2.38 (longitudinal), N^2.05 (full slip) over
+50^2-400^2 and N^2.54, N^2.62, N^2.38 over 100^2-400^2. One FFT product is O(N^2 log N); the GMRES steps grow
+slowly (67, 100, 140, 214 summed over the nested grids for combined creepage at 50^2-400^2) while full slip needs a
+fixed number of products (12 normal iterations, 9 tangential products). Measured (CPU, first solve): 100^2 0.107,
+0.103, 0.022 s; 200^2 0.56, 0.50, 0.094 s; 400^2 3.6, 3.9, 0.60 s (combined, longitudinal, full slip); a later
+solve on the grid ("cached") saves the operators' set-up (100^2 full slip 0.019 s). docs/kalker.md has the
+per-stage tables.
 :func:`scaling_exponent` fits a run's ``extra_info``.
 
 Run: ``OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 NUMBA_NUM_THREADS=1 python -m pytest
