@@ -5,9 +5,9 @@ longitudinal xi = -5e-4, full slip xi = -0.05; from zero traction, with the Hert
 solver's start. Grids of 50^2, 100^2, 200^2, 400^2 elements over the potential contact area (46, 92, 184, 368
 across 2a and 2b with margins of 2, 4, 8, 16; square cells, as the model's for this ellipse, a/b = 0.56).
 
-Each solve starts with empty operator caches (the set-up is part of the normal and tangential times), so the
-time is that of a study's first solve on a grid; later solves on the grid (a friction or temperature loop, a
-wheelset's patches) skip the set-up. ``extra_info`` records the CPU time per stage [s] (``normal_setup``,
+``operators = "first"`` starts each solve with empty operator caches (the set-up is part of the normal and
+tangential times): a study's first solve on a grid; ``"cached"`` keeps the grid's operators from an earlier solve,
+as later solves on the grid do (a friction or temperature loop, a wheelset's patches), which skip the set-up. ``extra_info`` records the CPU time per stage [s] (``normal_setup``,
 ``normal_solve``, ``tangential``), iteration and product counts and the forces.
 
 Scaling with N elements per side, fitted (least squares of log CPU time on log N, first solve, shared 2-core
