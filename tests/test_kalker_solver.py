@@ -480,3 +480,24 @@ def test_fused_jacobian_rows_and_scatter_gather_equal_numpy():
         np.put(ref[c], idx, v[c])
     np.testing.assert_array_equal(buf, ref)
     np.testing.assert_array_equal(influence._gather(ref, idx), np.take(ref, idx, axis=1))
+
+
+def test_products_in_threads_equal_the_serial_products():
+    """Products of one operator evaluated concurrently in threads (each thread has its own work arrays) equal
+    the serial products exactly."""
+    from concurrent.futures import ThreadPoolExecutor
+    area, X, Y, g = _setup(24, 4)
+    conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
+    idx = np.nonzero((g > 0).ravel())[0]
+    rng = np.random.default_rng(7)
+    vs = [rng.random((2, idx.size)) for _ in range(8)]
+    serial = [conv.apply_at(v, idx) for v in vs]
+
+    def work(v):
+        return [conv.apply_at(v, idx) for _ in range(20)]
+
+    with ThreadPoolExecutor(4) as pool:
+        results = list(pool.map(work, vs))
+    for s, rs in zip(serial, results):
+        for r in rs:
+            np.testing.assert_array_equal(r, s)
