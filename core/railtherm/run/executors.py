@@ -455,6 +455,22 @@ def resolve_executor(name: str, workers: int | None, n_tasks: int) -> tuple[str,
     return name, 1
 
 
+#: the optional extra that holds dask.distributed and zarr (``pip install 'railtherm[sweep]'``): the main
+#: study needs neither, so a first install does not pay for them
+SWEEP_EXTRA = "railtherm[sweep]"
+
+
+def require_optional(module: str, key: str, value: str) -> None:
+    """Raise :class:`SceneError` naming ``key`` = ``value`` when the optional package ``module`` (of the
+    ``sweep`` extra) is not installed, before any run starts."""
+    import importlib.util
+    from ..contract.errors import SceneError
+    if importlib.util.find_spec(module) is None:
+        raise SceneError(f"key {key!r} = {value!r} needs the optional package {module!r}, which is not installed: "
+                         f"python -m pip install '{SWEEP_EXTRA}' (or choose another {key})", key=key, value=value,
+                         allowed=f"{value!r} with {SWEEP_EXTRA} installed")
+
+
 def get_executor(name: str, *, scheduler: str | None = None, workers: int | None = None):
     """The executor called ``name`` ("serial", "processes" or "dask"; "auto": :func:`resolve_executor`)."""
     from ..contract.errors import SceneError
@@ -467,5 +483,6 @@ def get_executor(name: str, *, scheduler: str | None = None, workers: int | None
     if name == "processes":
         return ProcessExecutor(workers)
     if name == "dask":
+        require_optional("distributed", "executor", name)
         return DaskExecutor(scheduler, workers)
     raise SceneError.bad_value(None, "executor", name, "one of " + ", ".join(EXECUTORS))

@@ -638,13 +638,16 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     out.mkdir(parents=True, exist_ok=True)
     tasks = make_tasks(study, out, methods, levels)
     kind = study.store_for(len(tasks)) if hasattr(study, "store_for") else "files"
+    from .executors import require_optional, resolve_executor
     if kind == "zarr":
+        require_optional("zarr", "study.store", kind)
         from ..output import zarr_store
         from .chunks import layout_of, make_chunks
         layout = layout_of(tasks, getattr(study, "keep_fields", False))
         zarr_store.create(out, layout, resume=resume)
         tasks = make_chunks(tasks, layout, out)
-    from .executors import resolve_executor
+    if executor == "dask":
+        require_optional("distributed", "executor", executor)
     executor, workers = resolve_executor(executor, workers, len(tasks))
     t1 = time.perf_counter()
     records = run_tasks(tasks, executor=executor, scheduler=scheduler, resume=resume, workers=workers,

@@ -1,0 +1,71 @@
+"""The optional ``sweep`` extra (dask.distributed, zarr): a study that needs a missing one stops before its
+first run with an error that names the key, its value and the command that installs the extra."""
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import pytest
+
+import railtherm
+from railtherm import SceneError
+
+SMALL = """
+schema_version = 1
+[study]
+name = "small"
+methods = ["green"]
+levels = [0, 1]
+reference = "analytic"
+[[scene]]
+name = "ek-low"
+normal_force = 100e3
+contact = { shape = "ellipse", curvatures = [1.015, 0.4215] }
+speed = 30.0
+sliding_speed = 1.0
+friction = 0.3
+heat_partition = "equal-temperature"
+outputs = ["max_surface_temperature", "surface_temperature"]
+"""
+
+
+def _small(tmp_path, line: str = "") -> Path:
+    p = tmp_path / "small.toml"
+    p.write_text(SMALL.replace('reference = "analytic"', 'reference = "analytic"\n' + line))
+    return p
+
+
+def _without(monkeypatch, module: str):
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a, **k: None if name.split(".")[0] == module else real(name, *a, **k))
+
+
+def test_dask_executor_without_distributed(monkeypatch, tmp_path):
+    _without(monkeypatch, "distributed")
+    with pytest.raises(SceneError, match=r"'executor' = 'dask' needs the optional package 'distributed'.*"
+                                         r"pip install 'railtherm\[sweep\]'"):
+        railtherm.run_study(_small(tmp_path), tmp_path / "out", executor="dask", report=False)
+    assert not list((tmp_path / "out").glob("runs/*/*/*.nc"))
+
+
+def test_zarr_store_without_zarr(monkeypatch, tmp_path):
+    _without(monkeypatch, "zarr")
+    with pytest.raises(SceneError, match=r"'study.store' = 'zarr' needs the optional package 'zarr'.*"
+                                         r"pip install 'railtherm\[sweep\]'"):
+        railtherm.run_study(_small(tmp_path, 'store = "zarr"'), tmp_path / "out", report=False)
+    assert not (tmp_path / "out" / "results.zarr").exists()
+
+
+def test_the_main_study_needs_neither(monkeypatch, tmp_path):
+    """The README's first command installs no extra: a study of the main study's kind (run files, the
+    default executor, an exact reference) runs and scores with dask, distributed and zarr unimportable."""
+    import sys
+    for name in ("dask", "distributed", "zarr"):
+        for mod in [m for m in sys.modules if m == name or m.startswith(name + ".")]:
+            monkeypatch.delitem(sys.modules, mod)
+        monkeypatch.setitem(sys.modules, name, None)      # import raises ImportError
+    _without(monkeypatch, "distributed")
+    _without(monkeypatch, "zarr")
+    m = railtherm.run_study(_small(tmp_path), tmp_path / "out", report=False)
+    assert (tmp_path / "out" / "metrics.nc").exists() and "failed" not in set(m["status"].values)
