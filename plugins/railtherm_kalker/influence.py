@@ -277,8 +277,9 @@ class Convolution:
     symmetric : bool
         Whether the cross kernel is shared (``A_yx = A_xy``).
     near_kernels : dict, optional
-        Kernels (as ``kernels``) whose offsets near zero are kept in :attr:`near`, the cut that the local
-        preconditioners invert (default: ``kernels``).
+        Kernels (as ``kernels``, or already cut to the offsets of :attr:`near`, shape (2 rx + 1, 2 ry + 1)) whose
+        offsets near zero are kept in :attr:`near`, the cut that the local preconditioners invert (default:
+        ``kernels``).
     circulant : ndarray, optional
         For a one-component operator: the kernel over the offsets -(M/2) ... M/2 of the padded grid
         (M = :attr:`padded`; ``(2 (M_x // 2) + 1, 2 (M_y // 2) + 1)``), whose circulant (Strang's
@@ -319,7 +320,8 @@ class Convolution:
         #: over offsets -rx..rx, -ry..ry (rx = min(NEAR, nx - 1), ry likewise); for local preconditioners
         rx, ry = min(self.NEAR, nx - 1), min(self.NEAR, ny - 1)
         self.near_radius = (rx, ry)
-        self.near = {key: np.array(np.asarray(k, dtype=float)[nx - 1 - rx:nx + rx, ny - 1 - ry:ny + ry])
+        self.near = {key: np.array(np.asarray(k, dtype=float)[nx - 1 - rx:nx + rx, ny - 1 - ry:ny + ry]
+                                   if np.shape(k) != (2 * rx + 1, 2 * ry + 1) else k, dtype=float)
                      for key, k in (kernels if near_kernels is None else near_kernels).items()}
         if symmetric and (0, 1) in self.near and (1, 0) not in self.near:
             self.near[(1, 0)] = self.near[(0, 1)]
@@ -340,7 +342,13 @@ class Convolution:
         layout of :meth:`_fwd` (real transform along x, complex along y)."""
         mx, my = self.padded
         emb = np.zeros((mx, my))
-        emb[np.ix_(np.arange(-hx, hx + 1) % mx, np.arange(-hy, hy + 1) % my)] = k
+        if 2 * hx + 1 <= mx and 2 * hy + 1 <= my:      # the four quadrants by slices (offset o at o mod M)
+            emb[:hx + 1, :hy + 1] = k[hx:, hy:]
+            emb[:hx + 1, my - hy:] = k[hx:, :hy]
+            emb[mx - hx:, :hy + 1] = k[:hx, hy:]
+            emb[mx - hx:, my - hy:] = k[:hx, :hy]
+        else:
+            emb[np.ix_(np.arange(-hx, hx + 1) % mx, np.arange(-hy, hy + 1) % my)] = k
         if _pocketfft is None or my == 1:
             f = sfft.rfft(emb, axis=0, workers=1)
             return f if my == 1 else sfft.fft(f, axis=1, workers=1, overwrite_x=True)

@@ -117,8 +117,13 @@ def _rolling_operator(nx, dx, ny, dy, shear_modulus, poisson_ratio, order):
     kernels = {key: rolling_kernel(k[name], dx, order) for key, name in keys.items()}
     near = None
     if order != 1:
-        near = {key: SECOND_ORDER_CUT_SCALE * rolling_kernel(k[name][order - 1:k[name].shape[0] - order + 1], dx, 1)
-                for key, name in keys.items()}
+        # the first-order kernel at the offsets of the cut only (Convolution.NEAR on each side): offset o of k[name]
+        # is at index o + nx - 1 + order, and the first-order difference at -r..r needs -r-1..r+1
+        rx, ry = min(Convolution.NEAR, nx - 1), min(Convolution.NEAR, ny - 1)
+        c = nx - 1 + order
+        rows = slice(c - rx - 1, c + rx + 2)
+        cols = slice(ny - 1 - ry, ny + ry)
+        near = {key: SECOND_ORDER_CUT_SCALE * rolling_kernel(k[name][rows, cols], dx, 1) for key, name in keys.items()}
     return Convolution(kernels, (nx, ny), near_kernels=near)
 
 
