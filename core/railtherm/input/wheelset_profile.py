@@ -81,7 +81,7 @@ class ProfileContact:
     patch : int
         Which patch (1 = the closest) of ``patches`` found.
     patches : int
-        Number of patches the search found.
+        Number of distinct elastic patches (gap minima within the first patch's approach are part of it).
     contact_position_rail, contact_height_rail : float
         Contact point on the rail in the rail profile's own coordinates [m].
     contact_angle : float
@@ -156,19 +156,34 @@ def normal_force_from_vertical(vertical_force, angle, curvatures, e_star, G, nu,
     return N, fy
 
 
+def _distinct_patches(patches, wheel, rail, vertical_force) -> list:
+    """The patches that are elastic patches of their own: a gap minimum less than the first patch's
+    Hertz-equivalent approach above it lies inside the first patch (its gap fit covers it)."""
+    first = patches[0]
+    A, B = first.hertz_curvatures
+    if not (A > 0 and B > 0):
+        return list(patches)
+    h = hertz_from_curvatures(A, B, vertical_force / math.cos(first.contact_angle), contact_modulus(wheel, rail))
+    return [first] + [q for q in patches[1:] if q.separation >= h.approach]
+
+
+def _below(y, g, level) -> tuple[int, int]:
+    """First and last index of the stretch around y = 0 where g < level (the patch's own interpenetration)."""
+    lo = hi = int(np.argmin(np.abs(y)))
+    while lo > 0 and g[lo - 1] < level:
+        lo -= 1
+    while hi < y.size - 1 and g[hi + 1] < level:
+        hi += 1
+    return lo, hi
+
+
 def _lateral_window(p, h) -> float:
     """Half-width [m] of the gap fit across rolling: WINDOW[1] Hertz semi-axes b, widened to 1.2 times the
     reach of the stretch around the contact point where the undeformed gap stays below the Hertz-equivalent
     approach (a second, nearly touching minimum, as at Manchester position 1, lies in the elastic patch),
     at most the sampled section's reach."""
     y = np.linspace(-SECTION_HALF_WIDTH, SECTION_HALF_WIDTH, 2401)
-    g = p.gap(0.0, y)
-    i0 = int(np.argmin(np.abs(y)))
-    lo = hi = i0
-    while lo > 0 and g[lo - 1] < h.approach:
-        lo -= 1
-    while hi < y.size - 1 and g[hi + 1] < h.approach:
-        hi += 1
+    lo, hi = _below(y, p.gap(0.0, y) - p.gap(0.0, 0.0), h.approach)
     reach = max(-y[lo], y[hi])
     return float(min(max(WINDOW[1] * h.b, 1.2 * reach), 0.95 * SECTION_HALF_WIDTH))
 
@@ -192,8 +207,9 @@ def reference_point(geo, p, approach: float, speed: float) -> dict:
         ``y_rail``, ``z_rail`` [m] (rail profile's own coordinates), ``angle`` [rad], ``creepage``.
     """
     y = np.linspace(-SECTION_HALF_WIDTH, SECTION_HALF_WIDTH, 2401)
-    w = np.clip(approach - p.gap(0.0, y), 0.0, None)
-    w[~np.isfinite(w)] = 0.0
+    lo, hi = _below(y, p.gap(0.0, y) - p.gap(0.0, 0.0), approach)
+    w = np.zeros_like(y)
+    w[lo:hi + 1] = approach - (p.gap(0.0, y[lo:hi + 1]) - p.gap(0.0, 0.0))
     eta = float((w * y).sum() / w.sum()) if w.sum() > 0 else 0.0
     b = float(geo.rail_inclination)
     rail = geo.rail_profile.rotated(b) if b else geo.rail_profile
@@ -279,10 +295,14 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
     except ProfileError as exc:
         raise SceneError(f"scene {scene_name!r}: key 'wheelset': no contact: {exc}", scene=scene_name,
                          key="wheelset.lateral_shift", value=table.get("lateral_shift")) from None
-    if patch_no > len(wc.patches):
+    distinct = _distinct_patches(wc.patches, wheel, rail, geo.vertical_force)
+    if patch_no > len(distinct):
+        merged = len(wc.patches) - len(distinct)
         _fail(scene_name, "wheelset.patch", patch_no,
-              f"at most {len(wc.patches)}: the search found {len(wc.patches)} patch(es) on the {geo.side} wheel")
-    p = wc.patches[patch_no - 1]
+              f"at most {len(distinct)}: the search found {len(wc.patches)} gap minima on the {geo.side} wheel"
+              + (f", {merged} of them within the first patch's Hertz-equivalent approach (one elastic patch "
+                 "covers them; patch 1 solves it)" if merged else ""))
+    p = distinct[patch_no - 1]
     curv = p.hertz_curvatures
     if not (curv[0] > 0 and curv[1] > 0):
         _fail(scene_name, "wheelset", f"patch {patch_no}",
@@ -300,7 +320,7 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
     h = hertz_from_curvatures(*curv, N, e_star)
     coef, residual = p.gap_coefficients(WINDOW[0] * h.a, _lateral_window(p, h), degree=GAP_DEGREE,
                                         step=min(h.a, h.b) / 12.0)
-    return ProfileContact(side=geo.side, patch=int(patch_no), patches=len(wc.patches),
+    return ProfileContact(side=geo.side, patch=int(patch_no), patches=len(distinct),
                           contact_position_rail=ref["y_rail"], contact_height_rail=ref["z_rail"],
                           contact_angle=ref["angle"], rolling_radius=p.rolling_radius, separation=p.separation,
                           hertz_curvatures=(float(curv[0]), float(curv[1])), gap_coefficients=coef,

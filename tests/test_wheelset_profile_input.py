@@ -1,0 +1,115 @@
+"""Bad input to a wheelset on profiles: each gives a SceneError (ProfileError for a profile file) naming
+the scene, the key and, for a file, the file and line; none is a traceback of another kind."""
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+import pytest
+
+from railtherm import SceneError
+from railtherm.input.scene import load_scene
+from railtherm.physics.profiles import ProfileError
+
+from railtherm.input.profiles import read_profile
+from test_manchester import DATA, a22_scene
+
+
+def _with(position=13, side="right", **wheelset):
+    s = copy.deepcopy(a22_scene(position, side))
+    s["wheelset"].update(wheelset)
+    return s
+
+
+def test_a_good_scene_is_a_gap_scene_with_load_and_creepage():
+    sc = load_scene(a22_scene(13, "right"))
+    assert sc.contact_shape == "gap" and sc.wheelset is None
+    assert sc.normal_force == pytest.approx(sc.profile_contact.normal_force)
+    assert sc.creepage.longitudinal == sc.profile_contact.creepage[0]
+    assert sc.profile_contact.patches == 1
+
+
+def test_a_missing_profile_file_names_key_and_file(tmp_path):
+    missing = str(tmp_path / "no_such.prr")
+    with pytest.raises(ProfileError, match=r"scene 'a22-13-right': key 'wheelset.rail_profile': profile .*no_such\.prr: "
+                                           r"cannot be read"):
+        load_scene(_with(rail_profile=missing))
+
+
+def test_an_unreadable_line_names_file_and_line(tmp_path):
+    bad = tmp_path / "bad.txt"
+    bad.write_text("# y z in mm\n-30 1.0\n-29 0.9\nabc def\n")
+    with pytest.raises(ProfileError, match=r"key 'wheelset.wheel_profile': profile .*bad\.txt, line 4: cannot read"):
+        load_scene(_with(wheel_profile=str(bad)))
+
+
+def test_a_contact_off_the_end_of_the_rail_profile_is_named(tmp_path):
+    """The rail profile cut 12 mm left of its crown: the tread's contact at -7 mm lies beyond its end."""
+    rail = read_profile(str(DATA / "MBench_UIC60_v3.prr"))
+    keep = rail.y < -12e-3
+    cut = tmp_path / "cut_rail.txt"
+    cut.write_text("\n".join(f"{y * 1e3:.7f} {z * 1e3:.7f}" for y, z in zip(rail.y[keep], rail.z[keep])))
+    with pytest.raises(SceneError, match=r"scene 'a22-1-right': key 'wheelset': no contact: side right: the closest "
+                                         r"approach lies at the end of a profile \(.*rail y = -12.\d\d mm\): the "
+                                         r"wheel runs off the rail"):
+        load_scene(_with(1, rail_profile=str(cut)))
+
+
+@pytest.mark.parametrize("value", [-1.0, 0.0])
+def test_a_force_that_is_not_positive_is_refused(value):
+    with pytest.raises(SceneError, match=r"key 'wheelset.vertical_force'"):
+        load_scene(_with(vertical_force=value))
+
+
+def test_a_missing_vertical_force_is_named():
+    s = a22_scene(13, "right")
+    del s["wheelset"]["vertical_force"]
+    with pytest.raises(SceneError, match=r"key 'wheelset.vertical_force' is missing"):
+        load_scene(s)
+
+
+def test_conical_keys_do_not_mix_with_profiles():
+    with pytest.raises(SceneError, match=r"key 'wheelset.conicity'"):
+        load_scene(_with(conicity=0.05))
+
+
+def test_contact_keys_are_set_by_the_wheelset():
+    s = a22_scene(13, "right")
+    s["normal_force"] = 1e4
+    with pytest.raises(SceneError, match=r"key 'normal_force'.*a wheelset on profiles sets"):
+        load_scene(s)
+
+
+def test_a_patch_beyond_those_found_is_refused():
+    with pytest.raises(SceneError, match=r"key 'wheelset.patch' = 2 is not allowed: at most 1"):
+        load_scene(_with(patch=2))
+
+
+@pytest.mark.parametrize("key,word", [("roll_angle", "balance"), ("pitch_velocity", "free")])
+def test_the_equilibrium_words_are_refused_for_now(key, word):
+    with pytest.raises(SceneError, match=rf"key 'wheelset.{key}' = '{word}'"):
+        load_scene(_with(**{key: word}))
+
+
+def test_a_bad_side_is_named():
+    with pytest.raises(SceneError, match=r"wheelset.side"):
+        load_scene(_with(side="middle"))
+
+
+def test_the_second_patch_of_a_two_patch_wheel_is_a_scene():
+    """Position 10: tread contact and the flange root 0.07 mm above it (more than the Hertz-equivalent
+    approach, 0.024 mm): two patches; patch 2 lies on the gauge side at a steeper angle. (Each scene gets the
+    whole vertical force: the force is not shared between patches.)"""
+    one, two = (load_scene(_with(10, patch=k)).profile_contact for k in (1, 2))
+    assert one.patches == two.patches == 2
+    assert two.contact_angle < one.contact_angle
+    assert two.contact_position_rail < one.contact_position_rail
+
+
+def test_a_second_minimum_inside_the_first_patch_is_not_a_patch_of_its_own():
+    """Position 1: the second gap minimum lies 8 um above the first, inside the approach: one elastic patch
+    (patch 1 covers both, as CONTACT's does), and patch 2 is refused, saying why."""
+    assert load_scene(_with(1)).profile_contact.patches == 1
+    with pytest.raises(SceneError, match=r"key 'wheelset.patch' = 2 is not allowed: at most 1: the search found 2 gap "
+                                         r"minima .*one elastic patch covers them"):
+        load_scene(_with(1, patch=2))
