@@ -127,6 +127,8 @@ def solve_normal(conv, gap: np.ndarray, cell_area: float, *, force: float | None
     -------
     NormalSolution
     """
+    # over 80 lines with its docstring: one loop whose state (p, u, the contact set, the direction) every step
+    # shares; the element-wise work is in :mod:`._cg`
     if (force is None) == (approach is None):
         raise ValueError("give exactly one of force [N] and approach [m]")
     h = np.asarray(gap, dtype=float)

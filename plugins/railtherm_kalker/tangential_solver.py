@@ -390,6 +390,8 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
     -------
     TangentialSolution
     """
+    # over 80 lines: the Newton loop, its Jacobian and line search share the unknowns' layout (idx, restrict,
+    # embed) and the step's state; split, they would pass a dozen arrays around
     g = np.asarray(bound, dtype=float)
     w = np.asarray(w, dtype=float)
     nc = w.shape[0]
@@ -613,6 +615,7 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         ``linear_iterations`` are summed over all grids, ``coarse`` (attribute set on the result)
         lists the coarse solves' (shape, Newton steps).
     """
+    # over 80 lines with its docstring (the offset's discussion is 12 of them); the body is 35
     line = y_edges is None
     levels = [(np.asarray(x_edges, dtype=float), None if line else np.asarray(y_edges, dtype=float),
                np.asarray(bound, dtype=float))]
