@@ -61,6 +61,8 @@ CONICAL_ONLY_KEYS = frozenset({"conicity", "vertical_load", "wheel_radius", "con
 WINDOW = (1.6, 2.0)
 #: half-width [m] of the lateral section the contact search samples the gap on
 SECTION_HALF_WIDTH = 12e-3
+#: how far (in fitting windows) the gap polynomial must stay open
+FIT_CHECK = 2.0
 #: degree of the gap polynomial in the lateral coordinate
 GAP_DEGREE = 8
 
@@ -238,6 +240,52 @@ def reference_point(geo, p, approach: float, speed: float) -> dict:
             "creepage": (xi_ref + phi * eta, eta_ref, phi), "creepage_reference": (xi_ref, eta_ref, phi)}
 
 
+def _weighted_fit(p, half_x, half_y, reach_y, degree, step, guard=0.03):
+    """Least-squares gap polynomial (terms as :meth:`Patch.gap_coefficients`) on |x| <= half_x,
+    |y| <= reach_y, with the points beyond |y| > half_y weighted ``guard``: they keep the polynomial
+    rising where the gap rises without pulling it off the data in the window. Returns (coefficients,
+    largest misfit in the window [m])."""
+    x = np.arange(-half_x, half_x + 0.5 * step, step)
+    y = np.arange(-reach_y, reach_y + 0.5 * step, step)
+    X, Y = (a.ravel() for a in np.meshgrid(x, y))
+    g = p.gap(X, Y) - p.gap(0.0, 0.0)
+    ok = np.isfinite(g)
+    X, Y, g = X[ok], Y[ok], g[ok]
+    w = np.where(np.abs(Y) <= half_y, 1.0, guard)
+    terms = [(i, j) for i in range(3) for j in range(degree + 1) if 2 <= i + j <= degree]
+    A = np.stack([X ** i * Y ** j for i, j in terms], 1)
+    scale = np.abs(A).max(0)
+    c = np.linalg.lstsq(A / scale * w[:, None], g * w, rcond=None)[0] / scale
+    names = [("" if i == 0 else f"x{i}") + ("" if j == 0 else f"y{j}") for i, j in terms]
+    inside = np.abs(Y) <= half_y
+    return dict(zip(names, (float(v) for v in c))), float(np.abs(A[inside] @ c - g[inside]).max())
+
+
+def _gap_fit(scene_name, p, h):
+    """The gap polynomial of the highest even degree (GAP_DEGREE, then lower) that stays open beyond the
+    fitting window: c2(y) > 0 and min over x of h(x, y) > 0 for |y| beyond the window out to FIT_CHECK
+    windows (a polynomial of high degree can turn down just outside its data, and the normal solver then
+    finds no bounded patch)."""
+    half_x, half_y = WINDOW[0] * h.a, _lateral_window(p, h)
+    reach = half_y
+    y = np.linspace(-FIT_CHECK * half_y, FIT_CHECK * half_y, 1601)
+    outside = np.abs(y) > half_y
+    for degree in range(GAP_DEGREE, 1, -2):
+        coef, residual = _weighted_fit(p, half_x, half_y, reach, degree, min(h.a, h.b) / 12.0)
+        c = [np.zeros_like(y) for _ in range(3)]
+        for name, v in coef.items():
+            i = int(name[1]) if name.startswith("x") else 0
+            j = int(name.split("y")[1]) if "y" in name else 0
+            c[i] = c[i] + v * y ** j
+        if np.all(c[2] > 0):
+            low = c[0] - c[1] ** 2 / (4.0 * c[2])
+            if np.all(low[outside] > 0.0):
+                return coef, residual
+    raise SceneError(f"scene {scene_name!r}: key 'wheelset': the patch's gap at rail y = {p.y_rail * 1e3:.2f} mm has "
+                     "no polynomial fit (degree <= 8) that stays open outside the patch", scene=scene_name,
+                     key="wheelset")
+
+
 def _fail(scene_name, key, value, allowed):
     raise SceneError.bad_value(scene_name, key, value, allowed)
 
@@ -318,8 +366,7 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
         N, fy = normal_force_from_vertical(geo.vertical_force, ref["angle"], curv, e_star, G, nu,
                                            ref["creepage"], friction)
     h = hertz_from_curvatures(*curv, N, e_star)
-    coef, residual = p.gap_coefficients(WINDOW[0] * h.a, _lateral_window(p, h), degree=GAP_DEGREE,
-                                        step=min(h.a, h.b) / 12.0)
+    coef, residual = _gap_fit(scene_name, p, h)
     return ProfileContact(side=geo.side, patch=int(patch_no), patches=len(distinct),
                           contact_position_rail=ref["y_rail"], contact_height_rail=ref["z_rail"],
                           contact_angle=ref["angle"], rolling_radius=p.rolling_radius, separation=p.separation,
