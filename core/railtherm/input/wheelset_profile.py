@@ -62,7 +62,7 @@ WINDOW = (1.6, 2.0)
 #: half-width [m] of the lateral section the contact search samples the gap on
 SECTION_HALF_WIDTH = 12e-3
 #: how far (in fitting windows) the gap polynomial must stay open
-FIT_CHECK = 2.0
+FIT_CHECK = 1.5
 #: degree of the gap polynomial in the lateral coordinate
 GAP_DEGREE = 8
 
