@@ -32,6 +32,7 @@ from .errors import (FIELDS, MAX_FIELD_POINTS, METRICS, SCALARS, _interp_to, cha
                      rel_error, rel_l2 as _rel_l2, run_errors, signed_error)
 from .rises import RISES, bulk_of as _bulk  # noqa: E402,F401  (temperatures on their rise above the bulk temperature)
 from .trace_metrics import TRACE_METRICS, TRACE_PROFILES, trace_errors  # noqa: E402,F401  (metrics.nc's trace metrics)
+from .transient_metrics import TRANSIENT_METRICS, transient_errors  # noqa: E402  (metrics.nc's transient metrics)
 from .verdicts import independent  # noqa: E402,F401
 #: the quantity a scene's verdict is given on: the first of these that the scene asks for
 HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
@@ -329,6 +330,8 @@ def _score(ctx: _Study, rec) -> dict:
         errs = run_errors(scene, own, ref_values, ref_ds, ref_tag=ref_tag, notes=notes, signed=signed)
         if "cooling_rate" in errs:
             row["cooling_rate_depth"] = _cooling_depth(scene, own)
+        if ctx.kind(scene) == "analytic" and getattr(scene, "transient", None) is not None:
+            errs.update(transient_errors(scene, own, notes=notes, cache=ctx.cache))
     for k, (v, tag) in errs.items():
         row[f"error_{k}"], row[f"reference_{k}"] = v, tag
     for k, v in signed.items():
@@ -505,13 +508,14 @@ def score_runs(study, records, tol: float, indices) -> list[tuple[int, dict]]:
     return [(i, _score(ctx, records[i])) for i in indices]
 
 
-def scene_groups(records) -> list[list[int]]:
-    """Indices of ``records`` grouped by scene, the groups with the most runs to score first (a pool that
-    takes them in this order finishes the long ones early). One scene's runs stay in one process: they share
-    its exact references (a thermal trace at the same depths is computed once)."""
-    groups: dict[str, list[int]] = {}
+def scoring_groups(records) -> list[list[int]]:
+    """Indices of ``records`` grouped by scene and method, the groups with the most runs to score first (a
+    pool that takes them in this order finishes the long ones early). A method's levels of one scene stay in
+    one process; a scene's methods may not (their exact traces are at their own depths, so they share
+    little, and one scene's thermal traces would otherwise keep one worker busy while the others idle)."""
+    groups: dict[tuple, list[int]] = {}
     for i, r in enumerate(records):
-        groups.setdefault(r.scene, []).append(i)
+        groups.setdefault((r.scene, r.method), []).append(i)
     return sorted(groups.values(), key=lambda g: -sum(records[i].status == "ok" for i in g))
 
 
@@ -525,12 +529,13 @@ def compute_metrics(study, out, records, tolerance: float | None = None, *, map=
     from .scorecard import verdict_vars
     tol = tolerance if tolerance is not None else getattr(study, "tolerance", 0.05)
     metrics = METRICS + (TRACE_METRICS if any(getattr(s, "field", None) is not None for s in study.scenes) else ())
+    metrics += TRANSIENT_METRICS if any(getattr(s, "transient", None) is not None for s in study.scenes) else ()
     ctx = _Study(study, records, tol)
     if map is None:
         rows = [_score(ctx, rec) for rec in records]
     else:
         rows = [None] * len(records)
-        for part in map(functools.partial(score_runs, study, records, tol), scene_groups(records)):
+        for part in map(functools.partial(score_runs, study, records, tol), scoring_groups(records)):
             for i, row in part:
                 rows[i] = row
     ds = _run_table(rows, metrics)

@@ -1,0 +1,133 @@
+"""The transient metrics of ``metrics.nc`` (scenes with ``mode = "transient"``): a run's histories at the
+fixed section against core's exact transient references (:mod:`railtherm.references.transient`: the
+moving band for a line contact, the moving ellipse in 3-D, uniform or Hertzian flux, at any depth, with
+the scene's passes and schedule).
+
+* ``error_pass_peak_temperature``: the largest relative error of the per-pass peak rise, over bodies,
+  passes and depths (entries whose exact peak is below :data:`FLOOR` of the body's largest are left out:
+  a pass the schedule leaves unheated has no relative scale);
+* ``error_residual_rise``: the same for the residual surface rise before the next pass;
+* ``error_temperature_history``: the max-norm of the rise's error over the history (the run's own time
+  axis), relative to the exact history's largest rise at that depth, the largest over depths and bodies.
+
+Temperatures are scored on their rise above each body's bulk temperature. A scene whose heat source has
+no closed form (convection, a friction law that is not one number over the patch, a computed contact
+other than full sliding) is not scored.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["TRANSIENT_METRICS", "FLOOR", "transient_errors", "transient_sources"]
+
+#: metrics of a transient scene, in metrics.nc only for a study with a transient scene
+TRANSIENT_METRICS = ("pass_peak_temperature", "residual_rise", "temperature_history")
+#: entries of the per-pass peaks and residuals below this fraction of the body's largest exact value are
+#: not scored (no relative scale: a pass the schedule leaves unheated)
+FLOOR = 1e-3
+#: the references' quadrature (railtherm.references.transient.pass_response): ~1e-5 of the maximum
+#: (tests/test_references_transient.py), 3x cheaper than the default
+_QUAD = dict(quad_points=8, inner_points=24)
+#: the exact history is evaluated on at most this many of the run's samples: a longer history is scored
+#: over its first whole passes within them (the per-pass peaks and residuals cover every pass; a schedule
+#: makes the reference cost ~10 ms per sample, so a 1,000-pass axis of 5e5 samples is out of reach)
+MAX_HISTORY_SAMPLES = 5000
+
+
+def transient_sources(scene):
+    """Each body's exact moving source as (MovingSource or None, bulk temperature [degC]) for wheel and
+    rail, and the reference's tag; None when the scene's heat source has no closed form."""
+    from ..references.transient import MovingSource
+    from .analytic import _thermal_case
+    case = _thermal_case(scene)
+    if case is None:
+        return None
+    a, b, shape, q0, speeds, eps = case
+    if not np.ndim(eps) == 0:
+        return None
+    kind = "band" if b is None else "ellipse"
+    out = []
+    for i, (frac, body) in enumerate(((float(eps), scene.wheel), (1.0 - float(eps), scene.rail))):
+        q = q0 * frac
+        src = MovingSource(kind, a, float(speeds[i]), q, shape, b) if q > 0 and speeds[i] > 0 else None
+        out.append((src, float(body.bulk_temperature)))
+    return out, f"transient-{kind}"
+
+
+def _rel(value, exact, floor: float) -> float:
+    """Largest relative error over the entries whose exact value is at least ``floor`` of the largest."""
+    value, exact = np.asarray(value, dtype=float), np.asarray(exact, dtype=float)
+    scale = np.max(np.abs(exact)) if exact.size else 0.0
+    if scale == 0:
+        return math.nan
+    keep = np.abs(exact) >= floor * scale
+    if not np.all(np.isfinite(value[keep])):
+        return math.inf
+    return float(np.max(np.abs(value[keep] / exact[keep] - 1.0)))
+
+
+def transient_errors(scene, ds, notes: dict | None = None, cache: dict | None = None) -> dict:
+    """Errors of the transient metrics of one result: metric -> (error [1], ``analytic:<tag>``).
+
+    Parameters
+    ----------
+    scene : Scene
+        A transient scene (``scene.transient``).
+    ds : xarray.Dataset
+        The run's result (``temperature_history``, ``pass_peak_temperature``, ``residual_rise``, ``time``,
+        ``z``).
+    notes : dict, optional
+        Filled with metric -> why it is not scored.
+    cache : dict, optional
+        Per-scene cache of the exact per-pass summary (the same for every level of the scene).
+    """
+    from ..references.transient import Schedule, pass_summary, temperature_history
+    notes = {} if notes is None else notes
+    tr = getattr(scene, "transient", None)
+    if tr is None or "temperature_history" not in ds:
+        return {}
+    got = transient_sources(scene)
+    if got is None:
+        for m in TRANSIENT_METRICS:
+            notes[m] = "no exact transient reference for this heat source"
+        return {}
+    sources, tag = got
+    sched = None if tr.schedule_time is None else Schedule(tr.schedule_time, tr.schedule_factor)
+    z = np.asarray(ds["z"].values, dtype=float)
+    t = np.asarray(ds["time"].values, dtype=float)
+    n = t.size
+    if n > MAX_HISTORY_SAMPLES:
+        keep = max(1, int(t[MAX_HISTORY_SAMPLES - 1] // tr.interval))     # whole passes within the samples
+        n = int(np.searchsorted(t, keep * tr.interval, side="right"))
+        notes["temperature_history"] = (f"scored over the first {keep} of {tr.count} passes ({n} of {t.size} samples; "
+                                        "peaks and residuals over every pass)")
+    errs: dict[str, list[float]] = {m: [] for m in TRANSIENT_METRICS}
+    for i, (src, bulk) in enumerate(sources):
+        if src is None:
+            continue
+        key = ("transient-summary", scene.name, i, tuple(z))
+        if cache is None or key not in cache:
+            summary = pass_summary(z, src, scene.body(i), tr.count, tr.interval, sched, **_QUAD)
+            if cache is not None:
+                cache[key] = summary
+        summary = cache[key] if cache is not None else summary
+        errs["pass_peak_temperature"].append(_rel(ds["pass_peak_temperature"].values[i] - bulk, summary.peak, FLOOR))
+        errs["residual_rise"].append(_rel(ds["residual_rise"].values[i], summary.residual[:, 0], FLOOR))
+        exact = temperature_history(t[:n], z, src, scene.body(i), tr.count, tr.interval, sched, **_QUAD)
+        rise = ds["temperature_history"].values[i, :n] - bulk
+        scale = np.max(np.abs(exact), axis=0)
+        ok = scale > 0
+        if not np.all(np.isfinite(rise)):
+            errs["temperature_history"].append(math.inf)
+        elif np.any(ok):
+            errs["temperature_history"].append(float(np.max(np.max(np.abs(rise - exact), axis=0)[ok] / scale[ok])))
+    out = {}
+    for m, values in errs.items():
+        finite = [v for v in values if not math.isnan(v)]
+        if finite:
+            out[m] = (max(finite), f"analytic:{tag}")
+        else:
+            notes[m] = "no heated body to score"
+    return out
