@@ -71,7 +71,7 @@ def test_entry_point_failure_does_not_stop_others(monkeypatch):
 def test_autoload_can_be_disabled(monkeypatch):
     monkeypatch.setenv(plugins.DISABLE_ENV, "1")
     host = plugins.new_host()
-    assert set(host.models) == {"hertz", "full-sliding", "frictional", "given"} and not host.problems
+    assert set(host.models) == {"hertz", "wheelset-profile", "full-sliding", "frictional", "given"} and not host.problems
 
 
 HOOKS = [name for name, f in inspect.getmembers(hookspec, inspect.isfunction) if name.startswith("railtherm_")]
