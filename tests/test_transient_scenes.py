@@ -137,3 +137,13 @@ def test_metrics_score_the_histories_against_the_exact_band():
     assert all(tag == "analytic:transient-band" for _, tag in err.values())
     assert err["pass_peak_temperature"][0] < 0.02 and err["residual_rise"][0] < 0.02
     assert err["temperature_history"][0] < 0.03
+
+
+def test_green_refuses_a_temperature_dependent_friction_law_in_a_transient_scene():
+    """Superposition of one pass's response needs a heat input independent of the temperature."""
+    import railtherm.testing
+    scene = railtherm.testing.canonical("ellipse-full-sliding", mode="transient", passes={"count": 2, "interval": 0.05},
+                                        friction={"law": "temperature", "reference": 0.3, "reference_temperature": 200.0,
+                                                  "change": -0.1, "over": 300.0})
+    with pytest.raises(Refused, match="temperature-dependent friction law"):
+        railtherm.solve(scene, "green", level=0)
