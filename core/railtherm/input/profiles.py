@@ -31,6 +31,19 @@ from ..contract.errors import SceneError
 from ..physics.contact_search import WheelsetOnTrack
 from ..physics.profiles import BUILT_IN, Profile, ProfileError
 
+#: keys that make a ``wheelset`` table a profile wheelset (the conical one has none of them)
+PROFILE_ONLY_KEYS = frozenset({"wheel_profile", "rail_profile", "rail_inclination", "gauge_height",
+                               "flange_back_distance", "flange_back_position", "nominal_radius", "roll_angle",
+                               "pitch_velocity", "vertical_force", "side", "patch"})
+#: keys of the conical wheelset only
+CONICAL_ONLY_KEYS = frozenset({"conicity", "vertical_load", "wheel_radius", "contact"})
+
+
+def is_profile_wheelset(table) -> bool:
+    """Whether a ``wheelset`` table describes a wheelset on profiles (any profile-only key)."""
+    return isinstance(table, Mapping) and bool(PROFILE_ONLY_KEYS & set(table))
+
+
 __all__ = ["read_profile", "read_simpack", "read_miniprof", "read_text", "load_profile", "WheelsetGeometry",
            "wheelset_geometry_from_table", "WHEELSET_KEYS"]
 

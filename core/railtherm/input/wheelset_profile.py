@@ -50,17 +50,10 @@ from ..physics.elastic import combined_elastic
 from ..physics.profiles import ProfileError
 from ..references.hertz import contact_modulus, hertz_from_curvatures
 from ..references.kalker import kalker_linear_forces
-from .profiles import wheelset_geometry_from_table
+from .profiles import CONICAL_ONLY_KEYS, wheelset_geometry_from_table
 
-__all__ = ["PROFILE_ONLY_KEYS", "CONICAL_ONLY_KEYS", "ProfileContact", "is_profile_wheelset", "profile_contact",
-           "normal_force_from_vertical", "WINDOW", "GAP_DEGREE"]
+__all__ = ["ProfileContact", "profile_contact", "normal_force_from_vertical", "WINDOW", "GAP_DEGREE"]
 
-#: keys that make a ``wheelset`` table a profile wheelset (the conical one has none of them)
-PROFILE_ONLY_KEYS = frozenset({"wheel_profile", "rail_profile", "rail_inclination", "gauge_height",
-                               "flange_back_distance", "flange_back_position", "nominal_radius", "roll_angle",
-                               "pitch_velocity", "vertical_force", "side", "patch"})
-#: keys of the conical wheelset only
-CONICAL_ONLY_KEYS = frozenset({"conicity", "vertical_load", "wheel_radius", "contact"})
 #: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
 WINDOW = (1.6, 2.0)
 #: half-width [m] of the lateral section the contact search samples the gap on
@@ -69,11 +62,6 @@ SECTION_HALF_WIDTH = 12e-3
 FIT_CHECK = 1.5
 #: degree of the gap polynomial in the lateral coordinate
 GAP_DEGREE = 8
-
-
-def is_profile_wheelset(table) -> bool:
-    """Whether a ``wheelset`` table describes a wheelset on profiles (any profile-only key)."""
-    return isinstance(table, Mapping) and bool(PROFILE_ONLY_KEYS & set(table))
 
 
 @dataclass(frozen=True)
