@@ -34,6 +34,7 @@ from .physics import combined_elastic, equal_temperature_partition, scene_partit
 from .contract.stages import (BODIES, STAGES, BodyTemperature, Capabilities, ContactPatch, CoupledModel,
                      HeatSource, HeatSourceModel, Method, NormalContactModel, Option, StageModel,
                      TangentialContactModel, TemperatureField, TemperatureModel, Upstream)
+from .contract.transient import TransientHistory, TransientTemperatureField, with_history
 
 _LAZY = {
     "Scene": "input.scene", "load_scene": "input.scene",
@@ -42,6 +43,7 @@ _LAZY = {
     "methods": "solving.plugins", "get_host": "solving.plugins",
     "run_study": "run.runner",
     "open_results": "analysis.results",
+    "asks_history": "input.transient",
 }
 
 
@@ -57,4 +59,5 @@ __all__ = ["__version__", "PluginError", "Refused", "SceneError", "SolverError",
            "hookimpl", "Material", "combined_elastic", "equal_temperature_partition", "scene_partition", "BODIES", "STAGES", "Capabilities", "ContactPatch",
            "CoupledModel", "HeatSource", "HeatSourceModel", "Method", "NormalContactModel", "Option", "StageModel",
            "TangentialContactModel", "Upstream",
-           "TemperatureField", "BodyTemperature", "TemperatureModel", *_LAZY]
+           "TemperatureField", "BodyTemperature", "TemperatureModel",
+           "TransientHistory", "TransientTemperatureField", "with_history", *_LAZY]

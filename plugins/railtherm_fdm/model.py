@@ -100,7 +100,7 @@ class FDMTemperature(TemperatureModel):
     def supports(self, scene, level):
         """Core's capability checks; a transient scene that asks for the pass histories (``passes``,
         ``schedule`` or a transient output) is refused: its transient schemes run one pass in the rail frame (numerics.scheme), not the histories."""
-        from railtherm.input.transient import asks_history
+        from railtherm import asks_history
         why = super().supports(scene, level)
         if why is None and asks_history(scene):
             why = (f"model {self.name!r} does not compute the pass histories of a transient scene (passes, schedule, "

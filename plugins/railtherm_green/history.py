@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from railtherm import SceneError
-from railtherm.contract.transient import TransientHistory
+from railtherm import TransientHistory
 
 from .transient import pass_peaks_and_residual, pass_time_above, strip_history, strip_time_axis
 

@@ -37,7 +37,7 @@ import numpy as np
 from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
 from railtherm.physics import (CONVECTIVE_AREA, equal_temperature_partition, field_grid, lumped_wheel,
                                peclet_number, thermal_scales, with_thermal_trace)
-from railtherm.contract.transient import with_history
+from railtherm import with_history
 from railtherm.physics.lumped_wheel import CONVECTIVE_AREAS
 
 from . import history, kernel, steady, validity
