@@ -149,6 +149,7 @@ def test_processes_match_serial_bit_for_bit(serial_sweep, tmp_path):
     assert_same_runs(ref, tmp_path / "out")
 
 
+@pytest.mark.slow  # the dask path's bit-for-bit check in the default suite: test_real_method_bit_for_bit_on_every_executor
 def test_dask_local_cluster_matches_serial_bit_for_bit(serial_sweep, tmp_path):
     """executor="dask" without a scheduler starts a LocalCluster (2 worker processes), one task per run."""
     import json
