@@ -59,8 +59,9 @@ def test_zarr_store_without_zarr(monkeypatch, tmp_path):
 
 def test_the_main_study_needs_neither(tmp_path):
     """The README's first command installs no extra: a study of the main study's kind (run files, an exact
-    reference) runs and scores in a fresh interpreter where dask, distributed and zarr cannot be imported
-    (a fresh one: xarray caches whether dask is there on first use)."""
+    reference, local worker processes as the command line's default executor) runs and scores in a fresh
+    interpreter where dask, distributed and zarr cannot be imported (a fresh one: xarray caches whether
+    dask is there on first use)."""
     import subprocess
     import sys
     code = f"""
@@ -71,7 +72,8 @@ importlib.util.find_spec = lambda name, *a, **k: None if name.split(".")[0] in B
 for name in BLOCKED:
     sys.modules[name] = None
 import railtherm
-m = railtherm.run_study({str(_small(tmp_path))!r}, {str(tmp_path / "out")!r}, report=False)
+m = railtherm.run_study({str(_small(tmp_path))!r}, {str(tmp_path / "out")!r}, executor="processes", workers=2,
+                        report=False)
 print("STATUSES", sorted(set(m["status"].values)))
 print("LOADED", sorted(n for n in sys.modules if n.split(".")[0] in BLOCKED and sys.modules[n] is not None))
 """
