@@ -34,6 +34,7 @@ from .physics import combined_elastic, equal_temperature_partition, scene_partit
 from .contract.stages import (BODIES, STAGES, BodyTemperature, Capabilities, ContactPatch, CoupledModel,
                      HeatSource, HeatSourceModel, Method, NormalContactModel, Option, StageModel,
                      TangentialContactModel, TemperatureField, TemperatureModel, Upstream)
+from .contract.capabilities import asks_history
 from .contract.transient import TransientHistory, TransientTemperatureField, with_history
 
 _LAZY = {
@@ -43,7 +44,6 @@ _LAZY = {
     "methods": "solving.plugins", "get_host": "solving.plugins",
     "run_study": "run.runner",
     "open_results": "analysis.results",
-    "asks_history": "input.transient",
 }
 
 
@@ -60,4 +60,4 @@ __all__ = ["__version__", "PluginError", "Refused", "SceneError", "SolverError",
            "CoupledModel", "HeatSource", "HeatSourceModel", "Method", "NormalContactModel", "Option", "StageModel",
            "TangentialContactModel", "Upstream",
            "TemperatureField", "BodyTemperature", "TemperatureModel",
-           "TransientHistory", "TransientTemperatureField", "with_history", *_LAZY]
+           "TransientHistory", "TransientTemperatureField", "with_history", "asks_history", *_LAZY]

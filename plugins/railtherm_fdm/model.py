@@ -76,6 +76,8 @@ class FDMTemperature(TemperatureModel):
         contacts=frozenset({"ellipse", "line"}), sources=frozenset({"computed", "given"}),
         tangential=frozenset({"full-sliding", "creepage"}), convection=True,
         modes=frozenset({"steady", "transient"}), field=True,
+        advice={"histories": "its transient schemes run one pass in the rail frame (numerics.scheme); "
+                             "use method 'green' for the histories"},
         provides=frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature",
                             "temperature", "peak_temperature", "cooling_rate", "heated_depth", "time_above"}))
     options = {
@@ -97,17 +99,6 @@ class FDMTemperature(TemperatureModel):
     STEADY_PECLET_MIN = 0.1
 
     # -- compute -------------------------------------------------------------------------------
-    def supports(self, scene, level):
-        """Core's capability checks; a transient scene that asks for the pass histories (``passes``,
-        ``schedule`` or a transient output) is refused: its transient schemes run one pass in the rail frame (numerics.scheme), not the histories."""
-        from railtherm import asks_history
-        why = super().supports(scene, level)
-        if why is None and asks_history(scene):
-            why = (f"model {self.name!r} does not compute the pass histories of a transient scene (passes, schedule, "
-                   "temperature_history, pass_peak_temperature, residual_rise, time_above per pass): its transient schemes run one pass in the rail frame (numerics.scheme); "
-                   "use method 'green' for the histories")
-        return why
-
     def compute_temperature(self, scene, source, level, options):
         """Surface (and, when asked for, depth at y = 0) temperatures of wheel and rail [degC]."""
         grid = source.grid

@@ -153,7 +153,10 @@ class FipyTemperature(TemperatureModel):
     capabilities = Capabilities(convection=True, modes=frozenset({"steady", "transient"}), moving_surface=True,
                                 field=True,
                                 advice={"moving_surface": "e.g. a locked wheel v0 + v_s = 0; use a method with a static "
-                                                          "source"},
+                                                          "source",
+                                        "histories": "its transient is the wheel's bulk heating over revolutions "
+                                                     "(numerics.duration / revolutions); use method 'green' for "
+                                                     "the histories"},
                                 provides=PROVIDES | TRACE | {"steady_wheel_temperature", "steady_mean_contact_temperature"})
     options = {
         "scheme": Option("power-law", "convection scheme", choices=tuple(SCHEMES)),
@@ -258,17 +261,6 @@ class FipyTemperature(TemperatureModel):
         return bool(np.allclose(q, q[:, ::-1], rtol=1e-12, atol=0.0) and np.allclose(eps, eps[:, ::-1]))
 
     # ------------------------------------------------------------------ compute
-    def supports(self, scene, level):
-        """Core's capability checks; a transient scene that asks for the pass histories (``passes``,
-        ``schedule`` or a transient output) is refused: its transient is the wheel's bulk heating over revolutions (numerics.duration / revolutions), not the histories."""
-        from railtherm import asks_history
-        why = super().supports(scene, level)
-        if why is None and asks_history(scene):
-            why = (f"model {self.name!r} does not compute the pass histories of a transient scene (passes, schedule, "
-                   "temperature_history, pass_peak_temperature, residual_rise, time_above per pass): its transient is the wheel's bulk heating over revolutions (numerics.duration / revolutions); "
-                   "use method 'green' for the histories")
-        return why
-
     def compute_temperature(self, scene, source, level, options):
         """Surface (and depth at y = 0) temperatures of wheel and rail [degC], absolute."""
         opts = {**options, "refine": int(options["refine"])}   # resolved by core (pipeline)

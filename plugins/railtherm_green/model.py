@@ -115,6 +115,7 @@ class GreenTemperature(TemperatureModel):
         tangential=frozenset({"full-sliding", "creepage"}),
         convection="long-term",   # the flash temperatures ignore it; the lumped steady wheel honours it
         modes=frozenset({"steady", "transient"}),   # transient: railtherm_green.history
+        histories=True,
         peclet=(validity.PECLET_MIN, math.inf),
         moving_surface=True,
         advice=validity.ADVICE,

@@ -59,9 +59,13 @@ class Capabilities:
         (:attr:`ContactPatch.contact_temperature`) in its coupled loop
         (:mod:`railtherm.solving.friction_loop`); a coupled model that computes its own temperatures
         applies it itself.
+    histories : bool
+        The model computes the pass histories of a transient scene (``passes``, ``schedule``,
+        ``temperature_history``, ``pass_peak_temperature``, ``residual_rise``, per-pass ``time_above``);
+        False refuses a scene that asks for them (:func:`asks_history`).
     advice : tuple of (str, str)
         Optional method-specific reason and alternative appended to a refusal, per capability
-        ("modes", "convection", "peclet", "moving_surface", "field"); a mapping is accepted. Without it core
+        ("modes", "convection", "peclet", "moving_surface", "field", "histories"); a mapping is accepted. Without it core
         says which declaration would work (``railtherm methods`` lists each model's).
     """
 
@@ -76,13 +80,14 @@ class Capabilities:
     advice: tuple = ()
     field: bool = False
     friction_laws: frozenset = frozenset({"constant"})
+    histories: bool = False
 
     def __post_init__(self):
         if self.convection not in CONVECTION_KINDS or not isinstance(self.convection, (bool, str)):
             raise ValueError(f"Capabilities.convection must be one of {CONVECTION_KINDS}, got {self.convection!r}")
         if isinstance(self.advice, Mapping):
             object.__setattr__(self, "advice", tuple(sorted(self.advice.items())))
-        unknown = {k for k, _ in self.advice} - {"modes", "convection", "peclet", "moving_surface", "field"}
+        unknown = {k for k, _ in self.advice} - {"modes", "convection", "peclet", "moving_surface", "field", "histories"}
         if unknown:
             raise ValueError(f"Capabilities.advice has unknown keys {sorted(unknown)}")
 
@@ -100,4 +105,17 @@ class Capabilities:
                 f"modes={'/'.join(sorted(self.modes))}; convection={conv}; Peclet {lo:g}..{hi:g}; "
                 f"moving surfaces needed={'yes' if self.moving_surface else 'no'}; "
                 f"field (behind the patch, in depth)={'yes' if self.field else 'no'}; "
+                f"histories (transient passes)={'yes' if self.histories else 'no'}; "
                 f"friction laws={'/'.join(sorted(self.friction_laws))}")
+
+
+def asks_history(scene) -> bool:
+    """True when a transient scene asks for the pass histories: it gives ``passes`` or ``schedule`` or names
+    a transient output (``time_above`` counts only in a transient scene). A transient scene without
+    them may still mean a model's own transient (fipy's wheel over revolutions, ``numerics.duration``);
+    only temperature models that declare ``Capabilities(histories=True)`` compute the histories."""
+    tr = getattr(scene, "transient", None)
+    if tr is None:
+        return False
+    source = getattr(scene, "source", {}) or {}
+    return "passes" in source or "schedule" in source or bool(tr.outputs)

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, Mapping
 
 import numpy as np
 
-from .capabilities import CONVECTION_KINDS, Capabilities
+from .capabilities import CONVECTION_KINDS, Capabilities, asks_history
 from .errors import SceneError
 from .grid import SurfaceGrid
 
@@ -426,6 +426,11 @@ class StageModel:
             return (f"model {self.name!r} computes mode {'/'.join(sorted(caps.modes))}, not the scene's mode {mode!r}; "
                     + (caps.advice_for("modes") or f"use a model that declares mode {'/'.join(other) or mode!r} "
                        "(railtherm methods lists each model's modes)"))
+        if asks_history(scene) and not caps.histories:
+            return (f"model {self.name!r} does not compute the pass histories of a transient scene (passes, "
+                    "schedule, temperature_history, pass_peak_temperature, residual_rise, time_above per pass); "
+                    + (caps.advice_for("histories") or "use a temperature model that declares histories=yes "
+                       "(railtherm methods lists them; method 'green')"))
         fld = getattr(scene, "field", None)
         if fld is not None and not caps.field:
             return (f"model {self.name!r} reports temperatures on the patch only, but scene "

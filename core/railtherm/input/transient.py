@@ -24,7 +24,7 @@ from typing import Any, Mapping
 
 from ..contract.errors import SceneError
 
-__all__ = ["Transient", "TRANSIENT_OUTPUTS", "DEFAULT_THRESHOLD", "transient_from_table", "scene_transient", "asks_history"]
+__all__ = ["Transient", "TRANSIENT_OUTPUTS", "DEFAULT_THRESHOLD", "transient_from_table", "scene_transient"]
 
 #: outputs only a transient scene has (``time_above`` is per pass there)
 TRANSIENT_OUTPUTS = ("temperature_history", "pass_peak_temperature", "residual_rise", "time_above")
@@ -229,14 +229,3 @@ def scene_transient(name: str, c: dict, raw: Mapping, kw: dict) -> Transient | N
                                        f"an interval >= the contact duration 2a/V = {duration:.6g} s (the wheel's "
                                        f"revolution period {tr.interval:.6g} s is shorter: give passes.interval)")
     return tr
-
-
-def asks_history(scene) -> bool:
-    """True when a transient scene asks for the pass histories: it gives ``passes`` or ``schedule`` or names
-    a transient output (``time_above`` counts only in a transient scene). A transient scene without
-    them may still mean a model's own transient (fipy's wheel over revolutions, ``numerics.duration``)."""
-    tr = getattr(scene, "transient", None)
-    if tr is None:
-        return False
-    source = getattr(scene, "source", {}) or {}
-    return "passes" in source or "schedule" in source or bool(tr.outputs)
