@@ -12,7 +12,8 @@ from scipy import integrate, optimize
 from railtherm.input.materials import Material
 from railtherm.references.flash import flash_max_hertz_coefficient, flash_temperature_1d
 from railtherm.references.transient import MovingSource, Schedule, pass_summary, temperature_history
-from railtherm_green.transient import pass_peaks_and_residual, pass_time_above, strip_history, strip_time_axis
+from railtherm.physics import pass_peaks_and_residual, pass_time_above
+from railtherm_green.transient import strip_history, strip_time_axis
 
 STEEL = Material()
 BETA = STEEL.effusivity

@@ -16,10 +16,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from railtherm import SceneError
-from railtherm import TransientHistory
+from railtherm import SceneError, TransientHistory
+from railtherm.physics import pass_peaks_and_residual, pass_time_above
 
-from .transient import pass_peaks_and_residual, pass_time_above, strip_history, strip_time_axis
+from .transient import strip_history, strip_time_axis
 
 __all__ = ["limits", "centre_flux", "histories"]
 

@@ -41,7 +41,7 @@ from numpy.polynomial import chebyshev
 from railtherm.references.transient import shifted_sum
 from scipy.special import erfc
 
-__all__ = ["strip_history", "strip_time_axis", "pass_peaks_and_residual", "pass_time_above"]
+__all__ = ["strip_history", "strip_time_axis"]
 
 
 def _f_g(s, c):
@@ -248,84 +248,3 @@ def strip_time_axis(x_edges, speed: float, count: int = 1, interval: float | Non
     if span > 2.0 * d:
         offsets = np.concatenate([offsets, np.geomspace(2.0 * d, span, int(tail_samples) + 1)[1:]])
     return np.concatenate([k * span + offsets[:-1] for k in range(int(count))] + [[int(count) * span]])
-
-
-def pass_peaks_and_residual(time, history, count: int, interval: float) -> tuple[np.ndarray, np.ndarray]:
-    """Per-pass peak over the samples of [k interval, (k + 1) interval) and residual rise at (k + 1) interval
-    (the next pass's arrival; after the last, one interval after it; linear interpolation between
-    samples if the time is not on the axis).
-
-    Parameters
-    ----------
-    time : array_like
-        Increasing times [s] covering [0, count * interval].
-    history : array_like
-        Rise [K], shape (time.size, depths).
-    count : int
-        Passes [1].
-    interval : float
-        Time between passes [s].
-
-    Returns
-    -------
-    peak, residual : numpy.ndarray
-        [K], shape (count, depths).
-    """
-    time = np.asarray(time, dtype=float)
-    history = np.asarray(history, dtype=float).reshape(time.size, -1)
-    edges = interval * np.arange(count + 1)
-    lo = np.searchsorted(time, edges, side="left")        # first sample >= k interval: windows by index
-    peak = np.empty((count, history.shape[1]))
-    for k in range(count):
-        peak[k] = history[lo[k]:lo[k + 1]].max(axis=0)
-    residual = np.stack([np.interp(edges[1:], time, history[:, j]) for j in range(history.shape[1])], axis=1)
-    return peak, residual
-
-
-def pass_time_above(time, history, count: int, interval: float, rise: float) -> np.ndarray:
-    """Time per pass above a rise, from a sampled history: the crossings linearly interpolated between
-    samples, each pass's window [k interval, (k + 1) interval] (error O(dt^2) per crossing for a smooth
-    history; the sampling sets which short excursions are seen).
-
-    Parameters
-    ----------
-    time : array_like
-        Increasing times [s] covering [0, count * interval].
-    history : array_like
-        Rise [K], shape (time.size, depths).
-    count : int
-        Passes [1].
-    interval : float
-        Time between passes [s].
-    rise : float
-        Threshold rise above the bulk temperature [K].
-
-    Returns
-    -------
-    numpy.ndarray
-        [s], shape (count, depths).
-    """
-    time = np.asarray(time, dtype=float)
-    history = np.asarray(history, dtype=float).reshape(time.size, -1)
-    out = np.zeros((count, history.shape[1]))
-    ends = np.stack([np.interp(interval * np.arange(count + 1), time, history[:, j])
-                     for j in range(history.shape[1])], axis=1)
-    first = np.searchsorted(time, interval * np.arange(count + 1), side="right")    # first sample > k interval
-    last = np.searchsorted(time, interval * np.arange(count + 1), side="left")     # first sample >= k interval
-    for k in range(count):
-        lo, hi = k * interval, (k + 1) * interval
-        # the window's samples with its ends interpolated in (samples strictly inside, by index)
-        inner = slice(first[k], max(first[k], last[k + 1]))
-        t = np.concatenate([[lo], time[inner], [hi]])
-        for j in range(history.shape[1]):
-            g = np.concatenate([[ends[k, j]], history[inner, j], [ends[k + 1, j]]]) - rise
-            pos = np.clip(g, 0.0, None) > 0
-            dt = np.diff(t)
-            both = pos[:-1] & pos[1:]
-            total = float(dt[both].sum())
-            cross = pos[:-1] != pos[1:]
-            # on a crossing interval the part above is the fraction on the positive side
-            frac = np.abs(np.where(pos[:-1], g[:-1], g[1:])) / np.maximum(np.abs(g[1:] - g[:-1]), 1e-300)
-            total += float((dt * frac)[cross].sum())
-            out[k, j] = total
-    return out

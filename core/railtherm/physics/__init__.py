@@ -49,6 +49,10 @@ Thermal trace (:mod:`railtherm.physics.thermal_trace`)
         The same for both bodies of a temperature result (one implementation for every method).
     field_grid(grid, scene), extended_grid(grid, behind), embed_field(field, grid, target)
         The grid reaching ``field.behind`` beyond the trailing edge, and a patch field put on it.
+Pass histories (:mod:`railtherm.physics.pass_history`)
+    pass_peaks_and_residual(time, history, count, interval) -> (peak, residual)
+        Per-pass peak rise and the rise at the next pass's arrival [K] of a sampled history.
+    pass_time_above(time, history, count, interval, rise) -> time above [s] per pass.
 Lumped wheel (:mod:`railtherm.physics.lumped_wheel`)
     lumped_wheel(eps P, theta_mean, ...) -> LumpedWheel
         Ertz & Knothe's long-term wheel temperature with the documented convective area
@@ -72,6 +76,7 @@ from .kinematics import body_speeds, creep_speeds
 from .lumped_wheel import (CONVECTIVE_AREA, ELLIPSE_SQRT_WIDTH, LumpedWheel, conduction_conductance,
                            convective_area, lumped_wheel)
 from .partition import equal_temperature_partition, scene_partition
+from .pass_history import pass_peaks_and_residual, pass_time_above
 from .scales import ThermalScales, peclet_number, thermal_scales
 from .thermal_trace import Trace, embed_field, extended_grid, field_grid, thermal_trace, with_thermal_trace
 
@@ -79,4 +84,5 @@ __all__ = ["hertz_geometry", "hertz_patch", "hertz_pressure_grid", "rescale_hert
            "cell_average", "exact_total", "nodal_cell_average", "combined_elastic", "contact_modulus",
            "body_speeds", "creep_speeds", "equal_temperature_partition", "scene_partition", "ThermalScales", "thermal_scales",
            "peclet_number", "geometric_edges", "CONVECTIVE_AREA", "ELLIPSE_SQRT_WIDTH", "LumpedWheel",
-           "conduction_conductance", "convective_area", "lumped_wheel", "Trace", "thermal_trace", "with_thermal_trace", "field_grid", "extended_grid", "embed_field"]
+           "conduction_conductance", "convective_area", "lumped_wheel", "Trace", "thermal_trace", "with_thermal_trace", "field_grid", "extended_grid", "embed_field",
+           "pass_peaks_and_residual", "pass_time_above"]
