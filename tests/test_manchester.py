@@ -6,7 +6,11 @@ relative to the wheel, the left wheel along the track's y).
 railtherm reports forces on the wheel and creepages of the wheel relative to the rail (both minus
 CONTACT's), and the left wheel in its own mirrored axes (lateral quantities and the contact angle change
 sign once more). Tolerances are the targets of the benchmark check: contact position 0.5 mm, contact angle
-0.02 rad, normal force 3 %, creep forces 5 % where |F| > 0.1 uN, max pressure 8 %.
+0.02 rad, normal force 3 %, creep forces 5 % where |F| > 0.1 uN, max pressure 8 %. The creepages are held to
+the creep forces' 5 % (the forces are proportional to them in the linear regime: a creepage further off puts
+the force target out of reach), and the contact area, CONTACT's count of 0.2 mm elements in contact, to the
+max pressure's 8 % (p0 scales with N / area). Every compared number is a variable of the result (the patch
+quantities of a wheelset on profiles, docs/DESIGN.md "Result schema").
 """
 from __future__ import annotations
 
@@ -16,6 +20,8 @@ from pathlib import Path
 import pytest
 
 import railtherm
+from railtherm import SceneError
+from railtherm.contract.schema import validate_dataset
 from railtherm.input.scene import load_scene
 
 DATA = Path(__file__).resolve().parent / "data" / "profiles"
@@ -57,22 +63,26 @@ def _solve(position, side):
 
 def _compare(position, side) -> dict:
     """Every compared quantity: (railtherm in CONTACT's convention, CONTACT's, tolerance, relative?)."""
-    scene, r = _solve(position, side)
+    _, r = _solve(position, side)
     ref = _reference(side, position)
-    pc = scene.profile_contact
     m = 1.0 if side == "right" else -1.0          # the left wheel's own axes against the track's y
     return {
-        "contact_position": (m * pc.contact_position_rail, ref["ycp_r"] * 1e-3, POSITION_TOL, False),
-        "contact_angle": (m * pc.contact_angle, ref["contact_angle"], ANGLE_TOL, False),
+        "contact_position": (m * float(r["contact_position_rail"]), ref["ycp_r"] * 1e-3, POSITION_TOL, False),
+        "contact_angle": (m * float(r["contact_angle"]), ref["contact_angle"], ANGLE_TOL, False),
         "normal_force": (float(r["normal_force"]), ref["fn"], NORMAL_RTOL, True),
         "creep_force_x": (-float(r["creep_force_x"]), ref["fx"], CREEP_RTOL, True),
         "creep_force_y": (-m * float(r["creep_force_y"]), ref["fs"], CREEP_RTOL, True),
         "max_pressure": (float(r["max_pressure"]), ref["pmax"] * 1e6, PMAX_RTOL, True),
+        "contact_area": (float(r["contact_area"]), ref["contact_elements"] * 0.04e-6, PMAX_RTOL, True),
+        "creepage_longitudinal": (-float(r["creepage_longitudinal"]), ref["longitudinal_creepage"], CREEP_RTOL, True),
+        "creepage_lateral": (-m * float(r["creepage_lateral"]), ref["lateral_creepage"], CREEP_RTOL, True),
+        "creepage_spin": (-m * float(r["creepage_spin"]), ref["spin_creepage"] * 1e3, CREEP_RTOL, True),
     }
 
 
 CASES = [(13, "right"), (13, "left"), (1, "right")]
-QUANTITIES = ["contact_position", "contact_angle", "normal_force", "creep_force_x", "creep_force_y", "max_pressure"]
+QUANTITIES = ["contact_position", "contact_angle", "normal_force", "creep_force_x", "creep_force_y", "max_pressure",
+              "contact_area", "creepage_longitudinal", "creepage_lateral", "creepage_spin"]
 #: misses, with why (docs: the module docstring of railtherm.input.wheelset_profile)
 KNOWN_MISSES = {
     (1, "right", "contact_position"): "two-point geometry: the reference point is the centroid of the undeformed "
@@ -85,6 +95,12 @@ KNOWN_MISSES = {
     (1, "right", "creep_force_y"): "two-point geometry: the one elastic patch spans two gap minima 11 mm apart and "
                                    "Fy comes from spin, which depends on the plane chosen for the whole patch; the "
                                    "plane at the interpenetration centroid gives +6.9 %",
+    (1, "right", "creepage_longitudinal"): "CONTACT's -5.7e-5 is the pitch velocity's balance of the wheel's moment "
+                                           "at its own reference point; railtherm's is the rigid slip at the gap "
+                                           "minimum, 1.2 mm away, where spin adds 1e-4 (two-point geometry)",
+    (1, "right", "creepage_spin"): "two-point geometry: the spin is the wheelset's rotation along the normal of the "
+                                   "plane chosen for the whole patch (railtherm's at the interpenetration centroid, "
+                                   "contact angle -0.033 rad against CONTACT's -0.029): -0.0715 against 0.063 1/m",
 }
 
 
@@ -100,9 +116,39 @@ def test_a22_against_contact(position, side, quantity, request):
         assert got == pytest.approx(want, abs=tol), (quantity, got, want)
 
 
-def test_a22_position_1_one_patch_spans_both_minima():
-    """CONTACT's one patch at position 1 has 1291 elements of 0.2 mm (51.6 mm2): the gap fitted over the
-    nearly touching second minimum gives the same area (within the max-pressure tolerance)."""
-    _, r = _solve(1, "right")
-    assert float(r["contact_area"]) == pytest.approx(_reference("right", 1)["contact_elements"] * 0.04e-6,
-                                                     rel=PMAX_RTOL)
+PATCH_UNITS = {"contact_position_rail": "m", "contact_angle": "rad", "normal_force": "N", "creep_force_x": "N",
+               "creep_force_y": "N", "spin_moment": "N m", "max_pressure": "Pa", "contact_area": "m2",
+               "creepage_longitudinal": "1", "creepage_lateral": "1", "creepage_spin": "m-1"}
+
+
+def test_a22_patch_outputs_carry_units_and_the_patch():
+    """A profile wheelset's result carries every patch quantity as a scalar with its CF units, and which
+    patch it is in the global attributes (one patch per scene: no patch dimension)."""
+    _, r = _solve(13, "right")
+    validate_dataset(r, "kalker")
+    for name, units in PATCH_UNITS.items():
+        assert r[name].dims == () and r[name].attrs["units"] == units, name
+    assert r["max_surface_temperature"].dims == ("body",)
+    assert (r.attrs["wheelset_side"], r.attrs["wheelset_patch"], r.attrs["wheelset_patches"]) == ("right", 1, 1)
+
+
+def test_a22_hertz_chain_reports_the_same_patch_geometry():
+    """The patch's position, angle and creepages are the contact search's: a Hertz + FASTSIM chain asking for
+    them (no model declares them) reports the exact chain's numbers to the last bit."""
+    scene, r = _solve(13, "left")
+    asked = dict(a22_scene(13, "left"), outputs=["contact_position_rail", "contact_angle", "creepage_longitudinal",
+                                                 "creepage_lateral", "creepage_spin", "creep_force_x"])
+    h = railtherm.solve(load_scene(asked), {"normal": "wheelset-profile", "tangential": "fastsim"}, level=0)
+    for name in asked["outputs"][:-1]:
+        assert float(h[name]) == float(r[name]), name
+    assert float(r["creepage_spin"]) == scene.creepage.spin
+
+
+def test_patch_outputs_need_a_wheelset_on_profiles():
+    plain = {"name": "ellipse", "speed": 30.0, "friction": 0.3, "normal_force": 1e4,
+             "contact": {"semi_axes": [6e-3, 4e-3]}, "creepage": {"longitudinal": -1e-3},
+             "outputs": ["max_pressure", "contact_angle"]}
+    with pytest.raises(SceneError) as err:
+        load_scene(plain)
+    msg = str(err.value)
+    assert "'ellipse'" in msg and "outputs" in msg and "contact_angle" in msg and "wheel_profile" in msg

@@ -70,7 +70,21 @@ VARIABLES: dict[str, Var] = {
                                  "depth z during each pass", "temperature", True),
     "residual_rise": Var(("body", "pass"), "K", "surface temperature rise above the bulk temperature left by each "
                          "pass just before the next (after the last: one interval after it)", "temperature"),
+    # a wheelset on real profiles (railtherm.input.wheelset_profile): the scene's patch as the contact search
+    # placed it and the creepages it rolls with, the same for every chain
+    "contact_position_rail": Var((), "m", "lateral position of the patch's reference point on the rail, in the "
+                                 "rail profile's own coordinates", "normal"),
+    "contact_angle": Var((), "rad", "angle of the patch's contact plane against the track plane", "normal"),
+    "creepage_longitudinal": Var((), "1", "longitudinal creepage of the wheel relative to the rail", "normal"),
+    "creepage_lateral": Var((), "1", "lateral creepage of the wheel relative to the rail, in the contact plane",
+                            "normal"),
+    "creepage_spin": Var((), "m-1", "spin creepage of the wheel relative to the rail", "normal"),
 }
+
+#: the patch quantities of a wheelset on profiles: set by the scene's contact search whatever the models
+#: (no model declares them in ``provides``), only in a scene with a wheelset on profiles
+WHEELSET_VARIABLES = ("contact_position_rail", "contact_angle", "creepage_longitudinal", "creepage_lateral",
+                      "creepage_spin")
 
 #: variables that are a temperature difference [K] (CF-1.11 ``units_metadata``)
 TEMP_DIFF = "temperature: difference"
@@ -125,13 +139,17 @@ def coord_attrs(name: str) -> dict:
     return {"units": units, "long_name": long_name}
 
 
-def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=(), attrs=None):
+def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=(), attrs=None, wheelset=None):
     """Assemble a result Dataset from the stage results that exist.
 
     Every variable a stage computed is included (what was asked and what was computed); nothing
     is invented for stages that did not run. When the temperature field lies on an extended grid
     (``temperature.grid``, a scene with ``field``), that grid is the result's: the contact and heat
     fields are put on it with zeros behind the patch (``stick`` NaN, :func:`railtherm.contract.grid.embed`).
+    ``wheelset`` (a scene's :class:`railtherm.input.wheelset_profile.ProfileContact`) adds the
+    :data:`WHEELSET_VARIABLES` of its patch, and the global attributes ``wheelset_side``, ``wheelset_patch``
+    (which patch, 1 = the closest), ``wheelset_patches`` (distinct patches found) and
+    ``wheelset_lateral_force_estimate`` [N] (the lateral force the normal force was balanced with).
     """
     import xarray as xr
     from .grid import embed
@@ -169,6 +187,13 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
             put("contact_area", patch.contact_area)
         elif patch.a is not None:
             put("contact_area", 2.0 * patch.a if line else math.pi * patch.a * patch.b)
+    if wheelset is not None and patch is not None:
+        put("contact_position_rail", wheelset.contact_position_rail)
+        put("contact_angle", wheelset.contact_angle)
+        xi, eta, phi = patch.creepage if patch.creepage is not None else wheelset.creepage
+        put("creepage_longitudinal", xi)
+        put("creepage_lateral", eta)
+        put("creepage_spin", phi)
     if source is not None:
         put("heat_flux", np.stack([source.flux(0), source.flux(1)]))
         put("frictional_power", source.frictional_power)
@@ -215,6 +240,10 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
                                      "temperature model's trace_* diagnostics")
     ds.attrs.update({"Conventions": "CF-1.11", "schema_version": SCHEMA_VERSION})
     ds.attrs.update(attrs or {})
+    if wheelset is not None:
+        ds.attrs.update({"wheelset_side": wheelset.side, "wheelset_patch": int(wheelset.patch),
+                         "wheelset_patches": int(wheelset.patches),
+                         "wheelset_lateral_force_estimate": float(wheelset.lateral_force_estimate)})
     if nan_ok:
         ds.attrs["nan_allowed"] = " ".join(sorted(set(str(ds.attrs.get("nan_allowed", "")).split()) | set(nan_ok)))
     return ds

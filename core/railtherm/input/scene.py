@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from ..contract.errors import SceneError
+from ..contract.schema import WHEELSET_VARIABLES
 from ..physics.friction import FrictionLaw, friction_law
 from ..physics.partition import HeatPartition
 from .checks import (Check, Choice, Either, FieldDepth, Flag, Friction, GapCoefficients, Int, Names, Num, Numbers,
@@ -442,6 +443,11 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
             raise SceneError.bad_value(name, "outputs", lateral[0],
                                        "a variable of a 2-D (line) contact: it has no lateral direction, so not "
                                        + ", ".join(sorted(LATERAL_OUTPUTS)))
+    placed = [o for o in kw.get("outputs", ()) if o in WHEELSET_VARIABLES]
+    if placed and "profile_contact" not in kw:
+        raise SceneError.bad_value(name, "outputs", placed[0],
+                                   "a patch quantity of a wheelset on profiles (" + ", ".join(WHEELSET_VARIABLES)
+                                   + ") only in a scene whose wheelset names wheel_profile and rail_profile")
     kw["wheel"] = _material(name, "wheel", c.get("wheel", {}))
     kw["rail"] = _material(name, "rail", c.get("rail", {}))
     _require(name, not kw["rail"].rigid, "rail.rigid", "the rail cannot be rigid (only the wheel, paper section 4)")

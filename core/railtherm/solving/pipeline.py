@@ -24,7 +24,8 @@ from .friction_loop import needs_loop, solve_coupled
 from .plugins import MethodInfo, PluginHost, get_host
 from ..output.store import encode_sweep
 from ..input.scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
-from ..contract.schema import STAGE_OF_GROUP, VARIABLES, build_dataset, history_line, validate_dataset
+from ..contract.schema import (STAGE_OF_GROUP, VARIABLES, WHEELSET_VARIABLES, build_dataset, history_line,
+                               validate_dataset)
 from ..contract.stages import STAGES, ContactPatch, CoupledModel, StageModel, Upstream
 
 __all__ = ["solve", "plan", "given_heat_source", "Plan", "duplicate_of"]
@@ -125,6 +126,8 @@ def plan(scene: Scene, method: "str | Mapping[str, Any] | MethodInfo", level: in
             _select(host, mi, stage, scene, level)
     for out in scene.outputs:
         stage = STAGE_OF_GROUP[VARIABLES[out].stage]
+        if out in WHEELSET_VARIABLES:   # the scene's contact search sets them, whatever the models
+            continue
         if out not in models[stage].capabilities.provides:
             raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}: "
                           f"its {stage} model {models[stage].name!r}; its models provide: "
@@ -423,7 +426,8 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
         "sweep": encode_sweep(scene.sweep),
         **diag,
     }
-    ds = build_dataset(grid, patch, source, temp, outputs=scene.outputs, attrs=attrs)
+    ds = build_dataset(grid, patch, source, temp, outputs=scene.outputs, attrs=attrs,
+                       wheelset=getattr(scene, "profile_contact", None))
     if not converged:
         raise SolverError(f"method {method!r} did not converge on scene {scene.name!r} at level {level}: "
                           + ", ".join(f"{k}={v}" for k, v in diag.items() if "resid" in k or "iter" in k))
