@@ -20,11 +20,17 @@ s = t - min(r, t) and t - p. The 1-D Green function is exact in time; what the m
 conduction along x (in the patch and, between passes, along the rail) and across the strips (y): the
 heat a 3-D contact's centre strip loses sideways while it cools between passes.
 
-Superposition: the problem is linear, so with a constant factor one pass's response serves every pass
-(evaluated once per distinct shift t - t_k; on a time axis with the same offsets in every pass, a
-1,000-pass history costs (offsets) x (passes) evaluations of the cell sums); a schedule that is not
-constant is integrated pass by pass. Where the flux itself depends on temperature (a temperature-
-dependent friction law) the passes are no longer independent and this superposition does not hold.
+Superposition: the problem is linear, so one pass's response at a constant factor serves every pass
+(:func:`shifted_sum`: evaluated once per distinct (phase, pass index) and summed by cumulative sums; a
+pass whose heating lies in a constant piece of the schedule is that factor times the unit response, the
+passes convolved with their factors, by FFT above 64 passes); only a pass whose heating meets a kink of
+the schedule is integrated with it. One pass's response is cheap: summation by parts makes it a sum over
+cell edges, and on green's own axis (times on the lattice of half cell-crossing times of a uniform grid)
+that sum is one discrete convolution of the edge weights with F on the lattice; the long cooling tail past
+4 contact durations is a checked Chebyshev interpolant in log(time). Where the flux itself depends on
+temperature (a temperature-dependent friction law) the passes are no longer independent and this
+superposition does not hold: the coupled loop would have to run pass by pass (green refuses such scenes,
+:func:`railtherm_green.history.limits`).
 
 References
 ----------
@@ -36,6 +42,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from numpy.polynomial import chebyshev
 from railtherm.references.transient import shifted_sum
@@ -88,33 +95,182 @@ def _response(t, z, start, end, q, factor0, slope, effusivity, diffusivity):
     return np.where(live, val, 0.0).sum(axis=1) / (effusivity * math.sqrt(math.pi))
 
 
+def _f_only(s, c):
+    """F(s) of the module docstring for s >= 0 (arrays), without G (the constant-factor sums need F only)."""
+    s = np.maximum(s, 0.0)
+    rs = np.sqrt(s)
+    if c == 0.0:
+        return 2.0 * rs
+    pos = s > 0
+    safe = np.where(pos, s, 1.0)
+    with np.errstate(over="ignore", under="ignore"):
+        f = 2.0 * rs * np.exp(-c / safe) - 2.0 * math.sqrt(math.pi * c) * erfc(np.sqrt(c / safe))
+    return np.where(pos, np.maximum(f, 0.0), 0.0)
+
+
+class _PassResponse:
+    """One pass's rise [K] at the depths z for a constant factor 1, as a function of the time after arrival.
+
+    Summation by parts turns the cell sum into one over the cell edges: with q_k the flux of cell k (zero
+    outside), edge k (crossed at c_k = (x_lead - x_k)/V) carries w_k = q_(k-1) - q_k and
+
+    ``R(theta) = sum_k w_k F(theta - c_k) / (beta sqrt(pi))``   (F(s) = 0 for s <= 0).
+
+    On a uniform grid (c_k = r tau, r = 0 .. n, tau = h/V) and at times on the lattice theta = i tau/2 (green's
+    own axis: the crossings of the cell edges and centres) that is a discrete convolution of the upsampled w
+    with F on the lattice: F is evaluated once per lattice point instead of once per (time, edge). Times off
+    the lattice (another body's axis, a Chebyshev node of the tail) take the direct edge sum. A time within
+    ``snap`` [s] of a lattice point is taken on it: green's axis is on the lattice up to the rounding of the
+    pass phases (1e-12 of the interval, :func:`shifted_sum`), which the direct sum would see as well.
+    """
+
+    def __init__(self, x_edges, flux, speed, depth, effusivity, diffusivity, snap):
+        x = np.asarray(x_edges, dtype=float)
+        q = np.asarray(flux, dtype=float)
+        qp = np.concatenate([[0.0], q, [0.0]])
+        self.w = qp[:-1] - qp[1:]                       # edge k: q_(k-1) - q_k
+        self.c_edge = (x[-1] - x) / speed               # crossing times [s], decreasing in k
+        self.live = self.w != 0
+        self.cs = [float(z) * float(z) / (4.0 * diffusivity) for z in depth]
+        self.scale = 1.0 / (effusivity * math.sqrt(math.pi))
+        n = x.size - 1
+        h = (x[-1] - x[0]) / n
+        self.uniform = bool(np.all(np.abs(x - (x[0] + h * np.arange(n + 1))) <= 1e-10 * h))
+        self.half = 0.5 * h / speed                     # lattice step tau/2 [s]
+        self.n = n
+        self.snap = float(snap)
+        if self.uniform:
+            up = np.zeros(2 * n + 1)
+            up[::2] = self.w[::-1]                      # edge r from the lead at lattice 2 r
+            self.up = up
+
+    def direct(self, theta):
+        """The edge sum at arbitrary times theta (m,) [s], shape (m, depths)."""
+        theta = np.asarray(theta, dtype=float)
+        out = np.zeros((theta.size, len(self.cs)))
+        w, ce = self.w[self.live], self.c_edge[self.live]
+        for lo in range(0, theta.size, 4096):           # bounded temporaries: (4096, edges)
+            s = theta[lo:lo + 4096, None] - ce[None, :]
+            for j, c in enumerate(self.cs):
+                out[lo:lo + 4096, j] = _f_only(s, c) @ w
+        return out * self.scale
+
+    def __call__(self, theta):
+        theta = np.asarray(theta, dtype=float)
+        if not self.uniform or theta.size == 0:
+            return self.direct(theta)
+        m = np.rint(theta / self.half)
+        on = (np.abs(theta - m * self.half) <= self.snap) & (m >= 0) & (m <= 64 * self.n)
+        out = np.empty((theta.size, len(self.cs)))
+        if np.any(on):
+            mi = m[on].astype(int)
+            top = int(mi.max())
+            s = self.half * np.arange(top + 1)
+            for j, c in enumerate(self.cs):
+                out[on, j] = np.convolve(self.up, _f_only(s, c))[mi] * self.scale
+        if not np.all(on):
+            out[~on] = self.direct(theta[~on])
+        return out
+
+
+@numba.njit(cache=True)
+def _log_chebval(theta, lo, hi, coef):  # pragma: no cover - compiled
+    """Clenshaw sum of the Chebyshev series coef (degree + 1, m) at u = 2 (log theta - lo)/(hi - lo) - 1,
+    shape (theta.size, m): one pass over the times without the (m, times) temporaries of chebval."""
+    n, m = theta.size, coef.shape[1]
+    deg = coef.shape[0] - 1
+    out = np.empty((n, m))
+    for i in range(n):
+        u = 2.0 * (math.log(theta[i]) - lo) / (hi - lo) - 1.0
+        for j in range(m):
+            b1 = 0.0
+            b2 = 0.0
+            for k in range(deg, 0, -1):
+                b1, b2 = 2.0 * u * b1 - b2 + coef[k, j], b1
+            out[i, j] = u * b1 - b2 + coef[0, j]
+    return out
+
+
 def _with_smooth_tail(fn, theta, after, rtol=1e-11):
-    """fn(theta), with the long tail theta >= ``after`` (past the contact: the smooth 1-D cooling) taken
-    from a Chebyshev interpolant in log(theta) when that is cheaper. The degree doubles from 32 until the
-    interpolant matches fn at 257 log-spaced check points within ``rtol`` of max|fn| there (measured:
-    degree 48 reaches 1e-12 for z <= 1 mm over 4 D .. 50 s); above degree 512 fn is evaluated directly."""
+    """fn(theta) (shape (theta.size, m)), with the long tail theta >= ``after`` (past the contact: the smooth
+    1-D cooling) taken from a Chebyshev interpolant in log(theta) when that is cheaper. On the
+    Chebyshev-Lobatto points of degree d (from 32, doubling) the interpolant is checked at the d points
+    the degree 2d adds between them and used once it matches fn there within ``rtol`` of max|fn| of each
+    column (measured: degree 32 for z <= 1 mm over 4 D .. 50 s); above degree 512 fn is evaluated
+    directly."""
     theta = np.asarray(theta, dtype=float)
     far = theta >= after
-    out = np.empty(theta.shape)
-    out[~far] = fn(theta[~far])
     nfar = int(far.sum())
+    near = fn(theta[~far])
+    out = np.empty((theta.size, near.shape[1]))
+    out[~far] = near
     if nfar == 0:
         return out
     lo, hi = math.log(after), math.log(float(theta[far].max()) * (1.0 + 1e-12))
-    check = np.exp(np.linspace(lo, hi, 257))
-    exact = fn(check)
-    degree = 32
-    while 2 * degree + check.size < nfar and degree <= 512:
-        u = np.cos(math.pi * (np.arange(degree + 1) + 0.5) / (degree + 1))
-        coef = chebyshev.chebfit(u, fn(np.exp(lo + (hi - lo) * (u + 1.0) / 2.0)), degree)
+    if not hi > lo:
+        out[far] = fn(theta[far])
+        return out
 
-        def interp(t):
-            return chebyshev.chebval(2.0 * (np.log(t) - lo) / (hi - lo) - 1.0, coef)
-        if np.max(np.abs(interp(check) - exact)) <= rtol * max(np.max(np.abs(exact)), 1e-300):
-            out[far] = interp(theta[far])
+    def at(u):
+        return fn(np.exp(lo + (hi - lo) * (u + 1.0) / 2.0))
+    degree = 32
+    u = np.cos(math.pi * np.arange(degree + 1) / degree)
+    vals = at(u)
+    while 2 * degree < nfar and degree <= 512:
+        mid = np.cos(math.pi * (2 * np.arange(degree) + 1) / (2 * degree))
+        exact = at(mid)
+        coef = chebyshev.chebfit(u, vals, degree)
+        scale = np.maximum(np.maximum(np.abs(vals).max(axis=0), np.abs(exact).max(axis=0)), 1e-300)
+        if np.all(np.abs(chebyshev.chebval(mid, coef).T - exact).max(axis=0) <= rtol * scale):
+            out[far] = _log_chebval(theta[far], lo, hi, np.ascontiguousarray(coef.reshape(degree + 1, -1)))
             return out
+        u = np.concatenate([u, mid])
+        vals = np.concatenate([vals, exact])
+        order = np.argsort(-u)
+        u, vals = u[order], vals[order]
         degree *= 2
     out[far] = fn(theta[far])
+    return out
+
+
+def _pass_weights(count, step, duration, sched):
+    """Per pass, the schedule's factor when it is constant over the pass's heating [k step, k step + D]
+    (then that pass is the factor times the unit pass response), else NaN (integrated pass by pass)."""
+    st, sf = sched
+    w = np.empty(count)
+    for k in range(count):
+        t0, t1 = k * step, k * step + duration
+        inside = (st > t0) & (st < t1)
+        f0, f1 = np.interp([t0, t1], st, sf)
+        flat = f0 == f1 and not np.any(inside & (sf != f0))
+        w[k] = f0 if flat else np.nan
+    return w
+
+
+def _weighted_pass_sum(time, step, weights, curve):
+    """``sum_k weights[k] curve(t - k step)`` over passes k with a finite weight: per distinct phase the
+    pass-index table of one pass's response convolved with the weights (FFT above 64 passes)."""
+    count = weights.size
+    k = np.floor(time / step + 1e-9).astype(int)
+    phase = np.maximum(time - k * step, 0.0)
+    uph, inv = np.unique(np.round(phase / step, 12), return_inverse=True)
+    uph = uph * step
+    ns = np.arange(0, max(int(k.max()), 0) + 1)
+    theta = (uph[:, None] + step * ns[None, :])
+    vals = curve(theta.ravel())
+    table = vals.reshape(theta.shape + (vals.shape[-1],))
+    w = np.where(np.isfinite(weights), weights, 0.0)
+    if count > 64:
+        from scipy.signal import fftconvolve
+        conv = fftconvolve(table, w[None, :, None], axes=1)[:, :ns.size]
+    else:
+        conv = np.zeros_like(table)
+        for j in range(count):
+            if w[j] != 0.0 and j < ns.size:
+                conv[:, j:] += w[j] * table[:, :ns.size - j]
+    live = k >= 0
+    out = np.zeros((time.size, table.shape[-1]))
+    out[live] = conv[inv.ravel()[live], np.clip(k[live], 0, ns.size - 1)]
     return out
 
 
@@ -190,22 +346,24 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
     out = np.zeros((time.size, depth.size))
     if q.size == 0:
         return out
-    sched = None
-    const = 1.0
-    if schedule_time is not None:
-        sched = (np.asarray(schedule_time, dtype=float), np.asarray(schedule_factor, dtype=float))
-        if np.all(sched[1] == sched[1][0]):
-            const, sched = float(sched[1][0]), None
-    if sched is None:
-        # one pass's response for every pass: evaluated per (phase, pass index), summed by cumulative sums
-        ones, flat = np.ones(q.size), np.zeros(q.size)
+    snap = 1e-12 * max(step, duration) + 1e-15 * duration
+    response = _PassResponse(x_edges, flux, speed, depth, effusivity, diffusivity, snap)
 
-        def one_pass(theta):
-            return np.stack([_with_smooth_tail(
-                lambda th, z=z: _response(th, z, start, end, q, ones, flat, effusivity, diffusivity),
-                theta, 4.0 * duration) for z in depth], axis=1)
-        return const * shifted_sum(time, int(count), interval, one_pass)
-    for k in range(int(count)):
+    def one_pass(theta):
+        return _with_smooth_tail(response, theta, 4.0 * duration)
+    if schedule_time is None:
+        return shifted_sum(time, int(count), interval, one_pass)
+    sched = (np.asarray(schedule_time, dtype=float), np.asarray(schedule_factor, dtype=float))
+    if np.all(sched[1] == sched[1][0]):
+        return float(sched[1][0]) * shifted_sum(time, int(count), interval, one_pass)
+    # passes heated under a constant factor: that factor times one pass's response (weighted sum over the
+    # passes); passes whose heating meets a kink of the schedule: integrated pass by pass
+    weights = _pass_weights(int(count), step, duration, sched)
+    if count == 1 or interval is None:
+        out = weights[0] * one_pass(time) if np.isfinite(weights[0]) else out
+    else:
+        out = _weighted_pass_sum(time, step, weights, one_pass)
+    for k in np.nonzero(~np.isfinite(weights))[0]:
         rows = np.nonzero(time - k * step > 0)[0]
         if rows.size == 0:
             continue

@@ -68,25 +68,22 @@ def pass_time_above(time, history, count: int, interval: float, rise: float) -> 
     """
     time = np.asarray(time, dtype=float)
     history = np.asarray(history, dtype=float).reshape(time.size, -1)
-    out = np.zeros((count, history.shape[1]))
-    ends = np.stack([np.interp(interval * np.arange(count + 1), time, history[:, j])
-                     for j in range(history.shape[1])], axis=1)
-    first = np.searchsorted(time, interval * np.arange(count + 1), side="right")    # first sample > k interval
-    last = np.searchsorted(time, interval * np.arange(count + 1), side="left")     # first sample >= k interval
-    for k in range(count):
-        lo, hi = k * interval, (k + 1) * interval
-        # the window's samples with its ends interpolated in (samples strictly inside, by index)
-        inner = slice(first[k], max(first[k], last[k + 1]))
-        t = np.concatenate([[lo], time[inner], [hi]])
-        for j in range(history.shape[1]):
-            g = np.concatenate([[ends[k, j]], history[inner, j], [ends[k + 1, j]]]) - rise
-            pos = np.clip(g, 0.0, None) > 0
-            dt = np.diff(t)
-            both = pos[:-1] & pos[1:]
-            total = float(dt[both].sum())
-            cross = pos[:-1] != pos[1:]
-            # on a crossing interval the part above is the fraction on the positive side
-            frac = np.abs(np.where(pos[:-1], g[:-1], g[1:])) / np.maximum(np.abs(g[1:] - g[:-1]), 1e-300)
-            total += float((dt * frac)[cross].sum())
-            out[k, j] = total
-    return out
+    edges = interval * np.arange(count + 1)
+    ends = np.stack([np.interp(edges, time, history[:, j]) for j in range(history.shape[1])], axis=1)
+    # one axis for all windows: the pass boundaries (values interpolated) and the samples strictly inside
+    # the windows; each interval between neighbours belongs to the window of its left end
+    on_edge = edges[np.clip(np.searchsorted(edges, time), 0, count)] == time
+    inside = (time > edges[0]) & (time < edges[-1]) & ~on_edge
+    t_in = time[inside]
+    at = np.searchsorted(t_in, edges)
+    t = np.insert(t_in, at, edges)
+    g = np.insert(history[inside], at, ends, axis=0) - rise
+    pos = np.clip(g, 0.0, None) > 0
+    dt = np.diff(t)[:, None]
+    both = pos[:-1] & pos[1:]
+    cross = pos[:-1] != pos[1:]
+    # on a crossing interval the part above is the fraction on the positive side
+    frac = np.abs(np.where(pos[:-1], g[:-1], g[1:])) / np.maximum(np.abs(g[1:] - g[:-1]), 1e-300)
+    part = np.where(both, dt, 0.0) + np.where(cross, dt * frac, 0.0)
+    window = np.clip(np.searchsorted(edges, t[:-1], side="right") - 1, 0, count - 1)
+    return np.stack([np.bincount(window, part[:, j], minlength=count) for j in range(part.shape[1])], axis=1)
