@@ -1,0 +1,72 @@
+"""Cost of green's transient histories (issue 27, deliver item 6 and the cost target "a 10-pass history
+<= 2x one steady solve of the same method and level for green"): a Hertzian band (2-D) and a Hertzian
+ellipse (a = 6, b = 4 mm) heating the rail at 30 m/s, level 2 (128 cells along 2a), solved through
+``railtherm.solve`` (dataset built and validated): the steady scene (default outputs) against the
+transient scene with 1, 10 and 1,000 passes 83 ms apart (outputs temperature_history, pass peaks, residual
+rise and time above at the surface and 0.1, 0.5 mm; green's own axis, 552 samples per pass).
+
+Each case is timed interleaved with the others (best and median of ``REPS`` in one process, the pytest-
+benchmark statistics for the case itself); the ratios to the steady solve are recorded (``extra_info``),
+not asserted: timings are measured, never test verdicts. Run:
+``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_green_transient_benchmark.py -m benchmark
+--benchmark-enable -p no:cacheprovider -s -n 0``.
+"""
+from __future__ import annotations
+
+import statistics
+import time
+
+import pytest
+
+import railtherm
+
+A, B, V, Q = 6e-3, 4e-3, 30.0, 1e8
+INTERVAL = 0.083
+SOURCES = {"band": {"shape": "hertz", "half_width": A}, "ellipse": {"shape": "hertz", "semi_axes": [A, B]}}
+REPS = 9
+
+
+def scene(kind: str, passes: int | None) -> dict:
+    """The rail heated by a given Hertzian source; ``passes`` None: the steady scene."""
+    out = {"name": f"green-{kind}-{passes}", "speed": V, "heat_source": {"flux": Q, **SOURCES[kind]},
+           "heat_partition": 0.0, "rail": {"bulk_temperature": 20.0}, "wheel": {"bulk_temperature": 20.0}}
+    if passes is not None:
+        out.update(mode="transient", passes={"count": passes, "interval": INTERVAL},
+                   field={"depth": [1e-4, 5e-4], "threshold": 400.0},
+                   outputs=["temperature_history", "pass_peak_temperature", "residual_rise", "time_above"])
+    return out
+
+
+def interleaved(kind: str, counts, reps: int = REPS) -> dict:
+    """Best and median wall time [s] of each case, the cases interleaved in every round."""
+    cases = {n: scene(kind, n) for n in counts}
+    for sc in cases.values():
+        railtherm.solve(sc, "green", level=2)                       # compile / import once
+    times = {n: [] for n in counts}
+    for rep in range(reps):
+        for n, sc in cases.items():
+            if n is not None and n >= 1000 and rep >= 3:
+                continue
+            t0 = time.perf_counter()
+            railtherm.solve(sc, "green", level=2)
+            times[n].append(time.perf_counter() - t0)
+    return {n: (min(v), statistics.median(v)) for n, v in times.items()}
+
+
+@pytest.mark.benchmark
+@pytest.mark.parametrize("kind", ["band", "ellipse"])
+@pytest.mark.parametrize("passes", [None, 10, 1000], ids=["steady", "10-pass", "1000-pass"])
+def test_benchmark_green_transient(benchmark, kind, passes):
+    sc = scene(kind, passes)
+    benchmark.pedantic(railtherm.solve, args=(sc, "green"), kwargs={"level": 2}, rounds=3 if passes == 1000 else 15,
+                       warmup_rounds=1)
+    if passes != 10:
+        return
+    cost = interleaved(kind, (None, 1, 10, 1000))
+    steady = cost[None][0]
+    line = ", ".join(f"{'steady' if n is None else f'{n} passes'} {b * 1e3:.1f} ms (median {m * 1e3:.1f})"
+                     for n, (b, m) in cost.items())
+    print(f"\ngreen level 2, {kind}: {line}; 10 passes / steady {cost[10][0] / steady:.2f}, "
+          f"1000 passes / 1 pass {cost[1000][0] / cost[1][0]:.1f}")
+    benchmark.extra_info.update({f"{'steady' if n is None else n}_best_s": b for n, (b, _) in cost.items()})
+    benchmark.extra_info.update(ratio_10_steady=cost[10][0] / steady, ratio_1000_1=cost[1000][0] / cost[1][0])
