@@ -95,6 +95,8 @@ def _initial_pressure(h, cell_area, force, approach, initial):
     return np.where(h < approach, 1.0, 0.0)
 
 
+# over 80 lines with its docstring: one loop whose state (p, u, the contact set, the direction) every step
+# shares; the element-wise work is in ._cg
 def solve_normal(conv, gap: np.ndarray, cell_area: float, *, force: float | None = None,
                  approach: float | None = None, initial: np.ndarray | None = None,
                  tol: float = NORMAL_TOLERANCE, maxiter: int = 500, precondition: bool = True) -> NormalSolution:
@@ -127,8 +129,6 @@ def solve_normal(conv, gap: np.ndarray, cell_area: float, *, force: float | None
     -------
     NormalSolution
     """
-    # over 80 lines with its docstring: one loop whose state (p, u, the contact set, the direction) every step
-    # shares; the element-wise work is in :mod:`._cg`
     if (force is None) == (approach is None):
         raise ValueError("give exactly one of force [N] and approach [m]")
     h = np.asarray(gap, dtype=float)

@@ -357,6 +357,8 @@ def _forcing_term(history, eta_prev, tol, forcing, good_start):
     return max(eta_k, LINEAR_MIN, FINAL_MARGIN * tol / max(res, 1e-300))
 
 
+# over 80 lines: the Newton loop, its Jacobian and line search share the unknowns' layout (idx, restrict,
+# embed) and the step's state; split, they would pass a dozen arrays around
 def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TANGENTIAL_TOLERANCE,
                      maxiter: int = 60, initial: np.ndarray | None = None, rscale: float = 1.0,
                      precondition: bool = True, forcing: str = "ew",
@@ -390,8 +392,6 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
     -------
     TangentialSolution
     """
-    # over 80 lines: the Newton loop, its Jacobian and line search share the unknowns' layout (idx, restrict,
-    # embed) and the step's state; split, they would pass a dozen arrays around
     g = np.asarray(bound, dtype=float)
     w = np.asarray(w, dtype=float)
     nc = w.shape[0]
@@ -567,6 +567,31 @@ def _full_slip_start(conv_for, level, creepage, offset, line):
     return (p, s, 1) if res < FULL_SLIP_START else (None, None, 1)
 
 
+def _add_coarse_levels(levels, min_elements, line):
+    """Append to ``levels`` (edges x, edges y, bound) the grids of 2, 4, ... times larger elements while
+    each side keeps at least ``min_elements`` elements (and an even count to merge)."""
+    while True:
+        xe, ye, g = levels[-1]
+        nx, ny = g.shape
+        can = nx % 2 == 0 and nx // 2 >= min_elements and (line or (ny % 2 == 0 and ny // 2 >= min_elements))
+        if not can:
+            return
+        levels.append((xe[::2], None if line else ye[::2], _coarsen(g, line)))
+
+
+def _level_start(p, slip0, levels, k, line):
+    """Initial traction of the solve on ``levels[k]``: none (coarsest, no warm start); the full-slip start
+    as it is (already projected, its slip known: ``slip0``); else the coarser solution (or the warm start)
+    refined to this grid and projected on its traction bound."""
+    if slip0 is not None:
+        return p
+    if p is None:
+        return None
+    g = levels[k][2]
+    init, _ = _project(p if p.shape[1:] == g.shape else _refine(p, levels[k + 1][2], g, line), g)
+    return init
+
+
 def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_elements: int = 12,
                             tol: float = TANGENTIAL_TOLERANCE, maxiter: int = 60,
                             coarse_tol: float = 1e-2, offset: float = 0.0,
@@ -615,20 +640,14 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         ``linear_iterations`` are summed over all grids, ``coarse`` (attribute set on the result)
         lists the coarse solves' (shape, Newton steps).
     """
-    # over 80 lines with its docstring (the offset's discussion is 12 of them); the body is 35
     line = y_edges is None
     levels = [(np.asarray(x_edges, dtype=float), None if line else np.asarray(y_edges, dtype=float),
                np.asarray(bound, dtype=float))]
     products, slip0 = 0, None
     if initial is None:
         initial, slip0, products = _full_slip_start(conv_for, levels[0], creepage, offset, line)
-    while initial is None:
-        xe, ye, g = levels[-1]
-        nx, ny = g.shape
-        can = nx % 2 == 0 and nx // 2 >= min_elements and (line or (ny % 2 == 0 and ny // 2 >= min_elements))
-        if not can:
-            break
-        levels.append((xe[::2], None if line else ye[::2], _coarsen(g, line)))
+    if initial is None:
+        _add_coarse_levels(levels, min_elements, line)
     p = None if initial is None else np.asarray(initial, dtype=float)
     coarse = []
     linear = 0
@@ -637,11 +656,7 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         xe, ye, g = levels[k]
         w = rigid_slip(*_centres(xe, ye, offset, line), *creepage, line=line)
         conv = conv_for(xe, ye)
-        init = None
-        if slip0 is not None:                      # the full-slip start: projected, and its slip known
-            init = p
-        elif p is not None:
-            init, _ = _project(p if p.shape[1:] == g.shape else _refine(p, levels[k + 1][2], g, line), g)
+        init = _level_start(p, slip0, levels, k, line)
         last = k == 0
         sol = solve_tangential(conv, g, w, tol=tol if last else max(tol, coarse_tol), maxiter=maxiter, initial=init,
                                initial_slip=slip0, good_start=slip0 is not None)
