@@ -361,74 +361,12 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
     _require(name, "speed" in c, "speed", "key 'speed' (rolling speed V [m/s], > 0) is missing")
     kw["speed"] = c["speed"]
     if given is not None:
-        _require(name, "flux" in given, "heat_source.flux", "heat_source needs 'flux' [W/m^2]")
-        has_axes, has_hw = "semi_axes" in given, "half_width" in given
-        _require(name, has_axes != has_hw, "heat_source",
-                 "heat_source needs exactly one of 'semi_axes' [m] (ellipse) or 'half_width' [m] (line)")
-        kw["heat_source"] = GivenHeatSource(given["flux"], given.get("shape", "uniform"),
-                                            given.get("semi_axes"), given.get("half_width"))
-        kw["contact_shape"] = "ellipse" if has_axes else "line"
-        if has_axes:
-            kw["semi_axes"] = given["semi_axes"]
-        for k in ("creepage", "sliding_speed"):
-            _require(name, k not in c, k, f"key {k!r} does not apply when the scene gives its heat_source")
-        if "contact" in c and c["contact"].get("shape") == "line":
-            kw["line_wheel_radius"] = c["contact"].get("wheel_radius")
+        _given_heat_source(name, c, given, kw)
     else:
         if is_profile_wheelset(c.get("wheelset")):
             kw["profile_contact"] = _profile_wheelset(name, c)
-        _require(name, "contact" in c, "contact",
-                 "key 'contact' is missing: give contact = { shape = \"ellipse\", semi_axes = [a, b] } "
-                 "(or curvatures, or shape = \"line\" with wheel_radius), or a heat_source")
-        ct = c["contact"]
-        shape = ct.get("shape", "ellipse")
-        kw["contact_shape"] = shape
-        if shape == "ellipse":
-            _require(name, ("semi_axes" in ct) != ("curvatures" in ct), "contact",
-                     "an ellipse contact needs exactly one of 'semi_axes' [m] or 'curvatures' [1/m]")
-            _require(name, "wheel_radius" not in ct, "contact.wheel_radius",
-                     "'wheel_radius' belongs to line contacts; give wheel = { radius = ... } for an ellipse")
-            kw["semi_axes"] = ct.get("semi_axes")
-            kw["curvatures"] = ct.get("curvatures")
-            _require(name, "coefficients" not in ct, "contact.coefficients",
-                     "'coefficients' belong to contact = { shape = \"gap\", coefficients = {...} }")
-        elif shape == "gap":
-            _require(name, "coefficients" in ct, "contact.coefficients",
-                     "a gap contact needs 'coefficients' (h = sum c_ij x^i y^j [m], SI), e.g. "
-                     "{ x2 = 1.015, y2 = 0.4215, y4 = 2.0e3 }")
-            _require(name, not ({"semi_axes", "curvatures", "wheel_radius"} & set(ct)), "contact",
-                     "a gap contact takes 'coefficients' only (no semi_axes, curvatures or wheel_radius)")
-            gap = gap_powers(ct["coefficients"])
-            kw["gap_coefficients"] = gap
-            quad = quadratic_curvatures(gap)
-            if quad is not None:   # a Hertzian gap: an ellipse given by its curvatures
-                kw["contact_shape"], kw["curvatures"] = "ellipse", quad
-        else:
-            _require(name, "wheel_radius" in ct, "contact.wheel_radius",
-                     "a line contact needs 'wheel_radius' [m]")
-            _require(name, not ({"semi_axes", "curvatures", "coefficients"} & set(ct)), "contact",
-                     "a line contact takes 'wheel_radius' only (no semi_axes/curvatures/coefficients)")
-            kw["line_wheel_radius"] = ct["wheel_radius"]
-        ws = None if "profile_contact" in kw else c.get("wheelset")
-        if ws is not None and "normal_force" not in c and "penetration" not in c:
-            # seed 6.1: the wheelset's kinematics sets the normal force; half the axle load starts it
-            c["normal_force"] = Wheelset(**ws).vertical_load / 2.0
-        _require(name, ("normal_force" in c) != ("penetration" in c), "normal_force",
-                 "give exactly one of 'normal_force' [N] ([N/m] for a line) or 'penetration' [m]")
-        if "penetration" in c and kw.get("semi_axes") is not None:
-            raise SceneError(f"scene {name!r}: key 'penetration' cannot be combined with contact.semi_axes "
-                             "(the semi-axes fix the load): give normal_force, or curvatures",
-                             scene=name, key="penetration", value=c["penetration"])
-        _require(name, ("sliding_speed" in c) != ("creepage" in c) or (ws is not None and "sliding_speed" not in c),
-                 "sliding_speed",
-                 "give exactly one of 'sliding_speed' [m/s] (full sliding) or 'creepage' (a table)"
-                 + ("; with a wheelset both may be left out (the kinematics give the creepages)" if ws else ""))
-        _require(name, "friction" in c, "friction", "key 'friction' (a coefficient >= 0 or a friction-law table) is missing")
-        if "creepage" in c:
-            kw["creepage"] = Creepage(**c["creepage"])
-        for k in ("normal_force", "penetration", "sliding_speed"):
-            if k in c:
-                kw[k] = c[k]
+        _contact(name, c, kw)
+        _load_and_slip(name, c, kw)
     if "friction" in c:
         kw["friction_law"] = friction_law(c["friction"])
         kw["friction"] = kw["friction_law"].nominal
@@ -437,17 +375,7 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
     for k in ("convection", "outputs", "mode", "reference"):
         if k in c:
             kw[k] = c[k]
-    if kw["contact_shape"] == "line" and "outputs" in kw:
-        lateral = [o for o in kw["outputs"] if o in LATERAL_OUTPUTS]
-        if lateral:
-            raise SceneError.bad_value(name, "outputs", lateral[0],
-                                       "a variable of a 2-D (line) contact: it has no lateral direction, so not "
-                                       + ", ".join(sorted(LATERAL_OUTPUTS)))
-    placed = [o for o in kw.get("outputs", ()) if o in WHEELSET_VARIABLES]
-    if placed and "profile_contact" not in kw:
-        raise SceneError.bad_value(name, "outputs", placed[0],
-                                   "a patch quantity of a wheelset on profiles (" + ", ".join(WHEELSET_VARIABLES)
-                                   + ") only in a scene whose wheelset names wheel_profile and rail_profile")
+    _check_outputs(name, kw)
     kw["wheel"] = _material(name, "wheel", c.get("wheel", {}))
     kw["rail"] = _material(name, "rail", c.get("rail", {}))
     _require(name, not kw["rail"].rigid, "rail.rigid", "the rail cannot be rigid (only the wheel, paper section 4)")
@@ -469,3 +397,95 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
     source = json.loads(json.dumps(dict(raw), default=_jsonable))
     source["name"] = name
     return Scene(**kw, source=source, sweep=dict(sweep))
+
+
+def _given_heat_source(name: str, c: dict, given: Mapping, kw: dict) -> None:
+    """A scene that gives its heat source: the source, its contact shape and the keys it excludes, into ``kw``."""
+    _require(name, "flux" in given, "heat_source.flux", "heat_source needs 'flux' [W/m^2]")
+    has_axes, has_hw = "semi_axes" in given, "half_width" in given
+    _require(name, has_axes != has_hw, "heat_source",
+             "heat_source needs exactly one of 'semi_axes' [m] (ellipse) or 'half_width' [m] (line)")
+    kw["heat_source"] = GivenHeatSource(given["flux"], given.get("shape", "uniform"),
+                                        given.get("semi_axes"), given.get("half_width"))
+    kw["contact_shape"] = "ellipse" if has_axes else "line"
+    if has_axes:
+        kw["semi_axes"] = given["semi_axes"]
+    for k in ("creepage", "sliding_speed"):
+        _require(name, k not in c, k, f"key {k!r} does not apply when the scene gives its heat_source")
+    if "contact" in c and c["contact"].get("shape") == "line":
+        kw["line_wheel_radius"] = c["contact"].get("wheel_radius")
+
+
+def _contact(name: str, c: dict, kw: dict) -> None:
+    """The contact table: ellipse (semi-axes or curvatures), gap (coefficients) or line (wheel radius), into ``kw``."""
+    _require(name, "contact" in c, "contact",
+             "key 'contact' is missing: give contact = { shape = \"ellipse\", semi_axes = [a, b] } "
+             "(or curvatures, or shape = \"line\" with wheel_radius), or a heat_source")
+    ct = c["contact"]
+    shape = ct.get("shape", "ellipse")
+    kw["contact_shape"] = shape
+    if shape == "ellipse":
+        _require(name, ("semi_axes" in ct) != ("curvatures" in ct), "contact",
+                 "an ellipse contact needs exactly one of 'semi_axes' [m] or 'curvatures' [1/m]")
+        _require(name, "wheel_radius" not in ct, "contact.wheel_radius",
+                 "'wheel_radius' belongs to line contacts; give wheel = { radius = ... } for an ellipse")
+        kw["semi_axes"] = ct.get("semi_axes")
+        kw["curvatures"] = ct.get("curvatures")
+        _require(name, "coefficients" not in ct, "contact.coefficients",
+                 "'coefficients' belong to contact = { shape = \"gap\", coefficients = {...} }")
+    elif shape == "gap":
+        _require(name, "coefficients" in ct, "contact.coefficients",
+                 "a gap contact needs 'coefficients' (h = sum c_ij x^i y^j [m], SI), e.g. "
+                 "{ x2 = 1.015, y2 = 0.4215, y4 = 2.0e3 }")
+        _require(name, not ({"semi_axes", "curvatures", "wheel_radius"} & set(ct)), "contact",
+                 "a gap contact takes 'coefficients' only (no semi_axes, curvatures or wheel_radius)")
+        gap = gap_powers(ct["coefficients"])
+        kw["gap_coefficients"] = gap
+        quad = quadratic_curvatures(gap)
+        if quad is not None:   # a Hertzian gap: an ellipse given by its curvatures
+            kw["contact_shape"], kw["curvatures"] = "ellipse", quad
+    else:
+        _require(name, "wheel_radius" in ct, "contact.wheel_radius",
+                 "a line contact needs 'wheel_radius' [m]")
+        _require(name, not ({"semi_axes", "curvatures", "coefficients"} & set(ct)), "contact",
+                 "a line contact takes 'wheel_radius' only (no semi_axes/curvatures/coefficients)")
+        kw["line_wheel_radius"] = ct["wheel_radius"]
+
+
+def _load_and_slip(name: str, c: dict, kw: dict) -> None:
+    """Normal force or penetration (a wheelset may set the force), sliding speed or creepage, into ``kw``."""
+    ws = None if "profile_contact" in kw else c.get("wheelset")
+    if ws is not None and "normal_force" not in c and "penetration" not in c:
+        # seed 6.1: the wheelset's kinematics sets the normal force; half the axle load starts it
+        c["normal_force"] = Wheelset(**ws).vertical_load / 2.0
+    _require(name, ("normal_force" in c) != ("penetration" in c), "normal_force",
+             "give exactly one of 'normal_force' [N] ([N/m] for a line) or 'penetration' [m]")
+    if "penetration" in c and kw.get("semi_axes") is not None:
+        raise SceneError(f"scene {name!r}: key 'penetration' cannot be combined with contact.semi_axes "
+                         "(the semi-axes fix the load): give normal_force, or curvatures",
+                         scene=name, key="penetration", value=c["penetration"])
+    _require(name, ("sliding_speed" in c) != ("creepage" in c) or (ws is not None and "sliding_speed" not in c),
+             "sliding_speed",
+             "give exactly one of 'sliding_speed' [m/s] (full sliding) or 'creepage' (a table)"
+             + ("; with a wheelset both may be left out (the kinematics give the creepages)" if ws else ""))
+    _require(name, "friction" in c, "friction", "key 'friction' (a coefficient >= 0 or a friction-law table) is missing")
+    if "creepage" in c:
+        kw["creepage"] = Creepage(**c["creepage"])
+    for k in ("normal_force", "penetration", "sliding_speed"):
+        if k in c:
+            kw[k] = c[k]
+
+
+def _check_outputs(name: str, kw: dict) -> None:
+    """Refuse outputs the scene cannot have: lateral ones of a line contact, wheelset patch quantities without profiles."""
+    if kw["contact_shape"] == "line" and "outputs" in kw:
+        lateral = [o for o in kw["outputs"] if o in LATERAL_OUTPUTS]
+        if lateral:
+            raise SceneError.bad_value(name, "outputs", lateral[0],
+                                       "a variable of a 2-D (line) contact: it has no lateral direction, so not "
+                                       + ", ".join(sorted(LATERAL_OUTPUTS)))
+    placed = [o for o in kw.get("outputs", ()) if o in WHEELSET_VARIABLES]
+    if placed and "profile_contact" not in kw:
+        raise SceneError.bad_value(name, "outputs", placed[0],
+                                   "a patch quantity of a wheelset on profiles (" + ", ".join(WHEELSET_VARIABLES)
+                                   + ") only in a scene whose wheelset names wheel_profile and rail_profile")

@@ -168,6 +168,19 @@ def parse_study(doc: Mapping[str, Any], *, path: str | None = None) -> Study:
         if key not in STUDY_KEYS:
             raise SceneError(f"{where}: unknown key 'study.{key}'; allowed: {', '.join(sorted(STUDY_KEYS))}",
                              key=f"study.{key}", value=st[key], allowed=", ".join(sorted(STUDY_KEYS)))
+    kw = _study_settings(st, path)
+    _run_settings(st, kw, where)
+    kw["description"] = str(st.get("description", ""))
+    scenes, names = _study_scenes(doc, where)
+    for key in kw["published"]:
+        if key not in names:
+            raise SceneError(f"{where}: key 'study.published.{key}' names no scene; scenes: {sorted(names)}",
+                             key=f"study.published.{key}", value=key, allowed=", ".join(sorted(names)))
+    return Study(scenes=scenes, **kw)
+
+
+def _study_settings(st: Mapping[str, Any], path: str | None) -> dict[str, Any]:
+    """Name, chains, methods, levels, reference, options and published values of a [study] table."""
     kw: dict[str, Any] = {"name": st.get("name") or (Path(path).stem if path else "study"), "path": path}
     if not isinstance(kw["name"], str) or "/" in kw["name"]:
         raise SceneError.bad_value(None, "study.name", kw["name"], "a string without '/'")
@@ -196,6 +209,10 @@ def parse_study(doc: Mapping[str, Any], *, path: str | None = None) -> Study:
         raise SceneError.bad_value(None, "study.published", pub,
                                    'tables [study.published."<scene>"] of variable = value and source = "..."')
     kw["published"] = {k: dict(v) for k, v in pub.items()}
+    return kw
+
+def _run_settings(st: Mapping[str, Any], kw: dict[str, Any], where: str) -> None:
+    """Tolerance, repeat, timeout, warm-up and store settings of a [study] table, into ``kw``."""
     if "tolerance" in st:
         v = st["tolerance"]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v < math.inf):
@@ -228,7 +245,9 @@ def parse_study(doc: Mapping[str, Any], *, path: str | None = None) -> Study:
                              "keeps every field of every run", key="study.keep_fields", value=v,
                              allowed='keep_fields only with store = "zarr" (or without store)')
         kw["keep_fields"] = v
-    kw["description"] = str(st.get("description", ""))
+
+def _study_scenes(doc: Mapping[str, Any], where: str) -> tuple[list[Scene], set[str]]:
+    """The scenes of a study, [defaults] merged into every [[scene]] and sweeps expanded, and their names."""
     defaults = doc.get("defaults", {})
     if not isinstance(defaults, Mapping):
         raise SceneError.bad_value(None, "defaults", defaults, "a table [defaults]")
@@ -255,12 +274,7 @@ def parse_study(doc: Mapping[str, Any], *, path: str | None = None) -> Study:
                                  scene=sc.name, key="name", value=sc.name)
             names.add(sc.name)
             scenes.append(sc)
-    for key in kw["published"]:
-        if key not in names:
-            raise SceneError(f"{where}: key 'study.published.{key}' names no scene; scenes: {sorted(names)}",
-                             key=f"study.published.{key}", value=key, allowed=", ".join(sorted(names)))
-    return Study(scenes=scenes, **kw)
-
+    return scenes, names
 
 def load_study(path: str | Path) -> Study:
     """Read, validate and expand a study TOML file.
