@@ -166,25 +166,14 @@ def _line_trace(f, a: float, v: float, thr: float, z: float, surface_kink: bool,
     return tp, xp, cool, above, x_cool
 
 
-def _heated_depth(peak, z: np.ndarray, known: np.ndarray, a: float, fast: bool) -> float:
+def _heated_depth(peak, a: float) -> float:
     """Root [m] of ``peak(z) = 0`` (the peak temperature minus the threshold, falling with depth), Brent.
 
-    ``known``: ``peak`` at the depths ``z`` already computed. Fast path: when a depth with a positive and a
-    deeper one with a non-positive value bracket the deepest crossing, Brent starts there; otherwise (and
-    on the slow path) from 0 when the surface peak is not above the threshold, else from [0, 0.05 a],
-    the upper end doubling until it brackets.
+    0 when the surface peak is not above the threshold; otherwise Brent on [0, 0.05 a], the upper end
+    doubling until it brackets. The search does not depend on the depths a run asked for, so every run of
+    a scene gets the same heated depth and it is computed once per scene (:func:`trace_reference`).
     """
     from scipy.optimize import brentq
-    if fast and z.size > 1:
-        order = np.argsort(z)
-        zs, ks = z[order], known[order]
-        pos = np.flatnonzero(ks > 0.0)
-        if pos.size and pos[-1] + 1 < zs.size and zs[0] == 0.0:
-            j = int(pos[-1])
-            if not np.any(ks[:j] <= 0.0):      # one crossing below the deepest positive depth
-                return brentq(peak, zs[j], zs[j + 1], xtol=1e-9 * a)
-        if zs[0] == 0.0 and ks[0] <= 0.0:
-            return 0.0
     if peak(0.0) <= 0.0:
         return 0.0
     hi = 0.05 * a
@@ -193,7 +182,28 @@ def _heated_depth(peak, z: np.ndarray, known: np.ndarray, a: float, fast: bool) 
     return brentq(peak, 0.0 if hi == 0.05 * a else 0.5 * hi, hi, xtol=1e-9 * a)
 
 
+#: exact trace values already computed, per (scene hash, body, fast path): depth -> the tuple of
+#: :func:`_line_trace`, and the heated depth; the runs of one scene ask for many of the same depths
+#: (a method's levels, methods on one grid), and a depth's values do not depend on the others asked with it
+_LINE_CACHE: dict = {}
+_DEPTH_CACHE: dict = {}
+#: scenes kept in the caches above before they are cleared
+_CACHED_SCENES = 64
+
+
+def _cache_for(store: dict, key):
+    if key not in store and len(store) >= _CACHED_SCENES:
+        store.clear()
+    return store.setdefault(key, {})
+
+
 _TRACE_CACHE: dict = {}
+
+
+def clear_trace_caches() -> None:
+    """Forget every exact trace and surface value computed so far (benchmarks time a cold computation)."""
+    for store in (_TRACE_CACHE, _LINE_CACHE, _DEPTH_CACHE, _SURFACE_CACHE):
+        store.clear()
 
 
 def trace_reference(scene, z, fast: bool = True) -> dict | None:
@@ -207,9 +217,8 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
         Depths [m] at which the profiles are wanted.
     fast : bool
         The sampling of :func:`_line_trace` (41 bracket samples, a coarse and a local cooling spline)
-        rather than the slow path's (121 and 241 samples); the heated depth's Brent search starts from the
-        depths of ``z`` whose peaks bracket the threshold when there are such (slow: from [0, 0.05 a],
-        doubling). tests/test_thermal_trace.py compares the two.
+        rather than the slow path's (121 and 241 samples) for every line trace, the heated depth's peaks
+        included. tests/test_thermal_trace.py compares the two.
 
     Returns
     -------
@@ -251,15 +260,22 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
             out["time_above"][body] = 0.0 if bulk <= thr else math.inf
             depth[body] = 0.0 if bulk <= thr else math.inf
             continue
+        lines = _cache_for(_LINE_CACHE, (scene.hash, body, bool(fast)))
         for k, zk in enumerate(z):
-            f = lambda xx, zk=zk: bulk + _depth_rise(scene, case, xx, zk, body)
-            tp, xp, cool, above, xc = _line_trace(f, a, v, thr, float(zk), zk == 0.0, fast)
+            zk = float(zk)
+            if zk not in lines:
+                f = lambda xx, zk=zk: bulk + _depth_rise(scene, case, xx, zk, body)
+                lines[zk] = _line_trace(f, a, v, thr, zk, zk == 0.0, fast)
+            tp, xp, cool, above, xc = lines[zk]
             out["peak_temperature"][body, k], out["peak_position"][body, k] = tp, xp
             out["cooling_position"][body, k] = xc
             out["cooling_rate"][body, k], out["time_above"][body, k] = cool, above
-        peak = lambda zz: _line_trace(lambda xx: bulk + _depth_rise(scene, case, xx, zz, body), a, v, thr,
-                                      zz, True, fast, peak_only=True)[0] - thr
-        depth[body] = _heated_depth(peak, z, out["peak_temperature"][body] - thr, a, fast)
+        depths = _cache_for(_DEPTH_CACHE, (scene.hash, body, bool(fast)))
+        if "heated" not in depths:
+            peak = lambda zz: _line_trace(lambda xx: bulk + _depth_rise(scene, case, xx, zz, body), a, v, thr,
+                                          zz, True, fast, peak_only=True)[0] - thr
+            depths["heated"] = _heated_depth(peak, a)
+        depth[body] = depths["heated"]
     out["heated_depth"] = depth
     out["tag"] = "jaeger" if b is None else "moving-source"
     if len(_TRACE_CACHE) > 256:
@@ -384,6 +400,24 @@ def reference_values(scene) -> dict:
     return out
 
 
+#: exact surface rises already computed, per (scene hash, body): (x, y) -> rise [K]; the runs of one scene
+#: share many grid points (a method's nested levels, methods on one grid), each point is evaluated once
+_SURFACE_CACHE: dict = {}
+
+
+def _cached_surface_rise(scene, case, x: np.ndarray, y: np.ndarray | None, body: int) -> np.ndarray:
+    """:func:`_surface_rise` at the points (x, y) [m] (y None: a line contact), the points not seen before for
+    this scene and body evaluated in one call."""
+    known = _cache_for(_SURFACE_CACHE, (scene.hash, body))
+    keys = list(zip(x.tolist(), (y if y is not None else np.zeros_like(x)).tolist()))
+    new = [i for i, k in enumerate(keys) if k not in known]
+    if new:
+        idx = np.array(new)
+        vals = np.asarray(_surface_rise(scene, case, x[idx], None if y is None else y[idx], body), float)
+        known.update(zip((keys[i] for i in new), np.broadcast_to(vals, idx.shape).tolist()))
+    return np.array([known[k] for k in keys], float)
+
+
 def reference_fields(scene, ds) -> dict:
     """Field references on the grid of result ``ds``: pressure [Pa], surface_temperature [degC]."""
     out = {}
@@ -411,8 +445,8 @@ def reference_fields(scene, ds) -> dict:
             X, Y = np.meshgrid(x, y, indexing="ij")
         fields = []
         for body in (0, 1):
-            r = _surface_rise(scene, case, X.ravel(), None if Y is None else Y.ravel(), body).reshape(np.shape(X))
-            fields.append(scene.body(body).bulk_temperature + r)
+            r = _cached_surface_rise(scene, case, X.ravel(), None if Y is None else Y.ravel(), body)
+            fields.append(scene.body(body).bulk_temperature + r.reshape(np.shape(X)))
         out["surface_temperature"] = np.stack(fields)
     want = [k for k in ("peak_temperature", "cooling_rate", "time_above") if k in ds]
     if case is not None and want and "z" in ds.coords and getattr(scene, "field", None) is not None:

@@ -509,13 +509,13 @@ def score_runs(study, records, tol: float, indices) -> list[tuple[int, dict]]:
 
 
 def scoring_groups(records) -> list[list[int]]:
-    """Indices of ``records`` grouped by scene and method, the groups with the most runs to score first (a
-    pool that takes them in this order finishes the long ones early). A method's levels of one scene stay in
-    one process; a scene's methods may not (their exact traces are at their own depths, so they share
-    little, and one scene's thermal traces would otherwise keep one worker busy while the others idle)."""
-    groups: dict[tuple, list[int]] = {}
+    """Indices of ``records`` grouped by scene, the groups with the most runs to score first (a pool that
+    takes them in this order finishes the long ones early). A scene's runs stay in one process because they
+    share its exact references: the caches of :mod:`railtherm.analysis.analytic` evaluate each surface point
+    and trace depth once per scene, and a method's levels and methods on one grid ask for many of the same."""
+    groups: dict[str, list[int]] = {}
     for i, r in enumerate(records):
-        groups.setdefault((r.scene, r.method), []).append(i)
+        groups.setdefault(r.scene, []).append(i)
     return sorted(groups.values(), key=lambda g: -sum(records[i].status == "ok" for i in g))
 
 
