@@ -15,6 +15,8 @@ recorded in ``notes``.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -110,61 +112,87 @@ def run_errors(scene, ds, ref_values: dict, ref_ds=None, *, ref_tag: str = "", s
     if scene.heat_source is not None:  # every method takes a given source as it is
         same.add("given-source")
     sub, fields = _exact_fields(scene, ds, values)
-    err: dict[str, tuple[float, str]] = {}
-
-    def exact(name):
-        tag = sources.get(name, "analytic")
-        return None if tag in same else f"analytic:{tag}"
-
-    def shared(name) -> bool:
-        if ref_ds is None or not ref_tag.startswith("method:"):
-            return False
-        model = shares_stage(name, ds.attrs.get("stages", ""), ref_ds.attrs.get("stages", ""))
-        if model:
-            notes[name] = f"not independent: {ref_tag} runs the same {model} model"
-        return bool(model)
-
-    def score(name, value, reference, tag, l2=False):
-        quantity = name.removesuffix("_l2")
-        why = unscored(scene, name, reference, _bulk(scene, quantity, np.shape(reference)))
-        if why:
-            notes[name] = why
-            err[name] = (math.nan, tag)
-            return
-        e = (rel_l2 if l2 else rel_error)(scene, quantity, value, reference)
-        if math.isinf(e):
-            notes[name] = "not finite where its reference is"
-        elif not l2:
-            signed[name] = signed_error(scene, name, value, reference)
-        err[name] = (e, tag)
-
+    sc = _Scorer(scene, ds, ref_ds, ref_tag, sources, same, notes, signed)
+    err = sc.err
     for name in SCALARS:
         if name not in ds:
             continue
         if name in values:
-            tag = exact(name)
+            tag = sc.exact(name)
             if tag:
-                score(name, ds[name].values, values[name], tag)
-        elif ref_ds is not None and name in ref_ds and not shared(name):
-            score(name, ds[name].values, ref_ds[name].values, ref_tag)
+                sc.score(name, ds[name].values, values[name], tag)
+        elif ref_ds is not None and name in ref_ds and not sc.shared(name):
+            sc.score(name, ds[name].values, ref_ds[name].values, ref_tag)
     for name in FIELDS:
         if name not in ds or name not in ds.data_vars or "x" not in ds[name].dims:
             continue
         if name in fields:
-            tag = exact(name)
+            tag = sc.exact(name)
             if tag:
-                score(name + "_l2", sub[name].values, fields[name], tag, l2=True)
-        elif ref_ds is not None and name in ref_ds and not shared(name + "_l2"):
-            try:
-                on_grid = _interp_to(ref_ds, ds, name)
-                if on_grid.shape != ds[name].shape:
-                    raise ValueError(f"shape {on_grid.shape} on the run's grid, the run's is {ds[name].shape}")
-            except Exception as exc:  # noqa: BLE001 - recorded: the metric fails, it does not drop out
-                err[name + "_l2"] = (math.inf, ref_tag)
-                notes[name + "_l2"] = f"the reference field could not be put on the run's grid ({exc})"
-                continue
-            score(name + "_l2", ds[name].values, on_grid, ref_tag, l2=True)
-    if ref_ds is not None and any(n in ds for n in TRACE_METRICS) and shared("peak_temperature"):
+                sc.score(name + "_l2", sub[name].values, fields[name], tag, l2=True)
+        elif ref_ds is not None and name in ref_ds and not sc.shared(name + "_l2"):
+            sc.score_against_run(name)
+    if ref_ds is not None and any(n in ds for n in TRACE_METRICS) and sc.shared("peak_temperature"):
         ref_ds = None                       # the trace of the same temperature model: not a check
-    err.update(trace_errors(scene, ds, fields, values, ref_ds, ref_tag, exact, notes=notes))
+    err.update(trace_errors(scene, ds, fields, values, ref_ds, ref_tag, sc.exact, notes=notes))
     return err
+
+
+@dataclass
+class _Scorer:
+    """What :func:`run_errors` needs to score one metric, built once per result: the tags of its exact
+    references, whether the reference run shares a stage model, and the errors, signed errors and notes
+    filled in."""
+
+    scene: Any
+    ds: Any
+    ref_ds: Any
+    ref_tag: str
+    sources: dict
+    same: set
+    notes: dict
+    signed: dict
+    err: dict = field(default_factory=dict)
+
+    def exact(self, name):
+        """Tag ``analytic:<source>`` of the exact value of ``name``, None when the run computes it the same way."""
+        tag = self.sources.get(name, "analytic")
+        return None if tag in self.same else f"analytic:{tag}"
+
+    def shared(self, name) -> bool:
+        """The reference run computes ``name`` with the same stage model (noted: not independent)."""
+        if self.ref_ds is None or not self.ref_tag.startswith("method:"):
+            return False
+        model = shares_stage(name, self.ds.attrs.get("stages", ""), self.ref_ds.attrs.get("stages", ""))
+        if model:
+            self.notes[name] = f"not independent: {self.ref_tag} runs the same {model} model"
+        return bool(model)
+
+    def score(self, name, value, reference, tag, l2=False):
+        """Record the relative error (and the signed error of a scalar) of ``value``, or why it is not scored."""
+        scene = self.scene
+        quantity = name.removesuffix("_l2")
+        why = unscored(scene, name, reference, _bulk(scene, quantity, np.shape(reference)))
+        if why:
+            self.notes[name] = why
+            self.err[name] = (math.nan, tag)
+            return
+        e = (rel_l2 if l2 else rel_error)(scene, quantity, value, reference)
+        if math.isinf(e):
+            self.notes[name] = "not finite where its reference is"
+        elif not l2:
+            self.signed[name] = signed_error(scene, name, value, reference)
+        self.err[name] = (e, tag)
+
+    def score_against_run(self, name):
+        """Score field ``name`` against the reference run's, put on the run's grid (a failure to do so fails it)."""
+        ds, ref_tag = self.ds, self.ref_tag
+        try:
+            on_grid = _interp_to(self.ref_ds, ds, name)
+            if on_grid.shape != ds[name].shape:
+                raise ValueError(f"shape {on_grid.shape} on the run's grid, the run's is {ds[name].shape}")
+        except Exception as exc:  # noqa: BLE001 - recorded: the metric fails, it does not drop out
+            self.err[name + "_l2"] = (math.inf, ref_tag)
+            self.notes[name + "_l2"] = f"the reference field could not be put on the run's grid ({exc})"
+            return
+        self.score(name + "_l2", ds[name].values, on_grid, ref_tag, l2=True)

@@ -79,8 +79,6 @@ def open_results(out, *, variables=None, unstack: bool | None = None):
     """
     import xarray as xr
 
-    from ..contract.schema import VARIABLES, variable_attrs
-
     if store.has_store(out):
         return store.open_store(out, variables=variables, unstack=unstack)
     root = Path(out) / store.RUNS
@@ -89,6 +87,34 @@ def open_results(out, *, variables=None, unstack: bool | None = None):
     wanted = set(variables) if variables is not None else None
     records = [_read_run(f, wanted) for f in store.run_files(out)]
     have = {(r[0], r[1], r[2]) for r in records}
+    statuses = _missing_runs(out, have)
+    if not records and not statuses:
+        raise FileNotFoundError(f"no run files in {str(root)!r}")
+    scenes = sorted({r[0] for r in records} | {s[0] for s in statuses})
+    methods = sorted({r[1] for r in records} | {s[1] for s in statuses})
+    levels = sorted({r[2] for r in records} | {s[2] for s in statuses})
+    si = {s: i for i, s in enumerate(scenes)}
+    mi = {m: i for i, m in enumerate(methods)}
+    li = {k: i for i, k in enumerate(levels)}
+    shape = (len(scenes), len(methods), len(levels))
+    data = _result_arrays(records, statuses, si, mi, li, shape)
+    coords = {"scene": ("scene", np.array(scenes, dtype=object), {"units": "1", "long_name": "scene name"}),
+              "method_name": ("method_name", np.array(methods, dtype=object), {"units": "1", "long_name": "method"}),
+              "level": ("level", np.array(levels, dtype="int32"), {"units": "1", "long_name": "resolution level"}),
+              "body": ("body", np.array(["wheel", "rail"]), {"units": "1", "long_name": "body"})}
+    sweep_names = _add_sweep_coords(records, statuses, si, len(scenes), data, coords)
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update({"Conventions": "CF-1.11", "title": f"railtherm results of {Path(out).name}",
+                     "source": f"railtherm open_results of {str(Path(out))}",
+                     "swept_parameters": " ".join(sweep_names.values())})
+    if unstack and sweep_names:
+        ds = _unstack(ds, list(sweep_names.values()))
+    return ds
+
+
+def _missing_runs(out, have):
+    """(scene, method, level, status, sweep) of the runs of a study folder that left a status file but no run
+    file (refused or failed)."""
     statuses = []  # runs without a file: refused or failed
     for f in store.status_files(out):
         try:
@@ -98,16 +124,15 @@ def open_results(out, *, variables=None, unstack: bool | None = None):
         key = (str(rec.get("scene")), str(rec.get("method")), int(rec.get("level", -1)))
         if key not in have and key[2] >= 0:
             statuses.append((*key, str(rec.get("status", "failed")), rec.get("sweep") or {}))
-    if not records and not statuses:
-        raise FileNotFoundError(f"no run files in {str(root)!r}")
-    scenes = sorted({r[0] for r in records} | {s[0] for s in statuses})
-    methods = sorted({r[1] for r in records} | {s[1] for s in statuses})
-    levels = sorted({r[2] for r in records} | {s[2] for s in statuses})
+    return statuses
+
+
+def _result_arrays(records, statuses, si, mi, li, shape):
+    """The Dataset variables of :func:`open_results` (name -> (dims, array, attrs)): every scalar result
+    found in the run files, the wall time and the status (refused, failed, missing) of every run."""
+    from ..contract.schema import VARIABLES, variable_attrs
+
     names = sorted({k for r in records for k in r[3] if k in VARIABLES})
-    si = {s: i for i, s in enumerate(scenes)}
-    mi = {m: i for i, m in enumerate(methods)}
-    li = {k: i for i, k in enumerate(levels)}
-    shape = (len(scenes), len(methods), len(levels))
     data = {}
     for n in names:
         per_body = VARIABLES[n].dims == ("body",)
@@ -127,10 +152,12 @@ def open_results(out, *, variables=None, unstack: bool | None = None):
     data["wall_time"] = (("scene", "method_name", "level"), wt, {"units": "s", "long_name": "best wall time of the solve"})
     data["status"] = (("scene", "method_name", "level"), status,
                       {"units": "1", "long_name": "run status: ok | refused | failed | missing"})
-    coords = {"scene": ("scene", np.array(scenes, dtype=object), {"units": "1", "long_name": "scene name"}),
-              "method_name": ("method_name", np.array(methods, dtype=object), {"units": "1", "long_name": "method"}),
-              "level": ("level", np.array(levels, dtype="int32"), {"units": "1", "long_name": "resolution level"}),
-              "body": ("body", np.array(["wheel", "rail"]), {"units": "1", "long_name": "body"})}
+    return data
+
+
+def _add_sweep_coords(records, statuses, si, n_scenes, data, coords):
+    """Add to ``coords`` one coordinate along ``scene`` per swept study key (``sweep_<key>`` when the key is
+    also a variable's name); returns {key: coordinate name}."""
     sweeps = {}
     for r in records:
         sweeps.setdefault(r[0], r[4])
@@ -139,7 +166,7 @@ def open_results(out, *, variables=None, unstack: bool | None = None):
     keys = sorted({k for sw in sweeps.values() for k in sw})  # (netCDF does not keep attribute order)
     sweep_names = {}
     for key in keys:
-        col = np.full(len(scenes), np.nan, dtype=object)
+        col = np.full(n_scenes, np.nan, dtype=object)
         for s, sw in sweeps.items():
             if key in sw:
                 col[si[s]] = sw[key]
@@ -154,13 +181,7 @@ def open_results(out, *, variables=None, unstack: bool | None = None):
             continue
         sweep_names[key] = name
         coords[name] = ("scene", col, _sweep_coord_attrs(key))
-    ds = xr.Dataset(data, coords=coords)
-    ds.attrs.update({"Conventions": "CF-1.11", "title": f"railtherm results of {Path(out).name}",
-                     "source": f"railtherm open_results of {str(Path(out))}",
-                     "swept_parameters": " ".join(sweep_names.values())})
-    if unstack and sweep_names:
-        ds = _unstack(ds, list(sweep_names.values()))
-    return ds
+    return sweep_names
 
 
 def _unstack(ds, names):
