@@ -485,70 +485,23 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
         vs = [cards[(row.label, m)] for m in data.methods]
         what = QUANTITY.get(row.headline, row.headline or "headline quantity")
         where = f"the `{row.label}` sweep" if row.group else f"`{row.label}`"
-        ok = sorted((v for v in vs if v.status == "ok" and math.isfinite(v.time)), key=lambda v: v.time)
-        if len(ok) >= 2:
-            fast, slow = ok[0], ok[-1]
-            times = slow.time / fast.time if fast.time > 0 else math.inf
-            pre = "≤" if row.group else ""
-            text = (f"For {where} ({what}), {acting(data, row.scenes[0], fast.method)} reaches {pre}{_error(fast)} "
-                    f"error in {pre}{duration(fast.time)}; {acting(data, row.scenes[0], slow.method)} needs "
-                    f"{pre}{duration(slow.time)} for {pre}{_error(slow)}"
-                    + (f" ({ratio(times)} of {fast.method})." if 10 <= times < math.inf else "."))
-            compare.append((times, text, (fast.method, slow.method)))
-        elif len(ok) == 1 and len([v for v in vs if v.status != "none"]) > 1:
-            v = ok[0]
-            compare.append((0.0, f"For {where} ({what}), only {acting(data, row.scenes[0], v.method)} is within "
-                                 f"{tol_text}: {_error(v)} "
-                                 f"in {duration(v.time)}.", (v.method,)))
+        sentence = _comparison(data, row, vs, where, what, tol_text)
+        if sentence is not None:
+            compare.append(sentence)
         bad = [v for v in vs if v.status == "inaccurate"]
         if bad:
-            worst = max((v.error for v in bad if not math.isnan(v.error)), default=math.nan)
-            worst_text = "not finite" if worst == math.inf else pct(worst)
-            if row.group:
-                counts = [sum(1 for x in v.members if x.status == "inaccurate") for v in bad]
-                at = f" at {max(counts)} of {len(row.scenes)} {row.group.key} values"
-            else:
-                at = ""
-            tail = ""
-            if row.headline == "creep_force_x":
-                src = {v.method: creep_force_source(data.stages(row.scenes[0], v.method)) for v in bad}
-                foreign = {m: s for m, s in src.items() if s and s != m}
-                if foreign:
-                    tail = (f"; the creep force of {_names(list(foreign))} is computed by "
-                            f"{_names(sorted(set(foreign.values())))}")
-            who = _names([v.method for v in bad])
-            if row.group:
-                misses.append(f"On {where}, {who} miss the {tol_text} tolerance at every level for{at[3:]} "
-                              f"(worst {worst_text}){tail}.")
-            else:
-                # the headline may be within the tolerance while another metric is not: name it
-                why = "; ".join(f"{v.method}: {w}" for v in bad for w in [_worst_other(v)] if w)
-                misses.append(f"No level of {who} is within {tol_text} on {where} (worst {what} error "
-                              f"{worst_text}{'; ' + why if why else ''}){tail}.")
+            misses.append(_miss(data, row, bad, where, what, tol_text))
         for v in vs:
             if "non-monotone" in v.note and not row.group:
                 words = next(w for w in v.note.split("; ") if w.startswith("non-monotone"))
                 misses.append(f"On {where}, {v.method} is {words}; no level is quoted unless it holds at every finer "
                               "level.")
             if v.status == "unverified":
-                rich = f"; Richardson estimate of its finest level's error {pct(v.richardson)}" \
-                    if math.isfinite(v.richardson) else ""
-                checked = v.message.split("; checked: ", 1)[1] if "; checked: " in v.message else ""
-                unverified.append(f"{v.method} is unverified on {where}: its {what} is not checked against an "
-                                  f"independent reference (checked: {short(checked, 120)}){rich}." if checked else
-                                  f"{v.method} is unverified on {where}: no independent reference, "
-                                  f"only self-convergence{rich}.")
+                unverified.append(_unverified(v, where, what))
     failed = [r for r in data.runs if r.status == "failed"]
     out = []
     if failed:
-        by = {}
-        for r in failed:
-            by.setdefault((r.method, r.scene), []).append(r)
-        parts = [f"{m} on `{s}` (level {level_range(x.level for x in rs)}"
-                 + (f", {rs[0].reason_kind}" if rs[0].reason_kind else "") + f": {short(rs[0].message, 70)})"
-                 for (m, s), rs in list(by.items())[:3]]
-        more = f" and {len(by) - 3} more" if len(by) > 3 else ""
-        out.append(f"{len(failed)} run{'s' if len(failed) > 1 else ''} failed: " + "; ".join(parts) + more + ".")
+        out.append(_failed_sentence(failed))
     split = contact_split(data, table_rows) if hasattr(data, "scene") else []
     out += split[:1]
     compare.sort(key=lambda t: -t[0])
@@ -571,3 +524,72 @@ def findings(data: StudyData, table_rows: list[Row], cards: dict, limit: int = 5
         out.append(f"No run failed ({len(data.runs)} runs).")
     return out[:limit]
 
+
+def _comparison(data: StudyData, row: Row, vs: list, where: str, what: str, tol_text: str):
+    """(speed ratio, sentence, methods) comparing the fastest and the slowest method within the tolerance on
+    one row, or naming the only one within it; None when neither applies."""
+    ok = sorted((v for v in vs if v.status == "ok" and math.isfinite(v.time)), key=lambda v: v.time)
+    if len(ok) >= 2:
+        fast, slow = ok[0], ok[-1]
+        times = slow.time / fast.time if fast.time > 0 else math.inf
+        pre = "≤" if row.group else ""
+        text = (f"For {where} ({what}), {acting(data, row.scenes[0], fast.method)} reaches {pre}{_error(fast)} "
+                f"error in {pre}{duration(fast.time)}; {acting(data, row.scenes[0], slow.method)} needs "
+                f"{pre}{duration(slow.time)} for {pre}{_error(slow)}"
+                + (f" ({ratio(times)} of {fast.method})." if 10 <= times < math.inf else "."))
+        return times, text, (fast.method, slow.method)
+    if len(ok) == 1 and len([v for v in vs if v.status != "none"]) > 1:
+        v = ok[0]
+        return (0.0, f"For {where} ({what}), only {acting(data, row.scenes[0], v.method)} is within "
+                     f"{tol_text}: {_error(v)} "
+                     f"in {duration(v.time)}.", (v.method,))
+    return None
+
+
+def _miss(data: StudyData, row: Row, bad: list, where: str, what: str, tol_text: str) -> str:
+    """The sentence naming the methods of one row that miss the tolerance (``bad``) and their worst error."""
+    worst = max((v.error for v in bad if not math.isnan(v.error)), default=math.nan)
+    worst_text = "not finite" if worst == math.inf else pct(worst)
+    if row.group:
+        counts = [sum(1 for x in v.members if x.status == "inaccurate") for v in bad]
+        at = f" at {max(counts)} of {len(row.scenes)} {row.group.key} values"
+    else:
+        at = ""
+    tail = ""
+    if row.headline == "creep_force_x":
+        src = {v.method: creep_force_source(data.stages(row.scenes[0], v.method)) for v in bad}
+        foreign = {m: s for m, s in src.items() if s and s != m}
+        if foreign:
+            tail = (f"; the creep force of {_names(list(foreign))} is computed by "
+                    f"{_names(sorted(set(foreign.values())))}")
+    who = _names([v.method for v in bad])
+    if row.group:
+        return (f"On {where}, {who} miss the {tol_text} tolerance at every level for{at[3:]} "
+                f"(worst {worst_text}){tail}.")
+    # the headline may be within the tolerance while another metric is not: name it
+    why = "; ".join(f"{v.method}: {w}" for v in bad for w in [_worst_other(v)] if w)
+    return (f"No level of {who} is within {tol_text} on {where} (worst {what} error "
+            f"{worst_text}{'; ' + why if why else ''}){tail}.")
+
+
+def _unverified(v, where: str, what: str) -> str:
+    """The sentence saying that a method's result on a row is not checked against an independent reference."""
+    rich = f"; Richardson estimate of its finest level's error {pct(v.richardson)}" \
+        if math.isfinite(v.richardson) else ""
+    checked = v.message.split("; checked: ", 1)[1] if "; checked: " in v.message else ""
+    return (f"{v.method} is unverified on {where}: its {what} is not checked against an "
+            f"independent reference (checked: {short(checked, 120)}){rich}." if checked else
+            f"{v.method} is unverified on {where}: no independent reference, "
+            f"only self-convergence{rich}.")
+
+
+def _failed_sentence(failed: list) -> str:
+    """The sentence counting the failed runs and naming the first three (method, scene) with their reasons."""
+    by = {}
+    for r in failed:
+        by.setdefault((r.method, r.scene), []).append(r)
+    parts = [f"{m} on `{s}` (level {level_range(x.level for x in rs)}"
+             + (f", {rs[0].reason_kind}" if rs[0].reason_kind else "") + f": {short(rs[0].message, 70)})"
+             for (m, s), rs in list(by.items())[:3]]
+    more = f" and {len(by) - 3} more" if len(by) > 3 else ""
+    return f"{len(failed)} run{'s' if len(failed) > 1 else ''} failed: " + "; ".join(parts) + more + "."
