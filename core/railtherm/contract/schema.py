@@ -172,63 +172,15 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
         data[name] = (dims, arr)
 
     if patch is not None:
-        put("pressure", patch.pressure)
-        for k in ("traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick",
-                  "creep_force_x", "creep_force_y", "spin_moment"):
-            if line and k in ("traction_y", "slip_velocity_y", "creep_force_y", "spin_moment"):
-                continue
-            put(k, getattr(patch, k))
-        put("normal_force", patch.normal_force)
-        put("semi_axis_a", patch.a)
-        if not line:
-            put("semi_axis_b", patch.b)
-        put("max_pressure", patch.max_pressure)
-        if patch.contact_area is not None:
-            put("contact_area", patch.contact_area)
-        elif patch.a is not None:
-            put("contact_area", 2.0 * patch.a if line else math.pi * patch.a * patch.b)
+        _put_patch(put, patch, line)
     if wheelset is not None and patch is not None:
-        put("contact_position_rail", wheelset.contact_position_rail)
-        put("contact_angle", wheelset.contact_angle)
-        xi, eta, phi = patch.creepage if patch.creepage is not None else wheelset.creepage
-        put("creepage_longitudinal", xi)
-        put("creepage_lateral", eta)
-        put("creepage_spin", phi)
+        _put_wheelset(put, wheelset, patch)
     if source is not None:
-        put("heat_flux", np.stack([source.flux(0), source.flux(1)]))
-        put("frictional_power", source.frictional_power)
-        eps = np.asarray(source.heat_partition, dtype=float)
-        if eps.ndim == 0:
-            put("heat_partition", eps)
+        _put_source(put, source)
     if temperature is not None:
-        put("surface_temperature", temperature.surface_temperature)
-        put("max_surface_temperature", temperature.max_surface_temperature)
-        put("mean_contact_temperature", temperature.mean_contact_temperature)
-        if temperature.temperature is not None and temperature.z is not None:
-            put("temperature", temperature.temperature)
-        put("steady_wheel_temperature", temperature.steady_wheel_temperature)
-        put("steady_mean_contact_temperature", temperature.steady_mean_contact_temperature)
-        history = getattr(temperature, "history", None)
-        if history is not None:
-            _put_history(data, history)
-        elif temperature.z is not None:
-            for name in TRACE_VARIABLES:
-                value = getattr(temperature, name, None)
-                put(name, value)
-                if value is not None and not np.all(np.isfinite(np.asarray(value, dtype=float))):
-                    nan_ok.append(name)
+        _put_temperature(put, data, temperature, nan_ok)
 
-    coords = {"x": ("x", grid.x), "body": ("body", np.array(["wheel", "rail"]))}
-    if not line:
-        coords["y"] = ("y", grid.y)
-    if temperature is not None and temperature.z is not None and (
-            "temperature" in data or any(n in data for n in TRACE_VARIABLES)):
-        coords["z"] = ("z", np.asarray(temperature.z, dtype=float))
-    transient = temperature is not None and getattr(temperature, "history", None) is not None
-    if transient:
-        h = temperature.history
-        coords.update({"time": ("time", np.asarray(h.time, dtype=float)), "z": ("z", np.asarray(h.z, dtype=float)),
-                       "pass": ("pass", np.arange(1, np.asarray(h.residual).shape[1] + 1))})
+    coords, transient = _coords(grid, line, temperature, data)
     ds = xr.Dataset(data, coords=coords)
     for name in ds.data_vars:
         ds[name].attrs.update(variable_attrs(name, transient))
@@ -247,6 +199,82 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
     if nan_ok:
         ds.attrs["nan_allowed"] = " ".join(sorted(set(str(ds.attrs.get("nan_allowed", "")).split()) | set(nan_ok)))
     return ds
+
+
+
+def _put_patch(put, patch, line) -> None:
+    """The contact patch's fields and scalars (no lateral ones on a line contact)."""
+    put("pressure", patch.pressure)
+    for k in ("traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick",
+              "creep_force_x", "creep_force_y", "spin_moment"):
+        if line and k in ("traction_y", "slip_velocity_y", "creep_force_y", "spin_moment"):
+            continue
+        put(k, getattr(patch, k))
+    put("normal_force", patch.normal_force)
+    put("semi_axis_a", patch.a)
+    if not line:
+        put("semi_axis_b", patch.b)
+    put("max_pressure", patch.max_pressure)
+    if patch.contact_area is not None:
+        put("contact_area", patch.contact_area)
+    elif patch.a is not None:
+        put("contact_area", 2.0 * patch.a if line else math.pi * patch.a * patch.b)
+
+
+def _put_wheelset(put, wheelset, patch) -> None:
+    """The wheelset patch's position, contact angle and creepages."""
+    put("contact_position_rail", wheelset.contact_position_rail)
+    put("contact_angle", wheelset.contact_angle)
+    xi, eta, phi = patch.creepage if patch.creepage is not None else wheelset.creepage
+    put("creepage_longitudinal", xi)
+    put("creepage_lateral", eta)
+    put("creepage_spin", phi)
+
+
+def _put_source(put, source) -> None:
+    """The heat flux into both bodies, the frictional power and a uniform heat partition."""
+    put("heat_flux", np.stack([source.flux(0), source.flux(1)]))
+    put("frictional_power", source.frictional_power)
+    eps = np.asarray(source.heat_partition, dtype=float)
+    if eps.ndim == 0:
+        put("heat_partition", eps)
+
+
+def _put_temperature(put, data, temperature, nan_ok) -> None:
+    """The temperature fields and scalars, the pass history of a transient scene or the thermal trace (its
+    variables that are not finite everywhere are listed in ``nan_ok``)."""
+    put("surface_temperature", temperature.surface_temperature)
+    put("max_surface_temperature", temperature.max_surface_temperature)
+    put("mean_contact_temperature", temperature.mean_contact_temperature)
+    if temperature.temperature is not None and temperature.z is not None:
+        put("temperature", temperature.temperature)
+    put("steady_wheel_temperature", temperature.steady_wheel_temperature)
+    put("steady_mean_contact_temperature", temperature.steady_mean_contact_temperature)
+    history = getattr(temperature, "history", None)
+    if history is not None:
+        _put_history(data, history)
+    elif temperature.z is not None:
+        for name in TRACE_VARIABLES:
+            value = getattr(temperature, name, None)
+            put(name, value)
+            if value is not None and not np.all(np.isfinite(np.asarray(value, dtype=float))):
+                nan_ok.append(name)
+
+
+def _coords(grid, line, temperature, data):
+    """The result's coordinates (x, body, y, z; time, z and pass of a pass history) and whether it is transient."""
+    coords = {"x": ("x", grid.x), "body": ("body", np.array(["wheel", "rail"]))}
+    if not line:
+        coords["y"] = ("y", grid.y)
+    if temperature is not None and temperature.z is not None and (
+            "temperature" in data or any(n in data for n in TRACE_VARIABLES)):
+        coords["z"] = ("z", np.asarray(temperature.z, dtype=float))
+    transient = temperature is not None and getattr(temperature, "history", None) is not None
+    if transient:
+        h = temperature.history
+        coords.update({"time": ("time", np.asarray(h.time, dtype=float)), "z": ("z", np.asarray(h.z, dtype=float)),
+                       "pass": ("pass", np.arange(1, np.asarray(h.residual).shape[1] + 1))})
+    return coords, transient
 
 
 def _put_history(data: dict, history) -> None:

@@ -408,12 +408,7 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
     grid = (source.grid if source is not None else patch.grid if patch is not None else None)
     if grid is None:
         raise PluginError(f"method {method!r}: no stage returned a result for scene {scene.name!r}")
-    diag: dict[str, Any] = {}
-    converged = True
-    for rec in records:
-        _flat_diagnostics(rec.model.name, rec.diagnostics, diag)
-        if "converged" in rec.diagnostics and not bool(rec.diagnostics["converged"]):
-            converged = False
+    diag, converged = _stage_diagnostics(records)
     attrs = {
         "title": f"railtherm result: scene {scene.name}, method {method}, level {level}",
         "source": _versions(pl, host),
@@ -428,6 +423,15 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
     }
     ds = build_dataset(grid, patch, source, temp, outputs=scene.outputs, attrs=attrs,
                        wheelset=getattr(scene, "profile_contact", None))
+    _check_result(ds, scene, pl, method, level, converged, diag, grid)
+    if validate:
+        validate_dataset(ds, pl.method.plugin)
+    return ds
+
+
+def _check_result(ds, scene: Scene, pl, method: str, level: int, converged: bool, diag: dict, grid) -> None:
+    """Refuse a result that did not converge, lacks a declared output or holds NaN/inf where the schema
+    does not allow it."""
     if not converged:
         raise SolverError(f"method {method!r} did not converge on scene {scene.name!r} at level {level}: "
                           + ", ".join(f"{k}={v}" for k, v in diag.items() if "resid" in k or "iter" in k))
@@ -442,6 +446,14 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
         if name in ds and np.issubdtype(ds[name].dtype, np.floating) and not np.all(np.isfinite(ds[name].values)) \
                 and name not in nan_ok:
             raise SolverError(f"method {method!r} returned NaN/inf for {name!r} on scene {scene.name!r}")
-    if validate:
-        validate_dataset(ds, pl.method.plugin)
-    return ds
+
+
+def _stage_diagnostics(records) -> tuple[dict[str, Any], bool]:
+    """Every stage model's diagnostics flattened to ``<model>_<key>`` attributes, and whether all converged."""
+    diag: dict[str, Any] = {}
+    converged = True
+    for rec in records:
+        _flat_diagnostics(rec.model.name, rec.diagnostics, diag)
+        if "converged" in rec.diagnostics and not bool(rec.diagnostics["converged"]):
+            converged = False
+    return diag, converged
