@@ -12,7 +12,9 @@ and ``references.nc``) and writes a document a researcher reads in ten minutes: 
    scenes whose temperature rise leaves the range of constant material properties;
 3. when a creepage sweep has a friction law: the friction-law section (:mod:`.friction_section`); when
    scenes take an exact-contact method as their reference: the exact-contact section
-   (:mod:`.exact_contact`), the contact model's error separated from the thermal model's;
+   (:mod:`.exact_contact`), the contact model's error separated from the thermal model's, preceded, when
+   scenes have a wheelset on profiles, by the patch and its flash temperature against lateral shift
+   (:mod:`.wheelset_section`);
 4. when scenes report temperatures behind the patch and in depth (``field``): the thermal-trace section
    (:mod:`.trace_section`), the seed paper's Figs 2-7 kinds of plot against the exact trace;
 5. one section per scene and per sweep: inputs in a researcher's units, headline and references,
@@ -47,6 +49,7 @@ from .sections import Context, scene_section, sweep_section, verdict_section
 from .study_section import intro, study_section
 from .trace_section import trace_anchor, trace_scenes, trace_section
 from .verdict import rows, sweep_groups
+from .wheelset_section import wheelset_section
 
 __all__ = ["write_report", "MAX_SCENE_SECTIONS", "method_colour"]
 
@@ -121,7 +124,8 @@ def write_report(out, study=None, benchmarks=None, workers: int = 1) -> list[Pat
         verdict_section(doc, ctx, table_rows)
         study_section(doc, ctx, table_rows)
         friction_section(doc, ctx)        # a friction study's point, before the long exact-contact tables
-        exact_contact_section(doc, ctx)
+        wheelset_section(doc, ctx)        # a profile study's point, before the exact-contact figures take the
+        exact_contact_section(doc, ctx)   # figure budget
         traced = set(trace_scenes(data))
         trace_section(doc, ctx)
         idx = 0

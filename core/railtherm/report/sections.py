@@ -19,6 +19,7 @@ from .format import duration, finite, label, level_range, num, pct, plain, quant
 from .load import StudyData
 from .study_section import describe_scene, hot_note
 from .sweep_maps import sweep_maps
+from .wheelset_section import wheelset_findings
 from .tables import (METRIC_SHORT, cross_tables, message_lines, order_table, published_table, reference_words,
                      refusal_lines, run_table)
 from .verdict import (QUANTITY, SCORECARD_RULE, Row, SweepGroup, anchor_of, cell, choose, creep_force_source, findings,
@@ -86,7 +87,9 @@ def verdict_section(doc: Document, ctx: Context, table_rows: list[Row], max_rows
     tol = data.tolerance
     doc.heading(2, "Verdict", "verdict")
     cards = scorecard(data, table_rows)
-    items = findings(data, table_rows, cards)
+    # the wheelset-on-profiles finding (the shifts where a chain's flash temperature misses) leads: it is the
+    # point of such a study
+    items = (wheelset_findings(data) + findings(data, table_rows, cards))[:5]
     if items:
         doc.heading(3, "Key findings")
         doc.bullets([plain(t) for t in items])
