@@ -278,3 +278,15 @@ def test_wheelset_missing_radius_and_bad_file_are_named(tmp_path):
     (tmp_path / "w.txt").write_text("0 0\n1 1\nx y\n")
     with pytest.raises(ProfileError, match=r"scene 'curve': key 'wheelset.wheel_profile': profile .*w.txt, line 3"):
         wheelset_geometry_from_table("curve", {**GOOD, "wheel_profile": "w.txt"}, base=str(tmp_path))
+
+
+def test_a_loaded_profile_file_is_read_again_only_when_it_changes(tmp_path):
+    """load_profile returns the profile already read while the file is unchanged, and reads a changed file."""
+    path = _write(tmp_path, "arc.txt", _arc())
+    first = load_profile(path, units="mm")
+    assert load_profile(path, units="mm") is first
+    pts = _arc()
+    _write(tmp_path, "arc.txt", [(y, z + 1.0) for y, z in pts] + [(pts[-1][0] + 0.5, pts[-1][1] + 1.0)])
+    second = load_profile(path, units="mm")
+    assert second is not first and second.z_at(0.0) == pytest.approx(first.z_at(0.0) + 1e-3)
+    assert load_profile("s1002") is load_profile("S1002")

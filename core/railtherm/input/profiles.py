@@ -246,12 +246,33 @@ def read_profile(path: str, mirror_y: bool = False, units: str | None = None, **
     return read_text(path, units, mirror_y, **checks)
 
 
+#: profiles already read or built, by file (path, modification time, size) or built-in name and the reader's
+#: arguments: a study's scenes share their profiles, and reading a SIMPACK file costs ~30 ms
+_LOADED: dict = {}
+_LOADED_MAX = 64
+
+
 def load_profile(spec: str, base: str | None = None, **kw) -> Profile:
-    """A built-in profile by name (``"s1002"``, ``"uic60"`` / ``"60e1"``) or a file (relative to ``base``)."""
-    if str(spec).lower() in BUILT_IN:
-        return BUILT_IN[str(spec).lower()]()
-    path = spec if base is None or os.path.isabs(spec) else os.path.join(base, spec)
-    return read_profile(path, **kw)
+    """A built-in profile by name (``"s1002"``, ``"uic60"`` / ``"60e1"``) or a file (relative to ``base``).
+
+    A profile is immutable, so one already loaded is returned again (a file only while its modification time
+    and size are unchanged)."""
+    name = str(spec).lower()
+    if name in BUILT_IN:
+        key = ("built-in", name)
+    else:
+        path = spec if base is None or os.path.isabs(spec) else os.path.join(base, spec)
+        try:
+            st = os.stat(path)
+            key = ("file", os.path.realpath(path), st.st_mtime_ns, st.st_size, tuple(sorted(kw.items())))
+            hash(key)
+        except (OSError, TypeError):
+            return read_profile(path, **kw)      # its own error names the file
+    if key not in _LOADED:
+        if len(_LOADED) >= _LOADED_MAX:
+            _LOADED.clear()
+        _LOADED[key] = BUILT_IN[name]() if name in BUILT_IN else read_profile(path, **kw)
+    return _LOADED[key]
 
 
 # -- the [scene.wheelset] profile keys --------------------------------------------------------------

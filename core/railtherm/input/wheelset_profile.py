@@ -282,6 +282,34 @@ def _fail(scene_name, key, value, allowed):
     raise SceneError.bad_value(scene_name, key, value, allowed)
 
 
+def _geometry(scene_name: str, table: Mapping, base: str | None):
+    """The checked wheelset geometry and patch number of a profile wheelset table (SceneError otherwise)."""
+    mixed = sorted(CONICAL_ONLY_KEYS & set(table))
+    if mixed:
+        _fail(scene_name, f"wheelset.{mixed[0]}", table[mixed[0]],
+              "no conical-wheelset key in a wheelset on profiles (it has wheel_profile/rail_profile/...): "
+              "give nominal_radius and vertical_force instead of wheel_radius and vertical_load")
+    patch_no = table.get("patch", 1)
+    if isinstance(patch_no, bool) or patch_no not in (1, 2, 3):
+        _fail(scene_name, "wheelset.patch", patch_no, "1, 2 or 3: which patch of the wheel (1 = the closest)")
+    for k, what in (("nominal_radius", "the wheel radius at the wheel profile's origin [m]"),
+                    ("vertical_force", "the vertical force on this wheel [N], > 0"),
+                    ("pitch_velocity", "the wheelset's angular velocity about its axle [rad/s]")):
+        if k not in table:
+            raise SceneError(f"scene {scene_name!r}: key 'wheelset.{k}' is missing: {what}",
+                             scene=scene_name, key=f"wheelset.{k}", allowed=what)
+    rest = {k: v for k, v in table.items() if k != "patch"}
+    geo = wheelset_geometry_from_table(scene_name, rest, base)
+    for k, word in (("roll_angle", "balance"), ("pitch_velocity", "free")):
+        if getattr(geo, k) == word:
+            _fail(scene_name, f"wheelset.{k}", word, f"a number: the equilibrium that '{word}' asks for is not "
+                  "solved yet; give the value (e.g. from the benchmark's table)")
+    if not geo.vertical_force or geo.vertical_force <= 0.0:
+        _fail(scene_name, "wheelset.vertical_force", table.get("vertical_force"),
+              "the vertical force on this wheel [N], > 0")
+    return geo, patch_no
+
+
 def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rail, friction: float | None,
                     base: str | None = None) -> ProfileContact:
     """The contact of a profile wheelset scene (module docstring).
@@ -307,29 +335,7 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
         A key's value, a missing ``vertical_force`` or ``pitch_velocity``, a roll or pitch left to the
         equilibrium, a wheel that finds no contact or runs off a profile, a patch number beyond those found.
     """
-    mixed = sorted(CONICAL_ONLY_KEYS & set(table))
-    if mixed:
-        _fail(scene_name, f"wheelset.{mixed[0]}", table[mixed[0]],
-              "no conical-wheelset key in a wheelset on profiles (it has wheel_profile/rail_profile/...): "
-              "give nominal_radius and vertical_force instead of wheel_radius and vertical_load")
-    patch_no = table.get("patch", 1)
-    if isinstance(patch_no, bool) or patch_no not in (1, 2, 3):
-        _fail(scene_name, "wheelset.patch", patch_no, "1, 2 or 3: which patch of the wheel (1 = the closest)")
-    for k, what in (("nominal_radius", "the wheel radius at the wheel profile's origin [m]"),
-                    ("vertical_force", "the vertical force on this wheel [N], > 0"),
-                    ("pitch_velocity", "the wheelset's angular velocity about its axle [rad/s]")):
-        if k not in table:
-            raise SceneError(f"scene {scene_name!r}: key 'wheelset.{k}' is missing: {what}",
-                             scene=scene_name, key=f"wheelset.{k}", allowed=what)
-    rest = {k: v for k, v in table.items() if k != "patch"}
-    geo = wheelset_geometry_from_table(scene_name, rest, base)
-    for k, word in (("roll_angle", "balance"), ("pitch_velocity", "free")):
-        if getattr(geo, k) == word:
-            _fail(scene_name, f"wheelset.{k}", word, f"a number: the equilibrium that '{word}' asks for is not "
-                  "solved yet; give the value (e.g. from the benchmark's table)")
-    if not geo.vertical_force or geo.vertical_force <= 0.0:
-        _fail(scene_name, "wheelset.vertical_force", table.get("vertical_force"),
-              "the vertical force on this wheel [N], > 0")
+    geo, patch_no = _geometry(scene_name, table, base)
     try:
         wc = contact_search(geo.on_track(), geo.side, speed=speed, section_half_width=SECTION_HALF_WIDTH)
     except ProfileError as exc:
