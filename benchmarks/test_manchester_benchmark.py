@@ -1,0 +1,128 @@
+"""Speed of the Manchester benchmark A-2.2 on real profiles (issue 26's targets): all 42 contacts (21 wheelset
+positions x both wheels) from the scene keys, each one contact search and the exact chain (``kalker`` normal
+and tangential, frictional heat, ``green`` temperatures), on two worker processes; and the contact search
+alone per wheel.
+
+Targets: the 42 contacts in <= 20 s on 2 cores (exact normal + tangential at a 0.2 mm grid, green
+temperatures); the contact search <= 5 ms per wheel. The contacts are solved at level 2, the level
+tests/test_manchester.py checks against CONTACT's published results. Its grids are finer than CONTACT's 0.2 mm:
+elements of 0.025 - 0.09 mm along x and 0.011 - 0.09 mm across (0.25 mm across at position 1, whose patch is
+16 mm wide), and more elements in contact at the three published contacts (2,879 against CONTACT's 1,291 at
+position 1 right, 12,630 against 332 at position 13 right, 12,337 against 658 at position 13 left); the
+timing is an upper bound for a 0.2 mm grid.
+
+Records (pytest-benchmark ``extra_info``): the wall time of the 42 contacts after one warm-up contact per
+worker (imports, numba's disk cache), the warm-up's time, the sum of the contacts' own wall and CPU times
+(search + solve, measured in the workers: the CPU time tells the machine's load apart), the slowest contact, the
+load average; and for the search alone the best time per wheel [ms] of
+:func:`railtherm.physics.contact_search.contact_search` and of the whole scene set-up
+(:func:`railtherm.input.scene.load_scene`: search, reference point, normal force, gap fit).
+
+Measured on the shared 2-core machine at load average ~10 (other sessions' studies running): the 42 contacts in
+12.2 s wall after a 8.0 s warm-up (sum of the contacts' wall times 24.0 s, CPU 5.9 s, slowest 1.8 s); the search
+2.5 ms wall, 1.6 ms CPU per wheel, the whole scene set-up 46 ms per wheel.
+
+Run: ``OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 NUMBA_NUM_THREADS=1 python -m pytest
+benchmarks/test_manchester_benchmark.py -m benchmark --benchmark-enable -p no:cacheprovider -n 0``.
+"""
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+import time
+import tomllib
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import pytest
+
+DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "profiles"
+WORKERS = 2
+LEVEL = 2
+OUTPUTS = ["normal_force", "creep_force_x", "creep_force_y", "max_pressure", "max_surface_temperature"]
+
+
+def a22_scene(position: int, side: str) -> dict:
+    """The benchmark's wheel ``side`` at ``position`` as a scene mapping (SI units), as tests/test_manchester.py
+    builds it, with green's material constants."""
+    a22 = tomllib.loads((DATA / "manchester_a22.toml").read_text())
+    s, p = a22["setup"], a22["position"][position - 1]
+    mat = {"shear_modulus": s["shear_modulus"] * 1e6, "poisson_ratio": s["poisson_ratio"], "density": 7850.0,
+           "specific_heat": 450.0, "conductivity": 50.0, "bulk_temperature": 0.0}
+    return {"name": f"a22-{position}-{side}", "speed": s["speed"] * 1e-3, "friction": s["friction"],
+            "wheel": mat, "rail": mat, "outputs": OUTPUTS,
+            "wheelset": {"wheel_profile": str(DATA / "MBench_S1002_v3.prw"),
+                         "rail_profile": str(DATA / "MBench_UIC60_v3.prr"),
+                         "rail_inclination": s["rail_cant"], "gauge": s["gauge"] * 1e-3,
+                         "gauge_height": s["gauge_height"] * 1e-3,
+                         "flange_back_distance": s["flange_back_distance"] * 1e-3,
+                         "flange_back_position": s["flange_back_position"] * 1e-3,
+                         "nominal_radius": s["nominal_radius"] * 1e-3, "lateral_shift": p["lateral_shift"] * 1e-3,
+                         "yaw_angle": p["yaw"], "roll_angle": p["roll"], "pitch_velocity": p["pitch_velocity"],
+                         "vertical_force": s["vertical_force"], "side": side}}
+
+
+CONTACTS = [(p, side) for p in range(1, 22) for side in ("right", "left")]
+
+
+def _contact(case) -> tuple[float, float, float]:
+    """One contact from its scene keys: (wall and CPU seconds for search + solve, max surface temperature
+    [degC])."""
+    import railtherm
+    from railtherm.input.scene import load_scene
+    t0, c0 = time.perf_counter(), time.process_time()
+    ds = railtherm.solve(load_scene(a22_scene(*case)), "kalker", level=LEVEL)
+    return time.perf_counter() - t0, time.process_time() - c0, float(ds["max_surface_temperature"].max())
+
+
+def _warm(_) -> float:
+    return _contact((13, "right"))[0]
+
+
+@pytest.mark.benchmark
+def test_a22_all_contacts_two_workers(benchmark):
+    for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+        os.environ.setdefault(k, "1")    # the workers share two cores: one thread each
+    with ProcessPoolExecutor(WORKERS, mp_context=mp.get_context("spawn")) as pool:
+        warm = list(pool.map(_warm, range(WORKERS)))
+
+        def run():
+            return list(pool.map(_contact, CONTACTS))
+        t0 = time.perf_counter()
+        results = benchmark.pedantic(run, rounds=1, iterations=1)
+        wall = time.perf_counter() - t0
+    own = [r[0] for r in results]
+    benchmark.extra_info.update({"contacts": len(results), "workers": WORKERS, "level": LEVEL, "wall_time": wall,
+                                 "warm_up": max(warm), "sum_contact_time": sum(own), "slowest_contact": max(own),
+                                 "sum_contact_cpu": sum(r[1] for r in results),
+                                 "load_average": os.getloadavg()[0]})
+    assert len(results) == 42 and all(r[2] > 0.0 for r in results)
+
+
+@pytest.mark.benchmark
+def test_a22_contact_search_per_wheel(benchmark):
+    from railtherm.input.profiles import wheelset_geometry_from_table
+    from railtherm.input.scene import load_scene
+    from railtherm.input.wheelset_profile import SECTION_HALF_WIDTH
+    from railtherm.physics.contact_search import contact_search
+    maps = [a22_scene(*c) for c in CONTACTS]
+    geos = [wheelset_geometry_from_table(m["name"], m["wheelset"]).on_track() for m in maps]
+    sides = [m["wheelset"]["side"] for m in maps]
+
+    def search_all():
+        for g, side in zip(geos, sides):
+            contact_search(g, side, speed=2.0, section_half_width=SECTION_HALF_WIDTH)
+    benchmark.pedantic(search_all, rounds=5, iterations=1, warmup_rounds=1)
+    search = benchmark.stats.stats.min / len(geos)
+    c0 = time.process_time()
+    search_all()
+    search_cpu = (time.process_time() - c0) / len(geos)
+    best = float("inf")
+    for _ in range(3):
+        t0 = time.perf_counter()
+        for m in maps:
+            load_scene(m)
+        best = min(best, (time.perf_counter() - t0) / len(maps))
+    benchmark.extra_info.update({"search_ms_per_wheel": search * 1e3, "search_cpu_ms_per_wheel": search_cpu * 1e3,
+                                 "scene_setup_ms_per_wheel": best * 1e3, "load_average": os.getloadavg()[0]})
+    assert search > 0.0
