@@ -1,6 +1,8 @@
 """Small plugins used by the core tests (fixtures, not methods)."""
 from __future__ import annotations
 
+import os
+import signal
 import time
 
 import numpy as np
@@ -41,6 +43,40 @@ class BrokenTemperature(FlatTemperature):
         if scene.speed == 15.0:
             time.sleep(30)
         return super().compute_temperature(scene, source, level, options)
+
+
+class SleepyTemperature(FlatTemperature):
+    """Test fixture: the flat temperature after a pause; can end its own process or ignore signals.
+
+    Defined here rather than in the executor tests: worker processes import the module that defines a
+    plugin sent to them, and this one imports only numpy and railtherm (not pytest, xarray or distributed).
+    """
+
+    name = "sleepy"
+    description = "test fixture: flat temperature after a pause; dies or hangs at chosen speeds"
+    options = {**FlatTemperature.options,
+               "sleep": railtherm.Option(0.0, "pause before computing [s]", minimum=0.0),
+               "die_at_speed": railtherm.Option(-1.0, "SIGKILL its own process at this speed [m/s]"),
+               "stuck_at_speed": railtherm.Option(-1.0, "block SIGALRM and sleep 60 s at this speed [m/s]")}
+
+    def compute_temperature(self, scene, source, level, options):
+        if scene.speed == options["die_at_speed"]:
+            os.kill(os.getpid(), signal.SIGKILL)
+        if scene.speed == options["stuck_at_speed"]:
+            signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGALRM})  # like a long C call
+            time.sleep(60)
+        time.sleep(options["sleep"])
+        return super().compute_temperature(scene, source, level, options)
+
+
+class SleepyPlugin:
+    @hookimpl
+    def railtherm_register_models(self):
+        return [SleepyTemperature]
+
+    @hookimpl
+    def railtherm_register_methods(self):
+        return [Method("sleepy", {"normal": ("hertz",), "tangential": ("full-sliding",), "temperature": ("sleepy",)})]
 
 
 class NoUnits(FlatTemperature):

@@ -1,7 +1,8 @@
 """Executors: processes and dask.distributed give the serial results bit for bit; faults lose nothing.
 
-* a sweep of 40 runs on local processes and on a dask LocalCluster, every data variable of every
-  run file compared byte for byte with a serial run (attributes such as wall_time may differ);
+* a sweep of 16 runs on local processes (40 on a dask LocalCluster, opt-in), every data variable of
+  every run file compared byte for byte with a serial run (attributes such as wall_time may differ), and
+  the scores and reference curves computed in the worker processes equal to the serial ones;
 * a worker killed in the middle of a study (SIGKILL of a worker process: found with psutil for local
   processes, with ``client.run(os.getpid)`` on a scheduler and workers on loopback): files written
   before stay untouched, the killed run is retried, ``resume`` rewrites nothing;
@@ -24,6 +25,7 @@ import os
 import signal
 import threading
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -31,44 +33,12 @@ import pytest
 import xarray as xr
 
 import railtherm
-from railtherm import Method, Option, hookimpl
 from railtherm.run.runner import execute_run, make_tasks, run_tasks
 from railtherm.run.timelimit import RunTimeout, _time_limit
 
-from fixture_plugins import FlatPlugin, FlatTemperature
+from fixture_plugins import FlatPlugin, SleepyPlugin
 
 psutil = pytest.importorskip("psutil")
-pytest.importorskip("distributed")
-
-
-class SleepyTemperature(FlatTemperature):
-    """Test fixture: the flat temperature after a pause; can end its own process or ignore signals."""
-
-    name = "sleepy"
-    description = "test fixture: flat temperature after a pause; dies or hangs at chosen speeds"
-    options = {**FlatTemperature.options,
-               "sleep": Option(0.0, "pause before computing [s]", minimum=0.0),
-               "die_at_speed": Option(-1.0, "SIGKILL its own process at this speed [m/s]"),
-               "stuck_at_speed": Option(-1.0, "block SIGALRM and sleep 60 s at this speed [m/s]")}
-
-    def compute_temperature(self, scene, source, level, options):
-        if scene.speed == options["die_at_speed"]:
-            os.kill(os.getpid(), signal.SIGKILL)
-        if scene.speed == options["stuck_at_speed"]:
-            signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGALRM})  # like a long C call
-            time.sleep(60)
-        time.sleep(options["sleep"])
-        return super().compute_temperature(scene, source, level, options)
-
-
-class SleepyPlugin:
-    @hookimpl
-    def railtherm_register_models(self):
-        return [SleepyTemperature]
-
-    @hookimpl
-    def railtherm_register_methods(self):
-        return [Method("sleepy", {"normal": ("hertz",), "tangential": ("full-sliding",), "temperature": ("sleepy",)})]
 
 
 SWEEP = """
@@ -117,16 +87,30 @@ def hosts():
     plugins.set_host(saved)
 
 
+def _serial(tmp_path_factory, speeds):
+    """The sweep at ``speeds`` run serially: (study path, output folder, metrics)."""
+    d = tmp_path_factory.mktemp("serial")
+    study = sweep(d / "sweep.toml", speeds=speeds)
+    m = railtherm.run_study(study, d / "out", report=False)
+    assert m.sizes["run"] == 4 * len(speeds) and set(m["status"].values) <= RAN
+    return study, d / "out", m
+
+
+#: speeds of the default suite's executor sweep: 16 runs (4 speeds x 2 sliding speeds x 2 levels)
+SPEEDS16 = [10.0, 11.0, 12.0, 13.0]
+
+
 @pytest.fixture(scope="module")
 def serial_sweep(hosts, tmp_path_factory):
-    d = tmp_path_factory.mktemp("serial")
-    study = sweep(d / "sweep.toml")
-    m = railtherm.run_study(study, d / "out", report=False)
-    assert m.sizes["run"] == 40 and set(m["status"].values) <= RAN
-    return study, d / "out"
+    return _serial(tmp_path_factory, SPEEDS16)
 
 
-def assert_same_runs(a: Path, b: Path, minimum: int = 40):
+@pytest.fixture(scope="module")
+def serial_sweep40(hosts, tmp_path_factory):
+    return _serial(tmp_path_factory, [float(v) for v in range(10, 20)])
+
+
+def assert_same_runs(a: Path, b: Path, minimum: int = 16):
     """Every data variable (and coordinate) of every run file equal byte for byte."""
     fa = sorted(p.relative_to(a) for p in a.glob("runs/*/*/level-*.nc"))
     fb = sorted(p.relative_to(b) for p in b.glob("runs/*/*/level-*.nc"))
@@ -142,21 +126,36 @@ def assert_same_runs(a: Path, b: Path, minimum: int = 40):
                 assert x.attrs[key] == y.attrs[key]
 
 
-def test_processes_match_serial_bit_for_bit(serial_sweep, tmp_path):
-    study, ref = serial_sweep
-    m = railtherm.run_study(study, tmp_path / "out", executor="processes", workers=2, report=False)
+def test_processes_match_serial_bit_for_bit(serial_sweep, tmp_path, monkeypatch):
+    """The run files, and the scores of metrics.nc: with the threshold of parallel scoring lowered to this
+    sweep's 16 runs, the runs are scored and the reference curves computed in worker processes too."""
+    from railtherm.run import runner
+    study, ref, serial = serial_sweep
+    monkeypatch.setattr(runner, "PARALLEL_METRICS_MIN_RUNS", 16)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)   # the worker-process scoring fell back to this process
+        m = railtherm.run_study(study, tmp_path / "out", executor="processes", workers=2, report=False)
     assert set(m["status"].values) <= RAN
     assert_same_runs(ref, tmp_path / "out")
+    assert list(m["status"].values) == list(serial["status"].values)
+    for v in ("error_max_surface_temperature", "energy_balance", "headline_error"):
+        assert m[v].values.tobytes() == serial[v].values.tobytes(), v
+    from railtherm.analysis.reference_curves import read_reference_curves
+    got, exp = read_reference_curves(tmp_path / "out" / "references.nc"), read_reference_curves(ref / "references.nc")
+    assert sorted(got) == sorted(exp) and len(exp) == 2 * len(SPEEDS16)
+    for scene in exp:
+        assert got[scene].identical(exp[scene]), scene
 
 
 @pytest.mark.slow  # the dask path's bit-for-bit check in the default suite: test_real_method_bit_for_bit_on_every_executor
-def test_dask_local_cluster_matches_serial_bit_for_bit(serial_sweep, tmp_path):
+def test_dask_local_cluster_matches_serial_bit_for_bit(serial_sweep40, tmp_path):
     """executor="dask" without a scheduler starts a LocalCluster (2 worker processes), one task per run."""
     import json
-    study, ref = serial_sweep
+    pytest.importorskip("distributed")
+    study, ref, _ = serial_sweep40
     m = railtherm.run_study(study, tmp_path / "out", executor="dask", workers=2, report=False)
     assert set(m["status"].values) <= RAN
-    assert_same_runs(ref, tmp_path / "out")
+    assert_same_runs(ref, tmp_path / "out", minimum=40)
     recs = json.loads((tmp_path / "out" / "study.json").read_text())["records"]
     assert len({r["pid"] for r in recs}) == 2 and os.getpid() not in {r["pid"] for r in recs}
 
@@ -290,6 +289,7 @@ def test_time_limit_in_a_thread_raises_in_that_thread():
 @pytest.fixture(scope="module")
 def loopback_cluster(hosts):
     """A scheduler and two worker processes on loopback, one retry after a worker death."""
+    pytest.importorskip("distributed")
     import dask
     from distributed import Client, LocalCluster
     with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
@@ -417,6 +417,7 @@ def test_real_method_bit_for_bit_on_every_executor(green_host, tmp_path):
     process, in local worker processes (the default executor) and on a dask LocalCluster: every data variable compared
     byte for byte."""
     import json
+    pytest.importorskip("distributed")
     study = tmp_path / "green.toml"
     study.write_text(GREEN)
     ref = railtherm.run_study(study, tmp_path / "serial", report=False)
@@ -459,7 +460,7 @@ outputs = ["max_surface_temperature"]
         p = tmp_path / f"s-{warmup}.toml"
         p.write_text(text.format(repeat=repeat, warmup=warmup))
         out = tmp_path / f"out-{warmup}"
-        railtherm.run_study(p, out=out)
+        railtherm.run_study(p, out=out, report=False)     # the timings are in metrics.nc; no report needed
         m = xr.open_dataset(out / "metrics.nc")
         counts[warmup] = sorted(set(int(v) for v in m.timing_runs.values))
         m.close()

@@ -54,8 +54,21 @@ def run(tmp_path, methods='["flat"]', speeds="[30.0, 60.0]", extra=""):
     return railtherm.load_study(p), out
 
 
-def test_sweep_becomes_coordinates(flat_host, tmp_path):
-    study, out = run(tmp_path)
+@pytest.fixture(scope="module")
+def maps(tmp_path_factory):
+    """The default study of :func:`run` (8 scenes of flat, 16 runs), run once for the tests that only read it."""
+    from fixture_plugins import FlatPlugin
+    from railtherm.solving import plugins
+    saved = plugins._HOST
+    plugins.set_host(plugins.new_host([("flat", FlatPlugin())], autoload=False, strict=True))
+    try:
+        return run(tmp_path_factory.mktemp("maps"))
+    finally:
+        plugins.set_host(saved)
+
+
+def test_sweep_becomes_coordinates(maps):
+    study, out = maps
     ds = railtherm.open_results(out)
     assert dict(ds.sizes) == {"scene": 8, "method_name": 1, "level": 2, "body": 2}
     # swept keys as coordinates along scene, named by their dotted study key; a key that is also a result
@@ -81,8 +94,8 @@ def test_sweep_becomes_coordinates(flat_host, tmp_path):
                 assert float(sel["wall_time"].sel(method_name="flat", level=k)) == f.attrs["wall_time"]
 
 
-def test_unstack_gives_one_dimension_per_swept_parameter(flat_host, tmp_path):
-    _, out = run(tmp_path)
+def test_unstack_gives_one_dimension_per_swept_parameter(maps):
+    _, out = maps
     g = railtherm.open_results(out, unstack=True)
     assert g["max_surface_temperature"].sizes == {"method_name": 1, "level": 2, "body": 2, "sweep_normal_force": 2,
                                                   "speed": 2, "wheel.bulk_temperature": 2}
@@ -119,8 +132,8 @@ def test_refused_and_failed_runs_are_nan_with_their_status(flat_host, tmp_path):
         railtherm.open_results(out, unstack=True)  # the creep scene has no swept values
 
 
-def test_variables_filter_and_missing_folder(flat_host, tmp_path):
-    _, out = run(tmp_path, speeds="[30.0]")
+def test_variables_filter_and_missing_folder(maps, tmp_path):
+    _, out = maps
     ds = railtherm.open_results(out, variables=["frictional_power"])
     assert set(ds.data_vars) == {"frictional_power", "wall_time", "status"}
     with pytest.raises(FileNotFoundError, match="railtherm run"):
@@ -128,7 +141,7 @@ def test_variables_filter_and_missing_folder(flat_host, tmp_path):
 
 
 # ---------------------------------------------------------------------------------------------
-# the sweep of studies/sweep_10k.toml: 200 of its scenes in the default suite, all 10 000 as a slow test
+# the sweep of studies/sweep_10k.toml: 18 of its scenes in the default suite, all 10 000 as a slow test
 SWEEP_FILE = __import__("pathlib").Path(__file__).resolve().parents[1] / "studies" / "sweep_10k.toml"
 
 
@@ -168,14 +181,15 @@ def _check_sweep(out, study, shape):
     return g
 
 
-def test_sweep_of_50_scenes_on_two_processes(tmp_path):
-    """A four-parameter map of the 10k sweep, cut to 2 x 5 x 5 x 1 scenes, on two worker processes."""
+def test_sweep_of_18_scenes_on_two_processes(tmp_path):
+    """A four-parameter map of the 10k sweep, cut to 2 x 3 x 3 x 1 scenes (its ends and a middle value), on
+    two worker processes."""
     _green_or_skip()
-    study = _sweep_study(normal_force=[80e3, 120e3], speed=[5.0, 10.0, 20.0, 30.0, 50.0],
-                         sliding_speed=[0.1, 0.3, 1.0, 2.0, 5.0], friction=[0.3])
-    assert len(study.scenes) == 50
+    study = _sweep_study(normal_force=[80e3, 120e3], speed=[5.0, 20.0, 50.0],
+                         sliding_speed=[0.1, 1.0, 5.0], friction=[0.3])
+    assert len(study.scenes) == 18
     railtherm.run_study(study, tmp_path / "out", executor="processes", workers=2, report=False)
-    _check_sweep(tmp_path / "out", study, (2, 5, 5, 1))
+    _check_sweep(tmp_path / "out", study, (2, 3, 3, 1))
 
 
 @pytest.mark.slow
@@ -244,9 +258,11 @@ def test_sweep_json_round_trip_and_release_01_attributes():
         sweep_of({"sweep": "creepage.longitudinal=-1e-3"})
 
 
-def test_open_results_names_a_dotted_sweep_coordinate_and_reads_release_01_files(flat_host, tmp_path):
+def test_open_results_names_a_dotted_sweep_coordinate_and_reads_release_01_files(maps, tmp_path):
+    import shutil
+
     import netCDF4
-    _, out = run(tmp_path, speeds="[30.0]")
+    out = shutil.copytree(maps[1], tmp_path / "out")    # a copy: the run files are rewritten below
     ds = railtherm.open_results(out)
     assert "wheel.bulk_temperature" in ds.coords and "wheel_bulk_temperature" not in ds.coords
     assert ds["wheel.bulk_temperature"].attrs["long_name"] == "swept study key 'wheel.bulk_temperature'"

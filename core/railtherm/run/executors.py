@@ -170,17 +170,30 @@ class SerialExecutor:
             yield i, fn(t, **kw)
 
 
+def _preload() -> None:
+    """Import the modules every run needs before a worker takes its first run, so that their import time
+    (seconds on a loaded machine) does not count against that run's time limit."""
+    from ..solving import pipeline  # noqa: F401
+    from ..contract import schema  # noqa: F401
+    from ..references import hertz  # noqa: F401 - scipy.optimize: ~0.5 s
+    import netCDF4  # noqa: F401
+    import xarray  # noqa: F401
+    for optional in ("numba.core.event", "dask.array"):
+        # numba: the solve's compile watch (run.timing.compile_watch) imports it, ~0.8 s; dask: xarray
+        # imports it on the first Variable it builds when it is installed, ~0.5 s
+        try:
+            __import__(optional)
+        except ImportError:
+            pass
+
+
 def _worker_main(conn, spec, fn):  # pragma: no cover - runs in the worker process
     import signal
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C and ends its workers
     setup_error = None
     try:
         install_host(spec)
-        from ..solving import pipeline  # noqa: F401 - load the heavy modules before the first run
-        from ..contract import schema  # noqa: F401
-        from ..references import hertz  # noqa: F401 - scipy.optimize: ~0.5 s, not the first run's time limit
-        import netCDF4  # noqa: F401
-        import xarray  # noqa: F401
+        _preload()
     except BaseException as exc:  # noqa: BLE001
         setup_error = f"worker could not set up its plugins: {type(exc).__name__}: {exc}"
     conn.send(("ready", os.getpid()))
@@ -364,6 +377,7 @@ class ProcessExecutor:
 def _dask_run(task, *, spec, fn, kw, grace):  # pragma: no cover - runs on a dask worker
     from .timelimit import WATCHDOG
     install_host(spec)
+    _preload()  # once per worker process (imports are cached); not in the run's time limit
     limit = task.timeout
     token = None
     if limit and limit > 0:
