@@ -133,6 +133,40 @@ def _law_cell(habs, hx, hy, pc, v_over_dq, L1, L2, mu_kin, dmu, decay, stats):  
     return g
 
 
+@numba.njit(cache=True, fastmath=False, boundscheck=False, inline="always")
+def _cell_update(hx, hy, habs, g, speed, inv_dq, L1, L2):  # pragma: no cover - compiled
+    """FASTSIM's update of one contact cell from its trial (stick) traction ``h = (hx, hy)`` [Pa],
+    ``habs = |h|``, and its traction bound ``g`` [Pa].
+
+    In stick (``|h| <= g``) the traction is ``h`` and there is no slip; otherwise the traction is
+    ``g h/|h|`` and the wheel slips relative to the rail at ``V L (q - h)/dq``. Every cell of the
+    sweep goes through here (the cut cells at a strip's leading edge too).
+
+    Returns
+    -------
+    qx, qy : float
+        Traction on the wheel [Pa].
+    vx, vy : float
+        Slip velocity [m/s].
+    stuck : bool
+        True in stick.
+    pd : float
+        Frictional power density ``-q . v`` [W/m^2] (0 in stick).
+    """
+    if habs <= g:
+        return hx, hy, 0.0, 0.0, True, 0.0
+    f = g / habs
+    qx = hx * f
+    qy = hy * f
+    # slip per unit rolling distance, then velocity
+    vx = speed * L1 * (qx - hx) * inv_dq
+    vy = speed * L2 * (qy - hy) * inv_dq
+    return qx, qy, vx, vy, False, -(qx * vx + qy * vy)
+
+
+# long: one fused numba loop over the cells of every strip, whose per-strip state (previous traction,
+# in-contact flag) and running sums a split would pass through calls in the innermost loop; half of
+# it is the parameter docstring, and the cell update itself is _cell_update
 @numba.njit(cache=True, fastmath=False, boundscheck=False)
 def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
                       law_mode, mu_kin, dmu, decay,
@@ -221,6 +255,7 @@ def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_o
                 pvy[j] = 0.0
                 incon[j] = False
                 continue
+            yj = y[j]
             if edge_mode == 1 and not incon[j]:
                 step = lead[j] - xi_
                 if step <= 0.0:
@@ -231,86 +266,42 @@ def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_o
                     if step < 0.0:
                         step = 0.0
                     xs = lead[j] - 0.5 * step
-                    wx = ax0 - k3 * y[j]
-                    wy = ay0 + k3 * xs
-                    hx = -step * wx
-                    hy = -step * wy
-                    habs = math.sqrt(hx * hx + hy * hy)
-                    if law_mode == 1:
-                        g = _law_cell(habs, hx, hy, bound[i, j], speed * inv_dq, L1, L2, mu_kin, dmu, decay, stats)
-                    if habs <= g:
-                        px[i, j] = hx
-                        py[i, j] = hy
-                        sx[i, j] = 0.0
-                        sy[i, j] = 0.0
-                        stick[i, j] = 1.0
-                        power[i, j] = 0.0
-                        nstick += 1
-                    else:
-                        f = g / habs
-                        qx = hx * f
-                        qy = hy * f
-                        vx = speed * L1 * (qx - hx) * inv_dq
-                        vy = speed * L2 * (qy - hy) * inv_dq
-                        px[i, j] = qx
-                        py[i, j] = qy
-                        sx[i, j] = vx
-                        sy[i, j] = vy
-                        stick[i, j] = 0.0
-                        power[i, j] = -(qx * vx + qy * vy)
-                        nslip += 1
-                    fx += px[i, j]
-                    fy += py[i, j]
-                    mz += xi_ * py[i, j] - y[j] * px[i, j]
-                    pw += power[i, j]
-                    continue
-                xs = 0.5 * (lead[j] + xi_)
+                    hx = -step * (ax0 - k3 * yj)
+                    hy = -step * (ay0 + k3 * xs)
+                    advance = False
+                else:
+                    xs = 0.5 * (lead[j] + xi_)
+                    hx = pvx[j] - step * (ax0 - k3 * yj)
+                    hy = pvy[j] - step * (ay0 + k3 * xs)
+                    advance = True
             else:
-                step = dq
                 xs = xi_ + spin_offset
-            yj = y[j]
-            wx = ax0 - k3 * yj          # traction increment per unit rolling distance [Pa/m]
-            wy = ay0 + k3 * xs
-            hx = pvx[j] - step * wx
-            hy = pvy[j] - step * wy
+                hx = pvx[j] - dq * (ax0 - k3 * yj)     # traction increment per unit rolling distance [Pa/m]
+                hy = pvy[j] - dq * (ay0 + k3 * xs)
+                advance = True
             habs = math.sqrt(hx * hx + hy * hy)
             if law_mode == 1:
-                g = _law_cell(habs, hx, hy, bound[i, j], speed * inv_dq, L1, L2, mu_kin, dmu, decay, stats)
-            if habs <= g:
-                px[i, j] = hx
-                py[i, j] = hy
-                sx[i, j] = 0.0
-                sy[i, j] = 0.0
+                g = _law_cell(habs, hx, hy, g, speed * inv_dq, L1, L2, mu_kin, dmu, decay, stats)
+            qx, qy, vx, vy, stuck, pd = _cell_update(hx, hy, habs, g, speed, inv_dq, L1, L2)
+            px[i, j] = qx
+            py[i, j] = qy
+            sx[i, j] = vx
+            sy[i, j] = vy
+            power[i, j] = pd
+            if stuck:
                 stick[i, j] = 1.0
-                power[i, j] = 0.0
                 nstick += 1
-                fx += hx
-                fy += hy
-                mz += xi_ * hy - yj * hx
-                pvx[j] = hx
-                pvy[j] = hy
             else:
-                f = g / habs
-                qx = hx * f
-                qy = hy * f
-                # slip per unit rolling distance, then velocity
-                vx = speed * L1 * (qx - hx) * inv_dq
-                vy = speed * L2 * (qy - hy) * inv_dq
-                px[i, j] = qx
-                py[i, j] = qy
-                sx[i, j] = vx
-                sy[i, j] = vy
                 stick[i, j] = 0.0
-                pd = -(qx * vx + qy * vy)
-                power[i, j] = pd
                 nslip += 1
-                fx += qx
-                fy += qy
-                mz += xi_ * qy - yj * qx
-                pw += pd
+            fx += qx
+            fy += qy
+            mz += xi_ * qy - yj * qx
+            pw += pd
+            if advance:
                 pvx[j] = qx
                 pvy[j] = qy
-            incon[j] = True
+                incon[j] = True
     return fx, fy, mz, pw, nstick, nslip, int(stats[0]), int(stats[2]), stats[1], stats[3]
 
 

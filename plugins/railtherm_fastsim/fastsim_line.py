@@ -181,6 +181,7 @@ def _exact_cells(x_edges, a, bound, g0, xi, L, speed):
     return traction, slip, power, stick, xs
 
 
+# over 80 lines only through its docstring (the public line FASTSIM call's parameters); the body is 36 lines
 def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, poisson_ratio, xi, speed,
                  bound="elliptic", leading_edge="exact", flexibility=None, integration=None, slip_law=None):
     """FASTSIM on a line contact: traction, slip, stick, creep force and power per unit width.
@@ -232,8 +233,7 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
         Fields of shape (nx,); ``creep_force_x`` [N/m], ``local_power`` and ``global_power`` [W/m];
         ``creep_force_y`` and ``spin_moment`` are 0.
     """
-    from .fastsim_kernel import fastsim_sweep_law
-    from .simplified_theory import BOUNDS, LEADING_EDGES, FastsimResult, law_arguments, law_diagnostics
+    from .simplified_theory import BOUNDS, LEADING_EDGES, FastsimResult, power_diagnostics
 
     if not grid.line:
         raise ValueError("fastsim_line needs a line grid (y_edges None)")
@@ -251,7 +251,29 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
         friction = float(np.max(mu))           # g0 (unused by the sweep)
     else:
         mu = friction
-    x = np.ascontiguousarray(grid.x, dtype=float)
+    dq = float(grid.dx)
+    p, g0, integration = _line_bound(grid, pressure, a, normal_force, friction, bound, integration)
+    L = float(flexibility) if flexibility is not None else line_flexibility(a, shear_modulus, poisson_ratio)
+    diag = {"flexibility_L1": L, "flexibility": "line (Carter's linear slope)", "bound": bound,
+            "leading_edge": leading_edge, "integration": integration}
+    if integration == "exact":
+        tx, sx, pd, stick, xs = _exact_cells(grid.x_edges, float(a), bound, g0, float(xi), L, float(speed))
+        nstick = int(np.nansum(stick))
+        nslip = int(np.sum(stick == 0.0))
+        diag["stick_slip_boundary"] = xs
+    else:
+        tx, sx, pd, stick, nstick, nslip = _sweep_cells(grid, p, mu, a, xi, L, speed, leading_edge, slip_law, diag)
+    Fx = float(tx.sum()) * dq
+    P = float(pd.sum()) * dq
+    Gp = -speed * xi * Fx
+    diag.update({"stick_cells": int(nstick), "slip_cells": int(nslip), **power_diagnostics(P, Gp),
+                 "creepage_longitudinal": float(xi), "creepage_lateral": 0.0, "creepage_spin": 0.0})
+    return FastsimResult(tx, np.zeros_like(tx), sx, np.zeros_like(tx), stick, pd, p, Fx, 0.0, 0.0, P, Gp, diag)
+
+
+def _line_bound(grid, pressure, a, normal_force, friction, bound, integration):
+    """The pressure of every cell [Pa], the bound's peak g0 [Pa] and the integration that applies:
+    ``"exact"`` falls back to ``"sweep"`` when the given pressure is not the Hertzian one."""
     dq = float(grid.dx)
     lo = np.clip(grid.x_edges[:-1], -a, a)
     hi = np.clip(grid.x_edges[1:], -a, a)
@@ -267,38 +289,31 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
             hz = p0 * a * (_bound_antiderivative("elliptic", hi / a) - _bound_antiderivative("elliptic", lo / a)) / dq
             if not np.allclose(p, hz, rtol=1e-9, atol=1e-9 * p0):
                 integration = "sweep"          # not the Hertzian pressure: the analytic bound does not apply
-    L = float(flexibility) if flexibility is not None else line_flexibility(a, shear_modulus, poisson_ratio)
-    diag = {"flexibility_L1": L, "flexibility": "line (Carter's linear slope)", "bound": bound,
-            "leading_edge": leading_edge, "integration": integration}
-    if integration == "exact":
-        tx, sx, pd, stick, xs = _exact_cells(grid.x_edges, float(a), bound, g0, float(xi), L, float(speed))
-        nstick = int(np.nansum(stick))
-        nslip = int(np.sum(stick == 0.0))
-        diag["stick_slip_boundary"] = xs
-    else:
-        # inside fraction of each cell (the grid spans [-a, a]: 1 everywhere unless cells stick out)
-        frac = np.clip((hi - lo) / dq, 0.0, 1.0)
-        frac = np.where(p > 0, frac, 0.0)
-        inside = frac > 1e-12
-        g = np.where(inside, mu * p / np.where(inside, frac, 1.0), 0.0)
-        mode = 1 if leading_edge == "exact" else 0
-        lead = np.array([float(a) if mode == 1 else x[np.nonzero(inside)[0][-1]] + 0.5 * dq])
-        shape = (x.size, 1)
-        px, py, sxx, syy, st, power = (np.empty(shape) for _ in range(6))
-        out = fastsim_sweep_law(x, np.zeros(1), np.ascontiguousarray(g.reshape(shape)), lead, float(xi), 0.0, 0.0,
-                                L, L, L, float(speed), 0.5 * dq, mode, *law_arguments(slip_law),
-                                px, py, sxx, syy, st, power)
-        nstick, nslip = out[4], out[5]
-        diag.update(law_diagnostics(slip_law, out))
-        tx = px[:, 0] * frac
-        pd = power[:, 0] * frac
-        sx = sxx[:, 0].copy()
-        stick = st[:, 0].copy()
-    Fx = float(tx.sum()) * dq
-    P = float(pd.sum()) * dq
-    Gp = -speed * xi * Fx
-    diag.update({"stick_cells": int(nstick), "slip_cells": int(nslip),
-                 "global_power": Gp, "local_power": P, "power_difference": P - Gp,
-                 "power_difference_relative": (P - Gp) / Gp if Gp != 0 else 0.0,
-                 "creepage_longitudinal": float(xi), "creepage_lateral": 0.0, "creepage_spin": 0.0})
-    return FastsimResult(tx, np.zeros_like(tx), sx, np.zeros_like(tx), stick, pd, p, Fx, 0.0, 0.0, P, Gp, diag)
+    return p, g0, integration
+
+
+def _sweep_cells(grid, p, mu, a, xi, L, speed, leading_edge, slip_law, diag):
+    """Kalker's discrete sweep on the one strip: traction, slip velocity, power density, stick map (cell
+    values, scaled by the inside fraction) and the stick and slip cell counts; the slip law's
+    diagnostics go into ``diag``."""
+    from .fastsim_kernel import fastsim_sweep_law
+    from .simplified_theory import law_arguments, law_diagnostics
+
+    x = np.ascontiguousarray(grid.x, dtype=float)
+    dq = float(grid.dx)
+    lo = np.clip(grid.x_edges[:-1], -a, a)
+    hi = np.clip(grid.x_edges[1:], -a, a)
+    # inside fraction of each cell (the grid spans [-a, a]: 1 everywhere unless cells stick out)
+    frac = np.clip((hi - lo) / dq, 0.0, 1.0)
+    frac = np.where(p > 0, frac, 0.0)
+    inside = frac > 1e-12
+    g = np.where(inside, mu * p / np.where(inside, frac, 1.0), 0.0)
+    mode = 1 if leading_edge == "exact" else 0
+    lead = np.array([float(a) if mode == 1 else x[np.nonzero(inside)[0][-1]] + 0.5 * dq])
+    shape = (x.size, 1)
+    px, py, sxx, syy, st, power = (np.empty(shape) for _ in range(6))
+    out = fastsim_sweep_law(x, np.zeros(1), np.ascontiguousarray(g.reshape(shape)), lead, float(xi), 0.0, 0.0,
+                            L, L, L, float(speed), 0.5 * dq, mode, *law_arguments(slip_law),
+                            px, py, sxx, syy, st, power)
+    diag.update(law_diagnostics(slip_law, out))
+    return px[:, 0] * frac, sxx[:, 0].copy(), power[:, 0] * frac, st[:, 0].copy(), out[4], out[5]

@@ -111,66 +111,105 @@ def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, whee
     -------
     WheelsetSolution
     """
-    from .simplified_theory import fastsim
-
-    gam = float(conicity)
-    delta = math.atan(gam)
-    dl = np.array([delta, -delta])
-    e = 0.5 * float(gauge)
-    ys = np.array([e, -e])
-    r0 = float(wheel_radius)
-    radii = np.array([r0 + gam * lateral_shift, r0 - gam * lateral_shift])
-    Q = float(vertical_load)
-    N = np.full(2, 0.5 * Q / math.cos(delta))
-
-    def creepages(theta):
-        xi = 1.0 - (1.0 + theta) * radii / r0
-        eta = -float(yaw_angle) / np.cos(dl)
-        phi = (1.0 + theta) * np.sin(dl) / r0
-        return xi, eta, phi
-
-    def forces(theta, Nv):
-        xi, eta, phi = creepages(theta)
-        fx = np.zeros(2)
-        fy = np.zeros(2)
-        for i in range(2):
-            a, b, p0 = rescale_hertz_patch(Nv[i], ref_normal_force, *ref_semi_axes, scaling)
-            g, p = hertz_pressure_grid(a, b, p0, 0, cells, gauss=PRESSURE_GAUSS)
-            r = fastsim(g, p, a=a, b=b, normal_force=Nv[i], friction=friction, shear_modulus=shear_modulus,
-                        poisson_ratio=poisson_ratio, xi=xi[i], eta=eta[i], phi=phi[i], speed=speed,
-                        **fastsim_options)
-            fx[i], fy[i] = r.creep_force_x, r.creep_force_y
-        return fx, fy
-
+    w = _Wheelset.build(conicity, lateral_shift, yaw_angle, vertical_load, wheel_radius, gauge,
+                        dict(speed=speed, friction=friction, shear_modulus=shear_modulus,
+                             poisson_ratio=poisson_ratio, **fastsim_options),
+                        ref_normal_force, ref_semi_axes, scaling, cells)
+    N = np.full(2, 0.5 * w.Q / math.cos(w.delta))
     theta = 0.0
     converged = False
     it = 0
     for it in range(1, maxiter + 1):
-        def moment(th, Nv=N):
-            return float(np.dot(forces(th, Nv)[0], radii))
-
-        lo, hi = -0.05, 0.05
-        m_lo, m_hi = moment(lo), moment(hi)
-        theta = brentq(moment, lo, hi, xtol=1e-15, rtol=1e-12) if m_lo * m_hi < 0 else 0.0
-        fx, fy = forces(theta, N)
-        k = fy / N
-        alpha = np.cos(dl) + k * np.sin(dl)
-        beta = k * np.cos(dl) - np.sin(dl)
-        A = np.array([alpha, ys * alpha + radii * beta])
-        N_new = np.linalg.solve(A, np.array([Q, 0.0]))
+        theta = w.rolling_theta(N)
+        fx, fy = w.forces(theta, N)
+        N_new = w.normal_forces(fx, fy, N)
         change = float(np.max(np.abs(N_new - N) / np.abs(N_new)))
         N = N_new
         if change < rtol:
             converged = True
             break
-    xi, eta, phi = creepages(theta)
-    fx, fy = forces(theta, N)
-    fz = N * np.cos(dl) + fy * np.sin(dl)
-    flat = fy * np.cos(dl) - N * np.sin(dl)
-    res = {"vertical": float(fz.sum() - Q) / Q,
-           "roll": float(np.dot(ys, fz) + np.dot(radii, flat)) / (Q * e),
-           "axle_moment": float(np.dot(fx, radii)) / (Q * r0)}
-    return WheelsetSolution(N, xi, eta, phi, fx, fy, float(theta), radii, it, converged, res)
+    xi, eta, phi = w.creepages(theta)
+    fx, fy = w.forces(theta, N)
+    return WheelsetSolution(N, xi, eta, phi, fx, fy, float(theta), w.radii, it, converged, w.residuals(N, fx, fy))
+
+
+@dataclass(frozen=True)
+class _Wheelset:
+    """The wheelset's geometry and FASTSIM inputs, built once per :func:`wheelset_contacts` solve, and the
+    steps of its fixed-point iteration."""
+
+    delta: float                  # contact angle of wheel 1 [rad]
+    dl: np.ndarray                # contact angles (+delta, -delta) [rad]
+    ys: np.ndarray                # lateral positions (+e, -e) [m]
+    e: float                      # half the gauge [m]
+    r0: float                     # nominal rolling radius [m]
+    radii: np.ndarray             # rolling radii [m]
+    Q: float                      # vertical load [N]
+    yaw: float                    # psi [rad]
+    fastsim_kw: dict              # speed, friction, elastic constants, fastsim options
+    ref_normal_force: float
+    ref_semi_axes: tuple
+    scaling: str
+    cells: int
+
+    @classmethod
+    def build(cls, conicity, lateral_shift, yaw_angle, vertical_load, wheel_radius, gauge, fastsim_kw,
+              ref_normal_force, ref_semi_axes, scaling, cells):
+        gam = float(conicity)
+        delta = math.atan(gam)
+        e = 0.5 * float(gauge)
+        r0 = float(wheel_radius)
+        return cls(delta, np.array([delta, -delta]), np.array([e, -e]), e, r0,
+                   np.array([r0 + gam * lateral_shift, r0 - gam * lateral_shift]), float(vertical_load),
+                   float(yaw_angle), fastsim_kw, ref_normal_force, ref_semi_axes, scaling, cells)
+
+    def creepages(self, theta):
+        """xi, eta, phi of both wheels at the angular-velocity perturbation theta."""
+        xi = 1.0 - (1.0 + theta) * self.radii / self.r0
+        eta = -self.yaw / np.cos(self.dl)
+        phi = (1.0 + theta) * np.sin(self.dl) / self.r0
+        return xi, eta, phi
+
+    def forces(self, theta, Nv):
+        """Creep forces (Fx, Fy) [N] of both wheels: FASTSIM on each Hertz patch under the normal forces Nv."""
+        from .simplified_theory import fastsim
+
+        xi, eta, phi = self.creepages(theta)
+        fx = np.zeros(2)
+        fy = np.zeros(2)
+        for i in range(2):
+            a, b, p0 = rescale_hertz_patch(Nv[i], self.ref_normal_force, *self.ref_semi_axes, self.scaling)
+            g, p = hertz_pressure_grid(a, b, p0, 0, self.cells, gauss=PRESSURE_GAUSS)
+            r = fastsim(g, p, a=a, b=b, normal_force=Nv[i], xi=xi[i], eta=eta[i], phi=phi[i], **self.fastsim_kw)
+            fx[i], fy[i] = r.creep_force_x, r.creep_force_y
+        return fx, fy
+
+    def rolling_theta(self, N):
+        """theta that balances the axle moment ``sum Fx_i r_i = 0`` under the normal forces N (0 when the
+        bracket [-0.05, 0.05] holds no sign change)."""
+        def moment(th, Nv=N):
+            return float(np.dot(self.forces(th, Nv)[0], self.radii))
+
+        lo, hi = -0.05, 0.05
+        m_lo, m_hi = moment(lo), moment(hi)
+        return brentq(moment, lo, hi, xtol=1e-15, rtol=1e-12) if m_lo * m_hi < 0 else 0.0
+
+    def normal_forces(self, fx, fy, N):
+        """The seed's linear system ``A N = Q`` (55) with the secant coefficients ``k = Fy/N`` of the iterate."""
+        k = fy / N
+        alpha = np.cos(self.dl) + k * np.sin(self.dl)
+        beta = k * np.cos(self.dl) - np.sin(self.dl)
+        A = np.array([alpha, self.ys * alpha + self.radii * beta])
+        return np.linalg.solve(A, np.array([self.Q, 0.0]))
+
+    def residuals(self, N, fx, fy):
+        """Relative residuals of the vertical, roll and axle-moment balances."""
+        Q, e, r0, dl, ys, radii = self.Q, self.e, self.r0, self.dl, self.ys, self.radii
+        fz = N * np.cos(dl) + fy * np.sin(dl)
+        flat = fy * np.cos(dl) - N * np.sin(dl)
+        return {"vertical": float(fz.sum() - Q) / Q,
+                "roll": float(np.dot(ys, fz) + np.dot(radii, flat)) / (Q * e),
+                "axle_moment": float(np.dot(fx, radii)) / (Q * r0)}
 
 
 def scene_wheelset_contact(scene, patch=None, contact=None, **fastsim_options):

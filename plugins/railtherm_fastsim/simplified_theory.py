@@ -35,7 +35,7 @@ from railtherm.references.kalker import flexibilities as _flexibilities
 from railtherm.references.kalker import kalker_coefficients, weighted_flexibility
 
 __all__ = ["FastsimResult", "fastsim", "fastsim_flexibilities", "ellipse_cell_integrals", "law_arguments",
-           "law_diagnostics", "BOUNDS", "FLEXIBILITIES", "LEADING_EDGES"]
+           "law_diagnostics", "power_diagnostics", "BOUNDS", "FLEXIBILITIES", "LEADING_EDGES"]
 
 BOUNDS = ("elliptic", "parabolic")
 FLEXIBILITIES = ("three", "one", "contact")
@@ -149,6 +149,7 @@ def ellipse_cell_integrals(grid, a, b, n_gauss=12):
     return frac, par
 
 
+# over 80 lines only through its docstring (the public FASTSIM call's parameters); the body is 35 lines
 def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, poisson_ratio, xi, eta, phi, speed,
             bound="elliptic", flexibility="three", leading_edge="exact", slip_law=None):
     """Kalker's FASTSIM on a rectangular cell-centred grid covering an elliptical patch.
@@ -212,8 +213,51 @@ def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, pois
         raise ValueError(f"leading_edge must be one of {LEADING_EDGES}, got {leading_edge!r}")
     x = np.ascontiguousarray(grid.x, dtype=float)
     y = np.ascontiguousarray(grid.y, dtype=float)
-    dq = float(grid.dx)
     X, Y = grid.mesh()
+    p, frac, g, mode, offset = _cell_bounds(grid, X, Y, pressure, a, b, normal_force, friction, bound,
+                                            leading_edge, slip_law)
+    mu_nominal = float(friction) if np.ndim(friction) == 0 else float(np.max(friction))
+    L1, L2, L3 = fastsim_flexibilities(a, b, shear_modulus, poisson_ratio, xi, eta, phi, mu_nominal,
+                                       normal_force, flexibility)
+    inside = g > 0
+    lead = _strip_leading_edges(x, y, a, b, inside, float(grid.dx))
+    shape = p.shape
+    px, py, sx, sy, stick, power = (np.empty(shape) for _ in range(6))
+    law = law_arguments(slip_law)
+    out = fastsim_sweep_law(x, y, np.ascontiguousarray(g, dtype=float), lead, float(xi), float(eta), float(phi),
+                            L1, L2, L3, float(speed), offset, mode, *law, px, py, sx, sy, stick, power)
+    nstick, nslip = out[4], out[5]
+    w = np.where(inside, frac, 0.0)
+    tx, ty, pd = px * w, py * w, power * w
+    area = grid.cell_area
+    Fx, Fy = float(tx.sum()) * area, float(ty.sum()) * area
+    Mz = float((X * ty - Y * tx).sum()) * area
+    P = float(pd.sum()) * area
+    G = -speed * (xi * Fx + eta * Fy + phi * Mz)
+    diag = {"flexibility_L1": L1, "flexibility_L2": L2, "flexibility_L3": L3, "bound": bound,
+            "flexibility": flexibility, "leading_edge": leading_edge, "stick_cells": int(nstick),
+            "slip_cells": int(nslip), **power_diagnostics(P, G),
+            "creepage_longitudinal": float(xi), "creepage_lateral": float(eta), "creepage_spin": float(phi),
+            **law_diagnostics(slip_law, out)}
+    return FastsimResult(tx, ty, sx, sy, stick, pd, p, Fx, Fy, Mz, P, G, diag)
+
+
+def _cell_bounds(grid, X, Y, pressure, a, b, normal_force, friction, bound, leading_edge, slip_law):
+    """The pressure, inside fraction and traction bound of every cell, and the sweep's edge mode.
+
+    Returns
+    -------
+    p : ndarray (nx, ny)
+        Pressure [Pa] (the parabolic one with ``bound="parabolic"``).
+    frac : ndarray (nx, ny)
+        Fraction of each contact cell inside the ellipse (``"contact"``: 1 where p > 0) [1].
+    g : ndarray (nx, ny)
+        Bound mu p [Pa] (with a slip law: p, mu being the law's) -- at a cut cell the mean pressure
+        over its inside part.
+    mode, offset : int, float
+        :func:`~railtherm_fastsim.fastsim_kernel.fastsim_sweep_law`'s ``edge_mode`` and ``spin_offset``.
+    """
+    dq = float(grid.dx)
     p_par0 = 2.0 * normal_force / (math.pi * a * b)
     if leading_edge == "exact":
         frac, par = ellipse_cell_integrals(grid, a, b)
@@ -231,36 +275,23 @@ def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, pois
         # p holds cell averages: the bound at a cut cell is the mean pressure over its inside part
         frac = np.where(p > 0, frac, 0.0)
         g = np.where(frac > 1e-12, mu * p / np.where(frac > 1e-12, frac, 1.0), 0.0)
-    mu_nominal = float(friction) if np.ndim(friction) == 0 else float(np.max(friction))
-    L1, L2, L3 = fastsim_flexibilities(a, b, shear_modulus, poisson_ratio, xi, eta, phi, mu_nominal,
-                                       normal_force, flexibility)
+    return p, frac, g, mode, offset
+
+
+def _strip_leading_edges(x, y, a, b, inside, dq):
+    """Leading edge a(y) = a sqrt(1 - y^2/b^2) of every strip [m]; strips beyond |y| = b that a
+    cell-averaged pressure still reaches (cut cells) start at the leading edge of their first contact cell."""
     lead = a * np.sqrt(np.clip(1.0 - (y / b) ** 2, 0.0, None))
-    # strips beyond |y| = b that a cell-averaged pressure still reaches (cut cells): start at the
-    # leading edge of their first contact cell
-    inside = g > 0
     for j in np.nonzero(inside.any(axis=0))[0]:
         if lead[j] <= 0.0:
             lead[j] = x[np.nonzero(inside[:, j])[0][-1]] + 0.5 * dq
-    shape = p.shape
-    px, py, sx, sy, stick, power = (np.empty(shape) for _ in range(6))
-    law = law_arguments(slip_law)
-    out = fastsim_sweep_law(x, y, np.ascontiguousarray(g, dtype=float), lead, float(xi), float(eta), float(phi),
-                            L1, L2, L3, float(speed), offset, mode, *law, px, py, sx, sy, stick, power)
-    nstick, nslip = out[4], out[5]
-    w = np.where(inside, frac, 0.0)
-    tx, ty, pd = px * w, py * w, power * w
-    area = grid.cell_area
-    Fx, Fy = float(tx.sum()) * area, float(ty.sum()) * area
-    Mz = float((X * ty - Y * tx).sum()) * area
-    P = float(pd.sum()) * area
-    G = -speed * (xi * Fx + eta * Fy + phi * Mz)
-    diag = {"flexibility_L1": L1, "flexibility_L2": L2, "flexibility_L3": L3, "bound": bound,
-            "flexibility": flexibility, "leading_edge": leading_edge, "stick_cells": int(nstick),
-            "slip_cells": int(nslip), "global_power": G, "local_power": P,
-            "power_difference": P - G, "power_difference_relative": (P - G) / G if G != 0 else 0.0,
-            "creepage_longitudinal": float(xi), "creepage_lateral": float(eta), "creepage_spin": float(phi),
-            **law_diagnostics(slip_law, out)}
-    return FastsimResult(tx, ty, sx, sy, stick, pd, p, Fx, Fy, Mz, P, G, diag)
+    return lead
+
+
+def power_diagnostics(local: float, global_: float) -> dict:
+    """The local (sum of -p . s) and global (-V creepages . forces) frictional powers and their difference."""
+    return {"global_power": global_, "local_power": local, "power_difference": local - global_,
+            "power_difference_relative": (local - global_) / global_ if global_ != 0 else 0.0}
 
 
 def law_arguments(slip_law) -> tuple:
