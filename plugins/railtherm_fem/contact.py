@@ -153,125 +153,33 @@ def solve_contact(x, weights, h0, A_nn, A_nt, A_tn, A_tt, *, friction=0.0, creep
     maxit : int
         Maximum Newton iterations.
     """
-    x = np.asarray(x, float)
-    m = x.size
-    w = np.asarray(weights, float)
-    h0 = np.asarray(h0, float)
-    W0 = np.zeros(m) if W0 is None else np.asarray(W0, float)
-    U0 = np.zeros(m) if U0 is None else np.asarray(U0, float)
-    force_control = normal_force is not None
-    if force_control == (penetration is not None):
-        raise ValueError("give exactly one of normal_force and penetration")
-    per_node = np.ndim(friction) > 0
-    mu = np.asarray(friction, dtype=float) if per_node else float(friction)
-    frictional = creepage is not None and float(np.max(mu)) > 0.0
-    eps = float(regularization)
-    if per_node and mu.shape != (m,):
-        raise ValueError(f"friction per node needs shape ({m},), got {mu.shape}")
-    D = upstream_derivative(m, float(x[1] - x[0])) if derivative is None else derivative
-
-    diag_nn = np.diag(A_nn).copy()
-    cn = 1.0 / diag_nn
-    # pressure scale and starting point
-    if initial is not None:
-        p = initial.pressure.copy()
-        tau = initial.traction.copy() if frictional else np.zeros(m)
-        delta = initial.approach if force_control else float(penetration)
+    sy = _ContactSystem.build(x, weights, h0, A_nn, A_nt, A_tn, A_tt, friction=friction, creepage=creepage,
+                              regularization=regularization, normal_force=normal_force, penetration=penetration,
+                              W0=W0, U0=U0, derivative=derivative)
+    p, tau, delta = sy.start(initial)
+    sy.scale(p)
+    z, nrm, it, converged, history, g, s = _newton(sy, sy.pack(p, tau, delta), tol, maxit)
+    p, tau, delta = sy.unpack(z)
+    p = np.maximum(p, 0.0)
+    if s is None:
+        s = np.full(sy.m, np.nan)
+        stick = np.zeros(sy.m, bool)
     else:
-        if force_control:
-            # Hertz-like start: half-width from the curvature of h0 and the local compliance
-            curv = np.polyfit(x, h0, 2)[0]
-            a0 = max(3 * (x[1] - x[0]), min(0.5 * x[-1], (normal_force * np.median(diag_nn) / (np.pi * curv * w[0])) ** (1 / 3)))
-            a0 = min(a0, 0.6 * x[-1])
-            p = np.where(np.abs(x) < a0, 2 * normal_force / (np.pi * a0) * np.sqrt(np.clip(1 - (x / a0) ** 2, 0, None)), 0.0)
-            inside = p > 0
-            delta = float(np.mean((h0 + A_nn @ p + W0)[inside]))
-        else:
-            delta = float(penetration)
-            p = np.maximum(0.0, -(h0 - delta + W0)) / diag_nn * 0.5
-        tau = np.zeros(m)
-    p_ref = (normal_force / w.sum() * 3.0) if force_control else max(float(np.max(p)), 1.0)
-    # tangential constant: slip response to traction
-    J_st = -D @ A_tt
-    ct = 1.0 / (max(float(np.max(mu)), 1e-12) * p_ref * np.median(np.abs(np.diag(J_st))) + eps) if frictional else 1.0
-    xi = float(creepage) if frictional else 0.0
+        stick = (p > 0) & (np.abs(tau) < sy.mu * p * (1.0 - 1e-9))
+    return ContactSolution(x=sy.x, pressure=p, traction=tau, slip=s, gap=g, stick=stick, approach=float(delta),
+                           normal_force=float(sy.w @ p), tangential_force=float(sy.w @ tau), iterations=it,
+                           residual=float(nrm), converged=converged, history=history)
 
-    n_unk = 2 * m + (1 if force_control else 0) if frictional else m + (1 if force_control else 0)
 
-    def unpack(z):
-        p_ = z[:m]
-        t_ = z[m:2 * m] if frictional else np.zeros(m)
-        d_ = z[-1] if force_control else float(penetration)
-        return p_, t_, d_
-
-    def pack(p_, t_, d_):
-        parts = [p_]
-        if frictional:
-            parts.append(t_)
-        if force_control:
-            parts.append([d_])
-        return np.concatenate(parts)
-
-    def residual(z, jac=False):
-        p_, t_, d_ = unpack(z)
-        g = h0 - d_ + A_nn @ p_ + A_nt @ t_ + W0
-        R = np.empty(n_unk)
-        J = np.zeros((n_unk, n_unk)) if jac else None
-        r = p_ - cn * g
-        act = r > 0
-        R[:m] = np.where(act, cn * g, p_)
-        if jac:
-            ia = np.nonzero(act)[0]
-            ii = np.nonzero(~act)[0]
-            J[ia, :m] = cn[ia, None] * A_nn[ia]
-            if frictional:
-                J[ia, m:2 * m] = cn[ia, None] * A_nt[ia]
-            if force_control:
-                J[ia, -1] = -cn[ia]
-            J[ii, ii] = 1.0
-        s = None
-        if frictional:
-            U = A_tn @ p_ + A_tt @ t_ + U0
-            s = xi - D @ U
-            bound = mu * np.maximum(p_, 0.0)
-            arg = t_ - ct * (mu * p_ * s + eps * t_)
-            stick = np.abs(arg) < bound
-            up = (~stick) & (arg >= 0)
-            lo = (~stick) & (arg < 0)
-            Rt = np.where(stick, ct * (mu * p_ * s + eps * t_), t_ - np.where(up, bound, -bound))
-            R[m:2 * m] = Rt
-            if jac:
-                ist = np.nonzero(stick)[0]
-                # d(s) = -D (A_tn dp + A_tt dtau)
-                DS_p = -D @ A_tn
-                DS_t = -D @ A_tt
-                Jt = np.zeros((m, n_unk))
-                mst = mu[ist] if per_node else mu
-                mcol = mu[ist, None] if per_node else mu
-                Jt[ist, :m] = ct * mcol * p_[ist, None] * DS_p[ist]
-                Jt[ist, ist] += ct * mst * s[ist]
-                Jt[ist, m:2 * m] = ct * mcol * p_[ist, None] * DS_t[ist]
-                Jt[ist, m + ist] += ct * eps
-                iu = np.nonzero(up)[0]
-                il = np.nonzero(lo)[0]
-                pos = p_ > 0
-                Jt[iu, m + iu] = 1.0
-                Jt[iu, iu] -= (mu[iu] if per_node else mu) * pos[iu]
-                Jt[il, m + il] = 1.0
-                Jt[il, il] += (mu[il] if per_node else mu) * pos[il]
-                J[m:2 * m] = Jt
-        if force_control:
-            R[-1] = (w @ p_ - normal_force) / w.sum()
-            if jac:
-                J[-1, :m] = w / w.sum()
-        return R, J, g, s
-
-    z = pack(p, tau, delta)
+def _newton(sy, z, tol, maxit):
+    """Semismooth Newton with a backtracking line search on the residual norm, from ``z``: the unknowns, the
+    final residual max-norm relative to the pressure scale, the iterations, whether it converged, the residual
+    history, and the last gap and slip."""
     history = []
     converged = False
     it = 0
-    R, J, g, s = residual(z, jac=True)
-    nrm = np.max(np.abs(R)) / p_ref
+    R, J, g, s = sy.residual(z, jac=True)
+    nrm = np.max(np.abs(R)) / sy.p_ref
     history.append(nrm)
     for it in range(1, maxit + 1):
         try:
@@ -281,26 +189,190 @@ def solve_contact(x, weights, h0, A_nn, A_nt, A_tn, A_tt, *, friction=0.0, creep
         alpha = 1.0
         f0 = np.linalg.norm(R)
         for _ in range(12):
-            Rn, _, _, _ = residual(z + alpha * dz)
+            Rn, _, _, _ = sy.residual(z + alpha * dz)
             if np.linalg.norm(Rn) <= (1.0 - 1e-4 * alpha) * f0:
                 break
             alpha *= 0.5
         else:
             alpha = 1.0  # no decrease found: take the full (active-set) step
         z = z + alpha * dz
-        R, J, g, s = residual(z, jac=True)
-        nrm = np.max(np.abs(R)) / p_ref
+        R, J, g, s = sy.residual(z, jac=True)
+        nrm = np.max(np.abs(R)) / sy.p_ref
         history.append(nrm)
         if nrm < tol:
             converged = True
             break
-    p, tau, delta = unpack(z)
-    p = np.maximum(p, 0.0)
-    if s is None:
-        s = np.full(m, np.nan)
-        stick = np.zeros(m, bool)
-    else:
-        stick = (p > 0) & (np.abs(tau) < mu * p * (1.0 - 1e-9))
-    return ContactSolution(x=x, pressure=p, traction=tau, slip=s, gap=g, stick=stick, approach=float(delta),
-                           normal_force=float(w @ p), tangential_force=float(w @ tau), iterations=it,
-                           residual=float(nrm), converged=converged, history=history)
+    return z, nrm, it, converged, history, g, s
+
+
+@dataclass
+class _ContactSystem:
+    """The condensed contact problem of :func:`solve_contact`, built once per solve: the window, the compliance
+    blocks, the friction, the control (force or approach), and the scales of the complementarity functions."""
+
+    x: np.ndarray
+    w: np.ndarray
+    h0: np.ndarray
+    A_nn: np.ndarray
+    A_nt: np.ndarray
+    A_tn: np.ndarray
+    A_tt: np.ndarray
+    W0: np.ndarray
+    U0: np.ndarray
+    D: np.ndarray
+    mu: object                    # float, or ndarray (m,) with per_node
+    per_node: bool
+    frictional: bool
+    eps: float
+    creepage: object
+    normal_force: object
+    penetration: object
+    force_control: bool
+    diag_nn: np.ndarray
+    cn: np.ndarray
+    p_ref: float = 1.0
+    ct: float = 1.0
+    xi: float = 0.0
+
+    @classmethod
+    def build(cls, x, weights, h0, A_nn, A_nt, A_tn, A_tt, *, friction, creepage, regularization, normal_force,
+              penetration, W0, U0, derivative):
+        x = np.asarray(x, float)
+        m = x.size
+        w = np.asarray(weights, float)
+        h0 = np.asarray(h0, float)
+        W0 = np.zeros(m) if W0 is None else np.asarray(W0, float)
+        U0 = np.zeros(m) if U0 is None else np.asarray(U0, float)
+        force_control = normal_force is not None
+        if force_control == (penetration is not None):
+            raise ValueError("give exactly one of normal_force and penetration")
+        per_node = np.ndim(friction) > 0
+        mu = np.asarray(friction, dtype=float) if per_node else float(friction)
+        frictional = creepage is not None and float(np.max(mu)) > 0.0
+        eps = float(regularization)
+        if per_node and mu.shape != (m,):
+            raise ValueError(f"friction per node needs shape ({m},), got {mu.shape}")
+        D = upstream_derivative(m, float(x[1] - x[0])) if derivative is None else derivative
+        diag_nn = np.diag(A_nn).copy()
+        return cls(x, w, h0, A_nn, A_nt, A_tn, A_tt, W0, U0, D, mu, per_node, frictional, eps, creepage,
+                   normal_force, penetration, force_control, diag_nn, 1.0 / diag_nn)
+
+    @property
+    def m(self) -> int:
+        return self.x.size
+
+    @property
+    def n_unk(self) -> int:
+        m, fc = self.m, self.force_control
+        return 2 * m + (1 if fc else 0) if self.frictional else m + (1 if fc else 0)
+
+    def start(self, initial):
+        """Starting pressure, traction and approach: the warm start, else a Hertz-like pressure (force
+        control) or the pressure that closes the gap at half the local stiffness (approach control)."""
+        m, x, w, h0 = self.m, self.x, self.w, self.h0
+        normal_force = self.normal_force
+        if initial is not None:
+            p = initial.pressure.copy()
+            tau = initial.traction.copy() if self.frictional else np.zeros(m)
+            delta = initial.approach if self.force_control else float(self.penetration)
+            return p, tau, delta
+        if self.force_control:
+            # Hertz-like start: half-width from the curvature of h0 and the local compliance
+            curv = np.polyfit(x, h0, 2)[0]
+            a0 = max(3 * (x[1] - x[0]), min(0.5 * x[-1], (normal_force * np.median(self.diag_nn) / (np.pi * curv * w[0])) ** (1 / 3)))
+            a0 = min(a0, 0.6 * x[-1])
+            p = np.where(np.abs(x) < a0, 2 * normal_force / (np.pi * a0) * np.sqrt(np.clip(1 - (x / a0) ** 2, 0, None)), 0.0)
+            inside = p > 0
+            delta = float(np.mean((h0 + self.A_nn @ p + self.W0)[inside]))
+        else:
+            delta = float(self.penetration)
+            p = np.maximum(0.0, -(h0 - delta + self.W0)) / self.diag_nn * 0.5
+        return p, np.zeros(m), delta
+
+    def scale(self, p) -> None:
+        """Pressure scale of the residual and the tangential constant (slip response to traction)."""
+        self.p_ref = (self.normal_force / self.w.sum() * 3.0) if self.force_control else max(float(np.max(p)), 1.0)
+        J_st = -self.D @ self.A_tt
+        mu, eps = self.mu, self.eps
+        self.ct = 1.0 / (max(float(np.max(mu)), 1e-12) * self.p_ref * np.median(np.abs(np.diag(J_st))) + eps) \
+            if self.frictional else 1.0
+        self.xi = float(self.creepage) if self.frictional else 0.0
+
+    def unpack(self, z):
+        m = self.m
+        p_ = z[:m]
+        t_ = z[m:2 * m] if self.frictional else np.zeros(m)
+        d_ = z[-1] if self.force_control else float(self.penetration)
+        return p_, t_, d_
+
+    def pack(self, p_, t_, d_):
+        parts = [p_]
+        if self.frictional:
+            parts.append(t_)
+        if self.force_control:
+            parts.append([d_])
+        return np.concatenate(parts)
+
+    def residual(self, z, jac=False):
+        """Complementarity residual R(z) (normal, tangential, force balance), its generalized Jacobian (``jac``),
+        the gap and the slip (None without friction)."""
+        m, n_unk, cn = self.m, self.n_unk, self.cn
+        p_, t_, d_ = self.unpack(z)
+        g = self.h0 - d_ + self.A_nn @ p_ + self.A_nt @ t_ + self.W0
+        R = np.empty(n_unk)
+        J = np.zeros((n_unk, n_unk)) if jac else None
+        r = p_ - cn * g
+        act = r > 0
+        R[:m] = np.where(act, cn * g, p_)
+        if jac:
+            ia = np.nonzero(act)[0]
+            ii = np.nonzero(~act)[0]
+            J[ia, :m] = cn[ia, None] * self.A_nn[ia]
+            if self.frictional:
+                J[ia, m:2 * m] = cn[ia, None] * self.A_nt[ia]
+            if self.force_control:
+                J[ia, -1] = -cn[ia]
+            J[ii, ii] = 1.0
+        s = None
+        if self.frictional:
+            s = self._tangential(p_, t_, R, J)
+        if self.force_control:
+            w = self.w
+            R[-1] = (w @ p_ - self.normal_force) / w.sum()
+            if jac:
+                J[-1, :m] = w / w.sum()
+        return R, J, g, s
+
+    def _tangential(self, p_, t_, R, J):
+        """Fill the tangential rows of R (and of J when not None); returns the slip."""
+        m, n_unk, D, mu, per_node, ct, eps = self.m, self.n_unk, self.D, self.mu, self.per_node, self.ct, self.eps
+        U = self.A_tn @ p_ + self.A_tt @ t_ + self.U0
+        s = self.xi - D @ U
+        bound = mu * np.maximum(p_, 0.0)
+        arg = t_ - ct * (mu * p_ * s + eps * t_)
+        stick = np.abs(arg) < bound
+        up = (~stick) & (arg >= 0)
+        lo = (~stick) & (arg < 0)
+        Rt = np.where(stick, ct * (mu * p_ * s + eps * t_), t_ - np.where(up, bound, -bound))
+        R[m:2 * m] = Rt
+        if J is not None:
+            ist = np.nonzero(stick)[0]
+            # d(s) = -D (A_tn dp + A_tt dtau)
+            DS_p = -D @ self.A_tn
+            DS_t = -D @ self.A_tt
+            Jt = np.zeros((m, n_unk))
+            mst = mu[ist] if per_node else mu
+            mcol = mu[ist, None] if per_node else mu
+            Jt[ist, :m] = ct * mcol * p_[ist, None] * DS_p[ist]
+            Jt[ist, ist] += ct * mst * s[ist]
+            Jt[ist, m:2 * m] = ct * mcol * p_[ist, None] * DS_t[ist]
+            Jt[ist, m + ist] += ct * eps
+            iu = np.nonzero(up)[0]
+            il = np.nonzero(lo)[0]
+            pos = p_ > 0
+            Jt[iu, m + iu] = 1.0
+            Jt[iu, iu] -= (mu[iu] if per_node else mu) * pos[iu]
+            Jt[il, m + il] = 1.0
+            Jt[il, il] += (mu[il] if per_node else mu) * pos[il]
+            J[m:2 * m] = Jt
+        return s

@@ -143,6 +143,28 @@ def graded_strip_mesh(length: float, depth: float, window: float, spacing: float
     if window >= 0.5 * length:
         raise ValueError(f"contact window {window:g} m does not fit in the strip of length {length:g} m")
     h = float(spacing)
+    k, s0 = _coarse_size(length, depth, window, h)
+    xs = _coarse_nodes(0.5 * length, s0)
+    ny = max(1, int(round(depth / s0)))
+    ys = np.linspace(-depth, 0.0, ny + 1)
+    core = 4.0 * h if core is None else float(core)
+    tree = _Quadtree(xs, ys, k + 1)   # deepest level allowed (the balance may need one level below the window's)
+    ix, iy, lev = tree.graded(window, h, grading, core)
+    ix, iy, lev = tree.balanced(ix, iy, lev)
+    p, t = tree.triangulate(ix, iy, lev)
+    m = MeshTri(p, t)
+    tol = 1e-9 * h
+    top = np.nonzero((np.abs(p[1]) < tol) & (np.abs(p[0]) <= window + tol))[0]
+    top = top[np.argsort(p[0, top])]
+    xw = p[0, top]
+    dd = np.diff(xw)
+    if dd.size and not np.allclose(dd, h, rtol=1e-6, atol=0):
+        raise RuntimeError(f"window nodes are not uniformly spaced: spacing {dd.min():g}..{dd.max():g} m, wanted {h:g}")
+    return StripMesh(m, float(length), float(depth), h, top, xw)
+
+
+def _coarse_size(length: float, depth: float, window: float, h: float) -> tuple[int, float]:
+    """(k, s0): the coarse cell s0 = h 2^k, about half the depth, in which the window lies whole."""
     k = max(0, int(math.ceil(math.log2(max(depth, h) / h))) - 1)
     s0 = h * 2.0 ** k  # coarse cell: about half the depth, an exact power-of-two multiple of h
     # the window must lie in coarse cells of exactly s0 (the last cell on each side absorbs the remainder
@@ -154,27 +176,40 @@ def graded_strip_mesh(length: float, depth: float, window: float, spacing: float
     if _uniform_half(0.5 * length, s0) < window * (1.0 + 1e-9):
         raise ValueError(f"contact window {window:g} m and spacing {h:g} m do not fit in the strip of length "
                          f"{length:g} m")
-    xs = _coarse_nodes(0.5 * length, s0)
-    ny = max(1, int(round(depth / s0)))
-    ys = np.linspace(-depth, 0.0, ny + 1)
-    core = 4.0 * h if core is None else float(core)
-    kmax = k + 1  # deepest level allowed (the balance may need one level below the window's)
-    # integer coordinates: coarse cell (I, J) spans [I, I+1] x [J, J+1] * 2**kmax
-    nxc, nyc = xs.size - 1, ys.size - 1
-    I, J = np.meshgrid(np.arange(nxc), np.arange(nyc), indexing="ij")
-    ix = (I.ravel() << kmax).astype(np.int64)
-    iy = (J.ravel() << kmax).astype(np.int64)
-    lev = np.zeros(ix.size, np.int64)
+    return k, s0
 
-    def phys(kx, ky):
-        cx = np.minimum(kx >> kmax, nxc - 1)
-        cy = np.minimum(ky >> kmax, nyc - 1)
+
+@dataclass(frozen=True)
+class _Quadtree:
+    """The strip's coarse cells (node coordinates ``xs``, ``ys``) subdivided as a quadtree down to level ``kmax``.
+
+    Cells are (ix, iy, lev) in integer coordinates: coarse cell (I, J) spans [I, I+1] x [J, J+1] * 2**kmax.
+    """
+
+    xs: np.ndarray
+    ys: np.ndarray
+    kmax: int
+
+    @property
+    def nxc(self) -> int:
+        return self.xs.size - 1
+
+    @property
+    def nyc(self) -> int:
+        return self.ys.size - 1
+
+    def phys(self, kx, ky):
+        """Physical coordinates [m] of integer points."""
+        kmax, xs, ys = self.kmax, self.xs, self.ys
+        cx = np.minimum(kx >> kmax, self.nxc - 1)
+        cy = np.minimum(ky >> kmax, self.nyc - 1)
         fx = (kx - (cx << kmax)) / float(1 << kmax)
         fy = (ky - (cy << kmax)) / float(1 << kmax)
         return xs[cx] + fx * (xs[cx + 1] - xs[cx]), ys[cy] + fy * (ys[cy + 1] - ys[cy])
 
-    def split(ix, iy, lev, mark):
-        half = (1 << (kmax - lev[mark] - 1)).astype(np.int64)
+    def split(self, ix, iy, lev, mark):
+        """The cells with the ``mark``-ed ones replaced by their four children."""
+        half = (1 << (self.kmax - lev[mark] - 1)).astype(np.int64)
         cx, cy, cl = ix[mark], iy[mark], lev[mark] + 1
         kids_x = np.concatenate([cx, cx + half, cx, cx + half])
         kids_y = np.concatenate([cy, cy, cy + half, cy + half])
@@ -182,75 +217,81 @@ def graded_strip_mesh(length: float, depth: float, window: float, spacing: float
         return (np.concatenate([ix[keep], kids_x]), np.concatenate([iy[keep], kids_y]),
                 np.concatenate([lev[keep], np.tile(cl, 4)]))
 
-    # subdivide by the grading criterion, level by level (a cell left alone once stays a leaf: the
-    # criterion depends on its geometry only)
-    for _ in range(kmax):
-        size = (1 << (kmax - lev)).astype(np.int64)
-        x0, y0 = phys(ix, iy)
-        x1, y1 = phys(ix + size, iy + size)
-        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
-        width = x1 - x0
-        diam = np.hypot(width, y1 - y0)
-        dist = np.hypot(np.maximum(np.abs(cx) - window, 0.0), cy)
-        fine_enough = width <= 1.01 * h
-        mark = ((dist < grading * diam) | ((np.abs(cx) < window) & (-cy < core))) & ~fine_enough & (lev < kmax)
-        if not mark.any():
-            break
-        ix, iy, lev = split(ix, iy, lev, mark)
-    # 2:1 balance
-    for _ in range(kmax + 1):
-        size = (1 << (kmax - lev)).astype(np.int64)
-        corners = np.concatenate([_key(ix, iy), _key(ix + size, iy), _key(ix, iy + size), _key(ix + size, iy + size)])
-        keys = _sorted_unique(corners)
-        bad = _balance_violations(ix, iy, lev, kmax, keys)
-        if not bad.any():
-            break
-        ix, iy, lev = split(ix, iy, lev, bad)
-    else:
-        raise RuntimeError("quadtree balancing did not finish")
-    # nodes: cell corners, plus a centre for cells with a hanging node on an edge
-    size = (1 << (kmax - lev)).astype(np.int64)
-    hs = size // 2
-    c00, c10 = _key(ix, iy), _key(ix + size, iy)
-    c01, c11 = _key(ix, iy + size), _key(ix + size, iy + size)
-    keys = _sorted_unique(np.concatenate([c00, c10, c01, c11]))
-    mids = [_key(ix + hs, iy), _key(ix + size, iy + hs), _key(ix + hs, iy + size), _key(ix, iy + hs)]
-    has = [_member(keys, mk) & (hs > 0) for mk in mids]  # bottom, right, top, left
-    hanging = has[0] | has[1] | has[2] | has[3]
-    ncorner = keys.size
-    idx = lambda kk: np.searchsorted(keys, kk)
-    n00, n10, n01, n11 = idx(c00), idx(c10), idx(c01), idx(c11)
-    nm = [np.where(hm, idx(np.where(hm, mk, keys[0])), -1) for hm, mk in zip(has, mids)]
-    hang = np.nonzero(hanging)[0]
-    centre = np.full(ix.size, -1)
-    centre[hang] = ncorner + np.arange(hang.size)
-    kx_all, ky_all = keys // (1 << 31), keys % (1 << 31)
-    px, py = phys(kx_all, ky_all)
-    ccx, ccy = phys(ix[hang] + hs[hang], iy[hang] + hs[hang])
-    p = np.vstack([np.concatenate([px, ccx]), np.concatenate([py, ccy])])
-    tris = []
-    # plain cells: two triangles, all with the same diagonal (as scikit-fem's init_tensor and its red
-    # refinement; a diagonal mirrored about x = 0 leaves the centre node in two triangles only and
-    # measurably worsened the Hertz peak pressure: 0.9 % instead of 0.1 % at level 3)
-    plain = np.nonzero(~hanging)[0]
-    a, b, c, d = n00[plain], n10[plain], n11[plain], n01[plain]
-    tris.append(np.vstack([a, b, c]))
-    tris.append(np.vstack([a, c, d]))
-    # cells with hanging nodes: fan about the centre over the boundary points in ccw order
-    ring = np.vstack([n00[hang], nm[0][hang], n10[hang], nm[1][hang], n11[hang], nm[2][hang], n01[hang], nm[3][hang]])
-    cen = centre[hang]
-    for j in range(8):
-        sel = ring[j] >= 0                       # corners (even j) always, edge midpoints where present
-        nxt = ring[(j + 1) % 8].copy()           # next boundary point: the midpoint, else the corner
-        nxt[nxt < 0] = ring[(j + 2) % 8][nxt < 0]
-        tris.append(np.vstack([ring[j][sel], nxt[sel], cen[sel]]))
-    t = np.hstack(tris)
-    m = MeshTri(p, t)
-    tol = 1e-9 * h
-    top = np.nonzero((np.abs(p[1]) < tol) & (np.abs(p[0]) <= window + tol))[0]
-    top = top[np.argsort(p[0, top])]
-    xw = p[0, top]
-    dd = np.diff(xw)
-    if dd.size and not np.allclose(dd, h, rtol=1e-6, atol=0):
-        raise RuntimeError(f"window nodes are not uniformly spaced: spacing {dd.min():g}..{dd.max():g} m, wanted {h:g}")
-    return StripMesh(m, float(length), float(depth), h, top, xw)
+    def graded(self, window, h, grading, core):
+        """The coarse cells subdivided by the grading criterion, level by level (a cell left alone once stays a
+        leaf: the criterion depends on its geometry only)."""
+        kmax = self.kmax
+        I, J = np.meshgrid(np.arange(self.nxc), np.arange(self.nyc), indexing="ij")
+        ix = (I.ravel() << kmax).astype(np.int64)
+        iy = (J.ravel() << kmax).astype(np.int64)
+        lev = np.zeros(ix.size, np.int64)
+        for _ in range(kmax):
+            size = (1 << (kmax - lev)).astype(np.int64)
+            x0, y0 = self.phys(ix, iy)
+            x1, y1 = self.phys(ix + size, iy + size)
+            cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+            width = x1 - x0
+            diam = np.hypot(width, y1 - y0)
+            dist = np.hypot(np.maximum(np.abs(cx) - window, 0.0), cy)
+            fine_enough = width <= 1.01 * h
+            mark = ((dist < grading * diam) | ((np.abs(cx) < window) & (-cy < core))) & ~fine_enough & (lev < kmax)
+            if not mark.any():
+                break
+            ix, iy, lev = self.split(ix, iy, lev, mark)
+        return ix, iy, lev
+
+    def balanced(self, ix, iy, lev):
+        """The cells subdivided until neighbours differ by one level at most (2:1 balance)."""
+        kmax = self.kmax
+        for _ in range(kmax + 1):
+            size = (1 << (kmax - lev)).astype(np.int64)
+            corners = np.concatenate([_key(ix, iy), _key(ix + size, iy), _key(ix, iy + size), _key(ix + size, iy + size)])
+            keys = _sorted_unique(corners)
+            bad = _balance_violations(ix, iy, lev, kmax, keys)
+            if not bad.any():
+                break
+            ix, iy, lev = self.split(ix, iy, lev, bad)
+        else:
+            raise RuntimeError("quadtree balancing did not finish")
+        return ix, iy, lev
+
+    def triangulate(self, ix, iy, lev):
+        """Nodes (2, n) [m] and triangles (3, m) of the balanced cells: cell corners, plus a centre for cells
+        with a hanging node on an edge."""
+        size = (1 << (self.kmax - lev)).astype(np.int64)
+        hs = size // 2
+        c00, c10 = _key(ix, iy), _key(ix + size, iy)
+        c01, c11 = _key(ix, iy + size), _key(ix + size, iy + size)
+        keys = _sorted_unique(np.concatenate([c00, c10, c01, c11]))
+        mids = [_key(ix + hs, iy), _key(ix + size, iy + hs), _key(ix + hs, iy + size), _key(ix, iy + hs)]
+        has = [_member(keys, mk) & (hs > 0) for mk in mids]  # bottom, right, top, left
+        hanging = has[0] | has[1] | has[2] | has[3]
+        ncorner = keys.size
+        idx = lambda kk: np.searchsorted(keys, kk)
+        n00, n10, n01, n11 = idx(c00), idx(c10), idx(c01), idx(c11)
+        nm = [np.where(hm, idx(np.where(hm, mk, keys[0])), -1) for hm, mk in zip(has, mids)]
+        hang = np.nonzero(hanging)[0]
+        centre = np.full(ix.size, -1)
+        centre[hang] = ncorner + np.arange(hang.size)
+        kx_all, ky_all = keys // (1 << 31), keys % (1 << 31)
+        px, py = self.phys(kx_all, ky_all)
+        ccx, ccy = self.phys(ix[hang] + hs[hang], iy[hang] + hs[hang])
+        p = np.vstack([np.concatenate([px, ccx]), np.concatenate([py, ccy])])
+        tris = []
+        # plain cells: two triangles, all with the same diagonal (as scikit-fem's init_tensor and its red
+        # refinement; a diagonal mirrored about x = 0 leaves the centre node in two triangles only and
+        # measurably worsened the Hertz peak pressure: 0.9 % instead of 0.1 % at level 3)
+        plain = np.nonzero(~hanging)[0]
+        a, b, c, d = n00[plain], n10[plain], n11[plain], n01[plain]
+        tris.append(np.vstack([a, b, c]))
+        tris.append(np.vstack([a, c, d]))
+        # cells with hanging nodes: fan about the centre over the boundary points in ccw order
+        ring = np.vstack([n00[hang], nm[0][hang], n10[hang], nm[1][hang], n11[hang], nm[2][hang], n01[hang], nm[3][hang]])
+        cen = centre[hang]
+        for j in range(8):
+            sel = ring[j] >= 0                       # corners (even j) always, edge midpoints where present
+            nxt = ring[(j + 1) % 8].copy()           # next boundary point: the midpoint, else the corner
+            nxt[nxt < 0] = ring[(j + 2) % 8][nxt < 0]
+            tris.append(np.vstack([ring[j][sel], nxt[sel], cen[sel]]))
+        t = np.hstack(tris)
+        return p, t
