@@ -60,7 +60,7 @@ import time
 
 import numpy as np
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
 from railtherm.physics import embed_field, field_grid, lumped_wheel, thermal_scales, with_thermal_trace
@@ -337,8 +337,7 @@ class FipyTemperature(TemperatureModel):
         if extended or min_depth is not None:
             diag.update(field_behind=float(patch.x_edges[0] - grid.x_edges[0]),
                         field_cells_behind=int(grid.x.size - patch.x.size))
-        iters, resid, balance, cells = [], [], [], []
-        heat_in = heat_out = 0.0        # heat put in and carried out (advected + convected) [W, or W/m]
+        tally = _Tally()
         contact = grid.inside()
         for i in (0, 1):
             mat = scene.body(i)
@@ -363,95 +362,158 @@ class FipyTemperature(TemperatureModel):
                 depth_z.append(0.5 * (mesh.z_edges[1:] + mesh.z_edges[:-1]))
                 continue
             solver = MovingFrameSolver(mesh, v, mat, scheme=opts["scheme"])
-            lo = float(grid.x_edges[0]) if extended else -grid.a    # the grid's first edge on the mesh
-            i0 = int(np.searchsorted(mesh.x_edges, lo - 1e-12 * grid.a))
-            r_ = opts["refine"]
-            nxp = grid.x.size * r_
-            fine_x = solver.x[i0:i0 + nxp]
-
-            def to_grid(values):  # fine patch values -> grid x centres
-                return values if r_ == 1 else np.interp(grid.x, fine_x, values)
-
-            def on_mesh(row):  # grid row -> fine surface faces (piecewise constant)
-                full = np.zeros(solver.x.size)
-                full[i0:i0 + nxp] = np.repeat(row, r_)
-                return full
-
+            rows = _PatchRows.of(grid, mesh, solver, extended, opts["refine"])
             if dim == 2 and grid.line:
-                res = solver.solve(on_mesh(q), convection=scene.convection, contact=on_mesh(contact.astype(float)) > 0)
-                iters.append(res["iterations"]), resid.append(res["residual"])
-                balance.append(res["energy_balance"]), cells.append(res["cells"])
-                w = grid.integrate(q)
-                heat_in, heat_out = heat_in + w, heat_out + res["energy_balance"] * w
-                surface[i] = to_grid(res["surface"][i0:i0 + nxp])
-                depth_T.append(np.array([to_grid(res["T"][i0:i0 + nxp, k]) for k in range(res["z"].size)]).T)
-                depth_z.append(res["z"])
+                surface[i], T, z = _solve_line(solver, rows, grid, q, contact, scene.convection, tally)
             elif dim == 2:
-                centre = int(np.argmin(np.abs(grid.y)))
-                Q = np.array([on_mesh(q[:, j]) for j in range(grid.y.size)])
-                C = np.array([on_mesh(contact[:, j].astype(float)) > 0 for j in range(grid.y.size)])
-                res = solver.solve_strips(Q, C, convection=scene.convection, keep=centre)
-                iters.append(res["iterations"]), resid.append(res["residual"])
-                balance.extend(res["energy_balance"][np.any(Q > 0, axis=1)]), cells.append(res["cells"])
-                w = q.sum(axis=0) * grid.cell_area                        # heat into each strip [W]
-                heat_in, heat_out = heat_in + w.sum(), heat_out + float(np.sum(res["energy_balance"] * w))
-                surface[i] = np.array([to_grid(row[i0:i0 + nxp]) for row in res["surface"]]).T
-                depth_T.append(np.array([to_grid(res["T"][i0:i0 + nxp, k]) for k in range(res["z"].size)]).T)
-                depth_z.append(res["z"])
-                bd["factorisations"] = int(res["factorisations"])
+                surface[i], T, z = _solve_strip_rows(solver, rows, grid, q, contact, scene.convection, tally, bd)
             else:
-                j0 = int(np.searchsorted(mesh.y_edges, -grid.b - 1e-12 * grid.b)) if not mesh.half else 0
-                nyp = grid.y.size * r_
-                ycells = np.repeat(np.arange(grid.y.size), r_)
-                qf = np.zeros((solver.x.size, solver.y.size))
-                cf = np.zeros_like(qf, dtype=bool)
-                if mesh.half:
-                    jh = np.flatnonzero(grid.y > 0)
-                    yrep = np.repeat(jh, r_)
-                    qf[i0:i0 + nxp, :yrep.size] = np.repeat(q[:, yrep], r_, axis=0)
-                    cf[i0:i0 + nxp, :yrep.size] = np.repeat(contact[:, yrep], r_, axis=0)
-                else:
-                    qf[i0:i0 + nxp, j0:j0 + nyp] = np.repeat(q[:, ycells], r_, axis=0)
-                    cf[i0:i0 + nxp, j0:j0 + nyp] = np.repeat(contact[:, ycells], r_, axis=0)
-                res = solver.solve(qf, convection=scene.convection, contact=cf)
-                iters.append(res["iterations"]), resid.append(res["residual"])
-                balance.append(res["energy_balance"]), cells.append(res["cells"])
-                w = grid.integrate(q)
-                heat_in, heat_out = heat_in + w, heat_out + res["energy_balance"] * w
-                S = res["surface"][i0:i0 + nxp]
-                from scipy.interpolate import RegularGridInterpolator
-                yy = solver.y if not mesh.half else np.concatenate([-solver.y[::-1], solver.y])
-                SS = S if not mesh.half else np.concatenate([S[:, ::-1], S], axis=1)
-                interp = RegularGridInterpolator((fine_x, yy), SS, bounds_error=False, fill_value=None)
-                X, Y = grid.mesh()
-                surface[i] = interp(np.stack([X.ravel(), Y.ravel()], axis=1)).reshape(grid.shape)
-                Tyz = res["T"][i0:i0 + nxp]
-                ys = solver.y
-                if mesh.half:
-                    k0 = 0  # y = 0 is a symmetry plane: the first cell row is the nearest
-                    Tc = Tyz[:, k0, :]
-                else:
-                    kk = np.argsort(np.abs(ys))[:2]
-                    w = np.abs(ys[kk[::-1]]) / np.abs(ys[kk]).sum()
-                    Tc = w[0] * Tyz[:, kk[0], :] + w[1] * Tyz[:, kk[1], :]
-                depth_T.append(np.array([to_grid(Tc[:, k]) for k in range(res["z"].size)]).T)
-                depth_z.append(res["z"])
+                surface[i], T, z = _solve_3d(solver, mesh, rows, grid, q, contact, scene.convection, tally)
+            depth_T.append(T)
+            depth_z.append(z)
             bd.update(first_cell=float(mesh.z_edges[1]), depth=float(mesh.z_edges[-1]), cells=int(mesh.cells))
             body_diag[i] = bd
         if min_depth is not None:           # the depth field down to field.depth exactly
             for i in (0, 1):
                 depth_z[i], depth_T[i] = _to_depth(depth_z[i], depth_T[i], min_depth)
-        diag.update(iterations=int(max(iters) if iters else 0), residual=float(max(resid) if resid else 0.0),
-                    converged=True, solves=len(iters), max_cells=int(max(cells) if cells else 0),
-                    energy_balance_min=float(min(balance) if balance else 1.0),
-                    energy_balance_max=float(max(balance) if balance else 1.0),
-                    # (heat carried out of the mesh by the field - heat put in) / heat put in (docs/verdicts.md)
-                    heat_balance_error=float(heat_out / heat_in - 1.0) if heat_in > 0 else 0.0,
-                    solve_time=time.perf_counter() - t0)
+        diag.update(tally.diagnostics(), solve_time=time.perf_counter() - t0)
         from .solvers import solver_suite
         diag["solver_suite"] = solver_suite()
         bulk = (scene.wheel.bulk_temperature, scene.rail.bulk_temperature)
         return _Flash(bulk, tuple(surface), tuple(depth_T), tuple(depth_z), tuple(body_diag), diag)
+
+
+@dataclass
+class _Tally:
+    """The solves' iterations, residuals, energy balances and cells, and the heat put in and carried out
+    (advected + convected) [W, or W/m], summed over both bodies."""
+
+    iters: list = field(default_factory=list)
+    resid: list = field(default_factory=list)
+    balance: list = field(default_factory=list)
+    cells: list = field(default_factory=list)
+    heat_in: float = 0.0
+    heat_out: float = 0.0
+
+    def add(self, res, balance=None) -> None:
+        self.iters.append(res["iterations"]), self.resid.append(res["residual"])
+        if balance is None:
+            self.balance.append(res["energy_balance"])
+        else:
+            self.balance.extend(balance)
+        self.cells.append(res["cells"])
+
+    def diagnostics(self) -> dict:
+        iters, resid, balance, cells = self.iters, self.resid, self.balance, self.cells
+        heat_in, heat_out = self.heat_in, self.heat_out
+        return dict(iterations=int(max(iters) if iters else 0), residual=float(max(resid) if resid else 0.0),
+                    converged=True, solves=len(iters), max_cells=int(max(cells) if cells else 0),
+                    energy_balance_min=float(min(balance) if balance else 1.0),
+                    energy_balance_max=float(max(balance) if balance else 1.0),
+                    # (heat carried out of the mesh by the field - heat put in) / heat put in (docs/verdicts.md)
+                    heat_balance_error=float(heat_out / heat_in - 1.0) if heat_in > 0 else 0.0)
+
+
+@dataclass(frozen=True)
+class _PatchRows:
+    """Where the grid's cells lie among the solver's fine surface faces: from face ``i0``, ``refine`` faces per
+    grid cell (``nxp`` in all, at ``fine_x``)."""
+
+    x: np.ndarray                 # grid x centres [m]
+    size: int                     # solver.x.size
+    i0: int
+    nxp: int
+    refine: int
+    fine_x: np.ndarray
+
+    @classmethod
+    def of(cls, grid, mesh, solver, extended, refine):
+        lo = float(grid.x_edges[0]) if extended else -grid.a    # the grid's first edge on the mesh
+        i0 = int(np.searchsorted(mesh.x_edges, lo - 1e-12 * grid.a))
+        nxp = grid.x.size * refine
+        return cls(grid.x, solver.x.size, i0, nxp, refine, solver.x[i0:i0 + nxp])
+
+    def to_grid(self, values):
+        """Fine patch values -> grid x centres."""
+        return values if self.refine == 1 else np.interp(self.x, self.fine_x, values)
+
+    def on_mesh(self, row):
+        """Grid row -> fine surface faces (piecewise constant)."""
+        full = np.zeros(self.size)
+        full[self.i0:self.i0 + self.nxp] = np.repeat(row, self.refine)
+        return full
+
+    def depth(self, T, nz):
+        """The depth field (nx, nz) on the grid of a fine field T (faces, nz)."""
+        i0, nxp = self.i0, self.nxp
+        return np.array([self.to_grid(T[i0:i0 + nxp, k]) for k in range(nz)]).T
+
+
+def _solve_line(solver, rows, grid, q, contact, convection, tally):
+    """One body of a line contact (2-D): surface rise on the grid, depth field and depth axis."""
+    i0, nxp = rows.i0, rows.nxp
+    res = solver.solve(rows.on_mesh(q), convection=convection, contact=rows.on_mesh(contact.astype(float)) > 0)
+    tally.add(res)
+    w = grid.integrate(q)
+    tally.heat_in, tally.heat_out = tally.heat_in + w, tally.heat_out + res["energy_balance"] * w
+    return rows.to_grid(res["surface"][i0:i0 + nxp]), rows.depth(res["T"], res["z"].size), res["z"]
+
+
+def _solve_strip_rows(solver, rows, grid, q, contact, convection, tally, bd):
+    """One body of an ellipse strip by strip (2-D, one strip per grid row in y): surface rise, the depth field
+    of the centre strip and its depth axis."""
+    i0, nxp = rows.i0, rows.nxp
+    centre = int(np.argmin(np.abs(grid.y)))
+    Q = np.array([rows.on_mesh(q[:, j]) for j in range(grid.y.size)])
+    C = np.array([rows.on_mesh(contact[:, j].astype(float)) > 0 for j in range(grid.y.size)])
+    res = solver.solve_strips(Q, C, convection=convection, keep=centre)
+    tally.add(res, balance=res["energy_balance"][np.any(Q > 0, axis=1)])
+    w = q.sum(axis=0) * grid.cell_area                        # heat into each strip [W]
+    tally.heat_in, tally.heat_out = tally.heat_in + w.sum(), tally.heat_out + float(np.sum(res["energy_balance"] * w))
+    bd["factorisations"] = int(res["factorisations"])
+    surface = np.array([rows.to_grid(row[i0:i0 + nxp]) for row in res["surface"]]).T
+    return surface, rows.depth(res["T"], res["z"].size), res["z"]
+
+
+def _solve_3d(solver, mesh, rows, grid, q, contact, convection, tally):
+    """One body in 3-D (the half y >= 0 on a symmetric mesh): surface rise on the grid, the depth field at y = 0
+    and its depth axis."""
+    from scipy.interpolate import RegularGridInterpolator
+
+    i0, nxp, r_ = rows.i0, rows.nxp, rows.refine
+    j0 = int(np.searchsorted(mesh.y_edges, -grid.b - 1e-12 * grid.b)) if not mesh.half else 0
+    nyp = grid.y.size * r_
+    ycells = np.repeat(np.arange(grid.y.size), r_)
+    qf = np.zeros((solver.x.size, solver.y.size))
+    cf = np.zeros_like(qf, dtype=bool)
+    if mesh.half:
+        jh = np.flatnonzero(grid.y > 0)
+        yrep = np.repeat(jh, r_)
+        qf[i0:i0 + nxp, :yrep.size] = np.repeat(q[:, yrep], r_, axis=0)
+        cf[i0:i0 + nxp, :yrep.size] = np.repeat(contact[:, yrep], r_, axis=0)
+    else:
+        qf[i0:i0 + nxp, j0:j0 + nyp] = np.repeat(q[:, ycells], r_, axis=0)
+        cf[i0:i0 + nxp, j0:j0 + nyp] = np.repeat(contact[:, ycells], r_, axis=0)
+    res = solver.solve(qf, convection=convection, contact=cf)
+    tally.add(res)
+    w = grid.integrate(q)
+    tally.heat_in, tally.heat_out = tally.heat_in + w, tally.heat_out + res["energy_balance"] * w
+    S = res["surface"][i0:i0 + nxp]
+    yy = solver.y if not mesh.half else np.concatenate([-solver.y[::-1], solver.y])
+    SS = S if not mesh.half else np.concatenate([S[:, ::-1], S], axis=1)
+    interp = RegularGridInterpolator((rows.fine_x, yy), SS, bounds_error=False, fill_value=None)
+    X, Y = grid.mesh()
+    surface = interp(np.stack([X.ravel(), Y.ravel()], axis=1)).reshape(grid.shape)
+    Tyz = res["T"][i0:i0 + nxp]
+    ys = solver.y
+    if mesh.half:
+        k0 = 0  # y = 0 is a symmetry plane: the first cell row is the nearest
+        Tc = Tyz[:, k0, :]
+    else:
+        kk = np.argsort(np.abs(ys))[:2]
+        w = np.abs(ys[kk[::-1]]) / np.abs(ys[kk]).sum()
+        Tc = w[0] * Tyz[:, kk[0], :] + w[1] * Tyz[:, kk[1], :]
+    return surface, np.array([rows.to_grid(Tc[:, k]) for k in range(res["z"].size)]).T, res["z"]
 
 
 def _field_depth(scene) -> float | None:

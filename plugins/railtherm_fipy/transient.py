@@ -120,27 +120,9 @@ def wheel_heating(scene, source, level: int, options: dict, flash=None) -> dict:
     lam = wheel.conductivity
     tau = rho_c * math.pi * R * R * width / g_tot
     num = dict(getattr(scene, "numerics", {}) or {})
-    if "duration" in num:
-        duration = float(num["duration"])
-    elif "revolutions" in num:
-        duration = float(num["revolutions"]) * 2.0 * math.pi * R / v_w
-    else:
-        duration = 8.0 * tau
+    duration = _duration(num, R, v_w, tau)
     if num.get("time_step") is not None:
-        # fixed steps: their number is known before anything is built (growing steps stay ~100s)
-        k = 2 ** int(level)
-        n_steps = max(1, int(math.ceil(duration * k / float(num["time_step"]) - 1e-9)))
-        seconds = n_steps * SECONDS_PER_STEP
-        limit = float((options or {}).get("max_seconds", 60.0))
-        if seconds > limit:
-            name = getattr(scene, "name", "?")
-            raise Refused(
-                f"scene {name!r}, model 'fipy' (transient wheel heating): numerics.time_step = "
-                f"{float(num['time_step']):g} s over a duration of {duration:.4g} s (lumped time constant tau = "
-                f"{tau:.4g} s) at level {level} is {n_steps:.3g} implicit steps, estimated at {seconds:.3g} s "
-                f"({SECONDS_PER_STEP:g} s per step) > max_seconds = {limit:g} s; use time_step >= "
-                f"{duration * k * SECONDS_PER_STEP / limit:.3g} s, a shorter numerics.duration, or no time_step "
-                "(growing steps)", kind="budget")
+        _check_budget(scene, num, level, duration, tau, options)
     # radial mesh graded towards the tread: first cell resolves the diffusion length of the first step
     dt0 = float(num.get("time_step", tau / 1e4))
     first = min(0.25 * math.sqrt(wheel.diffusivity * dt0), R / 20.0)
@@ -168,12 +150,53 @@ def wheel_heating(scene, source, level: int, options: dict, flash=None) -> dict:
     vol = np.asarray(mesh.cellVolumes, dtype=float)
     cap = rho_c * vol
     dts = time_steps(duration, tau, level, num.get("time_step"))
+    lift = power / area * dr1 / (2.0 * lam)          # tread surface: T_s = (T_P + lift) / (1 + c)
+    ts, tr, mean, res, t, x = _march(L, b, cap, vol, dts, lambda x: (float(x[-1]) + lift) / (1.0 + c_half))
+    T.value = x
+    return {"t": np.array(ts), "tread": np.array(tr), "mean": np.array(mean), "t_inf": t_inf, "tau": tau,
+            "eps_c": eps_c, "g_cond": g_cond, "power": power, "convective_area": area_c,
+            "iterations": 1, "residual": res, "converged": True, "steps": len(dts), "duration": t,
+            "radial_cells": int(mesh.numberOfCells), "first_cell": float(dr1), "area": area}
+
+
+def _duration(num: dict, R: float, v_w: float, tau: float) -> float:
+    """The time integrated [s]: ``numerics.duration``, or ``numerics.revolutions`` of the wheel, or 8 tau."""
+    if "duration" in num:
+        return float(num["duration"])
+    if "revolutions" in num:
+        return float(num["revolutions"]) * 2.0 * math.pi * R / v_w
+    return 8.0 * tau
+
+
+def _check_budget(scene, num: dict, level: int, duration: float, tau: float, options: dict) -> None:
+    """Refuse fixed time steps whose number is estimated to take more than ``max_seconds`` (known before
+    anything is built; growing steps stay ~100s)."""
+    k = 2 ** int(level)
+    n_steps = max(1, int(math.ceil(duration * k / float(num["time_step"]) - 1e-9)))
+    seconds = n_steps * SECONDS_PER_STEP
+    limit = float((options or {}).get("max_seconds", 60.0))
+    if seconds > limit:
+        name = getattr(scene, "name", "?")
+        raise Refused(
+            f"scene {name!r}, model 'fipy' (transient wheel heating): numerics.time_step = "
+            f"{float(num['time_step']):g} s over a duration of {duration:.4g} s (lumped time constant tau = "
+            f"{tau:.4g} s) at level {level} is {n_steps:.3g} implicit steps, estimated at {seconds:.3g} s "
+            f"({SECONDS_PER_STEP:g} s per step) > max_seconds = {limit:g} s; use time_step >= "
+            f"{duration * k * SECONDS_PER_STEP / limit:.3g} s, a shorter numerics.duration, or no time_step "
+            "(growing steps)", kind="budget")
+
+
+def _march(L, b, cap, vol, dts, tread_of):
+    """Implicit Euler steps ``(cap/dt - L) x_new = cap/dt x_old - b`` from x = 0 (one LU factorisation per
+    distinct dt): times, tread rises (``tread_of(x)``), volume-mean rises, the largest relative residual,
+    the final time and the final cell values."""
+    import scipy.sparse as sp
+
     ts, tr, mean = [0.0], [0.0], [0.0]
     res = 0.0
     t = 0.0
     x = np.zeros(vol.size)
     lu, lu_dt = None, None
-    import scipy.sparse as sp
     for dt in dts:
         if lu is None or dt != lu_dt:
             M = (sp.diags(cap / dt) - L).tocsc()
@@ -186,10 +209,6 @@ def wheel_heating(scene, source, level: int, options: dict, flash=None) -> dict:
         res = max(res, rel)
         t += dt
         ts.append(t)
-        tr.append((float(x[-1]) + power / area * dr1 / (2.0 * lam)) / (1.0 + c_half))
+        tr.append(tread_of(x))
         mean.append(float(np.sum(x * vol) / np.sum(vol)))
-    T.value = x
-    return {"t": np.array(ts), "tread": np.array(tr), "mean": np.array(mean), "t_inf": t_inf, "tau": tau,
-            "eps_c": eps_c, "g_cond": g_cond, "power": power, "convective_area": area_c,
-            "iterations": 1, "residual": res, "converged": True, "steps": len(dts), "duration": t,
-            "radial_cells": int(mesh.numberOfCells), "first_cell": float(dr1), "area": area}
+    return ts, tr, mean, res, t, x
