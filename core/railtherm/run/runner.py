@@ -625,7 +625,6 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     xarray.Dataset
         The metrics (also written to ``out/metrics.nc``).
     """
-
     t0, c0, w0 = time.perf_counter(), time.process_time(), _children_cpu()
     study = study_or_path if isinstance(study_or_path, Study) else load_study(study_or_path)
     from ..contract.options import check_study
@@ -636,16 +635,8 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
         raise SceneError(f"output folder {str(out)!r} is an existing file, not a folder", key="out",
                          value=str(out), allowed="a folder (created if missing)")
     out.mkdir(parents=True, exist_ok=True)
-    tasks = make_tasks(study, out, methods, levels)
-    kind = study.store_for(len(tasks)) if hasattr(study, "store_for") else "files"
+    tasks, kind = _plan_tasks(study, out, methods, levels, resume)
     from .executors import require_optional, resolve_executor
-    if kind == "zarr":
-        require_optional("zarr", "study.store", kind)
-        from ..output import zarr_store
-        from .chunks import layout_of, make_chunks
-        layout = layout_of(tasks, getattr(study, "keep_fields", False))
-        zarr_store.create(out, layout, resume=resume)
-        tasks = make_chunks(tasks, layout, out)
     if executor == "dask":
         require_optional("distributed", "executor", executor)
     executor, workers = resolve_executor(executor, workers, len(tasks))
@@ -653,19 +644,7 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     records = run_tasks(tasks, executor=executor, scheduler=scheduler, resume=resume, workers=workers,
                         desc=study.name)
     t2 = time.perf_counter()
-    with _analysis_pool(executor, workers, sum(r.status == "ok" for r in records)) as pmap:
-        metrics = _metrics(study, out, records, pmap)
-        metrics.attrs.update({"executor": executor, "workers": int(workers),
-                              "workers_comment": "worker processes that shared the machine while runs were timed"})
-        store.write_dataset_atomic(metrics, store.metrics_path(out))
-        if kind == "zarr" and not getattr(study, "keep_fields", False):
-            # a scalar sweep keeps no field to overlay exact curves on (and they cost ~0.1 s per scene)
-            store.write_references(store.references_path(out), {
-                "Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}",
-                "study": study.name, "scenes": 0,
-                "comment": "not computed: the study keeps its runs in the Zarr store without fields"}, {})
-        else:
-            _reference_curves(study, out, pmap)  # the exact curves the report overlays (it never recomputes physics)
+    metrics = _analyse(study, out, records, executor, workers, kind)
     t3 = time.perf_counter()
     timing = {"setup": t1 - t0, "runs": t2 - t1, "metrics": t3 - t2, "executor": executor, "store": kind,
               "workers": workers, "runs_total": len(records),
@@ -681,4 +660,37 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     if report:
         from ..report import write_report
         write_report(out, study=study, workers=workers if executor == "processes" else 1)
+    return metrics
+
+
+def _plan_tasks(study: Study, out: Path, methods, levels, resume: bool):
+    """The study's run tasks and its store ("files", or "zarr": created, and the runs grouped in its chunks)."""
+    tasks = make_tasks(study, out, methods, levels)
+    kind = study.store_for(len(tasks)) if hasattr(study, "store_for") else "files"
+    if kind == "zarr":
+        from .executors import require_optional
+        require_optional("zarr", "study.store", kind)
+        from ..output import zarr_store
+        from .chunks import layout_of, make_chunks
+        layout = layout_of(tasks, getattr(study, "keep_fields", False))
+        zarr_store.create(out, layout, resume=resume)
+        tasks = make_chunks(tasks, layout, out)
+    return tasks, kind
+
+
+def _analyse(study: Study, out: Path, records, executor: str, workers: int, kind: str):
+    """Metrics of the runs (written to ``metrics.nc``) and the exact reference curves the report overlays."""
+    with _analysis_pool(executor, workers, sum(r.status == "ok" for r in records)) as pmap:
+        metrics = _metrics(study, out, records, pmap)
+        metrics.attrs.update({"executor": executor, "workers": int(workers),
+                              "workers_comment": "worker processes that shared the machine while runs were timed"})
+        store.write_dataset_atomic(metrics, store.metrics_path(out))
+        if kind == "zarr" and not getattr(study, "keep_fields", False):
+            # a scalar sweep keeps no field to overlay exact curves on (and they cost ~0.1 s per scene)
+            store.write_references(store.references_path(out), {
+                "Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}",
+                "study": study.name, "scenes": 0,
+                "comment": "not computed: the study keeps its runs in the Zarr store without fields"}, {})
+        else:
+            _reference_curves(study, out, pmap)  # the exact curves the report overlays (it never recomputes physics)
     return metrics
