@@ -55,6 +55,17 @@ def test_a_contact_off_the_end_of_the_rail_profile_is_named(tmp_path):
         load_scene(_with(1, rail_profile=str(cut)))
 
 
+def test_a_wheel_that_does_not_reach_the_rail_finds_no_contact(tmp_path):
+    """The wheel profile cut to its field side beyond 50 mm: no part of it lies over the rail (lifted off)."""
+    wheel = read_profile(str(DATA / "MBench_S1002_v3.prw"))
+    keep = wheel.y > 50e-3
+    cut = tmp_path / "field_side.txt"
+    cut.write_text("\n".join(f"{y * 1e3:.7f} {z * 1e3:.7f}" for y, z in zip(wheel.y[keep], wheel.z[keep])))
+    with pytest.raises(SceneError, match=r"scene 'a22-1-right': key 'wheelset': no contact: side right: the wheel "
+                                         r"profile .*field_side\.txt does not overlap the rail .* laterally"):
+        load_scene(_with(1, wheel_profile=str(cut)))
+
+
 @pytest.mark.parametrize("value", [-1.0, 0.0])
 def test_a_force_that_is_not_positive_is_refused(value):
     with pytest.raises(SceneError, match=r"key 'wheelset.vertical_force'"):
@@ -113,3 +124,25 @@ def test_a_second_minimum_inside_the_first_patch_is_not_a_patch_of_its_own():
     with pytest.raises(SceneError, match=r"key 'wheelset.patch' = 2 is not allowed: at most 1: the search found 2 gap "
                                          r"minima .*one elastic patch covers them"):
         load_scene(_with(1, patch=2))
+
+
+@pytest.mark.parametrize("wheelset, words", [
+    ('rail_profile = "{d}/no_such.prr", vertical_force = 1e4', "key 'wheelset.rail_profile': profile .*no_such.prr: cannot be read"),
+    ('rail_profile = "uic60", gauge = 1.6, vertical_force = 1e4', "key 'wheelset': no contact: side right: the closest approach lies at "
+                                            "the end of a profile"),
+    ('rail_profile = "uic60", vertical_force = -1.0', "key 'wheelset.vertical_force' = -1.0 is not allowed")])
+def test_the_command_line_names_bad_profile_input_without_a_traceback(tmp_path, capsys, wheelset, words):
+    """``railtherm validate`` and ``run`` on a study with a bad wheelset on profiles: one error line naming the
+    scene and the key (or the file), exit status 1 / 2, no traceback, nothing run."""
+    import re
+    from railtherm.cli import main
+    study = tmp_path / "bad.toml"
+    study.write_text(f'schema_version = 1\n[study]\nname = "bad"\nmethods = ["kalker"]\nlevels = [0]\n'
+                     f'[[scene]]\nname = "w"\nspeed = 2.0\nfriction = 0.3\nwheelset = {{ wheel_profile = "s1002", '
+                     f'nominal_radius = 0.46, pitch_velocity = -4.35, '
+                     f'{wheelset.format(d=tmp_path)} }}\n')
+    assert main(["validate", str(study)]) == 1
+    assert main(["run", str(study), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and re.search(r"railtherm: error: scene 'w': " + words, err), err
+    assert not (tmp_path / "out" / "runs").exists()
