@@ -38,7 +38,8 @@ References
 from __future__ import annotations
 
 import numpy as np
-from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
+from railtherm import (BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel, asks_history,
+                       with_history)
 from railtherm.physics import field_grid, peclet_number, thermal_scales, with_thermal_trace
 
 from .layout import Trail
@@ -75,11 +76,10 @@ class FDMTemperature(TemperatureModel):
     capabilities = Capabilities(
         contacts=frozenset({"ellipse", "line"}), sources=frozenset({"computed", "given"}),
         tangential=frozenset({"full-sliding", "creepage"}), convection=True,
-        modes=frozenset({"steady", "transient"}), field=True,
-        advice={"histories": "its transient schemes run one pass in the rail frame (numerics.scheme); "
-                             "use method 'green' for the histories"},
+        modes=frozenset({"steady", "transient"}), field=True, histories=True,
         provides=frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature",
-                            "temperature", "peak_temperature", "cooling_rate", "heated_depth", "time_above"}))
+                            "temperature", "peak_temperature", "cooling_rate", "heated_depth", "time_above",
+                            "temperature_history", "pass_peak_temperature", "residual_rise"}))
     options = {
         "scheme": Option("auto", "'explicit' (seed), 'implicit', 'steady' (moving frame) or 'auto'",
                          choices=SCHEMES),
@@ -99,8 +99,15 @@ class FDMTemperature(TemperatureModel):
     STEADY_PECLET_MIN = 0.1
 
     # -- compute -------------------------------------------------------------------------------
+    def supports(self, scene, level):
+        """Core's capability checks, then what fdm's pass histories cover (:func:`history_limits`)."""
+        return super().supports(scene, level) or history_limits(scene)
+
     def compute_temperature(self, scene, source, level, options):
-        """Surface (and, when asked for, depth at y = 0) temperatures of wheel and rail [degC]."""
+        """Surface (and, when asked for, depth at y = 0) temperatures of wheel and rail [degC]; in a
+        transient scene that asks for them, the pass histories of the section (:mod:`.history`)."""
+        if asks_history(scene):
+            return self._histories(scene, source, level, options)
         grid = source.grid
         fld = getattr(scene, "field", None)
         out = field_grid(grid, scene)
@@ -149,6 +156,36 @@ class FDMTemperature(TemperatureModel):
         result = TemperatureField.from_bodies(out, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
                                               *bodies, z=z, diagnostics=diag)
         return result if fld is None else with_thermal_trace(result, scene, source)
+
+    def _histories(self, scene, source, level, options):
+        """A line contact's pass histories of both bodies (:func:`railtherm_fdm.history.body_histories`),
+        with the steady one-pass surface (moving-frame steady 2-D block) when the scene asks for it."""
+        from .history import body_histories
+        grid = source.grid
+        if not grid.line:
+            raise Refused(history_limits(scene) or _ELLIPSE_HISTORY, kind="validity")
+        bodies_m = (scene.wheel, scene.rail)
+        fluxes = [np.asarray(source.flux(i), dtype=float).reshape(-1) for i in range(2)]
+        for i, q in enumerate(fluxes):
+            if np.any(q != 0) and not float(source.body_speed[i]) > 0.0:
+                raise Refused(f"model 'fdm' ({BODY_NAMES[i]}): its surface moves at {float(source.body_speed[i]):g} "
+                              "m/s relative to the contact; the section's passes need a body moving through it")
+        bulk = (float(scene.wheel.bulk_temperature), float(scene.rail.bulk_temperature))
+        hist, diag = body_histories(scene, grid, [q if np.any(q != 0) else None for q in fluxes], bodies_m,
+                                    tuple(float(v) for v in source.body_speed), bulk, int(level))
+        outputs = tuple(getattr(scene, "outputs", ()) or ())
+        bodies = [None, None]
+        if not outputs or any(o in outputs for o in _ONE_PASS):
+            cell0 = float(options["cell_size"]) or 2.0 * float(grid.a) / 16.0
+            for i, q in enumerate(fluxes):
+                if np.any(q > 0):
+                    scheme, res = self._run_line(scene, source, level, options, i, q, cell0, "steady")
+                    bodies[i] = BodyTemperature(res.surface, diagnostics={"scheme": scheme, **res.diagnostics})
+                    diag[f"{BODY_NAMES[i]}_one_pass_scheme"] = scheme
+        diag.update({"converged": True, "iterations": 0, "residual": 0.0, "dimension": 2,
+                     "scheme": "transient section block (explicit/implicit by cost)"})
+        result = TemperatureField.from_bodies(grid, bulk, *bodies, diagnostics=diag)
+        return with_history(result, hist)
 
     def _run_block(self, scene, source, level, options, i, q, cell0, requested, extra=None):
         """Body ``i`` on the 3-D block with cells ``cell0 / 2**level``: (scheme, BlockResult)."""
@@ -225,6 +262,37 @@ class FDMTemperature(TemperatureModel):
                                        max_cells=float(options["max_cells"]), **(extra or {}))
         return scheme, transient_line(*args, d, scheme=scheme, time_step=ts, courant=float(options["courant"]),
                                       max_nodes=float(options["max_nodes"]), **(extra or {}))
+
+
+#: the one-pass outputs fdm adds to a transient scene's histories (the moving-frame steady surface)
+_ONE_PASS = ("surface_temperature", "max_surface_temperature", "mean_contact_temperature")
+_ELLIPSE_HISTORY = ("model 'fdm' computes the pass histories of a line contact (the 2-D block around the section); "
+                    "on an elliptical patch its 3-D block runs one pass in the rail frame: use method 'green' for an "
+                    "ellipse's histories")
+
+
+def history_limits(scene) -> str | None:
+    """Why fdm cannot compute this scene's pass histories, or None (also None when it asks for none)."""
+    if not asks_history(scene):
+        return None
+    if getattr(scene, "contact_shape", None) != "line":
+        return _ELLIPSE_HISTORY
+    law = getattr(scene, "friction_law", None)
+    if scene.heat_source is None and law is not None and law.depends_on_temperature:
+        return ("model 'fdm': the pass histories take the heat source of one pass for every pass; a temperature-"
+                "dependent friction law would need the coupled loop in every pass, which fdm does not run: use a "
+                "constant or slip-velocity friction law")
+    if float(scene.wheel.bulk_temperature) != float(scene.rail.bulk_temperature):
+        return ("model 'fdm': the pass histories carry the frictional heat only; wheel and rail at different bulk "
+                "temperatures exchange heat through the patch, which the section block does not model: give both "
+                "bodies one bulk temperature")
+    outputs = tuple(getattr(scene, "outputs", ()) or ())
+    depth = [o for o in outputs if o in ("temperature", "peak_temperature", "cooling_rate", "heated_depth")]
+    if depth:
+        return (f"model 'fdm' does not return {depth[0]!r} in a transient scene with passes (the depth field is one "
+                "pass's, on another axis than the histories): ask temperature_history, pass_peak_temperature, "
+                "residual_rise or time_above")
+    return None
 
 
 def _clip_depth(z, rise, depth: float):

@@ -1,0 +1,530 @@
+"""fdm's transient histories on a line contact: the rail section (x-z block) under repeated passes.
+
+The material point at the fixed section lies in a 2-D block of the body (rail frame, per unit width)
+x in [-W, W] around the section (x = 0), z in [0, L_z]; the band source sweeps over its top face once
+per pass, its flux multiplied by the scene's schedule. Node-centred finite volumes (seed 6.3, the 2-D
+block of :mod:`.block2d`): spacing h = 2a/32/2**level along x within four nodes of the section, growing by
+``1.3 ** (1 / 2**level)`` beyond (the source needs h at the section only; x-conduction carries a fraction
+1/(4 Pe) of the heat), nodes graded from the surface in z (first spacing
+``delta / 4 / 2**level``, growth ``1.3 ** (1 / 2**level)``, delta = sqrt(2 a kappa / V) the contact-time
+thermal layer; the depths of ``field.depth`` are nodes), insulated x ends, theta = 0 at z = L_z, convection
+h on the whole top face:
+
+``C d theta/dt = -K theta + P(t)``   (C node capacities [J/(K m)], K conductances [W/(K m)], P [W/m]).
+
+The source term of a top node is the band's flux averaged exactly over the node's dual cell at the step's
+mid-time (the flux piecewise constant on the source grid), times the schedule factor there.
+
+Time stepping, per phase and chosen by cost (diagnostics ``history_phases``):
+
+* while a source is over the block (each pass from -W/V to (W + 2a)/V about its arrival): the explicit
+  (forward Euler) scheme at ``min(dt_stab, h/V)`` when its steps cost less than the implicit scheme's at
+  the source's step h/V (a Crank-Nicolson solve counted as :data:`IMPLICIT_COST_FACTOR` node updates);
+  ``dt_stab = min C_i / K_ii`` is the explicit stability limit (Gershgorin);
+* between the passes (no source): the implicit scheme, Crank-Nicolson with two backward-Euler start steps
+  (damping the stiff surface modes the source leaves), ``2**(level + 1)`` steps of the heating step, as
+  many of twice it, four times ... (dt/t about 2**-(level + 2)), one LU factorisation per distinct step,
+  unless the explicit scheme at its stability limit is cheaper (short intervals).
+
+What the block neglects: conduction along the rail beyond its ends (insulated; W = 2a +
+2 sqrt(kappa t_end)); its x-gradient there is the history's time derivative over V, the heat it carries a
+fraction 1/(4 Pe) of the vertical flow. The wheel's tread is treated as the same flat block (curvature
+neglected), one pass per revolution.
+
+References
+----------
+.. [1] The seed paper, section 6.3 (docs/references.md).
+.. [2] R. Rannacher, Finite element solution of diffusion problems with irregular data, Numer. Math. 43
+   (1984) 309-327, doi:10.1007/BF01390130 (backward-Euler start steps before Crank-Nicolson).
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+from scipy.sparse import diags, csr_matrix
+from scipy.sparse.linalg import splu
+
+from railtherm import TransientHistory
+from railtherm.physics import pass_peaks_and_residual, pass_time_above, thermal_scales
+
+__all__ = ["SectionBlock", "section_block", "section_history", "body_histories", "IMPLICIT_COST_FACTOR"]
+
+#: one implicit (Crank-Nicolson, sparse LU) step counted as this many explicit node updates per node
+IMPLICIT_COST_FACTOR = 50.0
+#: one alternating-direction step (two tridiagonal sweeps) in explicit steps of the same block
+ADI_COST_FACTOR = 4.0
+
+
+@dataclass(frozen=True)
+class SectionBlock:
+    """The x-z block around the section and its finite-volume operator.
+
+    Attributes
+    ----------
+    x : ndarray (nx,)
+        Node positions along the rail [m], section x = 0 at index ``i0``.
+    z : ndarray (nz,)
+        Node depths [m] (unknowns; theta = 0 one spacing below the last).
+    capacity : ndarray (nx * nz,)
+        C [J/(K m)], index i * nz + j.
+    stiffness : scipy.sparse.csr_matrix
+        K [W/(K m)].
+    top_width : ndarray (nx,)
+        Dual-cell widths of the top nodes [m].
+    dt_stab : float
+        Explicit stability limit min C/K_ii [s].
+    """
+
+    x: np.ndarray
+    z: np.ndarray
+    i0: int
+    capacity: np.ndarray
+    stiffness: csr_matrix
+    top_width: np.ndarray
+    dt_stab: float
+    depth_index: np.ndarray
+    gx: np.ndarray
+    gz: np.ndarray
+    convection: np.ndarray
+
+
+def _depth_nodes(first: float, growth: float, bottom: float, exact) -> np.ndarray:
+    """Graded depths [m] from 0: spacing ``first`` growing by ``growth`` to ``bottom``; the depths in
+    ``exact`` made nodes (the nearest node moved onto each)."""
+    z = [0.0]
+    dz = first
+    while z[-1] < bottom:
+        z.append(z[-1] + dz)
+        dz *= growth
+    z = np.array(z)
+    for d in exact:
+        if d > 0:
+            z[int(np.argmin(np.abs(z[1:] - d))) + 1] = d
+    return z
+
+
+def section_block(a: float, speed: float, conductivity: float, capacity: float, convection: float, level: int,
+                  duration_total: float, depths) -> SectionBlock:
+    """The block of the module docstring for a band of half-width ``a`` [m] at ``speed`` [m/s], material
+    lambda [W/(m K)] and rho c [J/(m^3 K)], top convection h [W/(m^2 K)], refinement ``level``, a history
+    of ``duration_total`` [s] and the output ``depths`` [m]."""
+    kappa = conductivity / capacity
+    delta = thermal_scales(a, speed, kappa).thermal_depth
+    reach = math.sqrt(kappa * duration_total)
+    h = 2.0 * a / (32 * 2 ** int(level))
+    half = 2.0 * a + 2.0 * reach
+    side = list(h * np.arange(1, 5))                    # uniform h next to the section, then graded
+    step = h
+    while side[-1] < half:
+        step *= 1.3 ** (1.0 / 2 ** int(level))
+        side.append(side[-1] + step)
+    side = np.array(side)
+    n_half = side.size
+    x = np.concatenate([-side[::-1], [0.0], side])
+    bottom = max(8.0 * reach, 10.0 * delta, 1.5 * max(depths))
+    z = _depth_nodes(delta / 4.0 / 2 ** int(level), 1.3 ** (1.0 / 2 ** int(level)), bottom, depths)
+    nx, nz = x.size, z.size
+    gx_len = np.diff(x)                                 # (nx - 1,) node gaps
+    wx = 0.5 * (np.concatenate([[0.0], gx_len]) + np.concatenate([gx_len, [0.0]]))
+    gaps = np.diff(z)                                   # (nz - 1,); theta = 0 at z[-1] + gaps[-1]
+    below = np.append(gaps, gaps[-1])
+    wz = 0.5 * (below + np.concatenate([[0.0], gaps]))
+    cap = (capacity * wx[:, None] * wz[None, :]).ravel()
+    idx = np.arange(nx * nz).reshape(nx, nz)
+    gx = conductivity * wz[None, :] / gx_len[:, None]
+    gz = conductivity * wx[:, None] / below[None, :]    # (nx, nz): to the node below (or the fixed bottom)
+    diag = np.zeros((nx, nz))
+    diag[:-1] += gx
+    diag[1:] += gx
+    diag += gz
+    diag[:, 1:] += gz[:, :-1]
+    diag[:, 0] += convection * wx
+    rows = [idx.ravel(), idx[:-1].ravel(), idx[1:].ravel(), idx[:, :-1].ravel(), idx[:, 1:].ravel()]
+    cols = [idx.ravel(), idx[1:].ravel(), idx[:-1].ravel(), idx[:, 1:].ravel(), idx[:, :-1].ravel()]
+    vals = [diag.ravel(), -gx.ravel(), -gx.ravel(), -gz[:, :-1].ravel(), -gz[:, :-1].ravel()]
+    stiff = csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nx * nz,) * 2)
+    dt_stab = float(np.min(cap / diag.ravel()))
+    return SectionBlock(x, z, n_half, cap, stiff, wx, dt_stab, np.array([int(np.argmin(np.abs(z - d))) for d in depths]),
+                        np.ascontiguousarray(gx), np.ascontiguousarray(gz), convection * wx)
+
+
+class _BandSource:
+    """The band's flux [W/m^2] as its cumulative integral on the source grid [W/m], and the top nodes' dual
+    cells [m]: the power [W/m] of a node is the difference of the cumulative integral over its cell."""
+
+    def __init__(self, block: SectionBlock, x_edges, flux, speed):
+        self.xe = np.asarray(x_edges, dtype=float)
+        self.cum = np.concatenate([[0.0], np.cumsum(np.asarray(flux, dtype=float) * np.diff(self.xe))])
+        mid = 0.5 * (block.x[1:] + block.x[:-1])        # dual cells between the node midpoints
+        self.lo = np.concatenate([[block.x[0]], mid])
+        self.hi = np.concatenate([mid, [block.x[-1]]])
+        self.speed = float(speed)
+
+    def power(self, tau: float) -> np.ndarray:
+        """At time tau after the pass's arrival [s]: the node at x meets the contact at xi = x_lead + x - V tau."""
+        shift = self.xe[-1] - self.speed * tau
+        return np.interp(self.hi + shift, self.xe, self.cum) - np.interp(self.lo + shift, self.xe, self.cum)
+
+
+@numba.njit(cache=True)
+def _explicit_steps(T, cinv, gx, gz, hconv, dt, t0, factors, arrivals, lo, hi, xe, cum, speed, i0, jd,
+                    out):  # pragma: no cover - compiled
+    """``factors.size`` forward-Euler steps of the block from time t0 [s] (T (nx, nz) updated in place); the
+    source of the passes arriving at ``arrivals`` [s] at each step's mid-time times ``factors`` (0: none);
+    the section's rise at the depth nodes ``jd`` after each step into out (steps, depths)."""
+    nx, nz = T.shape
+    tn = np.empty_like(T)
+    p = np.zeros(nx)
+    lead = xe[-1]
+    for s in range(factors.size):
+        f = factors[s]
+        p[:] = 0.0
+        if f != 0.0:
+            tm = t0 + (s + 0.5) * dt
+            for k in range(arrivals.size):
+                shift = lead - speed * (tm - arrivals[k])
+                if hi[-1] + shift <= xe[0] or lo[0] + shift >= lead:
+                    continue
+                for i in range(nx):
+                    p[i] += f * (np.interp(hi[i] + shift, xe, cum) - np.interp(lo[i] + shift, xe, cum))
+        for i in range(nx):
+            for j in range(nz):
+                tij = T[i, j]
+                flow = gz[i, j] * ((T[i, j + 1] if j < nz - 1 else 0.0) - tij)
+                if i > 0:
+                    flow += gx[i - 1, j] * (T[i - 1, j] - tij)
+                if i < nx - 1:
+                    flow += gx[i, j] * (T[i + 1, j] - tij)
+                if j > 0:
+                    flow += gz[i, j - 1] * (T[i, j - 1] - tij)
+                else:
+                    flow += p[i] - hconv[i] * tij
+                tn[i, j] = tij + dt * cinv[i, j] * flow
+        T[:, :] = tn
+        for d in range(jd.size):
+            out[s, d] = T[i0, jd[d]]
+
+
+@numba.njit(cache=True)
+def _thomas(lower, diag, upper, rhs, out, work):  # pragma: no cover - compiled
+    """Solve the tridiagonal system (lower[i] x[i-1] + diag[i] x[i] + upper[i] x[i+1] = rhs[i]) into out."""
+    n = diag.size
+    work[0] = upper[0] / diag[0]
+    out[0] = rhs[0] / diag[0]
+    for i in range(1, n):
+        m = diag[i] - lower[i] * work[i - 1]
+        work[i] = upper[i] / m
+        out[i] = (rhs[i] - lower[i] * out[i - 1]) / m
+    for i in range(n - 2, -1, -1):
+        out[i] -= work[i] * out[i + 1]
+
+
+@numba.njit(cache=True)
+def _adi_steps(T, cap, gx, gz, hconv, dt, m, lie, jd, i0, out):  # pragma: no cover - compiled
+    """m source-free steps of dt of ``C dT/dt = -(Kx + Kz) T`` (T (nx, nz) in place): Peaceman-Rachford
+    (second order) or, ``lie`` True, backward Euler in x then in z (first order, damps the stiff modes);
+    tridiagonal solves along x per depth and along z per column. Kz holds the convection of the top row and
+    the fixed bottom. The section's rise at the depth nodes jd after each step into out."""
+    nx, nz = T.shape
+    half = dt if lie else 0.5 * dt
+    ts = np.empty_like(T)
+    bx = np.empty((6, nx))
+    bz = np.empty((6, nz))
+    lo_x, di_x, up_x, r_x, o_x, w_x = bx[0], bx[1], bx[2], bx[3], bx[4], bx[5]
+    lo_z, di_z, up_z, r_z, o_z, w_z = bz[0], bz[1], bz[2], bz[3], bz[4], bz[5]
+    for s in range(m):
+        # x sweep: (C/half + Kx) T* = (C/half - Kz) T   (lie: C/half T)
+        for j in range(nz):
+            for i in range(nx):
+                c = cap[i, j] / half
+                kd = 0.0
+                lo_x[i] = 0.0
+                up_x[i] = 0.0
+                if i > 0:
+                    kd += gx[i - 1, j]
+                    lo_x[i] = -gx[i - 1, j]
+                if i < nx - 1:
+                    kd += gx[i, j]
+                    up_x[i] = -gx[i, j]
+                di_x[i] = c + kd
+                r = c * T[i, j]
+                if not lie:
+                    kz = gz[i, j] * (T[i, j] - (T[i, j + 1] if j < nz - 1 else 0.0))
+                    if j > 0:
+                        kz += gz[i, j - 1] * (T[i, j] - T[i, j - 1])
+                    else:
+                        kz += hconv[i] * T[i, j]
+                    r -= kz
+                r_x[i] = r
+            _thomas(lo_x, di_x, up_x, r_x, o_x, w_x)
+            for i in range(nx):
+                ts[i, j] = o_x[i]
+        # z sweep: (C/half + Kz) T' = (C/half - Kx) T*   (lie: C/half T*)
+        for i in range(nx):
+            for j in range(nz):
+                c = cap[i, j] / half
+                kd = gz[i, j]
+                lo_z[j] = 0.0
+                up_z[j] = -gz[i, j] if j < nz - 1 else 0.0
+                if j > 0:
+                    kd += gz[i, j - 1]
+                    lo_z[j] = -gz[i, j - 1]
+                else:
+                    kd += hconv[i]
+                di_z[j] = c + kd
+                r = c * ts[i, j]
+                if not lie:
+                    kx = 0.0
+                    if i > 0:
+                        kx += gx[i - 1, j] * (ts[i, j] - ts[i - 1, j])
+                    if i < nx - 1:
+                        kx += gx[i, j] * (ts[i, j] - ts[i + 1, j])
+                    r -= kx
+                r_z[j] = r
+            _thomas(lo_z, di_z, up_z, r_z, o_z, w_z)
+            for j in range(nz):
+                T[i, j] = o_z[j]
+        for d in range(jd.size):
+            out[s, d] = T[i0, jd[d]]
+
+
+def _schedule(tr):
+    """The heat-input factor f(t) [1] of the scene's schedule (vectorised); 1 without one."""
+    if tr.schedule_time is None:
+        return lambda t: np.ones(np.shape(t))
+    st, sf = np.asarray(tr.schedule_time, float), np.asarray(tr.schedule_factor, float)
+    return lambda t: np.interp(t, st, sf)
+
+
+class _Implicit:
+    """theta-scheme steps (1: backward Euler, 0.5: Crank-Nicolson) with one LU per (dt, theta)."""
+
+    def __init__(self, block: SectionBlock):
+        self.C = block.capacity
+        self.K = block.stiffness
+        self.cache = {}
+        self.solves = 0
+
+    def step(self, T, dt, theta, p_old, p_new):
+        key = (float(dt), float(theta))
+        lu = self.cache.get(key)
+        if lu is None:
+            lu = splu((diags(self.C / dt) + theta * self.K).tocsc())
+            self.cache[key] = lu
+        rhs = self.C / dt * T - (1.0 - theta) * (self.K @ T) + theta * p_new + (1.0 - theta) * p_old
+        self.solves += 1
+        return lu.solve(rhs)
+
+
+def _cooling_ladder(span: float, first: float, per_doubling: int) -> list[tuple[float, int]]:
+    """(step [s], count) covering ``span``: ``per_doubling`` steps of ``first``, then as many of 2 first,
+    4 first, ... (dt/t about 1/(2 per_doubling): few distinct steps, each factorised once), the last rung
+    shortened (a whole number of equal steps) to end exactly at span."""
+    rungs, total, dt = [], 0.0, first
+    while total < span * (1.0 - 1e-12):
+        left = span - total
+        if per_doubling * dt >= left:
+            m = max(1, int(math.ceil(left / dt - 1e-9)))
+            rungs.append((left / m, m))
+            break
+        rungs.append((dt, per_doubling))
+        total += per_doubling * dt
+        dt *= 2.0
+    return rungs
+
+
+class _Stepper:
+    """The block's state, clock and recorded samples, stepped explicitly (numba) or implicitly (LU)."""
+
+    def __init__(self, block: SectionBlock, source: _BandSource, factor, t0: float):
+        self.b = block
+        self.src = source
+        self.factor = factor
+        nx, nz = block.x.size, block.z.size
+        self.shape = (nx, nz)
+        self.T = np.zeros((nx, nz))
+        self.t = t0
+        self.cinv = (1.0 / block.capacity).reshape(nx, nz)
+        self.implicit = _Implicit(block)
+        self.times, self.rows = [], []
+        self.explicit_steps = 0
+        self.adi_steps = 0
+
+    def explicit(self, dt: float, m: int, arrivals, heated: bool = True):
+        """m forward-Euler steps of dt; all steps recorded."""
+        b = self.b
+        mids = self.t + (np.arange(m) + 0.5) * dt
+        f = np.asarray(self.factor(mids), dtype=float) if heated else np.zeros(m)
+        out = np.empty((m, b.depth_index.size))
+        _explicit_steps(self.T, self.cinv, b.gx, b.gz, b.convection, float(dt), float(self.t), f,
+                        np.asarray(arrivals, dtype=float), self.src.lo, self.src.hi, self.src.xe, self.src.cum,
+                        self.src.speed, int(b.i0), b.depth_index, out)
+        self.times.append(self.t + dt * np.arange(1, m + 1))
+        self.rows.append(out)
+        self.t += m * dt
+        self.explicit_steps += m
+
+    def adi(self, dt: float, m: int, start: int = 0):
+        """m source-free alternating-direction steps of dt, the first ``start`` backward Euler (Lie)."""
+        b = self.b
+        cap = b.capacity.reshape(self.shape)
+        out = np.empty((m, b.depth_index.size))
+        for lo, hi, lie in ((0, min(start, m), True), (min(start, m), m, False)):
+            if hi > lo:
+                _adi_steps(self.T, cap, b.gx, b.gz, b.convection, float(dt), hi - lo, lie, b.depth_index,
+                           int(b.i0), out[lo:hi])
+        self.times.append(self.t + dt * np.arange(1, m + 1))
+        self.rows.append(out)
+        self.t += m * dt
+        self.adi_steps += m
+
+    def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
+        """m theta-scheme steps of dt (the first ``start`` backward Euler); source of ``arrivals``."""
+        b = self.b
+        T = self.T.reshape(-1)
+        nx, nz = self.shape
+        top = np.arange(nx) * nz
+
+        def power(t):
+            p = np.zeros(T.size)
+            for arr in arrivals:
+                p[top] += self.src.power(t - arr)
+            return p * float(self.factor(t)) if len(arrivals) else p
+        out = np.empty((m, b.depth_index.size))
+        p_old = power(self.t)
+        for i in range(m):
+            p_new = power(self.t + dt)
+            T = self.implicit.step(T, dt, 1.0 if i < start else theta, p_old, p_new)
+            p_old = p_new
+            self.t += dt
+            out[i] = T.reshape(nx, nz)[b.i0, b.depth_index]
+        self.T = T.reshape(nx, nz)
+        self.times.append(self.t - dt * np.arange(m - 1, -1, -1))
+        self.rows.append(out)
+
+
+# one driver for the pass windows (explicit or implicit, by cost) and the cooling between them (explicit or
+# implicit per rung of the step ladder, by cost): the phases share the stepper and the cost model
+def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interval: float, level: int):
+    """Rise history [K] of the section at the block's output depths: (time (nt,), rise (nt, ndepth),
+    residual (count,), diag).
+
+    The residual rise of pass k is the surface rise just before pass k + 1 reaches the section node's
+    dual cell (at (k + 1) interval - h/(2V), interpolated between the steps around it): the node stands for
+    its cell, which the next pass begins to heat half a cell before its leading edge reaches the section
+    (sampled at (k + 1) interval itself the rise would carry that first heat). After the last pass: at
+    count * interval. The time axis: every step, from 0 to count * interval."""
+    t_start = _time.perf_counter()
+    a2 = float(x_edges[-1] - x_edges[0])
+    V = float(speed)
+    h = float(block.x[block.i0 + 1] - block.x[block.i0])
+    W = float(block.x[-1])
+    count = int(tr.count)
+    n, nnz = block.capacity.size, block.stiffness.nnz
+    # heating: explicit at min(0.9 dt_stab, h/V) against implicit Crank-Nicolson at h/V
+    dt_src = h / V
+    dt_exp = min(0.9 * block.dt_stab, dt_src)
+    cost_exp, cost_imp = n / dt_exp, IMPLICIT_COST_FACTOR * n / dt_src
+    heat_scheme = "explicit" if cost_exp <= cost_imp else "implicit"
+    dt_heat = dt_exp if heat_scheme == "explicit" else dt_src
+    n_before = int(math.ceil((W / V) / dt_heat))
+    n_after = int(math.ceil(((W + a2) / V) / dt_heat))
+    windows = []                                        # (first pass, last pass): overlapping windows merged
+    k = 0
+    while k < count:
+        last = k
+        while last + 1 < count and (last + 1) * interval - n_before * dt_heat <= last * interval + n_after * dt_heat:
+            last += 1
+        windows.append((k, last))
+        k = last + 1
+    st = _Stepper(block, _BandSource(block, x_edges, flux, V), _schedule(tr), -n_before * dt_heat)
+    per_doubling = 2 ** (int(level) + 1)
+    rungs_explicit = rungs_implicit = 0
+
+    def cool(span):
+        nonlocal rungs_explicit, rungs_implicit
+        for i, (dt, m) in enumerate(_cooling_ladder(span, dt_heat, per_doubling)):
+            m_exp = int(math.ceil(m * dt / (0.9 * block.dt_stab)))
+            if m_exp <= ADI_COST_FACTOR * m:
+                st.explicit(m * dt / m_exp, m_exp, (), heated=False)
+                rungs_explicit += 1
+            else:
+                st.adi(dt, m, start=2 if rungs_implicit == 0 else 0)
+                rungs_implicit += 1
+    for first, last in windows:
+        w0 = first * interval - n_before * dt_heat
+        if st.t < w0 - 1e-15:
+            cool(w0 - st.t)
+        st.t = w0
+        m = int(round((last * interval + n_after * dt_heat - w0) / dt_heat))
+        arrivals = interval * np.arange(first, last + 1)
+        if heat_scheme == "explicit":
+            st.explicit(dt_heat, m, arrivals)
+        else:
+            st.implicit_steps(dt_heat, m, arrivals)
+    if st.t < count * interval:
+        cool(count * interval - st.t)
+    time = np.concatenate(st.times)
+    rise = np.concatenate(st.rows)
+    keep = time > 0
+    time = np.concatenate([[0.0], time[keep]])
+    rise = np.concatenate([np.zeros((1, rise.shape[1])), rise[keep]])
+    residual = np.interp(interval * np.arange(1, count + 1) - 0.5 * h / V, time, rise[:, 0])
+    residual[-1] = rise[-1, 0]
+    diag = {"nodes": n, "node_shape": f"{block.x.size}x{block.z.size}", "cell_x": h,
+            "first_depth_cell": float(block.z[1]), "block_half_length": W, "block_depth": float(block.z[-1]),
+            "stability_limit": block.dt_stab, "heating_scheme": heat_scheme, "heating_step": dt_heat,
+            "heating_reason": (f"explicit at min(0.9 dt_stab, h/V) = {dt_exp:.3g} s: {cost_exp:.3g} node updates per "
+                               f"s of heating; implicit Crank-Nicolson at h/V = {dt_src:.3g} s: {cost_imp:.3g} (one "
+                               f"solve = {IMPLICIT_COST_FACTOR:g} updates per node)"),
+            "cooling_rungs_explicit": rungs_explicit, "cooling_rungs_implicit": rungs_implicit,
+            "cooling_reason": (f"no source: a ladder of {per_doubling} steps of {dt_heat:.3g} s, 2x, 4x ...; each rung "
+                               "explicit at the stability limit when that takes at most "
+                               f"{ADI_COST_FACTOR:g} steps per rung step, else implicit alternating-direction steps "
+                               "(Peaceman-Rachford, two backward-Euler start steps)"),
+            "explicit_steps": st.explicit_steps, "adi_steps": st.adi_steps, "implicit_factorisations": len(st.implicit.cache),
+            "implicit_solves": st.implicit.solves, "wall_time_solver": _time.perf_counter() - t_start}
+    return time, rise, residual, diag
+
+
+def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int):
+    """The :class:`TransientHistory` of both bodies on the union of their time axes, and diagnostics.
+
+    ``fluxes`` (2, nx) each body's flux [W/m^2] on the band's grid (None or zeros: the body stays at its
+    bulk temperature)."""
+    tr = scene.transient
+    count, interval = int(tr.count), float(tr.interval)
+    z = np.asarray(tr.depths, dtype=float)
+    runs, diag = [], {"transient_passes": count, "transient_interval": interval,
+                      "transient_method": "2-D finite-volume block around the section, explicit while a source "
+                                          "is over it and implicit between passes, chosen by cost",
+                      "transient_neglects": "conduction along the rail beyond the block's ends; the wheel's curvature"}
+    for i, (m, v, q) in enumerate(zip(bodies, speeds, fluxes)):
+        if q is None or not np.any(np.asarray(q) != 0):
+            runs.append(None)
+            continue
+        block = section_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat,
+                              float(scene.convection or 0.0), level, count * interval, z)
+        t, r, res, d = section_history(block, grid.x_edges, q, v, tr, interval, level)
+        runs.append((t, r, res))
+        diag.update({f"{('wheel', 'rail')[i]}_history_{k}": val for k, val in d.items()})
+    axes = [r[0] for r in runs if r is not None]
+    time = np.unique(np.concatenate(axes)) if axes else np.linspace(0.0, count * interval, 21)
+    rise = np.stack([np.zeros((time.size, z.size)) if r is None else
+                     np.stack([np.interp(time, r[0], r[1][:, j]) for j in range(z.size)], axis=1) for r in runs])
+    peak = np.empty((2, count, z.size))
+    residual = np.empty((2, count))
+    above = np.empty((2, count, z.size))
+    for i in range(2):
+        p, _ = pass_peaks_and_residual(time, rise[i], count, interval)
+        peak[i] = p + bulk[i]
+        residual[i] = 0.0 if runs[i] is None else runs[i][2]
+        above[i] = pass_time_above(time, rise[i], count, interval, tr.threshold - bulk[i])
+    temperature = rise + np.asarray(bulk, dtype=float)[:, None, None]
+    diag["transient_time_samples"] = int(time.size)
+    return TransientHistory(time=time, z=z, temperature=temperature, peak=peak, residual=residual,
+                            time_above=above), diag
