@@ -18,13 +18,15 @@ mid-time (the flux piecewise constant on the source grid), times the schedule fa
 Time stepping, per phase and chosen by cost (diagnostics ``history_phases``):
 
 * while a source is over the block (each pass from -W/V to (W + 2a)/V about its arrival): the explicit
-  (forward Euler) scheme at ``min(dt_stab, h/V)`` when its steps cost less than the implicit scheme's at
-  the source's step h/V (a Crank-Nicolson solve counted as :data:`IMPLICIT_COST_FACTOR` node updates);
-  ``dt_stab = min C_i / K_ii`` is the explicit stability limit (Gershgorin);
-* between the passes (no source): the implicit scheme, Crank-Nicolson with two backward-Euler start steps
-  (damping the stiff surface modes the source leaves), ``2**(level + 1)`` steps of the heating step, as
-  many of twice it, four times ... (dt/t about 2**-(level + 2)), one LU factorisation per distinct step,
-  unless the explicit scheme at its stability limit is cheaper (short intervals).
+  (forward Euler, numba) scheme at ``min(0.9 dt_stab, h/V)`` when its steps cost less than the implicit
+  scheme's at the source's step h/V (a Crank-Nicolson LU solve counted as :data:`IMPLICIT_COST_FACTOR`
+  node updates), :func:`heating_scheme`; ``dt_stab = min C_i / K_ii`` is the explicit stability limit
+  (Gershgorin);
+* between the passes (no source): a ladder of ``2**(level + 1)`` steps of the heating step, as many of
+  twice it, four times ... (dt/t about 2**-(level + 2)); each rung explicit at the stability limit while
+  that takes at most :data:`ADI_COST_FACTOR` steps per rung step, else implicit: Peaceman-Rachford
+  alternating directions (second order; tridiagonal solves along x and z, no factorisation), two
+  backward-Euler (Lie) start steps damping the stiff surface modes the source leaves.
 
 What the block neglects: conduction along the rail beyond its ends (insulated; W = 2a +
 2 sqrt(kappa t_end)); its x-gradient there is the history's time derivative over V, the heat it carries a
@@ -51,7 +53,8 @@ from scipy.sparse.linalg import splu
 from railtherm import TransientHistory
 from railtherm.physics import pass_peaks_and_residual, pass_time_above, thermal_scales
 
-__all__ = ["SectionBlock", "section_block", "section_history", "body_histories", "IMPLICIT_COST_FACTOR"]
+__all__ = ["SectionBlock", "section_block", "section_history", "body_histories", "heating_scheme",
+           "IMPLICIT_COST_FACTOR", "ADI_COST_FACTOR"]
 
 #: one implicit (Crank-Nicolson, sparse LU) step counted as this many explicit node updates per node
 IMPLICIT_COST_FACTOR = 50.0
@@ -407,16 +410,35 @@ class _Stepper:
         self.rows.append(out)
 
 
+def heating_scheme(requested: str, dt_stab: float, dt_source: float) -> tuple[str, float, str]:
+    """The scheme while a source is over the block, its step [s] and the reason.
+
+    "auto": the explicit scheme at ``min(0.9 dt_stab, dt_source)`` when its steps cost at most the implicit
+    scheme's at the source's step ``dt_source`` = h/V (one Crank-Nicolson LU solve counted as
+    :data:`IMPLICIT_COST_FACTOR` explicit node updates), else the implicit one; "explicit" / "implicit" as
+    asked (the explicit step never beyond the stability limit)."""
+    dt_exp = min(0.9 * dt_stab, dt_source)
+    per_exp, per_imp = 1.0 / dt_exp, IMPLICIT_COST_FACTOR / dt_source
+    costs = (f"explicit at min(0.9 dt_stab, h/V) = {dt_exp:.3g} s: {per_exp:.3g} node updates per node and second "
+             f"of heating; implicit Crank-Nicolson at h/V = {dt_source:.3g} s: {per_imp:.3g} (one solve = "
+             f"{IMPLICIT_COST_FACTOR:g} updates per node)")
+    if requested == "explicit" or (requested == "auto" and per_exp <= per_imp):
+        return "explicit", dt_exp, ("asked: " if requested == "explicit" else "cheaper: ") + costs
+    return "implicit", dt_source, ("asked: " if requested == "implicit" else "cheaper: ") + costs
+
+
 # one driver for the pass windows (explicit or implicit, by cost) and the cooling between them (explicit or
 # implicit per rung of the step ladder, by cost): the phases share the stepper and the cost model
-def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interval: float, level: int):
+def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interval: float, level: int,
+                    requested: str = "auto"):
     """Rise history [K] of the section at the block's output depths: (time (nt,), rise (nt, ndepth),
     residual (count,), diag).
 
-    The residual rise of pass k is the surface rise just before pass k + 1 reaches the section node's
-    dual cell (at (k + 1) interval - h/(2V), interpolated between the steps around it): the node stands for
-    its cell, which the next pass begins to heat half a cell before its leading edge reaches the section
-    (sampled at (k + 1) interval itself the rise would carry that first heat). After the last pass: at
+    The residual rise of pass k is the surface rise at the last step ending before pass k + 1 reaches the
+    section node's dual cell ((k + 1) interval - h/(2V)): the node stands for its cell, which the next pass
+    begins to heat half a cell before its leading edge reaches the section (sampled at (k + 1) interval
+    itself the rise would carry that first heat; the cooling over one step, at most h/V, is below 1e-4 of
+    the residual). After the last pass: at
     count * interval. The time axis: every step, from 0 to count * interval."""
     t_start = _time.perf_counter()
     a2 = float(x_edges[-1] - x_edges[0])
@@ -424,13 +446,8 @@ def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interv
     h = float(block.x[block.i0 + 1] - block.x[block.i0])
     W = float(block.x[-1])
     count = int(tr.count)
-    n, nnz = block.capacity.size, block.stiffness.nnz
-    # heating: explicit at min(0.9 dt_stab, h/V) against implicit Crank-Nicolson at h/V
-    dt_src = h / V
-    dt_exp = min(0.9 * block.dt_stab, dt_src)
-    cost_exp, cost_imp = n / dt_exp, IMPLICIT_COST_FACTOR * n / dt_src
-    heat_scheme = "explicit" if cost_exp <= cost_imp else "implicit"
-    dt_heat = dt_exp if heat_scheme == "explicit" else dt_src
+    n = block.capacity.size
+    heat_scheme, dt_heat, heat_reason = heating_scheme(requested, block.dt_stab, h / V)
     n_before = int(math.ceil((W / V) / dt_heat))
     n_after = int(math.ceil(((W + a2) / V) / dt_heat))
     windows = []                                        # (first pass, last pass): overlapping windows merged
@@ -473,14 +490,14 @@ def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interv
     keep = time > 0
     time = np.concatenate([[0.0], time[keep]])
     rise = np.concatenate([np.zeros((1, rise.shape[1])), rise[keep]])
-    residual = np.interp(interval * np.arange(1, count + 1) - 0.5 * h / V, time, rise[:, 0])
+    # the last step ending before the next pass's source reaches the section node's dual cell
+    before = np.searchsorted(time, interval * np.arange(1, count + 1) - 0.5 * h / V, side="right") - 1
+    residual = rise[np.clip(before, 0, time.size - 1), 0]
     residual[-1] = rise[-1, 0]
     diag = {"nodes": n, "node_shape": f"{block.x.size}x{block.z.size}", "cell_x": h,
             "first_depth_cell": float(block.z[1]), "block_half_length": W, "block_depth": float(block.z[-1]),
             "stability_limit": block.dt_stab, "heating_scheme": heat_scheme, "heating_step": dt_heat,
-            "heating_reason": (f"explicit at min(0.9 dt_stab, h/V) = {dt_exp:.3g} s: {cost_exp:.3g} node updates per "
-                               f"s of heating; implicit Crank-Nicolson at h/V = {dt_src:.3g} s: {cost_imp:.3g} (one "
-                               f"solve = {IMPLICIT_COST_FACTOR:g} updates per node)"),
+            "heating_reason": heat_reason,
             "cooling_rungs_explicit": rungs_explicit, "cooling_rungs_implicit": rungs_implicit,
             "cooling_reason": (f"no source: a ladder of {per_doubling} steps of {dt_heat:.3g} s, 2x, 4x ...; each rung "
                                "explicit at the stability limit when that takes at most "
@@ -491,7 +508,7 @@ def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interv
     return time, rise, residual, diag
 
 
-def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int):
+def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, requested: str = "auto"):
     """The :class:`TransientHistory` of both bodies on the union of their time axes, and diagnostics.
 
     ``fluxes`` (2, nx) each body's flux [W/m^2] on the band's grid (None or zeros: the body stays at its
@@ -509,7 +526,7 @@ def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int):
             continue
         block = section_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat,
                               float(scene.convection or 0.0), level, count * interval, z)
-        t, r, res, d = section_history(block, grid.x_edges, q, v, tr, interval, level)
+        t, r, res, d = section_history(block, grid.x_edges, q, v, tr, interval, level, requested)
         runs.append((t, r, res))
         diag.update({f"{('wheel', 'rail')[i]}_history_{k}": val for k, val in d.items()})
     axes = [r[0] for r in runs if r is not None]

@@ -171,8 +171,12 @@ class FDMTemperature(TemperatureModel):
                 raise Refused(f"model 'fdm' ({BODY_NAMES[i]}): its surface moves at {float(source.body_speed[i]):g} "
                               "m/s relative to the contact; the section's passes need a body moving through it")
         bulk = (float(scene.wheel.bulk_temperature), float(scene.rail.bulk_temperature))
+        requested = requested_scheme(scene, options)
+        if requested == "steady":
+            raise Refused("model 'fdm': scheme 'steady' (the moving frame) has no history at a fixed section; use "
+                          "'auto', 'explicit' or 'implicit' for the pass histories", kind="validity")
         hist, diag = body_histories(scene, grid, [q if np.any(q != 0) else None for q in fluxes], bodies_m,
-                                    tuple(float(v) for v in source.body_speed), bulk, int(level))
+                                    tuple(float(v) for v in source.body_speed), bulk, int(level), requested)
         outputs = tuple(getattr(scene, "outputs", ()) or ())
         bodies = [None, None]
         if not outputs or any(o in outputs for o in _ONE_PASS):

@@ -1,0 +1,147 @@
+"""fdm's pass histories (railtherm_fdm.history): the section block of a line contact under repeated passes and a
+schedule, through ``railtherm.solve(scene, "fastsim-fdm", level)``, against core's exact moving band
+(railtherm.references.transient); the scheme chosen by cost with its reason; the convergence rate over a
+refinement ladder against the schemes' order; the scenes fdm refuses.
+
+Targets (issue 27, docs/DESIGN.md "Result schema", transient): against the exact band at level 2, pass
+peaks and residual rise within 2 %, the history's max-norm within 3 % of its maximum rise."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import railtherm
+from railtherm import Refused
+from railtherm.input.materials import Material
+from railtherm.physics import pass_peaks_and_residual
+from railtherm.references.transient import MovingSource, Schedule, pass_summary, temperature_history
+from railtherm_fdm.history import heating_scheme, section_block, section_history
+
+A, V, Q = 6e-3, 30.0, 1e8
+INTERVAL = 0.083
+SLIP = {"time": [0.0, 0.083, 0.0832, 0.0836, 0.0838, 0.2], "factor": [1.0, 1.0, 2.0, 2.0, 1.0, 1.0]}
+DEPTHS = [1e-4, 5e-4]
+CHEAP = dict(quad_points=8, inner_points=24)    # the references at ~1e-5 of their maximum
+STEEL = Material()
+
+
+def _scene(source: dict, **kw) -> dict:
+    """A given heat source into the rail only (heat_partition 0), 4 passes with a slip event, transient."""
+    scene = {"name": "rail-section", "speed": V, "heat_source": {"flux": Q, **source}, "heat_partition": 0.0,
+             "rail": {"bulk_temperature": 20.0}, "wheel": {"bulk_temperature": 20.0}, "mode": "transient",
+             "passes": {"count": 4, "interval": INTERVAL}, "schedule": SLIP,
+             "field": {"depth": DEPTHS, "threshold": 400.0},
+             "outputs": ["temperature_history", "pass_peak_temperature", "residual_rise", "time_above"]}
+    scene.update(kw)
+    return scene
+
+
+def _errors(ds, shape):
+    """Largest relative errors of the rail's pass peaks, residual rise and history (max-norm per depth over
+    the maximum rise) against the exact band with the slip schedule. The history is compared at every k-th
+    of fdm's samples, k such that about 40 remain per contact duration during the passes (the exact
+    reference costs per sample; fdm records every explicit step, 140-570 per contact duration)."""
+    src = MovingSource("band", A, V, Q, shape)
+    sched = Schedule(tuple(SLIP["time"]), tuple(SLIP["factor"]))
+    t, depths = ds.time.values, ds.z.values
+    every = max(1, int(round(2 * A / V / np.median(np.diff(t)) / 40)))
+    t = t[::every]
+    got = ds.temperature_history.sel(body="rail").values[::every] - 20.0
+    exact = temperature_history(t, depths, src, STEEL, 4, INTERVAL, sched, **CHEAP)
+    ref = pass_summary(depths, src, STEEL, 4, INTERVAL, sched, **CHEAP)
+    peak = ds.pass_peak_temperature.sel(body="rail").values - 20.0
+    return (np.max(np.abs(peak / ref.peak - 1)),
+            np.max(np.abs(ds.residual_rise.sel(body="rail").values / ref.residual[:, 0] - 1)),
+            np.max(np.abs(got - exact).max(axis=0) / exact.max(axis=0)))
+
+
+def test_band_history_at_level_1_within_the_level_2_targets():
+    """Uniform band at level 1 (the default suite's check; level 2 below, opt-in): 4 passes 83 ms apart, the
+    heat doubled for 0.4 ms in the second pass, at the surface and 0.1, 0.5 mm: pass peaks and residual rise
+    within 2 %, the history within 3 % (measured 0.67 %, 0.15 %, 1.3 %). The explicit scheme runs while a
+    source is over the block (cheaper, the reason recorded), the alternating-direction implicit one between
+    the passes; the wheel gets no heat and stays at its bulk temperature; the axis runs from 0 to 4
+    intervals with at least 20 samples per contact duration."""
+    ds = railtherm.solve(_scene({"shape": "uniform", "half_width": A}), "fastsim-fdm", level=1)
+    peak, residual, history = _errors(ds, "uniform")
+    assert peak < 0.02 and residual < 0.02 and history < 0.03, (peak, residual, history)
+    attrs = ds.attrs
+    assert attrs["fdm_rail_history_heating_scheme"] == "explicit"
+    assert attrs["fdm_rail_history_heating_reason"].startswith("cheaper: explicit")
+    assert attrs["fdm_rail_history_cooling_rungs_implicit"] > 0
+    assert np.all(ds.temperature_history.sel(body="wheel").values == 20.0)
+    t = ds.time.values
+    assert t[0] == 0.0 and t[-1] == pytest.approx(4 * INTERVAL, rel=1e-12)
+    assert np.sum((t >= INTERVAL) & (t < INTERVAL + 2 * A / V)) >= 20
+
+
+# level 2: 3-13 s a solve and the exact reference on ~8,000 samples (~45 s): opt-in (-m slow)
+@pytest.mark.slow
+@pytest.mark.parametrize("shape, scheme", [("uniform", "auto"), ("hertz", "auto"), ("uniform", "implicit")])
+def test_band_history_against_the_exact_2d_band_at_level_2(shape, scheme):
+    """The issue's targets at level 2, the scene above: pass peaks and residual rise within 2 %, the history
+    within 3 % (measured uniform, explicit heating: 0.31 %, 0.11 %, 1.8 % (the surface next to the flux's
+    edges); implicit Crank-Nicolson heating at h/V (numerics.scheme, 4.4x longer steps, ~4x the cost):
+    0.55 %, 0.04 %, 2.4 %)."""
+    ds = railtherm.solve(_scene({"shape": shape, "half_width": A}, numerics={"scheme": scheme}), "fastsim-fdm",
+                         level=2)
+    assert ds.attrs["fdm_rail_history_heating_scheme"] == ("implicit" if scheme == "implicit" else "explicit")
+    peak, residual, history = _errors(ds, shape)
+    assert peak < 0.02 and residual < 0.02 and history < 0.03, (peak, residual, history)
+
+
+def test_heating_scheme_is_chosen_by_cost():
+    """Explicit while its steps (at most 0.9 of the stability limit) cost no more than the implicit steps at
+    h/V (one solve = IMPLICIT_COST_FACTOR updates per node), implicit beyond; an asked explicit scheme keeps
+    within the stability limit."""
+    from railtherm_fdm.history import IMPLICIT_COST_FACTOR
+    dt_src = 1e-6
+    scheme, dt, why = heating_scheme("auto", 1e-5, dt_src)
+    assert (scheme, dt) == ("explicit", dt_src) and why.startswith("cheaper: explicit")
+    edge = dt_src / IMPLICIT_COST_FACTOR / 0.9
+    assert heating_scheme("auto", 1.01 * edge, dt_src)[0] == "explicit"
+    assert heating_scheme("auto", 0.99 * edge, dt_src)[:2] == ("implicit", dt_src)
+    assert heating_scheme("explicit", 0.99 * edge, dt_src)[1] == pytest.approx(0.9 * 0.99 * edge)
+
+
+@pytest.mark.parametrize("levels", [(0, 1, 2), pytest.param((0, 1, 2, 3), marks=pytest.mark.slow)])
+def test_history_converges_at_second_order(levels):
+    """Hertz band, 2 passes 20 ms apart, the flux on 2048 cells (its own discretisation out of the way),
+    levels 0 .. 2 (0 .. 3 opt-in) (h = 2a/32/2**level along x, first depth cell delta/4/2**level, explicit steps ~ h_z^2,
+    cooling steps dt/t ~ 2**-(level + 2) in a second-order ADI): the surface pass peak and the residual rise
+    against the exact band converge like h^2 (spatial second order, forward Euler at dt ~ h^2, midpoint
+    source). Fitted slopes within 0.3 of 2 (measured 1.87 and 1.79 over 0 .. 2, 1.95 and 1.84 over 0 .. 3)."""
+    xe = np.linspace(-A, A, 2049)
+    xc = 0.5 * (xe[1:] + xe[:-1])
+    flux = Q * np.sqrt(1 - (xc / A) ** 2)
+    tr = SimpleNamespace(count=2, interval=0.02, schedule_time=None, schedule_factor=None, depths=(0.0, 1e-4),
+                         threshold=400.0)
+    ref = pass_summary([0.0, 1e-4], MovingSource("band", A, V, Q, "hertz"), STEEL, 2, 0.02)
+    hs, peak, residual = [], [], []
+    for level in levels:
+        block = section_block(A, V, STEEL.conductivity, STEEL.density * STEEL.specific_heat, 0.0, level, 0.04,
+                              tr.depths)
+        t, rise, res, _ = section_history(block, xe, flux, V, tr, 0.02, level)
+        p, _ = pass_peaks_and_residual(t, rise, 2, 0.02)
+        hs.append(2 * A / 32 / 2 ** level)
+        peak.append(np.max(np.abs(p[:, 0] / ref.peak[:, 0] - 1)))
+        residual.append(np.max(np.abs(res / ref.residual[:, 0] - 1)))
+    for err in (peak, residual):
+        assert np.polyfit(np.log(hs), np.log(err), 1)[0] == pytest.approx(2.0, abs=0.3), err
+
+
+def test_refuses_what_the_section_block_does_not_cover():
+    """An ellipse (the 3-D block runs one pass), the moving-frame steady scheme (no fixed section) and a
+    depth-field output in a scene with passes are refused with the reason; the scene refused by fdm is
+    computed by green."""
+    ellipse = _scene({"shape": "hertz", "semi_axes": [A, 4e-3]}, passes={"count": 1, "interval": INTERVAL})
+    with pytest.raises(Refused, match="line contact"):
+        railtherm.solve(ellipse, "fastsim-fdm", level=0)
+    with pytest.raises(Refused, match="scheme 'steady'"):
+        railtherm.solve(_scene({"half_width": A}, numerics={"scheme": "steady"}), "fastsim-fdm", level=0)
+    depth = _scene({"half_width": A}, outputs=["temperature_history", "temperature"])
+    with pytest.raises(Refused, match="'temperature'"):
+        railtherm.solve(depth, "fastsim-fdm", level=0)
+    assert "temperature_history" in railtherm.solve(ellipse, "green", level=0)
