@@ -519,23 +519,26 @@ def scoring_groups(records) -> list[list[int]]:
     return sorted(groups.values(), key=lambda g: -sum(records[i].status == "ok" for i in g))
 
 
-def compute_metrics(study, out, records, tolerance: float | None = None, *, map=None):
+def compute_metrics(study, out, records, tolerance: float | None = None, *, map=None, scored=None):
     """Build the metrics Dataset of a study from its run records (and the run files or Zarr store).
 
     ``map``: a ``map(fn, iterable)`` that may run in other processes (e.g. a process pool's), to score
-    the scenes in parallel (:func:`score_runs`); the rows are the same as scored here. See
-    ``docs/verdicts.md`` for every variable.
+    the scenes in parallel (:func:`score_runs`); the rows are the same as scored here. ``scored``: instead,
+    the results of :func:`score_runs` over :func:`scoring_groups` already submitted by the caller (so that a
+    pool can take other work behind them). See ``docs/verdicts.md`` for every variable.
     """
     from .scorecard import verdict_vars
     tol = tolerance if tolerance is not None else getattr(study, "tolerance", 0.05)
     metrics = METRICS + (TRACE_METRICS if any(getattr(s, "field", None) is not None for s in study.scenes) else ())
     metrics += TRANSIENT_METRICS if any(getattr(s, "transient", None) is not None for s in study.scenes) else ()
     ctx = _Study(study, records, tol)
-    if map is None:
+    if map is None and scored is None:
         rows = [_score(ctx, rec) for rec in records]
     else:
         rows = [None] * len(records)
-        for part in map(functools.partial(score_runs, study, records, tol), scoring_groups(records)):
+        if scored is None:
+            scored = map(functools.partial(score_runs, study, records, tol), scoring_groups(records))
+        for part in scored:
             for i, row in part:
                 rows[i] = row
     ds = _run_table(rows, metrics)

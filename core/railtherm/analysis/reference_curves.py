@@ -340,9 +340,20 @@ def reference_curves(study, map=None) -> dict:
         ``long_name`` and ``reference``, the Dataset the attribute ``reference`` naming all of them.
         A scene whose reference cannot be evaluated is left out with a warning.
     """
+    jobs = curve_jobs(study)
+    return collect_curves(jobs, (map or builtins.map)(scene_curves_job, jobs))
+
+
+def curve_jobs(study) -> list[tuple]:
+    """The ``(scene, sweep group)`` jobs of :func:`reference_curves`, one per scene; a caller may submit
+    :func:`scene_curves_job` over them to a pool early and hand the results to :func:`collect_curves`."""
     groups = _sweep_groups(study.scenes)
-    jobs = [(sc, groups.get(sc.name)) for sc in study.scenes]
-    done = (map or builtins.map)(_scene_curves, jobs)
+    return [(sc, groups.get(sc.name)) for sc in study.scenes]
+
+
+def collect_curves(jobs: list[tuple], done) -> dict:
+    """Scene name -> curves from the results ``done`` of :func:`scene_curves_job` over ``jobs`` (in order); a
+    scene whose reference could not be evaluated is left out with a warning."""
     out = {}
     for (sc, _), (ds, problem) in zip(jobs, done):
         if problem:
@@ -352,7 +363,7 @@ def reference_curves(study, map=None) -> dict:
     return out
 
 
-def _scene_curves(job) -> tuple:
+def scene_curves_job(job) -> tuple:
     """(curves or None, problem text or "") of one ``(scene, sweep group)``: no exact theory for the scene
     (e.g. a line contact given by penetration) is None; any other error is the problem, never raised (one
     scene's reference never stops the others)."""
@@ -369,14 +380,15 @@ def _group_name(i: int, scene: str) -> str:
     return f"s{i:04d}_" + re.sub(r"[^A-Za-z0-9_]+", "_", scene)[:60]
 
 
-def write_reference_curves(study, out, map=None) -> Path:
+def write_reference_curves(study, out, map=None, curves: dict | None = None) -> Path:
     """Write :func:`reference_curves` of ``study`` to ``out/references.nc`` (atomically) and return the path.
 
     One netCDF4 group per scene; the group's attribute ``scene`` holds the scene name. The file is
     written even when no scene has a reference (then it holds none), so that a reader can tell
-    "no reference" from "not computed". ``map``: as for :func:`reference_curves`.
+    "no reference" from "not computed". ``map``: as for :func:`reference_curves`; ``curves``: its result,
+    when the caller computed it already.
     """
-    curves = reference_curves(study, map)
+    curves = reference_curves(study, map) if curves is None else curves
     attrs = {"Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}",
              "study": study.name, "scenes": len(curves)}
     groups = {_group_name(i, name): ds for i, (name, ds) in enumerate(curves.items())}
