@@ -83,8 +83,8 @@ def test_wheel_interval_defaults_to_its_revolution():
 
 
 def test_computed_contact_runs_and_steady_methods_refuse():
-    """A computed Hertz patch (full sliding) runs through green; fipy and fastsim-fdm refuse the histories
-    (they do not compute them) instead of returning a steady answer."""
+    """A computed Hertz patch (full sliding) runs through green; fipy (no histories) and fastsim-fdm (histories of
+    line contacts only) refuse the ellipse's histories instead of returning a steady answer."""
     import railtherm.testing
     scene = railtherm.testing.canonical("ellipse-full-sliding", mode="transient", passes={"count": 3, "interval": 0.05},
                                         outputs=["temperature_history", "residual_rise"])
