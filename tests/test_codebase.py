@@ -33,3 +33,32 @@ def test_no_public_function_in_two_plugins():
                 homes[node.name].add(package)
     twice = {name: sorted(pkgs) for name, pkgs in homes.items() if len(pkgs) > 1}
     assert twice == {}, f"public functions defined in two plugins (move them to core): {twice}"
+
+
+MAX_FUNCTION_LINES = 80
+
+
+def _long_functions(path: Path):
+    """(name, first line, length) of every function (methods and nested ones too) of ``path`` longer than
+    :data:`MAX_FUNCTION_LINES` (from its ``def`` to its last line, docstring included) whose first line
+    (its first decorator, else its ``def``) is not directly below a ``#`` comment giving the reason."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    for node in ast.walk(ast.parse("\n".join(lines))):
+        if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            continue
+        length = node.end_lineno - node.lineno + 1
+        if length <= MAX_FUNCTION_LINES:
+            continue
+        first = min([node.lineno] + [d.lineno for d in node.decorator_list])
+        above = lines[first - 2].strip() if first >= 2 else ""
+        if not above.startswith("#"):
+            yield node.name, first, length
+
+
+def test_no_function_over_80_lines_without_a_reason():
+    """Issue 25: no function of core or of a built-in plugin is over 80 lines unless a ``#`` comment directly
+    above it (above its decorators) says why it is long."""
+    long = [f"{path.relative_to(ROOT)}:{line} {name} ({n} lines)"
+            for path in SOURCES for name, line, n in _long_functions(path)]
+    assert long == [], ("functions over 80 lines without a '#' reason directly above them (split them, or "
+                        "say why they are long):\n  " + "\n  ".join(long))
