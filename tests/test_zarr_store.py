@@ -230,15 +230,21 @@ def test_run_killed_mid_chunk_is_retried_then_failed(hosts, tmp_path, monkeypatc
 
 
 # -- fields --------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def field_files(hosts, tmp_path_factory):
+    """Run files (with fields) of the two-speed sweep: the reference of both keep_fields cases."""
+    d = tmp_path_factory.mktemp("fields")
+    railtherm.run_study(zsweep(d / "f.toml", "", speeds=[10.0, 11.0]), d / "f", report=False)
+    return d / "f"
+
+
 @pytest.mark.parametrize("keep", ["true", '"finest"'])
-def test_fields_kept_on_request(hosts, tmp_path, keep):
+def test_fields_kept_on_request(field_files, tmp_path, keep):
     study = zsweep(tmp_path / "z.toml", f'store = "zarr"\nkeep_fields = {keep}', speeds=[10.0, 11.0])
-    files = zsweep(tmp_path / "f.toml", "", speeds=[10.0, 11.0])
     railtherm.run_study(study, tmp_path / "z", report=False)
-    railtherm.run_study(files, tmp_path / "f", report=False)
     s = "map--speed=11,sliding_speed=2"
     for level in (0, 1):
-        got, ref = store.open_run(tmp_path / "z", s, "flat", level), store.open_run(tmp_path / "f", s, "flat", level)
+        got, ref = store.open_run(tmp_path / "z", s, "flat", level), store.open_run(field_files, s, "flat", level)
         if keep == "true" or level == 1:
             assert got["surface_temperature"].values.tobytes() == ref["surface_temperature"].values.tobytes()
             assert got["x"].values.tobytes() == ref["x"].values.tobytes()

@@ -286,6 +286,8 @@ class ProcessExecutor:
         self.grace, self.max_attempts = grace, max_attempts
         self.pids: list[int] = []  # current worker pids (for monitoring and tests)
 
+    # one supervision loop: dispatch, results, worker deaths, overrun runs and respawns share the pool state
+    # (which worker holds which run, attempts per run), so splitting it would pass all of that around
     def map(self, fn, tasks, **kw):
         import multiprocessing as mp
         from multiprocessing.connection import wait
