@@ -44,6 +44,7 @@ from __future__ import annotations
 import math
 import time as _time
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numba
 import numpy as np
@@ -52,8 +53,9 @@ from scipy.sparse.linalg import splu
 
 from railtherm import TransientHistory
 from railtherm.physics import pass_peaks_and_residual, pass_time_above, thermal_scales
+from railtherm.references.transient import shifted_sum
 
-__all__ = ["SectionBlock", "section_block", "section_history", "body_histories", "heating_scheme",
+__all__ = ["SectionBlock", "section_block", "section_history", "superposed_history", "body_histories", "heating_scheme",
            "IMPLICIT_COST_FACTOR", "ADI_COST_FACTOR"]
 
 #: one implicit (Crank-Nicolson, sparse LU) step counted as this many explicit node updates per node
@@ -508,6 +510,44 @@ def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interv
     return time, rise, residual, diag
 
 
+def superposed_history(block: SectionBlock, x_edges, flux, speed: float, tr, interval: float, level: int,
+                       requested: str = "auto"):
+    """As :func:`section_history` for a schedule constant over the whole history (factor f): the block is
+    linear, so one pass stepped to ``count * interval`` (its response R(theta) on fdm's own axis) serves
+    every pass, ``f sum_k R(t - k interval)`` (:func:`railtherm.references.transient.shifted_sum`; R linearly
+    interpolated between its samples for the earlier passes, on the cooling ladder where dt/t <= 1/8). The
+    time axis: in every pass the one-pass axis's times within the interval, every step while the source
+    heats the section (1.25 contact durations D), then at most 64 samples per D."""
+    count = int(tr.count)
+    one = SimpleNamespace(count=1, schedule_time=None, schedule_factor=None, depths=tr.depths,
+                          threshold=tr.threshold)
+    t1, r1, _, diag = section_history(block, x_edges, flux, speed, one, count * interval, level, requested)
+    f = 1.0 if tr.schedule_time is None else float(tr.schedule_factor[0])
+    offsets = t1[t1 < interval * (1.0 - 1e-12)]
+    duration = float(x_edges[-1] - x_edges[0]) / float(speed)
+    # every step while the source heats the section (the peaks), then about 64 samples per contact duration
+    late = np.nonzero(offsets > 1.25 * duration)[0]
+    if late.size > 1:
+        every = max(1, int(duration / 64.0 / float(np.median(np.diff(offsets[late[:64]]))) if late.size > 64 else 1))
+        keep = np.ones(offsets.size, dtype=bool)
+        dense = late[np.diff(offsets, prepend=0.0)[late] < duration / 64.0]
+        keep[dense] = False
+        keep[dense[::every]] = True
+        offsets = offsets[keep]
+    time = np.concatenate([k * interval + offsets for k in range(count)] + [[count * interval]])
+
+    def curve(theta):
+        return np.stack([np.interp(theta, t1, r1[:, j], left=0.0) for j in range(r1.shape[1])], axis=1)
+    rise = f * shifted_sum(time, count, interval, curve)
+    h = float(block.x[block.i0 + 1] - block.x[block.i0])
+    before = curve(interval * np.arange(1, count + 1) - 0.5 * h / float(speed))[:, 0]
+    residual = f * np.cumsum(before)
+    residual[-1] = f * curve(interval * np.arange(1, count + 1))[:, 0].sum()
+    diag.update({"superposition": True, "superposition_reason": "the schedule is constant: one pass's response, "
+                 "stepped to the end of the history, summed over the passes"})
+    return time, rise, residual, diag
+
+
 def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, requested: str = "auto"):
     """The :class:`TransientHistory` of both bodies on the union of their time axes, and diagnostics.
 
@@ -526,7 +566,9 @@ def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, reques
             continue
         block = section_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat,
                               float(scene.convection or 0.0), level, count * interval, z)
-        t, r, res, d = section_history(block, grid.x_edges, q, v, tr, interval, level, requested)
+        constant = tr.schedule_factor is None or len(set(tr.schedule_factor)) == 1
+        run = superposed_history if constant and count > 1 else section_history
+        t, r, res, d = run(block, grid.x_edges, q, v, tr, interval, level, requested)
         runs.append((t, r, res))
         diag.update({f"{('wheel', 'rail')[i]}_history_{k}": val for k, val in d.items()})
     axes = [r[0] for r in runs if r is not None]
