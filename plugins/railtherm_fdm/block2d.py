@@ -41,9 +41,9 @@ from railtherm import Refused
 
 from .energy import EnergyLedger, quasi_steady_change, steady_heat_balance
 from .kernels import explicit_step_2d
-from .layout import (Extent, Trail, graded_grid, line_extent, line_stability_limit, node_grid, plan_steps, trail_extent,
-                     field_note)
+from .layout import (Extent, Trail, graded_grid, line_extent, line_stability_limit, node_grid, plan_steps, field_note)
 from .linear_solvers import BackwardEuler, backward_euler_operator
+from .problem import block_problem
 from .sampling import BlockResult, linear_rows, surface_from_top_cells
 from .source_loading import MovingSource, graded_surface_source
 
@@ -62,6 +62,8 @@ def _check_line(grid):
         raise ValueError("the 2-D block needs a line grid (y_edges None)")
 
 
+# one time loop (explicit or implicit steps) sharing the energy ledger, the source and the quasi-steady check;
+# half of its length is the docstring of its eleven parameters
 def transient_line(grid, flux, cover, speed, conductivity, density, specific_heat, convection, cell, *,
                    scheme="explicit", time_step=None, courant=1.0, extent: Extent | None = None, checkpoint=None,
                    max_nodes=2e7, out_grid=None, trail: Trail | None = None):
@@ -107,14 +109,9 @@ def transient_line(grid, flux, cover, speed, conductivity, density, specific_hea
     if scheme not in ("explicit", "implicit"):
         raise ValueError(f"scheme must be 'explicit' or 'implicit', got {scheme!r}")
     t0 = time.perf_counter()
-    lam, rc = float(conductivity), float(density) * float(specific_heat)
-    kappa = lam / rc
-    h = float(convection)
-    a = float(grid.x_edges[-1])
-    ext = extent or line_extent(a, speed, kappa)
-    if trail is not None:
-        ext = trail_extent(ext, trail, a, speed, kappa, steady=False)
-    sg = grid if out_grid is None else out_grid
+    pb = block_problem(grid, speed, conductivity, density, specific_heat, convection, steady=False, extent=extent,
+                       out_grid=out_grid, trail=trail)
+    lam, rc, kappa, h, a, ext, sg = pb.conductivity, pb.capacity, pb.kappa, pb.convection, pb.a, pb.extent, pb.sample_grid
     d = float(cell)
     ng = node_grid(a, ext, d)
     nx, nz, X0 = ng.nx, ng.nz, ng.start
@@ -187,68 +184,14 @@ def transient_line(grid, flux, cover, speed, conductivity, density, specific_hea
     return BlockResult(surf, zn.copy(), dep, diag)
 
 
-def steady_line(grid, flux, cover, speed, conductivity, density, specific_heat, convection, cell, *,
-                level=0, ratio=1.3, surface_layers=4, extent=None, x_scheme="upwind2", max_cells=4e6,
-                out_grid=None, trail: Trail | None = None):
-    """Moving-frame steady state of the 2-D block (the transient schemes' quasi-steady limit).
-
-    Parameters
-    ----------
-    grid, flux, cover, speed, conductivity, density, specific_heat, convection
-        As :func:`transient_line`.
-    cell : float
-        Cell size along x over the band [m]; the depth grid starts at
-        ``min(cell, delta / surface_layers / 2**level)``, delta = sqrt(2 a kappa / V).
-    level : int
-        Refinement level: growth ratio ``ratio ** (1 / 2**level)`` outside the band and in depth.
-    ratio : float
-        Growth ratio of the graded cells at level 0 [1].
-    surface_layers : int
-        Cells across the penetration depth delta at level 0 [1].
-    extent : Extent, optional
-        Block size (default :func:`line_extent`).
-    x_scheme : {"upwind2", "exponential"}
-        Fluxes along x: second-order upwind advection with central diffusion (default; measured
-        order ~1.8 against Jaeger), or exponential (Allen-Southwell, as the 3-D block; first order
-        at high cell Péclet number, its LU is about twice as cheap).
-    max_cells : float
-        Largest cell count [1].
-    out_grid, trail
-        As :func:`railtherm_fdm.block3d.steady_block`.
-
-    Returns
-    -------
-    BlockResult
-    """
-    _check_line(grid)
-    if x_scheme not in X_SCHEMES:
-        raise ValueError(f"x_scheme must be one of {X_SCHEMES}, got {x_scheme!r}")
+def _line_operator(xe, ze, lam, rc, V, hA, x_scheme):
+    """:func:`steady_line`'s operator on the graded cells (edges ``xe``, ``ze`` [m]), top convection ``hA``:
+    (A (csc) [W/(m K)], capacity flow rho c V dz (nz,), inflow coefficients (nz,), bottom conductances (nx,))."""
     from scipy.sparse import csc_matrix
-    from scipy.sparse.linalg import splu
-
-    t0 = time.perf_counter()
-    lam, rc = float(conductivity), float(density) * float(specific_heat)
-    kappa = lam / rc
-    h = float(convection)
-    V = float(speed)
-    a = float(grid.x_edges[-1])
-    ext = extent or line_extent(a, V, kappa)
-    if trail is not None:
-        ext = trail_extent(ext, trail, a, V, kappa, steady=True)
-    sg = grid if out_grid is None else out_grid
-    gg = graded_grid(a, ext, cell, V, kappa, level, ratio=ratio, surface_layers=surface_layers, trail=trail)
-    xe, ze, rk = gg.x_edges, gg.z_edges, gg.growth
     dx, dz = np.diff(xe), np.diff(ze)
     xc, zc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ze[1:] + ze[:-1])
     nx, nz = dx.size, dz.size
     n = nx * nz
-    if n > max_cells:
-        raise Refused(f"model 'fdm' (steady, line): the graded grid needs {nx}x{nz} = {n:.3g} cells at level "
-                      f"{level}, above the limit {max_cells:.3g}; use a lower level or a larger cell_size"
-                      + field_note(trail),
-                      kind="budget")
-    Q, _, hA = graded_surface_source(xe, grid.x_edges, flux, cover, h)    # [W/m], [W/(m K)]
-
     idx = np.arange(n).reshape(nx, nz)
     rows, cols, vals = [], [], []
     aP = np.zeros((nx, nz))
@@ -319,6 +262,64 @@ def steady_line(grid, flux, cover, speed, conductivity, density, specific_heat, 
     cols.append(idx.reshape(-1))
     vals.append(aP.reshape(-1))
     A = csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+    return A, F, inflow_coef, Dbot
+
+
+def steady_line(grid, flux, cover, speed, conductivity, density, specific_heat, convection, cell, *,
+                level=0, ratio=1.3, surface_layers=4, extent=None, x_scheme="upwind2", max_cells=4e6,
+                out_grid=None, trail: Trail | None = None):
+    """Moving-frame steady state of the 2-D block (the transient schemes' quasi-steady limit).
+
+    Parameters
+    ----------
+    grid, flux, cover, speed, conductivity, density, specific_heat, convection
+        As :func:`transient_line`.
+    cell : float
+        Cell size along x over the band [m]; the depth grid starts at
+        ``min(cell, delta / surface_layers / 2**level)``, delta = sqrt(2 a kappa / V).
+    level : int
+        Refinement level: growth ratio ``ratio ** (1 / 2**level)`` outside the band and in depth.
+    ratio : float
+        Growth ratio of the graded cells at level 0 [1].
+    surface_layers : int
+        Cells across the penetration depth delta at level 0 [1].
+    extent : Extent, optional
+        Block size (default :func:`line_extent`).
+    x_scheme : {"upwind2", "exponential"}
+        Fluxes along x: second-order upwind advection with central diffusion (default; measured
+        order ~1.8 against Jaeger), or exponential (Allen-Southwell, as the 3-D block; first order
+        at high cell Péclet number, its LU is about twice as cheap).
+    max_cells : float
+        Largest cell count [1].
+    out_grid, trail
+        As :func:`railtherm_fdm.block3d.steady_block`.
+
+    Returns
+    -------
+    BlockResult
+    """
+    _check_line(grid)
+    if x_scheme not in X_SCHEMES:
+        raise ValueError(f"x_scheme must be one of {X_SCHEMES}, got {x_scheme!r}")
+    from scipy.sparse.linalg import splu
+
+    t0 = time.perf_counter()
+    pb = block_problem(grid, speed, conductivity, density, specific_heat, convection, steady=True, extent=extent,
+                       out_grid=out_grid, trail=trail)
+    lam, rc, kappa, h, V, a, ext, sg = (pb.conductivity, pb.capacity, pb.kappa, pb.convection, pb.speed, pb.a,
+                                        pb.extent, pb.sample_grid)
+    gg = graded_grid(a, ext, cell, V, kappa, level, ratio=ratio, surface_layers=surface_layers, trail=trail)
+    xe, ze, rk = gg.x_edges, gg.z_edges, gg.growth
+    dx, dz = np.diff(xe), np.diff(ze)
+    xc, zc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ze[1:] + ze[:-1])
+    nx, nz = dx.size, dz.size
+    n = nx * nz
+    if n > max_cells:
+        raise Refused(f"model 'fdm' (steady, line): the graded grid needs {nx}x{nz} = {n:.3g} cells at level "
+                      f"{level}, above the limit {max_cells:.3g}; use a lower level or a larger cell_size"
+                      + field_note(trail), kind="budget")
+    Q, _, hA = graded_surface_source(xe, grid.x_edges, flux, cover, h)    # [W/m], [W/(m K)]
+    A, F, inflow_coef, Dbot = _line_operator(xe, ze, lam, rc, V, hA, x_scheme)
     rhs = np.zeros((nx, nz))
     rhs[:, 0] = Q
     # orderings measured on 2-D grids: minimum degree on A^T + A for the (diagonally dominant)
