@@ -2,8 +2,8 @@
 
 Each body (wheel and rail) is treated as the seed treats the rail: a block whose top face carries
 the body's share of the heat source moving at the body's speed relative to the contact. (For the
-wheel this is its flash temperature in one pass of the contact; the heating over revolutions is not
-modelled.) An elliptical patch runs the 3-D block (:mod:`.block3d`), a line contact the 2-D (x-z)
+wheel this is its flash temperature in one pass of the contact; its heating over revolutions is the
+pass histories of a transient scene on a line contact, below.) An elliptical patch runs the 3-D block (:mod:`.block3d`), a line contact the 2-D (x-z)
 block (:mod:`.block2d`; the 3-D block with a laterally uniform source, exactly). The schemes --
 ``explicit`` (the seed's), ``implicit`` and the moving-frame ``steady`` one for stiff cases -- are
 described in :mod:`.block3d`; which one runs is decided per body (:mod:`.scheme_choice`).
@@ -29,6 +29,14 @@ field needs the depth: on the 3-D block a transient scheme whose uniform node sp
 half the thermal layer sqrt(2 a kappa / V) cannot give it, so ``auto`` runs the steady scheme there (at
 Péclet >= 0.1) and an explicitly requested transient scheme is refused (kind "validity"); the 2-D
 block's transient spacing resolves that layer from level 0 on. Without ``field`` every array is the one of the patch-only run, bit for bit.
+
+Transient scenes with passes (``passes``, ``schedule``, the history outputs; line contacts only): the
+histories of the section's material point come from the 2-D block around the section of
+:mod:`.history` -- explicit while a source is over it and implicit between the passes, each chosen by
+cost with the reason in the diagnostics (``<body>_history_heating_reason``, ``..._cooling_reason``), one
+pass's response superposed over the passes when the schedule is constant. An ellipse's histories, a
+temperature-dependent friction law, bodies at different bulk temperatures and the depth-field outputs
+are refused with the reason (:func:`history_limits`).
 
 References
 ----------
