@@ -82,6 +82,14 @@ class SectionBlock:
         Dual-cell widths of the top nodes [m].
     dt_stab : float
         Explicit stability limit min C/K_ii [s].
+    depth_index : ndarray of int
+        The nodes of the output depths.
+    gx : ndarray (nx - 1, nz)
+        Conductances between neighbours along x [W/(K m)].
+    gz : ndarray (nx, nz)
+        Conductances to the node below (the last row: to the fixed bottom) [W/(K m)].
+    convection : ndarray (nx,)
+        h times the top nodes' dual-cell widths [W/(K m)].
     """
 
     x: np.ndarray
