@@ -20,7 +20,7 @@ import railtherm
 from railtherm.contract.schema import variable_attrs
 from railtherm.report.document import Document
 from railtherm.report.load import Run, SceneInfo, StudyData, load
-from railtherm.report.wheelset_section import wheelset_findings, wheelset_scenes, wheelset_section
+from railtherm.report.wheelset_section import _shapes, wheelset_findings, wheelset_scenes, wheelset_section
 
 DATA = Path(__file__).resolve().parent / "data" / "profiles"
 
@@ -134,6 +134,27 @@ def test_no_section_without_a_wheelset_on_profiles(tmp_path):
     assert "Wheelset" not in doc.markdown() and wheelset_findings(data) == []
 
 
+def test_patch_shapes_are_placed_on_the_rail_by_the_contact_plane(tmp_path):
+    """The shapes figure's data: the reference method's cells with pressure, at y = y0 + s cos(delta0) on the
+    rail (s across the contact plane), at the shift 0 mm the study has (5 and 6.5 mm it has not)."""
+    data = _fake_data(tmp_path)
+    for name, side, shift, *_ in FAKE:
+        si = data.scene[name]
+        si.scene.profile_contact = SimpleNamespace(side=side, plane_position_rail=-0.01, plane_angle=-0.5,
+                                                   contact_position_rail=-0.011, contact_height_rail=2e-4)
+        ds = data._files[name, "kalker", 0]
+        x, y = np.linspace(-2e-3, 2e-3, 5), np.linspace(-1e-3, 1e-3, 3)
+        p = np.zeros((5, 3))
+        p[1:4, 1:] = 1e8
+        data._files[name, "kalker", 0] = ds.assign(pressure=(("x", "y"), p)).assign_coords(x=x, y=y)
+    shapes = _shapes(data, wheelset_scenes(data), "kalker")
+    assert [s[0] for s in shapes["right"]] == [0.0] and [s[0] for s in shapes["left"]] == [0.0]
+    (shift, ref, (yr, xr, inside)), = shapes["right"]
+    assert ref == (-0.011, 2e-4)
+    assert np.allclose(yr, -0.01 + y * np.cos(-0.5)) and np.array_equal(xr, x)
+    assert inside.sum() == 6 and inside[1:4, 1:].all()
+
+
 # -- slow: the benchmark's contacts through railtherm run --------------------------------------------------------
 @pytest.fixture(scope="module")
 def out(tmp_path_factory):
@@ -154,6 +175,7 @@ def test_study_section_table_holds_the_run_files_numbers(out):
     md = (out / "report.md").read_text()
     assert "## Wheelset on profiles: the patch and its flash temperature against lateral shift" in md
     assert (out / "figures" / "wheelset-against-shift.png").exists()
+    assert (out / "figures" / "wheelset-patch-shapes.png").exists()       # the 5 mm patch, right wheel
     for name, shift, *_, side in POSITIONS:
         k, h = _run(out, name, "kalker"), _run(out, name, "hertz-fastsim-green")
         row = next(line for line in md.splitlines() if line.startswith(f"| {side} | {shift * 1e3:g} |"))

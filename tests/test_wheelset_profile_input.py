@@ -27,6 +27,11 @@ def test_a_good_scene_is_a_gap_scene_with_load_and_creepage():
     assert sc.normal_force == pytest.approx(sc.profile_contact.normal_force)
     assert sc.creepage.longitudinal == sc.profile_contact.creepage[0]
     assert sc.profile_contact.patches == 1
+    # one clear minimum: the plane's origin lies near the reference point (0.08 mm here)
+    assert abs(sc.profile_contact.plane_position_rail - sc.profile_contact.contact_position_rail) < 0.5e-3
+    rail = read_profile(str(DATA / "MBench_UIC60_v3.prr"))
+    y, z = sc.profile_contact.rail_section
+    assert len(y) <= 400 and (y[0], y[-1], z[0]) == (rail.y[0], rail.y[-1], rail.z[0])
 
 
 def test_a_missing_profile_file_names_key_and_file(tmp_path):

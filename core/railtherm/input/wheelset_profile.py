@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from ..contract.errors import SceneError
@@ -62,6 +62,8 @@ SECTION_HALF_WIDTH = 12e-3
 FIT_CHECK = 1.5
 #: degree of the gap polynomial in the lateral coordinate
 GAP_DEGREE = 8
+#: points of the rail profile a ProfileContact keeps for drawing (rail_section)
+SECTION_POINTS = 400
 
 
 @dataclass(frozen=True)
@@ -80,6 +82,10 @@ class ProfileContact:
         Contact point on the rail in the rail profile's own coordinates [m].
     contact_angle : float
         Angle of the contact plane [rad].
+    plane_position_rail, plane_angle : float
+        Origin of the contact plane the gap is solved on (the gap minimum) on the rail, in the rail profile's
+        own coordinates [m], and that plane's angle [rad]: a result's y across the plane lies at
+        plane_position_rail + y cos(plane_angle) on the rail.
     rolling_radius : float
         [m].
     separation : float
@@ -98,6 +104,9 @@ class ProfileContact:
         N [N] from Fz and the estimated lateral creep force.
     lateral_force_estimate : float
         The estimated lateral creep force on the wheel in the contact plane [N] that N used.
+    rail_section : tuple of tuple of float
+        (y, z) [m] of the rail profile in its own coordinates, at most :data:`SECTION_POINTS` of its points:
+        what a reader of results (the report) draws the patches on without reading the profile file.
     """
 
     side: str
@@ -106,6 +115,8 @@ class ProfileContact:
     contact_position_rail: float
     contact_height_rail: float
     contact_angle: float
+    plane_position_rail: float
+    plane_angle: float
     rolling_radius: float
     separation: float
     hertz_curvatures: tuple[float, float]
@@ -115,6 +126,13 @@ class ProfileContact:
     vertical_force: float
     normal_force: float
     lateral_force_estimate: float
+    rail_section: tuple = field(default=((), ()), repr=False, compare=False)
+
+
+def _rail_section(rail) -> tuple:
+    """(y, z) [m] of at most SECTION_POINTS of a profile's points, its ends kept."""
+    k = np.unique(np.linspace(0, rail.y.size - 1, min(SECTION_POINTS, rail.y.size)).round().astype(int))
+    return tuple(float(v) for v in rail.y[k]), tuple(float(v) for v in rail.z[k])
 
 
 def _saturated_lateral(a, b, G, nu, creepage, mu, N) -> float:
@@ -367,8 +385,9 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
     coef, residual = _gap_fit(scene_name, p, h)
     return ProfileContact(side=geo.side, patch=int(patch_no), patches=len(distinct),
                           contact_position_rail=ref["y_rail"], contact_height_rail=ref["z_rail"],
-                          contact_angle=ref["angle"], rolling_radius=p.rolling_radius, separation=p.separation,
+                          contact_angle=ref["angle"], plane_position_rail=float(p.y_rail),
+                          plane_angle=float(p.contact_angle), rolling_radius=p.rolling_radius, separation=p.separation,
                           hertz_curvatures=(float(curv[0]), float(curv[1])), gap_coefficients=coef,
                           gap_residual=residual, creepage=ref["creepage"],
                           vertical_force=float(geo.vertical_force), normal_force=float(N),
-                          lateral_force_estimate=float(fy))
+                          lateral_force_estimate=float(fy), rail_section=_rail_section(geo.rail_profile))

@@ -12,11 +12,14 @@ per method (chain) at its finest successful level, against the lateral shift [mm
 * a table of the same per shift, with each method's flash temperature error against the study's reference
   method (``metrics.nc``'s, the scorecard's number: the largest over both bodies of the difference in rise
   above the bulk temperature, relative to the reference's larger rise);
+* the patches of the reference method at the lateral shifts :data:`SHAPE_SHIFTS` (0, 5 and 6.5 mm: tread, the
+  jump towards the flange, flange) drawn on the rail profile and seen from above;
 * the key finding (:func:`wheelset_findings`, also among the verdict's key findings): the shifts at which a
   method's flash temperature is more than the study's tolerance off the reference (the Hertz + FASTSIM
   chains against the exact chain ``kalker`` in the benchmark study).
 
-The report computes no physics: every value is a run file's or ``metrics.nc``'s.
+The report computes no physics: every value is a run file's or ``metrics.nc``'s, and the rail profile the
+scene's (:attr:`railtherm.input.wheelset_profile.ProfileContact.rail_section`).
 """
 from __future__ import annotations
 
@@ -214,6 +217,89 @@ def _rows(data: StudyData, groups, methods, ref) -> list[list[str]]:
     return rows
 
 
+# -- the patch shapes on the rail profile ---------------------------------------------------------------------
+#: lateral shifts [m] whose patches are drawn on the rail profile (tread, the jump towards the flange, flange)
+SHAPE_SHIFTS = (0.0, 5e-3, 6.5e-3)
+SHAPE_COLOURS = ("#1f77b4", "#ff7f0e", "#d62728")
+
+
+def _rail(data: StudyData, scene: str):
+    """(y, z) [m] of the scene's rail profile in its own coordinates, as the scene keeps it (None without)."""
+    section = getattr(getattr(data.scene[scene].scene, "profile_contact", None), "rail_section", None)
+    if not section or not len(section[0]):
+        return None
+    return np.asarray(section[0], float), np.asarray(section[1], float)
+
+
+def _shapes(data: StudyData, groups, method: str) -> dict:
+    """side -> [(shift [m], reference point (y, z) on the rail [m], patch outline data)] at :data:`SHAPE_SHIFTS`:
+    the method's cells with pressure in the rail profile's lateral coordinate y = y0 + s cos(delta0) (s across
+    the contact plane, y0 and delta0 the plane's origin and angle) and x."""
+    out = {}
+    for side, members in groups.items():
+        for shift in SHAPE_SHIFTS:
+            s = next((sc for x, sc in members if abs(x - shift) < 1e-9), None)
+            r = data.finest_result(s, method) if s is not None else None
+            ds = data.run_file(s, method, r.level) if r is not None else None
+            if ds is None or "pressure" not in ds or "y" not in ds.dims:
+                continue
+            pc = data.scene[s].scene.profile_contact
+            y = pc.plane_position_rail + np.asarray(ds["y"].values, float) * math.cos(pc.plane_angle)
+            p = np.asarray(ds["pressure"].transpose("x", "y").values, float)
+            out.setdefault(side, []).append((shift, (pc.contact_position_rail, pc.contact_height_rail),
+                                             (y, np.asarray(ds["x"].values, float), p > 0.0)))
+    return out
+
+
+def _shape_figure(rails, shapes, *, path: Path):
+    """Per wheel side: the rail profile with each patch's lateral extent and reference point (top), and the
+    patches seen from above on the rail head (bottom)."""
+    sides = list(shapes)
+    fig = figure(10, 6.2)
+    axes = np.asarray(fig.subplots(2, len(sides), squeeze=False, height_ratios=[1, 1.4]))
+    for j, side in enumerate(sides):
+        top, plan = axes[0, j], axes[1, j]
+        ry, rz = rails[side]
+        top.plot(ry * 1e3, rz * 1e3, color="0.3", lw=1.0)
+        for k, (shift, (y0, z0), (y, x, inside)) in enumerate(shapes[side]):
+            c = SHAPE_COLOURS[k % len(SHAPE_COLOURS)]
+            cols = inside.any(axis=0)
+            yy = np.linspace(y[cols].min(), y[cols].max(), 50)
+            top.plot(yy * 1e3, np.interp(yy, ry, rz) * 1e3, color=c, lw=4, solid_capstyle="butt",
+                     label=f"shift {num(shift * 1e3)} mm")
+            top.plot([y0 * 1e3], [z0 * 1e3], "o", color=c, ms=4)
+            plan.contourf(y * 1e3, x * 1e3, inside.astype(float), levels=[0.5, 1.5], colors=[c], alpha=0.6)
+            plan.contour(y * 1e3, x * 1e3, inside.astype(float), levels=[0.5], colors=[c], linewidths=0.8)
+        top.invert_yaxis()
+        top.set_title(f"{side} wheel: rail profile (z down) and patches", fontsize=9)
+        top.set_ylabel("z [mm]", fontsize=8)
+        plan.set_xlabel("lateral position on the rail, rail profile's coordinates [mm]", fontsize=8)
+        plan.set_ylabel("x, rolling direction [mm]", fontsize=8)
+        plan.set_xlim(top.get_xlim())
+        for ax in (top, plan):
+            ax.grid(True, alpha=0.3)
+            ax.tick_params(labelsize=7)
+        top.legend(fontsize=7, frameon=False)
+    return save(fig, path)
+
+
+def _draw_shapes(doc: Document, ctx, groups, method: str):
+    """The patch-shapes figure, or a note saying why it is not drawn."""
+    shapes = _shapes(ctx.data, groups, method)
+    if not shapes:
+        return
+    rails = {side: _rail(ctx.data, groups[side][0][1]) for side in shapes}
+    missing = [side for side, r in rails.items() if r is None]
+    if missing:
+        doc.paragraph(f"The patch shapes are not drawn: the {missing[0]} wheel's scene keeps no rail profile "
+                      "(the study file was not at hand).", note=True)
+        return
+    ctx.draw(doc, "wheelset-patch-shapes", f"The patches of `{method}` at lateral shifts "
+             + ", ".join(f"{num(x * 1e3)}" for x in SHAPE_SHIFTS) + " mm on the rail profile: the lateral extent of "
+             "each patch on the profile and its reference point (top), and the cells in contact seen from above "
+             "(bottom; the contact plane's lateral coordinate projected on the rail's).", _shape_figure, rails, shapes)
+
+
 def wheelset_section(doc: Document, ctx):
     """Write the section (nothing when no scene has a wheelset on profiles)."""
     data = ctx.data
@@ -239,6 +325,7 @@ def wheelset_section(doc: Document, ctx):
     ctx.draw(doc, "wheelset-against-shift", "Contact position, contact angle, maximum pressure, creep forces on the "
              "wheel and flash temperature against the wheelset's lateral shift, one curve per method.", _figure,
              panels, methods, ctx.palette)
+    _draw_shapes(doc, ctx, groups, ref or methods[0])
     head = ["wheel", "shift [mm]", "y on rail [mm]", "angle [rad]"]
     for m in methods:
         head += [f"`{m}` p0 [MPa]", f"`{m}` T_max [°C]"] + ([f"`{m}` ΔT_max [%]"] if m != ref else [])
