@@ -212,8 +212,8 @@ def _with_smooth_tail(fn, theta, after, rtol=1e-11):
     1-D cooling) taken from a Chebyshev interpolant in log(theta) when that is cheaper. On the
     Chebyshev-Lobatto points of degree d (from 32, doubling) the interpolant is checked at the d points
     the degree 2d adds between them and used once it matches fn there within ``rtol`` of max|fn| of each
-    column (measured: degree 64, checked at its 64 interleaved points, for z = 0 .. 1 mm over 4 D .. 50 s); above degree
-    512 fn is evaluated directly."""
+    column (measured: degree 64, checked at its 64 interleaved points, for z = 0 .. 1 mm over 4 D .. 50 s);
+    above degree 512 fn is evaluated directly."""
     theta = np.asarray(theta, dtype=float)
     far = theta >= after
     nfar = int(far.sum())
