@@ -109,10 +109,10 @@ def test_heating_scheme_is_chosen_by_cost():
 @pytest.mark.parametrize("levels", [(0, 1, 2), pytest.param((0, 1, 2, 3), marks=pytest.mark.slow)])
 def test_history_converges_at_second_order(levels):
     """Hertz band, 2 passes 20 ms apart, the flux on 2048 cells (its own discretisation out of the way),
-    levels 0 .. 2 (0 .. 3 opt-in) (h = 2a/32/2**level along x, first depth cell delta/4/2**level, explicit steps ~ h_z^2,
-    cooling steps dt/t ~ 2**-(level + 2) in a second-order ADI): the surface pass peak and the residual rise
-    against the exact band converge like h^2 (spatial second order, forward Euler at dt ~ h^2, midpoint
-    source). Fitted slopes within 0.3 of 2 (measured 1.87 and 1.79 over 0 .. 2, 1.95 and 1.84 over 0 .. 3)."""
+    levels 0 .. 2 (0 .. 3 opt-in) (h = 2a/32/2**level along x, first depth cell delta/4/2**level, explicit
+    steps ~ h_z^2, cooling steps dt/t ~ 2**-(level + 2) in a second-order ADI): the surface pass peak and the
+    residual rise against the exact band converge like h^2 (spatial second order, forward Euler at dt ~ h^2,
+    midpoint source). Fitted slopes within 0.3 of 2 (measured 1.87 and 1.79 over 0 .. 2, 1.95 and 1.84 over 0 .. 3)."""
     xe = np.linspace(-A, A, 2049)
     xc = 0.5 * (xe[1:] + xe[:-1])
     flux = Q * np.sqrt(1 - (xc / A) ** 2)

@@ -111,7 +111,8 @@ def transient_line(grid, flux, cover, speed, conductivity, density, specific_hea
     t0 = time.perf_counter()
     pb = block_problem(grid, speed, conductivity, density, specific_heat, convection, steady=False, extent=extent,
                        out_grid=out_grid, trail=trail)
-    lam, rc, kappa, h, a, ext, sg = pb.conductivity, pb.capacity, pb.kappa, pb.convection, pb.a, pb.extent, pb.sample_grid
+    lam, rc, kappa, h, a, ext, sg = (pb.conductivity, pb.capacity, pb.kappa, pb.convection, pb.a, pb.extent,
+                                     pb.sample_grid)
     d = float(cell)
     ng = node_grid(a, ext, d)
     nx, nz, X0 = ng.nx, ng.nz, ng.start

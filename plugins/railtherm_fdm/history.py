@@ -161,7 +161,8 @@ def section_block(a: float, speed: float, conductivity: float, capacity: float, 
     vals = [diag.ravel(), -gx.ravel(), -gx.ravel(), -gz[:, :-1].ravel(), -gz[:, :-1].ravel()]
     stiff = csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nx * nz,) * 2)
     dt_stab = float(np.min(cap / diag.ravel()))
-    return SectionBlock(x, z, n_half, cap, stiff, wx, dt_stab, np.array([int(np.argmin(np.abs(z - d))) for d in depths]),
+    nodes = np.array([int(np.argmin(np.abs(z - d))) for d in depths])
+    return SectionBlock(x, z, n_half, cap, stiff, wx, dt_stab, nodes,
                         np.ascontiguousarray(gx), np.ascontiguousarray(gz), convection * wx)
 
 
@@ -513,7 +514,8 @@ def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interv
                                "explicit at the stability limit when that takes at most "
                                f"{ADI_COST_FACTOR:g} steps per rung step, else implicit alternating-direction steps "
                                "(Peaceman-Rachford, two backward-Euler start steps)"),
-            "explicit_steps": st.explicit_steps, "adi_steps": st.adi_steps, "implicit_factorisations": len(st.implicit.cache),
+            "explicit_steps": st.explicit_steps, "adi_steps": st.adi_steps,
+            "implicit_factorisations": len(st.implicit.cache),
             "implicit_solves": st.implicit.solves, "wall_time_solver": _time.perf_counter() - t_start}
     return time, rise, residual, diag
 

@@ -3,8 +3,9 @@
 Each body (wheel and rail) is treated as the seed treats the rail: a block whose top face carries
 the body's share of the heat source moving at the body's speed relative to the contact. (For the
 wheel this is its flash temperature in one pass of the contact; its heating over revolutions is the
-pass histories of a transient scene on a line contact, below.) An elliptical patch runs the 3-D block (:mod:`.block3d`), a line contact the 2-D (x-z)
-block (:mod:`.block2d`; the 3-D block with a laterally uniform source, exactly). The schemes --
+pass histories of a transient scene on a line contact, below.) An elliptical patch runs the 3-D block
+(:mod:`.block3d`), a line contact the 2-D (x-z) block (:mod:`.block2d`; the 3-D block with a laterally
+uniform source, exactly). The schemes --
 ``explicit`` (the seed's), ``implicit`` and the moving-frame ``steady`` one for stiff cases -- are
 described in :mod:`.block3d`; which one runs is decided per body (:mod:`.scheme_choice`).
 
