@@ -129,9 +129,9 @@ def assert_same_runs(a: Path, b: Path, minimum: int = 16):
 def test_processes_match_serial_bit_for_bit(serial_sweep, tmp_path, monkeypatch):
     """The run files, and the scores of metrics.nc: with the threshold of parallel scoring lowered to this
     sweep's 16 runs, the runs are scored and the reference curves computed in worker processes too."""
-    from railtherm.run import runner
+    from railtherm.run import analysis_phase
     study, ref, serial = serial_sweep
-    monkeypatch.setattr(runner, "PARALLEL_METRICS_MIN_RUNS", 16)
+    monkeypatch.setattr(analysis_phase, "PARALLEL_METRICS_MIN_RUNS", 16)
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)   # the worker-process scoring fell back to this process
         m = railtherm.run_study(study, tmp_path / "out", executor="processes", workers=2, report=False)

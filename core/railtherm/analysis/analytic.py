@@ -301,39 +301,14 @@ def _scalars_uncached(scene):
     """Scalar references of a scene: name -> value (temperatures absolute [degC])."""
     out: dict[str, object] = {"_names": [], "_sources": {}}
     src = out["_sources"]
-    from ..contract.errors import Refused
     if getattr(scene, "wheelset", None) is not None and scene.creepage is None and scene.sliding_speed is None:
         # the contact's load comes from the wheelset's equilibrium (normal model "wheelset"), not from
         # the scene's nominal load: Hertz of the scene is no reference for it
         return out
     if scene.contact_shape == "gap":
         return out   # a non-Hertzian gap: no closed-form contact, hence no exact reference downstream
-    if scene.heat_source is None:
-        try:
-            from ..models.hertz import hertz_geometry
-            a, b, p0, n = hertz_geometry(scene)
-        except Refused:
-            return out
-        out.update(semi_axis_a=a, max_pressure=p0, normal_force=n)
-        src.update(semi_axis_a="hertz", max_pressure="hertz", normal_force="hertz", pressure="hertz")
-        if b is not None:
-            out["semi_axis_b"] = b
-            src["semi_axis_b"] = "hertz"
-        out["_names"].append(_NAME["contact"])
-        mu = uniform_friction(scene)
-        if scene.tangential == "full-sliding" and mu is not None:
-            out["frictional_power"] = mu * scene.sliding_speed * n
-            out["creep_force_x"] = math.copysign(mu * n, scene.sliding_speed) if scene.sliding_speed else 0.0
-            src.update(frictional_power="full-sliding", creep_force_x="full-sliding")
-            out["_names"].append(_NAME["sliding"])
-        elif (b is None and scene.creepage is not None and scene.creepage.lateral == 0 and scene.creepage.spin == 0
-              and _identical_elastic(scene.wheel, scene.rail) and scene.friction > 0
-              and scene.friction_law.kind == "constant"):
-            from ..references.carter import carter_2d
-            c = carter_2d(scene.creepage.longitudinal, a, scene.friction, scene.wheel_radius)
-            out["creep_force_x"] = c.force_ratio * scene.friction * n
-            src["creep_force_x"] = "carter"
-            out["_names"].append(_NAME["carter"])
+    if scene.heat_source is None and not _contact_scalars(scene, out, src):
+        return out
     case = _thermal_case(scene)
     if case is not None:
         a, b, shape, q, speeds, eps = case
@@ -342,34 +317,9 @@ def _scalars_uncached(scene):
             from ..models.shapes import exact_total
             out["frictional_power"] = q * exact_total(shape, a, b)
             src["frictional_power"] = "given-source"
-        tmax, tmean = [], []
-        for body in (0, 1):
-            bulk = scene.body(body).bulk_temperature
-            # the maximum lies on y = 0 (symmetric sources): sample, then refine
-            xs = np.linspace(-1.0, 1.0, 161) * a
-            f = lambda xx: _surface_rise(scene, case, np.atleast_1d(xx), None if b is None else np.zeros(1), body)
-            vals = f(xs) if b is None else _surface_rise(scene, case, xs, np.zeros_like(xs), body)
-            i = int(np.argmax(vals))
-            from scipy.optimize import minimize_scalar
-            lo, hi = xs[max(i - 1, 0)], xs[min(i + 1, xs.size - 1)]
-            res = minimize_scalar(lambda t: -float(f(t)[0]), bounds=(lo, hi), method="bounded",
-                                  options={"xatol": 1e-6 * a})
-            tmax.append(bulk + max(float(vals[i]), -float(res.fun)))
-            # mean over the patch: Gauss-Legendre in x, and across y on the chord (ellipse)
-            gx, wx = np.polynomial.legendre.leggauss(64)
-            if b is None:
-                tmean.append(bulk + 0.5 * float(np.sum(wx * f(gx * a))))
-            else:
-                gs, ws = np.polynomial.legendre.leggauss(24)
-                gx, wx = np.polynomial.legendre.leggauss(40)
-                X = a * gx[:, None] * np.ones_like(gs)[None, :]
-                chord = np.sqrt(1.0 - gx ** 2)[:, None]
-                Y = b * chord * gs[None, :]
-                W = wx[:, None] * ws[None, :] * chord
-                T = _surface_rise(scene, case, X.ravel(), Y.ravel(), body).reshape(X.shape)
-                tmean.append(bulk + float(np.sum(W * T) / np.sum(W)))
-        out["max_surface_temperature"] = np.array(tmax)
-        out["mean_contact_temperature"] = np.array(tmean)
+        peaks = [_surface_scalars(scene, case, body) for body in (0, 1)]
+        out["max_surface_temperature"] = np.array([p[0] for p in peaks])
+        out["mean_contact_temperature"] = np.array([p[1] for p in peaks])
         tag = "jaeger" if b is None else "moving-source"
         src.update(max_surface_temperature=tag, mean_contact_temperature=tag, surface_temperature=tag,
                    heat_partition=tag)
@@ -379,6 +329,66 @@ def _scalars_uncached(scene):
             out["heated_depth"] = tr["heated_depth"]
             src.update(heated_depth=tag, peak_temperature=tag, cooling_rate=tag, time_above=tag)
     return out
+
+
+def _contact_scalars(scene, out: dict, src: dict) -> bool:
+    """Put the Hertz patch and, where exact, the creep force and frictional power (full sliding, Carter) of a
+    scene without a given heat source into ``out`` with their tags in ``src``; False when Hertz refuses
+    the scene (no exact contact, so nothing downstream either)."""
+    from ..contract.errors import Refused
+    from ..models.hertz import hertz_geometry
+    try:
+        a, b, p0, n = hertz_geometry(scene)
+    except Refused:
+        return False
+    out.update(semi_axis_a=a, max_pressure=p0, normal_force=n)
+    src.update(semi_axis_a="hertz", max_pressure="hertz", normal_force="hertz", pressure="hertz")
+    if b is not None:
+        out["semi_axis_b"] = b
+        src["semi_axis_b"] = "hertz"
+    out["_names"].append(_NAME["contact"])
+    mu = uniform_friction(scene)
+    if scene.tangential == "full-sliding" and mu is not None:
+        out["frictional_power"] = mu * scene.sliding_speed * n
+        out["creep_force_x"] = math.copysign(mu * n, scene.sliding_speed) if scene.sliding_speed else 0.0
+        src.update(frictional_power="full-sliding", creep_force_x="full-sliding")
+        out["_names"].append(_NAME["sliding"])
+    elif (b is None and scene.creepage is not None and scene.creepage.lateral == 0 and scene.creepage.spin == 0
+          and _identical_elastic(scene.wheel, scene.rail) and scene.friction > 0
+          and scene.friction_law.kind == "constant"):
+        from ..references.carter import carter_2d
+        c = carter_2d(scene.creepage.longitudinal, a, scene.friction, scene.wheel_radius)
+        out["creep_force_x"] = c.force_ratio * scene.friction * n
+        src["creep_force_x"] = "carter"
+        out["_names"].append(_NAME["carter"])
+    return True
+
+
+def _surface_scalars(scene, case, body: int) -> tuple[float, float]:
+    """(maximum, mean over the patch) of the exact surface temperature [degC] of ``body``: the maximum on
+    y = 0 (symmetric sources) from 161 samples refined by a bounded search, the mean by Gauss-Legendre in x
+    (and across y on the chord for an ellipse)."""
+    from scipy.optimize import minimize_scalar
+    a, b = case[0], case[1]
+    bulk = scene.body(body).bulk_temperature
+    xs = np.linspace(-1.0, 1.0, 161) * a
+    f = lambda xx: _surface_rise(scene, case, np.atleast_1d(xx), None if b is None else np.zeros(1), body)
+    vals = f(xs) if b is None else _surface_rise(scene, case, xs, np.zeros_like(xs), body)
+    i = int(np.argmax(vals))
+    lo, hi = xs[max(i - 1, 0)], xs[min(i + 1, xs.size - 1)]
+    res = minimize_scalar(lambda t: -float(f(t)[0]), bounds=(lo, hi), method="bounded", options={"xatol": 1e-6 * a})
+    tmax = bulk + max(float(vals[i]), -float(res.fun))
+    if b is None:
+        gx, wx = np.polynomial.legendre.leggauss(64)
+        return tmax, bulk + 0.5 * float(np.sum(wx * f(gx * a)))
+    gs, ws = np.polynomial.legendre.leggauss(24)
+    gx, wx = np.polynomial.legendre.leggauss(40)
+    X = a * gx[:, None] * np.ones_like(gs)[None, :]
+    chord = np.sqrt(1.0 - gx ** 2)[:, None]
+    Y = b * chord * gs[None, :]
+    W = wx[:, None] * ws[None, :] * chord
+    T = _surface_rise(scene, case, X.ravel(), Y.ravel(), body).reshape(X.shape)
+    return tmax, bulk + float(np.sum(W * T) / np.sum(W))
 
 
 def _identical_elastic(wheel, rail) -> bool:

@@ -25,7 +25,6 @@ error, not-converged, timeout or invalid-input).
 from __future__ import annotations
 
 import contextlib
-import functools
 import json
 import math
 import os
@@ -33,7 +32,6 @@ import sys
 import time
 import traceback
 import uuid
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable, Mapping
@@ -46,6 +44,7 @@ from ..input.scene import Scene
 from ..output.store import RunRecord
 from ..input.study import Study, load_study
 from .timelimit import RunTimeout, _time_limit
+from .analysis_phase import analyse
 from .timing import TIMING_BUDGET, RSSPeak, compile_watch, more_solves
 
 
@@ -546,71 +545,6 @@ def _children_cpu() -> float:
         return math.nan
 
 
-#: a study scores its runs in the local worker processes when it has at least this many results
-PARALLEL_METRICS_MIN_RUNS = 40
-
-
-@contextlib.contextmanager
-def _analysis_pool(executor: str, workers: int, scored: int):
-    """Yield a ``map`` over ``workers`` local processes (spawned with this process's plugin host) for the
-    scoring and the reference curves when the runs used local processes, else None (computed here)."""
-    if executor != "processes" or workers < 2 or scored < PARALLEL_METRICS_MIN_RUNS:
-        yield None
-        return
-    import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor
-    from .executors import host_spec, install_host, worker_threads
-    with worker_threads(workers):
-        pool = ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"), initializer=install_host,
-                                   initargs=(host_spec(),))
-    with pool:
-        yield pool.map
-
-
-def _metrics(study, out, records, pmap, scored=None):
-    """metrics.nc's Dataset, the scenes scored through ``pmap`` (:func:`_analysis_pool`; ``scored``: its
-    results already submitted) or here; a pool that breaks costs only the time."""
-    from ..analysis.metrics import compute_metrics
-    if pmap is not None:
-        try:
-            return compute_metrics(study, out, records, map=pmap, scored=scored)
-        except Exception as exc:  # noqa: BLE001 - scored here instead
-            warnings.warn(f"scoring in worker processes failed ({type(exc).__name__}: {exc}); scoring here",
-                          RuntimeWarning, stacklevel=2)
-    return compute_metrics(study, out, records)
-
-
-def _reference_curves(study, out, pmap, pending=None) -> None:
-    """references.nc, the scenes' curves computed through ``pmap`` (``pending``: the jobs and their results
-    already submitted) or here (as :func:`_metrics`)."""
-    from ..analysis.reference_curves import collect_curves, write_reference_curves
-    if pmap is not None:
-        try:
-            curves = collect_curves(*pending) if pending is not None else None
-            write_reference_curves(study, out, map=pmap, curves=curves)
-            return
-        except Exception as exc:  # noqa: BLE001 - computed here instead
-            warnings.warn(f"reference curves in worker processes failed ({type(exc).__name__}: {exc}); "
-                          "computing them here", RuntimeWarning, stacklevel=2)
-    write_reference_curves(study, out)
-
-
-def _submit_analysis(study, records, pmap, curves: bool):
-    """Submit the scoring of every scene and then the reference curves to the pool behind ``pmap``, so that a
-    worker done with its share of the scoring takes a scene's curves instead of waiting for the others:
-    (scored parts, (curve jobs, their results) or None). Nothing is submitted without a pool."""
-    if pmap is None:
-        return None, None
-    from ..analysis.metrics import score_runs, scoring_groups
-    from ..analysis.reference_curves import curve_jobs, scene_curves_job
-    tol = getattr(study, "tolerance", 0.05)
-    scored = pmap(functools.partial(score_runs, study, records, tol), scoring_groups(records))
-    if not curves:
-        return scored, None
-    jobs = curve_jobs(study)
-    return scored, (jobs, pmap(scene_curves_job, jobs))
-
-
 def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike = "out", *, executor: str = "serial",
               scheduler: str | None = None, methods: Iterable[str] | None = None, levels: Iterable[int] | None = None,
               resume: bool = False, report: bool = True, workers: int | None = None):
@@ -663,7 +597,7 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     records = run_tasks(tasks, executor=executor, scheduler=scheduler, resume=resume, workers=workers,
                         desc=study.name)
     t2 = time.perf_counter()
-    metrics = _analyse(study, out, records, executor, workers, kind)
+    metrics = analyse(study, out, records, executor, workers, kind)
     t3 = time.perf_counter()
     timing = {"setup": t1 - t0, "runs": t2 - t1, "metrics": t3 - t2, "executor": executor, "store": kind,
               "workers": workers, "runs_total": len(records),
@@ -695,23 +629,3 @@ def _plan_tasks(study: Study, out: Path, methods, levels, resume: bool):
         zarr_store.create(out, layout, resume=resume)
         tasks = make_chunks(tasks, layout, out)
     return tasks, kind
-
-
-def _analyse(study: Study, out: Path, records, executor: str, workers: int, kind: str):
-    """Metrics of the runs (written to ``metrics.nc``) and the exact reference curves the report overlays."""
-    # a scalar sweep in the Zarr store keeps no field to overlay exact curves on (they cost ~0.1 s per scene)
-    curves = not (kind == "zarr" and not getattr(study, "keep_fields", False))
-    with _analysis_pool(executor, workers, sum(r.status == "ok" for r in records)) as pmap:
-        scored, pending = _submit_analysis(study, records, pmap, curves)
-        metrics = _metrics(study, out, records, pmap, scored)
-        metrics.attrs.update({"executor": executor, "workers": int(workers),
-                              "workers_comment": "worker processes that shared the machine while runs were timed"})
-        store.write_dataset_atomic(metrics, store.metrics_path(out))
-        if not curves:
-            store.write_references(store.references_path(out), {
-                "Conventions": "CF-1.11", "title": f"railtherm reference curves of study {study.name}",
-                "study": study.name, "scenes": 0,
-                "comment": "not computed: the study keeps its runs in the Zarr store without fields"}, {})
-        else:
-            _reference_curves(study, out, pmap, pending)  # the exact curves the report overlays (it never recomputes physics)
-    return metrics
