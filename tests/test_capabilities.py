@@ -1,7 +1,8 @@
-"""Declared is enforced (STYLE 19): core's ``StageModel.supports`` checks every model's
-``Capabilities`` -- contact shape, heat source kind, tangential regime and, for temperature models,
-the scene's mode, its convection, moving surfaces and each body's Péclet number -- and no plugin
-re-checks a declared capability by hand."""
+"""Declared is enforced (STYLE 19): core (:mod:`railtherm.solving.capabilities_check`, called by the
+pipeline before a model's own ``supports``) checks every model's ``Capabilities`` -- contact shape,
+heat source kind, tangential regime and, for temperature models, the scene's mode, its convection,
+moving surfaces and each body's Péclet number, the last two again on the heat source right before the
+temperature stage -- and no plugin re-checks a declared capability by hand."""
 import ast
 import re
 import types
@@ -13,6 +14,8 @@ import pytest
 
 import railtherm
 from railtherm import Capabilities, Refused, TemperatureField, TemperatureModel
+from railtherm.solving import capabilities_check
+from railtherm.solving.capabilities_check import capability_refusal, refusal, source_refusal
 from railtherm.testing import canonical
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -77,13 +80,14 @@ def test_readme_crude_flash_refused_on_a_convection_scene_by_core(railtherm_regi
     crude = mod.CrudeFlash()
     assert "supports" not in vars(mod.CrudeFlash) or "super().supports" in (ROOT / "README.md").read_text()
     scene = canonical("ellipse-full-sliding", convection=20.0)
-    why = crude.supports(railtherm.load_scene(scene), 0)
-    assert why is not None
+    assert crude.supports(railtherm.load_scene(scene), 0) is None      # the plugin's hook: no own limit here
+    why = capability_refusal(crude, railtherm.load_scene(scene))
+    assert why is not None and refusal(crude, railtherm.load_scene(scene), 0) == why
     assert "'crude-flash'" in why and "convection = 20 W/m^2K" in why and "convection=yes" in why
     with pytest.raises(Refused, match="ignores convection") as info:
         railtherm.solve(scene, "crude", level=0)
     assert info.value.kind == "validity"
-    assert crude.supports(railtherm.load_scene(canonical("ellipse-full-sliding")), 0) is None
+    assert capability_refusal(crude, railtherm.load_scene(canonical("ellipse-full-sliding"))) is None
 
 
 def test_third_party_model_without_convection_is_refused(railtherm_register):
@@ -94,24 +98,24 @@ def test_third_party_model_without_convection_is_refused(railtherm_register):
         railtherm.solve(scene, "flat-caps", level=0)
     assert railtherm.solve(canonical("line-full-sliding"), "flat-caps", level=0) is not None
     for honours in (True, "long-term"):
-        assert _with(convection=honours)().supports(railtherm.load_scene(scene), 0) is None
+        assert capability_refusal(_with(convection=honours)(), railtherm.load_scene(scene)) is None
 
 
 # -- Péclet range ----------------------------------------------------------------------------------
 def test_peclet_below_the_declared_range_is_refused_with_the_number():
     model = _with(peclet=(10.0, float("inf")))()
-    why = model.supports(railtherm.load_scene(_given(5.0)), 0)
+    why = capability_refusal(model, railtherm.load_scene(_given(5.0)))
     assert why is not None
     assert "Péclet number of the wheel" in why and "= 5 is below 10" in why and "10..inf" in why
     assert "use a model whose declared Péclet range contains 5" in why
-    assert model.supports(railtherm.load_scene(_given(50.0)), 0) is None
+    assert capability_refusal(model, railtherm.load_scene(_given(50.0))) is None
 
 
 def test_peclet_above_the_declared_range_is_refused(railtherm_register):
     High = _with(peclet=(0.0, 100.0))
     railtherm_register("caps", _plugin(High))
     scene = _given(400.0)
-    why = High().supports(railtherm.load_scene(scene), 0)
+    why = capability_refusal(High(), railtherm.load_scene(scene))
     assert why is not None and "= 400 is above 100" in why and "0..100" in why
 
 
@@ -119,14 +123,34 @@ def test_peclet_from_the_heat_source_after_the_contact_stage():
     model = _with(peclet=(10.0, float("inf")))()
     loaded = railtherm.load_scene(_given(5.0))
     src = railtherm.given_heat_source(loaded, 0)
-    why = model.supports_source(loaded, src)
+    why = source_refusal(model, loaded, src)
     assert why is not None and "= 5 is below 10" in why
-    assert _with()().supports_source(loaded, src) is None
+    assert source_refusal(_with()(), loaded, src) is None
+
+
+def test_the_pipeline_checks_the_heat_source_before_the_temperature_stage(railtherm_register, monkeypatch):
+    """With the semi-axis unknown before the contact stage, the Péclet refusal comes from the heat source."""
+    Low = _with(peclet=(1e6, float("inf")))
+    railtherm_register("caps", _plugin(Low))
+    monkeypatch.setattr(capabilities_check, "_given_semi_axis", lambda scene: None)
+    scene = railtherm.load_scene(canonical("ellipse-full-sliding"))
+    assert capability_refusal(Low(), scene) is None
+    with pytest.raises(Refused, match=r"model 'flat-caps': Péclet number of the wheel .* is below 1e\+06") as info:
+        railtherm.solve(scene, "flat-caps", level=0)
+    assert info.value.kind == "validity"
+
+
+def test_supports_is_the_plugins_hook_only():
+    """The contract's default ``supports`` has no limits; the declared capabilities are core's to check."""
+    transient = railtherm.load_scene(canonical("ellipse-full-sliding", mode="transient"))
+    assert _with()().supports(transient, 0) is None
+    assert capability_refusal(_with()(), transient) is not None
+    assert not hasattr(railtherm.StageModel, "supports_source")
 
 
 def test_declared_advice_is_appended():
     model = _with(peclet=(10.0, float("inf")), advice={"peclet": "use method 'fipy'"})()
-    why = model.supports(railtherm.load_scene(_given(5.0)), 0)
+    why = capability_refusal(model, railtherm.load_scene(_given(5.0)))
     assert why.endswith("use method 'fipy'")
     with pytest.raises(ValueError, match="unknown keys"):
         Capabilities(advice={"pecelt": "typo"})
@@ -137,24 +161,24 @@ def test_declared_advice_is_appended():
 # -- modes and moving surfaces -------------------------------------------------------------------------
 def test_modes_are_enforced_for_temperature_models():
     transient = railtherm.load_scene(canonical("ellipse-full-sliding", mode="transient"))
-    why = _with()().supports(transient, 0)
+    why = capability_refusal(_with()(), transient)
     assert why is not None and "mode 'transient'" in why and "steady" in why
-    assert _with(modes=frozenset({"steady", "transient"}))().supports(transient, 0) is None
+    assert capability_refusal(_with(modes=frozenset({"steady", "transient"}))(), transient) is None
     only_transient = _with(modes=frozenset({"transient"}))()
-    why = only_transient.supports(railtherm.load_scene(canonical("ellipse-full-sliding")), 0)
+    why = capability_refusal(only_transient, railtherm.load_scene(canonical("ellipse-full-sliding")))
     assert why is not None and "not the scene's mode 'steady'" in why
     # contact and heat-source models are not temperature models: their modes are not checked
     from railtherm.models.hertz import HertzContact
-    assert HertzContact().supports(transient, 0) is None
+    assert capability_refusal(HertzContact(), transient) is None
 
 
 def test_moving_surface_is_enforced():
     scene = SimpleNamespace(name="still", contact_shape="ellipse", heat_source=None, tangential="full-sliding",
                             speed=0.0, sliding_speed=0.0, convection=0.0, mode="steady",
                             wheel=railtherm.Material(), rail=railtherm.Material())
-    why = _with(moving_surface=True)().supports(scene, 0)
+    why = capability_refusal(_with(moving_surface=True)(), scene)
     assert why is not None and "wheel moves at 0 m/s" in why and "speed > 0" in why
-    assert _with()().supports(scene, 0) is None
+    assert capability_refusal(_with()(), scene) is None
 
 
 def test_methods_lists_what_core_enforces():
@@ -208,10 +232,11 @@ def test_no_plugin_supports_rechecks_a_declared_capability():
 
 
 def test_no_plugin_hand_rolls_the_peclet_or_moving_surface_refusal():
-    # the refusals now come from core (supports / supports_source); a plugin keeps only its own limits
+    # the refusals come from core (railtherm.solving.capabilities_check); a plugin keeps only its own limits
     for path in sorted((ROOT / "plugins").glob("*/**/*.py")):
         text = path.read_text()
         assert "def refusal(" not in text, path
+        assert "supports_source" not in text, path
         assert "needs its surface to move through the patch" not in text, path
 
 

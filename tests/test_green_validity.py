@@ -96,9 +96,10 @@ def test_refusal_message_names_numbers():
     def source(speeds):
         return SimpleNamespace(grid=SimpleNamespace(a=1e-3), body_speed=speeds)
 
-    why = GreenTemperature().supports_source(scene, source((30.0, 0.1)))
+    from railtherm.solving.capabilities_check import source_refusal
+    why = source_refusal(GreenTemperature(), scene, source((30.0, 0.1)))
     assert why is not None and "rail" in why and "3.53" in why and "fipy" in why
-    assert GreenTemperature().supports_source(scene, source((30.0, 30.0))) is None
+    assert source_refusal(GreenTemperature(), scene, source((30.0, 30.0))) is None
 
 
 @pytest.mark.slow

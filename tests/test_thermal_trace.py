@@ -70,7 +70,7 @@ def test_extended_grid_adds_whole_cells_behind_and_embed_pads():
 
 
 def test_dataset_on_the_extended_grid_has_zero_contact_fields_behind():
-    from railtherm.contract.stages import ContactPatch, HeatSource, TemperatureField
+    from railtherm.contract.results import ContactPatch, HeatSource, TemperatureField
     g = surface_grid(A, None, 0, 8)
     e = extended_grid(g, 2 * A)
     p = np.where(g.inside(), 1e9, 0.0)
@@ -227,9 +227,10 @@ def test_field_capability_is_listed_and_enforced():
         capabilities = Capabilities(provides=frozenset({"surface_temperature"}))
 
     sc = load_scene(_scene(field={"behind": 0.01}))
-    why = Flat().supports(sc, 0)
+    from railtherm.solving.capabilities_check import capability_refusal
+    why = capability_refusal(Flat(), sc)
     assert "patch only" in why and "'field'" in why and "behind = 0.01 m" in why and "green" in why
-    assert Flat().supports(load_scene(_scene()), 0) is None
+    assert capability_refusal(Flat(), load_scene(_scene())) is None
 
 
 @pytest.mark.parametrize("method", ["fipy", "fastsim-fdm", "fem"])

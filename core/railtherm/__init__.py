@@ -31,10 +31,11 @@ from .contract.grid import SurfaceGrid, surface_grid
 from .contract.hookspec import hookimpl
 from .input.materials import Material
 from .physics import combined_elastic, equal_temperature_partition, scene_partition
-from .contract.stages import (BODIES, STAGES, BodyTemperature, Capabilities, ContactPatch, CoupledModel,
-                     HeatSource, HeatSourceModel, Method, NormalContactModel, Option, StageModel,
-                     TangentialContactModel, TemperatureField, TemperatureModel, Upstream)
-from .contract.capabilities import asks_history
+from .contract.results import BODIES, BodyTemperature, ContactPatch, HeatSource, TemperatureField
+from .contract.options import Option
+from .contract.stages import (STAGES, CoupledModel, HeatSourceModel, Method, NormalContactModel, StageModel,
+                              TangentialContactModel, TemperatureModel, Upstream)
+from .contract.capabilities import Capabilities, asks_history
 from .contract.transient import TransientHistory, TransientTemperatureField, with_history
 
 _LAZY = {

@@ -67,7 +67,9 @@ def canonical(name: str, **changes) -> dict:
 def check_model_class(cls) -> None:
     """Static checks of a stage-model class: name, description, stages, capabilities, options."""
     from .contract.schema import VARIABLES
-    from .contract.stages import STAGES, Capabilities, Option, StageModel
+    from .contract.capabilities import Capabilities
+    from .contract.options import Option
+    from .contract.stages import STAGES, StageModel
     assert isinstance(cls, type) and issubclass(cls, StageModel), f"{cls!r} is not a StageModel"
     assert cls.name and isinstance(cls.name, str), f"{cls!r} has no name"
     assert cls.description, f"model {cls.name!r} has no description"
@@ -201,10 +203,11 @@ def check_tangential_models(method: str, raws, level: int = 0) -> dict[str, str]
     :data:`CONTACT_SCENES` (up to the method's heat source) and check the sign conventions
     (:func:`check_tangential_result`). Returns {model: what was checked}.
 
-    A declared model must run on at least one of these scenes, unless its ``supports`` declines every
-    one of them (the note says so).
+    A declared model must run on at least one of these scenes, unless core's capability checks or its
+    ``supports`` decline every one of them (the note says so).
     """
     from .input.scene import LATERAL_OUTPUTS, load_scene
+    from .solving.capabilities_check import refusal
     from .solving.pipeline import solve
     from .solving.plugins import get_host
     host = get_host()
@@ -240,7 +243,7 @@ def check_tangential_models(method: str, raws, level: int = 0) -> dict[str, str]
             check_tangential_result(f"method {method!r}, tangential model {name!r}, scene {sc.name!r}, "
                                     f"level {level}", sc, ds)
             ran.append(sc.name)
-        assert ran or all(cls().supports(load_scene(r), level) for r in scenes if "heat_source" not in r), (
+        assert ran or all(refusal(cls(), load_scene(r), level) for r in scenes if "heat_source" not in r), (
             f"method {method!r}: tangential model {name!r} ran on none of the contact scenes: " + "; ".join(declined))
         notes[name] = (f"sign conventions checked on {', '.join(ran)}" if ran
                        else f"not exercised: it declines every contact scene ({declined[0] if declined else ''})")
@@ -252,11 +255,12 @@ def check_other_models(method: str, raws, level: int, ran: set) -> dict[str, str
     selection did not run on ``raws`` (``ran``: the (stage, model) pairs it ran), as the only candidate of
     its stage, and check the result's form. Returns {model: what was checked}.
 
-    A declared model must run on at least one scene, unless its ``supports`` declines every one of them
-    (a wheelset normal model on scenes without a wheelset: the note says so).
+    A declared model must run on at least one scene, unless core's capability checks or its ``supports``
+    decline every one of them (a wheelset normal model on scenes without a wheelset: the note says so).
     """
     from .contract.schema import validate_dataset
     from .input.scene import load_scene
+    from .solving.capabilities_check import refusal
     from .solving.pipeline import solve
     from .solving.plugins import get_host
     host = get_host()
@@ -279,7 +283,7 @@ def check_other_models(method: str, raws, level: int, ran: set) -> dict[str, str
             validate_dataset(ds, info.plugin)
             if f"{stage}:{name}" in ds.attrs["stages"].split():
                 done.append(sc.name)
-        assert done or all(cls().supports(load_scene(r), level) for r in scenes), (
+        assert done or all(refusal(cls(), load_scene(r), level) for r in scenes), (
             f"method {method!r}: {stage} model {name!r} ran on none of the scenes: " + "; ".join(declined))
         notes[name] = (f"ran on {', '.join(done)}" if done
                        else f"not exercised: it declines every scene ({declined[0] if declined else ''})")
@@ -360,7 +364,8 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
     (:func:`check_tangential_models`: -(traction . slip) >= 0 in every cell, slip and creep force
     against the rigid slip, heat flux >= 0, frictional power = the integral of -(traction . slip));
     each other candidate the method's selection did not run, as the only candidate of its stage
-    (:func:`check_other_models`). A model whose ``supports`` declines every scene is noted, not run.
+    (:func:`check_other_models`). A model that core's capability checks or its ``supports`` decline on
+    every scene is noted, not run.
 
     Physics (on the results at ``level``):
 

@@ -322,9 +322,6 @@ class FipyTemperature(TemperatureModel):
         """Steady moving-frame flash temperature rises of both bodies on ``grid`` (default ``source.grid``;
         the extended grid of the scene's ``field``: zero flux and convection behind the patch, the mesh's
         uniform cells running through the trail and its depth reaching ``field.depth``)."""
-        why = self.supports_source(scene, source)   # core's moving-surface check on the source's body speeds
-        if why is not None:
-            raise Refused(why, kind="validity")
         patch = source.grid
         grid = patch if grid is None else grid
         extended = grid is not patch

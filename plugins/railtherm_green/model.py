@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
+from railtherm import BodyTemperature, Capabilities, Option, TemperatureField, TemperatureModel
 from railtherm.physics import (CONVECTIVE_AREA, equal_temperature_partition, field_grid, lumped_wheel,
                                peclet_number, thermal_scales, with_thermal_trace)
 from railtherm import with_history
@@ -159,9 +159,6 @@ class GreenTemperature(TemperatureModel):
         a, b = grid.a, grid.b
         wheel, rail = scene.wheel, scene.rail
         v_w, v_r = (float(v) for v in source.body_speed)
-        why = self.supports_source(scene, source)   # core's Péclet / moving-surface check on the actual source
-        if why is not None:
-            raise Refused(why, kind="validity")
         opts = options                                  # resolved by core (pipeline)
         outputs = tuple(getattr(scene, "outputs", ()) or ())
         want_all = not outputs

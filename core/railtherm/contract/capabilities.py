@@ -1,5 +1,5 @@
 """What a stage model can do (:class:`Capabilities`): declared by each model, enforced once by core
-(:meth:`railtherm.contract.stages.StageModel.supports`), listed by ``railtherm methods``."""
+(:mod:`railtherm.solving.capabilities_check`), listed by ``railtherm methods``."""
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -14,7 +14,8 @@ CONVECTION_KINDS = (False, True, "long-term")
 
 @dataclass(frozen=True)
 class Capabilities:
-    """What a stage model can do; enforced by :meth:`StageModel.supports` and listed by ``railtherm methods``.
+    """What a stage model can do; enforced by core (:mod:`railtherm.solving.capabilities_check`) and listed
+    by ``railtherm methods``.
 
     Core checks every declared field once, for every model (built-in or third-party), before the
     model runs; a model's own ``supports`` adds only the limits of its method. ``modes``,
@@ -39,10 +40,10 @@ class Capabilities:
     peclet : (float, float)
         Péclet range [lo, hi] (L = V a / 2 kappa, :func:`railtherm.physics.peclet_number`) in which
         the model is valid; each body's number, from the semi-axis along rolling and the body's
-        surface speed (:func:`railtherm.physics.body_speeds`), must lie in it. Checked in
-        :meth:`StageModel.supports` when the scene gives the semi-axis (``semi_axes`` or a given heat
-        source), else on the heat source by :meth:`StageModel.supports_source` (a Hertz patch from the
-        load is known only after the contact stage).
+        surface speed (:func:`railtherm.physics.body_speeds`), must lie in it. Checked before the
+        model is chosen when the scene gives the semi-axis (``semi_axes`` or a given heat source), and
+        on the heat source right before the model computes (a Hertz patch from the load is known only
+        after the contact stage).
     moving_surface : bool
         The model works in the frame moving with the contact and needs both bodies' surfaces to
         move through the patch (surface speed > 0).

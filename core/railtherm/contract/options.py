@@ -1,5 +1,6 @@
-"""Validation of method options and of a whole study before anything runs.
+"""Model options and their validation, and the validation of a whole study before anything runs.
 
+* :class:`Option` -- one option a model declares (default, doc, allowed values), checked by its model.
 * :func:`check_options` -- the options of one method (``[study.options.<method>]`` or
   ``railtherm.solve(..., options=...)``): the allowed keys are the union of the options declared by
   the method's models plus the global ``cells``; each model validates the values it declares.
@@ -11,11 +12,12 @@ Both raise :class:`railtherm.SceneError` whose message names the key, the value 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any, Iterable, Mapping
 
 from .errors import SceneError
 
-__all__ = ["GLOBAL_OPTIONS", "REFERENCE_KINDS", "MAX_LEVEL", "check_options", "check_cells", "check_levels",
+__all__ = ["Option", "GLOBAL_OPTIONS", "REFERENCE_KINDS", "MAX_LEVEL", "check_options", "check_cells", "check_levels",
            "check_study"]
 
 #: options every method takes, whatever its models declare
@@ -24,6 +26,26 @@ GLOBAL_OPTIONS = {"cells": "cells along 2a at level 0 (an integer >= 1)"}
 REFERENCE_KINDS = ("analytic", "finest")
 #: highest resolution level a study may ask for
 MAX_LEVEL = 12
+
+
+@dataclass(frozen=True)
+class Option:
+    """A declared model option (``[study.options.<method>]`` / ``solve(..., options=...)``)."""
+
+    default: Any
+    doc: str
+    choices: tuple | None = None
+    minimum: float | None = None
+
+    def check(self, model: str, key: str, value: Any) -> Any:
+        if self.choices is not None and value not in self.choices:
+            raise SceneError(f"option {key!r} of model {model!r} = {value!r} is not allowed: one of {list(self.choices)}",
+                             key=key, value=value, allowed=str(list(self.choices)))
+        if self.minimum is not None:
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= self.minimum:
+                raise SceneError(f"option {key!r} of model {model!r} = {value!r} is not allowed: a number >= {self.minimum}",
+                                 key=key, value=value, allowed=f">= {self.minimum}")
+        return value
 
 
 def _key(where: str, key: str) -> str:

@@ -12,7 +12,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .stages import TemperatureField
+from .results import TemperatureField
 
 __all__ = ["TransientHistory", "TransientTemperatureField", "with_history"]
 

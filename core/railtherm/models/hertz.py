@@ -3,7 +3,9 @@ from __future__ import annotations
 
 from ..contract.grid import BASE_CELLS
 from ..physics.hertz import hertz_geometry, hertz_patch
-from ..contract.stages import Capabilities, NormalContactModel, Option
+from ..contract.capabilities import Capabilities
+from ..contract.options import Option
+from ..contract.stages import NormalContactModel
 
 __all__ = ["HertzContact", "hertz_geometry"]  # hertz_geometry: moved to railtherm.physics, kept for one release
 

@@ -6,7 +6,10 @@ import numpy as np
 
 from ..contract.errors import Refused
 from ..contract.grid import BASE_CELLS, surface_grid
-from ..contract.stages import Capabilities, HeatSource, HeatSourceModel, Option, TangentialContactModel
+from ..contract.capabilities import Capabilities
+from ..contract.options import Option
+from ..contract.results import HeatSource
+from ..contract.stages import HeatSourceModel, TangentialContactModel
 from ..physics.averaging import cell_average, exact_total
 from ..physics.friction import local_friction
 from ..physics.kinematics import body_speeds

@@ -13,7 +13,9 @@ from __future__ import annotations
 import dataclasses
 
 from ..contract.grid import BASE_CELLS
-from ..contract.stages import Capabilities, NormalContactModel, Option
+from ..contract.capabilities import Capabilities
+from ..contract.options import Option
+from ..contract.stages import NormalContactModel
 from ..physics.hertz import hertz_patch
 
 __all__ = ["WheelsetProfileHertz"]

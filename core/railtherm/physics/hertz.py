@@ -194,7 +194,7 @@ def hertz_patch(scene, level: int, cells: int | None = None, *, model: str = "he
     """
     from ..contract.errors import Refused
     from ..contract.grid import BASE_CELLS
-    from ..contract.stages import ContactPatch
+    from ..contract.results import ContactPatch
     a, b, p0, n = hertz_geometry(scene)
     try:
         grid, pressure = hertz_pressure_grid(a, b, p0, level, int(cells or BASE_CELLS))

@@ -20,13 +20,15 @@ import numpy as np
 from ..contract.errors import PluginError, Refused, SceneError, SolverError
 from ..contract.grid import BASE_CELLS
 from ..models.sliding import given_heat_source as _given
+from .capabilities_check import refusal, source_refusal
 from .friction_loop import needs_loop, solve_coupled
 from .plugins import MethodInfo, PluginHost, get_host
 from ..output.store import encode_sweep
 from ..input.scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
 from ..contract.schema import (STAGE_OF_GROUP, VARIABLES, WHEELSET_VARIABLES, build_dataset, history_line,
                                validate_dataset)
-from ..contract.stages import STAGES, ContactPatch, CoupledModel, StageModel, Upstream
+from ..contract.results import ContactPatch
+from ..contract.stages import STAGES, CoupledModel, StageModel, Upstream
 
 __all__ = ["solve", "plan", "given_heat_source", "Plan", "duplicate_of"]
 
@@ -76,7 +78,7 @@ def _select(host: PluginHost, mi: MethodInfo, stage: str, scene: Scene, level: i
     reasons = []
     for name in mi.method.chain.get(stage, ()):
         model = host.model(name).for_stage(stage)()
-        why = model.supports(scene, level)
+        why = refusal(model, scene, level)
         if why is None:
             return model
         reasons.append(why)
@@ -314,12 +316,21 @@ def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
         elif stage == "heat_source":
             source = result = model.compute_source(scene, patch, level, opts)
         else:
-            temp = result = model.compute_temperature(scene, source, level, opts)
+            temp = result = _temperature(model, scene, source, level, opts)
         _freeze(result)
         records.append(StageRecord(model, result.diagnostics or {}))
         done.add(id(model))
     _check_heat_sign(pl, source)
     return patch, source, temp, records
+
+
+def _temperature(model: StageModel, scene: Scene, source, level: int, opts):
+    """The temperature stage on ``source``, after core's capability checks on the actual heat source
+    (moving surfaces, Péclet range: :func:`~railtherm.solving.capabilities_check.source_refusal`)."""
+    why = source_refusal(model, scene, source)
+    if why is not None:
+        raise Refused(why, kind="validity")
+    return model.compute_temperature(scene, source, level, opts)
 
 
 def _friction_loop(pl: Plan, scene: Scene, patch: ContactPatch, level: int, options, cells):
@@ -335,7 +346,7 @@ def _friction_loop(pl: Plan, scene: Scene, patch: ContactPatch, level: int, opti
 
     patch, source, temp, hist = solve_coupled(scene, patch, tangential,
                                               lambda p: hm.compute_source(scene, p, level, o_h),
-                                              lambda src: km.compute_temperature(scene, src, level, o_k))
+                                              lambda src: _temperature(km, scene, src, level, o_k))
     for obj in (patch, source, temp):
         _freeze(obj)
     return patch, source, temp, [StageRecord(tm, {**(patch.diagnostics or {}), **hist.diagnostics()}),
