@@ -1,8 +1,9 @@
 """Core's import graph (read with :mod:`ast`, function-level imports included): no circle; the layers
-import one way (cli/testing -> run -> report -> analysis -> solve -> output -> input -> models ->
-physics -> contract -> references); the output folder has one owner (:mod:`railtherm.output.store`)
-that imports nothing above it; the report reads only through the store; nothing but the cli and the
-kit imports the runner; plugins import only the public API (tests/test_physics.py)."""
+import one way, with no exception (cli/testing -> run -> report -> analysis -> solving -> output ->
+input -> models -> physics -> references -> contract); the contract imports nothing of railtherm
+outside itself; the output folder has one owner (:mod:`railtherm.output.store`) that imports nothing
+above it; the report reads only through the store; nothing but the cli and the kit imports the runner;
+plugins import only the public API (tests/test_physics.py)."""
 from pathlib import Path
 
 import pytest
@@ -15,12 +16,8 @@ CORE = Path(railtherm.__file__).parent
 
 
 #: bottom to top; a module imports only its own layer and layers below it
-LAYERS = ("_version", "references", "contract", "physics", "models", "input", "output", "solving", "analysis",
+LAYERS = ("contract", "_version", "references", "physics", "models", "input", "output", "solving", "analysis",
           "report", "run", "top")
-#: the one upward edge: the contract's capability checks (StageModel.supports) use the Péclet number and
-#: the body speeds, from physics modules that import nothing of railtherm themselves
-EXCEPTIONS = {("railtherm.contract.stages", "railtherm.physics.kinematics"),
-              ("railtherm.contract.stages", "railtherm.physics.scales")}
 #: the flat module paths of 0.1 (removed: each concept has one home in its layer)
 OLD_PATHS = {f"railtherm.{n}" for n in ("errors", "grid", "hookspec", "stages", "schema", "options", "scene", "study",
                                         "materials", "store", "plugins", "pipeline", "metrics", "results",
@@ -59,15 +56,17 @@ def test_core_has_no_import_cycle():
 def test_layers_import_one_way():
     graph = import_graph()
     rank = {name: i for i, name in enumerate(LAYERS)}
-    upward = sorted(f"{m} -> {d}" for m, deps in graph.items() for d in deps
-                    if rank[layer(d)] > rank[layer(m)] and (m, d) not in EXCEPTIONS)
+    upward = sorted(f"{m} -> {d}" for m, deps in graph.items() for d in deps if rank[layer(d)] > rank[layer(m)])
     assert upward == [], upward
 
 
-def test_the_exceptions_import_nothing_of_railtherm():
+def test_contract_imports_nothing_of_railtherm_outside_it():
+    """What a plugin implements stands alone: capability enforcement and physics live above it."""
     graph = import_graph()
-    for _, target in EXCEPTIONS:
-        assert graph[target] == set(), target
+    contract = [m for m in graph if layer(m) == "contract"]
+    assert "railtherm.contract.stages" in contract and "railtherm.contract.results" in contract
+    outside = sorted(f"{m} -> {d}" for m in contract for d in graph[m] if layer(d) != "contract")
+    assert outside == [], outside
 
 
 def test_no_alias_modules():
