@@ -56,7 +56,6 @@ import functools
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from .profiles import Profile, ProfileError
 
@@ -478,6 +477,7 @@ def _section(frame, t0, p0, delta, half_width, g0) -> dict:
     the rail), the wheel lowered by g0 so that the wheel's closest approach touches; their zeta
     difference at equal eta is the lateral gap; each slice brings its x offset and curvature along x.
     """
+    from scipy.interpolate import CubicSpline  # here: ~0.9 s to import, not needed without profiles
     ws, placed, rot, shift, zc, wheel_offset, offset, top = frame
     cd, sd = np.cos(delta), np.sin(delta)
     span = 1.5 * half_width

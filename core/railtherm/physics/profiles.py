@@ -35,7 +35,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from ..contract.errors import SceneError
 
@@ -86,6 +85,7 @@ class Profile:
     _spline: tuple = field(init=False, repr=False)
 
     def __post_init__(self):
+        from scipy.interpolate import CubicSpline  # here: ~0.9 s to import, not needed without profiles
         y = np.asarray(self.y, dtype=float)
         z = np.asarray(self.z, dtype=float)
         lines = np.arange(1, y.size + 1) if self.lines is None else np.asarray(self.lines, dtype=int)
