@@ -70,6 +70,9 @@ def _submit_analysis(study, records, pmap, curves: bool):
     (scored parts, (curve jobs, their results) or None). Nothing is submitted without a pool."""
     if pmap is None:
         return None, None
+    # the pool's result thread unpickles the curves (xarray Datasets) while this thread scores: with xarray
+    # not yet imported here, both would import it at once and deadlock on its module locks
+    import xarray  # noqa: F401
     from ..analysis.metrics import score_runs, scoring_groups
     from ..analysis.reference_curves import curve_jobs, scene_curves_job
     tol = getattr(study, "tolerance", 0.05)
