@@ -127,3 +127,21 @@ def test_main_study_fem_seed_creep_force_is_unbiased_and_not_carters():
                         sc["contact"]["wheel_radius"])
         ratios[rigid] = float(ds["creep_force_x"]) / (sc["friction"] * float(ds["normal_force"])) / ref.force_ratio
     assert ratios[True] > 1.05 and abs(ratios[False] - 1) < 0.01, ratios
+
+
+def test_frictionless_scene_returns_every_tangential_output():
+    """friction = 0 with the tangential outputs asked (a hostile scene of tests/test_hypothesis_methods.py
+    found fem declaring them and returning none): no traction, no creep force, no stick inside the patch,
+    and every point slipping at the rigid slip V xi, the limit of the frictional solution as mu -> 0."""
+    import railtherm
+    base = dict(name="f0", contact={"shape": "line", "wheel_radius": 0.46}, normal_force=1e5,
+                creepage={"longitudinal": -1e-3}, speed=30.0,
+                outputs=["stick", "traction_x", "slip_velocity_x", "creep_force_x"])
+    ds = railtherm.solve(railtherm.load_scene({**base, "friction": 0.0}), "fem", level=0)
+    assert np.all(ds["traction_x"].values == 0.0) and float(ds["creep_force_x"]) == 0.0
+    stick = ds["stick"].values
+    assert np.all(stick[np.isfinite(stick)] == 0.0) and np.isfinite(stick).any()
+    np.testing.assert_allclose(ds["slip_velocity_x"].values, 30.0 * -1e-3, rtol=1e-12)
+    near = railtherm.solve(railtherm.load_scene({**base, "friction": 1e-9}), "fem", level=0)
+    inside = np.isfinite(stick)
+    np.testing.assert_allclose(near["slip_velocity_x"].values[inside], ds["slip_velocity_x"].values[inside], rtol=1e-6)

@@ -194,13 +194,16 @@ class FemModel(CoupledModel):
                     coupling_history=",".join(f"{h:.3e}" for h in sol.history),
                     coupling_relaxation=",".join(f"{w:.3g}" for w in sol.omegas),
                     nodal_frictional_power=float(sol.frictional_power))
-        frictional = prob.friction > 0
+        if not prob.friction > 0:
+            # frictionless: no traction and no stick anywhere; every point slips at the rigid slip V xi (the
+            # limit mu -> 0 of the frictional solution; the contact solver computes no slip without friction)
+            xi = prob.creepage if prob.creepage is not None else -(prob.sliding_speed or 0.0) / V
+            traction, slip = np.zeros_like(pressure), np.full_like(pressure, V * xi)
+            stick = np.where(grid.inside(), 0.0, np.nan)
         patch = ContactPatch(grid=grid, normal_force=float(c.normal_force), a=float(a), b=None,
-                             max_pressure=float(c.pressure.max()), pressure=pressure,
-                             traction_x=traction if frictional else None,
-                             slip_velocity_x=slip if frictional else None,
-                             stick=stick if frictional else None,
-                             creep_force_x=float(c.tangential_force) if frictional else None,
+                             max_pressure=float(c.pressure.max()), pressure=pressure, traction_x=traction,
+                             slip_velocity_x=slip, stick=stick,
+                             creep_force_x=float(c.tangential_force) if prob.friction > 0 else 0.0,
                              diagnostics=diag)
         power = nodal_cell_average(c.x, sol.heat_power_density, edges)
         source = HeatSource(grid=grid, power_density=power, heat_partition=float(sol.heat_partition),
