@@ -335,3 +335,19 @@ def test_plugins_import_only_the_public_api():
         for names in re.findall(r"^\s*from\s+railtherm(?:\.[\w.]+)?\s+import\s+\(?([^)\n]+)", text, re.M):
             bad += [f"{path}: {n.strip()}" for n in names.split(",") if n.strip().startswith("_")]
     assert not bad, bad
+
+
+def test_superposition_limits_name_each_reason_and_the_model():
+    """One pass's response superposes over the passes only with a temperature-independent heat input, one bulk
+    temperature and history outputs: each broken condition is named, with the model; otherwise None."""
+    from types import SimpleNamespace as NS
+    from railtherm.physics import superposition_limits
+    law = lambda t: NS(depends_on_temperature=t)  # noqa: E731
+    body = lambda t: NS(bulk_temperature=t)  # noqa: E731
+    ok = NS(heat_source=None, friction_law=law(False), wheel=body(20.0), rail=body(20.0), outputs=("temperature_history",))
+    assert superposition_limits(ok, "m") is None
+    hot = NS(**{**vars(ok), "friction_law": law(True)})
+    assert "temperature-dependent friction law" in superposition_limits(hot, "m") and "'m'" in superposition_limits(hot, "m")
+    assert superposition_limits(NS(**{**vars(hot), "heat_source": object()}), "m") is None   # a given source: no law
+    assert "one bulk temperature" in superposition_limits(NS(**{**vars(ok), "rail": body(30.0)}), "m")
+    assert "'peak_temperature'" in superposition_limits(NS(**{**vars(ok), "outputs": ("peak_temperature",)}), "m")

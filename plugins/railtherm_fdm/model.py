@@ -49,7 +49,7 @@ from __future__ import annotations
 import numpy as np
 from railtherm import (BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel, asks_history,
                        with_history)
-from railtherm.physics import field_grid, peclet_number, thermal_scales, with_thermal_trace
+from railtherm.physics import field_grid, peclet_number, superposition_limits, thermal_scales, with_thermal_trace
 
 from .layout import Trail
 from .scheme_choice import (SCHEMES, check_explicit_step, choose_line_scheme, choose_scheme, explicit_cost,
@@ -290,22 +290,7 @@ def history_limits(scene) -> str | None:
         return None
     if getattr(scene, "contact_shape", None) != "line":
         return _ELLIPSE_HISTORY
-    law = getattr(scene, "friction_law", None)
-    if scene.heat_source is None and law is not None and law.depends_on_temperature:
-        return ("model 'fdm': the pass histories take the heat source of one pass for every pass; a temperature-"
-                "dependent friction law would need the coupled loop in every pass, which fdm does not run: use a "
-                "constant or slip-velocity friction law")
-    if float(scene.wheel.bulk_temperature) != float(scene.rail.bulk_temperature):
-        return ("model 'fdm': the pass histories carry the frictional heat only; wheel and rail at different bulk "
-                "temperatures exchange heat through the patch, which the section block does not model: give both "
-                "bodies one bulk temperature")
-    outputs = tuple(getattr(scene, "outputs", ()) or ())
-    depth = [o for o in outputs if o in ("temperature", "peak_temperature", "cooling_rate", "heated_depth")]
-    if depth:
-        return (f"model 'fdm' does not return {depth[0]!r} in a transient scene with passes (the depth field is one "
-                "pass's, on another axis than the histories): ask temperature_history, pass_peak_temperature, "
-                "residual_rise or time_above")
-    return None
+    return superposition_limits(scene, "fdm")
 
 
 def _clip_depth(z, rise, depth: float):

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from railtherm import SceneError, TransientHistory
-from railtherm.physics import pass_peaks_and_residual, pass_time_above
+from railtherm.physics import pass_peaks_and_residual, pass_time_above, superposition_limits
 
 from .transient import strip_history, strip_time_axis
 
@@ -29,23 +29,7 @@ def limits(scene) -> str | None:
     tr = getattr(scene, "transient", None)
     if tr is None:
         return None
-    law = getattr(scene, "friction_law", None)
-    if scene.heat_source is None and law is not None and law.depends_on_temperature:
-        return ("green's transient superposes one pass's response over the passes, which holds only while the "
-                "heat input does not depend on the temperature; a temperature-dependent friction law needs the "
-                "coupled loop per pass, which green does not run: use a constant or slip-velocity friction law")
-    if float(scene.wheel.bulk_temperature) != float(scene.rail.bulk_temperature):
-        return ("green's transient superposes the frictional heat of the passes only; wheel and rail at "
-                f"different bulk temperatures ({scene.wheel.bulk_temperature:g} and {scene.rail.bulk_temperature:g} "
-                "degC) exchange heat through the patch by a steady field that is no pass response: give both "
-                "bodies one bulk temperature")
-    outputs = tuple(getattr(scene, "outputs", ()) or ())
-    steady_depth = [o for o in outputs if o in ("temperature", "peak_temperature", "cooling_rate", "heated_depth")]
-    if steady_depth:
-        return (f"green does not return {steady_depth[0]!r} in a transient scene (the steady depth field and its "
-                "trace are one pass's, on another depth axis than the histories): ask temperature_history, "
-                "pass_peak_temperature, residual_rise or time_above")
-    return None
+    return superposition_limits(scene, "green")
 
 
 def centre_flux(grid, flux: np.ndarray) -> np.ndarray:

@@ -53,6 +53,7 @@ Pass histories (:mod:`railtherm.physics.pass_history`)
     pass_peaks_and_residual(time, history, count, interval) -> (peak, residual)
         Per-pass peak rise and the rise at the next pass's arrival [K] of a sampled history.
     pass_time_above(time, history, count, interval, rise) -> time above [s] per pass.
+    superposition_limits(scene, model) -> why one pass's response cannot be superposed, or None.
 Lumped wheel (:mod:`railtherm.physics.lumped_wheel`)
     lumped_wheel(eps P, theta_mean, ...) -> LumpedWheel
         Ertz & Knothe's long-term wheel temperature with the documented convective area
@@ -76,7 +77,7 @@ from .kinematics import body_speeds, creep_speeds
 from .lumped_wheel import (CONVECTIVE_AREA, ELLIPSE_SQRT_WIDTH, LumpedWheel, conduction_conductance,
                            convective_area, lumped_wheel)
 from .partition import equal_temperature_partition, scene_partition
-from .pass_history import pass_peaks_and_residual, pass_time_above
+from .pass_history import pass_peaks_and_residual, pass_time_above, superposition_limits
 from .scales import ThermalScales, peclet_number, thermal_scales
 from .thermal_trace import Trace, embed_field, extended_grid, field_grid, thermal_trace, with_thermal_trace
 
@@ -85,4 +86,4 @@ __all__ = ["hertz_geometry", "hertz_patch", "hertz_pressure_grid", "rescale_hert
            "body_speeds", "creep_speeds", "equal_temperature_partition", "scene_partition", "ThermalScales", "thermal_scales",
            "peclet_number", "geometric_edges", "CONVECTIVE_AREA", "ELLIPSE_SQRT_WIDTH", "LumpedWheel",
            "conduction_conductance", "convective_area", "lumped_wheel", "Trace", "thermal_trace", "with_thermal_trace", "field_grid", "extended_grid", "embed_field",
-           "pass_peaks_and_residual", "pass_time_above"]
+           "pass_peaks_and_residual", "pass_time_above", "superposition_limits"]

@@ -8,7 +8,35 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["pass_peaks_and_residual", "pass_time_above"]
+__all__ = ["pass_peaks_and_residual", "pass_time_above", "superposition_limits"]
+
+#: outputs of one pass's steady depth field, on another axis than the pass histories
+_ONE_PASS_DEPTH = ("temperature", "peak_temperature", "cooling_rate", "heated_depth")
+
+
+def superposition_limits(scene, model: str) -> str | None:
+    """Why a history built by superposing one pass's response over the passes does not hold for ``scene``,
+    or None: it holds while every pass gets the same heat, independent of the temperatures. A friction law
+    that depends on the temperature makes each pass's heat depend on the earlier ones (the coupled loop
+    would run per pass); bodies at different bulk temperatures exchange heat through the patch by a steady
+    field that is no pass response; and one pass's depth-field outputs live on another axis than the
+    histories. ``model`` names the model in the reason."""
+    law = getattr(scene, "friction_law", None)
+    if getattr(scene, "heat_source", None) is None and law is not None and law.depends_on_temperature:
+        return (f"model {model!r} superposes one pass's response over the passes, which holds only while the heat "
+                "input does not depend on the temperature; a temperature-dependent friction law needs the coupled "
+                f"loop in every pass, which {model!r} does not run: use a constant or slip-velocity friction law")
+    wheel, rail = float(scene.wheel.bulk_temperature), float(scene.rail.bulk_temperature)
+    if wheel != rail:
+        return (f"model {model!r} superposes the frictional heat of the passes only; wheel and rail at different bulk "
+                f"temperatures ({wheel:g} and {rail:g} degC) exchange heat through the patch by a steady field that "
+                "is no pass response: give both bodies one bulk temperature")
+    depth = [o for o in tuple(getattr(scene, "outputs", ()) or ()) if o in _ONE_PASS_DEPTH]
+    if depth:
+        return (f"model {model!r} does not return {depth[0]!r} in a transient scene with passes (the depth field is "
+                "one pass's, on another axis than the histories): ask temperature_history, pass_peak_temperature, "
+                "residual_rise or time_above")
+    return None
 
 
 def pass_peaks_and_residual(time, history, count: int, interval: float) -> tuple[np.ndarray, np.ndarray]:
