@@ -109,7 +109,7 @@ class FDMTemperature(TemperatureModel):
 
     # -- compute -------------------------------------------------------------------------------
     def supports(self, scene, level):
-        """Core's capability checks, then what fdm's pass histories cover (:func:`history_limits`)."""
+        """What fdm's pass histories cover (:func:`history_limits`); core has checked the declared capabilities."""
         return super().supports(scene, level) or history_limits(scene)
 
     def compute_temperature(self, scene, source, level, options):

@@ -147,7 +147,7 @@ class GreenTemperature(TemperatureModel):
 
     # ------------------------------------------------------------------------------------------
     def supports(self, scene, level):
-        """Core's capability checks, then the limits of green's transient (:func:`history.limits`)."""
+        """The limits of green's transient (:func:`history.limits`); core has checked the declared capabilities."""
         return super().supports(scene, level) or history.limits(scene)
 
     # the steady pass, then (transient scene) its histories: one flow for both keeps the flux shared

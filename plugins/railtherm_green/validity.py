@@ -53,7 +53,7 @@ ERROR_NOTE = ("model_error_* = measured relative error of the 1-D model (1-D min
 
 
 #: what the refusals of core (the declared ``peclet`` range, ``moving_surface``, ``modes``; see
-#: :meth:`railtherm.StageModel.supports`) add for this model: why the limit holds and what works instead
+#: :func:`railtherm.solving.capabilities_check.capability_refusal`) add for this model: why the limit holds and what works instead
 ADVICE = {
     "peclet": ("heat conduction along the rolling direction is no longer negligible and the 1-D model is "
                "invalid. Use method 'fipy' (or 'fastsim-fdm'), or the exact railtherm.references.moving_source "
