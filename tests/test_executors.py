@@ -295,7 +295,7 @@ def loopback_cluster(hosts):
     from distributed import Client, LocalCluster
     with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
         cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                               dashboard_address=None, silence_logs=logging.ERROR)
+                               dashboard_address=":0", silence_logs=logging.ERROR)
     client = Client(cluster)
     yield cluster, client
     client.close()

@@ -426,8 +426,9 @@ class DaskExecutor:
             with dask.config.set({"distributed.scheduler.allowed-failures": MAX_ATTEMPTS - 1}):
                 nw = self.workers or max(1, os.cpu_count() or 2)
                 with worker_threads(nw):
+                    # dashboard on any free port: None means the configured :8787, taken by any other cluster
                     cluster = LocalCluster(n_workers=nw, threads_per_worker=1, processes=True,
-                                           dashboard_address=None, silence_logs=logging.ERROR)
+                                           dashboard_address=":0", silence_logs=logging.ERROR)
             client = Client(cluster)
         self.client = client
         try:
