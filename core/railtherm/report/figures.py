@@ -87,20 +87,24 @@ def _render(blob: bytes, path: str) -> str:
 def rendering(workers: int):
     """Within the block, :func:`save` hands each figure (pickled) to ``workers`` processes, which lay it
     out and write the PNG while the report goes on; leaving the block waits for every file. Drawing is
-    most of a report's time (constrained layout draws each figure twice). With ``workers`` < 2, or a
-    figure that cannot be pickled, the figure is written here."""
+    most of a report's time (constrained layout draws each figure twice). With ``workers`` < 2, a figure
+    that cannot be pickled, or a pool whose worker died, the figure is written here."""
     global _RENDER
     if workers < 2:
         yield
         return
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures.process import BrokenProcessPool
     pool, jobs = ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn")), []
     _RENDER = (pool, jobs)
     try:
         yield
-        for job in jobs:
-            job.result()
+        for job, blob, path in jobs:
+            try:
+                job.result()
+            except BrokenProcessPool:  # a render worker died: the figure is drawn here instead
+                _render(blob, path)
     finally:
         _RENDER = None
         pool.shutdown(wait=True, cancel_futures=True)
@@ -118,10 +122,16 @@ def save(fig, path: Path) -> tuple[Path, int]:
             blob = pickle.dumps(fig)
         except Exception:  # noqa: BLE001 - an unpicklable artist: written here
             blob = None
-    if blob is None:
+    job = None
+    if blob is not None:
+        try:
+            job = _RENDER[0].submit(_render, blob, str(path))
+        except RuntimeError:  # the pool broke (BrokenProcessPool is a RuntimeError): written here
+            job = None
+    if job is None:
         fig.savefig(path, dpi=PNG_DPI)
     else:
-        _RENDER[1].append(_RENDER[0].submit(_render, blob, str(path)))
+        _RENDER[1].append((job, blob, str(path)))
     fig.clear()
     return path, width
 
