@@ -62,3 +62,13 @@ def test_no_function_over_80_lines_without_a_reason():
             for path in SOURCES for name, line, n in _long_functions(path)]
     assert long == [], ("functions over 80 lines without a '#' reason directly above them (split them, or "
                         "say why they are long):\n  " + "\n  ".join(long))
+
+
+def test_code_text_does_not_narrate_this_project_s_issues():
+    """Docstrings and comments say what the code does and why; which of this project's issues brought it is
+    history, kept in git. (An upstream bug named with its tracker, e.g. "FiPy issue #1223", is a reason.)"""
+    import re
+    pattern = re.compile(r"\bissue \d+", re.IGNORECASE)
+    found = [f"{p.relative_to(ROOT)}:{i}" for p in SOURCES
+             for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if pattern.search(line)]
+    assert found == [], found

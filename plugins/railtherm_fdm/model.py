@@ -15,7 +15,7 @@ is the result. It is declared quasi-steady when it differs by less than 0.2 % of
 same field sampled one semi-axis of travel earlier (at the same offset to the grid); diagnostics
 ``<body>_quasi_steady_change`` and ``<body>_quasi_steady``.
 
-Behind the patch and in depth (scene key ``field``, issue 14): the block is stretched to hold the
+Behind the patch and in depth (scene key ``field``): the block is stretched to hold the
 trail (:func:`railtherm_fdm.layout.trail_extent`): the steady scheme's graded grid reaches
 ``field.behind`` beyond the trailing edge and ``field.depth`` deep with cells of width
 ``max(h, s/8/2**level)`` at distance s behind the trailing edge (h the patch cells) and

@@ -18,7 +18,7 @@ same conduction solver applied to the wheel's material moving at its surface spe
 the wheel's share eps of the frictional heat (and the contact conductance, when given). For a
 rigid wheel that temperature is a report only: it does not deform the wheel.
 
-Behind the patch and in depth (scene key ``field``, issue 14; ``Capabilities(field=True)``): the
+Behind the patch and in depth (scene key ``field``; ``Capabilities(field=True)``): the
 temperatures are sampled from the strip's thermal layer on core's extended grid
 (:func:`railtherm.physics.field_grid`) down to ``field.depth`` exactly (linear in z between the layer's
 nodes, as its P1 elements), and the thermal trace is :func:`railtherm.physics.with_thermal_trace`. The
@@ -228,7 +228,7 @@ class FemModel(CoupledModel):
                       for j in range(2)]
             return TemperatureField.from_bodies(grid, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
                                                 *bodies, z=tgrid.z, diagnostics=diag)
-        # the scene's field (issue 14): core's extended grid, sampled on the thermal layer of the strip
+        # the scene's field: core's extended grid, sampled on the thermal layer of the strip
         out = field_grid(grid, scene)
         xs = out.x + xc
         reach = float(xc - tgrid.x[0])           # how far behind the patch centre the thermal layer reaches

@@ -36,7 +36,7 @@ cells along 2a); 3-D against the moving surface source 0.5 % (Pe 0.1, level 1), 
 2.4 % (Pe 1e3, 1e4) at level 2. Along the flow the scheme is first order wherever the cell Péclet
 number exceeds ~2 (upwinding): that, not the depth grading, limits the accuracy at high Pe.
 
-Behind the patch and in depth (scene key ``field``, issue 14; ``Capabilities(field=True)``): the model
+Behind the patch and in depth (scene key ``field``; ``Capabilities(field=True)``): the model
 reports on core's extended grid (:func:`railtherm.physics.field_grid`: whole patch cells added until
 ``-a - field.behind``); the flux is zero there (convection ``h`` acts on it as on any free surface).
 The mesh's uniform cells run from the extended grid's first edge to ``+a``, the outflow grading starts

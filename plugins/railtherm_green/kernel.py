@@ -30,7 +30,7 @@ small numba loop over the upper triangle (single-threaded, 0.2-0.3 ms at 216 x 9
 is as fast with one thread but 4-20x slower and erratic when OpenBLAS spreads this small product over
 two busy cores (measured).
 
-The extended grid of a scene with ``field`` (issue 14) is ~7x longer, with zero flux behind the patch: the
+The extended grid of a scene with ``field`` is ~7x longer, with zero flux behind the patch: the
 flux stays on the patch (``behind`` = the cells before it). The surface sums take the heated rows and the
 half patch behind them exactly (one dense product) and the long trail further behind by Chebyshev
 interpolation of the smooth weight over the heated rows (:func:`trail_toeplitz`, rank 24, ~1e-15 of the
