@@ -197,12 +197,9 @@ def _cache_for(store: dict, key):
     return store.setdefault(key, {})
 
 
-_TRACE_CACHE: dict = {}
-
-
 def clear_trace_caches() -> None:
     """Forget every exact trace and surface value computed so far (benchmarks time a cold computation)."""
-    for store in (_TRACE_CACHE, _LINE_CACHE, _DEPTH_CACHE, _SURFACE_CACHE):
+    for store in (_LINE_CACHE, _DEPTH_CACHE, _SURFACE_CACHE):
         store.clear()
 
 
@@ -241,9 +238,6 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
     if case is None:
         return None
     z = np.atleast_1d(np.asarray(z, dtype=float))
-    key = (scene.hash, z.tobytes(), bool(fast))
-    if key in _TRACE_CACHE:
-        return _TRACE_CACHE[key]
     a, b, shape, q, speeds, eps = case
     fld = getattr(scene, "field", None)
     thr = float(fld.threshold) if fld is not None else 727.0
@@ -278,9 +272,6 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
         depth[body] = depths["heated"]
     out["heated_depth"] = depth
     out["tag"] = "jaeger" if b is None else "moving-source"
-    if len(_TRACE_CACHE) > 256:
-        _TRACE_CACHE.clear()
-    _TRACE_CACHE[key] = out
     return out
 
 

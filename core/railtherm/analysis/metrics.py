@@ -519,6 +519,18 @@ def scoring_groups(records) -> list[list[int]]:
     return sorted(groups.values(), key=lambda g: -sum(records[i].status == "ok" for i in g))
 
 
+def submit_scoring(study, records, map, tolerance: float | None = None):
+    """``map`` of :func:`score_runs` over :func:`scoring_groups` (a pool's map submits every group at once):
+    the ``scored`` argument of :func:`compute_metrics`, with the same tolerance."""
+    tol = study_tolerance(study, tolerance)
+    return map(functools.partial(score_runs, study, records, tol), scoring_groups(records))
+
+
+def study_tolerance(study, tolerance: float | None = None) -> float:
+    """The relative tolerance [1] a study's runs are scored with: ``tolerance``, else the study's, else 5 %."""
+    return tolerance if tolerance is not None else getattr(study, "tolerance", 0.05)
+
+
 def compute_metrics(study, out, records, tolerance: float | None = None, *, map=None, scored=None):
     """Build the metrics Dataset of a study from its run records (and the run files or Zarr store).
 
@@ -528,7 +540,7 @@ def compute_metrics(study, out, records, tolerance: float | None = None, *, map=
     pool can take other work behind them). See ``docs/verdicts.md`` for every variable.
     """
     from .scorecard import verdict_vars
-    tol = tolerance if tolerance is not None else getattr(study, "tolerance", 0.05)
+    tol = study_tolerance(study, tolerance)
     metrics = METRICS + (TRACE_METRICS if any(getattr(s, "field", None) is not None for s in study.scenes) else ())
     metrics += TRANSIENT_METRICS if any(getattr(s, "transient", None) is not None for s in study.scenes) else ()
     ctx = _Study(study, records, tol)
@@ -537,7 +549,7 @@ def compute_metrics(study, out, records, tolerance: float | None = None, *, map=
     else:
         rows = [None] * len(records)
         if scored is None:
-            scored = map(functools.partial(score_runs, study, records, tol), scoring_groups(records))
+            scored = submit_scoring(study, records, map, tol)
         for part in scored:
             for i, row in part:
                 rows[i] = row

@@ -9,7 +9,6 @@ the work is then done in this process.
 from __future__ import annotations
 
 import contextlib
-import functools
 import warnings
 from pathlib import Path
 
@@ -73,10 +72,9 @@ def _submit_analysis(study, records, pmap, curves: bool):
     # the pool's result thread unpickles the curves (xarray Datasets) while this thread scores: with xarray
     # not yet imported here, both would import it at once and deadlock on its module locks
     import xarray  # noqa: F401
-    from ..analysis.metrics import score_runs, scoring_groups
+    from ..analysis.metrics import submit_scoring
     from ..analysis.reference_curves import curve_jobs, scene_curves_job
-    tol = getattr(study, "tolerance", 0.05)
-    scored = pmap(functools.partial(score_runs, study, records, tol), scoring_groups(records))
+    scored = submit_scoring(study, records, pmap)
     if not curves:
         return scored, None
     jobs = curve_jobs(study)
