@@ -29,37 +29,27 @@ from __future__ import annotations
 
 import multiprocessing as mp
 import os
+import sys
 import time
-import tomllib
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import pytest
 
-DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "profiles"
+TESTS = Path(__file__).resolve().parents[1] / "tests"
+sys.path.insert(0, str(TESTS))  # the shared A-2.2 cases (spawned workers inherit the path)
+import manchester_cases  # noqa: E402
+
 WORKERS = 2
 LEVEL = 2
 OUTPUTS = ["normal_force", "creep_force_x", "creep_force_y", "max_pressure", "max_surface_temperature"]
 
 
 def a22_scene(position: int, side: str) -> dict:
-    """The benchmark's wheel ``side`` at ``position`` as a scene mapping (SI units), as tests/test_manchester.py
-    builds it, with green's material constants."""
-    a22 = tomllib.loads((DATA / "manchester_a22.toml").read_text())
-    s, p = a22["setup"], a22["position"][position - 1]
-    mat = {"shear_modulus": s["shear_modulus"] * 1e6, "poisson_ratio": s["poisson_ratio"], "density": 7850.0,
-           "specific_heat": 450.0, "conductivity": 50.0, "bulk_temperature": 0.0}
-    return {"name": f"a22-{position}-{side}", "speed": s["speed"] * 1e-3, "friction": s["friction"],
-            "wheel": mat, "rail": mat, "outputs": OUTPUTS,
-            "wheelset": {"wheel_profile": str(DATA / "MBench_S1002_v3.prw"),
-                         "rail_profile": str(DATA / "MBench_UIC60_v3.prr"),
-                         "rail_inclination": s["rail_cant"], "gauge": s["gauge"] * 1e-3,
-                         "gauge_height": s["gauge_height"] * 1e-3,
-                         "flange_back_distance": s["flange_back_distance"] * 1e-3,
-                         "flange_back_position": s["flange_back_position"] * 1e-3,
-                         "nominal_radius": s["nominal_radius"] * 1e-3, "lateral_shift": p["lateral_shift"] * 1e-3,
-                         "yaw_angle": p["yaw"], "roll_angle": p["roll"], "pitch_velocity": p["pitch_velocity"],
-                         "vertical_force": s["vertical_force"], "side": side}}
+    """The benchmark's wheel ``side`` at ``position`` (tests/manchester_cases.py) with green's material
+    constants and the outputs timed here."""
+    return dict(manchester_cases.a22_scene(position, side, density=7850.0, specific_heat=450.0, conductivity=50.0,
+                                           bulk_temperature=0.0), outputs=OUTPUTS)
 
 
 CONTACTS = [(p, side) for p in range(1, 22) for side in ("right", "left")]

@@ -14,9 +14,6 @@ quantities of a wheelset on profiles, docs/DESIGN.md "Result schema").
 """
 from __future__ import annotations
 
-import tomllib
-from pathlib import Path
-
 import pytest
 
 import railtherm
@@ -24,27 +21,9 @@ from railtherm import SceneError
 from railtherm.contract.schema import validate_dataset
 from railtherm.input.scene import load_scene
 
-DATA = Path(__file__).resolve().parent / "data" / "profiles"
-A22 = tomllib.loads((DATA / "manchester_a22.toml").read_text())
+from manchester_cases import A22, a22_scene
+
 POSITION_TOL, ANGLE_TOL, NORMAL_RTOL, CREEP_RTOL, PMAX_RTOL = 0.5e-3, 0.02, 0.03, 0.05, 0.08
-
-
-def a22_scene(position: int, side: str) -> dict:
-    """The benchmark's wheel ``side`` at ``position`` as a scene mapping (SI units)."""
-    s, p = A22["setup"], A22["position"][position - 1]
-    assert p["id"] == position
-    mat = {"shear_modulus": s["shear_modulus"] * 1e6, "poisson_ratio": s["poisson_ratio"]}
-    return {"name": f"a22-{position}-{side}", "speed": s["speed"] * 1e-3, "friction": s["friction"],
-            "wheel": mat, "rail": mat,
-            "wheelset": {"wheel_profile": str(DATA / "MBench_S1002_v3.prw"),
-                         "rail_profile": str(DATA / "MBench_UIC60_v3.prr"),
-                         "rail_inclination": s["rail_cant"], "gauge": s["gauge"] * 1e-3,
-                         "gauge_height": s["gauge_height"] * 1e-3,
-                         "flange_back_distance": s["flange_back_distance"] * 1e-3,
-                         "flange_back_position": s["flange_back_position"] * 1e-3,
-                         "nominal_radius": s["nominal_radius"] * 1e-3, "lateral_shift": p["lateral_shift"] * 1e-3,
-                         "yaw_angle": p["yaw"], "roll_angle": p["roll"], "pitch_velocity": p["pitch_velocity"],
-                         "vertical_force": s["vertical_force"], "side": side}}
 
 
 def _reference(side, position):
