@@ -12,7 +12,7 @@ from railtherm.input.scene import load_scene
 from railtherm.physics.profiles import ProfileError
 
 from railtherm.input.profiles import read_profile
-from test_manchester import DATA, a22_scene
+from manchester_cases import DATA, a22_scene
 
 
 def _with(position=13, side="right", **wheelset):
