@@ -1,5 +1,6 @@
 """Bad input to a wheelset on profiles: each gives a SceneError (ProfileError for a profile file) naming
-the scene, the key and, for a file, the file and line; none is a traceback of another kind."""
+the scene, the key and, for a file, the file and line; none is a traceback of another kind. A wheel that
+finds no contact loads and fails its own solves (tests/test_wheelset_profile_study.py)."""
 from __future__ import annotations
 
 import copy
@@ -7,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+import railtherm
 from railtherm import SceneError
 from railtherm.input.scene import load_scene
 from railtherm.physics.profiles import ProfileError
@@ -57,7 +59,7 @@ def test_a_contact_off_the_end_of_the_rail_profile_is_named(tmp_path):
     with pytest.raises(SceneError, match=r"scene 'a22-1-right': key 'wheelset': no contact: side right: the closest "
                                          r"approach lies at the end of a profile \(.*rail y = -12.\d\d mm\): the "
                                          r"wheel runs off the rail"):
-        load_scene(_with(1, rail_profile=str(cut)))
+        railtherm.solve(load_scene(_with(1, rail_profile=str(cut))), "kalker", level=0)
 
 
 def test_a_wheel_that_does_not_reach_the_rail_finds_no_contact(tmp_path):
@@ -68,7 +70,7 @@ def test_a_wheel_that_does_not_reach_the_rail_finds_no_contact(tmp_path):
     cut.write_text("\n".join(f"{y * 1e3:.7f} {z * 1e3:.7f}" for y, z in zip(wheel.y[keep], wheel.z[keep])))
     with pytest.raises(SceneError, match=r"scene 'a22-1-right': key 'wheelset': no contact: side right: the wheel "
                                          r"profile .*field_side\.txt does not overlap the rail .* laterally"):
-        load_scene(_with(1, wheel_profile=str(cut)))
+        railtherm.solve(load_scene(_with(1, wheel_profile=str(cut))), "kalker", level=0)
 
 
 @pytest.mark.parametrize("value", [-1.0, 0.0])
@@ -133,8 +135,6 @@ def test_a_second_minimum_inside_the_first_patch_is_not_a_patch_of_its_own():
 
 @pytest.mark.parametrize("wheelset, words", [
     ('rail_profile = "{d}/no_such.prr", vertical_force = 1e4', "key 'wheelset.rail_profile': profile .*no_such.prr: cannot be read"),
-    ('rail_profile = "uic60", gauge = 1.6, vertical_force = 1e4', "key 'wheelset': no contact: side right: the closest approach lies at "
-                                            "the end of a profile"),
     ('rail_profile = "uic60", vertical_force = -1.0', "key 'wheelset.vertical_force' = -1.0 is not allowed")])
 def test_the_command_line_names_bad_profile_input_without_a_traceback(tmp_path, capsys, wheelset, words):
     """``railtherm validate`` and ``run`` on a study with a bad wheelset on profiles: one error line naming the
@@ -142,12 +142,31 @@ def test_the_command_line_names_bad_profile_input_without_a_traceback(tmp_path, 
     import re
     from railtherm.cli import main
     study = tmp_path / "bad.toml"
-    study.write_text(f'schema_version = 1\n[study]\nname = "bad"\nmethods = ["kalker"]\nlevels = [0]\n'
-                     f'[[scene]]\nname = "w"\nspeed = 2.0\nfriction = 0.3\nwheelset = {{ wheel_profile = "s1002", '
-                     f'nominal_radius = 0.46, pitch_velocity = -4.35, '
-                     f'{wheelset.format(d=tmp_path)} }}\n')
+    study.write_text(_cli_study(wheelset.format(d=tmp_path)))
     assert main(["validate", str(study)]) == 1
     assert main(["run", str(study), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
     assert "Traceback" not in err and re.search(r"railtherm: error: scene 'w': " + words, err), err
     assert not (tmp_path / "out" / "runs").exists()
+
+
+def _cli_study(wheelset: str) -> str:
+    return (f'schema_version = 1\n[study]\nname = "bad"\nmethods = ["kalker"]\nlevels = [0]\n'
+            f'[[scene]]\nname = "w"\nspeed = 2.0\nfriction = 0.3\nwheelset = {{ wheel_profile = "s1002", '
+            f'nominal_radius = 0.46, pitch_velocity = -4.35, {wheelset} }}\n')
+
+
+def test_the_command_line_names_a_wheel_without_contact_and_runs_the_study(tmp_path, capsys):
+    """A wheel that runs off the rail: ``validate`` names it (exit 1); ``run`` records the scene's run as failed
+    with the same words (exit 3, a run failed), no traceback."""
+    from railtherm.cli import main
+    study = tmp_path / "off.toml"
+    study.write_text(_cli_study('rail_profile = "uic60", gauge = 1.6, vertical_force = 1e4'))
+    words = ("scene 'w': key 'wheelset': no contact: side right: the closest approach lies at the end of a "
+             "profile")
+    assert main(["validate", str(study)]) == 1
+    assert f"error: {words}" in capsys.readouterr().err
+    assert main(["run", str(study), "--out", str(tmp_path / "out"), "--executor", "serial"]) == 3
+    assert "Traceback" not in capsys.readouterr().err
+    status = (tmp_path / "out" / "runs" / "w" / "kalker" / "level-0.status.json").read_text()
+    assert words in status

@@ -52,7 +52,8 @@ from ..references.hertz import contact_modulus, hertz_from_curvatures
 from ..references.kalker import kalker_linear_forces
 from .profiles import CONICAL_ONLY_KEYS, wheelset_geometry_from_table
 
-__all__ = ["ProfileContact", "profile_contact", "normal_force_from_vertical", "WINDOW", "GAP_DEGREE"]
+__all__ = ["ProfileContact", "NoContact", "NoContactError", "profile_contact", "normal_force_from_vertical", "WINDOW",
+           "GAP_DEGREE"]
 
 #: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
 WINDOW = (1.6, 2.0)
@@ -127,6 +128,38 @@ class ProfileContact:
     normal_force: float
     lateral_force_estimate: float
     rail_section: tuple = field(default=((), ()), repr=False, compare=False)
+
+
+class NoContactError(SceneError):
+    """The wheel of a wheelset on profiles finds no contact: it does not reach the rail (lifted off), or its
+    closest approach lies at a profile's end (it runs off the rail)."""
+
+
+@dataclass(frozen=True)
+class NoContact:
+    """A wheelset on profiles whose wheel finds no contact: the scene loads (the study's other scenes run)
+    and every run of it fails with :meth:`failure`, the error naming the scene and the key.
+
+    Attributes
+    ----------
+    side : str
+        "right" or "left".
+    message, key : str
+        The error's text and the key it names.
+    value : object
+        The value of that key.
+    """
+
+    side: str
+    message: str
+    key: str
+    value: object = None
+    patches: int = 0
+
+    def failure(self) -> NoContactError:
+        """The error a solve of the scene raises (a new instance each time)."""
+        scene = self.message.split("'")[1] if self.message.startswith("scene '") else None
+        return NoContactError(self.message, scene=scene, key=self.key, value=self.value)
 
 
 def _rail_section(rail) -> tuple:
@@ -351,14 +384,15 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
     ------
     SceneError
         A key's value, a missing ``vertical_force`` or ``pitch_velocity``, a roll or pitch left to the
-        equilibrium, a wheel that finds no contact or runs off a profile, a patch number beyond those found.
+        equilibrium, a patch number beyond those found; :class:`NoContactError` for a wheel that finds no
+        contact or runs off a profile.
     """
     geo, patch_no = _geometry(scene_name, table, base)
     try:
         wc = contact_search(geo.on_track(), geo.side, speed=speed, section_half_width=SECTION_HALF_WIDTH)
     except ProfileError as exc:
-        raise SceneError(f"scene {scene_name!r}: key 'wheelset': no contact: {exc}", scene=scene_name,
-                         key="wheelset.lateral_shift", value=table.get("lateral_shift")) from None
+        raise NoContactError(f"scene {scene_name!r}: key 'wheelset': no contact: {exc}", scene=scene_name,
+                             key="wheelset", value=table.get("lateral_shift")) from None
     distinct = _distinct_patches(wc.patches, wheel, rail, geo.vertical_force)
     if patch_no > len(distinct):
         merged = len(wc.patches) - len(distinct)

@@ -288,7 +288,8 @@ def _draw_shapes(doc: Document, ctx, groups, method: str):
     shapes = _shapes(ctx.data, groups, method)
     if not shapes:
         return
-    rails = {side: _rail(ctx.data, groups[side][0][1]) for side in shapes}
+    rails = {side: next((r for _, s in groups[side] for r in [_rail(ctx.data, s)] if r is not None), None)
+             for side in shapes}
     missing = [side for side, r in rails.items() if r is None]
     if missing:
         doc.paragraph(f"The patch shapes are not drawn: the {missing[0]} wheel's scene keeps no rail profile "
