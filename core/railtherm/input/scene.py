@@ -339,15 +339,18 @@ def _profile_wheelset(name: str, c: dict):
     (:mod:`railtherm.input.wheelset_profile`); those keys must not be given as well."""
     # imported here: the contact search pulls in core's references, which a reader of results (the report)
     # never needs
-    from .wheelset_profile import profile_contact
+    from .wheelset_profile import NoContact, NoContactError, profile_contact
     given = [k for k in ("contact", "normal_force", "penetration", "creepage", "sliding_speed") if k in c]
     if given:
         raise SceneError.bad_value(name, given[0], c[given[0]],
                                    "nothing: a wheelset on profiles sets the contact, normal force and creepage")
     law = friction_law(c["friction"]) if "friction" in c else None
-    pc = profile_contact(name, c["wheelset"], speed=c["speed"], wheel=_material(name, "wheel", c.get("wheel", {})),
-                         rail=_material(name, "rail", c.get("rail", {})),
-                         friction=None if law is None else law.nominal)
+    try:
+        pc = profile_contact(name, c["wheelset"], speed=c["speed"], wheel=_material(name, "wheel", c.get("wheel", {})),
+                             rail=_material(name, "rail", c.get("rail", {})),
+                             friction=None if law is None else law.nominal)
+    except NoContactError as exc:   # the scene's own runs fail with it (solve raises it), not the study
+        return NoContact(side=c["wheelset"].get("side", "right"), message=str(exc), key=exc.key, value=exc.value)
     c["contact"] = {"shape": "gap", "coefficients": pc.gap_coefficients}
     c["normal_force"] = pc.normal_force
     xi, eta, phi = pc.creepage
@@ -365,8 +368,13 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
     else:
         if is_profile_wheelset(c.get("wheelset")):
             kw["profile_contact"] = _profile_wheelset(name, c)
-        _contact(name, c, kw)
-        _load_and_slip(name, c, kw)
+        if hasattr(kw.get("profile_contact"), "failure"):
+            # no contact found: no gap, no load, no slip (exact references see an unloaded patch); solve raises
+            # the failure
+            kw.update(contact_shape="gap", normal_force=0.0, creepage=Creepage())
+        else:
+            _contact(name, c, kw)
+            _load_and_slip(name, c, kw)
     if "friction" in c:
         kw["friction_law"] = friction_law(c["friction"])
         kw["friction"] = kw["friction_law"].nominal

@@ -404,6 +404,9 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
     """
     host = host or get_host()
     scene = load_scene(scene)
+    failure = getattr(scene.profile_contact, "failure", None)
+    if failure is not None:   # a wheelset on profiles whose wheel found no contact
+        raise failure()
     level = check_level(level, where=f"scene {scene.name!r}: ")
     mi = host.resolve(method)  # SceneError for an unknown method or a bad chain, naming what is allowed
     options = _check_options(mi, options, scene.name)
