@@ -34,7 +34,7 @@ import pytest
 
 from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
 from railtherm_kalker import tangential_model
-from railtherm_kalker.influence import normal_operator
+from railtherm_kalker.influence import element_size, normal_operator
 from railtherm_kalker.normal_solver import solve_normal
 from railtherm_kalker.potential_area import hertz_curvatures, potential_area
 from railtherm_kalker.tangential_model import ROLLING_ORDER, rolling_operator
@@ -51,15 +51,14 @@ def solve_both(n, margin, creepage, order=ROLLING_ORDER, cached=False):
     default; 1, CONTACT's), for before/after pairs in one process. ``cached``: the operators of the grid are kept
     from an earlier solve (a study's later solves on the grid: no set-up) instead of computed (empty caches)."""
     if not cached:
-        normal_operator.cache_clear()
-        tangential_model._rolling_operator.cache_clear()
+        tangential_model.clear_operator_caches()
     e_star = G / (1 - NU)
     area = potential_area(A, B, n, margin=margin)
     X, Y = area.mesh()
     ca, cb = hertz_curvatures(A, B, N, e_star)
     hz = hertz_from_curvatures(ca, cb, N, e_star)
     t0 = time.process_time()
-    conv = normal_operator(*area.shape, area.dx, area.dy, e_star)
+    conv = normal_operator(*area.shape, element_size(area.x_edges), element_size(area.y_edges), e_star)  # model's key
     t1 = time.process_time()
     ns = solve_normal(conv, ca * X ** 2 + cb * Y ** 2, area.dx * area.dy, force=N,
                       initial=hertz_pressure(X, Y, hz.a, hz.b, hz.max_pressure))

@@ -43,6 +43,9 @@ import threading
 import numpy as np
 import scipy.fft as sfft
 
+from ._quadrant import (ROLLING_EXTRA, _quadrant_differences_cached, mirror_quadrant, place_even,
+                        quadrant_differences, tangential_quadrants)
+
 try:  # scipy's pocketfft binding: transforms into preallocated arrays (``out``); scipy.fft's public functions otherwise
     from scipy.fft._pocketfft import pypocketfft as _pocketfft
 except Exception:  # pragma: no cover - another scipy layout
@@ -100,38 +103,6 @@ def _offsets(n: int, extra: int = 0) -> np.ndarray:
     return np.arange(-(n - 1) - extra, n + extra)
 
 
-def _corner_lattice(nx: int, ny: int, dx: float, dy: float, extra: int, kinds) -> dict:
-    """Corner functions of ``kinds`` on the lattice of element corners, mirrored from one quadrant.
-
-    The rectangle integrals at all offsets are second differences of one corner function F on the
-    corners ``(m - 1/2) dx`` (m = -(nx - 1) - extra ... nx + extra) and ``(l - 1/2) dy``, so F is
-    evaluated once per corner instead of four times per offset. The corners never lie on an axis,
-    and F is odd in x and in y ("1/r", "xx", "yy") or even in both ("xy"): it is evaluated on the
-    positive quadrant only, with ``x asinh(y/x) = x ln((y + r)/x)`` for x, y > 0 (no cancellation).
-    """
-    mx, my = nx + extra, ny
-    xs = (np.arange(mx) + 0.5) * dx
-    ys = (np.arange(my) + 0.5) * dy
-    X, Y = np.meshgrid(xs, ys, indexing="ij")
-    R = np.hypot(X, Y)
-    need = set(kinds)
-    xa = X * np.log((Y + R) / X) if need & {"1/r", "yy"} else None      # x asinh(y/x)
-    ya = Y * np.log((X + R) / Y) if need & {"1/r", "xx"} else None      # y asinh(x/y)
-    quad = {"1/r": lambda: xa + ya, "xx": lambda: ya, "yy": lambda: xa, "xy": lambda: -R}
-    out = {}
-    for kind in kinds:
-        q = quad[kind]()
-        sx, sy = (1.0, 1.0) if kind == "xy" else (-1.0, -1.0)
-        q = np.concatenate([sx * q[::-1], q], axis=0)
-        out[kind] = np.concatenate([sy * q[:, ::-1], q], axis=1)
-    return out
-
-
-def _second_difference(F: np.ndarray) -> np.ndarray:
-    """Corner sum F(x+, y+) - F(x-, y+) - F(x+, y-) + F(x-, y-) over each element of the lattice."""
-    return F[1:, 1:] - F[:-1, 1:] - F[1:, :-1] + F[:-1, :-1]
-
-
 def normal_kernel(nx: int, ny: int, dx: float, dy: float, e_star: float, extra: int = 0) -> np.ndarray:
     """Love's influence coefficients of the normal problem for all element offsets.
 
@@ -152,8 +123,8 @@ def normal_kernel(nx: int, ny: int, dx: float, dy: float, e_star: float, extra: 
         Normal displacement difference [m/Pa] at offset (i - j, k - l); index 0 is offset
         -(nx - 1) - extra.
     """
-    F = _corner_lattice(nx, ny, dx, dy, extra, ("1/r",))["1/r"]
-    return _second_difference(F) / (math.pi * e_star)
+    xa, ya, _ = quadrant_differences(nx + extra, ny, dx, dy)
+    return mirror_quadrant((xa + ya) / (math.pi * e_star), nx + extra, ny)
 
 
 def tangential_kernels(nx: int, ny: int, dx: float, dy: float, shear_modulus: float, poisson_ratio: float,
@@ -179,12 +150,8 @@ def tangential_kernels(nx: int, ny: int, dx: float, dy: float, shear_modulus: fl
         ``{"xx", "xy", "yy"}`` -> ndarray of shape (2 nx - 1 + 2 extra, 2 ny - 1) [m/Pa]
         (``A_yx = A_xy``).
     """
-    nu, c = float(poisson_ratio), 1.0 / (math.pi * shear_modulus)
-    F = _corner_lattice(nx, ny, dx, dy, extra, ("1/r", "xx", "yy", "xy"))
-    inv_r = _second_difference(F["1/r"])
-    return {"xx": c * ((1.0 - nu) * inv_r + nu * _second_difference(F["xx"])),
-            "xy": c * nu * _second_difference(F["xy"]),
-            "yy": c * ((1.0 - nu) * inv_r + nu * _second_difference(F["yy"]))}
+    q = tangential_quadrants(nx + extra, ny, dx, dy, shear_modulus, poisson_ratio)
+    return {name: mirror_quadrant(q[name], nx + extra, ny, odd=name == "xy") for name in ("xx", "xy", "yy")}
 
 
 def line_kernel(nx: int, dx: float, compliance: float, extra: int = 0, length: float | None = None) -> np.ndarray:
@@ -281,9 +248,16 @@ class Convolution:
         offsets near zero are kept in :attr:`near`, the cut that the local preconditioners invert (default:
         ``kernels``).
     circulant : ndarray, optional
-        For a one-component operator: the kernel over the offsets -(M/2) ... M/2 of the padded grid
-        (M = :attr:`padded`; ``(2 (M_x // 2) + 1, 2 (M_y // 2) + 1)``), whose circulant (Strang's
-        choice) is inverted by :meth:`precondition`.
+        For a one-component operator: the kernel over the offsets -(M/2) ... M/2 of the periodic grid M of
+        the preconditioner (``(2 (M_x // 2) + 1, 2 (M_y // 2) + 1)``), whose circulant (Strang's choice) is
+        inverted by :meth:`precondition`.
+    placed : bool
+        The kernels are given already placed circulantly on the padded grid (shape :attr:`padded`, offset o at
+        index o mod M, zero elsewhere; :func:`rolling_operator_kernels`) instead of over the offsets.
+    circulant_grid : (int, int), optional
+        That periodic grid M (default :attr:`padded`). The inverse of Love's circulant is nearly local (its
+        symbol grows like |k|), so a grid as small as the element grid (:func:`normal_operator`) preconditions
+        as well as the padded one at a quarter of the transform's size.
 
     Notes
     -----
@@ -299,26 +273,31 @@ class Convolution:
     NEAR = 2
 
     def __init__(self, kernels: dict, shape: tuple[int, int], symmetric: bool = True, circulant=None,
-                 near_kernels: dict | None = None):
+                 near_kernels: dict | None = None, circulant_grid: tuple[int, int] | None = None,
+                 placed: bool = False):
         nx, ny = shape
         self.shape = (int(nx), int(ny))
         self.ncomp = 1 + max(max(k) for k in kernels)
         mx = sfft.next_fast_len(2 * nx - 1, real=True)
         my = sfft.next_fast_len(2 * ny - 1, real=True) if ny > 1 else 1
         self.padded = (mx, my)
+        rx, ry = min(self.NEAR, nx - 1), min(self.NEAR, ny - 1)
         spectra = {}
         for key, k in kernels.items():
             k = np.asarray(k, dtype=float)
-            if k.shape != (2 * nx - 1, 2 * ny - 1):
-                raise ValueError(f"kernel {key} has shape {k.shape}, expected {(2 * nx - 1, 2 * ny - 1)}")
-            spectra[key] = self._embed(k, nx - 1, ny - 1)
+            want = (mx, my) if placed else (2 * nx - 1, 2 * ny - 1)
+            if k.shape != want:
+                raise ValueError(f"kernel {key} has shape {k.shape}, expected {want}")
+            spectra[key] = self._spectrum(k) if placed else self._embed(k, nx - 1, ny - 1)
         if symmetric and (0, 1) in spectra and (1, 0) not in spectra:
             spectra[(1, 0)] = spectra[(0, 1)]
+        if placed:      # offset o at o mod M: the offsets -r..r of the near neighbours by index
+            kernels = {key: np.asarray(k)[np.ix_(np.arange(-rx, rx + 1) % mx, np.arange(-ry, ry + 1) % my)]
+                       for key, k in kernels.items()}
         #: the (0, 0) kernel at offset zero (an element's influence on itself)
-        self.self_coefficient = float(np.asarray(kernels[(0, 0)])[nx - 1, ny - 1])
+        self.self_coefficient = float(np.asarray(kernels[(0, 0)])[(rx, ry) if placed else (nx - 1, ny - 1)])
         #: the kernels at the offsets of the near neighbours, ``(out, in) -> ndarray (2 rx + 1, 2 ry + 1)``
         #: over offsets -rx..rx, -ry..ry (rx = min(NEAR, nx - 1), ry likewise); for local preconditioners
-        rx, ry = min(self.NEAR, nx - 1), min(self.NEAR, ny - 1)
         self.near_radius = (rx, ry)
         self.near = {key: np.array(np.asarray(k, dtype=float)[nx - 1 - rx:nx + rx, ny - 1 - ry:ny + ry]
                                    if np.shape(k) != (2 * rx + 1, 2 * ry + 1) else k, dtype=float)
@@ -328,9 +307,20 @@ class Convolution:
         self._spec = spectra
         self._spec32 = {k: v.astype(np.complex64) for k, v in spectra.items()}
         self._inverse32 = None
+        #: the periodic grid of the preconditioner's circulant (:meth:`precondition`)
+        self.circulant_grid = self.padded if circulant_grid is None else (int(circulant_grid[0]),
+                                                                          int(circulant_grid[1]))
         if circulant is not None:
             c = np.asarray(circulant, dtype=float)
-            lam = self._embed(c, mx // 2, my // 2).real
+            cx, cy = self.circulant_grid
+            if self.circulant_grid == self.padded:
+                lam = self._embed(c, mx // 2, my // 2).real
+            else:
+                if cx < nx or cy < ny or my == 1:
+                    raise ValueError(f"circulant grid {self.circulant_grid} smaller than the elements {self.shape}")
+                emb = np.zeros((cx, cy))
+                emb[np.ix_(np.arange(-(cx // 2), cx // 2 + 1) % cx, np.arange(-(cy // 2), cy // 2 + 1) % cy)] = c
+                lam = sfft.rfft2(emb, workers=1).real
             if lam.min() <= 0.0:
                 raise ValueError("the circulant of the kernel is not positive definite")
             self._inverse32 = (1.0 / lam).astype(np.float32)
@@ -349,6 +339,11 @@ class Convolution:
             emb[mx - hx:, my - hy:] = k[:hx, :hy]
         else:
             emb[np.ix_(np.arange(-hx, hx + 1) % mx, np.arange(-hy, hy + 1) % my)] = k
+        return self._spectrum(emb)
+
+    def _spectrum(self, emb):
+        """Spectrum of a kernel placed circulantly on the padded grid, in the layout of :meth:`_fwd`."""
+        mx, my = self.padded
         if _pocketfft is None or my == 1:
             f = sfft.rfft(emb, axis=0, workers=1)
             return f if my == 1 else sfft.fft(f, axis=1, workers=1, overwrite_x=True)
@@ -467,6 +462,8 @@ class Convolution:
         whose error is corrected by the Krylov iteration); returns float64 (nx, ny)."""
         if self._inverse32 is None:
             raise ValueError("no circulant given for this operator")
+        if self.circulant_grid != self.padded:
+            return self._precondition_periodic(r)
         if self._buffered_ok:
             nx = self.shape[0]
             work = self._work_arrays(np.float32, 1)
@@ -475,6 +472,23 @@ class Convolution:
             return self._buffered(work, self._inverse32)[0, :nx, :].astype(float)
         return self._inv(self._inverse32 * self._fwd(np.asarray(r, dtype=np.float32))).astype(float)
 
+
+    def _precondition_periodic(self, r):
+        """:meth:`precondition` on the circulant's own periodic grid (:attr:`circulant_grid`, at least the
+        element grid; the fields are zero beyond the elements): one 2-D real transform pair in float32."""
+        nx, ny = self.shape
+        cx, cy = self.circulant_grid
+        if _pocketfft is None or not self._buffered_ok:
+            a = np.zeros((cx, cy), dtype=np.float32)
+            a[:nx, :ny] = r
+            u = sfft.irfft2(sfft.rfft2(a, workers=1) * self._inverse32, s=(cx, cy), workers=1)
+            return u[:nx, :ny].astype(float)
+        a, f, out = _periodic_work_arrays(cx, cy, threading.get_ident())
+        a[:nx, :ny] = r                                      # the rest of a stays zero
+        _pocketfft.r2c(a, (0, 1), True, 0, f, 1)
+        np.multiply(f, self._inverse32, out=f)
+        _pocketfft.c2r(f, (0, 1), cy, False, 2, out, 1)
+        return out[:nx, :ny].astype(float)
 
 try:  # pragma: no cover - exercised when numba is installed (a declared dependency)
     from numba import njit
@@ -526,6 +540,15 @@ def _work_arrays(dt: str, nc: int, mx: int, ny: int, my: int, thread: int) -> li
             np.empty((nc, mx, ny), dtype=real), None, np.empty((nc, mx // 2 + 1, my), dtype=cplx)]
 
 
+@functools.lru_cache(maxsize=6)
+def _periodic_work_arrays(cx: int, cy: int, thread: int) -> tuple:
+    """float32 work arrays of :meth:`Convolution._precondition_periodic` on a (cx, cy) periodic grid, one set per
+    thread (``thread``: its identifier): the field (zero beyond the elements, which every call overwrites), its
+    spectrum (cx, cy/2 + 1) and the inverse transform."""
+    return (np.zeros((cx, cy), dtype=np.float32), np.empty((cx, cy // 2 + 1), dtype=np.complex64),
+            np.empty((cx, cy), dtype=np.float32))
+
+
 def element_size(edges) -> float:
     """Element size of uniform edges [m], (last - first) / n rounded to 12 significant digits: the key of the
     operator caches, so that grids equal up to round-off (patches at other positions) share one operator."""
@@ -554,6 +577,17 @@ def normal_operator(nx: int, ny: int, dx: float, dy: float | None, e_star: float
         return Convolution({(0, 0): line_kernel(nx, dx, 1.0 / e_star, length=L)}, (nx, 1),
                            circulant=line_kernel(mx // 2 + 1, dx, 1.0 / e_star, length=L))
     my = sfft.next_fast_len(2 * ny - 1, real=True)
-    hx, hy = mx // 2 + 1, my // 2 + 1
-    full = normal_kernel(hx, hy, dx, dy, e_star)
-    return Convolution({(0, 0): full[hx - nx:hx + nx - 1, hy - ny:hy + ny - 1]}, (nx, ny), circulant=full)
+    if ny == 1:      # one row: the circulant on the padded grid
+        cx, cy = mx, my
+    else:            # the periodic element grid (Convolution's circulant_grid)
+        cx, cy = sfft.next_fast_len(nx, real=True), sfft.next_fast_len(ny, real=True)
+    # the quadrant of the rolling operator of this grid (ROLLING_EXTRA more offsets along x) when it covers this one
+    hx, hy = max(nx, cx // 2 + 1), max(ny, cy // 2 + 1)
+    if hx <= nx + ROLLING_EXTRA and hy <= ny:
+        xa, ya, _ = _quadrant_differences_cached(nx + ROLLING_EXTRA, ny, float(dx), float(dy))
+    else:
+        xa, ya, _ = quadrant_differences(hx, hy, dx, dy)
+    q = (xa[:hx, :hy] + ya[:hx, :hy]) / (math.pi * e_star)
+    return Convolution({(0, 0): place_even(q, nx, ny, mx, my)}, (nx, ny), placed=True,
+                       circulant_grid=None if ny == 1 else (cx, cy),
+                       circulant=mirror_quadrant(q, cx // 2 + 1, cy // 2 + 1))

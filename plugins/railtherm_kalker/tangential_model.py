@@ -33,12 +33,16 @@ import functools
 import numpy as np
 from railtherm import Capabilities, Option, Refused, TangentialContactModel
 from railtherm.physics import combined_elastic, creep_speeds
+from scipy.fft import next_fast_len
 
 from .friction_laws import solve_with_law
-from .influence import Convolution, element_size, line_kernel, rolling_kernel, tangential_kernels
+from ._quadrant import (ROLLING_EXTRA, _quadrant_differences_cached, mirror_quadrant, place_rolling,
+                        tangential_quadrants)
+from .influence import Convolution, element_size, line_kernel, normal_operator, rolling_kernel, tangential_kernels
 from .tangential_solver import TANGENTIAL_TOLERANCE, solve_tangential_nested
 
-__all__ = ["KalkerTangential", "rolling_operator", "patch_creepages", "solve_patch_tangential"]
+__all__ = ["KalkerTangential", "rolling_operator", "patch_creepages", "solve_patch_tangential", "clear_operator_caches",
+           "rolling_operator_kernels"]
 
 
 def patch_creepages(scene, patch) -> tuple[float, float, float]:
@@ -108,23 +112,70 @@ def rolling_operator(x_edges, y_edges, shear_modulus: float, poisson_ratio: floa
 def _rolling_operator(nx, dx, ny, dy, shear_modulus, poisson_ratio, order):
     """:func:`rolling_operator` of a grid, computed once per grid, material and order (the solves of a study, a
     friction loop, the nested grids and a wheelset's patches share it)."""
+    rx, ry = min(Convolution.NEAR, nx - 1), min(Convolution.NEAR, ny - 1)
     if dy is None:
         k = {"xx": line_kernel(nx, dx, (1.0 - poisson_ratio) / shear_modulus, extra=order)}
         keys = {(0, 0): "xx"}
+        kernels = {key: rolling_kernel(k[name], dx, order) for key, name in keys.items()}
+        placed = False
     else:
-        k = tangential_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio, extra=order)
+        # the kernels placed on the padded grid in one pass; the tangential kernels at the offsets of the cut
+        # (-r-1 .. r+1 along x for the first-order difference at -r .. r) from a small quadrant
+        padded = (next_fast_len(2 * nx - 1, real=True), next_fast_len(2 * ny - 1, real=True))
+        kernels = rolling_operator_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio, order, padded)
+        placed = True
+        q = tangential_quadrants(rx + 2, ry + 1, dx, dy, shear_modulus, poisson_ratio)
+        k = {name: mirror_quadrant(q[name], rx + 2, ry + 1, odd=name == "xy") for name in ("xx", "xy", "yy")}
         keys = {(0, 0): "xx", (0, 1): "xy", (1, 1): "yy"}
-    kernels = {key: rolling_kernel(k[name], dx, order) for key, name in keys.items()}
     near = None
-    if order != 1:
+    if order != 1 or placed:
         # the first-order kernel at the offsets of the cut only (Convolution.NEAR on each side): offset o of k[name]
-        # is at index o + nx - 1 + order, and the first-order difference at -r..r needs -r-1..r+1
-        rx, ry = min(Convolution.NEAR, nx - 1), min(Convolution.NEAR, ny - 1)
-        c = nx - 1 + order
+        # is at index o + c (c: the index of offset 0), and the first-order difference at -r..r needs -r-1..r+1;
+        # the same arithmetic for both orders, so that the second order's cut is the first order's times the scale
+        c = rx + 1 if placed else nx - 1 + order
         rows = slice(c - rx - 1, c + rx + 2)
-        cols = slice(ny - 1 - ry, ny + ry)
-        near = {key: SECOND_ORDER_CUT_SCALE * rolling_kernel(k[name][rows, cols], dx, 1) for key, name in keys.items()}
-    return Convolution(kernels, (nx, ny), near_kernels=near)
+        cols = slice(k["xx"].shape[1] // 2 - ry, k["xx"].shape[1] // 2 + ry + 1)
+        scale = SECOND_ORDER_CUT_SCALE if order != 1 else 1.0
+        near = {key: scale * rolling_kernel(k[name][rows, cols], dx, 1) for key, name in keys.items()}
+    return Convolution(kernels, (nx, ny), near_kernels=near, placed=placed)
+
+
+def rolling_operator_kernels(nx: int, ny: int, dx: float, dy: float, shear_modulus: float, poisson_ratio: float,
+                             order: int, padded: tuple[int, int]) -> dict:
+    """The rolling kernels ``(A[k + 1] - A[k]) / dx`` or ``(-A[k + 2] + 4 A[k + 1] - 3 A[k]) / (2 dx)``
+    (:func:`railtherm_kalker.influence.rolling_kernel`) of the Boussinesq-Cerruti kernels
+    (:func:`railtherm_kalker.influence.tangential_kernels`), placed circulantly on the padded grid
+    (``Convolution(..., placed=True)``): ``(0, 0), (0, 1), (1, 1) -> ndarray padded`` [1/Pa].
+
+    One compiled pass from the kernels' quadrants (:func:`railtherm_kalker._quadrant.tangential_quadrants`, whose
+    corner differences the grid's normal operator shares) instead of the full kernels, their differences and their
+    placement as separate array passes; without numba the full kernels' path.
+    """
+    mx, my = padded
+    if place_rolling is None:
+        k = tangential_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio, extra=order)
+        out = {}
+        for key, name in {(0, 0): "xx", (0, 1): "xy", (1, 1): "yy"}.items():
+            emb = np.zeros((mx, my))
+            at = np.ix_(np.arange(-(nx - 1), nx) % mx, np.arange(-(ny - 1), ny) % my)
+            emb[at] = rolling_kernel(k[name], dx, order)
+            out[key] = emb
+        return out
+    if order not in (1, 2):
+        raise ValueError(f"order = {order!r}: the rolling difference is of order 1 or 2")
+    q = tangential_quadrants(nx + order, ny, dx, dy, shear_modulus, poisson_ratio,
+                             differences=_quadrant_differences_cached(nx + ROLLING_EXTRA, ny, float(dx), float(dy)))
+    out = np.zeros((3, mx, my))
+    place_rolling(q["xx"], q["xy"], q["yy"], nx, ny, order, float(dx), out)
+    return {(0, 0): out[0], (0, 1): out[1], (1, 1): out[2]}
+
+
+def clear_operator_caches() -> None:
+    """Empty the caches of the operators' set-up (normal and rolling operators, the shared corner differences of
+    their kernels), so that the next solve on a grid computes them as a study's first solve does."""
+    normal_operator.cache_clear()
+    _rolling_operator.cache_clear()
+    _quadrant_differences_cached.cache_clear()
 
 
 def solve_patch_tangential(patch, friction, creepages, shear_modulus: float, poisson_ratio: float,
