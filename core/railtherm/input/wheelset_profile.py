@@ -27,10 +27,13 @@ ordinary one in the existing vocabulary:
   model's own Fy then differs from the estimate; :attr:`ProfileContact.normal_force` says which force
   was used and the result's attributes carry the estimate.
 
-Limitations: one patch per scene (key ``wheelset.patch``, 1 = the closest); with several patches the
-vertical force is not shared between them (each patch is given the whole ``vertical_force``), so a
-scene with two patches of comparable separation is refused unless ``patch`` is given explicitly.
-``roll_angle = "balance"`` and ``pitch_velocity = "free"`` are not solved here: such a scene is refused.
+A scene solves one patch (key ``wheelset.patch``, 1 = the closest) with the whole ``vertical_force``, or,
+with ``patch = "all"``, every patch the force closes (:class:`ProfileContacts`): the wheel moves down by one
+common approach, each patch carries the Hertz-equivalent force of its own approach and the sum balances Fz
+(:func:`share_vertical_force`); a gap minimum inside a closer patch's interpenetration region belongs to that
+patch. Each patch is then solved as a scene of its own (:func:`patch_scenes`,
+:mod:`railtherm.solving.wheelset_patches`). ``roll_angle = "balance"`` and ``pitch_velocity = "free"`` are not
+solved here: such a scene is refused. A wheel that finds no contact loads as :class:`NoContact`; its runs fail.
 
 References
 ----------
@@ -48,11 +51,12 @@ from ..contract.errors import SceneError
 from ..physics.contact_search import _rotation, contact_search
 from ..physics.elastic import combined_elastic
 from ..physics.profiles import ProfileError
-from ..references.hertz import contact_modulus, hertz_from_curvatures
+from ..references.hertz import contact_modulus, hertz_from_curvatures, hertz_from_penetration
 from ..references.kalker import kalker_linear_forces
 from .profiles import CONICAL_ONLY_KEYS, wheelset_geometry_from_table
 
-__all__ = ["ProfileContact", "NoContact", "NoContactError", "profile_contact", "normal_force_from_vertical", "WINDOW",
+__all__ = ["ProfileContact", "ProfileContacts", "NoContact", "NoContactError", "profile_contact",
+           "normal_force_from_vertical", "share_vertical_force", "patch_scenes", "check_patch_outputs", "WINDOW",
            "GAP_DEGREE"]
 
 #: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
@@ -341,8 +345,9 @@ def _geometry(scene_name: str, table: Mapping, base: str | None):
               "no conical-wheelset key in a wheelset on profiles (it has wheel_profile/rail_profile/...): "
               "give nominal_radius and vertical_force instead of wheel_radius and vertical_load")
     patch_no = table.get("patch", 1)
-    if isinstance(patch_no, bool) or patch_no not in (1, 2, 3):
-        _fail(scene_name, "wheelset.patch", patch_no, "1, 2 or 3: which patch of the wheel (1 = the closest)")
+    if isinstance(patch_no, bool) or patch_no not in (1, 2, 3, "all"):
+        _fail(scene_name, "wheelset.patch", patch_no, "1, 2 or 3: which patch of the wheel (1 = the closest), or "
+              "\"all\": every patch, sharing the wheel's vertical force")
     for k, what in (("nominal_radius", "the wheel radius at the wheel profile's origin [m]"),
                     ("vertical_force", "the vertical force on this wheel [N], > 0"),
                     ("pitch_velocity", "the wheelset's angular velocity about its axle [rad/s]")):
@@ -362,7 +367,7 @@ def _geometry(scene_name: str, table: Mapping, base: str | None):
 
 
 def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rail, friction: float | None,
-                    base: str | None = None) -> ProfileContact:
+                    base: str | None = None):
     """The contact of a profile wheelset scene (module docstring).
 
     Parameters
@@ -380,6 +385,11 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
     base : str, optional
         Folder of relative profile paths.
 
+    Returns
+    -------
+    ProfileContact or ProfileContacts
+        The patch ``wheelset.patch``; with ``patch = "all"`` every patch that the shared load closes.
+
     Raises
     ------
     SceneError
@@ -394,6 +404,9 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
         raise NoContactError(f"scene {scene_name!r}: key 'wheelset': no contact: {exc}", scene=scene_name,
                              key="wheelset", value=table.get("lateral_shift")) from None
     distinct = _distinct_patches(wc.patches, wheel, rail, geo.vertical_force)
+    bodies = (contact_modulus(wheel, rail), *combined_elastic(wheel, rail))
+    if patch_no == "all":
+        return _all_patches(scene_name, geo, wc.patches, bodies, friction, speed)
     if patch_no > len(distinct):
         merged = len(wc.patches) - len(distinct)
         _fail(scene_name, "wheelset.patch", patch_no,
@@ -401,23 +414,31 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
               + (f", {merged} of them within the first patch's Hertz-equivalent approach (one elastic patch "
                  "covers them; patch 1 solves it)" if merged else ""))
     p = distinct[patch_no - 1]
+    _check_curvatures(scene_name, p, patch_no)
+    e_star, G, nu = bodies
+    h0 = hertz_from_curvatures(*p.hertz_curvatures, geo.vertical_force / math.cos(p.contact_angle), e_star)
+    ref = reference_point(geo, p, h0.approach, speed)
+    if friction is None:
+        N, fy = geo.vertical_force / math.cos(ref["angle"]), 0.0
+    else:
+        N, fy = normal_force_from_vertical(geo.vertical_force, ref["angle"], p.hertz_curvatures, e_star, G, nu,
+                                           ref["creepage"], friction)
+    return _patch_contact(scene_name, geo, p, patch_no, len(distinct), ref, N, fy, e_star)
+
+
+def _check_curvatures(scene_name, p, patch_no) -> None:
     curv = p.hertz_curvatures
     if not (curv[0] > 0 and curv[1] > 0):
         _fail(scene_name, "wheelset", f"patch {patch_no}",
               f"a patch whose gap closes (Hertz-equivalent curvatures {curv[0]:.4g}, {curv[1]:.4g} 1/m): a "
               "conformal contact (B <= 0) is not handled")
-    e_star = contact_modulus(wheel, rail)
-    G, nu = combined_elastic(wheel, rail)
-    h0 = hertz_from_curvatures(*curv, geo.vertical_force / math.cos(p.contact_angle), e_star)
-    ref = reference_point(geo, p, h0.approach, speed)
-    if friction is None:
-        N, fy = geo.vertical_force / math.cos(ref["angle"]), 0.0
-    else:
-        N, fy = normal_force_from_vertical(geo.vertical_force, ref["angle"], curv, e_star, G, nu,
-                                           ref["creepage"], friction)
-    h = hertz_from_curvatures(*curv, N, e_star)
-    coef, residual = _gap_fit(scene_name, p, h)
-    return ProfileContact(side=geo.side, patch=int(patch_no), patches=len(distinct),
+
+
+def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star) -> ProfileContact:
+    """The ProfileContact of search patch ``p`` at normal force N [N] (Fy [N] its lateral force estimate)."""
+    curv = p.hertz_curvatures
+    coef, residual = _gap_fit(scene_name, p, hertz_from_curvatures(*curv, N, e_star))
+    return ProfileContact(side=geo.side, patch=int(patch_no), patches=int(patches),
                           contact_position_rail=ref["y_rail"], contact_height_rail=ref["z_rail"],
                           contact_angle=ref["angle"], plane_position_rail=float(p.y_rail),
                           plane_angle=float(p.contact_angle), rolling_radius=p.rolling_radius, separation=p.separation,
@@ -425,3 +446,173 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
                           gap_residual=residual, creepage=ref["creepage"],
                           vertical_force=float(geo.vertical_force), normal_force=float(N),
                           lateral_force_estimate=float(fy), rail_section=_rail_section(geo.rail_profile))
+
+
+# -- several patches of one wheel sharing its vertical force -------------------------------------------------
+@dataclass(frozen=True)
+class ProfileContacts:
+    """Every patch of a profile wheelset's wheel that the shared vertical force closes (``patch = "all"``).
+
+    Attributes
+    ----------
+    side : str
+        "right" or "left".
+    contacts : tuple of ProfileContact
+        The loaded patches, closest first, each with its share of the force as ``normal_force``.
+    approach : float
+        The wheel's common vertical approach [m] beyond first touch (:func:`share_vertical_force`).
+    vertical_force : float
+        The wheel's vertical force Fz [N].
+    patches : int
+        Loaded patches (gap minima that the approach does not close carry no load and are left out).
+    """
+
+    side: str
+    contacts: tuple
+    approach: float
+    vertical_force: float
+    patches: int
+
+    patch = "all"
+
+    def __getattr__(self, name):   # the first patch stands for the scene (its gap, load and creepages)
+        if name.startswith("__") or name == "contacts":
+            raise AttributeError(name)
+        return getattr(self.contacts[0], name)
+
+
+def share_vertical_force(vertical_force: float, separations, angles, curvatures, e_star: float,
+                         lateral=None, rtol: float = 1e-10):
+    """The patches' normal forces at one common vertical approach that carries the wheel's vertical force.
+
+    The wheel moves down by ``delta`` [m] from first touch; patch i, ``separations[i]`` [m] above the closest,
+    is pressed along its normal by (delta - s_i) cos(gamma_i) and carries the Hertz force of its curvatures
+    (A_i, B_i) [1/m] there (zero while delta <= s_i). ``delta`` solves sum_i N_i cos(gamma_i) - Fy_i sin(gamma_i)
+    = Fz by bisection, Fy_i = ``lateral(i, N_i)`` [N] (the lateral force on the wheel in patch i's plane; None:
+    0).
+
+    Returns
+    -------
+    (delta, normal_forces, lateral_forces) : float, list of float, list of float
+        [m], [N], [N].
+    """
+    lateral = lateral or (lambda i, n: 0.0)
+
+    def forces(delta):
+        normal, side = [], []
+        for i, (s, g, (A, B)) in enumerate(zip(separations, angles, curvatures)):
+            d = (delta - s) * math.cos(g)
+            n = hertz_from_penetration(A, B, d, e_star).normal_force if d > 0.0 else 0.0
+            normal.append(n)
+            side.append(lateral(i, n) if n > 0.0 else 0.0)
+        vertical = sum(n * math.cos(g) - f * math.sin(g) for n, f, g in zip(normal, side, angles))
+        return vertical, normal, side
+
+    lo, hi = 0.0, 1e-6
+    while forces(hi)[0] < vertical_force:
+        lo, hi = hi, 2.0 * hi
+        if hi > 1e-2:
+            raise ValueError(f"no approach below 10 mm carries the vertical force {vertical_force:g} N")
+    while hi - lo > rtol * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if forces(mid)[0] < vertical_force else (lo, mid)
+    _, normal, side = forces(hi)
+    return hi, normal, side
+
+
+def _connected(p, q, depth: float) -> bool:
+    """True when search patch ``q``'s gap minimum lies on ``p``'s section within the stretch around ``p``'s
+    minimum where the gap stays below ``depth`` [m] (p's normal approach): one interpenetration region, one
+    elastic patch (``p``'s gap fit covers both minima)."""
+    y_q = (q.y_rail - p.y_rail) / math.cos(p.contact_angle)
+    if depth <= 0.0 or abs(y_q) > 0.95 * SECTION_HALF_WIDTH:
+        return False
+    y = np.linspace(min(0.0, y_q), max(0.0, y_q), 401)
+    return bool(np.all(p.gap(0.0, y) - p.gap(0.0, 0.0) < depth))
+
+
+def _shares(geo, found, refs, bodies, friction):
+    """:func:`share_vertical_force` over the search patches ``found`` with their reference points ``refs``."""
+    e_star, G, nu = bodies
+
+    def lateral(i, n):
+        if friction is None:
+            return 0.0
+        h = hertz_from_curvatures(*found[i].hertz_curvatures, n, e_star)
+        return _saturated_lateral(h.a, h.b, G, nu, refs[i]["creepage"], friction, n)
+
+    return share_vertical_force(float(geo.vertical_force), [p.separation for p in found], [r["angle"] for r in refs],
+                                [p.hertz_curvatures for p in found], e_star, lateral)
+
+
+def _all_patches(scene_name, geo, found, bodies, friction, speed) -> ProfileContacts:
+    """Every search patch that the shared vertical force closes (:func:`share_vertical_force`), a patch whose
+    interpenetration region joins a closer one's merged into it (:func:`_connected`). The shares are found with
+    the reference points at the whole force's Hertz-equivalent approach, then twice more with them at each
+    loaded patch's own approach (the last shares are those of the reference points kept)."""
+    e_star = bodies[0]
+    fz = float(geo.vertical_force)
+    found = list(found)
+    for k, p in enumerate(found, 1):
+        _check_curvatures(scene_name, p, k)
+    refs = [reference_point(geo, p, hertz_from_curvatures(*p.hertz_curvatures, fz / math.cos(p.contact_angle),
+                                                          e_star).approach, speed) for p in found]
+    delta, normal, side = _shares(geo, found, refs, bodies, friction)
+    keep = []
+    for k, n in enumerate(normal):
+        if n > 0.0 and not any(_connected(found[j], found[k], (delta - found[j].separation)
+                                          * math.cos(found[j].contact_angle)) for j in keep):
+            keep.append(k)
+    found, refs, normal = [found[k] for k in keep], [refs[k] for k in keep], [normal[k] for k in keep]
+    for _ in range(2):   # the reference points at the loaded patches' own approaches, then their shares
+        refs = [reference_point(geo, p, hertz_from_curvatures(*p.hertz_curvatures, n, e_star).approach, speed)
+                if n > 0.0 else r for p, r, n in zip(found, refs, normal)]
+        delta, normal, side = _shares(geo, found, refs, bodies, friction)
+    loaded = [k for k, n in enumerate(normal) if n > 0.0]
+    contacts = tuple(_patch_contact(scene_name, geo, found[k], j + 1, len(loaded), refs[k], normal[k], side[k],
+                                    e_star) for j, k in enumerate(loaded))
+    return ProfileContacts(side=geo.side, contacts=contacts, approach=float(delta), vertical_force=fz,
+                           patches=len(loaded))
+
+
+#: the outputs a scene of several patches gives by default (per patch, and the wheel's totals)
+PATCH_DEFAULT_OUTPUTS = ("contact_position_rail", "contact_angle", "normal_force", "max_pressure", "contact_area",
+                         "creep_force_x", "creep_force_y", "wheel_force_x", "wheel_force_y", "wheel_force_z",
+                         "max_surface_temperature")
+#: what the wheel's totals need of each patch
+TOTALS_NEED = ("normal_force", "creep_force_x", "creep_force_y", "contact_angle")
+
+
+def check_patch_outputs(scene_name: str, outputs, pc, dims_of) -> None:
+    """SceneError unless ``outputs`` suit the scene's wheelset: the wheel's totals (``wheel_force_x/y/z``) need
+    ``patch = "all"``, and a scene of several patches asks only quantities without a grid (each patch has its
+    own grid: ``dims_of(name)`` must lie within ("body",))."""
+    totals = [o for o in outputs if o.startswith("wheel_force_")]
+    if not isinstance(pc, ProfileContacts):
+        if totals:
+            _fail(scene_name, "outputs", totals[0], "the wheel's total force over its patches only with "
+                  "wheelset.patch = \"all\" (a scene of one patch: its normal_force, creep_force_x/y)")
+        return
+    gridded = [o for o in outputs if set(dims_of(o)) - {"body"}]
+    if gridded:
+        _fail(scene_name, "outputs", gridded[0], "a quantity without a grid in a scene of several patches "
+              "(wheelset.patch = \"all\": each patch has its own grid), e.g. "
+              + ", ".join(PATCH_DEFAULT_OUTPUTS) + "; ask a field of one patch with wheelset.patch = 1, 2 or 3")
+
+
+def patch_scenes(scene, outputs) -> list:
+    """One scene per loaded patch of a ``patch = "all"`` scene: the patch's gap, normal force (its share) and
+    creepages, asking ``outputs``; its source names the patch, so each has a hash of its own."""
+    import dataclasses
+
+    from .checks import gap_powers, quadratic_curvatures
+    creepage = type(scene.creepage)   # the scene's Creepage (the first patch's)
+    out = []
+    for pc in scene.profile_contact.contacts:
+        gap = gap_powers(pc.gap_coefficients)
+        quad = quadratic_curvatures(gap)
+        source = dict(scene.source, wheelset=dict(scene.source.get("wheelset", {}), patch=pc.patch))
+        out.append(dataclasses.replace(scene, profile_contact=pc, contact_shape="ellipse" if quad else "gap",
+                                       curvatures=quad, gap_coefficients=gap, normal_force=pc.normal_force,
+                                       creepage=creepage(*pc.creepage), outputs=tuple(outputs), source=source))
+    return out
