@@ -113,7 +113,7 @@ def energy_balance(scene, ds) -> tuple[float, str]:
         ((heat entering through the surface − frictional power) / frictional power, reference).
     """
     from ..physics import peclet_number
-    power = float(ds["frictional_power"]) if "frictional_power" in ds.variables else math.nan
+    power = float(ds["frictional_power"].sum()) if "frictional_power" in ds.variables else math.nan  # over patches
     if "heat_flux" in ds.variables and not math.isfinite(power):
         hf = ds["heat_flux"].values
         dx = float(np.diff(ds["x"].values).mean())

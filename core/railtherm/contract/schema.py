@@ -79,12 +79,22 @@ VARIABLES: dict[str, Var] = {
     "creepage_lateral": Var((), "1", "lateral creepage of the wheel relative to the rail, in the contact plane",
                             "normal"),
     "creepage_spin": Var((), "m-1", "spin creepage of the wheel relative to the rail", "normal"),
+    # a wheelset on profiles with wheelset.patch = "all": the rail's force on the wheel summed over its patches,
+    # in track axes (x rolling, y lateral, z up; the left wheel's y mirrored as its patches')
+    "wheel_force_x": Var((), "N", "longitudinal force of the rail on the wheel, sum over its patches", "tangential"),
+    "wheel_force_y": Var((), "N", "lateral force of the rail on the wheel in track axes, sum over its patches",
+                         "tangential"),
+    "wheel_force_z": Var((), "N", "vertical force of the rail on the wheel, sum over its patches", "tangential"),
 }
 
 #: the patch quantities of a wheelset on profiles: set by the scene's contact search whatever the models
 #: (no model declares them in ``provides``), only in a scene with a wheelset on profiles
 WHEELSET_VARIABLES = ("contact_position_rail", "contact_angle", "creepage_longitudinal", "creepage_lateral",
                       "creepage_spin")
+
+#: the wheel's totals over its patches (a wheelset on profiles with ``patch = "all"``, whose other variables
+#: carry the dimension ``patch`` in front)
+WHEEL_TOTALS = ("wheel_force_x", "wheel_force_y", "wheel_force_z")
 
 #: variables that are a temperature difference [K] (CF-1.11 ``units_metadata``)
 TEMP_DIFF = "temperature: difference"
@@ -112,11 +122,13 @@ STAGE_OF_GROUP = {"normal": "normal", "tangential": "tangential", "heat_source":
                   "temperature": "temperature", "steady": "temperature"}
 
 
-def dims_for(name: str, line: bool, transient: bool = False) -> tuple[str, ...]:
+def dims_for(name: str, line: bool, transient: bool = False, patched: bool = False) -> tuple[str, ...]:
     """The schema's dims of a variable (``y`` dropped for a line contact; a transient scene's per-pass
-    dims where they differ, :data:`TRANSIENT_DIMS`)."""
+    dims where they differ, :data:`TRANSIENT_DIMS`; ``patch`` in front in a result of several patches,
+    but for the wheel's totals)."""
     dims = TRANSIENT_DIMS.get(name, VARIABLES[name].dims) if transient else VARIABLES[name].dims
-    return tuple(d for d in dims if not (line and d == "y"))
+    dims = tuple(d for d in dims if not (line and d == "y"))
+    return ("patch",) + dims if patched and name not in WHEEL_TOTALS else dims
 
 
 def stages_needed(outputs) -> set[str]:
@@ -313,12 +325,13 @@ def validate_dataset(ds, plugin: str = "?", *, check_attrs: bool = True) -> None
     """
     line = "y" not in ds.dims
     transient = "pass" in ds.dims
+    patched = "patch" in ds.dims
     nan_ok = set(str(ds.attrs.get("nan_allowed", "")).split()) | {"stick"}
     for name, da in ds.data_vars.items():
         if name not in VARIABLES:
             raise PluginError(f"plugin {plugin!r}: result variable {name!r} is not in the result schema "
                               f"(known: {', '.join(VARIABLES)})")
-        want = dims_for(name, line, transient)
+        want = dims_for(name, line, transient, patched)
         if tuple(da.dims) != want:
             raise PluginError(f"plugin {plugin!r}: variable {name!r} has dims {tuple(da.dims)}, the schema wants {want}")
         for key in ("units", "long_name"):

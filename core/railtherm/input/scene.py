@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from ..contract.errors import SceneError
-from ..contract.schema import WHEELSET_VARIABLES
+from ..contract.schema import VARIABLES, WHEEL_TOTALS, WHEELSET_VARIABLES
 from ..physics.friction import FrictionLaw, friction_law
 from ..physics.partition import HeatPartition
 from .checks import (Check, Choice, Either, FieldDepth, Flag, Friction, GapCoefficients, Int, Names, Num, Numbers,
@@ -88,7 +88,7 @@ SCENE_KEYS: dict[str, Check] = {
                        "roll_angle": Either(Num(-0.1, 0.1, unit="rad"), Choice("balance")),
                        "pitch_velocity": Either(Num(-1e4, 1e4, unit="rad s-1"), Choice("free")),
                        "vertical_force": Num(0, unit="N"), "side": Choice("right", "left"),
-                       "patch": Choice(1, 2, 3)}),
+                       "patch": Choice(1, 2, 3, "all")}),
     "mode": Choice("steady", "transient"),
     "reference": Text(),
     "passes": Table({"count": Int(1), "interval": Num(0, lo_open=True, unit="s")}),
@@ -492,7 +492,13 @@ def _check_outputs(name: str, kw: dict) -> None:
             raise SceneError.bad_value(name, "outputs", lateral[0],
                                        "a variable of a 2-D (line) contact: it has no lateral direction, so not "
                                        + ", ".join(sorted(LATERAL_OUTPUTS)))
-    placed = [o for o in kw.get("outputs", ()) if o in WHEELSET_VARIABLES]
+    pc = kw.get("profile_contact")
+    if pc is not None and not hasattr(pc, "failure"):
+        from .wheelset_profile import PATCH_DEFAULT_OUTPUTS, check_patch_outputs
+        if "outputs" not in kw and pc.patch == "all":
+            kw["outputs"] = PATCH_DEFAULT_OUTPUTS
+        check_patch_outputs(name, kw.get("outputs", DEFAULT_OUTPUTS), pc, lambda o: VARIABLES[o].dims)
+    placed = [o for o in kw.get("outputs", ()) if o in WHEELSET_VARIABLES + WHEEL_TOTALS]
     if placed and "profile_contact" not in kw:
         raise SceneError.bad_value(name, "outputs", placed[0],
                                    "a patch quantity of a wheelset on profiles (" + ", ".join(WHEELSET_VARIABLES)

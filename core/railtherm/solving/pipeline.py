@@ -407,6 +407,10 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
     failure = getattr(scene.profile_contact, "failure", None)
     if failure is not None:   # a wheelset on profiles whose wheel found no contact
         raise failure()
+    if getattr(scene.profile_contact, "patch", None) == "all":   # several patches of one wheel
+        from .wheelset_patches import solve_patches
+        return solve_patches(scene, method, level, options, solve_one=solve, validate=validate, host=host,
+                             peers=peers)
     level = check_level(level, where=f"scene {scene.name!r}: ")
     mi = host.resolve(method)  # SceneError for an unknown method or a bad chain, naming what is allowed
     options = _check_options(mi, options, scene.name)
