@@ -50,6 +50,35 @@ try:  # pragma: no cover - exercised when numba is installed (a declared depende
         return z
 
     @njit(cache=True, nogil=True)
+    def _blocks2_nb(slipping, zh, fac, r, K0, K1):
+        """_blocks_nb for two components, the 2 x 2 products and the inverse written out (a third of its time)."""
+        nin = zh.shape[1]
+        minv = np.empty((nin, 2, 2))
+        coup = np.empty((nin, 2, 2))
+        for e in range(nin):
+            if slipping[e]:
+                f, a, b = fac[e], zh[0, e], zh[1, e]
+                s00, s01, s11 = f * (1.0 - a * a), -f * a * b, f * (1.0 - b * b)
+                d00, d01, d11 = 1.0 - s00, -s01, 1.0 - s11
+            else:
+                s00, s01, s11 = 1.0, 0.0, 1.0
+                d00, d01, d11 = 0.0, 0.0, 0.0
+            m00 = d00 - r * (s00 * K0[0, 0] + s01 * K0[1, 0])
+            m01 = d01 - r * (s00 * K0[0, 1] + s01 * K0[1, 1])
+            m10 = d01 - r * (s01 * K0[0, 0] + s11 * K0[1, 0])
+            m11 = d11 - r * (s01 * K0[0, 1] + s11 * K0[1, 1])
+            coup[e, 0, 0] = -r * (s00 * K1[0, 0] + s01 * K1[1, 0])
+            coup[e, 0, 1] = -r * (s00 * K1[0, 1] + s01 * K1[1, 1])
+            coup[e, 1, 0] = -r * (s01 * K1[0, 0] + s11 * K1[1, 0])
+            coup[e, 1, 1] = -r * (s01 * K1[0, 1] + s11 * K1[1, 1])
+            inv = 1.0 / (m00 * m11 - m01 * m10)
+            minv[e, 0, 0] = m11 * inv
+            minv[e, 0, 1] = -m01 * inv
+            minv[e, 1, 0] = -m10 * inv
+            minv[e, 1, 1] = m00 * inv
+        return minv, coup
+
+    @njit(cache=True, nogil=True)
     def _blocks_nb(slipping, zh, fac, r, K0, K1):
         nc, nin = zh.shape
         minv = np.empty((nin, nc, nc))
@@ -75,7 +104,7 @@ try:  # pragma: no cover - exercised when numba is installed (a declared depende
             invert_block(M, minv[e])
         return minv, coup
 except Exception:  # numba missing or unusable
-    _sweep_nb = _blocks_nb = None
+    _sweep_nb = _blocks_nb = _blocks2_nb = None
 
 
 def _inverse_blocks(M):
@@ -115,7 +144,8 @@ def newton_blocks(slipping, zh, fac, r, K0, K1):
     zh = np.ascontiguousarray(zh, dtype=float)
     fac = np.ascontiguousarray(fac, dtype=float)
     if _blocks_nb is not None:
-        return _blocks_nb(slipping, zh, fac, float(r), np.ascontiguousarray(K0), np.ascontiguousarray(K1))
+        blocks = _blocks2_nb if zh.shape[0] == 2 else _blocks_nb
+        return blocks(slipping, zh, fac, float(r), np.ascontiguousarray(K0), np.ascontiguousarray(K1))
     nc = zh.shape[0]
     eye = np.eye(nc)
     sl = slipping[:, None, None]
@@ -139,8 +169,8 @@ def sweep(v, minv, coup, order, nb, columns):
         Elements in sweep order (descending x).
     nb : ndarray (nin,)
         Upstream neighbour of each element, -1 when outside the unknowns.
-    columns : list of ndarray
-        The same order grouped by grid column (for the numpy fallback).
+    columns : list of ndarray, or an object with the attribute ``columns``
+        The same order grouped by grid column (for the numpy fallback; None with numba).
 
     Returns
     -------
@@ -148,4 +178,4 @@ def sweep(v, minv, coup, order, nb, columns):
     """
     if _sweep_nb is not None:
         return _sweep_nb(np.ascontiguousarray(v), minv, coup, order, nb)
-    return _sweep_py(v, minv, coup, order, nb, columns)
+    return _sweep_py(v, minv, coup, order, nb, getattr(columns, "columns", columns))

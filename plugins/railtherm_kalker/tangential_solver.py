@@ -70,7 +70,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._band import LinePreconditioner
-from ._sweep import _inverse_blocks, newton_blocks, sweep
+from ._sweep import _inverse_blocks, _sweep_nb, newton_blocks, sweep
 
 __all__ = ["TangentialSolution", "solve_tangential", "solve_tangential_nested", "rigid_slip", "TANGENTIAL_TOLERANCE"]
 
@@ -215,10 +215,17 @@ class LocalPreconditioner:
         ok = i + 1 < nx
         nb[ok] = pos[i[ok] + 1, j[ok]]
         self.nb = nb
-        # sweep order: descending x (the leading edge first), grouped by column for the numpy fallback
-        self.order = np.lexsort((j, -i)).astype(np.int64)
-        cuts = np.nonzero(np.diff(i[self.order]))[0] + 1
-        self.columns = np.split(self.order, cuts)
+        # sweep order: descending x (the leading edge first), j ascending within a grid column. idx is sorted
+        # (row-major), so each column i is a contiguous run: the runs in reverse order (O(N), no sort)
+        counts = np.bincount(i, minlength=nx)
+        start = np.concatenate([[0], np.cumsum(counts)[:-1]])            # first position of column i in idx
+        after = np.concatenate([np.cumsum(counts[::-1])[::-1][1:], [0]])  # elements in the columns beyond i
+        order = np.empty(idx.size, dtype=np.int64)
+        k = np.arange(idx.size)
+        order[after[i] + k - start[i]] = k
+        self.order = order
+        self._columns = None
+        self._column_of = i
         self.K0, self.K1 = np.zeros((nc, nc)), np.zeros((nc, nc))
         for (a, b), k in conv.near.items():
             self.K0[a, b] = k[rx, ry]
@@ -237,10 +244,18 @@ class LocalPreconditioner:
         (:func:`railtherm_kalker._sweep.newton_blocks`)."""
         self.minv, self.coup = newton_blocks(slipping, zh, fac, r, self.K0, self.K1)
 
+    @property
+    def columns(self):
+        """The sweep order grouped by grid column (for the numpy fallback of the sweep), computed when asked."""
+        if self._columns is None:
+            i = self._column_of[self.order]
+            self._columns = np.split(self.order, np.nonzero(np.diff(i))[0] + 1)
+        return self._columns
+
     def solve(self, v):
         """M^{-1} v for v of shape (nc * nin,) in the solver's component-major layout."""
         v = v.reshape(self.nc, -1)
-        return sweep(v, self.minv, self.coup, self.order, self.nb, self.columns).ravel()
+        return sweep(v, self.minv, self.coup, self.order, self.nb, self if _sweep_nb is None else None).ravel()
 
 
 #: GMRES's right preconditioner in :func:`solve_tangential` (except from a good start, see GOOD_START_FORCING):
