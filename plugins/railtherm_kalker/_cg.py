@@ -53,79 +53,81 @@ def _enter_np(h, u, C, fm, approach):
 try:  # pragma: no cover - exercised when numba is installed (a declared dependency)
     from numba import njit
 
-    @njit(cache=True, nogil=True)
+    #: reassociation lets the reductions vectorise (sums in another order: round-off only); no assumption on NaN/inf
+    FAST = {"reassoc", "nsz", "contract"}
+
+    @njit(cache=True, nogil=True, fastmath=FAST)
     def _residual_nb(h, u, C, fm, approach, r):
         delta = approach
         if fm:
             s, m = 0.0, 0
             for i in range(h.size):
-                if C[i]:
-                    s += h[i] + u[i]
-                    m += 1
+                s += (1.0 if C[i] else 0.0) * (h[i] + u[i])
+                m += C[i]
             delta = s / m
         for i in range(h.size):
-            r[i] = delta - (h[i] + u[i]) if C[i] else 0.0
+            r[i] = (1.0 if C[i] else 0.0) * (delta - (h[i] + u[i]))
         return delta
 
-    @njit(cache=True, nogil=True)
+    @njit(cache=True, nogil=True, fastmath=FAST)
     def _direction_nb(z, r, r_prev, v, C, fm, rz_old, first):
+        # the sums over C of z, z r, z r_prev, r and r_prev in one pass: the projected z's products follow
+        # (sum (z - zm) r = sum z r - zm sum r)
         n = z.size
-        zm, m = 0.0, 0
-        for i in range(n):
-            if C[i]:
-                zm += z[i]
-                m += 1
-            else:
-                z[i] = 0.0
-        zm = zm / m if (fm and m > 0) else 0.0
-        rz, zrp = 0.0, 0.0
-        for i in range(n):
-            if C[i]:
-                z[i] -= zm
-                rz += z[i] * r[i]
-                if not first:
-                    zrp += z[i] * r_prev[i]
+        sz, szr, szp, sr, srp, m = 0.0, 0.0, 0.0, 0.0, 0.0, 0
+        for i in range(n):                      # masks as factors: a branch-free loop that vectorises
+            c = 1.0 if C[i] else 0.0
+            zc = c * z[i]
+            sz += zc
+            szr += zc * r[i]
+            szp += zc * r_prev[i]
+            sr += c * r[i]
+            srp += c * r_prev[i]
+            m += C[i]
+        zm = sz / m if (fm and m > 0) else 0.0
+        rz = szr - zm * sr
         beta = 0.0
         if not first and rz_old > 0:
-            beta = max(0.0, (rz - zrp) / rz_old)
+            beta = max(0.0, (rz - (szp - zm * srp)) / rz_old)
         vm = 0.0
         for i in range(n):
-            v[i] = z[i] + beta * v[i] if C[i] else 0.0
-            vm += v[i]
-        vm = vm / m if (fm and m > 0) else 0.0
-        if fm:
+            c = 1.0 if C[i] else 0.0
+            zi = c * (z[i] - zm)
+            z[i] = zi
+            vi = zi + c * beta * v[i]
+            v[i] = vi
+            vm += vi
+        if fm and m > 0:
+            vm = vm / m
             for i in range(n):
-                if C[i]:
-                    v[i] -= vm
+                v[i] -= (1.0 if C[i] else 0.0) * vm
         return rz
 
-    @njit(cache=True, nogil=True)
+    @njit(cache=True, nogil=True, fastmath=FAST)
     def _step_nb(q, v, r, C, fm, p, u):
+        # sum over C of (q - qm) v = sum q v - qm sum v, with the sums of q, q v, v over C in one pass
         n = q.size
-        qm, m = 0.0, 0
-        if fm:
-            for i in range(n):
-                if C[i]:
-                    qm += q[i]
-                    m += 1
-            qm = qm / m if m > 0 else 0.0
-        vav, rv = 0.0, 0.0
-        for i in range(n):
-            if C[i]:
-                vav += (q[i] - qm) * v[i]
+        sq, sqv, sv, rv, m = 0.0, 0.0, 0.0, 0.0, 0
+        for i in range(n):                      # masks as factors: a branch-free loop that vectorises
+            c = 1.0 if C[i] else 0.0
             rv += r[i] * v[i]
+            sq += c * q[i]
+            sqv += c * q[i] * v[i]
+            sv += c * v[i]
+            m += C[i]
+        qm = sq / m if (fm and m > 0) else 0.0
+        vav = sqv - qm * sv
         alpha = rv / vav if vav > 0 else 0.0
-        sv, sp, neg = 0.0, 0.0, 0
+        sabs, sp, neg = 0.0, 0.0, 0
         for i in range(n):
             p[i] += alpha * v[i]
             u[i] += alpha * q[i]
-            sv += abs(v[i])
+            sabs += abs(v[i])
             sp += abs(p[i])
-            if C[i] and p[i] < 0.0:
-                neg += 1
-        return alpha, abs(alpha) * sv / max(sp, 1e-300), neg
+            neg += C[i] and p[i] < 0.0
+        return alpha, abs(alpha) * sabs / max(sp, 1e-300), neg
 
-    @njit(cache=True, nogil=True)
+    @njit(cache=True, nogil=True, fastmath=FAST)
     def _enter_nb(h, u, C, fm, approach):
         delta = approach
         if fm:
