@@ -103,7 +103,7 @@ def test_a_patch_beyond_those_found_is_refused():
         load_scene(_with(patch=2))
 
 
-@pytest.mark.parametrize("key,word", [("roll_angle", "balance"), ("pitch_velocity", "free")])
+@pytest.mark.parametrize("key,word", [("pitch_velocity", "free")])
 def test_the_equilibrium_words_are_refused_for_now(key, word):
     with pytest.raises(SceneError, match=rf"key 'wheelset.{key}' = '{word}'"):
         load_scene(_with(**{key: word}))
@@ -166,7 +166,7 @@ def test_the_command_line_names_a_wheel_without_contact_and_runs_the_study(tmp_p
              "profile")
     assert main(["validate", str(study)]) == 1
     assert f"error: {words}" in capsys.readouterr().err
-    assert main(["run", str(study), "--out", str(tmp_path / "out"), "--executor", "serial"]) == 3
+    assert main(["run", str(study), "--out", str(tmp_path / "out"), "--executor", "serial", "--no-report"]) == 3
     assert "Traceback" not in capsys.readouterr().err
     status = (tmp_path / "out" / "runs" / "w" / "kalker" / "level-0.status.json").read_text()
     assert words in status

@@ -32,8 +32,8 @@ with ``patch = "all"``, every patch the force closes (:class:`ProfileContacts`):
 common approach, each patch carries the Hertz-equivalent force of its own approach and the sum balances Fz
 (:func:`share_vertical_force`); a gap minimum inside a closer patch's interpenetration region belongs to that
 patch. Each patch is then solved as a scene of its own (:func:`patch_scenes`,
-:mod:`railtherm.solving.wheelset_patches`). ``roll_angle = "balance"`` and ``pitch_velocity = "free"`` are not
-solved here: such a scene is refused. A wheel that finds no contact loads as :class:`NoContact`; its runs fail.
+:mod:`railtherm.solving.wheelset_patches`). ``roll_angle = "balance"`` finds the roll at which both wheels
+carry half the axle load (:func:`balance_roll`); ``pitch_velocity = "free"`` is refused. A wheel that finds no contact loads as :class:`NoContact`; its runs fail.
 
 References
 ----------
@@ -42,6 +42,7 @@ References
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -112,6 +113,8 @@ class ProfileContact:
     rail_section : tuple of tuple of float
         (y, z) [m] of the rail profile in its own coordinates, at most :data:`SECTION_POINTS` of its points:
         what a reader of results (the report) draws the patches on without reading the profile file.
+    balanced_roll : float or None
+        The roll [rad] that ``roll_angle = "balance"`` found (:func:`balance_roll`), else None.
     """
 
     side: str
@@ -132,6 +135,8 @@ class ProfileContact:
     normal_force: float
     lateral_force_estimate: float
     rail_section: tuple = field(default=((), ()), repr=False, compare=False)
+    #: the wheelset's roll [rad] found by ``roll_angle = "balance"`` (None: the scene gave it)
+    balanced_roll: float | None = None
 
 
 class NoContactError(SceneError):
@@ -356,10 +361,9 @@ def _geometry(scene_name: str, table: Mapping, base: str | None):
                              scene=scene_name, key=f"wheelset.{k}", allowed=what)
     rest = {k: v for k, v in table.items() if k != "patch"}
     geo = wheelset_geometry_from_table(scene_name, rest, base)
-    for k, word in (("roll_angle", "balance"), ("pitch_velocity", "free")):
-        if getattr(geo, k) == word:
-            _fail(scene_name, f"wheelset.{k}", word, f"a number: the equilibrium that '{word}' asks for is not "
-                  "solved yet; give the value (e.g. from the benchmark's table)")
+    if geo.pitch_velocity == "free":
+        _fail(scene_name, "wheelset.pitch_velocity", "free", "a number: the equilibrium that 'free' asks for is "
+              "not solved yet; give the value (e.g. from the benchmark's table)")
     if not geo.vertical_force or geo.vertical_force <= 0.0:
         _fail(scene_name, "wheelset.vertical_force", table.get("vertical_force"),
               "the vertical force on this wheel [N], > 0")
@@ -399,14 +403,20 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
     """
     geo, patch_no = _geometry(scene_name, table, base)
     try:
-        wc = contact_search(geo.on_track(), geo.side, speed=speed, section_half_width=SECTION_HALF_WIDTH)
+        wc = contact_search(_nominal(geo, speed).on_track(), geo.side, speed=speed,
+                            section_half_width=SECTION_HALF_WIDTH)
     except ProfileError as exc:
         raise NoContactError(f"scene {scene_name!r}: key 'wheelset': no contact: {exc}", scene=scene_name,
                              key="wheelset", value=table.get("lateral_shift")) from None
-    distinct = _distinct_patches(wc.patches, wheel, rail, geo.vertical_force)
     bodies = (contact_modulus(wheel, rail), *combined_elastic(wheel, rail))
+    roll = None
+    if geo.roll_angle == "balance":
+        roll = balance_roll(scene_name, geo, bodies, friction, speed)
+        geo = dataclasses.replace(geo, roll_angle=roll, vertical_force=0.5 * geo.vertical_force)
+        wc = contact_search(geo.on_track(), geo.side, speed=speed, section_half_width=SECTION_HALF_WIDTH)
+    distinct = _distinct_patches(wc.patches, wheel, rail, geo.vertical_force)
     if patch_no == "all":
-        return _all_patches(scene_name, geo, wc.patches, bodies, friction, speed)
+        return _all_patches(scene_name, geo, wc.patches, bodies, friction, speed, roll)
     if patch_no > len(distinct):
         merged = len(wc.patches) - len(distinct)
         _fail(scene_name, "wheelset.patch", patch_no,
@@ -423,7 +433,7 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
     else:
         N, fy = normal_force_from_vertical(geo.vertical_force, ref["angle"], p.hertz_curvatures, e_star, G, nu,
                                            ref["creepage"], friction)
-    return _patch_contact(scene_name, geo, p, patch_no, len(distinct), ref, N, fy, e_star)
+    return _patch_contact(scene_name, geo, p, patch_no, len(distinct), ref, N, fy, e_star, roll)
 
 
 def _check_curvatures(scene_name, p, patch_no) -> None:
@@ -434,7 +444,7 @@ def _check_curvatures(scene_name, p, patch_no) -> None:
               "conformal contact (B <= 0) is not handled")
 
 
-def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star) -> ProfileContact:
+def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star, roll=None) -> ProfileContact:
     """The ProfileContact of search patch ``p`` at normal force N [N] (Fy [N] its lateral force estimate)."""
     curv = p.hertz_curvatures
     coef, residual = _gap_fit(scene_name, p, hertz_from_curvatures(*curv, N, e_star))
@@ -445,7 +455,8 @@ def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star) ->
                           hertz_curvatures=(float(curv[0]), float(curv[1])), gap_coefficients=coef,
                           gap_residual=residual, creepage=ref["creepage"],
                           vertical_force=float(geo.vertical_force), normal_force=float(N),
-                          lateral_force_estimate=float(fy), rail_section=_rail_section(geo.rail_profile))
+                          lateral_force_estimate=float(fy), rail_section=_rail_section(geo.rail_profile),
+                          balanced_roll=roll)
 
 
 # -- several patches of one wheel sharing its vertical force -------------------------------------------------
@@ -545,10 +556,11 @@ def _shares(geo, found, refs, bodies, friction):
                                 [p.hertz_curvatures for p in found], e_star, lateral)
 
 
-def _all_patches(scene_name, geo, found, bodies, friction, speed) -> ProfileContacts:
-    """Every search patch that the shared vertical force closes (:func:`share_vertical_force`), a patch whose
-    interpenetration region joins a closer one's merged into it (:func:`_connected`). The shares are found with
-    the reference points at the whole force's Hertz-equivalent approach, then twice more with them at each
+def _loaded(scene_name, geo, found, bodies, friction, speed, rounds: int = 2):
+    """The search patches ``found`` that the shared vertical force closes (:func:`share_vertical_force`), a patch
+    whose interpenetration region joins a closer one's merged into it (:func:`_connected`): (patches, reference
+    points, common approach [m], normal forces [N], lateral force estimates [N]). The shares are found with the
+    reference points at the whole force's Hertz-equivalent approach, then ``rounds`` times more with them at each
     loaded patch's own approach (the last shares are those of the reference points kept)."""
     e_star = bodies[0]
     fz = float(geo.vertical_force)
@@ -564,15 +576,73 @@ def _all_patches(scene_name, geo, found, bodies, friction, speed) -> ProfileCont
                                           * math.cos(found[j].contact_angle)) for j in keep):
             keep.append(k)
     found, refs, normal = [found[k] for k in keep], [refs[k] for k in keep], [normal[k] for k in keep]
-    for _ in range(2):   # the reference points at the loaded patches' own approaches, then their shares
+    for _ in range(rounds):   # the reference points at the loaded patches' own approaches, then their shares
         refs = [reference_point(geo, p, hertz_from_curvatures(*p.hertz_curvatures, n, e_star).approach, speed)
                 if n > 0.0 else r for p, r, n in zip(found, refs, normal)]
         delta, normal, side = _shares(geo, found, refs, bodies, friction)
+    return found, refs, delta, normal, side
+
+
+def _all_patches(scene_name, geo, found, bodies, friction, speed, roll=None) -> ProfileContacts:
+    """Every search patch that the shared vertical force closes (:func:`_loaded`), as :class:`ProfileContacts`."""
+    found, refs, delta, normal, side = _loaded(scene_name, geo, found, bodies, friction, speed)
     loaded = [k for k, n in enumerate(normal) if n > 0.0]
     contacts = tuple(_patch_contact(scene_name, geo, found[k], j + 1, len(loaded), refs[k], normal[k], side[k],
-                                    e_star) for j, k in enumerate(loaded))
-    return ProfileContacts(side=geo.side, contacts=contacts, approach=float(delta), vertical_force=fz,
-                           patches=len(loaded))
+                                    bodies[0], roll) for j, k in enumerate(loaded))
+    return ProfileContacts(side=geo.side, contacts=contacts, approach=float(delta),
+                           vertical_force=float(geo.vertical_force), patches=len(loaded))
+
+
+# -- the wheelset's roll that balances the vertical forces of its two wheels ----------------------------------
+def _nominal(geo, speed: float):
+    """``geo`` with numbers for roll and pitch velocity where the scene left them to the equilibrium: no roll,
+    and the pitch velocity of rolling at the nominal radius, -V / R0 [rad/s] (the contact search needs
+    numbers; the equilibrium replaces them)."""
+    roll = 0.0 if geo.roll_angle == "balance" else geo.roll_angle
+    pitch = -speed / geo.nominal_radius if geo.pitch_velocity == "free" else geo.pitch_velocity
+    return dataclasses.replace(geo, roll_angle=roll, pitch_velocity=pitch)
+
+
+def _wheel_height(scene_name, geo, side, roll, bodies, friction, speed) -> float:
+    """How far [m] the wheelset centre must move down from its nominal height for wheel ``side`` to carry its
+    ``vertical_force``: the gap to first touch plus the common approach of its patches (:func:`_loaded`, the
+    reference points at the whole force's Hertz-equivalent approach)."""
+    g = dataclasses.replace(geo, side=side, roll_angle=roll)
+    try:
+        wc = contact_search(g.on_track(), side, speed=speed, section_half_width=SECTION_HALF_WIDTH)
+    except ProfileError as exc:
+        raise NoContactError(f"scene {scene_name!r}: key 'wheelset.roll_angle': no contact while balancing the "
+                             f"roll (roll = {roll:.6g} rad): {exc}", scene=scene_name, key="wheelset.roll_angle",
+                             value="balance") from None
+    return wc.gap + _loaded(scene_name, g, wc.patches, bodies, friction, speed, rounds=0)[2]
+
+
+def balance_roll(scene_name: str, geo, bodies, friction, speed: float, tol: float = 1e-11) -> float:
+    """The wheelset's roll [rad] at which both wheels carry half of ``geo.vertical_force`` (the axle load).
+
+    The wheelset centre sits at one height: each wheel's height to carry Fz / 2 (:func:`_wheel_height`, its
+    patches' Hertz-equivalent forces, as the normal force of a scene is estimated) must be the same for the
+    right and the left wheel; the roll that makes them equal is found by the secant method to ``tol`` [m].
+    A scene with ``pitch_velocity = "free"`` balances the roll at -V / R0.
+    """
+    base = dataclasses.replace(_nominal(geo, speed), vertical_force=0.5 * float(geo.vertical_force))
+
+    def mismatch(roll):
+        return (_wheel_height(scene_name, base, "right", roll, bodies, friction, speed)
+                - _wheel_height(scene_name, base, "left", roll, bodies, friction, speed))
+
+    r0, r1 = 0.0, -1e-4
+    f0, f1 = mismatch(r0), mismatch(r1)
+    for _ in range(40):
+        if abs(f1) <= tol or f1 == f0:
+            break
+        r0, f0, r1 = r1, f1, r1 - f1 * (r1 - r0) / (f1 - f0)
+        f1 = mismatch(r1)
+    else:
+        raise SceneError(f"scene {scene_name!r}: key 'wheelset.roll_angle' = 'balance': no roll balances the two "
+                         f"wheels' vertical forces (height mismatch {f1:.3g} m after 40 steps)", scene=scene_name,
+                         key="wheelset.roll_angle", value="balance")
+    return float(r1)
 
 
 #: the outputs a scene of several patches gives by default (per patch, and the wheel's totals)

@@ -248,12 +248,15 @@ class Patch:
 
 @dataclass(frozen=True)
 class WheelContact:
-    """All patches of one wheel, first the closest (``separation`` 0)."""
+    """All patches of one wheel, first the closest (``separation`` 0); ``gap`` [m] is the closest one's
+    vertical distance to the rail with the wheelset centre at its nominal height (z = -nominal_radius, z down):
+    how far the wheel must move down to touch."""
 
     side: str
     patches: tuple[Patch, ...]
     rail_offset: float
     wheel_offset: float
+    gap: float = 0.0
 
 
 # -- tables -----------------------------------------------------------------------------------------
@@ -404,7 +407,8 @@ def contact_search(ws: WheelsetOnTrack, side: str = "right", speed: float | None
     g0 = found[0][1]
     patches = [_patch(k, t, gk - g0, g0, frame, sign, speed, section_half_width)
                for k, (t, gk) in enumerate(found) if gk - g0 <= max_separation]
-    return WheelContact(side=side, patches=tuple(patches), rail_offset=offset, wheel_offset=wheel_offset)
+    return WheelContact(side=side, patches=tuple(patches), rail_offset=offset, wheel_offset=wheel_offset,
+                        gap=float(g0))
 
 
 def _gap_at(frame, t) -> np.ndarray:
