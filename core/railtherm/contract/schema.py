@@ -208,6 +208,8 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
         ds.attrs.update({"wheelset_side": wheelset.side, "wheelset_patch": int(wheelset.patch),
                          "wheelset_patches": int(wheelset.patches),
                          "wheelset_lateral_force_estimate": float(wheelset.lateral_force_estimate)})
+        if getattr(wheelset, "balanced_roll", None) is not None:   # roll_angle = "balance": the roll found
+            ds.attrs["wheelset_roll_angle"] = float(wheelset.balanced_roll)
     if nan_ok:
         ds.attrs["nan_allowed"] = " ".join(sorted(set(str(ds.attrs.get("nan_allowed", "")).split()) | set(nan_ok)))
     return ds
