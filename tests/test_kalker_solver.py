@@ -473,6 +473,13 @@ def test_fused_jacobian_rows_and_scatter_gather_equal_numpy():
     expected = np.where(slipping, v - fac * (q - zh * np.sum(zh * q, axis=0)), -r * bv)
     got = tangential_solver._jacobian_rows(v, bv, slipping, zh, fac, r)
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-14 * np.abs(expected).max())
+    # float32 in and out (GMRES in single precision): the double-precision rows of the float32 inputs, rounded
+    v32, bv32 = v.astype(np.float32), bv.astype(np.float32)
+    got32 = tangential_solver._jacobian_rows(v32, bv32, slipping, zh, fac, r)
+    q32 = v32.astype(float) + r * bv32.astype(float)
+    want32 = np.where(slipping, v32 - fac * (q32 - zh * np.sum(zh * q32, axis=0)), -r * bv32.astype(float))
+    assert got32.dtype == np.float32
+    np.testing.assert_allclose(got32, want32, rtol=0, atol=1e-7 * np.abs(want32).max())
     idx = np.sort(rng.choice(4000, nin, replace=False))
     buf, ref = np.zeros((nc, 4000)), np.zeros((nc, 4000))
     influence._scatter(buf, idx, v)

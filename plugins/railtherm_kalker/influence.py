@@ -305,7 +305,7 @@ class Convolution:
         if symmetric and (0, 1) in self.near and (1, 0) not in self.near:
             self.near[(1, 0)] = self.near[(0, 1)]
         self._spec = spectra
-        self._spec32 = {k: v.astype(np.complex64) for k, v in spectra.items()}
+        self._spec32_cache = None
         self._inverse32 = None
         #: the periodic grid of the preconditioner's circulant (:meth:`precondition`)
         self.circulant_grid = self.padded if circulant_grid is None else (int(circulant_grid[0]),
@@ -326,6 +326,14 @@ class Convolution:
             self._inverse32 = (1.0 / lam).astype(np.float32)
         self.products = 0
         self._buffered_ok = _pocketfft is not None and my > 1
+
+    @property
+    def _spec32(self):
+        """The spectra in single precision, converted on the first single-precision product (the normal operator
+        never needs them: its preconditioner has its own)."""
+        if self._spec32_cache is None:
+            self._spec32_cache = {k: v.astype(np.complex64) for k, v in self._spec.items()}
+        return self._spec32_cache
 
     def _embed(self, k, hx, hy):
         """Spectrum of kernel k over offsets -hx..hx, -hy..hy placed circulantly (offset o at o mod M), in the

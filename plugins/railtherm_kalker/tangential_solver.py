@@ -332,20 +332,21 @@ try:  # pragma: no cover - exercised when numba is installed (a declared depende
     @njit(cache=True, nogil=True)
     def _jacobian_rows(v, bv, slipping, zh, fac, r):
         """The Newton Jacobian's rows J v from v and B v in one pass: -r B v on sticking elements,
-        v - fac (I - zh zh^T)(v + r B v) on slipping ones (the numpy expression of :func:`solve_tangential`)."""
+        v - fac (I - zh zh^T)(v + r B v) on slipping ones (the numpy expression of :func:`solve_tangential`),
+        evaluated in double precision and returned in B v's precision."""
         nc, nin = v.shape
-        out = np.empty((nc, nin))
+        out = np.empty((nc, nin), dtype=bv.dtype)
         for e in range(nin):
             if slipping[e]:
                 dot = 0.0
                 for c in range(nc):
-                    dot += zh[c, e] * (v[c, e] + r * bv[c, e])
+                    dot += zh[c, e] * (float(v[c, e]) + r * float(bv[c, e]))
                 for c in range(nc):
-                    q = v[c, e] + r * bv[c, e]
-                    out[c, e] = v[c, e] - fac[e] * (q - zh[c, e] * dot)
+                    q = float(v[c, e]) + r * float(bv[c, e])
+                    out[c, e] = float(v[c, e]) - fac[e] * (q - zh[c, e] * dot)
             else:
                 for c in range(nc):
-                    out[c, e] = -r * bv[c, e]
+                    out[c, e] = -r * float(bv[c, e])
         return out
 except Exception:  # numba missing or unusable
     _jacobian_rows = None
@@ -464,12 +465,13 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
 
         def jac(v):
             v = v.reshape(nc, nin)
-            if single:
-                bv = conv.apply_at(v.astype(np.float32), idx, single=True).astype(float)
+            if single:      # float32 in and out (GMRES's basis): no conversions of the product
+                bv = conv.apply_at(v.astype(np.float32, copy=False), idx, single=True)
             else:
                 bv = conv.apply_at(v, idx)
             if _jacobian_rows is not None:
                 return _jacobian_rows(v, bv, slipping, zh, fac, r).ravel()
+            bv = bv.astype(float, copy=False)
             stick_row = -r * bv                                          # F = r s, s = w - B p
             q = v + r * bv                                               # (I + r B) v
             proj_q = q - zh * np.sum(zh * q, axis=0)                     # (I - zz^T) q
