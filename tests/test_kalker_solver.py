@@ -638,3 +638,51 @@ def test_sweep_order_and_two_component_blocks_equal_their_general_forms():
     compiled = pre.solve(v)
     plain = _sweep._sweep_py(v.reshape(2, -1), pre.minv, pre.coup, pre.order, pre.nb, pre.columns).ravel()
     np.testing.assert_allclose(compiled, plain, rtol=0, atol=1e-12 * np.abs(plain).max())
+
+
+def test_symmetric_gap_solved_on_a_quadrant_equals_the_whole_grid():
+    """A gap symmetric in x and y is solved on one quadrant (DCT-based symmetric convolution): the folded product
+    equals the quadrant of the full product of the mirrored field (1e-14 of its largest value), the folded
+    preconditioner the full one's (float32: 1e-6), and the solve gives the whole grid's pressure (1e-9 of the peak)
+    in the same iterations, with the force or the approach prescribed. An asymmetric gap (the grid shifted by a
+    third of an element) and an odd grid are solved on the whole grid."""
+    from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
+    from railtherm_kalker import _fold
+    from railtherm_kalker.influence import element_size, normal_operator
+    from railtherm_kalker.normal_solver import solve_normal
+    from railtherm_kalker.potential_area import hertz_curvatures
+    a, b, force, e_star = 5.88e-3, 10.54e-3, 100e3, G / (1 - NU)
+    ca, cb = hertz_curvatures(a, b, force, e_star)
+    hz = hertz_from_curvatures(ca, cb, force, e_star)
+    for n in (40, 33):
+        area = potential_area(a, b, n, margin=4)
+        X, Y = area.mesh()
+        dx, dy = element_size(area.x_edges), element_size(area.y_edges)
+        conv = normal_operator(*area.shape, dx, dy, e_star)
+        dA = area.dx * area.dy
+        for shift in (0.0, dx / 3):
+            h = ca * (X - shift) ** 2 + cb * Y ** 2
+            p0 = hertz_pressure(X - shift, Y, hz.a, hz.b, hz.max_pressure)
+            folded = _fold.folded_operator(conv, h, p0)
+            assert (folded is not None) == (shift == 0.0 and area.shape[0] % 2 == 0 and area.shape[1] % 2 == 0)
+            whole = solve_normal(conv, h, dA, force=force, initial=p0, fold=False)
+            fast = solve_normal(conv, h, dA, force=force, initial=p0)
+            assert fast.converged and fast.iterations == whole.iterations
+            np.testing.assert_allclose(fast.pressure, whole.pressure, rtol=0, atol=1e-9 * whole.pressure.max())
+            np.testing.assert_allclose(fast.displacement, whole.displacement, rtol=0,
+                                       atol=1e-9 * np.abs(whole.displacement).max())
+            assert fast.force == pytest.approx(force, rel=1e-12)
+            by_approach = (solve_normal(conv, h, dA, approach=whole.approach, fold=False),
+                           solve_normal(conv, h, dA, approach=whole.approach))
+            np.testing.assert_allclose(by_approach[1].pressure, by_approach[0].pressure, rtol=0,
+                                       atol=1e-9 * whole.pressure.max())
+            if folded is None:
+                continue
+            rng = np.random.default_rng(9)
+            q = rng.random(folded.shape)
+            full = conv.apply(_fold.unfold(q)[None])[0]
+            hx, hy = folded.shape
+            np.testing.assert_allclose(folded.apply(q[None])[0], full[hx:, hy:], rtol=0,
+                                       atol=1e-14 * np.abs(full).max())
+            pre = conv.precondition(_fold.unfold(q))
+            np.testing.assert_allclose(folded.precondition(q), pre[hx:, hy:], rtol=0, atol=1e-6 * np.abs(pre).max())

@@ -596,6 +596,10 @@ def normal_operator(nx: int, ny: int, dx: float, dy: float | None, e_star: float
     else:
         xa, ya, _ = quadrant_differences(hx, hy, dx, dy)
     q = (xa[:hx, :hy] + ya[:hx, :hy]) / (math.pi * e_star)
-    return Convolution({(0, 0): place_even(q, nx, ny, mx, my)}, (nx, ny), placed=True,
+    conv = Convolution({(0, 0): place_even(q, nx, ny, mx, my)}, (nx, ny), placed=True,
                        circulant_grid=None if ny == 1 else (cx, cy),
                        circulant=mirror_quadrant(q, cx // 2 + 1, cy // 2 + 1))
+    #: the kernel at the offsets 0 ... >= nx - 1, 0 ... >= ny - 1 (the normal solver's folded operator for gaps
+    #: symmetric in x and y, :mod:`railtherm_kalker._fold`)
+    conv.kernel_quadrant = q
+    return conv
