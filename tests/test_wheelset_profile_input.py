@@ -103,12 +103,6 @@ def test_a_patch_beyond_those_found_is_refused():
         load_scene(_with(patch=2))
 
 
-@pytest.mark.parametrize("key,word", [("pitch_velocity", "free")])
-def test_the_equilibrium_words_are_refused_for_now(key, word):
-    with pytest.raises(SceneError, match=rf"key 'wheelset.{key}' = '{word}'"):
-        load_scene(_with(**{key: word}))
-
-
 def test_a_bad_side_is_named():
     with pytest.raises(SceneError, match=r"wheelset.side"):
         load_scene(_with(side="middle"))

@@ -1,39 +1,17 @@
 """A scene's contact from real wheel and rail profiles: the ``[scene.wheelset]`` profile keys turned into
-the contact, load and creepages of one patch.
+the gap, load and creepages of its patches, when the scene is loaded (docs/DESIGN.md "Scene vocabulary").
 
-A scene whose ``wheelset`` table names profiles (``wheel_profile``, ``rail_profile``, ``nominal_radius``,
-``vertical_force``, ...; see :data:`railtherm.input.profiles.WHEELSET_KEYS`) runs the contact search
-(:func:`railtherm.physics.contact_search.contact_search`) when it is loaded, and the scene is then an
-ordinary one in the existing vocabulary:
-
-* ``contact = {shape = "gap", coefficients = ...}``: the patch's undeformed gap on its contact plane,
-  a least-squares polynomial (terms up to y^8, x^2 y^6; the highest even degree that stays open out to
-  :data:`FIT_CHECK` windows) over :data:`WINDOW` Hertz-equivalent semi-axes along x and, across, the
-  stretch where the gap stays below the Hertz-equivalent approach (a nearly touching second minimum is
-  inside it), so ``kalker`` solves the non-Hertzian patch. The fit's largest misfit in its window is
-  :attr:`ProfileContact.gap_residual` (below 1 um at 38 of the 42 A-2.2 contacts, 1.4 - 5.5 um at
-  positions 3, 4 and 11 right; 0.22 mm at position 2 right, where no even degree above 2 both fits and
-  stays open, so that contact's gap is a poor quadratic and its kalker result is not to be trusted). Hertz-based chains get the Hertz-equivalent ellipse from the profiles' curvatures at the
-  contact point (as vehicle-dynamics codes do) through the normal model ``wheelset-profile``
-  (:mod:`railtherm.models.wheelset_profile`), which says so in its diagnostics.
-* ``creepage``: the patch's creepages from the wheelset's motion (speed, yaw, roll, pitch velocity),
-  railtherm's convention (wheel relative to rail; CONTACT's are minus these).
-* ``normal_force``: from the wheel's ``vertical_force`` Fz. With one patch the wheel's vertical
-  equilibrium is Fz = N cos(delta) - Fy sin(delta) (delta the contact angle, Fy the lateral creep force on
-  the wheel in the contact plane): the lateral creep force carries part of the load on a steep flange
-  (at Manchester position 13, 11 % of it). Fy is estimated here, before any contact model runs, with
-  Kalker's linear theory on the Hertz-equivalent ellipse saturated by Shen, Hedrick and Elkins' rule
-  [1]; N solves the equation with that estimate (:func:`normal_force_from_vertical`). The contact
-  model's own Fy then differs from the estimate; :attr:`ProfileContact.normal_force` says which force
-  was used and the result's attributes carry the estimate.
-
-A scene solves one patch (key ``wheelset.patch``, 1 = the closest) with the whole ``vertical_force``, or,
-with ``patch = "all"``, every patch the force closes (:class:`ProfileContacts`): the wheel moves down by one
-common approach, each patch carries the Hertz-equivalent force of its own approach and the sum balances Fz
-(:func:`share_vertical_force`); a gap minimum inside a closer patch's interpenetration region belongs to that
-patch. Each patch is then solved as a scene of its own (:func:`patch_scenes`,
-:mod:`railtherm.solving.wheelset_patches`). ``roll_angle = "balance"`` finds the roll at which both wheels
-carry half the axle load (:func:`balance_roll`); ``pitch_velocity = "free"`` is refused. A wheel that finds no contact loads as :class:`NoContact`; its runs fail.
+The contact search (:func:`railtherm.physics.contact_search.contact_search`) finds the wheel's patches. Per
+patch: ``contact = {shape = "gap"}``, the undeformed gap on its contact plane as a polynomial (to y^8, x^2 y^6;
+:func:`_gap_fit`, misfit :attr:`ProfileContact.gap_residual`: below 1 um at 38 of the 42 A-2.2 contacts, 0.22 mm
+at position 2 right, whose kalker result is not to be trusted), for ``kalker``; Hertz-based chains take the
+Hertz-equivalent ellipse (normal model ``wheelset-profile``); the creepages of the wheelset's rigid motion at
+the reference point (:func:`reference_point`, railtherm's sign, minus CONTACT's); the normal force N from the
+wheel's vertical force Fz = N cos(delta) - Fy sin(delta), Fy Kalker's linear theory saturated by Shen, Hedrick
+and Elkins [1] (:func:`normal_force_from_vertical`). ``patch = "all"``: every patch, sharing Fz at one common
+approach (:func:`share_vertical_force`, :class:`ProfileContacts`). ``roll_angle = "balance"``: the roll that
+gives both wheels half the axle load (:func:`balance_roll`); ``pitch_velocity = "free"``: creepages at -V / R0,
+the solve finds it (:mod:`railtherm.solving.wheelset_equilibrium`). No contact: :class:`NoContact`, runs fail.
 
 References
 ----------
@@ -115,6 +93,11 @@ class ProfileContact:
         what a reader of results (the report) draws the patches on without reading the profile file.
     balanced_roll : float or None
         The roll [rad] that ``roll_angle = "balance"`` found (:func:`balance_roll`), else None.
+    free_pitch : float or None
+        With ``pitch_velocity = "free"``: the pitch velocity [rad/s] of the creepages here (-V / R0); the
+        solve finds the one that balances the axle's moment (:mod:`railtherm.solving.wheelset_equilibrium`).
+    arm, axle : tuple of float
+        The reference point relative to the wheelset centre [m] and the axle's unit vector, wheel axes (z down).
     """
 
     side: str
@@ -137,6 +120,11 @@ class ProfileContact:
     rail_section: tuple = field(default=((), ()), repr=False, compare=False)
     #: the wheelset's roll [rad] found by ``roll_angle = "balance"`` (None: the scene gave it)
     balanced_roll: float | None = None
+    #: the pitch velocity [rad/s] the creepages were taken at when the scene left it ``"free"`` (None: given)
+    free_pitch: float | None = None
+    #: the reference point relative to the wheelset centre and the axle's direction, in the wheel's axes (z down)
+    arm: tuple = field(default=(), repr=False, compare=False)
+    axle: tuple = field(default=(), repr=False, compare=False)
 
 
 class NoContactError(SceneError):
@@ -289,7 +277,8 @@ def reference_point(geo, p, approach: float, speed: float) -> dict:
     xi_ref, eta_ref = float(v[0]) / speed, float(v[1] * ca + v[2] * sa) / speed
     # kalker's slip field (xi - phi y, eta + phi x) on the plane through the minimum equals it there
     return {"y_rail": cb * y_inc - sb * z_inc, "z_rail": sb * y_inc + cb * z_inc, "angle": angle,
-            "creepage": (xi_ref + phi * eta, eta_ref, phi), "creepage_reference": (xi_ref, eta_ref, phi)}
+            "creepage": (xi_ref + phi * eta, eta_ref, phi), "creepage_reference": (xi_ref, eta_ref, phi),
+            "arm": tuple(float(v) for v in arm), "axle": tuple(float(v) for v in axle)}
 
 
 def _weighted_fit(p, half_x, half_y, reach_y, degree, step, guard=0.03):
@@ -361,9 +350,6 @@ def _geometry(scene_name: str, table: Mapping, base: str | None):
                              scene=scene_name, key=f"wheelset.{k}", allowed=what)
     rest = {k: v for k, v in table.items() if k != "patch"}
     geo = wheelset_geometry_from_table(scene_name, rest, base)
-    if geo.pitch_velocity == "free":
-        _fail(scene_name, "wheelset.pitch_velocity", "free", "a number: the equilibrium that 'free' asks for is "
-              "not solved yet; give the value (e.g. from the benchmark's table)")
     if not geo.vertical_force or geo.vertical_force <= 0.0:
         _fail(scene_name, "wheelset.vertical_force", table.get("vertical_force"),
               "the vertical force on this wheel [N], > 0")
@@ -410,13 +396,16 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
                              key="wheelset", value=table.get("lateral_shift")) from None
     bodies = (contact_modulus(wheel, rail), *combined_elastic(wheel, rail))
     roll = None
+    free = -speed / geo.nominal_radius if geo.pitch_velocity == "free" else None
     if geo.roll_angle == "balance":
         roll = balance_roll(scene_name, geo, bodies, friction, speed)
         geo = dataclasses.replace(geo, roll_angle=roll, vertical_force=0.5 * geo.vertical_force)
-        wc = contact_search(geo.on_track(), geo.side, speed=speed, section_half_width=SECTION_HALF_WIDTH)
+        wc = contact_search(_nominal(geo, speed).on_track(), geo.side, speed=speed,
+                            section_half_width=SECTION_HALF_WIDTH)
+    geo = _nominal(geo, speed)
     distinct = _distinct_patches(wc.patches, wheel, rail, geo.vertical_force)
     if patch_no == "all":
-        return _all_patches(scene_name, geo, wc.patches, bodies, friction, speed, roll)
+        return _all_patches(scene_name, geo, wc.patches, bodies, friction, speed, roll, free)
     if patch_no > len(distinct):
         merged = len(wc.patches) - len(distinct)
         _fail(scene_name, "wheelset.patch", patch_no,
@@ -433,7 +422,7 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
     else:
         N, fy = normal_force_from_vertical(geo.vertical_force, ref["angle"], p.hertz_curvatures, e_star, G, nu,
                                            ref["creepage"], friction)
-    return _patch_contact(scene_name, geo, p, patch_no, len(distinct), ref, N, fy, e_star, roll)
+    return _patch_contact(scene_name, geo, p, patch_no, len(distinct), ref, N, fy, e_star, roll, free)
 
 
 def _check_curvatures(scene_name, p, patch_no) -> None:
@@ -444,7 +433,8 @@ def _check_curvatures(scene_name, p, patch_no) -> None:
               "conformal contact (B <= 0) is not handled")
 
 
-def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star, roll=None) -> ProfileContact:
+def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star, roll=None,
+                   free=None) -> ProfileContact:
     """The ProfileContact of search patch ``p`` at normal force N [N] (Fy [N] its lateral force estimate)."""
     curv = p.hertz_curvatures
     coef, residual = _gap_fit(scene_name, p, hertz_from_curvatures(*curv, N, e_star))
@@ -456,7 +446,7 @@ def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star, ro
                           gap_residual=residual, creepage=ref["creepage"],
                           vertical_force=float(geo.vertical_force), normal_force=float(N),
                           lateral_force_estimate=float(fy), rail_section=_rail_section(geo.rail_profile),
-                          balanced_roll=roll)
+                          balanced_roll=roll, free_pitch=free, arm=ref["arm"], axle=ref["axle"])
 
 
 # -- several patches of one wheel sharing its vertical force -------------------------------------------------
@@ -583,12 +573,12 @@ def _loaded(scene_name, geo, found, bodies, friction, speed, rounds: int = 2):
     return found, refs, delta, normal, side
 
 
-def _all_patches(scene_name, geo, found, bodies, friction, speed, roll=None) -> ProfileContacts:
+def _all_patches(scene_name, geo, found, bodies, friction, speed, roll=None, free=None) -> ProfileContacts:
     """Every search patch that the shared vertical force closes (:func:`_loaded`), as :class:`ProfileContacts`."""
     found, refs, delta, normal, side = _loaded(scene_name, geo, found, bodies, friction, speed)
     loaded = [k for k, n in enumerate(normal) if n > 0.0]
     contacts = tuple(_patch_contact(scene_name, geo, found[k], j + 1, len(loaded), refs[k], normal[k], side[k],
-                                    bodies[0], roll) for j, k in enumerate(loaded))
+                                    bodies[0], roll, free) for j, k in enumerate(loaded))
     return ProfileContacts(side=geo.side, contacts=contacts, approach=float(delta),
                            vertical_force=float(geo.vertical_force), patches=len(loaded))
 
