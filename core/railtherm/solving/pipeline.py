@@ -366,6 +366,22 @@ def _versions(pl: Plan, host: PluginHost) -> str:
     return "; ".join(parts)
 
 
+def _wheelset_solver(scene: Scene):
+    """The solve of a wheelset on profiles beyond one patch at given motion, or None: a wheel that found no
+    contact raises its error; ``pitch_velocity = "free"`` (:mod:`.wheelset_equilibrium`) and ``patch = "all"``
+    (:mod:`.wheelset_patches`) solve their patches with :func:`solve`."""
+    pc = scene.profile_contact
+    if hasattr(pc, "failure"):
+        raise pc.failure()
+    if getattr(pc, "free_pitch", None) is not None:
+        from .wheelset_equilibrium import solve_free_pitch
+        return solve_free_pitch
+    if getattr(pc, "patch", None) == "all":
+        from .wheelset_patches import solve_patches
+        return solve_patches
+    return None
+
+
 def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", level: int = 0,
           options: Mapping[str, Any] | None = None,
           *, host: PluginHost | None = None, validate: bool = True, peers=None):
@@ -404,13 +420,9 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
     """
     host = host or get_host()
     scene = load_scene(scene)
-    failure = getattr(scene.profile_contact, "failure", None)
-    if failure is not None:   # a wheelset on profiles whose wheel found no contact
-        raise failure()
-    if getattr(scene.profile_contact, "patch", None) == "all":   # several patches of one wheel
-        from .wheelset_patches import solve_patches
-        return solve_patches(scene, method, level, options, solve_one=solve, validate=validate, host=host,
-                             peers=peers)
+    special = _wheelset_solver(scene)
+    if special is not None:
+        return special(scene, method, level, options, solve_one=solve, validate=validate, host=host, peers=peers)
     level = check_level(level, where=f"scene {scene.name!r}: ")
     mi = host.resolve(method)  # SceneError for an unknown method or a bad chain, naming what is allowed
     options = _check_options(mi, options, scene.name)
