@@ -1,24 +1,15 @@
 """railtherm: compare numerical methods for thermoelastic wheel-rail rolling contact with friction.
 
-Public API
-----------
-load_study, solve, run_study, methods, open_results, SceneError, Refused, hookimpl, and the stage
-interfaces of plugin API 2 (NormalContactModel, TangentialContactModel, HeatSourceModel,
+Public API: load_study, solve, run_study, methods, open_results, SceneError, Refused, hookimpl, and the
+stage interfaces of plugin API 2 (NormalContactModel, TangentialContactModel, HeatSourceModel,
 TemperatureModel, CoupledModel, Method, ...).
 
-Layout (imports run one way, top to bottom; tests/test_import_graph.py checks it)
-------------------------------------------------------------------------------
-cli, testing     the command line and the plugin conformance kit
-run/             running a study: runner, executors, time limits
-report/          the study report (reads the output folder through the store)
-analysis/        exact reference values of a scene, metrics, result collections, reference curves
-solving/         one scene with one method: plugin host and stage pipeline
-output/          the output folder's one owner (store)
-input/           scenes, studies, materials (the study vocabulary)
-models/          core's own stage models (hertz, full-sliding, frictional, given)
-physics/         shared physics toolkit (Hertz, partition, thermal scales, lumped wheel, ...)
-contract/        what a plugin implements: stages, hooks, errors, grid, result schema, options
-references/      exact and published solutions (pure functions)
+Packages, highest first (imports run one way, down; tests/test_import_graph.py checks it): ``cli`` and
+``testing`` (command line, plugin conformance kit); ``run/`` (runner, executors, time limits);
+``report/``; ``analysis/`` (exact values, metrics, reference curves); ``solving/`` (plugin host, stage
+pipeline); ``output/`` (the output folder's one owner); ``input/`` (scenes, studies, materials) and
+``models/`` (core's stage models); ``physics/`` (shared formulas) and ``references/`` (exact and published
+solutions); ``contract/`` (what a plugin implements). docs/DESIGN.md has the full table.
 
 Plugins import ``railtherm`` (this module), ``railtherm.physics`` and ``railtherm.references`` only.
 """

@@ -2,27 +2,16 @@
 
 Any plugin, built-in or third-party, runs it against itself::
 
-    # tests/test_my_plugin.py of your distribution
-    import pytest
-    from railtherm.testing import check_method, check_model_class, CANONICAL_SCENES
-
+    from railtherm.testing import check_method
     def test_conformance(railtherm_register):
         railtherm_register("mine", my_package.plugin)        # inline registration, no entry point needed
         check_method("my-method")
 
-``check_method`` checks the form of every result and the physics: a method must solve at least one
-canonical scene, be within 10 % of core's exact reference on at least one, and balance energy on its
-computed temperature field; every stage model it declares runs on a scene where its stage runs, and
-every tangential model keeps core's sign conventions (dissipation -(traction . slip) >= 0 in every cell,
-slip and creep force against the rigid slip; see :func:`check_method`).
-
-Fixtures
---------
-railtherm_register
-    ``railtherm_register(name, plugin_obj, autoload=False)`` installs a fresh plugin host holding core
-    and the given plugin for the duration of the test (set ``autoload=True`` to keep entry points).
-canonical_scenes
-    Scenes every method should either solve or refuse with a reason (and solve at least one).
+:func:`check_method` checks the form of every result and the physics (solves at least one canonical
+scene, within 10 % of core's exact reference on one, balances energy, keeps core's sign conventions).
+Fixtures: ``railtherm_register(name, plugin_obj, autoload=False)`` installs a fresh plugin host holding
+core and the given plugin for the test; ``canonical_scenes`` are the scenes every method should solve or
+refuse with a reason.
 """
 from __future__ import annotations
 

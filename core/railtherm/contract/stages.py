@@ -1,27 +1,17 @@
 """Stage interfaces (plugin API 2): normal contact, tangential contact, heat source, temperature.
 
-A scene flows through up to four stages, in this order. Each stage hands the next a small container
-and never changes what it was given (it returns a new object):
+A scene flows through up to four stages, in this order; each returns a new container and never changes
+what it was given: normal (:class:`NormalContactModel`) -> :class:`ContactPatch` (geometry, pressure,
+rigid creepages when it solves the kinematics); tangential (:class:`TangentialContactModel`) -> a new
+:class:`ContactPatch` with traction, slip, stick/slip, creep forces; heat source
+(:class:`HeatSourceModel`) -> :class:`HeatSource` split between wheel and rail; temperature
+(:class:`TemperatureModel`) -> :class:`TemperatureField`.
 
-* normal contact (:class:`NormalContactModel`) -> :class:`ContactPatch`: geometry, normal force
-  and pressure (and, for a model that solves the kinematics, the rigid creepages);
-* tangential contact (:class:`TangentialContactModel`) -> a new :class:`ContactPatch` with the
-  tangential traction, slip velocity, stick/slip, creep forces and the surface speeds filled;
-* heat source (:class:`HeatSourceModel`; core's ``frictional`` is traction x slip) ->
-  :class:`HeatSource`: frictional power density on the patch, split between wheel and rail;
-* temperature (:class:`TemperatureModel`) -> :class:`TemperatureField`: surface temperature of
-  each body, optionally a depth field.
-
-A *stage model* implements one stage; a *coupled model* (:class:`CoupledModel`) implements several
-at once and receives what the plan gives it (:class:`Upstream`: the results of the stages before
-its first one, a given heat source included); it never calls back into the pipeline.
-Each model declares what it can do (:class:`Capabilities`; core enforces it,
-:mod:`railtherm.solving.capabilities_check`) and answers :meth:`StageModel.supports` for its own
-limits before it runs. Plugins register model classes and :class:`Method` chains through the hooks in
-:mod:`railtherm.contract.hookspec`.
-
-The result containers live in :mod:`railtherm.contract.results` (conventions there), model options
-in :mod:`railtherm.contract.options`.
+A *coupled model* (:class:`CoupledModel`) implements several stages at once and receives the results of
+the stages before its first one (:class:`Upstream`); it never calls back into the pipeline. Each model
+declares :class:`Capabilities` (enforced by :mod:`railtherm.solving.capabilities_check`) and answers
+:meth:`StageModel.supports` for its own limits. Hooks: :mod:`railtherm.contract.hookspec`; result
+containers: :mod:`railtherm.contract.results`; options: :mod:`railtherm.contract.options`.
 """
 from __future__ import annotations
 

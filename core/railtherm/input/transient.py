@@ -1,17 +1,13 @@
 """Transient scenes: the vocabulary of heating over time (passes, a heat-input schedule, histories).
 
 A scene with ``mode = "transient"`` may give
-
-* ``passes = { count = <int >= 1>, interval = <s> }``: the same contact passes the same rail section
-  ``count`` times, ``interval`` apart (for the wheel a pass is one revolution; without ``interval`` the
-  caller uses the revolution period 2 pi wheel.radius / speed);
+* ``passes = { count = <int >= 1>, interval = <s> }``: the contact passes the same rail section
+  ``count`` times, ``interval`` apart (default: the revolution period 2 pi wheel.radius / speed);
 * ``schedule = { time = [<s>, ...], factor = [<1>, ...] }``: a piecewise-linear factor on the heat
-  input, constant end values before the first and after the last time (time 0: the first pass's
-  leading edge reaches the section);
+  input, constant outside the times (time 0: the first pass's leading edge reaches the section);
 * ``field = { depth = <m> or [<m>, ...], threshold = <degC> }``: the depths of the histories (the
   surface always included) and the temperature of ``time_above``;
-* ``outputs`` naming ``temperature_history``, ``pass_peak_temperature``, ``residual_rise``,
-  ``time_above``.
+* ``outputs`` naming ``temperature_history``, ``pass_peak_temperature``, ``residual_rise``, ``time_above``.
 
 :func:`transient_from_table` checks these keys and returns a frozen :class:`Transient`; every error is a
 :class:`railtherm.SceneError` naming the scene, the key, the value and what is allowed.

@@ -1,24 +1,17 @@
 """The study output folder: its layout, atomic writes, one reader, run records and crash records.
 
-This module is the only code that knows where things live in the output folder of ``railtherm run``
-and how they are written and read; the runner, the executors, metrics, :func:`railtherm.open_results`,
-the reference curves and the report all go through it. It imports nothing from railtherm at module
-level and nothing above it (no runner, executors, metrics or report), so every layer can use it.
-
-Layout of an output folder ``DIR``::
+The only code that knows where things live in the output folder of ``railtherm run`` and how they are
+written and read; every other layer goes through it, and it imports no other railtherm package::
 
     DIR/runs/<scene>/<method>/level-<k>.nc           one result (xarray Dataset, netCDF4)
     DIR/runs/<scene>/<method>/level-<k>.status.json  a refused or failed run (a RunRecord as JSON)
-    DIR/results.zarr/                                 instead of runs/ with ``[study] store = "zarr"``: every
-                                                      run in chunked arrays (:mod:`.zarr_store`)
-    DIR/metrics.nc                                    verdicts and errors of every run
-    DIR/references.nc                                 exact reference curves, one group per scene
-    DIR/study.json                                    the invocation: study, timing, run records
+    DIR/results.zarr/      instead of runs/ with ``[study] store = "zarr"`` (:mod:`.zarr_store`)
+    DIR/metrics.nc, DIR/references.nc   verdicts and errors of every run; exact curves, a group per scene
+    DIR/study.json         the invocation: study, timing, run records
     DIR/report.md, DIR/report.html, DIR/figures/      the report
 
-Every file is written to a temporary file in the same folder (``.<name>.<pid>.<thread>.tmp``) and
-renamed into place (:func:`write_atomic`), so a reader never sees half a file; temporary files left by
-a worker killed mid-write are removed by :func:`remove_stale_tmp`.
+Every file is written to ``.<name>.<pid>.<thread>.tmp`` beside it and renamed into place
+(:func:`write_atomic`); :func:`remove_stale_tmp` removes those a killed worker left.
 """
 from __future__ import annotations
 

@@ -1,26 +1,15 @@
 """The chunked result store of a study (``[study] store = "zarr"``): ``DIR/results.zarr``.
 
-One Zarr (format 3) group holds every run of a study as rows of arrays indexed by ``run``; run
-``i`` is (scene ``i // (M L)``, method ``(i // L) % M``, level ``i % L``) of the study's scenes, its M
-methods and L levels (the order of :func:`railtherm.run.runner.make_tasks`). The ``run`` dimension is cut
-into chunks of whole scenes (:func:`chunk_scenes`); one task (a local worker process or a dask task)
-runs the runs of one chunk and writes that chunk of every array itself (:func:`write_chunk`), without
-a lock: no two tasks write the same chunk, and each chunk file is written to a temporary file and
-renamed by zarr's ``LocalStore``. Arrays::
+One Zarr (format 3) group holds every run of a study as rows of arrays indexed by ``run`` (listed in
+:func:`create`); run ``i`` is (scene ``i // (M L)``, method ``(i // L) % M``, level ``i % L``) of the
+study's scenes, its M methods and L levels (the order of :func:`railtherm.run.runner.make_tasks`). The
+``run`` dimension is cut into chunks of whole scenes (:func:`chunk_scenes`); one task runs the runs of
+one chunk and writes that chunk of every array itself (:func:`write_chunk`), without a lock: no two tasks
+write the same chunk, and zarr's ``LocalStore`` writes each chunk file to a temporary file and renames it.
 
-    <scalar>(run[, body])        every 0-d or (body,) variable of the result schema, float64, NaN = none
-    status(run)                  int8: index into STATUS_CODES, -1 = not run (missing)
-    reason_kind(run)             int8: index into REASON_KINDS
-    message, energy_reference, run_hash, run_id, diagnostics (JSON)  strings
-    wall_time, wall_time_median, wall_time_cold, peak_rss, rss_growth, energy_balance   float64
-    timing_runs, pid             int32
-    scene_name(scene), sweep__<key>(scene), method_name(method_name), level(level)  written at creation
-    fields/s<scene index>/<method>/level-<k>/   the run's fields, when ``keep_fields`` asks
-
-``status`` and ``run_hash`` of a chunk are written after everything else of it: a task killed while
-writing leaves its chunk's previous status (missing, or what an earlier invocation wrote), so the
-runs of that chunk are run again and nothing else is touched; ``--resume`` reads which runs are done
-from the store itself (:func:`read_region`). This module imports nothing of railtherm above
+``status`` and ``run_hash`` of a chunk are written last: a task killed while writing leaves its chunk's
+previous status, so that chunk is run again and nothing else is touched; ``--resume`` reads which runs
+are done from the store itself (:func:`read_region`). This module imports nothing of railtherm above
 ``railtherm.contract`` (the output folder's owner, :mod:`railtherm.output.store`, imports it).
 """
 from __future__ import annotations
@@ -163,7 +152,16 @@ def create(out, layout: Layout, *, resume: bool = False) -> bool:
     """Create the store's arrays (written by the calling process, before any task runs).
 
     With ``resume`` an existing store of the same layout is kept (returns False); any other store
-    is replaced. Returns True when a new store was created.
+    is replaced. Returns True when a new store was created. Arrays::
+
+        <scalar>(run[, body])        every 0-d or (body,) variable of the result schema, float64, NaN = none
+        status(run)                  int8: index into STATUS_CODES, -1 = not run (missing)
+        reason_kind(run)             int8: index into REASON_KINDS
+        message, energy_reference, run_hash, run_id, diagnostics (JSON)  strings
+        wall_time, wall_time_median, wall_time_cold, peak_rss, rss_growth, energy_balance   float64
+        timing_runs, pid             int32
+        scene_name(scene), sweep__<key>(scene), method_name(method_name), level(level)  written here
+        fields/s<scene index>/<method>/level-<k>/   the run's fields, when ``keep_fields`` asks
     """
     import zarr
 
