@@ -1,43 +1,18 @@
 """Ertz & Knothe's lumped wheel: the long-term (steady) wheel temperature (seed eqs. 40-54, 3-D form).
 
-After many revolutions the wheel is warm, at a nearly uniform temperature theta_w0 above the rail
-and the air (seed §5.1-5.3; the Biot number of the wheel is small, so it is treated as lumped).
-Each time a wheel point passes the contact, the warm wheel meets the cold rail:
+After many revolutions the wheel is warm, at a nearly uniform temperature theta_w0 above the rail and
+the air (seed §5.1-5.3; the wheel's Biot number is small, so it is treated as lumped). It loses heat by
+conduction into the cold rail at each contact (eqs. 40-43, :func:`conduction_conductance`) and by
+convection to the air through the area A (eqs. 45-49, :func:`convective_area`; the one choice,
+:data:`CONVECTIVE_AREA` = "wheel", is fitted to the published table). Steady state (eqs. 50-52):
+``eps P = (G_cond + alpha A) theta_inf``; the steady mean contact temperature (eq. 54) superposes the
+cold-body flash field and the warm-wheel conduction field: ``theta_mean_inf = theta_mean + eps_c
+theta_inf``. Eq. 53 (``theta_inf/theta_mean``) is garbled in the seed and not used.
 
-* Conduction into the rail (eqs. 40-43). Two half-spaces at temperatures theta_w0 and 0 brought
-  into contact take the interface temperature ``theta_m = eps_c theta_w0`` (eq. 41), with the
-  equal-temperature (Blok) fraction ``eps_c`` of :func:`railtherm.physics.equal_temperature_partition`
-  (for v_w = v_r it is eq. 41's beta_w/(beta_w+beta_r)). The rail then takes the flux
-  ``q(x) = eps_c beta_r theta_w0 sqrt(v_r / (pi (a_y - x)))`` (eq. 42), i.e. per unit width of a
-  strip of half-length a_y, ``eps_c beta_r theta_w0 sqrt(8 a_y v_r / pi)`` (eq. 43). On the ellipse
-  the strips have ``a_y = a sqrt(1 - y^2/b^2)`` and the exact total conductance is
-
-      G_cond = eps_c beta_r sqrt(8 a v_r / pi) * b * B(1/2, 5/4),   B(1/2, 5/4) = 1.74804
-
-  (the seed's effective width b* = 4b/3 instead of b B(1/2, 5/4) reproduces the printed eq. 52,
-  239.7 / 138.4 degC, not its Table 1; the 3-D form gives 182.8 / 105.5 against 182.6 / 105.4).
-* Convection to the air (eqs. 45-49): ``Q_conv = alpha A theta_w0`` through the wheel's convective
-  surface A. **The one choice** (:data:`CONVECTIVE_AREA`, default ``"wheel"``): the whole lumped
-  wheel as a solid disc of the rolling radius r0, ``A = 2 pi r0^2 + 2 pi r0 (2 b)`` (both faces and
-  the running band). This default was FITTED, not derived: inverting the steady rows of Ertz &
-  Knothe (2002) Table 1 (``tests/data/published.toml``) gives A = 1.57-1.59 m^2 for every alpha and
-  both speeds, the disc of r0 = 0.49 m; agreement with those rows is a consistency check, not a
-  verification. The alternative ``"tread"``, the running band only ``2 pi r0 (2 b)`` (eq. 48
-  literally, per unit width of the band), is ~25x smaller and makes convection negligible. A line
-  contact convects per unit width through ``2 pi r0`` [m] for either choice.
-* Steady state (eqs. 50-52): frictional heat into the wheel = heat out,
-  ``eps P = (G_cond + alpha A) theta_inf``.
-* Steady mean contact temperature (eq. 54), by superposition of the cold-body flash field and the
-  warm-wheel conduction field: ``theta_mean_inf = theta_mean + eps_c theta_inf``.
-
-Eq. 53 (``theta_inf/theta_mean``) is garbled in the seed and not used; it follows from the above.
-
-References
-----------
-.. [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
-   temperatures in wheel/rail contact, Wear 253 (2002) 498-508.
-.. [2] H. Blok, Theoretical study of temperature rise at surfaces of actual contact under oiliness
-   lubricating conditions, Proc. General Discussion on Lubrication, IMechE 2 (1937) 222-235.
+References: M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
+temperatures in wheel/rail contact, Wear 253 (2002) 498-508. H. Blok, Theoretical study of temperature
+rise at surfaces of actual contact under oiliness lubricating conditions, Proc. General Discussion on
+Lubrication, IMechE 2 (1937) 222-235.
 """
 from __future__ import annotations
 
@@ -53,7 +28,7 @@ __all__ = ["CONVECTIVE_AREA", "CONVECTIVE_AREAS", "ELLIPSE_SQRT_WIDTH", "LumpedW
 #: ellipse / b (scipy.special.beta(0.5, 1.25), kept as a literal so that importing railtherm needs no scipy)
 ELLIPSE_SQRT_WIDTH = 1.7480383695280797
 
-#: the documented convective-area choice of the lumped wheel (see the module docstring)
+#: the documented convective-area choice of the lumped wheel (see :func:`convective_area`)
 CONVECTIVE_AREA = "wheel"
 #: the convective areas :func:`convective_area` knows
 CONVECTIVE_AREAS = ("wheel", "tread")
@@ -61,7 +36,20 @@ CONVECTIVE_AREAS = ("wheel", "tread")
 
 def conduction_conductance(effusivity_rail: float, speed_rail: float, contact_fraction: float, a: float,
                            b: float | None) -> float:
-    """Conductance of the warm-wheel-to-cold-rail conduction through the patch (eqs. 42-43, 3-D form).
+    """Conductance of the warm-wheel-to-cold-rail conduction through the patch (eqs. 40-43, 3-D form).
+
+    Two half-spaces at temperatures theta_w0 and 0 brought into contact take the interface temperature
+    ``theta_m = eps_c theta_w0`` (eq. 41), with the equal-temperature (Blok) fraction ``eps_c`` of
+    :func:`railtherm.physics.equal_temperature_partition` (for v_w = v_r it is eq. 41's
+    beta_w/(beta_w+beta_r)). The rail then takes the flux ``q(x) = eps_c beta_r theta_w0 sqrt(v_r / (pi
+    (a_y - x)))`` (eq. 42), i.e. per unit width of a strip of half-length a_y, ``eps_c beta_r theta_w0
+    sqrt(8 a_y v_r / pi)`` (eq. 43). On the ellipse the strips have ``a_y = a sqrt(1 - y^2/b^2)`` and the
+    exact total conductance is
+
+        G_cond = eps_c beta_r sqrt(8 a v_r / pi) * b * B(1/2, 5/4),   B(1/2, 5/4) = 1.74804
+
+    (the seed's effective width b* = 4b/3 instead of b B(1/2, 5/4) reproduces the printed eq. 52,
+    239.7 / 138.4 degC, not its Table 1; the 3-D form gives 182.8 / 105.5 against 182.6 / 105.4).
 
     Parameters
     ----------
@@ -87,7 +75,13 @@ def conduction_conductance(effusivity_rail: float, speed_rail: float, contact_fr
 
 
 def convective_area(radius: float, b: float | None, kind: str = CONVECTIVE_AREA) -> float:
-    """Convective surface of the lumped wheel (eq. 48 in 3-D).
+    """Convective surface of the lumped wheel (eq. 48 in 3-D): ``Q_conv = alpha A theta_w0`` goes through it.
+
+    The default ``"wheel"``, the whole lumped wheel as a solid disc of the rolling radius r0, was FITTED,
+    not derived: inverting the steady rows of Ertz & Knothe (2002) Table 1 (``tests/data/published.toml``)
+    gives A = 1.57-1.59 m^2 for every alpha and both speeds, the disc of r0 = 0.49 m; agreement with those
+    rows is a consistency check, not a verification. ``"tread"``, the running band only (eq. 48 literally,
+    per unit width of the band), is ~25x smaller and makes convection negligible.
 
     Parameters
     ----------

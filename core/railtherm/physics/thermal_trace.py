@@ -1,44 +1,18 @@
 """The thermal trace: what a material point on the centre line lives through as it passes the contact.
 
-In the frame of the contact the body's material flows in -x at its surface speed V (it enters the
-patch at x = +a, leaves at -a). A steady temperature field T(x, z) at y = 0 is therefore the
-history of the material point at depth z: it is at x at time t = (x0 - x)/V, so
-
-* its **peak temperature** is ``max_x T(x, z)`` [degC];
-* its heating/cooling rate is ``dT/dt = -V dT/dx``; behind the peak (x < x_peak) T falls as x
-  falls, dT/dx > 0 and the point cools. The **cooling rate** reported is the fastest cooling after
-  the peak, a positive number, ``max_{x < x_peak} V dT/dx`` [K s-1];
-* its **time above** a threshold T* is the length of {x : T(x, z) > T*} divided by V [s];
-* the **heated depth** is the depth down to which the peak exceeds T* [m] (0 when even the surface
-  stays below it).
-
-A field has ends: x runs from x_0 (= -a - field.behind) to +a, z from 0 to field.depth. A maximum
-(of T or of the cooling rate) that lies at the first or last x of the field, or a temperature above
-T* at an end of the field, only says that the true value lies beyond the field: it is reported as
-NaN, with a note "field too short" (diagnostics ``trace_*``), never as a peak. The heated depth is
-NaN when the peak at the deepest z still exceeds T* ("field too shallow"), or when the crossing lies
-next to a depth whose peak is unknown. A body that gets no heat (T equal to its bulk temperature
-everywhere) has its bulk temperature as peak, no cooling (0) and no time above unless its bulk
-temperature is above T*.
-
-Discretisation: values are sampled at the field's x nodes (cell centres); maxima are refined by the
-parabola through the largest sample and its two neighbours, dT/dx is taken by second-order central
-differences (:func:`numpy.gradient`'s formula on a non-uniform x), crossings of T* by linear
-interpolation in x, and the heated depth by linear interpolation of the peak between the two depths
-that bracket T*. Each of these is second order in the spacing for a smooth field
-(tests/test_thermal_trace.py fits the orders against the exact moving-source references); a kink of
-the field (the surface temperature of a uniform flux at the trailing edge, where the exact cooling
-rate is infinite) lowers them. All depths are done in one compiled pass (:func:`railtherm.physics._trace_kernels.trace_columns`).
-
+In the frame of the contact the body's material flows in -x at its surface speed V (it enters the patch
+at x = +a, leaves at -a), so a steady field T(x, z) at y = 0 is the history of the material point at
+depth z (at x at time t = (x0 - x)/V). Hence its **peak temperature** ``max_x T(x, z)`` [degC]; its
+**cooling rate**, the fastest cooling after the peak ``max_{x < x_peak} V dT/dx`` [K s-1] (> 0); its
+**time above** a threshold T*, the length of {x : T(x, z) > T*} divided by V [s]; and the **heated
+depth**, down to which the peak exceeds T* [m]. Values the field is too short or shallow to hold are NaN
+with a note, never a false peak; the ends and the discretisation are in :class:`Trace`.
 One implementation for every method: a temperature model calls :func:`with_thermal_trace` on its
 :class:`railtherm.TemperatureField`.
 
-References
-----------
-.. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7
-   (moving sources: the temperature in the moving frame is the history of a material point).
-.. [2] K.L. Johnson, Contact Mechanics, Cambridge University Press, 1985, section 13.3 (flash
-   temperatures). doi:10.1017/CBO9781139171731
+References: H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7
+(the moving frame's temperature is a material point's history). K.L. Johnson, Contact Mechanics,
+Cambridge University Press, 1985, section 13.3. doi:10.1017/CBO9781139171731
 """
 from __future__ import annotations
 
@@ -61,6 +35,25 @@ FIELD_TOO_SHORT = "field too short"
 @dataclass(frozen=True)
 class Trace:
     """Thermal trace of one body (arrays over the depths z).
+
+    A field has ends: x runs from x_0 (= -a - field.behind) to +a, z from 0 to field.depth. A maximum
+    (of T or of the cooling rate) at the first or last x of the field, or a temperature above T* at an
+    end of the field, only says that the true value lies beyond the field: it is reported as NaN, with a
+    note "field too short" (diagnostics ``trace_*``), never as a peak. The heated depth is NaN when the
+    peak at the deepest z still exceeds T* ("field too shallow"), or when the crossing lies next to a
+    depth whose peak is unknown. A body that gets no heat (T equal to its bulk temperature everywhere)
+    has its bulk temperature as peak, no cooling (0) and no time above unless its bulk temperature is
+    above T*.
+
+    Discretisation: values are sampled at the field's x nodes (cell centres); maxima are refined by the
+    parabola through the largest sample and its two neighbours, dT/dx is taken by second-order central
+    differences (:func:`numpy.gradient`'s formula on a non-uniform x), crossings of T* by linear
+    interpolation in x, and the heated depth by linear interpolation of the peak between the two depths
+    that bracket T*. Each of these is second order in the spacing for a smooth field
+    (tests/test_thermal_trace.py fits the orders against the exact moving-source references); a kink of
+    the field (the surface temperature of a uniform flux at the trailing edge, where the exact cooling
+    rate is infinite) lowers them. All depths are done in one compiled pass
+    (:func:`railtherm.physics._trace_kernels.trace_columns`).
 
     Attributes
     ----------
@@ -90,7 +83,7 @@ class Trace:
 
 
 def thermal_trace(x, z, temperature, speed: float, threshold: float) -> Trace:
-    """Thermal trace of one body from its steady depth field at y = 0.
+    """Thermal trace of one body from its steady depth field at y = 0 (the values: :class:`Trace`).
 
     Parameters
     ----------

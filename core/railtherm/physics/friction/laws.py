@@ -1,21 +1,17 @@
-"""Friction laws: the coefficient of friction as a function of the local slip speed v [m/s] and the
-contact temperature T [degC] (scene key ``friction``), each a frozen dataclass with the interface
-:class:`FrictionLaw` that declares its parameters once (:data:`FrictionLaw.PARAMETERS`):
+"""Friction laws: mu as a function of the local slip speed v [m/s] and contact temperature T [degC].
 
-* :class:`ConstantFriction` -- ``friction = 0.3``.
+Scene key ``friction``; each law is a frozen dataclass with the interface :class:`FrictionLaw` that
+declares its parameters once (:data:`FrictionLaw.PARAMETERS`):
+* :class:`ConstantFriction` -- ``friction = 0.3``;
 * :class:`SlipVelocityFriction` -- ``{ law = "slip-velocity", static, kinetic, decay }``:
-  mu(v) = kinetic + (static - kinetic) exp(-v / decay) (CONTACT's exponential law; [Vollebregt2022]_).
+  mu(v) = kinetic + (static - kinetic) exp(-v / decay) (CONTACT's exponential law, [Vollebregt2022]_);
 * :class:`PolachFriction` -- ``{ law = "polach", mu0, A, B }``: mu(v) = mu0 ((1 - A) exp(-B v) + A)
-  ([Polach2005]_, eq. 6): the same exponential with static = mu0, kinetic = A mu0, decay = 1 / B.
+  ([Polach2005]_ eq. 6), the same exponential with static = mu0, kinetic = A mu0, decay = 1 / B;
 * :class:`TemperatureFriction` -- ``{ law = "temperature", reference, reference_temperature, change, over }``:
   mu_ref for T <= T_ref, mu_ref + change above T_ref + over, linear between (CONTACT's form).
 
-References
-----------
-.. [Polach2005] O. Polach, "Creep forces in simulations of traction vehicles running on adhesion limit",
-   Wear 258 (2005) 992-1000, doi:10.1016/j.wear.2004.03.046.
-.. [Vollebregt2022] E.A.H. Vollebregt, "User guide for CONTACT, Rolling and sliding contact with
-   friction", Technical report TR09-03, version 22.1, VORtech (2022), sections on friction laws.
+.. [Polach2005] O. Polach, Wear 258 (2005) 992-1000, doi:10.1016/j.wear.2004.03.046.
+.. [Vollebregt2022] E.A.H. Vollebregt, User guide for CONTACT, TR09-03 v22.1, VORtech (2022), friction laws.
 """
 from __future__ import annotations
 

@@ -1,9 +1,8 @@
 """The coupled temperature-friction loop: the one iteration every method runs for a ``temperature`` law.
 
-Friction that falls with temperature makes mu of each cell depend on the contact temperature there, which
-depends on the heat the friction makes. :func:`iterate_temperature_law` iterates on the contact temperature
-T_c (on the points a method solves on: core's patch cells, the FEM's window nodes):
-
+Friction that falls with temperature makes each cell's mu depend on the contact temperature there, which
+depends on the heat the friction makes. :func:`iterate_temperature_law` iterates on the contact
+temperature T_c (on the points a method solves on: core's patch cells, the FEM's window nodes):
 1. ``solve(T_c)``: the method's solve with mu = law(T_c) per point; it returns the contact temperature its
    own heat produces, the creep force and the contact mask (a :class:`LoopStep`);
 2. the next T_c is an Anderson-mixed update (depth :data:`ANDERSON_DEPTH`) of the last ones, so that the
@@ -11,9 +10,8 @@ T_c (on the points a method solves on: core's patch cells, the FEM's window node
 3. stop when max |law(T_out) - law(T_c)| over the contact is below :data:`.tolerances.LOOP_MU_TOLERANCE`
    and the creep force changed by less than :data:`.tolerances.LOOP_FORCE_TOLERANCE` x mu_ref N; after
    :data:`.tolerances.LOOP_MAX_ITERATIONS` solves the run fails (``SolverError``: not converged).
-
-Core's :func:`railtherm.solving.friction_loop.solve_coupled` drives a chain's stages with it; the FEM drives
-its Steps 1-4 solve (at fixed mu per node) with it.
+Core's :func:`railtherm.solving.friction_loop.solve_coupled` drives a chain's stages with it; the FEM
+drives its Steps 1-4 solve (at fixed mu per node) with it.
 """
 from __future__ import annotations
 
