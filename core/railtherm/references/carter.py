@@ -1,22 +1,17 @@
 """Carter's exact solution of 2-D steady rolling with creepage between quasi-identical elastic bodies.
 
-Hertzian line contact |x| <= a with pressure p0 sqrt(1 - (x/a)^2), Coulomb friction mu, rolling in
-+x (leading edge x = +a). The stick zone of half-width a' adjoins the leading edge,
-``a - 2a' <= x <= a``, centred at d = a - a'; slip occupies the trailing part. Carter (1926):
+Hertzian line contact |x| <= a with pressure p0 sqrt(1 - (x/a)^2), Coulomb friction mu, rolling in +x
+(leading edge x = +a). The stick zone of half-width a' adjoins the leading edge, ``a - 2a' <= x <= a``,
+centred at d = a - a'; slip occupies the trailing part. Carter (1926): ``|xi| = mu (a - a') / R``,
+``Fx / (mu Fn) = -sign(xi) (1 - (a'/a)^2)``, with CONTACT's sign convention (positive creepage gives a
+negative force on body 1, the wheel). The traction on the wheel is ``-sign(xi) mu p0 [sqrt(1 - (x/a)^2)
+- (a'/a) sqrt(1 - ((x - d)/a')^2)]`` (second term only in the stick zone). Full sliding when
+|xi| >= mu a / R.
 
-``|xi| = mu (a - a') / R``,  ``Fx / (mu Fn) = -sign(xi) (1 - (a'/a)^2)``,
-
-with the sign convention of CONTACT (positive creepage gives a negative force on body 1, the wheel).
-The traction on the wheel is ``-sign(xi) mu p0 [sqrt(1 - (x/a)^2) - (a'/a) sqrt(1 - ((x - d)/a')^2)]``
-(second term only in the stick zone). Full sliding when |xi| >= mu a / R.
-
-References
-----------
-.. [1] F.W. Carter, On the action of a locomotive driving wheel, Proc. R. Soc. Lond. A 112 (1926)
-   151-157. doi:10.1098/rspa.1926.0100
-.. [2] K.L. Johnson, Contact Mechanics, 1985, section 8.4. doi:10.1017/CBO9781139171731
-.. [3] E.A.H. Vollebregt, CONTACT user guide, test case carter2d: xi = -mu (a - a')/R,
-   Fx = (1 - (a'/a)^2) mu Fn, Fn = pi a^2 G / (4 R (1 - nu)) per unit width.
+References: F.W. Carter, On the action of a locomotive driving wheel, Proc. R. Soc. Lond. A 112 (1926)
+151-157, doi:10.1098/rspa.1926.0100. K.L. Johnson, Contact Mechanics, 1985, section 8.4,
+doi:10.1017/CBO9781139171731. E.A.H. Vollebregt, CONTACT user guide, test case carter2d:
+xi = -mu (a - a')/R, Fx = (1 - (a'/a)^2) mu Fn, Fn = pi a^2 G / (4 R (1 - nu)) per unit width.
 """
 from __future__ import annotations
 

@@ -1,33 +1,18 @@
 """1-D high-Péclet flash temperature of a band heat source (seed paper eqs. 30-39).
 
 At high Péclet number L = V a / (2 kappa) conduction along the rolling direction is negligible: each
-material line normal to the surface is heated as a 1-D half-space by the flux it sees while it
-crosses the contact (time t = (a - x)/V since it entered at the leading edge x = +a). Seed eq. (30):
+material line normal to the surface is heated as a 1-D half-space by the flux it sees while it crosses
+the contact (time t = (a - x)/V since the leading edge x = +a). Seed eq. (30), with the effusivity
+beta = sqrt(lambda rho c) (eq. 31):
+``theta(z, t) = 1/(beta sqrt(pi)) int_0^t q(t - t') exp(-z^2/(4 kappa t')) dt' / sqrt(t')``.
+Coordinates: material flows in -x, z >= 0 is depth; the seed's xi runs from the leading edge -1 to the
+trailing edge +1 (``xi_seed = -x/a``) and delta = sqrt(2 kappa a / V). The seed's eqs. 34, 36, 37 and
+39 have misprints; the consistent forms are implemented (docs/NOTES.md lists them).
 
-``theta(z, t) = 1/(beta sqrt(pi)) int_0^t q(t - t') exp(-z^2/(4 kappa t')) dt' / sqrt(t')``,
-beta = sqrt(lambda rho c) (the effusivity, seed eq. 31).
-
-Coordinates (railtherm convention): leading edge at x = +a, material flows in -x, z >= 0 depth.
-The seed writes the same with xi running from the leading edge -1 to the trailing edge +1
-(``xi_seed = -x/a``) and delta = sqrt(2 kappa a / V).
-
-Notes on the seed's formulas
-----------------------------
-* Eq. (34) has ``exp(-xi^2/(2(xi+1)))``; the consistent form is ``exp(-zeta^2/(2(xi+1)))`` (it must
-  reduce to ierfc of the depth); eq. (36) (behind the contact) has unbalanced brackets; the consistent
-  form is the difference of two eq. (34) terms, as implemented here.
-* Eq. (37) writes ``xi = 1 - x^2/a^2``; the flux is ``mu v_s p0 sqrt(1 - (x/a)^2)``.
-* Eq. (39) quotes 1.253 for the maximum of the semi-elliptical (Hertz) band; the exact maximum is
-  1.2346... (computed by :func:`flash_max_hertz_coefficient`) at x = -0.652 a.
-
-References
-----------
-.. [1] H. Blok, Theoretical study of temperature rise at surfaces of actual contact under oiliness
-   lubricating conditions, Proc. General Discussion on Lubrication, IMechE 2 (1937) 222-235.
-.. [2] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy. Soc.
-   New South Wales 76 (1942) 203-224.
-.. [3] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 2.9
-   (constant flux into a half-space: ierfc). ISBN 978-0198533689
+References: H. Blok, IMechE Proc. General Discussion on Lubrication 2 (1937) 222-235. J.C. Jaeger, Moving
+sources of heat and the temperature at sliding contacts, J. Proc. Roy. Soc. New South Wales 76 (1942)
+203-224. H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 2.9
+(constant flux into a half-space: ierfc). ISBN 978-0198533689
 """
 from __future__ import annotations
 

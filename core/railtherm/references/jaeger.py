@@ -1,31 +1,18 @@
 """Jaeger's moving band heat source on a half-plane (2-D, steady, any Péclet number).
 
-A band |x| <= a on the surface z = 0 of a half-plane z >= 0 carries the heat flux q(x) [W/m^2] into
-the body and moves with speed V in +x (equivalently the material flows in -x past the source). In the
-source frame the steady temperature rise is the superposition of moving line sources
-(Carslaw & Jaeger 1959, 10.7; Jaeger 1942):
+A band |x| <= a on the surface z = 0 of a half-plane z >= 0 carries the heat flux q(x) [W/m^2] into the
+body and moves with speed V in +x (the material flows in -x past it). In the source frame the steady
+rise is the superposition of moving line sources (Carslaw & Jaeger 1959, 10.7; Jaeger 1942):
+``T(x, z) = 1/(pi lambda) int_{-a}^{a} q(x') exp(-P (x - x')) K0(P r) dx'``, ``P = V/(2 kappa)``,
+``r = sqrt((x - x')^2 + z^2)``. Upstream of a line source (x > x') exp(-P X) K0(P X) ~ exp(-2 P X)
+decays, downstream only like r^(-1/2): the heat trails to x < 0, and the depth integral of one line
+source at any X < 0 is exactly ``1/(rho c V)`` (all heat carried downstream). The quadrature is
+described in :func:`jaeger_band_temperature`.
 
-``T(x, z) = 1/(pi lambda) int_{-a}^{a} q(x') exp(-P (x - x')) K0(P r) dx'``,
-``P = V/(2 kappa)``, ``r = sqrt((x - x')^2 + z^2)``.
-
-Sign check: upstream of a line source (x > x') the factor exp(-P X) K0(P X) ~ exp(-2 P X) decays,
-downstream (x < x') it decays only like r^(-1/2): the heat trails to x < 0. Energy: the depth
-integral of one line source at any X < 0 is exactly ``int_0^inf G dz = 1/(rho c V)`` (all the heat is
-carried downstream), since ``int K0(P sqrt(X^2 + z^2)) dz = (pi/(2P)) exp(-P|X|)`` over z >= 0.
-
-Numerics: with u = x'/a = -cos(theta) (removes the square-root end of a Hertzian flux), the theta
-interval is split at the field point and each part is integrated by a composite Gauss-Legendre rule
-geometrically graded toward the field point (hp-quadrature), which integrates the logarithmic
-singularity of K0 at r = 0 and the downstream boundary layer of width 1/P for any Péclet number.
-``exp(-P X) K0(P r) = k0e(P r) exp(-P (r + X))`` with r + X >= 0 avoids overflow.
-
-References
-----------
-.. [1] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy. Soc.
-   New South Wales 76 (1942) 203-224.
-.. [2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7.
-   ISBN 978-0198533689
-.. [3] C. Schwab, p- and hp-Finite Element Methods, Oxford, 1998 (geometric meshes).
+References: J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy.
+Soc. New South Wales 76 (1942) 203-224. H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd
+ed., Oxford, 1959, section 10.7, ISBN 978-0198533689. C. Schwab, p- and hp-Finite Element Methods,
+Oxford, 1998 (geometric meshes).
 """
 from __future__ import annotations
 
@@ -62,6 +49,12 @@ def jaeger_band_temperature(x, z, half_width: float, speed: float, material, flu
                             shape: str | Callable = "uniform", quad_points: int = 16,
                             chunk: int = 2048) -> np.ndarray:
     """Steady temperature rise of a moving band heat source on a half-plane, any Péclet number.
+
+    Numerics: with u = x'/a = -cos(theta) (removes the square-root end of a Hertzian flux), the theta
+    interval is split at the field point and each part is integrated by a composite Gauss-Legendre rule
+    geometrically graded toward the field point (hp-quadrature, Schwab 1998), which integrates the
+    logarithmic singularity of K0 at r = 0 and the downstream boundary layer of width 1/P for any Péclet
+    number. ``exp(-P X) K0(P r) = k0e(P r) exp(-P (r + X))`` with r + X >= 0 avoids overflow.
 
     Parameters
     ----------

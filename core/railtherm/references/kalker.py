@@ -3,16 +3,14 @@
 Sign convention (as CONTACT): positive creepage gives a negative force on body 1 (the wheel):
 
 ``[Fx, Fy, Mz] = -G a b [[C11, 0, 0], [0, C22, sqrt(ab) C23], [0, -sqrt(ab) C23, ab C33]] . [xi, eta, phi]``
-
-with a the semi-axis along the rolling direction x, b lateral, G the combined shear modulus, xi, eta
-the longitudinal and lateral creepages [1] and phi the spin [1/m].
+with a the semi-axis along rolling x, b lateral, G the combined shear modulus, xi, eta the creepages [1]
+and phi the spin [1/m].
 
 References
 ----------
 .. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, Kluwer, 1990, table E.3.
    doi:10.1007/978-94-015-7889-9
-.. [2] E.A.H. Vollebregt, CONTACT (open source, Apache-2.0), src/m_hertz.f90, subroutines ``linrol``
-   (table, interpolation, asymptotes) and ``simpflex`` (flexibilities).
+.. [2] E.A.H. Vollebregt, CONTACT (Apache-2.0), src/m_hertz.f90, ``linrol`` (table) and ``simpflex``.
 .. [3] J.J. Kalker, A fast algorithm for the simplified theory of rolling contact, Vehicle System
    Dynamics 11 (1982) 1-13. doi:10.1080/00423118208968684
 """
