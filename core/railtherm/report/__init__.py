@@ -1,37 +1,18 @@
 """The study report: ``report.md``, ``report.html`` and ``figures/*.png`` of a study output folder.
 
-:func:`write_report` reads what ``railtherm run`` wrote (``metrics.nc``, ``study.json``, the run files
-and ``references.nc``) and writes a document a researcher reads in ten minutes: a table of contents
-(every section links back to it), then in this order:
+:func:`write_report` reads what ``railtherm run`` wrote (``metrics.nc``, ``study.json``, the run files,
+``references.nc``) and writes a document a researcher reads in ten minutes: a table of contents, then
+the verdict (findings, scorecard: :mod:`.verdict`, work-precision figure); the study and its scenes
+(:mod:`.study_section`, :mod:`.study_notes`); when the study has them, the friction-law
+(:mod:`.friction_section`), wheelset (:mod:`.wheelset_section`), exact-contact (:mod:`.exact_contact`)
+and thermal-trace (:mod:`.trace_section`) sections; one section per scene and sweep (:mod:`.sections`,
+details behind closed ``<details>`` boxes); benchmarks and the environment (:mod:`.environment`).
 
-1. the **verdict**: key findings computed from the metrics, the scorecard (scenes × methods, read from
-   ``metrics.nc``'s ``verdict_*``: :mod:`.verdict`) with the rule it applies, and a work-precision
-   figure with one panel per scene;
-2. **the study and its scenes** (:mod:`.study_section`): what each scene is and which table or figure
-   of the seed paper it reproduces, in the study file's own words (:mod:`.study_notes`), with a flag on
-   scenes whose temperature rise leaves the range of constant material properties;
-3. when a creepage sweep has a friction law: the friction-law section (:mod:`.friction_section`); when
-   scenes take an exact-contact method as their reference: the exact-contact section
-   (:mod:`.exact_contact`), the contact model's error separated from the thermal model's, preceded, when
-   scenes have a wheelset on profiles, by the patch and its flash temperature against lateral shift
-   (:mod:`.wheelset_section`);
-4. when scenes report temperatures behind the patch and in depth (``field``): the thermal-trace section
-   (:mod:`.trace_section`), the seed paper's Figs 2-7 kinds of plot against the exact trace;
-5. one section per scene and per sweep: inputs in a researcher's units, headline and references,
-   refusals (shortened at a word, in full behind a box), published values, the surface-temperature
-   figure; the runs, convergence orders, differences between methods and further figures behind closed
-   ``<details>`` boxes; a scene of the thermal-trace section links there instead of repeating figures;
-6. benchmarks, and the environment: the data files (linked), the commit id and every plugin's version.
-
-Every figure appears once, at most :data:`~.sections.MAX_FIGURES` of them; every table scrolls in its
-own box; every stored name is printed through one mapping (:func:`.format.label`). The report is a
-pure reader: it computes no physics (the exact curves come from ``references.nc``). A figure that
-cannot be drawn becomes a sentence in its place.
-
-Modules: :mod:`.load` (reading), :mod:`.verdict` (scorecard and findings), :mod:`.tables` (table
-rows), :mod:`.figures`, :mod:`.scene_figures`, :mod:`.exact_figures`, :mod:`.trace_figures` (matplotlib),
-:mod:`.sections` (verdict, scene and sweep sections), :mod:`.document` (Markdown and HTML),
-:mod:`.format` (numbers, units, labels), :mod:`.environment` (the last sections).
+Every figure appears once, at most :data:`~.sections.MAX_FIGURES` of them; every stored name is printed
+through one mapping (:func:`.format.label`). The report is a pure reader: it computes no physics (exact
+curves come from ``references.nc``); a figure that cannot be drawn becomes a sentence in its place.
+Other modules: :mod:`.load` (reading), :mod:`.tables`, :mod:`.figures`, :mod:`.scene_figures`,
+:mod:`.exact_figures`, :mod:`.trace_figures` (matplotlib), :mod:`.document` (Markdown and HTML).
 """
 from __future__ import annotations
 

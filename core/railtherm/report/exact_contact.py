@@ -1,25 +1,13 @@
 """The report's exact-contact section: the contact model's error separated from the thermal model's.
 
-A scene whose reference is a method (``reference = "kalker"``) that runs an exact tangential model
-is measured against the exact contact. The section compares, per such scene and quantity, at each
-method's finest successful level (read from the run files through the store):
-
-* the **contact model's error**: a method with the reference's temperature model but another
-  tangential model (``green`` = FASTSIM -> green against ``kalker`` = exact -> green), reference = the
-  exact method;
-* the **thermal model's error**: a method with that method's tangential model but another
-  temperature model (``fastsim-fdm`` = FASTSIM -> fdm against ``green``), reference = that method;
-* the **total**: the thermal method against the exact method (what ``metrics.nc`` records for it).
-
-Errors are signed and relative [1], temperatures on their rise above the bulk temperature. The contact
-model's and the total error are ``metrics.nc``'s signed errors (``signed_error_<quantity>``, taken against
-the exact method), the number the run tables and the scorecard print; quantities ``metrics.nc`` does not score
-(Fy, Mz) and the thermal model's error (a method against another method that is not the scene's reference)
-are ``(value - reference) / |reference - bulk|`` of the run files' values (the wheel's). The section also draws the
-creep-force curve of a creepage sweep (the compared method's Fx / (mu N) against the exact method's,
-with core's linear theory from ``references.nc``), the traction, slip and power-density maps of one
-combined-creepage scene side by side, and a scene whose gap is not Hertzian (which only the exact
-method runs).
+A scene whose reference is a method (``reference = "kalker"``) that runs an exact tangential model is
+measured against the exact contact. Per such scene and quantity, at each method's finest successful
+level, the section compares the **contact model's error** (same temperature model, other tangential
+model: ``green`` against ``kalker``), the **thermal model's error** (same tangential model, other
+temperature model: ``fastsim-fdm`` against ``green``) and the **total** (what ``metrics.nc`` records).
+It also draws a creepage sweep's creep-force curves, the traction, slip and power-density maps of one
+combined-creepage scene, and a scene whose gap is not Hertzian (which only the exact method runs); the
+error definitions are in :func:`exact_contact_section`.
 
 The report computes no physics: every value is a run file's, every reference curve ``references.nc``'s.
 """
@@ -306,7 +294,16 @@ def _gap_scenes(data: StudyData, comp: ExactComparison) -> list[str]:
 
 
 def exact_contact_section(doc: Document, ctx, comps: list[ExactComparison] | None = None):
-    """Write the section (nothing when the study has no scene measured against an exact contact)."""
+    """Write the section (nothing when the study has no scene measured against an exact contact).
+
+    Errors are signed and relative [1], temperatures on their rise above the bulk temperature. The contact
+    model's and the total error are ``metrics.nc``'s signed errors (``signed_error_<quantity>``, taken
+    against the exact method), the number the run tables and the scorecard print; quantities ``metrics.nc``
+    does not score (Fy, Mz) and the thermal model's error (a method against another method that is not the
+    scene's reference) are ``(value - reference) / |reference - bulk|`` of the run files' values (the
+    wheel's). The creep-force curve of a creepage sweep is the compared method's Fx / (mu N) against the
+    exact method's, with core's linear theory from ``references.nc``.
+    """
     data = ctx.data
     comps = exact_comparisons(data) if comps is None else comps
     comps = [c for c in comps if c.contact]

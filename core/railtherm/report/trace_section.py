@@ -1,24 +1,16 @@
-"""The report's thermal-trace section: temperatures behind the patch and in depth (the seed
-paper's Figs 2-7 kinds of plot).
+"""The report's thermal-trace section: temperatures behind the patch and in depth (the seed paper's Figs
+2-7 kinds of plot).
 
 For every scene with ``field`` whose exact trace is in ``references.nc`` (written by
 :func:`railtherm.analysis.reference_curves.write_reference_curves`), each method's finest successful level
-(read from its run file through the store) is drawn against the exact reference
-(:mod:`.trace_figures`): the temperature along the rolling direction on the surface and at the depth
-z* of the reference, including the trace behind the patch; the temperature against depth at the
-hottest surface point, the peak temperature each depth reaches and the cooling rate after it; and the
-surface-temperature maps of the patch and its trace (ellipses). One table per study lists, for each
-heated body, the maximum surface temperature (the run's ``max_surface_temperature``, the number every other
-table shows), the depth of the ``field.threshold`` isotherm (``heated_depth``), the time the surface spends
-above it (``time_above`` at z = 0) and the cooling rate at z* per method beside the exact values. The errors of
-metrics are ``metrics.nc``'s (one per run, signed where stored, the cooling rate's named with the depths it
-is scored at, its all-depths error beside it); the time above and the cooling rate at z* are single points
-of a profile, so their signed differences (value − exact) / |exact| are named "difference at the surface"
-and "difference at z*".
+is drawn against the exact reference (:mod:`.trace_figures`): temperature along x on the surface and at
+the reference's depth z*, temperature against depth at the hottest surface point, each depth's peak and
+the cooling rate after it, and the surface-temperature maps of the patch and its trace. One table lists
+per method and heated body the maximum surface temperature, the heated depth, the time above the
+threshold and the cooling rate at z* beside the exact values (:func:`trace_section` says which errors).
 
 The report computes no physics: the methods' values are their run files', interpolated linearly in
-depth to z* where needed (cooling rate, temperature along x at z*); every exact value is
-``references.nc``'s.
+depth to z* where needed; every exact value is ``references.nc``'s.
 """
 from __future__ import annotations
 
@@ -216,7 +208,15 @@ def trace_rows(data: StudyData, scenes: list[str] | None = None) -> tuple[list[s
 
 
 def trace_section(doc: Document, ctx, scenes: list[str] | None = None):
-    """Write the section (nothing when no scene has an exact thermal trace)."""
+    """Write the section (nothing when no scene has an exact thermal trace).
+
+    The table's maximum surface temperature is the run's ``max_surface_temperature`` (the number every
+    other table shows), the heated depth that of the ``field.threshold`` isotherm (``heated_depth``), the
+    time above it ``time_above`` at z = 0. The errors are ``metrics.nc``'s (one per run, signed where
+    stored, the cooling rate's named with the depths it is scored at, its all-depths error beside it); the
+    time above and the cooling rate at z* are single points of a profile, so their signed differences
+    (value - exact) / |exact| are named "difference at the surface" and "difference at z*".
+    """
     data = ctx.data
     scenes = trace_scenes(data) if scenes is None else scenes
     if not scenes:

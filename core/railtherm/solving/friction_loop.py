@@ -1,15 +1,12 @@
 """Core's coupled loop for friction that falls with temperature, on a chain's stages: tangential -> heat
 source -> temperature -> contact temperature -> friction.
 
-A scene whose ``friction`` is a ``temperature`` law makes the friction of each cell depend on the surface
-temperature there, which depends on the heat the friction makes. :func:`solve_coupled` runs the chain's own
-stage models (the temperature model of the chain, green by default in the methods that have it, or any
-other) as the solve of the one temperature-friction loop,
-:func:`railtherm.physics.friction.iterate_temperature_law` (Anderson mixing of the contact temperature, its
-stopping rule and step limit): the tangential model solves with the contact temperature on the patch (first:
-that of the bulk temperatures), core's heat source and the chain's temperature model give the surface
-temperatures and they the contact temperature of each cell
-(:func:`railtherm.physics.friction.field_contact_temperature`).
+:func:`solve_coupled` runs the chain's own stage models (its temperature model: green by default in the
+methods that have it, or any other) as the solve of the one temperature-friction loop,
+:func:`railtherm.physics.friction.iterate_temperature_law` (Anderson mixing, stopping rule, step limit):
+the tangential model solves with the contact temperature on the patch (first: that of the bulk
+temperatures), core's heat source and the chain's temperature model give the surface temperatures and
+they the contact temperature of each cell (:func:`railtherm.physics.friction.field_contact_temperature`).
 
 The iteration history goes into the diagnostics: ``friction_loop_iterations``, ``friction_loop_mu_change``
 (per iteration, [1]), ``friction_loop_force_change`` (per iteration, [1] relative to mu_ref N; NaN at the
