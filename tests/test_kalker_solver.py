@@ -458,7 +458,8 @@ def test_contact_extent_equals_the_per_line_edges():
 
 def test_fused_jacobian_rows_and_scatter_gather_equal_numpy():
     """The Newton Jacobian's rows in one numba pass equal the numpy expression (-r B v in stick,
-    v - fac (I - zh zh^T)(v + r B v) in slip) to round-off, and the numba scatter/gather equal np.put/np.take."""
+    v - fac (I - zh zh^T)(v + r B v) in slip) to round-off, in v's precision (float32, or float64 with a float32
+    B v), and the numba scatter/gather equal np.put/np.take."""
     from railtherm_kalker import influence, tangential_solver
     if tangential_solver._jacobian_rows is None or influence._scatter is None:
         pytest.skip("numba not available: the numpy expressions are used")
@@ -480,6 +481,12 @@ def test_fused_jacobian_rows_and_scatter_gather_equal_numpy():
     want32 = np.where(slipping, v32 - fac * (q32 - zh * np.sum(zh * q32, axis=0)), -r * bv32.astype(float))
     assert got32.dtype == np.float32
     np.testing.assert_allclose(got32, want32, rtol=0, atol=1e-7 * np.abs(want32).max())
+    # a float32 product with a double-precision basis: the rows in double precision
+    mixed = tangential_solver._jacobian_rows(v, bv32, slipping, zh, fac, r)
+    qm = v + r * bv32.astype(float)
+    assert mixed.dtype == np.float64
+    np.testing.assert_allclose(mixed, np.where(slipping, v - fac * (qm - zh * np.sum(zh * qm, axis=0)),
+                                               -r * bv32.astype(float)), rtol=0, atol=1e-14 * np.abs(expected).max())
     idx = np.sort(rng.choice(4000, nin, replace=False))
     buf, ref = np.zeros((nc, 4000)), np.zeros((nc, 4000))
     influence._scatter(buf, idx, v)

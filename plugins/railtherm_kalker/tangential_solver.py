@@ -91,6 +91,12 @@ FORCING, FORCING_MAX = 0.05, 0.5
 #: residual is always evaluated in double precision, so the converged traction does not depend on this choice
 LINEAR_MIN, LINEAR_MAXITER, SINGLE_BELOW = 1e-8, 200, 2e-6
 
+#: the tolerance above which GMRES's Krylov basis (and its orthogonalisation) is in single precision too (below,
+#: float32 products with a double-precision basis): at 200^2 longitudinal creepage the last Newton step's GMRES
+#: (tolerance 1.2e-5) took 55 or 145 steps with a float32 basis, depending on round-off in the pressure (1e-12), and
+#: 50 with a float64 basis (47 with float64 products too)
+SINGLE_BASIS_ABOVE = 1e-3
+
 #: a step whose forcing term would reach the tolerance stops at FINAL_MARGIN tol / res instead (the relative
 #: residual of the linearised system predicts the next max |F| to within a factor 2 once the stick/slip division
 #: is settled); 0.3 took 203/189 FFT products (combined/longitudinal creepage, E&K ellipse, 200^2) against
@@ -305,7 +311,7 @@ def _gmres(matvec, psolve, b, rtol, maxiter, dtype=np.float64):
             w = w - h2 @ V[:k + 1]
             h = h + h2
             hn = float(np.linalg.norm(w))
-        col = np.append(h, hn)
+        col = np.append(h.astype(float), hn)     # the Hessenberg column and its rotations in double precision
         for m in range(k):                       # earlier rotations
             t = cs[m] * col[m] + sn[m] * col[m + 1]
             col[m + 1] = -sn[m] * col[m] + cs[m] * col[m + 1]
@@ -333,9 +339,9 @@ try:  # pragma: no cover - exercised when numba is installed (a declared depende
     def _jacobian_rows(v, bv, slipping, zh, fac, r):
         """The Newton Jacobian's rows J v from v and B v in one pass: -r B v on sticking elements,
         v - fac (I - zh zh^T)(v + r B v) on slipping ones (the numpy expression of :func:`solve_tangential`),
-        evaluated in double precision and returned in B v's precision."""
+        evaluated in double precision and returned in v's precision (GMRES's basis)."""
         nc, nin = v.shape
-        out = np.empty((nc, nin), dtype=bv.dtype)
+        out = np.empty((nc, nin), dtype=v.dtype)
         for e in range(nin):
             if slipping[e]:
                 dot = 0.0
@@ -465,7 +471,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
 
         def jac(v):
             v = v.reshape(nc, nin)
-            if single:      # float32 in and out (GMRES's basis): no conversions of the product
+            if single:      # a float32 product, the rows in the basis's precision: no conversions of the product
                 bv = conv.apply_at(v.astype(np.float32, copy=False), idx, single=True)
             else:
                 bv = conv.apply_at(v, idx)
@@ -485,7 +491,8 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         else:
             def psolve(v):
                 return v
-        d, nlin = _gmres(jac, psolve, -F.ravel(), eta_k, LINEAR_MAXITER, np.float32 if single else np.float64)
+        d, nlin = _gmres(jac, psolve, -F.ravel(), eta_k, LINEAR_MAXITER,
+                         np.float32 if eta_k > SINGLE_BASIS_ABOVE else np.float64)
         lin_total += nlin
         d = d.reshape(nc, nin)
         # line search on max |F|
