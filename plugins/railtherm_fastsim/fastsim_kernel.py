@@ -2,29 +2,17 @@
 
 The simplified theory replaces the elastic half-space by a Winkler bed of springs, ``u = L p``
 (displacement ``u`` [m], traction ``p`` [Pa], flexibility ``L`` [m/Pa]). In steady rolling the body
-material flows through the patch in the -x direction (it enters at the leading edge x = +a), and
-the slip of body 1 (wheel) relative to body 2 (rail), per unit rolling distance, is
-``s = w - du/dx`` with the rigid slip ``w = (xi - phi y, eta + phi x)`` ([1] [2]). Stepping from a
-cell at x to the next one downstream at x - dq:
-
-* adhesion (s = 0):   ``p_h = p' - dq (xi/L1 - phi y/L3,  eta/L2 + phi x*/L3)``
-* traction bound:     if ``|p_h| > g = mu p_z`` then ``p = g p_h/|p_h|`` (slip), else ``p = p_h``;
-* slip per unit rolling distance (cell i): ``s_x = L1 (p_x - p_hx)/dq``, ``s_y = L2 (p_y - p_hy)/dq``;
-  the slip velocity is ``V s`` [m/s] and the frictional power density ``-V p . s >= 0`` [W/m^2]
-  (the seed's "modified FASTSIM" power density; its printed formula for ``P_d`` is garbled, this
-  is the local dissipation of the Winkler model that the seed describes in words).
-
-With three flexibilities (L1, L2, L3) the spin term is weighted by 1/L3 exactly as in CONTACT's
-``M=3`` (rigid shift scaled by L1/L3, L2/L3); x* is where the spin slip is sampled (see
-``spin_offset``). Traction ``p`` acts on the wheel: a positive creepage gives a negative force
-(CONTACT's convention).
+material flows through the patch in -x (it enters at the leading edge x = +a), and the slip of body 1
+(wheel) relative to body 2 (rail), per unit rolling distance, is ``s = w - du/dx`` with the rigid slip
+``w = (xi - phi y, eta + phi x)`` ([1] [2]). Each strip is swept from its leading edge (the stepping
+rule: :func:`fastsim_sweep`; one cell's stick or slip: :func:`_cell_update`). Traction ``p`` acts on
+the wheel: a positive creepage gives a negative force (CONTACT's convention).
 
 References
 ----------
 .. [1] J.J. Kalker, A fast algorithm for the simplified theory of rolling contact, Vehicle System
    Dynamics 11 (1982) 1-13. doi:10.1080/00423118208968684
-.. [2] E.A.H. Vollebregt, CONTACT (open source, Apache-2.0), src/m_solvpt.f90 ``modif_fastsim``,
-   src/m_scontc.f90 (rigid slip for M=3).
+.. [2] E.A.H. Vollebregt, CONTACT (Apache-2.0), src/m_solvpt.f90 ``modif_fastsim``, src/m_scontc.f90.
 """
 from __future__ import annotations
 
@@ -38,7 +26,21 @@ import numpy as np
 def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
                   px, py, sx, sy, stick, power):  # pragma: no cover - compiled
     """Kalker's sweep with the traction bound ``bound`` = mu p per cell (any constant or per-cell mu):
-    :func:`fastsim_sweep_law` with ``law_mode = 0``; returns its first six results."""
+    :func:`fastsim_sweep_law` with ``law_mode = 0``; returns its first six results.
+
+    Stepping from a cell at x to the next one downstream at x - dq:
+
+    * adhesion (s = 0):   ``p_h = p' - dq (xi/L1 - phi y/L3,  eta/L2 + phi x*/L3)``
+    * traction bound:     if ``|p_h| > g = mu p_z`` then ``p = g p_h/|p_h|`` (slip), else ``p = p_h``;
+    * slip per unit rolling distance (cell i): ``s_x = L1 (p_x - p_hx)/dq``, ``s_y = L2 (p_y - p_hy)/dq``;
+      the slip velocity is ``V s`` [m/s] and the frictional power density ``-V p . s >= 0`` [W/m^2]
+      (the seed's "modified FASTSIM" power density; its printed formula for ``P_d`` is garbled, this
+      is the local dissipation of the Winkler model that the seed describes in words).
+
+    With three flexibilities (L1, L2, L3) the spin term is weighted by 1/L3 exactly as in CONTACT's
+    ``M=3`` (rigid shift scaled by L1/L3, L2/L3); x* is where the spin slip is sampled (see
+    ``spin_offset``).
+    """
     r = fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
                           0, 0.0, 0.0, 1.0, px, py, sx, sy, stick, power)
     return r[0], r[1], r[2], r[3], r[4], r[5]

@@ -1,58 +1,17 @@
 """FASTSIM for a line contact (2-D rolling): one strip, one flexibility, longitudinal creepage.
 
-In 2-D the simplified theory has a single strip |x| <= a and a single creepage xi; the traction
-per unit area on the wheel follows the same rule as in 3-D (Kalker's sweep with one strip): from
-the leading edge x = +a, in adhesion ``p(x) = -(xi / L) (a - x)``, and where this
-exceeds the traction bound ``g = mu p_z`` the traction sits on the bound and the wheel slips.
+In 2-D the simplified theory has a single strip |x| <= a and a single creepage xi; the traction on the
+wheel follows the 3-D rule: from the leading edge x = +a, in adhesion ``p(x) = -(xi / L) (a - x)``, and
+where this exceeds the bound ``g = mu p_z`` the traction sits on the bound and the wheel slips. The
+flexibility ``L = 4 a (1 - nu) / (pi G)`` reproduces Carter's linear creep law
+(:func:`line_flexibility`); beyond the linear range the creep curve is not Carter's
+(:func:`fastsim_line_force_ratio`). For the analytic (concave) bounds the continuous strip solution is
+integrated exactly over every cell (``integration="exact"``, the default: no discretisation error in
+forces and powers, :func:`_exact_cells`); Kalker's discrete sweep is kept as ``integration="sweep"``.
 
-Flexibility. The 2-D elastic (Carter) problem for quasi-identical bodies gives, for small
-creepage, ``Fx / (mu N) = -2 xi R / (mu a)`` (the linear term of Carter's
-``1 - (1 - |xi| R/(mu a))^2``), i.e. with ``N = pi a^2 G / (4 R (1 - nu))``
-
-``Fx = -(pi a G / (2 (1 - nu))) xi``   [N/m].
-
-FASTSIM's stick solution gives ``Fx = -(2 a^2 / L) xi``; equal slopes need
-
-``L = 4 a (1 - nu) / (pi G)``   [m/Pa]
-
-(about 1.27 a (1 - nu)/G, not a (1 - nu)/G). This is the flexibility used here (combined G and nu
-of the two bodies, :func:`railtherm.combined_elastic`); the 2-D linear law in these terms does not
-involve R, so it also serves bodies that are not identical, where Carter's theory itself is only
-approximate.
-
-The creep curve of this simplified theory is *not* Carter's beyond the linear range. With
-``s = |xi| R / (mu a)`` (s = 1 is Carter's saturation) and ``c = pi s / 2``, the exact FASTSIM curve
-with the elliptic (Hertz) bound is
-
-``|Fx| / (mu N) = (2/pi) [c (1 - u*)^2 / 2 + (asin u* + u* sqrt(1 - u*^2))/2 + pi/4]``,
-``u* = (c^2 - 1)/(c^2 + 1)``
-
-(stick zone u* < x/a <= 1 at the leading edge, slip behind it): it approaches 1 only
-asymptotically (0.927 at s = 1, 0.973 at s = 1.5), and its largest deviation from Carter is
--0.082 mu N at s = 0.88 (:func:`fastsim_line_force_ratio`).
-
-Discretisation. In 2-D the stick/slip boundary is a single point x*, where ``|xi| (a - x)/L`` meets
-the bound; for the analytic bounds (Hertz, parabolic: both concave, so one stick zone at the leading
-edge and slip behind it) the continuous strip solution is integrated exactly over every cell
-(``integration="exact"``, the default): forces and powers have no discretisation error. Kalker's
-discrete sweep, as in 3-D, is kept as ``integration="sweep"`` (the seed's modified FASTSIM); its
-force converges at second order (the stick/slip kink inside one cell).
-
-Frictional power. The local density ``-p . s`` [W/m^2] with the slip velocity of the wheel relative
-to the rail ``s = V (xi - L dp/dx)``: zero in stick, ``V g (|xi| + L dg/dx)`` in slip (more heat in
-the trailing half, where the bound g falls towards the trailing edge). Its integral per unit width
-[W/m] (``local_power``) equals the global ``-V xi Fx`` exactly for the continuous solution (the
-elastic energy stored in the stick zone, ``L g(x*)^2/2``, is released in the slip zone); the
-discrete sweep misses it by ``V L sum((Delta p)^2)/2``, first order in the cell size, and gives
-no power at all while the slip zone is narrower than a cell (small creepage).
-
-References
-----------
-.. [1] J.J. Kalker, A fast algorithm for the simplified theory of rolling contact, Vehicle System
-   Dynamics 11 (1982) 1-13. doi:10.1080/00423118208968684
-.. [2] F.W. Carter, On the action of a locomotive driving wheel, Proc. R. Soc. Lond. A 112 (1926)
-   151-157. doi:10.1098/rspa.1926.0100
-.. [3] K.L. Johnson, Contact Mechanics, 1985, section 8.4. doi:10.1017/CBO9781139171731
+References: J.J. Kalker, Vehicle System Dynamics 11 (1982) 1-13, doi:10.1080/00423118208968684.
+F.W. Carter, Proc. R. Soc. Lond. A 112 (1926) 151-157, doi:10.1098/rspa.1926.0100. K.L. Johnson,
+Contact Mechanics, 1985, section 8.4, doi:10.1017/CBO9781139171731.
 """
 from __future__ import annotations
 
@@ -67,7 +26,13 @@ def line_flexibility(a: float, shear_modulus: float, poisson_ratio: float) -> fl
     """Flexibility of the 2-D simplified theory that reproduces Carter's linear creep law [m/Pa].
 
     ``L = 4 a (1 - nu) / (pi G)``: FASTSIM's small-creepage force ``-(2 a^2/L) xi`` per unit width
-    then equals Carter's ``-(pi a G / (2 (1 - nu))) xi``.
+    then equals Carter's ``-(pi a G / (2 (1 - nu))) xi``. Carter's problem for quasi-identical bodies
+    gives, for small creepage, ``Fx / (mu N) = -2 xi R / (mu a)`` (the linear term of Carter's
+    ``1 - (1 - |xi| R/(mu a))^2``), i.e. with ``N = pi a^2 G / (4 R (1 - nu))`` that force; FASTSIM's
+    stick solution gives ``Fx = -(2 a^2 / L) xi``, so equal slopes need this L (about 1.27 a (1 - nu)/G,
+    not a (1 - nu)/G). The 2-D linear law in these terms does not involve R, so it also serves bodies
+    that are not identical (combined G and nu, :func:`railtherm.physics.combined_elastic`), where Carter's
+    theory itself is only approximate.
 
     Parameters
     ----------
@@ -92,6 +57,12 @@ def line_flexibility(a: float, shear_modulus: float, poisson_ratio: float) -> fl
 
 def fastsim_line_force_ratio(s: float) -> float:
     """Exact |Fx| / (mu N) of 2-D FASTSIM (elliptic bound, flexibility :func:`line_flexibility`) [1].
+
+    The creep curve of this simplified theory is *not* Carter's beyond the linear range. With ``c = pi
+    s / 2`` the exact curve is ``|Fx| / (mu N) = (2/pi) [c (1 - u*)^2 / 2 + (asin u* + u* sqrt(1 -
+    u*^2))/2 + pi/4]``, ``u* = (c^2 - 1)/(c^2 + 1)`` (stick zone u* < x/a <= 1 at the leading edge, slip
+    behind it): it approaches 1 only asymptotically (0.927 at s = 1, 0.973 at s = 1.5), and its largest
+    deviation from Carter is -0.082 mu N at s = 0.88.
 
     Parameters
     ----------
@@ -145,6 +116,17 @@ def stick_slip_boundary(c: float, bound: str = "elliptic") -> float:
 
 def _exact_cells(x_edges, a, bound, g0, xi, L, speed):
     """Cell averages of the continuous 2-D FASTSIM solution (concave analytic bound g0 f(x/a)).
+
+    The stick/slip boundary is a single point x*, where ``|xi| (a - x)/L`` meets the bound; for the
+    analytic bounds (Hertz, parabolic: both concave, so one stick zone at the leading edge and slip
+    behind it) the strip solution is integrated exactly over every cell: forces and powers have no
+    discretisation error. The power density ``-p . s`` with the slip velocity of the wheel relative to
+    the rail ``s = V (xi - L dp/dx)`` is zero in stick and ``V g (|xi| + L dg/dx)`` in slip (more heat in
+    the trailing half, where g falls); its integral equals the global ``-V xi Fx`` exactly (the elastic
+    energy stored in the stick zone, ``L g(x*)^2/2``, is released in the slip zone). Kalker's discrete
+    sweep (``integration="sweep"``) misses it by ``V L sum((Delta p)^2)/2``, first order in the cell
+    size, and gives no power while the slip zone is narrower than a cell; its force converges at second
+    order (the stick/slip kink inside one cell).
 
     Returns traction (signed, on the wheel), slip velocity, power density, stick indicator (cell
     centre) and the stick/slip boundary x* [m].

@@ -1,39 +1,18 @@
 """Wheelset kinematics of seed section 6.1: creepages and normal forces of both wheel-rail contacts.
 
-A rigid wheelset with conical treads (conicity gamma = tan(delta), delta the cone and contact
-angle) rolls at speed V on two rails, shifted laterally by y and yawed by psi, loaded vertically by
-Q; its angular velocity is ``Omega = V (1 + theta) / r0`` with a small unknown theta (the seed's
-theta~). Wheel 1 is the left wheel (contact at lateral position +e, e = gauge/2, rolling radius
-r1 = r0 + gamma y, contact angle +delta), wheel 2 the right one (-e, r2 = r0 - gamma y, -delta).
+A rigid wheelset with conical treads (conicity gamma = tan(delta), delta the cone and contact angle)
+rolls at speed V on two rails, shifted laterally by y and yawed by psi, loaded vertically by Q; its
+angular velocity is ``Omega = V (1 + theta) / r0`` with a small unknown theta (the seed's theta~).
+Wheel 1 is the left wheel (contact at lateral position +e, e = gauge/2, rolling radius r1 = r0 + gamma
+y, contact angle +delta), wheel 2 the right one (-e, r2 = r0 - gamma y, -delta). The creepages and the
+equilibrium (axle moment -> theta; vertical force and roll moment -> the seed's linear system A N = Q,
+eq. 55) are written out in :class:`_Wheelset`; :func:`wheelset_contacts` iterates creep forces (FASTSIM
+on each Hertz patch) -> theta -> A -> N until N changes by less than ``rtol``. Each Hertz patch scales
+with its normal force (semi-axes as N^(1/3) for curvatures, fixed for given semi-axes).
 
-Creepages of wheel i (rigid slip of the wheel relative to the rail per unit rolling distance, the
-convention of the fastsim model; the seed's eqs. after (54) in their physically consistent form --
-the seed writes the longitudinal creepage of both wheels with the sign of wheel 1):
-
-* ``xi_i  = 1 - (1 + theta) r_i / r0``               (longitudinal; > 0 when the wheel surface is slower)
-* ``eta_i = -psi / cos(delta_i)``                    (lateral, quasi-static: no lateral velocity)
-* ``phi_i = (1 + theta) sin(delta_i) / r0``          (spin, seed's Phi_i)
-
-Equilibrium without inertia and without driving torque (seed: "the normal and tangential
-components ... satisfy a system of nonlinear algebraic equations"):
-
-* axle moment:   ``sum_i Fx_i r_i = 0``                                     -> theta
-* vertical:      ``sum_i (N_i cos(delta_i) + Fy_i sin(delta_i)) = Q``
-* roll moment:   ``sum_i (y_i (N_i cos(delta_i) + Fy_i sin(delta_i)) + r_i (Fy_i cos(delta_i) - N_i sin(delta_i))) = 0``
-
-With the creep forces written as ``Fy_i = k_i N_i`` (the seed's secant coefficients E_y, from the
-current iterate), the last two equations are the seed's linear system ``A N = Q`` (55). The seed's
-fixed-point iteration: creep forces (FASTSIM on each Hertz patch) -> theta -> A -> N, repeated until
-N changes by less than ``rtol``. The lateral force balance involves the (unknown) suspension force
-and is not used. The Hertz patch of each contact scales with its normal force: semi-axes as
-N^(1/3) when the contact is given by curvatures, fixed when it is given by semi-axes.
-
-References
-----------
-.. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, 1990, ch. 1 (creepages).
-   doi:10.1007/978-94-015-7889-9
-.. [2] K. Knothe, S. Stichel, Rail Vehicle Dynamics, Springer, 2017, ch. 5 (wheelset creepages).
-   doi:10.1007/978-3-319-45376-7
+References: J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, 1990, ch. 1,
+doi:10.1007/978-94-015-7889-9. K. Knothe, S. Stichel, Rail Vehicle Dynamics, Springer, 2017, ch. 5,
+doi:10.1007/978-3-319-45376-7.
 """
 from __future__ import annotations
 
@@ -136,7 +115,27 @@ def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, whee
 @dataclass(frozen=True)
 class _Wheelset:
     """The wheelset's geometry and FASTSIM inputs, built once per :func:`wheelset_contacts` solve, and the
-    steps of its fixed-point iteration."""
+    steps of its fixed-point iteration.
+
+    Creepages of wheel i (rigid slip of the wheel relative to the rail per unit rolling distance, the
+    convention of the fastsim model; the seed's eqs. after (54) in their physically consistent form --
+    the seed writes the longitudinal creepage of both wheels with the sign of wheel 1):
+
+    * ``xi_i  = 1 - (1 + theta) r_i / r0``               (longitudinal; > 0 when the wheel surface is slower)
+    * ``eta_i = -psi / cos(delta_i)``                    (lateral, quasi-static: no lateral velocity)
+    * ``phi_i = (1 + theta) sin(delta_i) / r0``          (spin, seed's Phi_i)
+
+    Equilibrium without inertia and without driving torque (seed: "the normal and tangential
+    components ... satisfy a system of nonlinear algebraic equations"):
+
+    * axle moment:   ``sum_i Fx_i r_i = 0``                                     -> theta
+    * vertical:      ``sum_i (N_i cos(delta_i) + Fy_i sin(delta_i)) = Q``
+    * roll moment:   ``sum_i (y_i (N_i cos(delta_i) + Fy_i sin(delta_i)) + r_i (Fy_i cos(delta_i) - N_i sin(delta_i))) = 0``
+
+    With the creep forces written as ``Fy_i = k_i N_i`` (the seed's secant coefficients E_y, from the
+    current iterate), the last two equations are the seed's linear system ``A N = Q`` (55). The lateral
+    force balance involves the (unknown) suspension force and is not used.
+    """
 
     delta: float                  # contact angle of wheel 1 [rad]
     dl: np.ndarray                # contact angles (+delta, -delta) [rad]

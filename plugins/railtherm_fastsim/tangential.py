@@ -1,33 +1,18 @@
 """Tangential model "fastsim": Kalker's FASTSIM on the normal stage's patch (seed section 6.2).
 
-The model fills the tangential fields of the patch (tractions, slip velocity, stick/slip, creep
-forces, spin moment), the surface speeds V (1 - xi) and V, and the local dissipation -p . s per cell
-(the seed's "modified FASTSIM" power density), which core's heat source ``frictional`` turns into the
-heat flux. It never changes the normal stage's geometry or pressure: Kalker's parabolic traction bound
-(option ``bound = "parabolic"``) bounds the tractions by mu p_par, but the reported pressure stays the
-normal model's.
+The model fills the tangential fields of the patch (tractions, slip velocity, stick/slip, creep forces,
+spin moment), the surface speeds V (1 - xi) and V, and the local dissipation -p . s per cell, which
+core's heat source ``frictional`` turns into the heat flux. It never changes the normal stage's
+geometry or pressure: Kalker's parabolic bound (option ``bound = "parabolic"``) bounds the tractions by
+mu p_par, but the reported pressure stays the normal model's. Creepages: the patch's own (the wheelset
+kinematics of seed section 6.1, :class:`railtherm_fastsim.wheelset_normal.WheelsetNormal`), else
+``scene.creepage``, else full sliding (``scene.sliding_speed`` v_s as xi = -v_s/V: the wheel surface
+moves at V + v_s, seed eqs. 32-33). Friction laws apply cell by cell: a temperature law's mu at the
+patch's contact temperature (core's coupled loop puts it there), a slip-velocity law solved in the
+sweep (:func:`friction_of`).
 
-Creepages: the patch's own (the wheelset kinematics of seed section 6.1, normal model
-:class:`railtherm_fastsim.wheelset_normal.WheelsetNormal`), else ``scene.creepage``, else full sliding
-(``scene.sliding_speed`` v_s as the longitudinal creepage xi = -v_s/V: the wheel surface moves at
-V + v_s, seed eqs. 32-33).
-
-Friction laws (:mod:`railtherm.physics.friction`), cell by cell: a temperature law gives mu of
-each cell at the contact temperature on the patch (core's coupled loop puts it there) and the bound mu p;
-an exponential slip-velocity law (or Polach's) makes the bound of a slipping cell mu(v) p with v its own
-slip speed, v = V |L (q - h)| / dx, solved per cell in the sweep
-(:func:`railtherm_fastsim.fastsim_kernel.slip_law_bound`). A cell that cannot stick (|h| > mu(0) p) has
-exactly one root (the local equation is concave). A cell that can stick (|h| <= mu(0) p) sticks: static
-friction holds until it is exceeded. That is the solution of largest traction and least slip, the one
-kalker's monotone iteration from mu(0) converges to; where the law falls steeply (kappa = |dmu/dv| p V L /
-dx > 1, core's :func:`~railtherm.physics.friction.contraction_limit`; FASTSIM's kappa grows as 1/dx) such a
-cell would also have two slip roots, and the diagnostics count those cells (``friction_nonunique_cells``,
-their largest kappa ``friction_nonunique_kappa``) instead of refusing the run.
-
-References
-----------
-.. [1] J.J. Kalker, A fast algorithm for the simplified theory of rolling contact, Vehicle System
-   Dynamics 11 (1982) 1-13. doi:10.1080/00423118208968684
+References: J.J. Kalker, A fast algorithm for the simplified theory of rolling contact, Vehicle System
+Dynamics 11 (1982) 1-13. doi:10.1080/00423118208968684
 """
 from __future__ import annotations
 
@@ -131,7 +116,18 @@ class FastsimTangential(TangentialContactModel):
 def friction_of(scene, patch):
     """(friction, slip_law) for :func:`~railtherm_fastsim.simplified_theory.fastsim`: the constant mu (a float),
     mu per cell of a temperature law at the patch's contact temperature, or the
-    nominal mu and the slip-velocity law solved in the sweep."""
+    nominal mu and the slip-velocity law solved in the sweep.
+
+    An exponential slip-velocity law (or Polach's) makes the bound of a slipping cell mu(v) p with v its
+    own slip speed, v = V |L (q - h)| / dx, solved per cell in the sweep
+    (:func:`railtherm_fastsim.fastsim_kernel.slip_law_bound`). A cell that cannot stick (|h| > mu(0) p)
+    has exactly one root (the local equation is concave). A cell that can stick (|h| <= mu(0) p) sticks:
+    static friction holds until it is exceeded. That is the solution of largest traction and least slip,
+    the one kalker's monotone iteration from mu(0) converges to; where the law falls steeply (kappa =
+    |dmu/dv| p V L / dx > 1, :func:`~railtherm.physics.friction.contraction_limit`; FASTSIM's kappa grows
+    as 1/dx) such a cell would also have two slip roots, and the diagnostics count those cells
+    (``friction_nonunique_cells``, their largest kappa ``friction_nonunique_kappa``) instead of refusing.
+    """
     law = getattr(scene, "friction_law", None)
     if law is None or law.kind == "constant":
         return float(scene.friction), None
