@@ -1,9 +1,9 @@
 """Condensation of the strip stiffness onto its contact window (Schur complement / compliance).
 
-The strip's stiffness K is factorised once with the contact-window unknowns ordered *last*
-(after a geometric nested-dissection ordering of all other unknowns, which keeps the fill of a 2-D
-mesh at O(n log n)). With ``K = L U`` and the window block trailing, the trailing blocks of the
-factors are the factors of the Schur complement
+The strip's stiffness K is factorised once with the contact-window unknowns ordered *last* (after a
+geometric nested-dissection ordering of all other unknowns, which keeps the fill of a 2-D mesh at
+O(n log n)). With ``K = L U`` and the window block trailing, the trailing blocks of the factors are the
+factors of the Schur complement
 
     S = K_ww - K_wi K_ii^{-1} K_iw = L_ww U_ww,
 
@@ -11,9 +11,6 @@ the stiffness of the strip seen from its window. Its inverse, the compliance C =
 displacements per unit nodal force), is a small dense matrix (2m x 2m for m window nodes) obtained
 without a single extra solve with K. The same factorisation then solves full-field load cases
 (thermal expansion, the final contact forces) at the cost of one triangular solve each.
-
-SuperLU is called with the natural column order (the ordering is ours), no row pivoting
-(``diag_pivot_thresh = 0``, K is symmetric positive definite) and ``SymmetricMode``.
 """
 from __future__ import annotations
 
@@ -98,6 +95,9 @@ def nested_dissection(adjacency: sp.csr_matrix, coords: np.ndarray, nodes: np.nd
 
 class CondensedStiffness:
     """Factorised stiffness with the window unknowns last; compliance of the window.
+
+    SuperLU is called with the natural column order (the ordering is ours), no row pivoting
+    (``diag_pivot_thresh = 0``, K is symmetric positive definite) and ``SymmetricMode``.
 
     Parameters
     ----------

@@ -1,45 +1,18 @@
 """Signorini contact with (regularised) Coulomb friction on the condensed contact window.
 
-Unknowns at the m window nodes: pressure p_i >= 0 [Pa] and the tangential traction on the wheel
-tau_i [Pa] (plus the approach delta [m] when the normal force is prescribed). The condensed strip
-(and wheel) give the total sink W (positive opens the gap) and the relative tangential displacement
-U = u_x(wheel) - u_x(rail):
+Unknowns at the m window nodes: pressure p_i >= 0 [Pa] and the tangential traction on the wheel tau_i
+[Pa] (plus the approach delta [m] when the normal force is prescribed). The condensed strip (and wheel)
+give the total sink W (positive opens the gap) and the relative tangential displacement U = u_x(wheel)
+- u_x(rail): ``W = A_nn p + A_nt tau + W0``, ``U = A_tn p + A_tt tau + U0``; gap ``g = h0(x) - delta +
+W`` with the undeformed wheel profile h0 = R - sqrt(R^2 - x^2), and the dimensionless slip of the wheel
+relative to the rail ``s_hat = xi - dU/dx`` (slip velocity s = V s_hat [m/s]; dU/dx by second-order
+upstream differences, :func:`upstream_derivative`). The Alart-Curnier contact law and its epsilon
+regularisation, solved by semismooth Newton, are written out in :func:`solve_contact`.
 
-    W = A_nn p + A_nt tau + W0,      U = A_tn p + A_tt tau + U0,
-
-gap ``g = h0(x) - delta + W`` with the undeformed wheel profile h0 = R - sqrt(R^2 - x^2), and the
-dimensionless slip of the wheel relative to the rail (steady rolling, material flowing in -x):
-
-    s_hat = xi - dU/dx          (slip velocity s = V s_hat [m/s]).
-
-Contact law, written as a semismooth system (Alart-Curnier complementarity functions):
-
-* Signorini: ``p - max(0, p - c_n g) = 0`` (exact: g >= 0, p >= 0, p g = 0).
-* Friction, regularised with epsilon as in the seed (section 4.2, eps = 1e-3):
-  ``tau - proj_[-mu p, mu p](tau - c_t (mu p s_hat + eps tau)) = 0``.
-  In stick this is ``s_hat = -eps tau / (mu p)`` (an elastic micro-slip of relative size eps); in slip
-  ``tau = -mu p sign(s_hat)`` with |s_hat| >= eps. This is the piecewise-linear form of the seed's
-  regularisation tau = -mu p s/sqrt(s^2 + eps^2): same limits, same slope mu p / eps at s = 0, and it
-  tends to exact Coulomb friction as eps -> 0 (eps = 0 is allowed: exact Coulomb, the model's default;
-  eps must be small against |xi|, else the stick zone creeps and Fx -> mu N |xi| / eps). Written this way
-  the Newton iteration does not degrade as eps -> 0 (the seed's smooth form has a Jacobian of size
-  1/eps).
-
-Solved by a semismooth (generalised) Newton method on the dense condensed system — in effect a
-primal-dual active-set method — with a backtracking line search on the residual norm. The c_n,
-c_t constants only affect the path, not the solution.
-
-The x-derivative dU/dx uses second-order one-sided (upstream) differences: material enters the patch
-at the leading edge x = +a, so the upstream neighbours of node i are i+1, i+2.
-
-References
-----------
-.. [1] P. Alart, A. Curnier, A mixed formulation for frictional contact problems prone to Newton like
-   solution methods, Comput. Methods Appl. Mech. Eng. 92 (1991) 353-375. doi:10.1016/0045-7825(91)90022-X
-.. [2] S. Hueeber, G. Stadler, B. Wohlmuth, A primal-dual active set algorithm for three-dimensional
-   contact problems with Coulomb friction, SIAM J. Sci. Comput. 30 (2008) 572-596. doi:10.1137/060671061
-.. [3] J.J. Kalker, Three-dimensional elastic bodies in rolling contact, Kluwer, 1990.
-   doi:10.1007/978-94-015-7889-9
+References: P. Alart, A. Curnier, CMAME 92 (1991) 353-375, doi:10.1016/0045-7825(91)90022-X.
+S. Hueeber, G. Stadler, B. Wohlmuth, SIAM J. Sci. Comput. 30 (2008) 572-596, doi:10.1137/060671061.
+J.J. Kalker, Three-dimensional elastic bodies in rolling contact, Kluwer, 1990,
+doi:10.1007/978-94-015-7889-9.
 """
 from __future__ import annotations
 
@@ -118,6 +91,21 @@ def solve_contact(x, weights, h0, A_nn, A_nt, A_tn, A_tt, *, friction=0.0, creep
                   regularization=0.0, normal_force=None, penetration=None, W0=None, U0=None,
                   derivative=None, initial=None, tol=1e-10, maxit=100) -> ContactSolution:
     """Solve the condensed frictional contact problem by semismooth Newton.
+
+    Contact law, written as a semismooth system (Alart-Curnier complementarity functions):
+
+    * Signorini: ``p - max(0, p - c_n g) = 0`` (exact: g >= 0, p >= 0, p g = 0).
+    * Friction, regularised with epsilon as in the seed (section 4.2, eps = 1e-3):
+      ``tau - proj_[-mu p, mu p](tau - c_t (mu p s_hat + eps tau)) = 0``.
+      In stick this is ``s_hat = -eps tau / (mu p)`` (an elastic micro-slip of relative size eps); in slip
+      ``tau = -mu p sign(s_hat)`` with |s_hat| >= eps. This is the piecewise-linear form of the seed's
+      regularisation tau = -mu p s/sqrt(s^2 + eps^2): same limits, same slope mu p / eps at s = 0, and it
+      tends to exact Coulomb friction as eps -> 0 (eps = 0 is allowed: exact Coulomb, the model's default;
+      eps must be small against |xi|, else the stick zone creeps and Fx -> mu N |xi| / eps). Written this
+      way the Newton iteration does not degrade as eps -> 0 (the seed's smooth form has a Jacobian of
+      size 1/eps). The semismooth Newton method on the dense system is in effect a primal-dual
+      active-set method, with a backtracking line search on the residual norm; the c_n, c_t constants
+      only affect the path, not the solution.
 
     Parameters
     ----------

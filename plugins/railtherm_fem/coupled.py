@@ -1,31 +1,17 @@
 """Operator splitting of the thermoelastic rolling contact (seed section 4.1, Steps 1-4).
 
-Step 1: theta^0 = 0 (bulk temperatures). Step 2: for theta^k solve the elastic strip with its
-thermal expansion load and the contact problem (Signorini + Coulomb) -> p^k, tau^k, slip^k.
-Step 3: frictional heat from the contact solution, split between the bodies, and the steady moving-
-frame conduction -> theta^{k+1}. Step 4: stop when ||theta^{k+1} - theta^k||_inf <= eta ||theta^{k+1}||_inf.
-The update is relaxed, theta^{k+1} = theta^k + omega_k (T(theta^k) - theta^k), with omega = 1 while
-the residual contracts and Aitken's dynamic relaxation when it does not.
+Step 1: theta^0 = 0 (bulk temperatures). Step 2: for theta^k solve the elastic strip with its thermal
+expansion load and the contact problem (Signorini + Coulomb) -> p^k, tau^k, slip^k. Step 3: frictional
+heat from the contact solution, split between the bodies, and the steady moving-frame conduction ->
+theta^{k+1}. Step 4: stop when ||theta^{k+1} - theta^k||_inf <= eta ||theta^{k+1}||_inf. The update is
+relaxed, theta^{k+1} = theta^k + omega_k (T(theta^k) - theta^k), with omega = 1 while the residual
+contracts and Aitken's dynamic relaxation when it does not.
 
-Heat flux (the seed's eq. 20 is dimensionally inconsistent as printed; what we use instead):
-the frictional power density ``P = tau . s`` (traction times slip velocity, = mu p |s| where it
-slips; the seed writes mu V F_2, i.e. assumes the whole speed V slips) is split by the heat
-partition eps (fraction into the wheel): the rail receives (1 - eps) P, the wheel eps P. The seed's
-``theta F_2 / r`` term is read as a pressure-dependent thermal contact conductance h_c = p / r
-[W/(m^2 K)] (r [K s/m], the seed's 1000), which carries heat from the hotter to the colder surface:
-``q_rail = (1 - eps) P - h_c (theta_rail - theta_wheel)``. As printed, the term would *add* heat in
-proportion to the temperature (a positive feedback without physical meaning) and it would be scaled
-by the partition; we apply it as a conductance between the two surfaces, not scaled. The seed's
-temperature-dependent friction factor (1 - k rho c theta / mu) has no value of k in section 4.2; the scene's
-friction law takes its place: under a temperature law this Steps 1-4 solve, at fixed mu per contact node,
-is the solve of core's temperature-friction loop
-(:func:`railtherm.physics.friction.iterate_temperature_law`), which iterates the nodes' contact temperature;
-a slip-velocity law is solved with each contact solve (:mod:`.friction`).
-
-Heat partition (:class:`railtherm.physics.partition.HeatPartition`): a given fraction; ``"equal-temperature"``,
-Blok's fraction at the FEM's body speeds, as every method uses it; ``"equal-mean-temperature"``, the FEM's own
-rule: in every Step 3 the fraction that makes the wheel's and the rail's mean absolute surface temperatures
-over the patch equal (the temperatures are affine in the fraction: two solves and a root).
+The heat flux (the seed's eq. 20 read as a frictional power plus a contact conductance) and the heat
+partition keys are described in :func:`solve_fem`. Under a temperature law this Steps 1-4 solve, at
+fixed mu per contact node, is the solve of core's temperature-friction loop
+(:func:`railtherm.physics.friction.iterate_temperature_law`), which iterates the nodes' contact
+temperature; a slip-velocity law is solved with each contact solve (:mod:`.friction`).
 """
 from __future__ import annotations
 
@@ -395,6 +381,24 @@ def clear_cache() -> None:
 
 def solve_fem(prob: FemProblem) -> FemSolution:
     """Solve the (coupled) FEM problem: mechanics on a graded mesh, then the Steps 1-4 loop.
+
+    Heat flux (the seed's eq. 20 is dimensionally inconsistent as printed; what is used instead): the
+    frictional power density ``P = tau . s`` (traction times slip velocity, = mu p |s| where it slips; the
+    seed writes mu V F_2, i.e. assumes the whole speed V slips) is split by the heat partition eps
+    (fraction into the wheel): the rail receives (1 - eps) P, the wheel eps P. The seed's ``theta F_2 / r``
+    term is read as a pressure-dependent thermal contact conductance h_c = p / r [W/(m^2 K)] (r [K s/m],
+    the seed's 1000), which carries heat from the hotter to the colder surface: ``q_rail = (1 - eps) P -
+    h_c (theta_rail - theta_wheel)``. As printed, the term would *add* heat in proportion to the
+    temperature (a positive feedback without physical meaning) and be scaled by the partition; it is
+    applied as a conductance between the two surfaces, not scaled. The seed's temperature-dependent
+    friction factor (1 - k rho c theta / mu) has no value of k in section 4.2; the scene's friction law
+    takes its place (a slip-velocity law is solved with each contact solve, :mod:`.friction`).
+
+    Heat partition (:class:`railtherm.physics.partition.HeatPartition`): a given fraction;
+    ``"equal-temperature"``, Blok's fraction at the FEM's body speeds, as every method uses it;
+    ``"equal-mean-temperature"``, the FEM's own rule: in every Step 3 the fraction that makes the wheel's
+    and the rail's mean absolute surface temperatures over the patch equal (the temperatures are affine in
+    the fraction: two solves and a root).
 
     Under a temperature law (with the thermal part), the Steps 1-4 solve at fixed mu per window node is the
     solve of the one temperature-friction loop, :func:`railtherm.physics.friction.iterate_temperature_law`,

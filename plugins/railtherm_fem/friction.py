@@ -2,17 +2,15 @@
 
 The FEM's friction is local (one Coulomb bound mu p per window node, :mod:`.contact`); a law gives that mu
 node by node:
-
-* a temperature law: mu at the node's contact temperature
-  (:func:`railtherm.physics.friction.contact_temperature` of the wheel's and the rail's surface temperature,
-  bulk + rise of the FEM's own thermal layer at z = 0, interpolated to the node: :func:`node_surface_temperatures`),
-  iterated by core's temperature-friction loop around the Steps 1-4 solve of :mod:`.coupled`
-  (:func:`railtherm.physics.friction.iterate_temperature_law`, its tolerances and history);
+* a temperature law: mu at the node's contact temperature (:func:`railtherm.physics.friction.contact_temperature`
+  of the wheel's and the rail's surface temperature, bulk + rise of the FEM's thermal layer at z = 0,
+  interpolated to the node: :func:`node_surface_temperatures`), iterated by core's temperature-friction
+  loop around the Steps 1-4 solve of :mod:`.coupled` (:func:`railtherm.physics.friction.iterate_temperature_law`);
 * a slip-velocity law (exponential or Polach's): mu(v) with v = V |s| the node's own slip speed, by core's
   monotone outer iteration around the contact solve (:func:`railtherm.physics.friction.iterate_slip_law`,
-  its tolerance :data:`~railtherm.physics.friction.SLIP_MU_TOLERANCE`). The iteration contracts when
-  kappa = |dmu/dv(0)| p V |(D A_tt)_ii| < 1 (the law's slope against the slip the node's own traction drives
-  through the condensed compliance A_tt and the upstream derivative D; core's
+  tolerance :data:`~railtherm.physics.friction.SLIP_MU_TOLERANCE`). It contracts when kappa = |dmu/dv(0)|
+  p V |(D A_tt)_ii| < 1 (the law's slope against the slip the node's own traction drives through the
+  condensed compliance A_tt and the upstream derivative D;
   :func:`~railtherm.physics.friction.contraction_limit`); kappa >= 1 is refused.
 """
 from __future__ import annotations

@@ -1,32 +1,18 @@
 """CoupledModel "fem": 2-D quasistatic thermoelastic FEM rolling contact (seed section 4).
 
-A rigid wheel (``wheel = { rigid = true }``, as in the paper) or an elastic wheel rolls on an
-elastic strip lying on a rigid foundation, in the frame moving with the wheel; see
-:mod:`railtherm_fem.coupled` for the operator splitting and the heat flux, :mod:`.contact` for the
-contact law and its epsilon regularisation, :mod:`.thermal` for the conduction, :mod:`.elastic` and
-:mod:`.condense` for the strip.
+A rigid wheel (``wheel = { rigid = true }``, as in the paper) or an elastic wheel rolls on an elastic
+strip lying on a rigid foundation, in the frame moving with the wheel; see :mod:`railtherm_fem.coupled`
+for the operator splitting and the heat flux, :mod:`.contact` for the contact law, :mod:`.thermal` for
+the conduction, :mod:`.elastic` and :mod:`.condense` for the strip. Results are on the patch grid
+``surface_grid(a, None, level, cells)`` of the computed half-width a, centred on the computed patch
+(which a rigid wheel's tangential-normal coupling may shift off the axis: diagnostics ``patch_centre``).
+Nodal fields are mapped as cell averages of their piecewise-linear interpolant (conservative up to the
+part of the edge hats outside [-a, a]); stick is the state of the nearest node in contact.
 
-Results on the patch grid ``surface_grid(a, None, level, cells)`` of the computed half-width a,
-centred on the computed patch (x = 0 at the patch centre, which may sit a little off the wheel axis
-when the rigid wheel's tangential-normal coupling shifts it; the shift is in the diagnostics as
-``patch_centre``). Nodal fields are mapped as cell averages of their piecewise-linear interpolant
-(conservative: the grid integral of the power density equals the nodal one up to the part of the
-edge hats outside [-a, a]); stick is the state of the nearest node in contact.
-
-Temperatures: the rail from the strip's conduction problem; the wheel -- rigid or not -- from the
-same conduction solver applied to the wheel's material moving at its surface speed V + v_s, with
-the wheel's share eps of the frictional heat (and the contact conductance, when given). For a
-rigid wheel that temperature is a report only: it does not deform the wheel.
-
-Behind the patch and in depth (scene key ``field``; ``Capabilities(field=True)``): the
-temperatures are sampled from the strip's thermal layer on core's extended grid
-(:func:`railtherm.physics.field_grid`) down to ``field.depth`` exactly (linear in z between the layer's
-nodes, as its P1 elements), and the thermal trace is :func:`railtherm.physics.with_thermal_trace`. The
-layer's outflow end (-L/2) must lie 2a beyond -a - behind, and the layer must be 2 x field.depth deep:
-a default strip is lengthened/deepened to that, a given one that is too short or shallow is refused
-with the limit. Behind the patch the x-spacing then grows by 1 + 0.02/2^level only. Against Jaeger's
-band at Pe 1000 (tests/test_fem_field.py): peak temperature at 0..0.3 mm to 8.5e-4 of the rise at level 2
-(second order). Without ``field`` nothing changes (same grids, same results bit for bit).
+Temperatures: the rail from the strip's conduction problem; the wheel -- rigid or not -- from the same
+solver applied to the wheel's material moving at V + v_s, with the wheel's share eps of the heat (and the
+contact conductance, when given); for a rigid wheel that temperature is a report only. Fields behind the
+patch and in depth (``field``): :class:`FemModel`.
 """
 from __future__ import annotations
 
@@ -78,7 +64,18 @@ def verdict_diagnostics(sol, thermal: bool) -> dict:
 
 
 class FemModel(CoupledModel):
-    """Quasistatic thermoelastic FEM of a wheel rolling on an elastic strip (line contacts)."""
+    """Quasistatic thermoelastic FEM of a wheel rolling on an elastic strip (line contacts).
+
+    Behind the patch and in depth (scene key ``field``; ``Capabilities(field=True)``): the
+    temperatures are sampled from the strip's thermal layer on core's extended grid
+    (:func:`railtherm.physics.field_grid`) down to ``field.depth`` exactly (linear in z between the
+    layer's nodes, as its P1 elements), and the thermal trace is :func:`railtherm.physics.with_thermal_trace`.
+    The layer's outflow end (-L/2) must lie 2a beyond -a - behind, and the layer must be 2 x field.depth
+    deep: a default strip is lengthened/deepened to that, a given one that is too short or shallow is
+    refused with the limit. Behind the patch the x-spacing then grows by 1 + 0.02/2^level only. Against
+    Jaeger's band at Pe 1000 (tests/test_fem_field.py): peak temperature at 0..0.3 mm to 8.5e-4 of the
+    rise at level 2 (second order). Without ``field`` the grids and results are those of the patch alone.
+    """
 
     name = "fem"
     description = ("2-D plane-strain FEM strip (graded P1 mesh, condensed onto the contact), Signorini + "

@@ -4,29 +4,15 @@ In the contact frame the body material flows in -x with speed V; the steady temp
 satisfies (rho c) V theta_,x + lambda (theta_,xx + theta_,zz) = 0 (2-D form), or, dropping the
 conduction along x (seed eq. 16, valid at high Péclet numbers), (rho c) V theta_,x + lambda theta_,zz = 0,
 with the heat flux q entering at the surface z = 0: ``-lambda theta_,z = q - h theta`` (h: convection
-outside the contact, and the contact conductance where one is given), theta = 0 upstream (the
-leading side) and at the bottom of the layer, and no conduction through the outflow end.
+outside the contact, and the contact conductance where one is given), theta = 0 upstream and at the
+bottom of the layer, and no conduction through the outflow end. P1 elements in depth, upstream BDF2 along
+x (:class:`ThermalSolver`); the operator is a sum of Kronecker products of 1-D matrices, solved exactly
+through the eigenvectors of the depth problem (one banded x-system per mode, factorised once); a contact
+conductance between two bodies breaks that structure and is solved by one sparse LU instead.
 
-Discretisation (method of lines on a tensor grid x_i, z_k):
-
-* depth: P1 finite elements on a geometrically graded z-grid (scikit-fem, ``MeshLine``): stiffness
-  K_z and consistent mass M_z; the surface flux is the natural boundary term of the z-weak form.
-* along x: P1 elements with lumped mass for the conduction along x (scikit-fem), and second-order
-  one-sided (upstream) differences for the convection term, i.e. BDF2 in the "time" t = -x / V
-  that a material point has spent under the source. The 1-D form is then exactly a BDF2 marching
-  scheme; the 2-D form adds the (central) x-conduction.
-
-The system ``[lambda (K_x x M_z) + lambda (M_x x K_z) - rho c V (M_x D_x x M_z) + H] theta = b`` is a sum
-of Kronecker products of 1-D matrices: it is solved exactly through the eigenvectors of the depth
-problem, one banded x-system per depth mode (:class:`ThermalSolver`), factorised once and reused for
-every load; a contact conductance between two bodies breaks that structure and is solved by one sparse
-LU instead. Second order in dx and dz (the tests fit the rate).
-
-References
-----------
-.. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7.
-.. [2] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy. Soc.
-   New South Wales 76 (1942) 203-224.
+References: H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7.
+J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy. Soc. New South
+Wales 76 (1942) 203-224.
 """
 from __future__ import annotations
 
@@ -232,6 +218,14 @@ def _fe_1d(nodes: np.ndarray):
 
 class ThermalSolver:
     """Factorised steady moving-frame conduction operator of one or two bodies on the same grid.
+
+    Discretisation (method of lines on a tensor grid x_i, z_k): in depth P1 finite elements on a
+    geometrically graded z-grid (scikit-fem, ``MeshLine``), stiffness K_z and consistent mass M_z, the
+    surface flux the natural boundary term of the z-weak form; along x P1 elements with lumped mass for
+    the conduction along x, and second-order one-sided (upstream) differences for the convection term,
+    i.e. BDF2 in the "time" t = -x / V that a material point has spent under the source (the 1-D form is
+    exactly a BDF2 marching scheme; the 2-D form adds the central x-conduction). Second order in dx and
+    dz (the tests fit the rate).
 
     The operator of one body is a sum of Kronecker products of 1-D matrices (x outer, z inner):
     ``A = M_x (x) Kz' + G_x (x) M_z`` with ``Kz' = lambda K_z + h e_0 e_0^T`` (conduction in depth and the
