@@ -186,3 +186,115 @@ def test_thousand_passes_at_level_2_against_the_exact_band():
     ref = pass_summary([0.0, 1e-4], MovingSource("band", A, V, Q, "hertz"), STEEL, 1000, 0.05, refine=False)
     assert np.max(np.abs(peak / ref.peak - 1)) < 0.02
     assert np.max(np.abs(residual / ref.residual[:, 0] - 1)) < 0.02
+
+
+def _study_fdm():
+    """The transient study, its wheel-spin scene and the method it runs fdm with (a method name or a study
+    chain whose temperature model is fdm)."""
+    from pathlib import Path
+    from railtherm.input.study import load_study
+    study = load_study(Path(__file__).resolve().parents[1] / "studies" / "transient.toml")
+    names = [m for m in study.methods if (study.chains.get(m, {}).get("temperature") == ("fdm",)
+                                         or m == "fastsim-fdm")]
+    assert len(names) == 1, study.methods
+    name = names[0]
+    method = dict(study.chains[name], name=name) if name in study.chains else name
+    return study, study.scene("wheel-spin"), method
+
+
+# level 2 and the exact reference on <= 5,000 samples with a schedule of both bodies (~2 min): opt-in (-m slow)
+@pytest.mark.slow
+def test_study_wheel_spin_within_the_targets_at_level_2():
+    """The transient study's wheel spin (full sliding at 2 m/s on Ertz & Knothe's line contact, the heat
+    ramped up over 5 ms, held and ramped down at 0.2 s, 3 revolutions, both bodies) as the study runs it with
+    fdm, scored by metrics.nc's transient metrics: pass peaks and residual rise within 2 %, the history within
+    3 % at level 2."""
+    from railtherm.analysis.transient_metrics import transient_errors
+    _, scene, method = _study_fdm()
+    ds = railtherm.solve(scene, method, level=2)
+    notes = {}
+    err = transient_errors(scene, ds, notes, {})
+    got = {k: v[0] for k, v in err.items()}
+    assert got["pass_peak_temperature"] < 0.02 and got["residual_rise"] < 0.02, (got, notes)
+    assert got["temperature_history"] < 0.03, (got, notes)
+
+
+def _wheel_spin_block_run(flux, x_edges, level, count=2, interval=0.02):
+    """(peak (count, 2), residual (count,)) of the section block at the surface and 0.5 mm under a Hertz
+    band's ``flux`` [W/m^2] on ``x_edges`` [m] (a = A) with the wheel spin's schedule: the heat ramped from
+    0 to 1 over 5 ms from the first pass's arrival, held to 0.195 s, 0 at 0.2 s."""
+    tr = SimpleNamespace(count=count, interval=interval, schedule_time=(0.0, 0.005, 0.195, 0.2),
+                         schedule_factor=(0.0, 1.0, 1.0, 0.0), depths=(0.0, 5e-4), threshold=400.0)
+    block = section_block(A, V, STEEL.conductivity, STEEL.density * STEEL.specific_heat, 0.0, level,
+                          count * interval, tr.depths)
+    t, rise, res, _ = section_history(block, x_edges, flux, V, tr, interval, level)
+    return pass_peaks_and_residual(t, rise, count, interval)[0], res
+
+
+def _hertz_cells(x_edges, peak):
+    """The Hertz flux ``peak`` sqrt(1 - (x/A)^2) averaged exactly over each cell [W/m^2]."""
+    x = np.clip(np.asarray(x_edges, dtype=float) / A, -1.0, 1.0)
+    area = 0.5 * A * (x * np.sqrt(1.0 - x * x) + np.arcsin(x))
+    return peak * np.diff(area) / np.diff(x_edges)
+
+
+def test_fastsim_heat_centroid_sets_the_wheel_spins_first_revolution():
+    """Why method fastsim-fdm stays 2.2 % above the exact band on the study's wheel spin at every level: its
+    contact is FASTSIM's, whose elastic slip (adhesion at the leading edge, slip growing rearwards) puts the
+    same total power as full sliding (mu p v_s, the exact reference's heat; within 1e-4) 0.097 mm further
+    back at every level (measured 0.0965, 0.0968 mm at levels 0, 1). The first revolution's heat is weighted
+    by the schedule's ramp f(t) ~ t, so it grows by delta / (V D / 2) = 1.6 % (D = 2a/V); with FASTSIM's flux
+    the section block's first-pass peak at 0.5 mm is that much above its peak with full sliding's flux, the
+    later passes (factor 1) within 0.1 % (fdm itself converges to the exact band with full sliding's
+    heat, below)."""
+    from pathlib import Path
+    from railtherm.input.study import load_study
+    scene = load_study(Path(__file__).resolve().parents[1] / "studies" / "transient.toml").scene("wheel-spin")
+    speed = scene.speed
+    shifts = []
+    for level in (0, 1):
+        ds = railtherm.solve(scene, "fastsim-fdm", level=level)
+        assert "tangential:fastsim" in ds.attrs["stages"]
+        a = float(ds.semi_axis_a)
+        x = ds.x.values
+        edges = np.concatenate([[-a], 0.5 * (x[1:] + x[:-1]), [a]])
+        q = ds.heat_flux.sel(body="rail").values
+        power = np.sum(q * np.diff(edges))
+        q0 = scene.friction * float(ds.max_pressure) * scene.sliding_speed * 0.5
+        assert power == pytest.approx(q0 * np.pi * a / 2, rel=1e-4)
+        shifts.append(-np.sum(q * x * np.diff(edges)) / power)
+    assert shifts[1] == pytest.approx(shifts[0], rel=0.01) and shifts[0] == pytest.approx(9.7e-5, rel=0.02)
+    # the section block (a = A, V = 30 m/s) under FASTSIM's flux shape and full sliding's, level 1
+    peak_q = 1e8
+    exact = _hertz_cells(edges * A / a, peak_q)
+    fastsim = q * peak_q / q0
+    p_exact, _ = _wheel_spin_block_run(exact, edges * A / a, 1)
+    p_fast, _ = _wheel_spin_block_run(fastsim, edges * A / a, 1)
+    shift = shifts[1] * A / a
+    predicted = shift / (V * (A / V))
+    assert p_fast[0, 1] / p_exact[0, 1] - 1 == pytest.approx(predicted, abs=1.5e-3), (p_fast / p_exact, predicted)
+    assert abs(p_fast[1, 1] / p_exact[1, 1] - 1) < 1e-3
+    assert speed == V
+
+
+# the exact reference with the schedule's ramp (~7 s): opt-in (-m slow)
+@pytest.mark.slow
+def test_wheel_spin_schedule_converges_at_second_order():
+    """The wheel spin's schedule (a 5 ms ramp from 0 through the first pass, then 1) on the Hertz band with
+    full sliding's heat (exact cell averages on 2048 cells), 2 passes 20 ms apart, levels 0 .. 2: pass peaks
+    at the surface and 0.5 mm and the residual rises converge to the exact band like h^2 (fitted slopes within
+    0.3 of 2; measured peaks 1.08, 0.33, 0.085 %, residual 0.72, 0.23, 0.057 %), the residual of the ramped
+    first pass included (the block's residual is taken without the next pass's numerical forerunner)."""
+    xe = np.linspace(-A, A, 2049)
+    src = MovingSource("band", A, V, Q, "hertz")
+    sched = Schedule((0.0, 0.005, 0.195, 0.2), (0.0, 1.0, 1.0, 0.0))
+    ref = pass_summary([0.0, 5e-4], src, STEEL, 2, 0.02, sched, **CHEAP)
+    hs, peak, residual = [], [], []
+    for level in (0, 1, 2):
+        p, res = _wheel_spin_block_run(_hertz_cells(xe, Q), xe, level)
+        hs.append(2 * A / 32 / 2 ** level)
+        peak.append(np.max(np.abs(p / ref.peak - 1)))
+        residual.append(np.max(np.abs(res / ref.residual[:, 0] - 1)))
+    assert peak[-1] < 2e-3 and residual[-1] < 2e-3, (peak, residual)
+    for err in (peak, residual):
+        assert np.polyfit(np.log(hs), np.log(err), 1)[0] == pytest.approx(2.0, abs=0.3), err

@@ -148,3 +148,25 @@ def test_green_refuses_a_temperature_dependent_friction_law_in_a_transient_scene
                                                   "change": -0.1, "over": 300.0})
     with pytest.raises(Refused, match="temperature-dependent friction law"):
         railtherm.solve(scene, "green", level=0)
+
+
+def test_history_is_scored_over_the_same_passes_at_every_level():
+    """A history longer than MAX_HISTORY_SAMPLES is thinned to every k-th sample while MIN_PER_CONTACT
+    remain per contact duration, so a finer level is scored over the same passes with the same scale (3
+    passes of 12,256 samples, 570 per contact duration: every 3rd, all passes); only what is still too long
+    is cut to its first whole passes (1,000 passes at 25 samples per contact duration)."""
+    from railtherm.analysis.transient_metrics import MAX_HISTORY_SAMPLES, MIN_PER_CONTACT, history_samples
+    d, interval = 4e-4, 0.091
+    dense = np.sort(np.concatenate([k * interval + np.linspace(0.0, 2.5 * d, 1425, endpoint=False)
+                                    for k in range(3)] + [np.linspace(0.0, 3 * interval, 7981)]))
+    notes = {}
+    every, n, thin = history_samples(dense, 3, interval, d, notes)
+    assert every == 3 and n == thin.size <= MAX_HISTORY_SAMPLES and thin[-1] > 2.9 * interval
+    assert np.count_nonzero(thin[:n] < d) >= MIN_PER_CONTACT and "one in 3 " in notes["temperature_history"]
+    long = np.sort(np.concatenate([k * 0.05 + np.linspace(0.0, 0.05, 500, endpoint=False) for k in range(1000)]))
+    notes = {}
+    every, n, thin = history_samples(long, 1000, 0.05, 1e-4, notes)
+    assert every == 1 and thin[n - 1] == pytest.approx(9 * 0.05)
+    assert "first 9 of 1000 passes" in notes["temperature_history"]
+    notes = {}
+    assert history_samples(np.linspace(0.0, 0.3, 3000), 3, 0.1, 4e-4, notes)[:2] == (1, 3000) and not notes

@@ -56,7 +56,7 @@ from railtherm.physics import pass_peaks_and_residual, pass_time_above, thermal_
 from railtherm.references.transient import shifted_sum
 
 __all__ = ["SectionBlock", "section_block", "section_history", "superposed_history", "body_histories", "heating_scheme",
-           "IMPLICIT_COST_FACTOR", "ADI_COST_FACTOR"]
+           "rail_nodes", "depth_nodes", "IMPLICIT_COST_FACTOR", "ADI_COST_FACTOR"]
 
 #: one implicit (Crank-Nicolson, sparse LU) step counted as this many explicit node updates per node
 IMPLICIT_COST_FACTOR = 50.0
@@ -104,8 +104,17 @@ class SectionBlock:
     gz: np.ndarray
     convection: np.ndarray
 
+    @property
+    def node_shape(self) -> str:
+        return f"{self.x.size}x{self.z.size}"
 
-def _depth_nodes(first: float, growth: float, bottom: float, exact) -> np.ndarray:
+    def stepper(self, x_edges, y_edges, flux, speed, factor, t0):
+        """A :class:`_Stepper` of this block under the band's ``flux`` (nx,) [W/m^2] on ``x_edges`` [m]
+        (``y_edges`` None) at ``speed`` [m/s], heat-input factor ``factor(t)``, from t0 [s]."""
+        return _Stepper(self, _BandSource(self, x_edges, flux, speed), factor, t0)
+
+
+def depth_nodes(first: float, growth: float, bottom: float, exact) -> np.ndarray:
     """Graded depths [m] from 0: spacing ``first`` growing by ``growth`` to ``bottom``; the depths in
     ``exact`` made nodes (the nearest node moved onto each)."""
     z = [0.0]
@@ -120,14 +129,9 @@ def _depth_nodes(first: float, growth: float, bottom: float, exact) -> np.ndarra
     return z
 
 
-def section_block(a: float, speed: float, conductivity: float, capacity: float, convection: float, level: int,
-                  duration_total: float, depths) -> SectionBlock:
-    """The block of the module docstring for a band of half-width ``a`` [m] at ``speed`` [m/s], material
-    lambda [W/(m K)] and rho c [J/(m^3 K)], top convection h [W/(m^2 K)], refinement ``level``, a history
-    of ``duration_total`` [s] and the output ``depths`` [m]."""
-    kappa = conductivity / capacity
-    delta = thermal_scales(a, speed, kappa).thermal_depth
-    reach = math.sqrt(kappa * duration_total)
+def rail_nodes(a: float, reach: float, level: int) -> np.ndarray:
+    """Nodes along the rail [m], symmetric about the section x = 0: spacing h = 2a/32/2**level within four
+    nodes of it, growing by ``1.3 ** (1 / 2**level)`` beyond, to 2a + 2 ``reach`` [m] on each side."""
     h = 2.0 * a / (32 * 2 ** int(level))
     half = 2.0 * a + 2.0 * reach
     side = list(h * np.arange(1, 5))                    # uniform h next to the section, then graded
@@ -136,10 +140,21 @@ def section_block(a: float, speed: float, conductivity: float, capacity: float, 
         step *= 1.3 ** (1.0 / 2 ** int(level))
         side.append(side[-1] + step)
     side = np.array(side)
-    n_half = side.size
-    x = np.concatenate([-side[::-1], [0.0], side])
+    return np.concatenate([-side[::-1], [0.0], side])
+
+
+def section_block(a: float, speed: float, conductivity: float, capacity: float, convection: float, level: int,
+                  duration_total: float, depths) -> SectionBlock:
+    """The block of the module docstring for a band of half-width ``a`` [m] at ``speed`` [m/s], material
+    lambda [W/(m K)] and rho c [J/(m^3 K)], top convection h [W/(m^2 K)], refinement ``level``, a history
+    of ``duration_total`` [s] and the output ``depths`` [m]."""
+    kappa = conductivity / capacity
+    delta = thermal_scales(a, speed, kappa).thermal_depth
+    reach = math.sqrt(kappa * duration_total)
+    x = rail_nodes(a, reach, level)
+    n_half = (x.size - 1) // 2
     bottom = max(8.0 * reach, 10.0 * delta, 1.5 * max(depths))
-    z = _depth_nodes(delta / 4.0 / 2 ** int(level), 1.3 ** (1.0 / 2 ** int(level)), bottom, depths)
+    z = depth_nodes(delta / 4.0 / 2 ** int(level), 1.3 ** (1.0 / 2 ** int(level)), bottom, depths)
     nx, nz = x.size, z.size
     gx_len = np.diff(x)                                 # (nx - 1,) node gaps
     wx = 0.5 * (np.concatenate([[0.0], gx_len]) + np.concatenate([gx_len, [0.0]]))
@@ -352,7 +367,17 @@ def _cooling_ladder(span: float, first: float, per_doubling: int) -> list[tuple[
 
 
 class _Stepper:
-    """The block's state, clock and recorded samples, stepped explicitly (numba) or implicitly (LU)."""
+    """The block's state, clock and recorded samples, stepped explicitly (numba) or implicitly (LU); an
+    implicit heating step costs :data:`IMPLICIT_COST_FACTOR` explicit node updates, a cooling step
+    :data:`ADI_COST_FACTOR` explicit steps."""
+
+    heating_cost = IMPLICIT_COST_FACTOR
+    implicit_cost = ADI_COST_FACTOR
+    cooling_implicit = "alternating-direction steps (Peaceman-Rachford, two backward-Euler start steps)"
+
+    def fresh(self, t0: float) -> "_Stepper":
+        """A stepper of the same block and source from t0 [s], state zero."""
+        return _Stepper(self.b, self.src, self.factor, t0)
 
     def __init__(self, block: SectionBlock, source: _BandSource, factor, t0: float):
         self.b = block
@@ -421,18 +446,19 @@ class _Stepper:
         self.rows.append(out)
 
 
-def heating_scheme(requested: str, dt_stab: float, dt_source: float) -> tuple[str, float, str]:
+def heating_scheme(requested: str, dt_stab: float, dt_source: float,
+                   implicit_cost: float = IMPLICIT_COST_FACTOR) -> tuple[str, float, str]:
     """The scheme while a source is over the block, its step [s] and the reason.
 
     "auto": the explicit scheme at ``min(0.9 dt_stab, dt_source)`` when its steps cost at most the implicit
     scheme's at the source's step ``dt_source`` = h/V (one Crank-Nicolson LU solve counted as
-    :data:`IMPLICIT_COST_FACTOR` explicit node updates), else the implicit one; "explicit" / "implicit" as
-    asked (the explicit step never beyond the stability limit)."""
+    ``implicit_cost`` explicit node updates, :data:`IMPLICIT_COST_FACTOR` for the 2-D block's LU), else the
+    implicit one; "explicit" / "implicit" as asked (the explicit step never beyond the stability limit)."""
     dt_exp = min(0.9 * dt_stab, dt_source)
-    per_exp, per_imp = 1.0 / dt_exp, IMPLICIT_COST_FACTOR / dt_source
+    per_exp, per_imp = 1.0 / dt_exp, implicit_cost / dt_source
     costs = (f"explicit at min(0.9 dt_stab, h/V) = {dt_exp:.3g} s: {per_exp:.3g} node updates per node and second "
              f"of heating; implicit Crank-Nicolson at h/V = {dt_source:.3g} s: {per_imp:.3g} (one solve = "
-             f"{IMPLICIT_COST_FACTOR:g} updates per node)")
+             f"{implicit_cost:g} updates per node)")
     if requested == "explicit" or (requested == "auto" and per_exp <= per_imp):
         return "explicit", dt_exp, ("asked: " if requested == "explicit" else "cheaper: ") + costs
     return "implicit", dt_source, ("asked: " if requested == "implicit" else "cheaper: ") + costs
@@ -440,17 +466,20 @@ def heating_scheme(requested: str, dt_stab: float, dt_source: float) -> tuple[st
 
 # one driver for the pass windows (explicit or implicit, by cost) and the cooling between them (explicit or
 # implicit per rung of the step ladder, by cost): the phases share the stepper and the cost model
-def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interval: float, level: int,
-                    requested: str = "auto"):
+def section_history(block, x_edges, flux, speed: float, tr, interval: float, level: int,
+                    requested: str = "auto", y_edges=None):
     """Rise history [K] of the section at the block's output depths: (time (nt,), rise (nt, ndepth),
     residual (count,), diag).
 
-    The residual rise of pass k is the surface rise at the last step ending before pass k + 1 reaches the
-    section node's dual cell ((k + 1) interval - h/(2V)): the node stands for its cell, which the next pass
-    begins to heat half a cell before its leading edge reaches the section (sampled at (k + 1) interval
-    itself the rise would carry that first heat; the cooling over one step, at most h/V, is below 1e-4 of
-    the residual). After the last pass: at
-    count * interval. The time axis: every step, from 0 to count * interval."""
+    The residual rise of pass k is the surface rise at (k + 1) interval without pass k + 1: where pass k + 1
+    opens a window of its own, a copy of the block at the window's start cooled on source-free (the cooling
+    ladder) to that time. The history itself cannot give it: its section node stands for a dual cell the
+    next source starts heating half a cell before its leading edge arrives, and the explicit scheme spreads
+    that heat a node a step, a numerical forerunner (the exact one is e^(-V d / kappa) at distance d) that
+    grows with refinement like h^(-1/2). Where the windows of k and k + 1 overlap (passes a few contact
+    durations apart): the rise at the last step ending before pass k + 1 reaches the node's dual cell
+    ((k + 1) interval - h/(2V)). After the last pass: at count * interval. The time axis: every step, from 0
+    to count * interval."""
     t_start = _time.perf_counter()
     a2 = float(x_edges[-1] - x_edges[0])
     V = float(speed)
@@ -458,7 +487,8 @@ def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interv
     W = float(block.x[-1])
     count = int(tr.count)
     n = block.capacity.size
-    heat_scheme, dt_heat, heat_reason = heating_scheme(requested, block.dt_stab, h / V)
+    st = block.stepper(x_edges, y_edges, flux, V, _schedule(tr), 0.0)
+    heat_scheme, dt_heat, heat_reason = heating_scheme(requested, block.dt_stab, h / V, st.heating_cost)
     n_before = int(math.ceil((W / V) / dt_heat))
     n_after = int(math.ceil(((W + a2) / V) / dt_heat))
     windows = []                                        # (first pass, last pass): overlapping windows merged
@@ -469,25 +499,32 @@ def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interv
             last += 1
         windows.append((k, last))
         k = last + 1
-    st = _Stepper(block, _BandSource(block, x_edges, flux, V), _schedule(tr), -n_before * dt_heat)
+    st.t = -n_before * dt_heat
     per_doubling = 2 ** (int(level) + 1)
     rungs_explicit = rungs_implicit = 0
+    ahead = {}                                          # pass k -> its residual from the source-free side run
 
-    def cool(span):
+    def cool(span, stepper=st):
         nonlocal rungs_explicit, rungs_implicit
         for i, (dt, m) in enumerate(_cooling_ladder(span, dt_heat, per_doubling)):
             m_exp = int(math.ceil(m * dt / (0.9 * block.dt_stab)))
-            if m_exp <= ADI_COST_FACTOR * m:
-                st.explicit(m * dt / m_exp, m_exp, (), heated=False)
-                rungs_explicit += 1
+            if m_exp <= st.implicit_cost * m:
+                stepper.explicit(m * dt / m_exp, m_exp, (), heated=False)
+                rungs_explicit += stepper is st
             else:
-                st.adi(dt, m, start=2 if rungs_implicit == 0 else 0)
-                rungs_implicit += 1
+                stepper.adi(dt, m, start=2 if rungs_implicit == 0 else 0)
+                rungs_implicit += stepper is st
     for first, last in windows:
         w0 = first * interval - n_before * dt_heat
         if st.t < w0 - 1e-15:
             cool(w0 - st.t)
         st.t = w0
+        if first > 0:
+            # the residual of the pass before: the block cooled on without this pass's source to its arrival
+            side = st.fresh(w0)
+            side.T = st.T.copy()
+            cool(first * interval - w0, side)
+            ahead[first - 1] = float(side.rows[-1][-1, 0])
         m = int(round((last * interval + n_after * dt_heat - w0) / dt_heat))
         arrivals = interval * np.arange(first, last + 1)
         if heat_scheme == "explicit":
@@ -501,27 +538,29 @@ def section_history(block: SectionBlock, x_edges, flux, speed: float, tr, interv
     keep = time > 0
     time = np.concatenate([[0.0], time[keep]])
     rise = np.concatenate([np.zeros((1, rise.shape[1])), rise[keep]])
-    # the last step ending before the next pass's source reaches the section node's dual cell
+    # passes whose next one overlaps their window: the last step before the next pass's source reaches the
+    # section node's dual cell
     before = np.searchsorted(time, interval * np.arange(1, count + 1) - 0.5 * h / V, side="right") - 1
     residual = rise[np.clip(before, 0, time.size - 1), 0]
+    for k, value in ahead.items():
+        residual[k] = value
     residual[-1] = rise[-1, 0]
-    diag = {"nodes": n, "node_shape": f"{block.x.size}x{block.z.size}", "cell_x": h,
+    diag = {"nodes": n, "node_shape": block.node_shape, "cell_x": h,
             "first_depth_cell": float(block.z[1]), "block_half_length": W, "block_depth": float(block.z[-1]),
             "stability_limit": block.dt_stab, "heating_scheme": heat_scheme, "heating_step": dt_heat,
             "heating_reason": heat_reason,
             "cooling_rungs_explicit": rungs_explicit, "cooling_rungs_implicit": rungs_implicit,
             "cooling_reason": (f"no source: a ladder of {per_doubling} steps of {dt_heat:.3g} s, 2x, 4x ...; each rung "
                                "explicit at the stability limit when that takes at most "
-                               f"{ADI_COST_FACTOR:g} steps per rung step, else implicit alternating-direction steps "
-                               "(Peaceman-Rachford, two backward-Euler start steps)"),
-            "explicit_steps": st.explicit_steps, "adi_steps": st.adi_steps,
+                               f"{st.implicit_cost:g} steps per rung step, else implicit {st.cooling_implicit}"),
+            "explicit_steps": st.explicit_steps, "adi_steps": st.adi_steps, "residual_side_runs": len(ahead),
             "implicit_factorisations": len(st.implicit.cache),
             "implicit_solves": st.implicit.solves, "wall_time_solver": _time.perf_counter() - t_start}
     return time, rise, residual, diag
 
 
-def superposed_history(block: SectionBlock, x_edges, flux, speed: float, tr, interval: float, level: int,
-                       requested: str = "auto"):
+def superposed_history(block, x_edges, flux, speed: float, tr, interval: float, level: int,
+                       requested: str = "auto", y_edges=None):
     """As :func:`section_history` for a schedule constant over the whole history (factor f): the block is
     linear, so one pass stepped to ``count * interval`` (its response R(theta) on fdm's own axis) serves
     every pass, ``f sum_k R(t - k interval)`` (:func:`railtherm.references.transient.shifted_sum`; R linearly
@@ -531,7 +570,7 @@ def superposed_history(block: SectionBlock, x_edges, flux, speed: float, tr, int
     count = int(tr.count)
     one = SimpleNamespace(count=1, schedule_time=None, schedule_factor=None, depths=tr.depths,
                           threshold=tr.threshold)
-    t1, r1, _, diag = section_history(block, x_edges, flux, speed, one, count * interval, level, requested)
+    t1, r1, _, diag = section_history(block, x_edges, flux, speed, one, count * interval, level, requested, y_edges)
     f = 1.0 if tr.schedule_time is None else float(tr.schedule_factor[0])
     offsets = t1[t1 < interval * (1.0 - 1e-12)]
     duration = float(x_edges[-1] - x_edges[0]) / float(speed)
@@ -574,11 +613,16 @@ def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, reques
         if q is None or not np.any(np.asarray(q) != 0):
             runs.append(None)
             continue
-        block = section_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat,
-                              float(scene.convection or 0.0), level, count * interval, z)
+        args = (v, m.conductivity, m.density * m.specific_heat, float(scene.convection or 0.0), level,
+                count * interval, z)
+        if grid.line:
+            block = section_block(float(grid.a), *args)
+        else:
+            from .history3d import ellipse_block
+            block = ellipse_block(float(grid.a), float(grid.b), *args)
         constant = tr.schedule_factor is None or len(set(tr.schedule_factor)) == 1
         run = superposed_history if constant and count > 1 else section_history
-        t, r, res, d = run(block, grid.x_edges, q, v, tr, interval, level, requested)
+        t, r, res, d = run(block, grid.x_edges, q, v, tr, interval, level, requested, grid.y_edges)
         runs.append((t, r, res))
         diag.update({f"{('wheel', 'rail')[i]}_history_{k}": val for k, val in d.items()})
     axes = [r[0] for r in runs if r is not None]

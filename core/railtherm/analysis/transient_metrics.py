@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-__all__ = ["TRANSIENT_METRICS", "FLOOR", "transient_errors", "transient_sources"]
+__all__ = ["TRANSIENT_METRICS", "FLOOR", "transient_errors", "transient_sources", "history_samples"]
 
 #: metrics of a transient scene, in metrics.nc only for a study with a transient scene
 TRANSIENT_METRICS = ("pass_peak_temperature", "residual_rise", "temperature_history")
@@ -30,10 +30,14 @@ FLOOR = 1e-3
 #: the references' quadrature (railtherm.references.transient.pass_response): ~1e-5 of the maximum
 #: (tests/test_references_transient.py), 3x cheaper than the default
 _QUAD = dict(quad_points=8, inner_points=24)
-#: the exact history is evaluated on at most this many of the run's samples: a longer history is scored
-#: over its first whole passes within them (the per-pass peaks and residuals cover every pass; a schedule
-#: makes the reference cost ~10 ms per sample, so a 1,000-pass axis of 5e5 samples is out of reach)
+#: the exact history is evaluated on at most this many of the run's samples (a schedule makes the reference
+#: cost ~10 ms per sample, so a 1,000-pass axis of 5e5 samples is out of reach): a longer axis is first
+#: thinned to every k-th sample, as long as :data:`MIN_PER_CONTACT` remain per contact duration, so that
+#: every level of a method is scored over the same passes with the same scale; what still exceeds it is
+#: scored over its first whole passes (the per-pass peaks and residuals cover every pass)
 MAX_HISTORY_SAMPLES = 5000
+#: samples per contact duration 2a/V kept by the thinning (the history axis's own minimum)
+MIN_PER_CONTACT = 20
 
 
 def transient_sources(scene):
@@ -68,6 +72,26 @@ def _rel(value, exact, floor: float) -> float:
     return float(np.max(np.abs(value[keep] / exact[keep] - 1.0)))
 
 
+def history_samples(time, count: int, interval: float, duration: float, notes: dict) -> tuple[int, int, np.ndarray]:
+    """The run's samples the history is scored on: (stride k, count n, thinned axis [s]), the first n of
+    every k-th sample (:data:`MAX_HISTORY_SAMPLES`); ``duration`` the shortest contact duration [s]. The
+    thinning or truncation is noted in ``notes``."""
+    per = int(np.count_nonzero((time >= 0.0) & (time < duration)))        # samples over the first pass
+    every = max(1, min(int(math.ceil(time.size / MAX_HISTORY_SAMPLES)), per // MIN_PER_CONTACT))
+    thin = time[::every]
+    n = thin.size
+    if every > 1:
+        notes["temperature_history"] = (f"scored on one in {every} of the run's {time.size} samples "
+                                        f"({per // every} per contact duration)")
+    if n > MAX_HISTORY_SAMPLES:
+        keep = max(1, int(thin[MAX_HISTORY_SAMPLES - 1] // interval))     # whole passes within the samples
+        n = int(np.searchsorted(thin, keep * interval, side="right"))
+        notes["temperature_history"] = (f"scored over the first {keep} of {count} passes ({n} of {time.size} samples"
+                                        + (f", one in {every}" if every > 1 else "")
+                                        + "; peaks and residuals over every pass)")
+    return every, n, thin
+
+
 def transient_errors(scene, ds, notes: dict | None = None, cache: dict | None = None) -> dict:
     """Errors of the transient metrics of one result: metric -> (error [1], ``analytic:<tag>``).
 
@@ -96,13 +120,8 @@ def transient_errors(scene, ds, notes: dict | None = None, cache: dict | None = 
     sources, tag = got
     sched = None if tr.schedule_time is None else Schedule(tr.schedule_time, tr.schedule_factor)
     z = np.asarray(ds["z"].values, dtype=float)
-    t = np.asarray(ds["time"].values, dtype=float)
-    n = t.size
-    if n > MAX_HISTORY_SAMPLES:
-        keep = max(1, int(t[MAX_HISTORY_SAMPLES - 1] // tr.interval))     # whole passes within the samples
-        n = int(np.searchsorted(t, keep * tr.interval, side="right"))
-        notes["temperature_history"] = (f"scored over the first {keep} of {tr.count} passes ({n} of {t.size} samples; "
-                                        "peaks and residuals over every pass)")
+    every, n, t = history_samples(np.asarray(ds["time"].values, dtype=float), tr.count, tr.interval,
+                                  min((s.contact_duration for s, _ in sources if s is not None), default=0.0), notes)
     errs: dict[str, list[float]] = {m: [] for m in TRANSIENT_METRICS}
     for i, (src, bulk) in enumerate(sources):
         if src is None:
@@ -116,7 +135,7 @@ def transient_errors(scene, ds, notes: dict | None = None, cache: dict | None = 
         errs["pass_peak_temperature"].append(_rel(ds["pass_peak_temperature"].values[i] - bulk, summary.peak, FLOOR))
         errs["residual_rise"].append(_rel(ds["residual_rise"].values[i], summary.residual[:, 0], FLOOR))
         exact = temperature_history(t[:n], z, src, scene.body(i), tr.count, tr.interval, sched, **_QUAD)
-        rise = ds["temperature_history"].values[i, :n] - bulk
+        rise = ds["temperature_history"].values[i, ::every][:n] - bulk
         scale = np.max(np.abs(exact), axis=0)
         ok = scale > 0
         if not np.all(np.isfinite(rise)):
