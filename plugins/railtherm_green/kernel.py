@@ -1,50 +1,18 @@
 """Strip quadrature of the 1-D moving-half-space Green function (seed eqs. 30-33).
 
-At high Péclet number heat flows into each body only perpendicular to the surface, so every
-strip y = const of the contact patch is an independent 1-D problem: a surface point that entered
-the patch at the leading edge x = +a has been heated for the time t = (x' - x)/v by the flux it met
-at x' > x (material flows in -x). The surface temperature rise of a body with effusivity
-beta = sqrt(lambda rho c) moving at speed v is (seed eq. 32 in our coordinates)
+At high Péclet number heat flows into each body only perpendicular to the surface, so every strip
+y = const of the patch is an independent 1-D problem: a surface point that entered the patch at the
+leading edge x = +a has been heated for the time t = (x' - x)/v by the flux it met at x' > x (material
+flows in -x). For a body with effusivity beta = sqrt(lambda rho c) moving at speed v (seed eq. 32):
+``theta(x, z) = 1 / (beta sqrt(pi v)) int_x^inf q(x') exp(-z^2 v / (4 kappa (x' - x))) dx' / sqrt(x' - x)``.
+With q constant per cell the integral over each cell is exact: at the surface :func:`surface_weights`
+(Toeplitz on a uniform grid, :func:`toeplitz_weights`), in depth the primitive :func:`_depth_primitive`
+(seed eq. 34 is its uniform-flux case). All strips of both bodies are one product ``W @ [q_wheel,
+q_rail]`` scaled by ``1/(beta sqrt(pi v))`` per body (:func:`upper_matmul`, :func:`toeplitz_matmul`);
+long field grids use :func:`surface_rise`'s trail interpolation and FFT.
 
-    theta(x, z) = 1 / (beta sqrt(pi v)) * int_x^inf q(x') exp(-z^2 v / (4 kappa (x' - x))) dx' / sqrt(x' - x).
-
-With q piecewise constant per cell (the value of the heat source on the cell), the integral over
-each cell is done *exactly*:
-
-* surface (z = 0): ``int dx'/sqrt(s) = 2 sqrt(s)``, so cell j contributes
-  ``2 (sqrt(x_{j+1/2} - x_i) - sqrt(max(x_{j-1/2} - x_i, 0)))`` at the centre x_i; the cell that
-  contains x_i contributes only its upstream half, ``sqrt(2 dx)`` (CONTACT's Fortran strip sum adds
-  a cell's own heat twice, biasing maxima ~10 % high at dx = 0.2 mm -- not copied here).
-* depth z > 0: with c = z^2 v / (4 kappa), ``int exp(-c/s) ds / sqrt(s) = F(s)``,
-  ``F(s) = 2 sqrt(s) exp(-c/s) - 2 sqrt(pi c) erfc(sqrt(c/s))``, F(0) = 0 (seed eq. 34 is the
-  special case of a uniform flux).
-
-The surface weights depend only on the grid (not on the body, its speed or material), so they form
-one matrix W (nx x nx, upper-triangular: cell i is heated by cells j >= i, which lie upstream). On a
-uniform grid W is Toeplitz, ``W[i, i+k] = w_k`` with ``w_0 = sqrt(2h)`` and
-``w_k = 2 sqrt(h) / (sqrt(k + 1/2) + sqrt(k - 1/2))`` (the difference of square roots written
-without cancellation), so only the vector w (O(nx) memory, cached per grid) is kept; a non-uniform
-grid uses the full matrix (cached, at most 64 MB). The temperature of all strips of both bodies is
-then one product ``W @ [q_wheel, q_rail]`` scaled by ``1/(beta sqrt(pi v))`` per body, done by a
-small numba loop over the upper triangle (single-threaded, 0.2-0.3 ms at 216 x 90): a BLAS matmul
-is as fast with one thread but 4-20x slower and erratic when OpenBLAS spreads this small product over
-two busy cores (measured).
-
-The extended grid of a scene with ``field`` is ~7x longer, with zero flux behind the patch: the
-flux stays on the patch (``behind`` = the cells before it). The surface sums take the heated rows and the
-half patch behind them exactly (one dense product) and the long trail further behind by Chebyshev
-interpolation of the smooth weight over the heated rows (:func:`trail_toeplitz`, rank 24, ~1e-15 of the
-maximum); the depth sums transform only the heated rows by FFT (:func:`fft_toeplitz`, one transform for all
-depths of :func:`depth_rise`), with the depth weights of all depths in one numba pass. On the benchmark's
-ellipse (896 x 256 cells, 41 depths): surface 13 -> 0.8 ms, depth 2.4 -> 1.0 ms
-(benchmarks/test_green_field_benchmark.py).
-
-References
-----------
-.. [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
-   temperatures in wheel/rail contact, Wear 253 (2002) 498-508 (DOI not verified, see docs/references.md)
-.. [2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, section 2.9
-   (half-space with prescribed surface flux).
+References: Ertz & Knothe, Wear 253 (2002) 498-508 (DOI not verified, docs/references.md); Carslaw &
+Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, section 2.9.
 """
 from __future__ import annotations
 
@@ -107,7 +75,11 @@ def _weights(x_edges: np.ndarray) -> np.ndarray:
 
 @numba.njit(cache=True)
 def upper_matmul(w: np.ndarray, q: np.ndarray) -> np.ndarray:  # pragma: no cover - compiled
-    """``W @ q`` for an upper-triangular W (nx, nx) and q (nx, m), skipping the zero triangle."""
+    """``W @ q`` for an upper-triangular W (nx, nx) and q (nx, m), skipping the zero triangle.
+
+    A small single-threaded numba loop (0.2-0.3 ms at 216 x 90): a BLAS matmul is as fast with one thread
+    but 4-20x slower and erratic when OpenBLAS spreads this small product over two busy cores (measured).
+    """
     nx, m = q.shape
     out = np.zeros((nx, m))
     for i in range(nx):
@@ -144,6 +116,14 @@ def surface_weights(x_edges: np.ndarray) -> np.ndarray:
     ndarray, shape (nx, nx)
         ``W[i, j] = int_{cell j, x' >= x_i} dx' / sqrt(x' - x_i)`` [m^0.5]; upper triangular.
         Read-only and cached per grid (up to 64 MB of matrices).
+
+    Notes
+    -----
+    With ``int dx'/sqrt(s) = 2 sqrt(s)``, cell j contributes ``2 (sqrt(x_{j+1/2} - x_i) - sqrt(max(x_{j-1/2}
+    - x_i, 0)))`` at the centre x_i; the cell that contains x_i contributes only its upstream half,
+    ``sqrt(2 dx)`` (CONTACT's Fortran strip sum adds a cell's own heat twice, biasing maxima ~10 % high at
+    dx = 0.2 mm). The weights depend only on the grid, not on the body, its speed or material. On a
+    uniform grid W is Toeplitz (:func:`toeplitz_weights`, O(nx) memory).
     """
     x_edges = np.ascontiguousarray(x_edges, dtype=float)
     return _cached(b"W" + x_edges.tobytes(), lambda: _weights(x_edges))
@@ -358,6 +338,13 @@ def strip_prefactor(effusivity: float, speed: float) -> float:
 def surface_rise(x_edges: np.ndarray, flux: np.ndarray, effusivity, speed, extended: bool = False,
                  behind: int = 0) -> np.ndarray:
     """Surface temperature rise at the cell centres for a piecewise constant flux.
+
+    On the extended grid of a scene with ``field`` (~7x longer, zero flux behind the patch: ``behind`` =
+    the cells before it) the heated rows and the half patch behind them are summed exactly (one dense
+    product) and the long trail further behind by Chebyshev interpolation of the smooth weight over the
+    heated rows (:func:`trail_toeplitz`, rank 24, ~1e-15 of the maximum); :func:`depth_rise` transforms
+    only the heated rows by FFT (:func:`fft_toeplitz`). On the benchmark's ellipse (896 x 256 cells, 41
+    depths): surface 0.8 ms, depth 1.0 ms (benchmarks/test_green_field_benchmark.py).
 
     Parameters
     ----------

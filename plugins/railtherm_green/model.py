@@ -1,32 +1,17 @@
 """Temperature model "green": Ertz & Knothe's 1-D Green-function flash temperatures (seed §5).
 
-Each strip y = const of the patch is treated as a 1-D half-space heated through its surface while
-it crosses the contact (valid at high Péclet number, L = V a / (2 kappa) >> 1). The frictional flux
-is split between wheel and rail (seed eq. 38); the wheel surface moves through the patch at
-v_w = v0 + v_s, the rail at v_r = v0 (eqs. 32-33). Bodies at different bulk temperatures also
-exchange heat through the patch (eqs. 40-44). The long-term wheel temperature (eqs. 45-54) is
-computed when the scene asks for the steady outputs.
+Each strip y = const of the patch is treated as a 1-D half-space heated through its surface while it
+crosses the contact (valid at high Péclet number, L = V a / (2 kappa) >> 1; :mod:`.kernel`). The
+frictional flux is split between wheel and rail (seed eq. 38); the wheel surface moves through the
+patch at v_w = v0 + v_s, the rail at v_r = v0 (eqs. 32-33). Bodies at different bulk temperatures also
+exchange heat through the patch (eqs. 40-44, :mod:`railtherm_green.steady`). The long-term wheel
+temperature (eqs. 45-54, :func:`railtherm.physics.lumped_wheel`) is computed when the scene asks for
+the steady outputs. The seed's eqs. 34, 36, 37, 39, 41, 52 and 53 have misprints; the consistent forms
+are implemented (listed in docs/NOTES.md; tested against ``railtherm.references.flash``).
 
-Notes on the seed's formulas (what is implemented instead)
------------------------------------------------------------
-* Eqs. 32-33 run xi from the leading edge -1 to the trailing edge +1; here x = -a xi (leading edge
-  at +a). Eq. 34 prints ``exp(-xi^2/(2(xi+1)))`` for ``exp(-zeta^2/(2(xi+1)))``; eq. 36 has
-  unbalanced brackets (the consistent form is the difference of two eq. 34 terms); eq. 37 prints
-  ``xi = 1 - x^2/a^2`` for the flux ``mu v_s p0 sqrt(1 - (x/a)^2)``. The kernel integrates the
-  consistent forms exactly (tests against ``railtherm.references.flash``).
-* Eq. 39's constant 1.253 (= sqrt(pi/2)) for the maximum of the Hertzian band is 1.5 % above the
-  exact 1.2346 (at x = -0.652 a, not at the trailing edge as the seed says; the trailing-edge value is
-  1.0638).
-* Eq. 41's interface temperature eps theta_w0 uses Blok's fraction with the bodies' speeds (for
-  equal speeds beta_w/(beta_w + beta_r)); eq. 52 balances per an effective width b* = 4b/3 that the
-  strips of the ellipse do not have (31 % high for Table 1); eq. 53 is garbled and not used. See
-  :func:`railtherm.physics.lumped_wheel` and :mod:`railtherm_green.steady`.
-
-References
-----------
-.. [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
-   temperatures in wheel/rail contact, Wear 253 (2002) 498-508 (DOI not verified, see docs/references.md)
-.. [2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, sections 2.5, 2.9.
+References: M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
+temperatures in wheel/rail contact, Wear 253 (2002) 498-508 (DOI not verified, see docs/references.md).
+H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, sections 2.5, 2.9.
 """
 from __future__ import annotations
 
