@@ -202,7 +202,7 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
         one to 1e-9; otherwise the sweep runs), or the parabolic one. The fields are cell averages
         (the stick map is taken at the cell centres), the force and the local power have no
         discretisation error, and the local power equals the global ``-V xi Fx`` exactly.
-        ``"sweep"``: Kalker's discrete sweep (:func:`fastsim_sweep`, one strip; the seed's
+        ``"sweep"``: Kalker's discrete sweep (:func:`.fastsim_kernel.fastsim_sweep`, one strip; the seed's
         modified FASTSIM as in 3-D): tractions at the cell centres, power ``-p.s`` per cell. A friction
         that varies (per cell, or ``slip_law``) always runs the sweep.
     slip_law : railtherm.physics.friction.SlipVelocityFriction, optional

@@ -44,7 +44,7 @@ class WheelsetSolution:
 
 
 #: Gauss-Legendre points across each cell in y of the wheelset's Hertz pressure grids [1]
-#: (railtherm.physics.hertz_pressure_grid; 12 since the first release, the core default is 8)
+#: (railtherm.physics.hertz_pressure_grid; the core default is 8)
 PRESSURE_GAUSS = 12
 
 

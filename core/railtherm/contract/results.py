@@ -63,7 +63,7 @@ class ContactPatch:
         Contact temperature of each cell, the mean of the wheel's and the rail's surface temperature
         [degC], that a temperature-dependent friction law uses; set by core's coupled loop
         (:mod:`railtherm.solving.friction_loop`) before the tangential stage. None: the mean bulk
-        temperature of the bodies (:func:`local_friction`).
+        temperature of the bodies (:func:`railtherm.physics.friction.local_friction`).
     diagnostics : dict
         Solver diagnostics (iterations, residual, converged, ...).
     """

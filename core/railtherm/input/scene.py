@@ -229,7 +229,7 @@ class Scene:
     source: Mapping[str, Any] = field(default_factory=dict, compare=False, repr=False)
     #: swept parameters of this scene, key -> value
     sweep: Mapping[str, Any] = field(default_factory=dict, compare=False)
-    #: temperatures behind the patch and in depth (key ``field``); None: on the patch only, as before
+    #: temperatures behind the patch and in depth (key ``field``); None: on the patch only
     #: (declared last: the name shadows ``dataclasses.field`` in the class body)
     field: Field | None = None
     #: passes, schedule, history depths and threshold of a scene with ``mode = "transient"`` (the

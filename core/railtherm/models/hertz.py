@@ -7,7 +7,7 @@ from ..contract.capabilities import Capabilities
 from ..contract.options import Option
 from ..contract.stages import NormalContactModel
 
-__all__ = ["HertzContact", "hertz_geometry"]  # hertz_geometry: moved to railtherm.physics, kept for one release
+__all__ = ["HertzContact", "hertz_geometry"]  # hertz_geometry: re-export of railtherm.physics.hertz_geometry
 
 
 class HertzContact(NormalContactModel):

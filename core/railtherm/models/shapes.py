@@ -1,6 +1,6 @@
-"""Cell averages of the analytic surface distributions: moved to :mod:`railtherm.physics.averaging`.
+"""Cell averages of the analytic surface distributions: a re-export of :mod:`railtherm.physics.averaging`.
 
-This module re-exports them for one release; import from :mod:`railtherm.physics`.
+Import them from :mod:`railtherm.physics`.
 """
 from __future__ import annotations
 

@@ -363,7 +363,7 @@ def sweep_of(attrs) -> dict:
     """The sweep of a run from its global attributes: ``{dotted study key: value}``.
 
     Reads the JSON attribute ``sweep``; files written by railtherm 0.1 carry ``sweep_<key>`` attributes
-    instead (dots replaced by underscores), decoded against the scene vocabulary (kept for one release).
+    instead (dots replaced by underscores), decoded against the scene vocabulary.
     """
     raw = attrs.get(SWEEP_ATTR) if hasattr(attrs, "get") else None
     if raw is not None:

@@ -144,7 +144,7 @@ class StudyData:
         return {}
 
 
-run_path = store.run_path  # importable from here for one release
+run_path = store.run_path  # re-export: the home of run_path is railtherm.output.store
 
 
 def _open_run(out: Path, scene: str, method: str, level: int):
