@@ -693,3 +693,31 @@ def test_symmetric_gap_solved_on_a_quadrant_equals_the_whole_grid():
                                        atol=1e-14 * np.abs(full).max())
             pre = conv.precondition(_fold.unfold(q))
             np.testing.assert_allclose(folded.precondition(q), pre[hx:, hy:], rtol=0, atol=1e-6 * np.abs(pre).max())
+
+
+def test_gmres_that_stalls_in_single_precision_continues_in_double(monkeypatch):
+    """GMRES with a float32 basis that stalls (forced here after 2 windows of steps) continues in double precision
+    on the linear residual and reaches the tolerance of the true residual (|b - A x| <= rtol |b|), the solution of
+    double-precision GMRES to the tolerance; without a stall it is float32 GMRES alone."""
+    from railtherm_kalker import _gmres
+    rng = np.random.default_rng(4)
+    n = 400
+    diag = rng.uniform(1.0, 100.0, n)
+    upper = rng.uniform(-5.0, 5.0, n - 1)
+
+    def matvec(v):
+        out = diag * v
+        out[:-1] += upper * v[1:]
+        return out
+
+    b = rng.standard_normal(n)
+    rtol = 1e-9
+    ref, _, _ = _gmres.krylov_gmres(matvec, lambda v: v, b, rtol, 200)
+    monkeypatch.setattr(_gmres, "STALL_BELOW", 1.0)
+    monkeypatch.setattr(_gmres, "STALL_RATIO", 0.0)
+    _, k32, stalled = _gmres.krylov_gmres(matvec, lambda v: v, b, rtol, 200, np.float32, stall=True)
+    assert stalled and k32 == 2 * _gmres.STALL_WINDOW + 1
+    x, steps = _gmres.gmres_single_then_double(matvec, lambda v: v, b, rtol, 200, True)
+    assert steps > k32
+    assert np.linalg.norm(b - matvec(x)) <= 1.01 * rtol * np.linalg.norm(b)
+    np.testing.assert_allclose(x, ref, rtol=0, atol=1e-7 * np.abs(ref).max())

@@ -70,6 +70,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._band import LinePreconditioner
+from ._gmres import gmres_single_then_double
 from ._sweep import _inverse_blocks, _sweep_nb, newton_blocks, sweep
 
 __all__ = ["TangentialSolution", "solve_tangential", "solve_tangential_nested", "rigid_slip", "TANGENTIAL_TOLERANCE"]
@@ -91,12 +92,6 @@ FORCING, FORCING_MAX = 0.05, 0.5
 #: residual is always evaluated in double precision, so the converged traction does not depend on this choice
 LINEAR_MIN, LINEAR_MAXITER, SINGLE_BELOW = 1e-8, 200, 2e-6
 
-#: the tolerance above which GMRES's Krylov basis (and its orthogonalisation) is in single precision too (below,
-#: float32 products with a double-precision basis): at 200^2 longitudinal creepage the last Newton step's GMRES
-#: (tolerance 1.2e-5) took 55 or 145 steps with a float32 basis, depending on round-off in the pressure (1e-12), and
-#: 50 with a float64 basis (47 with float64 products too)
-SINGLE_BASIS_ABOVE = 1e-3
-
 #: a step whose forcing term would reach the tolerance stops at FINAL_MARGIN tol / res instead (the relative
 #: residual of the linearised system predicts the next max |F| to within a factor 2 once the stick/slip division
 #: is settled); 0.3 took 203/189 FFT products (combined/longitudinal creepage, E&K ellipse, 200^2) against
@@ -108,15 +103,6 @@ FINAL_MARGIN = 0.3
 #: slip, E&K ellipse, 200^2: 2 Newton steps and 10 FFT products against 4 and 13). Not for the prolonged coarse
 #: solutions, whose stick/slip boundary still moves (at 400^2 they start at res 0.05 and need 8-9 Newton steps).
 GOOD_START_FORCING = 3.0
-
-#: Gram-Schmidt is repeated when the new Krylov vector keeps less than this fraction of its norm [1]. At 1/sqrt(2)
-#: (Daniel et al.'s choice [7]) 90 % of the steps were repeated, at 0.3 fewer than 8 %, with the same GMRES steps and
-#: creep forces to 1e-12 (E&K ellipse, 100^2 and 200^2): the loss of orthogonality between 0.3 and 0.7 does not
-#: slow GMRES down here, and the halved orthogonalisation is about 7 % of the tangential stage
-REORTHOGONALISE = 0.3
-
-#: rows of the first block of GMRES's Krylov basis (doubled when full) [1]
-GMRES_BLOCK = 16
 
 #: Eisenstat-Walker's gamma (forcing choice 2, exponent 2)
 EW_GAMMA = 0.9
@@ -268,68 +254,6 @@ class LocalPreconditioner:
 #: 20-27 % fewer GMRES steps than the upwind sweep :class:`LocalPreconditioner` at 1.5 times its cost per
 #: application and 4 times per factorisation (both small against an FFT product)
 PRECONDITIONER = LinePreconditioner
-
-
-def _gmres(matvec, psolve, b, rtol, maxiter, dtype=np.float64):
-    """Right-preconditioned GMRES (no restart; classical Gram-Schmidt, repeated when the new vector lost
-    more than 1 - :data:`REORTHOGONALISE` of its norm: Kahan-Parlett's "twice is enough").
-
-    ``dtype`` is that of the Krylov basis: float32 for the loose solves whose products are float32 anyway
-    (halves the memory traffic of the orthogonalisation, a fifth of a GMRES step's time at 200^2).
-
-    Returns the solution and the iterations; stops when ``|b - A x| <= rtol |b|`` (true residual of
-    the unpreconditioned system, up to round-off) or after ``maxiter`` steps.
-    """
-    n = b.size
-    beta = float(np.linalg.norm(b))
-    if beta == 0.0:
-        return np.zeros(n), 0
-    # the Krylov basis grows in blocks: allocating (and releasing) maxiter rows for the few steps of most solves
-    # cost as much as the steps (1.5 ms at 26,700 unknowns for 201 rows against 0.1 ms for 8)
-    rows = min(maxiter, GMRES_BLOCK)
-    V = np.empty((rows + 1, n), dtype=dtype)
-    Z = np.empty((rows, n), dtype=dtype)
-    H = np.zeros((maxiter + 1, maxiter))
-    cs, sn = np.zeros(maxiter), np.zeros(maxiter)
-    g = np.zeros(maxiter + 1)
-    g[0] = beta
-    V[0] = b / beta
-    k = 0
-    for k in range(maxiter):
-        if k == Z.shape[0]:
-            grow = min(maxiter, 2 * k) - k
-            V = np.concatenate([V, np.empty((grow, n), dtype=dtype)])
-            Z = np.concatenate([Z, np.empty((grow, n), dtype=dtype)])
-        Z[k] = psolve(V[k].astype(float))
-        w = matvec(Z[k]).astype(dtype, copy=False)
-        wn = float(np.linalg.norm(w))
-        h = V[:k + 1] @ w
-        w = w - h @ V[:k + 1]
-        hn = float(np.linalg.norm(w))
-        if hn < REORTHOGONALISE * wn:            # cancellation: orthogonalise once more ("twice is enough")
-            h2 = V[:k + 1] @ w
-            w = w - h2 @ V[:k + 1]
-            h = h + h2
-            hn = float(np.linalg.norm(w))
-        col = np.append(h.astype(float), hn)     # the Hessenberg column and its rotations in double precision
-        for m in range(k):                       # earlier rotations
-            t = cs[m] * col[m] + sn[m] * col[m + 1]
-            col[m + 1] = -sn[m] * col[m] + cs[m] * col[m + 1]
-            col[m] = t
-        den = float(np.hypot(col[k], col[k + 1]))
-        cs[k], sn[k] = (col[k] / den, col[k + 1] / den) if den > 0 else (1.0, 0.0)
-        col[k] = den
-        col[k + 1] = 0.0
-        H[:k + 2, k] = col
-        g[k + 1] = -sn[k] * g[k]
-        g[k] = cs[k] * g[k]
-        if hn > 0:
-            V[k + 1] = w / hn
-        if abs(g[k + 1]) <= rtol * beta or hn == 0.0:
-            break
-    k += 1
-    y = np.linalg.solve(np.triu(H[:k, :k]) + np.diag(np.where(np.diag(H[:k, :k]) == 0, 1.0, 0.0)), g[:k])
-    return (y.astype(dtype) @ Z[:k]).astype(float), k
 
 
 try:  # pragma: no cover - exercised when numba is installed (a declared dependency)
@@ -491,8 +415,7 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         else:
             def psolve(v):
                 return v
-        d, nlin = _gmres(jac, psolve, -F.ravel(), eta_k, LINEAR_MAXITER,
-                         np.float32 if eta_k > SINGLE_BASIS_ABOVE else np.float64)
+        d, nlin = gmres_single_then_double(jac, psolve, -F.ravel(), eta_k, LINEAR_MAXITER, single)
         lin_total += nlin
         d = d.reshape(nc, nin)
         # line search on max |F|
