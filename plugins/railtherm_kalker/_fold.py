@@ -1,15 +1,12 @@
 """The normal problem of a gap symmetric in x and y, solved on one quadrant of the element grid.
 
-A gap symmetric about the centre lines of the grid (a Hertzian contact centred on its potential area) has a
-pressure symmetric in x and y (the solution is unique), and the active-set CG of
-:func:`railtherm_kalker.normal_solver.solve_normal` keeps its iterates symmetric from a symmetric start. On the
-quadrant, Love's operator is Toeplitz plus Hankel: ``u[a] = sum_q p[q] (K[a - q] + K[a + q + 1])`` per axis (the
-element q and its mirror), the symmetric convolution of a half-sample symmetric field with an even kernel, which
-DCT-II, the kernel's DCT-I and the inverse DCT-II evaluate exactly (Martucci) on L >= n - 1 points per axis: about
-half the time of the padded FFT product, on a quarter of the elements. The preconditioner (the inverse of Love's
-circulant on the periodic element grid) folds the same way (DCT-II of n/2 points with its eigenvalues). The folded
-iteration is the full one up to round-off: the same iterations, the pressure to round-off of the solver's
-tolerance (tests/test_kalker_solver.py).
+A gap symmetric about the grid's centre lines (a centred Hertzian contact) has a pressure symmetric in x and y, and
+the active-set CG of :func:`railtherm_kalker.normal_solver.solve_normal` keeps its iterates symmetric from a
+symmetric start. On the quadrant, Love's operator is Toeplitz plus Hankel, ``u[a] = sum_q p[q] (K[a - q] +
+K[a + q + 1])`` per axis: the symmetric convolution of a half-sample symmetric field with an even kernel, evaluated
+exactly by DCT-II, the kernel's DCT-I and the inverse DCT-II (Martucci) on L >= n - 1 points per axis, about a third
+of the padded FFT product's time, on a quarter of the elements. The circulant preconditioner folds likewise (a
+DCT-II of n/2 points). Same iterations as the whole grid, pressure equal to round-off (tests/test_kalker_solver.py).
 
 References
 ----------

@@ -15,9 +15,7 @@ preconditioner is the inverse of the Strang circulant of A on the periodic eleme
 (:meth:`railtherm_kalker.influence.Convolution.precondition`, float32, one FFT pair): it makes the
 iteration count almost independent of the grid (Vollebregt's Table 2; here 10-20 iterations from the
 Hertz pressure against 50-60 without). The displacement is updated from the search direction's
-product, and recomputed only when the active set changed. A gap symmetric in x and y (a centred Hertzian contact)
-is solved by the same iteration on one quadrant (:mod:`railtherm_kalker._fold`: DCT products, 2.5-3.5 times
-faster).
+product, and recomputed only when the active set changed.
 
 References
 ----------
