@@ -106,7 +106,6 @@ LONG_MODULE_DOCSTRINGS_TO_TRIM = frozenset({
     "plugins/railtherm_green/transient.py",
     "plugins/railtherm_kalker/__init__.py",
     "plugins/railtherm_kalker/_band.py",
-    "plugins/railtherm_kalker/_fold.py",
     "plugins/railtherm_kalker/friction_laws.py",
     "plugins/railtherm_kalker/influence.py",
     "plugins/railtherm_kalker/normal_model.py",
