@@ -44,7 +44,8 @@ def test_the_balanced_roll_is_the_benchmarks(position, request):
     pc = _balanced(position).profile_contact
     want = A22["position"][position - 1]["roll"]
     # the wheel's vertical approach: its patch's Hertz-equivalent one along the normal, over cos(delta)
-    approach = hertz_from_curvatures(*pc.hertz_curvatures, pc.normal_force, E_STAR).approach / math.cos(pc.contact_angle)
+    hertz = hertz_from_curvatures(*pc.hertz_curvatures, pc.normal_force, E_STAR)
+    approach = hertz.approach / math.cos(pc.contact_angle)
     tol = 0.02 * approach / L_ARM + _rounding(want)
     assert pc.balanced_roll == pytest.approx(want, abs=tol), (pc.balanced_roll, want, tol)
 

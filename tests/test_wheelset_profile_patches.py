@@ -154,3 +154,30 @@ def test_a_plain_scene_cannot_ask_the_wheel_totals():
              "outputs": ["wheel_force_x"]}
     with pytest.raises(SceneError, match=r"'ellipse'.*outputs.*wheel_force_x.*wheel_profile"):
         load_scene(plain)
+
+
+def test_a_scene_of_several_patches_runs_in_a_study(tmp_path):
+    """Position 11 right with patch = "all" in a study (a Hertz + FASTSIM chain): the run is written with its
+    patch dimension and the wheel's totals, and the metrics phase reads it (runs are not failed)."""
+    import json
+
+    import xarray as xr
+
+    from railtherm.output import store
+    s = _all(11)
+    ws = ", ".join(f"{k} = {v!r}".replace("'", '"') for k, v in s["wheelset"].items())
+    study = tmp_path / "patches.toml"
+    study.write_text(f'schema_version = 1\n[study]\nname = "patches"\nmethods = ["equivalent"]\nlevels = [0]\n'
+                     f'repeat = 1\nwarmup = false\n'
+                     f'reference = "equivalent"\n[study.chains.equivalent]\nnormal = "wheelset-profile"\n'
+                     f'tangential = "fastsim"\n[[scene]]\nname = "p11"\nspeed = {s["speed"]}\n'
+                     f'friction = {s["friction"]}\n'
+                     f'outputs = ["normal_force", "creep_force_x", "creep_force_y", "wheel_force_z"]\n'
+                     f'wheel = {{ shear_modulus = 82e9, poisson_ratio = 0.28 }}\n'
+                     f'rail = {{ shear_modulus = 82e9, poisson_ratio = 0.28 }}\nwheelset = {{ {ws} }}\n')
+    out = tmp_path / "out"
+    railtherm.run_study(str(study), out=out, executor="serial", report=False)
+    rec = json.loads(store.study_path(out).read_text())["records"][0]
+    assert rec["status"] != "failed", rec
+    with xr.open_dataset(out / "runs" / "p11" / "equivalent" / "level-0.nc") as ds:
+        assert ds.sizes["patch"] == 2 and ds["wheel_force_z"].dims == ()

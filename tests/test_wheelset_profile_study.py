@@ -29,7 +29,8 @@ def _study(tmp_path, **lost) -> str:
     """A study of one good scene and one whose wheelset table is changed by ``lost`` (TOML values)."""
     path = tmp_path / "lost.toml"
     path.write_text(f'schema_version = 1\n[study]\nname = "lost"\nmethods = ["equivalent"]\nlevels = [0]\n'
-                    f'reference = "equivalent"\n[study.chains.equivalent]\nnormal = "wheelset-profile"\n[defaults]\nspeed = 2.0\nfriction = 0.3\n'
+                    f'reference = "equivalent"\n[study.chains.equivalent]\nnormal = "wheelset-profile"\n'
+                    f'[defaults]\nspeed = 2.0\nfriction = 0.3\n'
                     f'outputs = ["normal_force", "max_pressure", "contact_position_rail"]\n'
                     f'[[scene]]\nname = "good"\nwheelset = {{ {_table()} }}\n'
                     f'[[scene]]\nname = "lost"\nwheelset = {{ {_table(**lost)} }}\n')
