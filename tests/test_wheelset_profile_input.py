@@ -164,3 +164,11 @@ def test_the_command_line_names_a_wheel_without_contact_and_runs_the_study(tmp_p
     assert "Traceback" not in capsys.readouterr().err
     status = (tmp_path / "out" / "runs" / "w" / "kalker" / "level-0.status.json").read_text()
     assert words in status
+
+
+def test_a_close_minimum_apart_from_the_first_patch_is_a_patch_of_its_own():
+    """Position 11 right: the tread's minimum lies 0.022 mm above the flange root's, less than the approach, but
+    the gap between them rises above it (two interpenetration regions): two patches, the second on the tread."""
+    one, two = (load_scene(_with(11, patch=k)).profile_contact for k in (1, 2))
+    assert one.patches == two.patches == 2
+    assert 0.0 < two.separation < 3e-5 and two.contact_position_rail - one.contact_position_rail > 5e-3

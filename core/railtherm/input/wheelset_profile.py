@@ -201,14 +201,15 @@ def normal_force_from_vertical(vertical_force, angle, curvatures, e_star, G, nu,
 
 
 def _distinct_patches(patches, wheel, rail, vertical_force) -> list:
-    """The patches that are elastic patches of their own: a gap minimum less than the first patch's
-    Hertz-equivalent approach above it lies inside the first patch (its gap fit covers it)."""
+    """The patches that are elastic patches of their own: a gap minimum inside the first patch's interpenetration
+    region at its Hertz-equivalent approach under the whole force (:func:`_connected`) lies inside the first
+    patch (its gap fit covers it); one beyond that approach, or apart from the region, is a patch of its own."""
     first = patches[0]
     A, B = first.hertz_curvatures
     if not (A > 0 and B > 0):
         return list(patches)
     h = hertz_from_curvatures(A, B, vertical_force / math.cos(first.contact_angle), contact_modulus(wheel, rail))
-    return [first] + [q for q in patches[1:] if q.separation >= h.approach]
+    return [first] + [q for q in patches[1:] if not _connected(first, q, h.approach)]
 
 
 def _below(y, g, level) -> tuple[int, int]:
@@ -413,7 +414,7 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
         merged = len(wc.patches) - len(distinct)
         _fail(scene_name, "wheelset.patch", patch_no,
               f"at most {len(distinct)}: the search found {len(wc.patches)} gap minima on the {geo.side} wheel"
-              + (f", {merged} of them within the first patch's Hertz-equivalent approach (one elastic patch "
+              + (f", {merged} of them inside the first patch's interpenetration region (one elastic patch "
                  "covers them; patch 1 solves it)" if merged else ""))
     p = distinct[patch_no - 1]
     _check_curvatures(scene_name, p, patch_no)
