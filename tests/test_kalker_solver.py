@@ -721,3 +721,31 @@ def test_gmres_that_stalls_in_single_precision_continues_in_double(monkeypatch):
     assert steps > k32
     assert np.linalg.norm(b - matvec(x)) <= 1.01 * rtol * np.linalg.norm(b)
     np.testing.assert_allclose(x, ref, rtol=0, atol=1e-7 * np.abs(ref).max())
+
+
+#: creep forces [N], spin moment [N m] and local frictional power [W] on the E&K ellipse at level 1 (40 x 40
+#: elements, default options) computed by the solver before the quadrant set-up, the element-grid preconditioner, the
+#: folded normal solve and the GMRES stall guard (the plugin at commit eb476b6)
+FROZEN_LEVEL_1 = {"combined": (20918.44101529218, -15626.04567099402, -28.510105765400084, 1890.5265458386232),
+                  "longitudinal": (8741.158479836378, 0.0, 0.0, 126.35865016468516),
+                  "full-slip": (29999.828028431217, 0.0, 0.0, 44994.76728557306)}
+
+
+@pytest.mark.parametrize("case, creepage", [("combined", (-2e-3, 1e-3, 0.2)), ("longitudinal", (-5e-4, 0.0, 0.0)),
+                                            ("full-slip", (-0.05, 0.0, 0.0))])
+def test_results_equal_the_earlier_solver(case, creepage):
+    """Creep forces and spin moment (relative to |F| and |F| a) and the local frictional power equal the earlier
+    solver's to 1e-9 (measured: 1e-12 or less; the lateral force and moment of the longitudinal cases are
+    round-off, 2e-8 N against |F| = 8741 N)."""
+    sc = load_scene(canonical("ellipse-creepage", normal_force=100e3,
+                              contact={"shape": "ellipse", "semi_axes": [5.88e-3, 10.54e-3]},
+                              creepage=dict(zip(("longitudinal", "lateral", "spin"), creepage))))
+    patch = NORMAL.compute_patch(sc, 1, OPTS)
+    res = TANG.compute_tangential(sc, patch, 1, OPTS)
+    fx, fy, mz, power = FROZEN_LEVEL_1[case]
+    scale = math.hypot(fx, fy)
+    assert patch.pressure.shape == (40, 40)
+    assert res.creep_force_x == pytest.approx(fx, abs=1e-9 * scale)
+    assert res.creep_force_y == pytest.approx(fy, abs=1e-9 * scale)
+    assert res.spin_moment == pytest.approx(mz, abs=1e-9 * scale * 5.88e-3)
+    assert res.diagnostics["local_power"] == pytest.approx(power, rel=1e-9)
