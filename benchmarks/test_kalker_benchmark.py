@@ -11,13 +11,13 @@ as later solves on the grid do (a friction or temperature loop, a wheelset's pat
 ``normal_solve``, ``tangential``), iteration and product counts and the forces.
 
 Scaling with N elements per side, fitted (least squares of log CPU time on log N, first solve, shared 2-core
-machine under load 5-7): total time ~ N^2.28 (combined), N^2.38 (longitudinal), N^2.05 (full slip) over
-50^2-400^2 and N^2.54, N^2.62, N^2.38 over 100^2-400^2. One FFT product is O(N^2 log N); the GMRES steps grow
-slowly (67, 100, 140, 214 summed over the nested grids for combined creepage at 50^2-400^2) while full slip needs a
-fixed number of products (12 normal iterations, 9 tangential products). Measured (CPU, first solve): 100^2 0.107,
-0.103, 0.022 s; 200^2 0.56, 0.50, 0.094 s; 400^2 3.6, 3.9, 0.60 s (combined, longitudinal, full slip); a later
-solve on the grid ("cached") saves the operators' set-up (100^2 full slip 0.019 s). docs/kalker.md has the
-per-stage tables.
+machine under load 6): total time ~ N^2.18 (combined), N^2.19 (longitudinal), N^1.63 (full slip) over 50^2-400^2
+and N^2.29, N^2.44, N^1.84 over 100^2-400^2. One FFT product is O(N^2 log N); the GMRES steps grow slowly (67, 100,
+140, 214 summed over the nested grids for combined creepage at 50^2-400^2) while full slip needs a fixed number of
+products (12 normal iterations, on one quadrant for this symmetric gap, and 9 tangential products). Alternated
+before / after pairs (:func:`compare`, first solve, load 7.5-9): 100^2 full slip 0.0248 -> 0.0155 s, longitudinal
+0.104 -> 0.104 s, combined 0.136 -> 0.103 s; 200^2 0.099 -> 0.064, 0.58 -> 0.53, 0.61 -> 0.53 s; docs/kalker.md has
+the per-stage tables. :func:`time_public_api` times ``railtherm.solve`` at level 3.
 :func:`scaling_exponent` fits a run's ``extra_info``.
 
 Run: ``OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 NUMBA_NUM_THREADS=1 python -m pytest
@@ -25,8 +25,10 @@ benchmarks/test_kalker_benchmark.py -m benchmark --benchmark-enable -p no:cachep
 """
 from __future__ import annotations
 
+import importlib
 import math
 import os
+import sys
 import time
 
 import numpy as np
@@ -106,3 +108,97 @@ def test_benchmark_kalker_ertz_knothe(benchmark, side, case, operators):
     benchmark.extra_info.update(best)
     benchmark.extra_info["OPENBLAS_NUM_THREADS"] = os.environ.get("OPENBLAS_NUM_THREADS", "unset")
     assert math.hypot(best["creep_force_x"], best["creep_force_y"]) < MU * N * (1 + 1e-9)
+
+
+def _plugin_modules(package):
+    """The modules of a copy of the plugin imported as ``package`` (a directory on sys.path): influence,
+    normal_solver, tangential_model, tangential_solver, potential_area."""
+    return [importlib.import_module(f"{package}.{m}") for m in
+            ("influence", "normal_solver", "tangential_model", "tangential_solver", "potential_area")]
+
+
+def _solve_with(mods, n, margin, creepage, cached):
+    """solve_both's first or cached solve with the given plugin modules: (total, normal, tangential [s], forces)."""
+    inf, nsm, tm, tsm, pa = mods
+    if not cached:
+        inf.normal_operator.cache_clear()
+        tm._rolling_operator.cache_clear()
+        getattr(tm, "clear_operator_caches", lambda: None)()
+    e_star = G / (1 - NU)
+    area = pa.potential_area(A, B, n, margin=margin)
+    X, Y = area.mesh()
+    ca, cb = pa.hertz_curvatures(A, B, N, e_star)
+    hz = hertz_from_curvatures(ca, cb, N, e_star)
+    t0 = time.process_time()
+    conv = inf.normal_operator(*area.shape, inf.element_size(area.x_edges), inf.element_size(area.y_edges), e_star)
+    ns = nsm.solve_normal(conv, ca * X ** 2 + cb * Y ** 2, area.dx * area.dy, force=N,
+                          initial=hertz_pressure(X, Y, hz.a, hz.b, hz.max_pressure))
+    t1 = time.process_time()
+    ts = tsm.solve_tangential_nested(lambda xe, ye: tm.rolling_operator(xe, ye, G, NU), area.x_edges, area.y_edges,
+                                     MU * ns.pressure, creepage)
+    t2 = time.process_time()
+    dA = area.dx * area.dy
+    forces = (float(ts.traction[0].sum() * dA), float(ts.traction[1].sum() * dA),
+              float((X * ts.traction[1] - Y * ts.traction[0]).sum() * dA))
+    return t2 - t0, t1 - t0, t2 - t1, forces, ts.products
+
+
+def compare(before_package, sides, cases, repetitions, cached=False):
+    """Before / after pairs alternated in one process: the plugin copy importable as ``before_package`` against the
+    installed plugin, best CPU time of ``repetitions`` per version, printed with the forces' largest difference
+    (relative to |F|, the spin moment to |F| a)."""
+    versions = {"before": _plugin_modules(before_package), "after": _plugin_modules("railtherm_kalker")}
+    for side in sides:
+        n, margin = GRIDS[side]
+        for case in cases:
+            for mods in versions.values():                       # compile and warm up
+                _solve_with(mods, max(8, n // 4), 2, CASES[case], False)
+                _solve_with(mods, n, margin, CASES[case], False)
+            runs = {k: [] for k in versions}
+            for _ in range(repetitions):
+                for k, mods in versions.items():
+                    runs[k].append(_solve_with(mods, n, margin, CASES[case], cached))
+            b, a = min(runs["before"]), min(runs["after"])
+            scale = math.hypot(b[3][0], b[3][1])
+            diff = max(abs(a[3][0] - b[3][0]), abs(a[3][1] - b[3][1]), abs(a[3][2] - b[3][2]) / A) / scale
+            print(f"{side}^2 {case:12s} before {b[0]:.4f} ({b[1]:.4f} / {b[2]:.4f}) after {a[0]:.4f} ({a[1]:.4f} / "
+                  f"{a[2]:.4f}) ratio {a[0] / b[0]:.2f}, products {b[4]} -> {a[4]}, forces {diff:.1e}", flush=True)
+
+
+def time_public_api(cases, repetitions):
+    """``railtherm.solve(scene, "kalker", 3)`` on the E&K ellipse (144 x 144 elements), creep forces and spin moment
+    only, the operator caches emptied before each solve: best CPU time [s] of ``repetitions`` per case, printed with
+    the forces. The plugin is the one first on the path (a copy named railtherm_kalker on PYTHONPATH for "before")."""
+    import railtherm  # here: the benchmarks above need only the plugin's modules
+    from railtherm import load_scene
+    from railtherm.testing import canonical
+    from railtherm_kalker import influence
+    for case in cases:
+        xi, eta, phi = CASES[case]
+        scene = load_scene(canonical("ellipse-creepage", normal_force=N,
+                                     contact={"shape": "ellipse", "semi_axes": [A, B]},
+                                     creepage={"longitudinal": xi, "lateral": eta, "spin": phi},
+                                     outputs=["creep_force_x", "creep_force_y", "spin_moment"]))
+        railtherm.solve(scene, "kalker", 3)
+        best = math.inf
+        for _ in range(repetitions):
+            influence.normal_operator.cache_clear()
+            tangential_model._rolling_operator.cache_clear()
+            getattr(tangential_model, "clear_operator_caches", lambda: None)()
+            t0 = time.process_time()
+            ds = railtherm.solve(scene, "kalker", 3)
+            best = min(best, time.process_time() - t0)
+        print(f"{case:12s} best {best:.4f} s, Fx {float(ds['creep_force_x']):.9e} Fy {float(ds['creep_force_y']):.9e} "
+              f"Mz {float(ds['spin_moment']):.9e}", flush=True)
+
+
+if __name__ == "__main__":
+    # before / after pairs: python benchmarks/test_kalker_benchmark.py DIR PACKAGE SIDES CASES REPETITIONS [cached],
+    # DIR holding a copy of plugins/railtherm_kalker renamed PACKAGE (e.g. /tmp/k railtherm_kalker_before 100,200
+    # full-slip,combined 9); the public API: python benchmarks/test_kalker_benchmark.py --api CASES REPETITIONS
+    if sys.argv[1] == "--api":
+        time_public_api(sys.argv[2].split(","), int(sys.argv[3]))
+    else:
+        sys.path.insert(0, sys.argv[1])
+        compare(sys.argv[2], [int(x) for x in sys.argv[3].split(",")], sys.argv[4].split(","), int(sys.argv[5]),
+                cached=len(sys.argv) > 6 and sys.argv[6] == "cached")
