@@ -55,6 +55,8 @@ from railtherm import TransientHistory
 from railtherm.physics import pass_peaks_and_residual, pass_time_above, thermal_scales
 from railtherm.references.transient import shifted_sum
 
+from .layout import depth_nodes, rail_nodes
+
 __all__ = ["SectionBlock", "section_block", "section_history", "superposed_history", "body_histories", "heating_scheme",
            "rail_nodes", "depth_nodes", "IMPLICIT_COST_FACTOR", "ADI_COST_FACTOR"]
 
@@ -112,35 +114,6 @@ class SectionBlock:
         """A :class:`_Stepper` of this block under the band's ``flux`` (nx,) [W/m^2] on ``x_edges`` [m]
         (``y_edges`` None) at ``speed`` [m/s], heat-input factor ``factor(t)``, from t0 [s]."""
         return _Stepper(self, _BandSource(self, x_edges, flux, speed), factor, t0)
-
-
-def depth_nodes(first: float, growth: float, bottom: float, exact) -> np.ndarray:
-    """Graded depths [m] from 0: spacing ``first`` growing by ``growth`` to ``bottom``; the depths in
-    ``exact`` made nodes (the nearest node moved onto each)."""
-    z = [0.0]
-    dz = first
-    while z[-1] < bottom:
-        z.append(z[-1] + dz)
-        dz *= growth
-    z = np.array(z)
-    for d in exact:
-        if d > 0:
-            z[int(np.argmin(np.abs(z[1:] - d))) + 1] = d
-    return z
-
-
-def rail_nodes(a: float, reach: float, level: int) -> np.ndarray:
-    """Nodes along the rail [m], symmetric about the section x = 0: spacing h = 2a/32/2**level within four
-    nodes of it, growing by ``1.3 ** (1 / 2**level)`` beyond, to 2a + 2 ``reach`` [m] on each side."""
-    h = 2.0 * a / (32 * 2 ** int(level))
-    half = 2.0 * a + 2.0 * reach
-    side = list(h * np.arange(1, 5))                    # uniform h next to the section, then graded
-    step = h
-    while side[-1] < half:
-        step *= 1.3 ** (1.0 / 2 ** int(level))
-        side.append(side[-1] + step)
-    side = np.array(side)
-    return np.concatenate([-side[::-1], [0.0], side])
 
 
 def section_block(a: float, speed: float, conductivity: float, capacity: float, convection: float, level: int,

@@ -19,7 +19,7 @@ from railtherm.physics import thermal_scales
 
 __all__ = ["Extent", "block_extent", "line_extent", "explicit_stability_limit", "line_stability_limit",
            "NodeGrid", "node_grid", "StepPlan", "plan_steps", "GradedGrid", "graded_grid", "graded_edges",
-           "graded_depth_edges", "Trail", "trail_extent", "trail_edges", "field_note"]
+           "graded_depth_edges", "Trail", "trail_extent", "trail_edges", "field_note", "rail_nodes", "depth_nodes"]
 
 
 @dataclass
@@ -467,3 +467,32 @@ def field_note(trail) -> str:
     deep = "" if trail.depth is None else f" and {trail.depth:.4g} m deep"
     return (f", or a shorter field (the scene's field asks for temperatures {trail.behind:.4g} m behind the "
             f"trailing edge{deep}, which the block must reach)")
+
+
+def rail_nodes(a: float, reach: float, level: int) -> np.ndarray:
+    """Nodes along the rail [m], symmetric about the section x = 0: spacing h = 2a/32/2**level within four
+    nodes of it, growing by ``1.3 ** (1 / 2**level)`` beyond, to 2a + 2 ``reach`` [m] on each side."""
+    h = 2.0 * a / (32 * 2 ** int(level))
+    half = 2.0 * a + 2.0 * reach
+    side = list(h * np.arange(1, 5))                    # uniform h next to the section, then graded
+    step = h
+    while side[-1] < half:
+        step *= 1.3 ** (1.0 / 2 ** int(level))
+        side.append(side[-1] + step)
+    side = np.array(side)
+    return np.concatenate([-side[::-1], [0.0], side])
+
+
+def depth_nodes(first: float, growth: float, bottom: float, exact) -> np.ndarray:
+    """Graded depths [m] from 0: spacing ``first`` growing by ``growth`` to ``bottom``; the depths in
+    ``exact`` made nodes (the nearest node moved onto each)."""
+    z = [0.0]
+    dz = first
+    while z[-1] < bottom:
+        z.append(z[-1] + dz)
+        dz *= growth
+    z = np.array(z)
+    for d in exact:
+        if d > 0:
+            z[int(np.argmin(np.abs(z[1:] - d))) + 1] = d
+    return z

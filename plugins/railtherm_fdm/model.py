@@ -3,7 +3,7 @@
 Each body (wheel and rail) is treated as the seed treats the rail: a block whose top face carries
 the body's share of the heat source moving at the body's speed relative to the contact. (For the
 wheel this is its flash temperature in one pass of the contact; its heating over revolutions is the
-pass histories of a transient scene on a line contact, below.) An elliptical patch runs the 3-D block
+pass histories of a transient scene, below.) An elliptical patch runs the 3-D block
 (:mod:`.block3d`), a line contact the 2-D (x-z) block (:mod:`.block2d`; the 3-D block with a laterally
 uniform source, exactly). The schemes --
 ``explicit`` (the seed's), ``implicit`` and the moving-frame ``steady`` one for stiff cases -- are
@@ -31,13 +31,13 @@ half the thermal layer sqrt(2 a kappa / V) cannot give it, so ``auto`` runs the 
 Péclet >= 0.1) and an explicitly requested transient scheme is refused (kind "validity"); the 2-D
 block's transient spacing resolves that layer from level 0 on. Without ``field`` every array is the one of the patch-only run, bit for bit.
 
-Transient scenes with passes (``passes``, ``schedule``, the history outputs; line contacts only): the
-histories of the section's material point come from the 2-D block around the section of
-:mod:`.history` -- explicit while a source is over it and implicit between the passes, each chosen by
-cost with the reason in the diagnostics (``<body>_history_heating_reason``, ``..._cooling_reason``), one
-pass's response superposed over the passes when the schedule is constant. An ellipse's histories, a
-temperature-dependent friction law, bodies at different bulk temperatures and the depth-field outputs
-are refused with the reason (:func:`history_limits`).
+Transient scenes with passes (``passes``, ``schedule``, the history outputs): the histories of the
+section's material point come from the block around the section -- 2-D for a line contact
+(:mod:`.history`), 3-D for a patch (:mod:`.history3d`) -- explicit while a source is over it and implicit
+between the passes, each chosen by cost with the reason in the diagnostics
+(``<body>_history_heating_reason``, ``..._cooling_reason``), one pass's response superposed over the
+passes when the schedule is constant. A temperature-dependent friction law, bodies at different bulk
+temperatures and the depth-field outputs are refused with the reason (:func:`history_limits`).
 
 References
 ----------
@@ -167,12 +167,10 @@ class FDMTemperature(TemperatureModel):
         return result if fld is None else with_thermal_trace(result, scene, source)
 
     def _histories(self, scene, source, level, options):
-        """A line contact's pass histories of both bodies (:func:`railtherm_fdm.history.body_histories`),
-        with the steady one-pass surface (moving-frame steady 2-D block) when the scene asks for it."""
+        """The pass histories of both bodies (:func:`railtherm_fdm.history.body_histories`), with the steady
+        one-pass surface (the moving-frame steady block) when the scene asks for it."""
         from .history import body_histories
         grid = source.grid
-        if not grid.line:
-            raise Refused(history_limits(scene) or _ELLIPSE_HISTORY, kind="validity")
         bodies_m = (scene.wheel, scene.rail)
         fluxes = [np.asarray(source.flux(i), dtype=float).reshape(-1) for i in range(2)]
         for i, q in enumerate(fluxes):
@@ -192,7 +190,8 @@ class FDMTemperature(TemperatureModel):
             cell0 = float(options["cell_size"]) or 2.0 * float(grid.a) / 16.0
             for i, q in enumerate(fluxes):
                 if np.any(q > 0):
-                    scheme, res = self._run_line(scene, source, level, options, i, q, cell0, "steady")
+                    run = self._run_line if grid.line else self._run_block
+                    scheme, res = run(scene, source, level, options, i, q, cell0, "steady")
                     bodies[i] = BodyTemperature(res.surface, diagnostics={"scheme": scheme, **res.diagnostics})
                     diag[f"{BODY_NAMES[i]}_one_pass_scheme"] = scheme
         diag.update({"converged": True, "iterations": 0, "residual": 0.0, "dimension": 2,
@@ -279,17 +278,12 @@ class FDMTemperature(TemperatureModel):
 
 #: the one-pass outputs fdm adds to a transient scene's histories (the moving-frame steady surface)
 _ONE_PASS = ("surface_temperature", "max_surface_temperature", "mean_contact_temperature")
-_ELLIPSE_HISTORY = ("model 'fdm' computes the pass histories of a line contact (the 2-D block around the section); "
-                    "on an elliptical patch its 3-D block runs one pass in the rail frame: use method 'green' for an "
-                    "ellipse's histories")
 
 
 def history_limits(scene) -> str | None:
     """Why fdm cannot compute this scene's pass histories, or None (also None when it asks for none)."""
     if not asks_history(scene):
         return None
-    if getattr(scene, "contact_shape", None) != "line":
-        return _ELLIPSE_HISTORY
     return superposition_limits(scene, "fdm")
 
 
