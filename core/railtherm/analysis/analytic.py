@@ -117,13 +117,20 @@ def _line_trace(f, a: float, v: float, thr: float, z: float, surface_kink: bool,
     from scipy.optimize import brentq, minimize_scalar
     length = 6.0 * a
     nb = _BRACKET_SAMPLES[bool(fast)]
-    for _ in range(14):
-        xs = a - length * np.linspace(0.0, 1.0, nb)
-        ts = f(xs)
+    unit = np.linspace(0.0, 1.0, nb)
+    xs = a - length * unit
+    ts = f(xs)
+    for _ in range(13):
         i = int(np.argmax(ts))
         if i < xs.size - 1 and ts[-1] < thr:
             break
+        # doubling the reach with as many (odd) samples: the first half of the new samples are every
+        # other old one, whose values are kept
         length *= 2.0
+        half = (nb - 1) // 2
+        far = a - length * unit[half + 1:]
+        xs, ts = np.concatenate([xs[::2], far]), np.concatenate([ts[::2], f(far)])
+    i = int(np.argmax(ts))
     if i == 0:
         i = 1
     lo, hi = xs[min(i + 1, xs.size - 1)], xs[i - 1]

@@ -140,25 +140,32 @@ def _plain_number(v, _pos) -> str:
     return f"{v:g}"
 
 
-def log_ticks(axis, lo: float, hi: float):
-    """Readable ticks on a log axis: plain '%g' labels; 1-2-5 steps below about two decades."""
-    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+def log_ticks(axis, lo: float, hi: float, compact: bool = False):
+    """Readable ticks on a log axis: plain '%g' labels; 1-2-5 steps below about two decades.
+
+    ``compact`` (small multiples about two inches wide): 1-2-5 steps only below 1.2 decades, so that
+    labels such as 0.002, 0.005, 0.01 do not run together, and no minor ticks (each tick is an artist
+    that the constrained layout measures: they were half of such a figure's drawing time)."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator
     decades = math.log10(hi / lo) if lo > 0 and hi > 0 else 99
-    subs = (1.0, 2.0, 5.0) if decades < 2.2 else (1.0,)
+    subs = (1.0, 2.0, 5.0) if decades < (1.2 if compact else 2.2) else (1.0,)
     axis.set_major_locator(LogLocator(base=10.0, subs=subs))
     axis.set_major_formatter(FuncFormatter(_plain_number))
     axis.set_minor_formatter(NullFormatter())
+    if compact:
+        axis.set_minor_locator(NullLocator())
 
 
-def pad_log(ax):
-    """Widen log axes that span less than a decade (so that labelled ticks appear)."""
+def pad_log(ax, compact: bool = False):
+    """Widen log axes that span less than a decade (so that labelled ticks appear); ``compact`` as in
+    :func:`log_ticks`."""
     for axis, get, set_ in ((ax.xaxis, ax.get_xlim, ax.set_xlim), (ax.yaxis, ax.get_ylim, ax.set_ylim)):
         lo, hi = get()
         if lo > 0 and hi > 0 and hi / lo < 12:
             mid = math.sqrt(lo * hi)
             lo, hi = mid / 3.5, mid * 3.5
             set_(lo, hi)
-        log_ticks(axis, lo, hi)
+        log_ticks(axis, lo, hi, compact)
 
 
 # ------------------------------------------------------------------------------------------------------
@@ -219,7 +226,7 @@ def work_precision(panels: list[Panel], palette: Palette, tol: float | None, *, 
         if any_pt:
             ax.set_xscale("log")
             ax.set_yscale("log")
-            pad_log(ax)
+            pad_log(ax, compact=True)
             ax.grid(True, which="major", alpha=0.3)
         else:
             ax.set_xticks([])
