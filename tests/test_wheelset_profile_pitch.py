@@ -50,3 +50,23 @@ def test_the_free_result_is_the_result_at_the_pitch_velocity_found():
         assert float(r[name]) == float(given[name]), name
     assert abs(r.attrs["wheelset_axle_moment"]) <= 1e-7 * 2e4 * 0.47
     assert w == pytest.approx(-SPEED / 0.46, rel=0.01)     # rolling, near the nominal radius's pitch velocity
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("side", ["right", "left"])
+def test_the_equilibrium_from_the_scene_keys_alone_meets_the_benchmark(side):
+    """Position 13 with roll_angle = "balance" (the axle load 20 kN) and pitch_velocity = "free" instead of the
+    table's roll and pitch velocity: kalker at level 2 meets CONTACT's published results with the benchmark's
+    tolerances (right wheel: N 9702.5 / 9709, Fx 879.3 / 880.0, Fy 2773.1 / 2775.0 N)."""
+    s = copy.deepcopy(a22_scene(13, side))
+    s["wheelset"].update(pitch_velocity="free", roll_angle="balance",
+                         vertical_force=2.0 * A22["setup"]["vertical_force"])
+    r = railtherm.solve(load_scene(s), "kalker", level=2)
+    ref = next(x for x in A22["result"] if x["side"] == side and x["position"] == 13)
+    m = 1.0 if side == "right" else -1.0
+    assert m * float(r["contact_position_rail"]) == pytest.approx(ref["ycp_r"] * 1e-3, abs=0.5e-3)
+    assert m * float(r["contact_angle"]) == pytest.approx(ref["contact_angle"], abs=0.02)
+    assert float(r["normal_force"]) == pytest.approx(ref["fn"], rel=0.03)
+    assert -float(r["creep_force_x"]) == pytest.approx(ref["fx"], rel=0.05)
+    assert -m * float(r["creep_force_y"]) == pytest.approx(ref["fs"], rel=0.05)
+    assert float(r["max_pressure"]) == pytest.approx(ref["pmax"] * 1e6, rel=0.08)
