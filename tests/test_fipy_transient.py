@@ -132,3 +132,21 @@ def test_time_stepping_equals_fipy_transient_term():
         solve_checked(eq, T, make_solver("lu"), dt=dt)
         x = lu_factor((sp.diags(cap / dt) - L).tocsc()).solve(cap / dt * x - b)
         assert np.allclose(x, T.value, rtol=1e-10, atol=1e-12)
+
+
+def test_every_scene_of_the_transient_study_is_refused_with_the_reason():
+    """fipy's transient is the wheel's bulk heating over revolutions, not the pass histories: each scene of
+    studies/transient.toml (passes, a schedule, the history outputs) and a scene with passes asking only a
+    steady output are refused naming the pass histories, none answered with a steady field."""
+    from pathlib import Path
+
+    import railtherm
+    from railtherm import Refused
+    from railtherm.input.study import load_study
+    study = load_study(Path(__file__).resolve().parents[1] / "studies" / "transient.toml")
+    steady_only = {"name": "passes-steady-output", "speed": 30.0, "mode": "transient", "heat_partition": 0.0,
+                   "heat_source": {"flux": 1e8, "shape": "hertz", "half_width": 6e-3},
+                   "passes": {"count": 2, "interval": 0.05}, "outputs": ["max_surface_temperature"]}
+    for scene in [*study.scenes, steady_only]:
+        with pytest.raises(Refused, match="does not compute the pass histories"):
+            railtherm.solve(scene, "fipy", level=0)
