@@ -749,3 +749,31 @@ def test_results_equal_the_earlier_solver(case, creepage):
     assert res.creep_force_y == pytest.approx(fy, abs=1e-9 * scale)
     assert res.spin_moment == pytest.approx(mz, abs=1e-9 * scale * 5.88e-3)
     assert res.diagnostics["local_power"] == pytest.approx(power, rel=1e-9)
+
+
+def test_folded_normal_solves_in_threads_equal_the_serial_solve():
+    """Normal solves of a symmetric gap on one quadrant, run concurrently in threads on one cached operator (each
+    thread has its own DCT work arrays), give the serial solve's pressure exactly in its iterations. (The product
+    count is the operator's counter, shared by the threads like the whole-grid operators'.)"""
+    from concurrent.futures import ThreadPoolExecutor
+    from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
+    from railtherm_kalker.influence import element_size, normal_operator
+    from railtherm_kalker.normal_solver import solve_normal
+    from railtherm_kalker.potential_area import hertz_curvatures
+    a, b, force, e_star = 5.88e-3, 10.54e-3, 100e3, G / (1 - NU)
+    area = potential_area(a, b, 40, margin=4)
+    X, Y = area.mesh()
+    ca, cb = hertz_curvatures(a, b, force, e_star)
+    hz = hertz_from_curvatures(ca, cb, force, e_star)
+    conv = normal_operator(*area.shape, element_size(area.x_edges), element_size(area.y_edges), e_star)
+    h, p0 = ca * X ** 2 + cb * Y ** 2, hertz_pressure(X, Y, hz.a, hz.b, hz.max_pressure)
+
+    def run(_):
+        return solve_normal(conv, h, area.dx * area.dy, force=force, initial=p0)
+
+    serial = run(0)
+    with ThreadPoolExecutor(4) as pool:
+        results = list(pool.map(run, range(8)))
+    for r in results:
+        np.testing.assert_array_equal(r.pressure, serial.pressure)
+        assert r.iterations == serial.iterations

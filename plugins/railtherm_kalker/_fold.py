@@ -133,7 +133,6 @@ def folded_operator(conv, gap, initial):
     fold_op = getattr(conv, "_folded", None)
     if fold_op is None:
         fold_op = conv._folded = FoldedOperator(q, (nx, ny), conv._inverse32)
-    fold_op.products = 0
     return fold_op
 
 
