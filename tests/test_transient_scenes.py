@@ -98,12 +98,15 @@ def test_computed_contact_runs_and_steady_methods_refuse():
 @pytest.mark.slow
 def test_computed_ellipse_histories_through_fdm():
     """The computed Hertz patch above (FASTSIM's heat, both bodies) through fastsim-fdm's 3-D section block:
-    every residual rise positive, the wheel's and the rail's history returned."""
+    every residual rise positive, the wheel's and the rail's history returned, and the one-pass surface
+    maximum asked beside them (the 3-D steady block on the patch's flux) within 5 % of green's."""
     import railtherm.testing
     scene = railtherm.testing.canonical("ellipse-full-sliding", mode="transient", passes={"count": 3, "interval": 0.05},
-                                        outputs=["temperature_history", "residual_rise"])
+                                        outputs=["temperature_history", "residual_rise", "max_surface_temperature"])
     ds = railtherm.solve(scene, "fastsim-fdm", level=0)
     assert ds.residual_rise.shape == (2, 3) and np.all(ds.residual_rise.values > 0)
+    green = railtherm.solve(scene, "green", level=0).max_surface_temperature.values
+    np.testing.assert_allclose(ds.max_surface_temperature.values, green, rtol=0.05)
 
 
 @pytest.mark.parametrize("change, key", [

@@ -172,7 +172,7 @@ class FDMTemperature(TemperatureModel):
         from .history import body_histories
         grid = source.grid
         bodies_m = (scene.wheel, scene.rail)
-        fluxes = [np.asarray(source.flux(i), dtype=float).reshape(-1) for i in range(2)]
+        fluxes = [np.asarray(source.flux(i), dtype=float).reshape(grid.shape) for i in range(2)]
         for i, q in enumerate(fluxes):
             if np.any(q != 0) and not float(source.body_speed[i]) > 0.0:
                 raise Refused(f"model 'fdm' ({BODY_NAMES[i]}): its surface moves at {float(source.body_speed[i]):g} "
