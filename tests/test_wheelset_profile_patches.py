@@ -79,7 +79,7 @@ def test_a_flange_root_and_a_tread_patch_are_solved_and_stacked():
     scene, r = _solve(11)
     validate_dataset(r, "kalker")
     assert r.sizes["patch"] == 2 and list(r["patch"].values) == [1, 2] and r["patch"].attrs["units"] == "1"
-    assert r["normal_force"].dims == ("patch",) and r["max_surface_temperature"].dims == ("patch", "body")
+    assert r["normal_force"].dims == ("patch",) and r["max_surface_temperature"].dims == ("body", "patch")
     pcs = scene.profile_contact.contacts
     assert pcs[1].separation > 0.0 and pcs[1].contact_angle > pcs[0].contact_angle   # the tread, flatter
     assert pcs[1].contact_position_rail - pcs[0].contact_position_rail > 5e-3

@@ -1,11 +1,11 @@
 """A wheelset on profiles with several patches (``wheelset.patch = "all"``): each loaded patch is solved by the
 chain as a scene of its own (its gap, its share of the wheel's vertical force from one common approach, its
 creepages; :func:`railtherm.input.wheelset_profile.patch_scenes`), and the results are stacked along the
-dimension ``patch`` (1 = the closest) with the wheel's totals added: ``wheel_force_x/y/z`` [N], the rail's force
-on the wheel in track axes (x rolling, y lateral, z up; the left wheel's y mirrored as its patches'), from each
-patch's normal force N, creep forces Fx, Fy (on the wheel, in its contact plane) and contact angle delta:
-Fx, Fy cos(delta) + N sin(delta), N cos(delta) - Fy sin(delta). Only quantities without a grid are kept (each
-patch has its own grid).
+dimension ``patch`` (1 = the closest; last: ``max_surface_temperature(body, patch)``) with the wheel's totals
+added: ``wheel_force_x/y/z`` [N], the rail's force on the wheel in track axes (x rolling, y lateral, z up; the
+left wheel's y mirrored as its patches'), from each patch's normal force N, creep forces Fx, Fy (on the wheel,
+in its contact plane) and contact angle delta: Fx, Fy cos(delta) + N sin(delta), N cos(delta) - Fy sin(delta).
+Only quantities without a grid are kept (each patch has its own grid).
 """
 from __future__ import annotations
 
@@ -42,8 +42,9 @@ def solve_patches(scene, method, level, options, *, solve_one, validate: bool = 
         kept.append(part.drop_vars([c for c in part.coords if c != "body"]))
     out = xr.concat(kept, dim="patch", data_vars="all", coords="minimal", compat="override",
                     combine_attrs="override")
-    out = out.assign_coords(patch=("patch", np.arange(1, len(kept) + 1),
-                                   {"units": "1", "long_name": "patch of the wheel (1 = the closest)"}))
+    out = out.transpose(..., "patch").assign_coords(
+        patch=("patch", np.arange(1, len(kept) + 1), {"units": "1",
+                                                      "long_name": "patch of the wheel (1 = the closest)"}))
     for name in out.data_vars:
         out[name].attrs = dict(results[0][name].attrs)
     if totals:
