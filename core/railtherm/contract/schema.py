@@ -93,7 +93,7 @@ WHEELSET_VARIABLES = ("contact_position_rail", "contact_angle", "creepage_longit
                       "creepage_spin")
 
 #: the wheel's totals over its patches (a wheelset on profiles with ``patch = "all"``, whose other variables
-#: carry the dimension ``patch`` in front)
+#: carry the dimension ``patch`` last)
 WHEEL_TOTALS = ("wheel_force_x", "wheel_force_y", "wheel_force_z")
 
 #: variables that are a temperature difference [K] (CF-1.11 ``units_metadata``)
@@ -124,11 +124,11 @@ STAGE_OF_GROUP = {"normal": "normal", "tangential": "tangential", "heat_source":
 
 def dims_for(name: str, line: bool, transient: bool = False, patched: bool = False) -> tuple[str, ...]:
     """The schema's dims of a variable (``y`` dropped for a line contact; a transient scene's per-pass
-    dims where they differ, :data:`TRANSIENT_DIMS`; ``patch`` in front in a result of several patches,
-    but for the wheel's totals)."""
+    dims where they differ, :data:`TRANSIENT_DIMS`; ``patch`` last in a result of several patches, but for
+    the wheel's totals: ``max_surface_temperature(body, patch)``)."""
     dims = TRANSIENT_DIMS.get(name, VARIABLES[name].dims) if transient else VARIABLES[name].dims
     dims = tuple(d for d in dims if not (line and d == "y"))
-    return ("patch",) + dims if patched and name not in WHEEL_TOTALS else dims
+    return dims + ("patch",) if patched and name not in WHEEL_TOTALS else dims
 
 
 def stages_needed(outputs) -> set[str]:
