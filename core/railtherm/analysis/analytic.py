@@ -12,7 +12,8 @@
   rate and time above ``field.threshold`` of a material point on the centre line at each depth, and
   the heated depth (:func:`trace_reference`), from the same references evaluated at depth.
 
-Values are cached per scene hash (the reference does not depend on the method or level).
+Values are cached per scene hash (the reference does not depend on the method or level), the
+temperatures per body source (:func:`_body_key`), which scenes with the same source share.
 """
 from __future__ import annotations
 
@@ -189,11 +190,13 @@ def _heated_depth(peak, a: float) -> float:
     return brentq(peak, 0.0 if hi == 0.05 * a else 0.5 * hi, hi, xtol=1e-9 * a)
 
 
-#: exact trace values already computed, per (scene hash, body, fast path): depth -> the tuple of
-#: :func:`_line_trace`, and the heated depth; the runs of one scene ask for many of the same depths
+#: exact trace values already computed, per (body source, bulk, threshold, fast path): depth -> the tuple
+#: of :func:`_line_trace`, and the heated depth; the runs of one scene ask for many of the same depths
 #: (a method's levels, methods on one grid), and a depth's values do not depend on the others asked with it
 _LINE_CACHE: dict = {}
 _DEPTH_CACHE: dict = {}
+#: (maximum, mean) of the exact surface rise [K] per body source (:func:`_surface_scalars`)
+_SCALAR_CACHE: dict = {}
 #: scenes kept in the caches above before they are cleared
 _CACHED_SCENES = 64
 
@@ -206,8 +209,19 @@ def _cache_for(store: dict, key):
 
 def clear_trace_caches() -> None:
     """Forget every exact trace and surface value computed so far (benchmarks time a cold computation)."""
-    for store in (_LINE_CACHE, _DEPTH_CACHE, _SURFACE_CACHE):
+    for store in (_LINE_CACHE, _DEPTH_CACHE, _SURFACE_CACHE, _SCALAR_CACHE):
         store.clear()
+
+
+def _body_key(scene, case, body: int) -> tuple:
+    """Everything the exact rise of body ``body`` depends on: (a, b, shape, its heat flux [W/m^2], its speed
+    [m/s], conductivity [W/(m K)], diffusivity [m^2/s]). Scenes that differ elsewhere (name, load, friction
+    law, methods, outputs) but heat a body alike share its exact temperatures; the values are the same
+    whichever scene computed them (the same arguments reach the same references)."""
+    from ..references.flash import thermal_properties
+    a, b, shape, q, speeds, eps = case
+    share = eps if body == 0 else 1.0 - eps
+    return (a, b, shape, share * q, float(speeds[body])) + thermal_properties(scene.body(body))
 
 
 def trace_reference(scene, z, fast: bool = True) -> dict | None:
@@ -261,7 +275,8 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
             out["time_above"][body] = 0.0 if bulk <= thr else math.inf
             depth[body] = 0.0 if bulk <= thr else math.inf
             continue
-        lines = _cache_for(_LINE_CACHE, (scene.hash, body, bool(fast)))
+        key = (_body_key(scene, case, body), bulk, thr, bool(fast))
+        lines = _cache_for(_LINE_CACHE, key)
         for k, zk in enumerate(z):
             zk = float(zk)
             if zk not in lines:
@@ -271,7 +286,7 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
             out["peak_temperature"][body, k], out["peak_position"][body, k] = tp, xp
             out["cooling_position"][body, k] = xc
             out["cooling_rate"][body, k], out["time_above"][body, k] = cool, above
-        depths = _cache_for(_DEPTH_CACHE, (scene.hash, body, bool(fast)))
+        depths = _cache_for(_DEPTH_CACHE, key)
         if "heated" not in depths:
             peak = lambda zz: _line_trace(lambda xx: bulk + _depth_rise(scene, case, xx, zz, body), a, v, thr,
                                           zz, True, fast, peak_only=True)[0] - thr
@@ -363,22 +378,32 @@ def _contact_scalars(scene, out: dict, src: dict) -> bool:
 
 
 def _surface_scalars(scene, case, body: int) -> tuple[float, float]:
-    """(maximum, mean over the patch) of the exact surface temperature [degC] of ``body``: the maximum on
-    y = 0 (symmetric sources) from 161 samples refined by a bounded search, the mean by Gauss-Legendre in x
+    """(maximum, mean over the patch) of the exact surface temperature [degC] of ``body`` (the rises cached
+    per body source, :func:`_body_key`)."""
+    bulk = scene.body(body).bulk_temperature
+    rises = _cache_for(_SCALAR_CACHE, _body_key(scene, case, body))
+    if "rises" not in rises:
+        rises["rises"] = _surface_rises(scene, case, body)
+    top, mean = rises["rises"]
+    return bulk + top, bulk + mean
+
+
+def _surface_rises(scene, case, body: int) -> tuple[float, float]:
+    """(maximum, mean over the patch) of the exact surface rise [K] of ``body``: the maximum on y = 0
+    (symmetric sources) from 161 samples refined by a bounded search, the mean by Gauss-Legendre in x
     (and across y on the chord for an ellipse)."""
     from scipy.optimize import minimize_scalar
     a, b = case[0], case[1]
-    bulk = scene.body(body).bulk_temperature
     xs = np.linspace(-1.0, 1.0, 161) * a
     f = lambda xx: _surface_rise(scene, case, np.atleast_1d(xx), None if b is None else np.zeros(1), body)
     vals = f(xs) if b is None else _surface_rise(scene, case, xs, np.zeros_like(xs), body)
     i = int(np.argmax(vals))
     lo, hi = xs[max(i - 1, 0)], xs[min(i + 1, xs.size - 1)]
     res = minimize_scalar(lambda t: -float(f(t)[0]), bounds=(lo, hi), method="bounded", options={"xatol": 1e-6 * a})
-    tmax = bulk + max(float(vals[i]), -float(res.fun))
+    tmax = max(float(vals[i]), -float(res.fun))
     if b is None:
         gx, wx = np.polynomial.legendre.leggauss(64)
-        return tmax, bulk + 0.5 * float(np.sum(wx * f(gx * a)))
+        return tmax, 0.5 * float(np.sum(wx * f(gx * a)))
     gs, ws = np.polynomial.legendre.leggauss(24)
     gx, wx = np.polynomial.legendre.leggauss(40)
     X = a * gx[:, None] * np.ones_like(gs)[None, :]
@@ -386,7 +411,7 @@ def _surface_scalars(scene, case, body: int) -> tuple[float, float]:
     Y = b * chord * gs[None, :]
     W = wx[:, None] * ws[None, :] * chord
     T = _surface_rise(scene, case, X.ravel(), Y.ravel(), body).reshape(X.shape)
-    return tmax, bulk + float(np.sum(W * T) / np.sum(W))
+    return tmax, float(np.sum(W * T) / np.sum(W))
 
 
 def _identical_elastic(wheel, rail) -> bool:
@@ -408,15 +433,15 @@ def reference_values(scene) -> dict:
     return out
 
 
-#: exact surface rises already computed, per (scene hash, body): (x, y) -> rise [K]; the runs of one scene
-#: share many grid points (a method's nested levels, methods on one grid), each point is evaluated once
+#: exact surface rises already computed, per body source (:func:`_body_key`): (x, y) -> rise [K]; the runs
+#: of one scene share many grid points (a method's nested levels, methods on one grid), each point is evaluated once
 _SURFACE_CACHE: dict = {}
 
 
 def _cached_surface_rise(scene, case, x: np.ndarray, y: np.ndarray | None, body: int) -> np.ndarray:
     """:func:`_surface_rise` at the points (x, y) [m] (y None: a line contact), the points not seen before for
     this scene and body evaluated in one call."""
-    known = _cache_for(_SURFACE_CACHE, (scene.hash, body))
+    known = _cache_for(_SURFACE_CACHE, _body_key(scene, case, body))
     keys = list(zip(x.tolist(), (y if y is not None else np.zeros_like(x)).tolist()))
     new = [i for i, k in enumerate(keys) if k not in known]
     if new:
