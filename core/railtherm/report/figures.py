@@ -28,6 +28,9 @@ REFERENCE_STYLE = {"color": "0.6", "lw": 6.0, "alpha": 0.5, "solid_capstyle": "b
 #: CSS pixels per inch of figure; the PNG is written at twice this resolution
 CSS_DPI = 96
 PNG_DPI = 2 * CSS_DPI
+#: zlib level of the PNGs: 3 encodes a report figure in 0.10 s instead of 0.18 s (the default 6) for
+#: files about 10 % larger
+PNG_OPTIONS = {"dpi": PNG_DPI, "pil_kwargs": {"compress_level": 3}}
 BODIES = ("wheel", "rail")
 
 
@@ -79,7 +82,7 @@ SIZES: dict = {}
 def _render(blob: bytes, path: str) -> str:
     """Render a pickled figure to ``path`` (in a worker process of :func:`rendering`)."""
     import pickle
-    pickle.loads(blob).savefig(path, dpi=PNG_DPI)
+    pickle.loads(blob).savefig(path, **PNG_OPTIONS)
     return path
 
 
@@ -129,7 +132,7 @@ def save(fig, path: Path) -> tuple[Path, int]:
         except RuntimeError:  # the pool broke (BrokenProcessPool is a RuntimeError): written here
             job = None
     if job is None:
-        fig.savefig(path, dpi=PNG_DPI)
+        fig.savefig(path, **PNG_OPTIONS)
     else:
         _RENDER[1].append((job, blob, str(path)))
     fig.clear()
