@@ -104,15 +104,6 @@ LONG_MODULE_DOCSTRINGS_TO_TRIM = frozenset({
     "plugins/railtherm_fipy/steady.py",
     "plugins/railtherm_fipy/transient.py",
     "plugins/railtherm_green/transient.py",
-    "plugins/railtherm_kalker/__init__.py",
-    "plugins/railtherm_kalker/_band.py",
-    "plugins/railtherm_kalker/friction_laws.py",
-    "plugins/railtherm_kalker/influence.py",
-    "plugins/railtherm_kalker/normal_model.py",
-    "plugins/railtherm_kalker/normal_solver.py",
-    "plugins/railtherm_kalker/potential_area.py",
-    "plugins/railtherm_kalker/tangential_model.py",
-    "plugins/railtherm_kalker/tangential_solver.py",
 })
 
 

@@ -3,16 +3,13 @@
 Modules
 -------
 influence
-    Influence coefficients of uniform loads on rectangles (Love, Boussinesq-Cerruti) and of uniform
-    strips on the half-plane, and their zero-padded FFT convolution.
+    Influence coefficients of uniform loads on rectangles (Love, Boussinesq-Cerruti) and strips, FFT products.
 potential_area
     The undeformed gap, the potential contact area chosen from it and the border check.
 normal_solver
     Vollebregt's FFT-preconditioned conjugate gradients for the normal problem (force or approach prescribed).
 tangential_solver
     Steady rolling with creepage: slip, Coulomb's law per element, semismooth Newton-GMRES.
-normal_model, tangential_model
-    The stage models ``kalker`` (normal and tangential).
-plugin
-    Hook implementations (models and the method ``kalker``).
+normal_model, tangential_model, plugin
+    The stage models ``kalker`` (normal and tangential) and the hooks registering them and the method ``kalker``.
 """

@@ -1,16 +1,9 @@
 """Line preconditioner of the steady-rolling Newton systems: the Jacobian with the rolling operator B cut to
 four offsets along x, solved exactly per grid line by a block LU (numba; a plain-Python loop without it).
 
-The rolling kernel ``(A[k + 1] - A[k]) / dx`` is antisymmetric about the x offset -1/2. The upwind pair
-(offsets 0 and -1) gives a block-triangular cut, inverted by one sweep
-(:class:`railtherm_kalker.tangential_solver.LocalPreconditioner`); the next balanced pair (+1 and -2) adds the
-next largest coefficients and keeps the cut's antisymmetry. The cut then couples each element to its
-neighbours at i - 1, i + 1 and i + 2 on its grid line along x: a block-banded system per line (2 x 2 blocks;
-ordered from the leading edge, two blocks below the diagonal, one above), factored by block LU without
-pivoting between blocks (the diagonal blocks are those of the sweep, and the +1 and -2 offsets are a
-quarter of the upwind pair) once per Newton step in O(N) and solved in O(N) per GMRES step. Measured (E&K ellipse, combined / longitudinal creepage):
-GMRES steps 110 -> 88 / 115 -> 86 at 100^2, 175 -> 135 / 166 -> 121 at 200^2. (Adding the lateral
-offsets (0, +-1), (-1, +-1) to the upwind pair made GMRES slower.)
+The cut (:class:`LinePreconditioner`) keeps the upwind pair of offsets (0, -1) and the next balanced pair (+1, -2),
+so it keeps the kernel's antisymmetry about -1/2; it is factored once per Newton step in O(N) and solved in O(N)
+per GMRES step. docs/kalker.md gives the GMRES steps it saves.
 
 References
 ----------
@@ -201,7 +194,16 @@ def _solve2(v, line, sweep_order, Uinv, Usup, L1, L2):
 
 
 class LinePreconditioner:
-    """Exact inverse of the Newton Jacobian with B cut to the x offsets :data:`LINE_OFFSETS` (see the module).
+    """Exact inverse of the Newton Jacobian with B cut to the x offsets :data:`LINE_OFFSETS`.
+
+    The rolling kernel ``(A[k + 1] - A[k]) / dx`` is antisymmetric about the x offset -1/2. The upwind pair
+    (offsets 0 and -1) gives a block-triangular cut, inverted by one sweep
+    (:class:`railtherm_kalker.tangential_solver.LocalPreconditioner`); the next balanced pair (+1 and -2) adds the
+    next largest coefficients and keeps the cut's antisymmetry. The cut couples each element to its neighbours at
+    i - 1, i + 1 and i + 2 on its grid line along x: a block-banded system per line (2 x 2 blocks, ordered from the
+    leading edge, two blocks below the diagonal, one above), factored by block LU without pivoting between blocks
+    (the diagonal blocks are those of the sweep, and the +1 and -2 offsets are a quarter of the upwind pair). Adding
+    the lateral offsets (0, +-1), (-1, +-1) to the upwind pair made GMRES slower.
 
     Parameters
     ----------

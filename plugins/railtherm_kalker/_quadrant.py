@@ -43,8 +43,8 @@ def quadrant_differences(nx: int, ny: int, dx: float, dy: float) -> tuple:
     The first two are odd in x and in y and their differences even; ``-r`` is even and its difference odd in each
     (zero at i = 0 or j = 0). The corners (m + 1/2) dx, (l + 1/2) dy are evaluated once, the row and column at
     -1/2 by the symmetry: the kernels at all offsets are these mirrored (:func:`mirror_quadrant`), from a quarter of
-    the corners and without the full-size intermediates of :func:`_corner_lattice`. Love's 1/r is the sum of the
-    first two; the Boussinesq-Cerruti kernels combine all three (:func:`tangential_kernels`).
+    the corners and without full-size intermediates. Love's 1/r is the sum of the first two; the Boussinesq-Cerruti
+    kernels combine all three (:func:`railtherm_kalker.influence.tangential_kernels`).
     """
     xs = (np.arange(nx) + 0.5) * dx
     ys = (np.arange(ny) + 0.5) * dy
@@ -81,9 +81,10 @@ def place_even(q: np.ndarray, hx: int, hy: int, mx: int, my: int) -> np.ndarray:
 
 def tangential_quadrants(nx: int, ny: int, dx: float, dy: float, shear_modulus: float, poisson_ratio: float,
                          differences: tuple | None = None) -> dict:
-    """The Boussinesq-Cerruti kernels of :func:`tangential_kernels` at the offsets i = 0 ... nx - 1, j = 0 ... ny - 1
-    [m/Pa]: ``xx`` and ``yy`` even in x and y, ``xy`` odd in both (:func:`mirror_quadrant`). ``differences``: the
-    corner differences (:func:`quadrant_differences`) of at least this quadrant, when already computed."""
+    """The Boussinesq-Cerruti kernels of :func:`railtherm_kalker.influence.tangential_kernels` at the offsets
+    i = 0 ... nx - 1, j = 0 ... ny - 1 [m/Pa]: ``xx`` and ``yy`` even in x and y, ``xy`` odd in both
+    (:func:`mirror_quadrant`). ``differences``: the corner differences (:func:`quadrant_differences`) of at least
+    this quadrant, when already computed."""
     nu, c = float(poisson_ratio), 1.0 / (math.pi * shear_modulus)
     if differences is None:
         xa, ya, mr = quadrant_differences(nx, ny, dx, dy)

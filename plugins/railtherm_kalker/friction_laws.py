@@ -10,10 +10,8 @@
   kappa = max |dmu/dv| p V |B_xx(0)| (the law's slope against the traction's own slip response, with
   B_xx(0) the rolling operator's self-coefficient): kappa >= 1 means the law falls faster than the traction
   can follow, no unique local solution, and the run is refused naming kappa
-  (:func:`railtherm.physics.friction.contraction_limit`).
-
-The outer iteration is core's (:func:`railtherm.physics.friction.iterate_slip_law`, shared with the FEM), with
-core's stopping rule (:data:`railtherm.physics.friction.SLIP_MU_TOLERANCE`, :data:`~railtherm.physics.friction.SLIP_MAX_STEPS`).
+  (:func:`railtherm.physics.friction.contraction_limit`). The iteration and its stopping rule are core's,
+  shared with the FEM (:func:`railtherm.physics.friction.iterate_slip_law`).
 """
 from __future__ import annotations
 

@@ -1,38 +1,18 @@
 """Influence coefficients of uniform loads on rectangular elements and their FFT convolution.
 
-Two quasi-identical elastic half-spaces (the normal and tangential problems decouple, Kalker's
-quasi-identity) are loaded by piecewise-constant tractions on a uniform rectangular grid. The
-displacement *difference* u = u(body 1) - u(body 2) at the centre of element I caused by a unit
-traction on element J depends only on the offset I - J (a Toeplitz structure), so it is applied by a
-zero-padded FFT (circulant embedding), O(N log N) per product, without dense matrices.
-
-Normal (Love 1929, both bodies, contact modulus E*)::
-
-    u_n = 1/(pi E*) int int p / r dA
-
-Tangential (Boussinesq-Cerruti, both bodies, combined G and nu)::
-
-    u_x = 1/(pi G) int int [(1 - nu)/r + nu (x - x')^2/r^3] p_x + nu (x - x')(y - y')/r^3 p_y dA
-    u_y = 1/(pi G) int int nu (x - x')(y - y')/r^3 p_x + [(1 - nu)/r + nu (y - y')^2/r^3] p_y dA
-
-The integrals over a rectangle follow from corner functions F with d2F/dxdy = integrand:
-1/r -> x asinh(y/|x|) + y asinh(x/|y|); x^2/r^3 -> y asinh(x/|y|); y^2/r^3 -> x asinh(y/|x|);
-xy/r^3 -> -r (terms depending on x or on y alone cancel in the corner sum and are left out).
-
-Line contact (plane strain, per unit width): u = -(2 c/pi) int q(x') ln|x - x'| dx' with c = 1/E*
-for the normal and c = (1 - nu)/G for the tangential problem; the element integral of ln|t| is
-t ln|t| - t. The additive constant (the logarithm's length unit) is arbitrary in 2-D: it is absorbed
-by the approach (normal) and cancels in the rolling derivative (tangential).
+Two quasi-identical half-spaces (the normal and tangential problems decouple) carry piecewise-constant tractions
+on a uniform grid. The displacement difference u = u(body 1) - u(body 2) at element I from a unit traction on J
+depends only on I - J (Toeplitz), so it is applied by a zero-padded FFT (circulant embedding), O(N log N) per
+product without dense matrices. Kernels: normal, Love's ``u_n = 1/(pi E*) int int p / r dA`` (:func:`normal_kernel`);
+tangential, Boussinesq-Cerruti (:func:`tangential_kernels`); line contact in plane strain (:func:`line_kernel`).
 
 References
 ----------
-.. [1] A.E.H. Love, The stress produced in a semi-infinite solid by pressure on part of the boundary,
-   Phil. Trans. R. Soc. Lond. A 228 (1929) 377-420. doi:10.1098/rsta.1929.0009
-.. [2] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, Kluwer, 1990, ch. 5.
-   doi:10.1007/978-94-015-7889-9
+.. [1] A.E.H. Love, Phil. Trans. R. Soc. Lond. A 228 (1929) 377-420. doi:10.1098/rsta.1929.0009
+.. [2] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, 1990, ch. 5. doi:10.1007/978-94-015-7889-9
 .. [3] K.L. Johnson, Contact Mechanics, 1985, eqs. (2.19), (3.86). doi:10.1017/CBO9781139171731
-.. [4] S. Liu, Q. Wang, G. Liu, A versatile method of discrete convolution and FFT (DC-FFT) for
-   contact analyses, Wear 243 (2000) 101-111. doi:10.1016/S0043-1648(00)00427-0
+.. [4] S. Liu, Q. Wang, G. Liu, A versatile method of discrete convolution and FFT (DC-FFT) for contact analyses,
+   Wear 243 (2000) 101-111. doi:10.1016/S0043-1648(00)00427-0
 """
 from __future__ import annotations
 
@@ -76,6 +56,10 @@ def _corner(kind, x, y):
 
 def rectangle_integrals(kind: str, X, Y, dx: float, dy: float):
     """Integral of a half-space kernel over the rectangle |x'| <= dx/2, |y'| <= dy/2.
+
+    The sum over the four corners of a function F with d2F/dxdy = integrand: 1/r -> x asinh(y/|x|) +
+    y asinh(x/|y|); x^2/r^3 -> y asinh(x/|y|); y^2/r^3 -> x asinh(y/|x|); xy/r^3 -> -r (terms depending on x or
+    on y alone cancel in the corner sum and are left out).
 
     Parameters
     ----------
@@ -129,7 +113,10 @@ def normal_kernel(nx: int, ny: int, dx: float, dy: float, e_star: float, extra: 
 
 def tangential_kernels(nx: int, ny: int, dx: float, dy: float, shear_modulus: float, poisson_ratio: float,
                        extra: int = 0) -> dict:
-    """Boussinesq-Cerruti influence coefficients of the tangential problem for all element offsets.
+    """Boussinesq-Cerruti influence coefficients of the tangential problem for all element offsets::
+
+        u_x = 1/(pi G) int int [(1 - nu)/r + nu (x - x')^2/r^3] p_x + nu (x - x')(y - y')/r^3 p_y dA
+        u_y = 1/(pi G) int int nu (x - x')(y - y')/r^3 p_x + [(1 - nu)/r + nu (y - y')^2/r^3] p_y dA
 
     Parameters
     ----------
@@ -157,7 +144,9 @@ def tangential_kernels(nx: int, ny: int, dx: float, dy: float, shear_modulus: fl
 def line_kernel(nx: int, dx: float, compliance: float, extra: int = 0, length: float | None = None) -> np.ndarray:
     """Influence coefficients of uniform strips on two half-planes (plane strain, per unit width).
 
-    ``u(x) = -(2 c / pi) int q(x') ln(|x - x'| / L) dx'``.
+    ``u(x) = -(2 c / pi) int q(x') ln(|x - x'| / L) dx'``; the element integral of ln|t| is t ln|t| - t. The
+    additive constant (the length unit L) is arbitrary in 2-D: it is absorbed by the approach (normal problem)
+    and cancels in the rolling derivative (tangential).
 
     Parameters
     ----------
@@ -171,7 +160,7 @@ def line_kernel(nx: int, dx: float, compliance: float, extra: int = 0, length: f
         Extra offsets on each side [1].
     length : float, optional
         Length unit L of the logarithm [m] (default 4 e nx dx, which makes the kernel positive on
-        the grid: an additive constant, see the module docstring).
+        the grid: an additive constant, see above).
 
     Returns
     -------
@@ -253,7 +242,8 @@ class Convolution:
         inverted by :meth:`precondition`.
     placed : bool
         The kernels are given already placed circulantly on the padded grid (shape :attr:`padded`, offset o at
-        index o mod M, zero elsewhere; :func:`rolling_operator_kernels`) instead of over the offsets.
+        index o mod M, zero elsewhere; :func:`railtherm_kalker.tangential_model.rolling_operator_kernels`)
+        instead of over the offsets.
     circulant_grid : (int, int), optional
         That periodic grid M (default :attr:`padded`). The inverse of Love's circulant is nearly local (its
         symbol grows like |k|), so a grid as small as the element grid (:func:`normal_operator`) preconditions

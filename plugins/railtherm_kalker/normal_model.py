@@ -1,20 +1,15 @@
 """Normal-contact model "kalker": the exact half-space pressure for the scene's undeformed gap.
 
-The gap (:func:`railtherm_kalker.potential_area.scene_gap`) is solved on a rectangular grid of
-elements over the potential contact area (Love's influence coefficients, FFT products, Vollebregt's
-FFT-preconditioned active-set conjugate gradients; :mod:`railtherm_kalker.normal_solver`). For an elliptical or line
-contact the gap is the scene's Hertz quadratic, so the exact solution is the Hertz patch and the
-result converges to it; a scene with ``contact = { shape = "gap", ... }`` gets its non-Hertzian patch.
-
-The returned patch's grid is the potential contact area (elements outside the contact carry zero
-pressure); its ``a`` and ``b`` are the half-extents of the contact along x and y, located to within a
-fraction of an element by extrapolating p^2 (linear in the distance from a Hertz-like edge) from
-the last two loaded elements of each grid line.
+The gap (:func:`railtherm_kalker.potential_area.scene_gap`) is solved on a rectangular grid of elements over the
+potential contact area (Love's influence coefficients, FFT products, Vollebregt's FFT-preconditioned active-set
+conjugate gradients; :mod:`railtherm_kalker.normal_solver`). An elliptical or line contact's gap is the scene's
+Hertz quadratic, so the result converges to the Hertz patch; ``contact = { shape = "gap", ... }`` gives another.
+The returned patch's grid is the potential contact area (zero pressure outside the contact); its ``a`` and
+``b`` are the contact's half-extents along x and y, located within an element (:func:`contact_extent`).
 
 References
 ----------
-.. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, Kluwer, 1990, ch. 5.
-   doi:10.1007/978-94-015-7889-9
+.. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, 1990, ch. 5. doi:10.1007/978-94-015-7889-9
 .. [2] E.A.H. Vollebregt, J. Comput. Phys. 257 (2014) 333-351. doi:10.1016/j.jcp.2013.10.005
 """
 from __future__ import annotations
@@ -57,6 +52,9 @@ def _edge_positions(coord: np.ndarray, p_line: np.ndarray, h: float) -> tuple[fl
 
 def contact_extent(x, y, pressure, dx: float, dy: float) -> tuple[float, float, float, float]:
     """Extent of the loaded region: (x_min, x_max, y_min, y_max) [m] (y's 0 for a line contact).
+
+    Each edge is located to within a fraction of an element by extrapolating p^2 (linear in the distance from a
+    Hertz-like edge) from the last two loaded elements of each grid line.
 
     Parameters
     ----------

@@ -1,30 +1,18 @@
 """The normal contact problem on the potential contact area: FFT-preconditioned conjugate gradients.
 
-Find the pressure p >= 0 per element and the approach delta such that the deformed gap
-``e = h + A p - delta`` is >= 0, zero where p > 0 (complementarity), with the total force
-``sum p dA = N`` prescribed (or delta prescribed). A is Love's influence matrix
-(:func:`railtherm_kalker.influence.normal_kernel`), applied by FFT.
-
-The iteration is Vollebregt's (2014) active-set conjugate gradients ("BCCG+" of CONTACT's NormCG):
-CG on the current contact set C for ``A_CC p_C = delta - h_C``, with the search directions, the
-residual and the products projected on zero mean over C when the force is prescribed (the constant
-vector deflated: the approach is the mean gap and every step keeps the force), Polak-Ribiere's beta
-(>= 0) so that the active-set changes need no restart, and after every step the elements with p < 0
-moved out of C (the force rescaled) and the exterior elements that penetrate moved in. The
-preconditioner is the inverse of the Strang circulant of A on the periodic element grid
-(:meth:`railtherm_kalker.influence.Convolution.precondition`, float32, one FFT pair): it makes the
-iteration count almost independent of the grid (Vollebregt's Table 2; here 10-20 iterations from the
-Hertz pressure against 50-60 without). The displacement is updated from the search direction's
-product, and recomputed only when the active set changed.
+Find the pressure p >= 0 per element and the approach delta such that the deformed gap ``e = h + A p - delta`` is
+>= 0, zero where p > 0, with the force ``sum p dA = N`` (or delta) prescribed; A is Love's influence matrix
+(:func:`railtherm_kalker.influence.normal_kernel`), applied by FFT. The iteration is Vollebregt's active-set CG
+(CONTACT's NormCG): the constant vector deflated when the force is prescribed, Polak-Ribiere's beta >= 0 (so
+active-set changes need no restart), elements with p < 0 moved out and penetrating ones in after every step. The
+inverse of A's Strang circulant on the periodic element grid (:meth:`railtherm_kalker.influence.Convolution.precondition`)
+preconditions it, making the iteration count almost independent of the grid (docs/kalker.md, "Normal stage").
 
 References
 ----------
-.. [1] E.A.H. Vollebregt, A new solver for the elastic normal contact problem using conjugate
-   gradients, deflation, and an FFT-based preconditioner, J. Comput. Phys. 257 (2014) 333-351.
-   doi:10.1016/j.jcp.2013.10.005
-.. [2] I.A. Polonsky, L.M. Keer, A numerical method for solving rough contact problems based on the
-   multi-level multi-summation and conjugate gradient techniques, Wear 231 (1999) 206-219.
-   doi:10.1016/S0043-1648(99)00113-1
+.. [1] E.A.H. Vollebregt, A new solver for the elastic normal contact problem using conjugate gradients, deflation,
+   and an FFT-based preconditioner, J. Comput. Phys. 257 (2014) 333-351. doi:10.1016/j.jcp.2013.10.005
+.. [2] I.A. Polonsky, L.M. Keer, Wear 231 (1999) 206-219 (CG for rough contact). doi:10.1016/S0043-1648(99)00113-1
 """
 from __future__ import annotations
 

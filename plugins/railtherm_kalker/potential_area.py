@@ -1,33 +1,17 @@
 """The undeformed gap of a scene, the potential contact area chosen from it, and the border check.
 
-The gap between the undeformed surfaces is ``h(x, y) = sum c_ij x^i y^j`` [m] (SI). A scene with
-an elliptical contact has the quadratic gap ``A x^2 + B y^2`` of its Hertz geometry: from its
-``curvatures``, or, when it gives ``semi_axes`` and the normal force, the curvatures for which Hertz
-theory with the scene's contact modulus returns exactly those semi-axes (so that the exact solution
-with the scene's load *is* the scene's Hertz patch). A line contact has ``x^2 / (2 R)``. A scene
-with ``contact = { shape = "gap", coefficients = {...} }`` gives the coefficients itself.
-
-The potential contact area is a rectangle of elements around the expected contact: for a quadratic
-gap the Hertz semi-axes a, b; for another gap the extent of a coarse solution. Level k has
-``n = cells 2^k`` elements across 2b and ``m n`` across 2a, with the rolling refinement m of
-:func:`rolling_refinement` (1 for a < 0.71 b, 2 up to a circle, 4 for a > b), so each level
-halves the element size, and :func:`margin_elements` elements of margin on every side; after the solve :func:`check_border`
-refuses a patch that reaches the outermost ring of elements.
-
-Why more elements along x: CONTACT's steady-rolling slip (first-order upwind difference of the
-displacement along x, :mod:`railtherm_kalker.tangential_solver`) is first order in dx, while the element
-count across y matters much less. (The model's default second-order difference no longer needs it: C33
-within 2.4 % at level 3 down to b/a = 0.2 with m = 1, docs/kalker.md; the rule is kept so that the grids,
-and the first-order option's accuracy, stay as they were.) Measured for Kalker's C33 on a = 8, b = 4 mm (Hertz pressure at the element
-centres, linear theory): 128 elements across 2a with 32, 64, 128 across 2b +3.0, +4.1, +4.7 %
-(converging in y); 64 across 2b with 128, 256, 512 across 2a +4.1, +1.8, +1.0 % (first order in dx).
-Refining x only, by m ~ 2 (a/b)^2, bounds that error and the frictional power's (the scheme's
-numerical dissipation) at the cost of m times the elements.
+The gap between the undeformed surfaces is ``h(x, y) = sum c_ij x^i y^j`` [m]: an elliptical contact's is the
+quadratic ``A x^2 + B y^2`` of its Hertz geometry (given ``semi_axes``, the curvatures of :func:`hertz_curvatures`,
+so the exact solution under the scene's load is its Hertz patch), a line contact's ``x^2 / (2 R)``, and
+``contact = { shape = "gap", coefficients = {...} }`` gives the coefficients (:func:`scene_gap`).
+The potential contact area is a rectangle of elements around the expected contact (Hertz semi-axes a, b, or a
+coarse solution's extent): level k has ``n = cells 2^k`` elements across 2b and ``m n`` across 2a (m of
+:func:`rolling_refinement`: the first-order rolling slip's error is one of dx) plus :func:`margin_elements` on every
+side; :func:`check_border` refuses a patch that reaches the outermost ring of elements.
 
 References
 ----------
-.. [1] K.L. Johnson, Contact Mechanics, 1985, section 4.2 (eqs. 3.63-3.64 for the curvatures of a
-   Hertz ellipse). doi:10.1017/CBO9781139171731
+.. [1] K.L. Johnson, Contact Mechanics, 1985, sec. 4.2, eqs. 3.63-3.64. doi:10.1017/CBO9781139171731
 .. [2] E.A.H. Vollebregt, User guide for CONTACT, report TR09-03 (potential contact area).
 """
 from __future__ import annotations
@@ -192,6 +176,11 @@ def rolling_refinement(half_x: float, half_y: float | None) -> int:
     C33 +4.7 % on a = 8, b = 4 mm with m = 1, +1.5 % with m = 4. Ertz & Knothe's ellipse (a/b = 0.56)
     keeps m = 1 (power -1.36 %, C33 +0.64 %). At b/a = 0.3 and 0.25 (m = 4) C33 is +3.8 and +5.3 %;
     the option ``rolling_refinement = 8`` brings them to +2.5 and +3.5 % (at 4 to 8 times the CPU time).
+    Kalker's C33 on a = 8, b = 4 mm (Hertz pressure at the element centres, linear theory): 128 elements across
+    2a with 32, 64, 128 across 2b +3.0, +4.1, +4.7 % (converging in y); 64 across 2b with 128, 256, 512 across
+    2a +4.1, +1.8, +1.0 % (first order in dx). The default second-order rolling difference does not need m
+    (C33 within 2.4 % at level 3 down to b/a = 0.2 with m = 1, docs/kalker.md); m applies to both schemes, so
+    a scene's grid does not depend on the scheme and the first-order option keeps its accuracy.
 
     Parameters
     ----------

@@ -1,67 +1,17 @@
 """Steady rolling with creepage on a given normal pressure: Kalker's exact theory, semismooth Newton.
 
-Unknowns are the tangential tractions p = (p_x, p_y) on body 1 (the wheel) per element of the
-potential contact area (zero outside the contact, where the pressure is zero). In the frame of the
-contact the material flows in -x (enters at the leading edge +x), so the slip of body 1 relative to
-body 2 per unit rolling distance is (Kalker)::
-
-    s = w - d u / d x,     w = (xi - phi y, eta + phi x)
-
-with the rigid slip w of the creepages (xi, eta [1], spin phi [1/m]) and the tangential displacement
-difference u = A p (Boussinesq-Cerruti, :mod:`railtherm_kalker.influence`). The derivative is an upwind
-difference, so ``s = w - B p`` with the Toeplitz "rolling" influence operator B (one FFT product per
-evaluation; :func:`railtherm_kalker.influence.rolling_kernel`): by default the second-order
-``(-u(x + 2 dx) + 4 u(x + dx) - 3 u(x)) / (2 dx)`` at the element centre, where the traction, the rigid slip
-and Coulomb's law are collocated; or CONTACT's steady-state discretisation, the first-order
-``(u(x + dx) - u(x)) / dx`` (a derivative at x + dx/2: its spin moment's error grows like (a/b)^2 dx / a, the
-frictional power's numerical dissipation like dx / a; docs/kalker.md).
-Coulomb's law holds element by element: |p| <= g = mu p_n; where |p| < g the element sticks (s = 0);
-where it slips, p = -g s / |s|. A positive creepage thus gives a negative force on the wheel
-(CONTACT's and :mod:`railtherm.references.kalker`'s sign law).
-
-Solver
-------
-The law is the fixed point ``p = Proj_g(p - r s(p))`` (projection of each element's traction on the
-disc of radius g; r > 0 a scaling, here 1/|B_xx(0)|). Semismooth Newton on
-``F(p) = p - Proj_g(p - r s(p)) = 0``: the generalised Jacobian of a sticking element's row is r B,
-that of a slipping element ``I - (g/|z|)(I - z z^T/|z|^2)(I + r B)`` (z = p - r s), so each Newton
-step is one non-symmetric linear system ``(D1 + D2 B) d = -F`` with 2 x 2 blocks D1, D2 per element,
-solved by GMRES with FFT products (single precision while the step's tolerance is above 2e-6).
-
-GMRES is right-preconditioned by the exact inverse of the Jacobian with B cut to a few offsets along x:
-:class:`railtherm_kalker._band.LinePreconditioner` (offsets +1, 0, -1, -2, antisymmetric about -1/2 like
-the kernel; a block LU per grid line, O(N)) from a coarse or zero start, and :class:`LocalPreconditioner`
-(the upwind pair 0 and -1 only: one backward sweep from the leading edge, O(N)) from a good start, which
-needs few GMRES steps. The products with B are evaluated on the unknown elements only
-(:meth:`railtherm_kalker.influence.Convolution.apply_at`). The forcing terms follow Eisenstat & Walker
-(loose while the stick/slip division still moves, superlinear at the end, never tighter than the tolerance
-needs, and tight from a good start). :func:`solve_tangential_nested` starts from zero traction on a grid
-of 4 x 4 (or 8 x 8) times larger elements and hands each grid's solution to the next finer one (the
-traction's ratio to the bound interpolated linearly), so the finest grid needs 5-7 Newton steps (the
-first ones loose, the last one tight); beyond saturation the full-slip traction starts the finest grid
-directly, with its slip (2 Newton steps). Measured (``benchmarks/test_kalker_benchmark.py``, CPU time):
-see docs/kalker.md.
-Diagnostics record the residual history ``max |F| / max g``.
+Unknowns: the tractions p = (p_x, p_y) on body 1 (the wheel) per element of the potential contact area. The
+material enters at the leading edge +x, so the slip of body 1 relative to body 2 per unit rolling distance is
+``s = w - du/dx = w - B p``: rigid slip ``w = (xi - phi y, eta + phi x)`` (creepages xi, eta [1], spin phi [1/m]),
+u = A p (Boussinesq-Cerruti), B the upwind "rolling" operator (:func:`railtherm_kalker.influence.rolling_kernel`).
+Coulomb's law per element: |p| <= g = mu p_n, s = 0 where |p| < g, p = -g s/|s| in slip, so a positive creepage
+gives a negative force on the wheel (CONTACT's and :mod:`railtherm.references.kalker`'s sign law). Semismooth
+Newton-GMRES (:func:`solve_tangential`) on nested grids (:func:`solve_tangential_nested`); costs in docs/kalker.md.
 
 References
 ----------
-.. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, Kluwer, 1990, ch. 2 and 5.
-   doi:10.1007/978-94-015-7889-9
-.. [2] E.A.H. Vollebregt, User guide for CONTACT, Vollebregt's rolling and sliding contact model,
-   technical report TR09-03 (steady rolling, slip discretisation).
-.. [3] P. Alart, A. Curnier, A mixed formulation for frictional contact problems prone to Newton like
-   solution methods, Comput. Methods Appl. Mech. Eng. 92 (1991) 353-375.
-   doi:10.1016/0045-7825(91)90022-X
-.. [4] S. Hueeber, G. Stadler, B.I. Wohlmuth, A primal-dual active set algorithm for three-dimensional
-   contact problems with Coulomb friction, SIAM J. Sci. Comput. 30 (2008) 572-596.
-   doi:10.1137/060671061
-.. [5] S.C. Eisenstat, H.F. Walker, Choosing the forcing terms in an inexact Newton method, SIAM J. Sci.
-   Comput. 17 (1996) 16-32. doi:10.1137/0917003
-.. [6] Y. Saad, Iterative Methods for Sparse Linear Systems, 2nd ed., SIAM, 2003, sec. 9.3 (right-
-   preconditioned GMRES). doi:10.1137/1.9780898718003
-.. [7] J.W. Daniel, W.B. Gragg, L. Kaufman, G.W. Stewart, Reorthogonalization and stable algorithms for
-   updating the Gram-Schmidt QR factorization, Math. Comp. 30 (1976) 772-795.
-   doi:10.1090/S0025-5718-1976-0431641-8
+.. [1] J.J. Kalker, Three-Dimensional Elastic Bodies in Rolling Contact, 1990, ch. 2, 5. doi:10.1007/978-94-015-7889-9
+.. [2] E.A.H. Vollebregt, User guide for CONTACT, technical report TR09-03 (steady rolling, slip discretisation).
 """
 from __future__ import annotations
 
@@ -289,6 +239,7 @@ def _forcing_term(history, eta_prev, tol, forcing, good_start):
     moves and Newton converges only linearly), at most FORCING_MAX and at least FORCING res (superlinear at
     the end), but never tighter than needed to reach tol in this step (FINAL_MARGIN tol / res); the first
     step FORCING_MAX, or GOOD_START_FORCING res from a good start. ``forcing`` other than "ew": FORCING res.
+    (S.C. Eisenstat, H.F. Walker, SIAM J. Sci. Comput. 17 (1996) 16-32, doi:10.1137/0917003.)
     """
     res = history[-1]
     if forcing == "ew" and len(history) > 1:
@@ -310,6 +261,18 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
                      precondition: bool = True, forcing: str = "ew",
                      initial_slip: np.ndarray | None = None, good_start: bool = False) -> TangentialSolution:
     """Solve Kalker's steady rolling problem with semismooth Newton-GMRES.
+
+    Coulomb's law is the fixed point ``p = Proj_g(p - r s(p))`` (each element's traction projected on the disc of
+    radius g; r = 1/|B_xx(0)| a scaling). Newton on ``F(p) = p - Proj_g(p - r s(p)) = 0`` uses the generalised
+    Jacobian: r B for a sticking element's row, ``I - (g/|z|)(I - z z^T/|z|^2)(I + r B)`` (z = p - r s) for a
+    slipping one's, so each step solves ``(D1 + D2 B) d = -F`` (2 x 2 blocks D1, D2 per element) by GMRES with FFT
+    products on the unknown elements only, in single precision while the step's tolerance is above
+    :data:`SINGLE_BELOW`, to the forcing term of :func:`_forcing_term`. GMRES is right-preconditioned by the
+    Jacobian with B cut to a few offsets along x: :class:`railtherm_kalker._band.LinePreconditioner` from a coarse
+    or zero start, :class:`LocalPreconditioner` (one sweep, cheaper) from a good start, which needs few GMRES steps.
+    References: P. Alart, A. Curnier, Comput. Methods Appl. Mech. Eng. 92 (1991) 353-375,
+    doi:10.1016/0045-7825(91)90022-X; S. Hueeber, G. Stadler, B.I. Wohlmuth, SIAM J. Sci. Comput. 30 (2008)
+    572-596, doi:10.1137/060671061.
 
     Parameters
     ----------
