@@ -60,10 +60,12 @@ import time
 
 import numpy as np
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
-from railtherm import BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel
-from railtherm.physics import embed_field, field_grid, lumped_wheel, thermal_scales, with_thermal_trace
+from railtherm import (BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel, asks_history,
+                       with_history)
+from railtherm.physics import (embed_field, field_grid, lumped_wheel, superposition_limits, thermal_scales,
+                               with_thermal_trace)
 from railtherm.physics.thermal_trace import TRACE_OUTPUTS
 
 from .mesh import moving_frame_mesh
@@ -151,13 +153,12 @@ class FipyTemperature(TemperatureModel):
     name = "fipy"
     description = "finite-volume heat conduction with FiPy: steady moving frame (2-D/3-D) and wheel heating"
     capabilities = Capabilities(convection=True, modes=frozenset({"steady", "transient"}), moving_surface=True,
-                                field=True,
+                                field=True, histories=True,
                                 advice={"moving_surface": "e.g. a locked wheel v0 + v_s = 0; use a method with a static "
-                                                          "source",
-                                        "histories": "its transient is the wheel's bulk heating over revolutions "
-                                                     "(numerics.duration / revolutions); use method 'green' for "
-                                                     "the histories"},
-                                provides=PROVIDES | TRACE | {"steady_wheel_temperature", "steady_mean_contact_temperature"})
+                                                          "source"},
+                                provides=PROVIDES | TRACE | {"steady_wheel_temperature", "steady_mean_contact_temperature",
+                                                             "temperature_history", "pass_peak_temperature",
+                                                             "residual_rise"})
     options = {
         "scheme": Option("power-law", "convection scheme", choices=tuple(SCHEMES)),
         "dimension": Option("auto", "2 (x-z, strips of an ellipse), 3 (x-y-z) or auto", choices=("auto", 2, 3)),
@@ -261,9 +262,23 @@ class FipyTemperature(TemperatureModel):
         return bool(np.allclose(q, q[:, ::-1], rtol=1e-12, atol=0.0) and np.allclose(eps, eps[:, ::-1]))
 
     # ------------------------------------------------------------------ compute
+    def supports(self, scene, level):
+        """fipy's pass histories: line contacts (its FiPy section), under the superposition's limits."""
+        why = super().supports(scene, level)
+        if why or not asks_history(scene):
+            return why
+        if getattr(scene, "contact_shape", None) != "line":
+            return ("model 'fipy' computes the pass histories of a line contact (a 2-D FiPy section around the fixed "
+                    "section); an elliptical patch's histories would need its 3-D section: use method 'green' or "
+                    "'fastsim-fdm'")
+        return superposition_limits(scene, "fipy")
+
     def compute_temperature(self, scene, source, level, options):
-        """Surface (and depth at y = 0) temperatures of wheel and rail [degC], absolute."""
+        """Surface (and depth at y = 0) temperatures of wheel and rail [degC], absolute; in a transient scene
+        with passes, the pass histories (:meth:`_histories`)."""
         opts = {**options, "refine": int(options["refine"])}   # resolved by core (pipeline)
+        if asks_history(scene):
+            return self._histories(scene, source, level, opts)
         grid = field_grid(source.grid, scene)                  # the patch grid, or its extension (field)
         flash = self._steady(scene, source, level, opts, grid)
         if getattr(scene, "mode", "steady") != "transient":
@@ -273,6 +288,44 @@ class FipyTemperature(TemperatureModel):
         if getattr(scene, "field", None) is None:
             return result
         return with_thermal_trace(result, scene, source)
+
+    def _histories(self, scene, source, level, opts):
+        """The pass histories of both bodies on the FiPy section (:mod:`railtherm_fipy.history`, stepped by
+        :func:`railtherm.physics.section_stepping.body_histories`), with the steady one-pass fields of the
+        moving frame when the scene asks them."""
+        from railtherm.physics.section_stepping import body_histories
+        from .history import fipy_block
+        grid = source.grid
+        if not grid.line:
+            raise Refused(self.supports(scene, level) or "model 'fipy': pass histories of line contacts only",
+                          kind="validity")
+        fluxes = [np.asarray(source.flux(i), dtype=float).reshape(-1) for i in range(2)]
+        for i, q in enumerate(fluxes):
+            if np.any(q != 0) and not float(source.body_speed[i]) > 0.0:
+                raise Refused(f"model 'fipy' ({('wheel', 'rail')[i]}): its surface moves at "
+                              f"{float(source.body_speed[i]):g} m/s relative to the contact; the section's passes "
+                              "need a body moving through it")
+        bulk = (float(scene.wheel.bulk_temperature), float(scene.rail.bulk_temperature))
+
+        def make_block(v, m, convection, duration, z):
+            return fipy_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat, convection, level,
+                              duration, z)
+        hist, diag = body_histories(
+            scene, grid, [q if np.any(q != 0) else None for q in fluxes], tuple(float(v) for v in source.body_speed),
+            (scene.wheel, scene.rail), bulk, int(level), "implicit", make_block,
+            "FiPy cell-centred finite volumes of the fixed section (x-z), Crank-Nicolson steps (FiPy has no explicit "
+            "stepping)", "conduction along the rail beyond the section's ends; the wheel's curvature")
+        diag.update({"converged": True, "iterations": 0, "residual": 0.0, "dimension": 2,
+                     "scheme": "transient FiPy section (Crank-Nicolson)"})
+        one_pass = ("surface_temperature", "max_surface_temperature", "mean_contact_temperature")
+        outputs = tuple(getattr(scene, "outputs", ()) or ())
+        if not outputs or any(o in outputs for o in one_pass):
+            flash = self._steady(scene, source, level, opts, grid)
+            result = self._lumped_steady(scene, source, flash, grid)
+            result = replace(result, diagnostics={**dict(result.diagnostics or {}), **diag})
+        else:
+            result = TemperatureField.from_bodies(grid, bulk, diagnostics=diag)
+        return with_history(result, hist)
 
     @staticmethod
     def _lumped_steady(scene, source, flash, grid=None):

@@ -1,0 +1,175 @@
+"""fipy's pass histories of a line contact: the rail section (fixed frame, x-z, per unit width) discretised by FiPy.
+
+FiPy's cell-centred finite volumes (``TransientTerm(rho c) == DiffusionTerm(lambda)`` on a ``Grid2D``, the
+deep face at theta = 0, the rail's ends and the surface insulated, the band's flux entering the surface
+cells) give the capacity C [J/(K m)] and conductance K [W/(K m)] once; the passes are stepped by core's
+driver (:mod:`railtherm.physics.section_stepping`): Crank-Nicolson steps of ``C dT/dt = -K T + P(t)``
+with one sparse LU per step size (FiPy's own ``eq.solve`` rebuilds the matrix every step, ~85 ms for
+1,600 cells), the source at the section's step h/V while it is over the block, a ladder of growing steps
+between the passes. Cells: width h = 2a/32/2**level along x over the section and four cells either side,
+growing by ``1.3 ** (1 / 2**level)`` to 2a + 2 sqrt(kappa t_end); heights from delta/4/2**level at the
+surface (delta = sqrt(2 a kappa / V)), growing alike. The history at a depth: linear between the cell
+centres of the section's column; at the surface, extrapolated linearly from the two top cells.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.sparse import csr_matrix, diags
+from scipy.sparse.linalg import splu
+
+from railtherm.physics import thermal_scales
+
+__all__ = ["FipyBlock", "fipy_block", "IMPLICIT_COST"]
+
+#: one Crank-Nicolson LU solve counted as this many explicit node updates (FiPy has no explicit stepping:
+#: the model always asks the implicit scheme; the cost is recorded with the reason)
+IMPLICIT_COST = 50.0
+
+
+def _widths(first: float, growth: float, uniform: int, end: float) -> np.ndarray:
+    """Cell widths [m] from 0: ``uniform`` cells of ``first``, then growing by ``growth`` until they reach ``end``."""
+    w = [first] * uniform
+    while sum(w) < end:
+        w.append(w[-1] * growth)
+    return np.array(w)
+
+
+class FipyBlock:
+    """The section's FiPy cells and their operator (cell index i + nx j, j = 0 at the surface).
+
+    Attributes: ``x``, ``z`` cell centres [m] (section at ``x[i0]`` = 0), ``faces_x`` [m], ``capacity``
+    [J/(K m)], ``stiffness`` [W/(K m)], ``dt_stab`` (min C/K_ii [s], for the cost record), ``rows``
+    (depths, 2) cells and ``weights`` (depths, 2) of the output depths."""
+
+    def __init__(self, faces_x, faces_z, capacity, stiffness, depths):
+        self.faces_x = faces_x
+        self.x = 0.5 * (faces_x[1:] + faces_x[:-1])
+        self.z = 0.5 * (faces_z[1:] + faces_z[:-1])
+        self.i0 = int(np.argmin(np.abs(self.x)))
+        self.capacity = capacity
+        self.stiffness = stiffness
+        self.dt_stab = float(np.min(capacity / stiffness.diagonal()))
+        nx = self.x.size
+        rows, weights = [], []
+        for d in depths:
+            if d <= self.z[0]:                           # above the first centre: extrapolated from the top two
+                j = 0
+            else:
+                j = min(int(np.searchsorted(self.z, d)) - 1, self.z.size - 2)
+            s = (d - self.z[j]) / (self.z[j + 1] - self.z[j])
+            rows.append([self.i0 + nx * j, self.i0 + nx * (j + 1)])
+            weights.append([1.0 - s, s])
+        self.rows = np.array(rows)
+        self.weights = np.array(weights)
+
+    @property
+    def node_shape(self) -> str:
+        return f"{self.x.size}x{self.z.size}"
+
+    def stepper(self, x_edges, y_edges, flux, speed, factor, t0):
+        """A :class:`_FipyStepper` under the band's ``flux`` (nx,) [W/m^2] on ``x_edges`` [m] at ``speed``
+        [m/s], heat-input factor ``factor(t)``, from t0 [s]."""
+        return _FipyStepper(self, x_edges, flux, speed, factor, t0)
+
+
+def fipy_block(a: float, speed: float, conductivity: float, capacity: float, convection: float, level: int,
+               duration_total: float, depths) -> FipyBlock:
+    """The cells of the module docstring for a band of half-width ``a`` [m] at ``speed`` [m/s], lambda
+    [W/(m K)], rho c [J/(m^3 K)], surface convection h [W/(m^2 K)] (on the surface cells' values), refinement
+    ``level``, a history of ``duration_total`` [s] and the output ``depths`` [m]."""
+    from fipy import CellVariable, DiffusionTerm, Grid2D, TransientTerm
+    kappa = conductivity / capacity
+    delta = thermal_scales(a, speed, kappa).thermal_depth
+    reach = math.sqrt(kappa * duration_total)
+    growth = 1.3 ** (1.0 / 2 ** int(level))
+    h = 2.0 * a / (32 * 2 ** int(level))
+    side = _widths(h, growth, 4, 2.0 * a + 2.0 * reach - 0.5 * h)
+    dx = np.concatenate([side[::-1], [h], side])
+    dz = _widths(delta / 4.0 / 2 ** int(level), growth, 1, max(8.0 * reach, 10.0 * delta, 1.5 * max(depths)))
+    mesh = Grid2D(dx=dx, dy=dz)
+    T = CellVariable(mesh=mesh, value=0.0)
+    T.constrain(0.0, where=mesh.facesTop)               # FiPy's top (largest y) is the block's deep face
+    eq = TransientTerm(coeff=capacity) == DiffusionTerm(coeff=conductivity)
+    eq.cacheMatrix()
+    eq.sweep(var=T, dt=1.0)
+    cap = capacity * np.asarray(mesh.cellVolumes, dtype=float)
+    M = eq.matrix
+    K = csr_matrix(M.matrix if hasattr(M, "matrix") else M) - diags(cap)
+    if convection:
+        K = K + diags(np.concatenate([convection * dx, np.zeros(dx.size * (dz.size - 1))]))
+    faces_x = np.concatenate([[0.0], np.cumsum(dx)]) - (side.sum() + 0.5 * h)
+    faces_z = np.concatenate([[0.0], np.cumsum(dz)])
+    return FipyBlock(faces_x, faces_z, cap, csr_matrix(K), depths)
+
+
+class _FipyStepper:
+    """Crank-Nicolson (and backward-Euler start) steps of the FiPy operator, with the interface of core's
+    driver (:mod:`railtherm.physics.section_stepping`); no explicit steps."""
+
+    heating_cost = IMPLICIT_COST
+    implicit_cost = 0.0                                 # every cooling rung implicit
+    cooling_implicit = "Crank-Nicolson steps of FiPy's operator (one sparse LU per step; two backward-Euler start steps)"
+
+    def __init__(self, block: FipyBlock, x_edges, flux, speed, factor, t0):
+        self.b = block
+        self.args = (x_edges, flux, speed)
+        self.xe = np.asarray(x_edges, dtype=float)
+        self.cum = np.concatenate([[0.0], np.cumsum(np.asarray(flux, dtype=float).reshape(-1) * np.diff(self.xe))])
+        self.speed = float(speed)
+        self.factor = factor
+        self.T = np.zeros(block.capacity.size)
+        self.t = t0
+        self.times, self.rows = [], []
+        self.explicit_steps = 0
+        self.adi_steps = 0
+        self.implicit = self
+        self.cache = {}
+        self.solves = 0
+
+    def fresh(self, t0: float) -> "_FipyStepper":
+        """A stepper of the same block and source from t0 [s], state zero (shares the factorisations)."""
+        out = _FipyStepper(self.b, *self.args, self.factor, t0)
+        out.cache = self.cache
+        return out
+
+    def _power(self, t, arrivals):
+        p = np.zeros(self.T.size)
+        f = float(self.factor(t))
+        if f == 0.0:
+            return p
+        fx = self.b.faces_x
+        for arr in arrivals:
+            shift = self.xe[-1] - self.speed * (t - arr)
+            p[:fx.size - 1] += np.diff(np.interp(fx + shift, self.xe, self.cum))
+        return f * p
+
+    def explicit(self, dt, m, arrivals, heated=True):
+        raise NotImplementedError("fipy's section is stepped implicitly only")
+
+    def adi(self, dt: float, m: int, start: int = 0):
+        """m source-free Crank-Nicolson steps of dt, the first ``start`` backward Euler."""
+        self.implicit_steps(dt, m, (), 0.5, start)
+        self.adi_steps += m
+
+    def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
+        """m theta-scheme steps of dt (the first ``start`` backward Euler); source of ``arrivals``."""
+        C, K, b = self.b.capacity, self.b.stiffness, self.b
+        out = np.empty((m, b.rows.shape[0]))
+        T = self.T
+        p_old = self._power(self.t, arrivals)
+        for i in range(m):
+            th = 1.0 if i < start else theta
+            key = (float(dt), th)
+            if key not in self.cache:
+                self.cache[key] = splu((diags(C / dt) + th * K).tocsc())
+            p_new = self._power(self.t + dt, arrivals)
+            T = self.cache[key].solve(C / dt * T - (1.0 - th) * (K @ T) + th * p_new + (1.0 - th) * p_old)
+            self.solves += 1
+            p_old = p_new
+            self.t += dt
+            out[i] = np.sum(T[b.rows] * b.weights, axis=1)
+        self.T = T
+        self.times.append(self.t - dt * np.arange(m - 1, -1, -1))
+        self.rows.append(out)
