@@ -3,18 +3,16 @@
 estimates, cross-method differences, timings, the status of every run and the scorecard
 (:mod:`.scorecard`). The contract is ``docs/verdicts.md``.
 
-Errors are relative and named after the quantity: ``max_surface_temperature``,
-``mean_contact_temperature`` and the steady temperatures (relative error of the *rise above the
-bulk temperature*, so that a hot wheel does not hide an error), ``surface_temperature_l2``
-(relative L2 of the rise), ``pressure_l2``, ``max_pressure``, ``semi_axis_a``, ``creep_force_x``,
-``frictional_power``. Each error records what it was taken against: ``analytic:<tag>`` (core's exact
+Errors are relative and named after the quantity: ``max_surface_temperature``, ``mean_contact_temperature`` and
+the steady temperatures (relative error of the *rise above the bulk temperature*, so that a hot wheel does not hide
+an error), ``surface_temperature_l2`` (relative L2 of the rise), ``pressure_l2``, ``max_pressure``, ``semi_axis_a``,
+``creep_force_x``, ``frictional_power``. Each error records what it was taken against: ``analytic:<tag>`` (core's exact
 reference), ``method:<name>`` (another method's finest successful level), ``self:finest`` (the run's own
 method at its finest level: discretisation error, never a verification).
 
-Statuses (:func:`railtherm.analysis.verdicts.run_status`): ``ok`` only when the scene's headline quantity
-is within the tolerance of an independent reference and no error nor the energy balance exceeds it,
-``inaccurate`` when one does (or is not finite where its reference is), ``unverified`` when the headline
-is not checked independently; ``refused`` and ``failed`` come from the runner.
+Statuses (:func:`railtherm.analysis.verdicts.run_status`): ``ok`` only when the headline quantity is within
+the tolerance of an independent reference and no error nor the energy balance exceeds it, ``inaccurate`` when one
+does (or is not finite where its reference is), ``unverified`` when the headline is not checked independently.
 """
 from __future__ import annotations
 

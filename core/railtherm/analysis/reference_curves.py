@@ -1,42 +1,18 @@
 """Reference curves of a study's scenes: the exact solutions a report draws beside the methods' results.
 
-:func:`reference_curves` evaluates, for every scene that has one, core's exact references as curves
-(the report overlays them; it never computes physics itself):
-
-* ``surface_temperature(body, x)`` [degC]: surface temperature along y = 0 of each body, for a
-  full-sliding or given heat source without convection (Jaeger's moving band for a line contact, the
-  moving surface source on a half-space for an ellipse), with ``hottest_x(body)`` [m], the x of its
-  maximum, and ``temperature(body, z)`` [degC], the depth profile through that point;
-* for a scene with ``field`` and such a source, the exact thermal trace
-  (:func:`railtherm.analysis.analytic.trace_reference`) on the depths ``z_trace`` from the surface to
-  ``field.depth``: ``trace_peak_temperature(body, z_trace)`` [degC], ``trace_peak_position(body,
-  z_trace)`` [m], ``trace_cooling_rate(body, z_trace)`` [K s-1] (NaN at z = 0, where it is infinite),
-  ``trace_time_above(body, z_trace)`` [s], ``trace_heated_depth(body)`` [m] and ``trace_threshold``
-  [degC]; ``trace_depth`` [m], the depth z* of the curve ``trace_temperature(body, x)`` [degC] along
-  the rolling direction and of ``trace_depth_peak_temperature(body)`` [degC] and
-  ``trace_depth_cooling_rate(body)`` [K s-1] (the hotter body's heated depth when it lies inside the field, else the depth
-  where its peak temperature has fallen to half its surface rise); and, for an ellipse,
-  ``surface_map(body, x_map, y_map)`` [degC], the surface temperature over the patch and its trace.
-  ``temperature(body, z)`` then reaches ``field.depth`` and ``surface_temperature`` reaches
-  ``field.behind`` beyond the trailing edge;
-* ``carter_traction_x(x_patch)`` [Pa] and ``carter_stick(x_patch)`` [1]: Carter's 2-D traction and
-  stick zone for a line contact of identical elastic bodies with pure longitudinal creepage;
-* ``creep_force_ratio(creepage)`` [1]: Carter's Fx / (mu N) over the creepages of the scene's sweep
-  (or around its own creepage);
-* ``creep_force_ratio_linear(creepage)`` [1] and ``kalker_linear_slope`` [1]: the initial slope
-  d(Fx / mu N)/d(xi) of Kalker's linear theory for an elliptic Hertz contact with pure longitudinal
-  creepage, drawn up to |Fx| = mu N (no saturation).
-
-:func:`write_reference_curves` writes them to ``out/references.nc``: one netCDF4 group per scene
-(group attribute ``scene`` holds the exact scene name), written to a temporary file and renamed into
-place. :func:`read_reference_curves` reads the file back.
+:func:`reference_curves` evaluates, for every scene that has one, core's exact references as curves (the report
+overlays them; it never computes physics itself): the surface temperature along y = 0 of each body and its depth
+profile (Jaeger's moving band for a line contact, the moving surface source on a half-space for an ellipse); for a
+scene with ``field``, the exact thermal trace (:func:`railtherm.analysis.analytic.trace_reference`); Carter's 2-D
+traction and creep curve for a line contact; and the initial slope of Kalker's linear theory for an ellipse.
+:func:`write_reference_curves` writes them to ``out/references.nc`` (one netCDF4 group per scene, written to a
+temporary file and renamed into place); :func:`read_reference_curves` reads the file back.
 
 References
 ----------
 .. [1] J.C. Jaeger, Proc. R. Soc. N.S.W. 76 (1942) 203-224 (moving band source).
 .. [2] F.W. Carter, Proc. R. Soc. Lond. A 112 (1926) 151-157. doi:10.1098/rspa.1926.0100
-.. [3] J.J. Kalker, Three-dimensional elastic bodies in rolling contact, Kluwer, 1990.
-   doi:10.1007/978-94-015-7889-9
+.. [3] J.J. Kalker, Three-dimensional elastic bodies in rolling contact, Kluwer, 1990. doi:10.1007/978-94-015-7889-9
 """
 from __future__ import annotations
 
@@ -94,7 +70,7 @@ def _field_depth(scene, default: float) -> float:
 
 
 def _trace(scene) -> tuple[dict, dict, list[str]]:
-    """The exact thermal trace of a scene with ``field`` (see the module docstring)."""
+    """The exact thermal trace of a scene with ``field`` (see :func:`reference_curves`)."""
     from .analytic import _depth_rise, _surface_rise, _thermal_case, trace_reference
     from .trace_metrics import cooling_rate_depth
     fld = getattr(scene, "field", None)
@@ -336,9 +312,37 @@ def reference_curves(study, map=None) -> dict:
     Returns
     -------
     dict of str to xarray.Dataset
-        Scene name -> curves (see the module docstring); every variable carries ``units``,
-        ``long_name`` and ``reference``, the Dataset the attribute ``reference`` naming all of them.
-        A scene whose reference cannot be evaluated is left out with a warning.
+        Scene name -> curves (below); every variable carries ``units``, ``long_name`` and ``reference``,
+        the Dataset the attribute ``reference`` naming all of them. A scene whose reference cannot be
+        evaluated is left out with a warning.
+
+    Notes
+    -----
+    The curves:
+
+    * ``surface_temperature(body, x)`` [degC]: surface temperature along y = 0 of each body, for a
+      full-sliding or given heat source without convection (Jaeger's moving band for a line contact, the
+      moving surface source on a half-space for an ellipse), with ``hottest_x(body)`` [m], the x of its
+      maximum, and ``temperature(body, z)`` [degC], the depth profile through that point;
+    * for a scene with ``field`` and such a source, the exact thermal trace
+      (:func:`railtherm.analysis.analytic.trace_reference`) on the depths ``z_trace`` from the surface to
+      ``field.depth``: ``trace_peak_temperature(body, z_trace)`` [degC], ``trace_peak_position(body,
+      z_trace)`` [m], ``trace_cooling_rate(body, z_trace)`` [K s-1] (NaN at z = 0, where it is infinite),
+      ``trace_time_above(body, z_trace)`` [s], ``trace_heated_depth(body)`` [m] and ``trace_threshold``
+      [degC]; ``trace_depth`` [m], the depth z* of the curve ``trace_temperature(body, x)`` [degC] along
+      the rolling direction and of ``trace_depth_peak_temperature(body)`` [degC] and
+      ``trace_depth_cooling_rate(body)`` [K s-1] (the hotter body's heated depth when it lies inside the field, else the depth
+      where its peak temperature has fallen to half its surface rise); and, for an ellipse,
+      ``surface_map(body, x_map, y_map)`` [degC], the surface temperature over the patch and its trace.
+      ``temperature(body, z)`` then reaches ``field.depth`` and ``surface_temperature`` reaches
+      ``field.behind`` beyond the trailing edge;
+    * ``carter_traction_x(x_patch)`` [Pa] and ``carter_stick(x_patch)`` [1]: Carter's 2-D traction and
+      stick zone for a line contact of identical elastic bodies with pure longitudinal creepage;
+    * ``creep_force_ratio(creepage)`` [1]: Carter's Fx / (mu N) over the creepages of the scene's sweep
+      (or around its own creepage);
+    * ``creep_force_ratio_linear(creepage)`` [1] and ``kalker_linear_slope`` [1]: the initial slope
+      d(Fx / mu N)/d(xi) of Kalker's linear theory for an elliptic Hertz contact with pure longitudinal
+      creepage, drawn up to |Fx| = mu N (no saturation).
     """
     jobs = curve_jobs(study)
     return collect_curves(jobs, (map or builtins.map)(scene_curves_job, jobs))

@@ -1,18 +1,10 @@
 """Wheel and rail profile files, and the ``[scene.wheelset]`` keys that place a wheelset on a track.
 
-Readers (each returns a checked :class:`railtherm.physics.profiles.Profile` in metres, z downwards):
-
-* SIMPACK ``.prr`` (rail) / ``.prw`` (wheel): the ``spline`` block's processing data (unit factor
-  ``units.len.f``, ``shift.y/z``, bounds, ``mirror.y/z``, ``inversion``) applied to ``point.begin`` ..
-  ``point.end``; ``rotate`` other than 0 is refused (its sense is not stated by the format).
-* MiniProf ``.ban`` (rail) / ``.whl`` (wheel): ``Key=Value`` header, ``ColumnDef=X,Y`` and the points
-  in mm (X lateral, Y vertical downwards). Points written with a leading ``"`` (MiniProf's flagged
-  points) are counted in ``XYPoints`` and read like the others.
-* Plain text: two columns y, z (whitespace, comma or semicolon separated; ``#``, ``!``, ``%`` start a
-  comment), in mm or m, declared with ``units`` or detected from the lateral span (> 1: mm, < 0.5: m).
-
-``mirror_y=True`` mirrors a profile given for the left side (y -> -y) so that its flange or gauge face
-lies at negative y. Every error names the file and the line.
+Readers (each returns a checked :class:`railtherm.physics.profiles.Profile` in metres, z downwards; every error
+names the file and the line): SIMPACK ``.prr`` / ``.prw`` (:func:`read_simpack`), MiniProf ``.ban`` / ``.whl``
+(:func:`read_miniprof`) and plain two-column text (:func:`read_text`); :func:`load_profile` also knows the
+built-in standards. ``mirror_y=True`` mirrors a profile given for the left side (y -> -y) so that its flange or
+gauge face lies at negative y.
 
 :func:`wheelset_geometry_from_table` checks the ``[scene.wheelset]`` profile keys and returns a
 :class:`WheelsetGeometry` that :func:`railtherm.physics.contact_search.contact_search` can use.
@@ -76,6 +68,10 @@ def _profile(path, y, z, lines, kind, mirror_y, **kw) -> Profile:
 
 def read_simpack(path: str, mirror_y: bool = False, **checks) -> Profile:
     """Read a SIMPACK rail (``.prr``) or wheel (``.prw``) profile.
+
+    The ``spline`` block's processing data (unit factor ``units.len.f``, ``shift.y/z``, bounds, ``mirror.y/z``,
+    ``inversion``) is applied to ``point.begin`` .. ``point.end``; ``rotate`` other than 0 is refused (its sense
+    is not stated by the format).
 
     Parameters
     ----------
@@ -150,6 +146,9 @@ def read_simpack(path: str, mirror_y: bool = False, **checks) -> Profile:
 def read_miniprof(path: str, mirror_y: bool = False, **checks) -> Profile:
     """Read a MiniProf rail (``.ban``) or wheel (``.whl``) profile (mm, columns as ``ColumnDef``).
 
+    A ``Key=Value`` header, ``ColumnDef=X,Y`` and the points in mm (X lateral, Y vertical downwards). Points
+    written with a leading ``"`` (MiniProf's flagged points) are counted in ``XYPoints`` and read like the others.
+
     Parameters
     ----------
     path : str
@@ -197,6 +196,8 @@ def read_miniprof(path: str, mirror_y: bool = False, **checks) -> Profile:
 def read_text(path: str, units: str | None = None, mirror_y: bool = False, kind: str | None = None,
               **checks) -> Profile:
     """Read a plain two-column (y, z) profile, z downwards.
+
+    Columns separated by whitespace, comma or semicolon; ``#``, ``!``, ``%`` start a comment.
 
     Parameters
     ----------

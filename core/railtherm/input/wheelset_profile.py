@@ -2,21 +2,17 @@
 the gap, load and creepages of its patches, when the scene is loaded (docs/DESIGN.md "Scene vocabulary").
 
 The contact search (:func:`railtherm.physics.contact_search.contact_search`) finds the wheel's patches. Per
-patch: ``contact = {shape = "gap"}``, the undeformed gap on its contact plane as a polynomial (to y^8, x^2 y^6;
-:func:`_gap_fit`, misfit :attr:`ProfileContact.gap_residual`: below 1 um at 38 of the 42 A-2.2 contacts, 0.22 mm
-at position 2 right, whose kalker result is not to be trusted), for ``kalker``; Hertz-based chains take the
-Hertz-equivalent ellipse (normal model ``wheelset-profile``); the creepages of the wheelset's rigid motion at
-the reference point (:func:`reference_point`, railtherm's sign, minus CONTACT's); the normal force N from the
-wheel's vertical force Fz = N cos(delta) - Fy sin(delta), Fy Kalker's linear theory saturated by Shen, Hedrick
-and Elkins [1] (:func:`normal_force_from_vertical`). ``patch = "all"``: every patch, sharing Fz at one common
-approach (:func:`share_vertical_force`, :class:`ProfileContacts`). ``roll_angle = "balance"``: the roll that
-gives both wheels half the axle load (:func:`balance_roll`); ``pitch_velocity = "free"``: creepages at -V / R0,
+patch: ``contact = {shape = "gap"}`` with the undeformed gap on its contact plane as a polynomial (:func:`_gap_fit`)
+for ``kalker``, the Hertz-equivalent ellipse for Hertz-based chains (normal model ``wheelset-profile``); the
+creepages of the wheelset's rigid motion at :func:`reference_point` (railtherm's sign, minus CONTACT's); the normal
+force from the wheel's vertical force (:func:`normal_force_from_vertical`, after Shen, Hedrick and Elkins [1]).
+``patch = "all"``: every patch, sharing Fz at one common approach (:func:`share_vertical_force`). ``roll_angle =
+"balance"``: the roll giving both wheels half the axle load (:func:`balance_roll`); ``pitch_velocity = "free"``:
 the solve finds it (:mod:`railtherm.solving.wheelset_equilibrium`). No contact: :class:`NoContact`, runs fail.
 
 References
 ----------
-.. [1] Z. Y. Shen, J. K. Hedrick, J. A. Elkins, A comparison of alternative creep force models for rail
-   vehicle dynamic analysis, Vehicle System Dynamics 12 (1983) 79-83. doi:10.1080/00423118308968725
+.. [1] Z. Y. Shen, J. K. Hedrick, J. A. Elkins, Vehicle System Dynamics 12 (1983) 79-83. doi:10.1080/00423118308968725
 """
 from __future__ import annotations
 
@@ -286,8 +282,8 @@ def reference_point(geo, p, approach: float, speed: float) -> dict:
 
 
 def _weighted_fit(p, half_x, half_y, reach_y, degree, step, guard=0.03):
-    """Least-squares gap polynomial (terms as :meth:`Patch.gap_coefficients`) on |x| <= half_x,
-    |y| <= reach_y, with the points beyond |y| > half_y weighted ``guard``: they keep the polynomial
+    """Least-squares gap polynomial (terms as :meth:`railtherm.physics.contact_search.Patch.gap_coefficients`) on
+    |x| <= half_x, |y| <= reach_y, with the points beyond |y| > half_y weighted ``guard``: they keep the polynomial
     rising where the gap rises without pulling it off the data in the window. Returns (coefficients,
     largest misfit in the window [m])."""
     x = np.arange(-half_x, half_x + 0.5 * step, step)
@@ -310,7 +306,9 @@ def _gap_fit(scene_name, p, h):
     """The gap polynomial of the highest even degree (GAP_DEGREE, then lower) that stays open beyond the
     fitting window: c2(y) > 0 and min over x of h(x, y) > 0 for |y| beyond the window out to FIT_CHECK
     windows (a polynomial of high degree can turn down just outside its data, and the normal solver then
-    finds no bounded patch)."""
+    finds no bounded patch). Terms to y^8 and x^2 y^6; the misfit (:attr:`ProfileContact.gap_residual`) is below
+    1 um at 38 of the 42 CONTACT A-2.2 contacts, 0.22 mm at position 2 right, whose kalker result is not to be
+    trusted."""
     half_x, half_y = WINDOW[0] * h.a, _lateral_window(p, h)
     reach = half_y
     y = np.linspace(-FIT_CHECK * half_y, FIT_CHECK * half_y, 1601)

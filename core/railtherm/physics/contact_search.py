@@ -1,54 +1,18 @@
 """Contact search between a wheel and a rail profile for a wheelset on a track (undeformed geometry).
 
-Axes. Track: x along the track in the direction of travel, y lateral towards the right rail, z
-downwards. Every quantity of a wheel is computed in that wheel's own axes: the right wheel in track
-axes, the left wheel in track axes mirrored y -> -y (lateral shift, roll and yaw change sign, the pitch
-velocity does not), so that both wheels see the profiles as given (flange and gauge face at negative
-y, see :mod:`railtherm.physics.profiles`) and the left results are in the left rail's own coordinates.
-
-Placement. The rail profile is inclined by ``rail_inclination`` towards the track centre
-(:meth:`Profile.rotated`), its top (smallest z) put at z = 0, and shifted laterally so that its gauge
-point (the innermost point at ``gauge_height`` below the top) lies at y = gauge / 2. The wheel profile
-is a surface of revolution about the axle with radius r(s) = R0 + z_w(s) at wheel-profile position s;
-its flange back (s = ``flange_back_position``) lies ``flange_back_distance / 2`` from the wheelset
-centre. The wheelset is rotated by R = Rz(yaw) Rx(roll) about its centre.
-
-Search. The rail is prismatic along x, so at a contact the wheel's surface normal has no x
-component. For every wheel-profile position s that condition fixes the angle theta(s) on the wheel
-circle in closed form (the "contact locus" [1]); it is exact for any yaw and roll (no small-angle
-approximation in the search). The vertical gap g(s) = z_rail(y(s)) - z(s)
-between the locus and the rail has its local minima where the two profiles' slopes match; every
-minimum within ``max_separation`` of the smallest (up to ``max_patches``) is a patch. Each is refined
-by parabolas through the smooth gap (the profiles' splines) at shrinking steps.
-
-Per patch: the contact point on the rail (lateral position in the rail profile's own coordinates, as
-CONTACT reports ``ycp_r``) and on the wheel, the contact angle (of the rail's tangent in the wheel's
-axes), the rolling radius, the curvatures of both profiles across the rolling direction and of the
-wheel along it (the Hertz-equivalent ellipse's A, B as vehicle-dynamics codes take them), the
-creepages from the wheelset's motion, and the patch's undeformed gap on its contact plane
-(:meth:`Patch.gap`) for a non-Hertzian normal solver. In the gap the wheel's curvature along x is
-taken from each slice's own radius and the locus's x offset (first order in the yaw angle; the
-small-angle approximation used here for the gap only).
-
-Creepages follow railtherm's convention (the wheel is body 1; slip of the wheel relative to the rail
-per unit rolling distance): longitudinal xi = v . e_x / V, lateral eta = v . e_y / V, spin
-phi = omega . n / V [1/m], with v the velocity of the wheel material at the contact point, omega the
-wheelset's angular velocity (pitch velocity about the axle), e_y the lateral direction in the contact
-plane towards the field side and n = e_x x e_y the normal into the rail. CONTACT reports the rail
-relative to the wheel: its creepages are minus these; and it reports the left wheel along the track's
-y, so there its lateral position, contact angle, lateral creepage and spin change sign once more (see
-the tests against its A-2.2 results).
+Track axes: x along the track in the direction of travel, y lateral towards the right rail, z downwards. Each
+wheel is computed in its own axes, the left wheel's being the track's mirrored y -> -y (lateral shift, roll and yaw
+change sign, the pitch velocity does not), so both see the profiles as given (flange and gauge face at negative y,
+:mod:`railtherm.physics.profiles`). The search follows the "contact locus" [1] (:func:`contact_search`); each
+:class:`Patch` carries its contact points, angle, rolling radius, curvatures, creepages and undeformed gap.
 
 References
 ----------
-.. [1] E. A. H. Vollebregt, Detailed wheel/rail geometry processing using the planar contact approach,
-   Vehicle System Dynamics 60 (2022) 1253-1291 (the contact locus approach, creepages from rigid-body
-   kinematics, CONTACT's module 1). doi:10.1080/00423114.2020.1853180
-.. [2] E. A. H. Vollebregt, User guide for CONTACT, Rolling and sliding contact with friction,
-   Technical report TR09-03, Vtech CMCC (module 1, wheel-rail contact; no DOI).
-.. [3] P. Shackleton, S. Iwnicki, Comparison of wheel-rail contact codes for railway vehicle simulation:
-   an introduction to the Manchester Contact Benchmark and initial results, Vehicle System Dynamics 46
-   (2008) 3-28. doi:10.1080/00423110701245083
+.. [1] E. A. H. Vollebregt, Detailed wheel/rail geometry processing using the planar contact approach, Vehicle
+   System Dynamics 60 (2022) 1253-1291 (contact locus, creepages, CONTACT's module 1). doi:10.1080/00423114.2020.1853180
+.. [2] E. A. H. Vollebregt, User guide for CONTACT, Technical report TR09-03, Vtech CMCC (module 1; no DOI).
+.. [3] P. Shackleton, S. Iwnicki, Vehicle System Dynamics 46 (2008) 3-28 (the Manchester Contact Benchmark).
+   doi:10.1080/00423110701245083
 """
 from __future__ import annotations
 
@@ -73,6 +37,13 @@ WHEEL_SPACING, RAIL_SPACING = 0.05e-3, 0.02e-3
 @dataclass(frozen=True, eq=False)
 class WheelsetOnTrack:
     """A wheelset's profiles, track and position (the ``[scene.wheelset]`` keys, SI units).
+
+    Placement: the rail profile is inclined by ``rail_inclination`` towards the track centre
+    (:meth:`Profile.rotated`), its top (smallest z) put at z = 0, and shifted laterally so that its gauge point
+    (the innermost point at ``gauge_height`` below the top) lies at y = gauge / 2 (:func:`rail_placement`). The
+    wheel profile is a surface of revolution about the axle with radius r(s) = R0 + z_w(s) at wheel-profile
+    position s; its flange back (s = ``flange_back_position``) lies ``flange_back_distance / 2`` from the
+    wheelset centre. The wheelset is rotated by R = Rz(yaw) Rx(roll) about its centre.
 
     Parameters
     ----------
@@ -119,6 +90,18 @@ class WheelsetOnTrack:
 class Patch:
     """One contact patch of a wheel found by :func:`contact_search` (in the wheel's own axes).
 
+    The contact point on the rail is given in the rail profile's own coordinates (as CONTACT reports ``ycp_r``),
+    the curvatures as vehicle-dynamics codes take them for the Hertz-equivalent ellipse's A, B, and the
+    undeformed gap on the contact plane (:meth:`gap`) for a non-Hertzian normal solver.
+
+    Creepages follow railtherm's convention (the wheel is body 1; slip of the wheel relative to the rail per
+    unit rolling distance): longitudinal xi = v . e_x / V, lateral eta = v . e_y / V, spin phi = omega . n / V
+    [1/m], with v the velocity of the wheel material at the contact point, omega the wheelset's angular velocity
+    (pitch velocity about the axle), e_y the lateral direction in the contact plane towards the field side and
+    n = e_x x e_y the normal into the rail. CONTACT reports the rail relative to the wheel: its creepages are
+    minus these; and it reports the left wheel along the track's y, so there its lateral position, contact
+    angle, lateral creepage and spin change sign once more (see the tests against its A-2.2 results).
+
     Attributes
     ----------
     y_rail, z_rail : float
@@ -140,7 +123,7 @@ class Patch:
         Curvatures [1/m], convex positive: the wheel's along rolling (cos(alpha) / r) and across, the
         rail's across (the rail is straight along x).
     creepage : tuple of float or None
-        (longitudinal [1], lateral [1], spin [1/m]) in railtherm's convention (module docstring).
+        (longitudinal [1], lateral [1], spin [1/m]) in railtherm's convention (above).
     """
 
     index: int
@@ -184,7 +167,9 @@ class Patch:
         ndarray
             h(x, y) [m]: the lateral section's normal distance plus the wheel's drop along x,
             (x - x_c(y))^2 cos(alpha) / (2 r) with x_c the locus offset; h(0, 0) = the patch's
-            separation along its normal.
+            separation along its normal. The wheel's curvature along x is each slice's own radius's, and
+            the locus offset x_c is first order in the yaw angle (the only small-angle approximation: the
+            search itself has none).
         """
         if not self._section_cache:   # sampled on first use: the search itself does not need it
             self._section_cache.update(self._section_of())
@@ -351,12 +336,19 @@ def contact_search(ws: WheelsetOnTrack, side: str = "right", speed: float | None
                    section_half_width: float = 12e-3) -> WheelContact:
     """The contact patches of one wheel of a wheelset on the undeformed profiles.
 
+    The rail is prismatic along x, so at a contact the wheel's surface normal has no x component. For every
+    wheel-profile position s that condition fixes the angle theta(s) on the wheel circle in closed form (the
+    contact locus), exactly for any yaw and roll. The vertical gap g(s) = z_rail(y(s)) - z(s) between the locus
+    and the rail has its local minima where the two profiles' slopes match; every minimum within
+    ``max_separation`` of the smallest (up to ``max_patches``) is a patch, refined by parabolas through the
+    smooth gap (the profiles' splines) at shrinking steps.
+
     Parameters
     ----------
     ws : WheelsetOnTrack
         Profiles, track and wheelset position.
     side : {"right", "left"}
-        The wheel; results in that wheel's own axes (module docstring).
+        The wheel; results in that wheel's own axes (module docstring: the left wheel's mirror y).
     speed : float, optional
         Forward speed V [m/s] of the wheelset; with ``ws.pitch_velocity`` it gives the creepages.
     max_separation : float

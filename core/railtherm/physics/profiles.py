@@ -1,34 +1,18 @@
 """Wheel and rail cross-section profiles: the checked curve, its smooth interpolant, built-in standards.
 
-Coordinates (the convention of SIMPACK, CONTACT and EN 13715 / EN 13674-1 for a right-hand wheel and
-rail, used for every :class:`Profile`):
-
-* ``y`` [m]: lateral, positive towards the field side; a wheel's flange and a rail's gauge face lie at
-  negative y. A left-hand wheel or rail is described by the same profile, mirrored (:meth:`Profile.mirrored`
-  gives the mirror image for drawing in track axes).
-* ``z`` [m]: vertical, positive downwards. For a rail, z grows into the rail (its top is the smallest
-  z); for a wheel, z grows away from the axle, so the rolling radius at ``y`` is ``R0 + z(y)`` with R0 the
-  nominal radius at the profile origin.
-
-A profile is a curve that is strictly a function of y (y strictly increasing along the points), with
-no kink sharper than a stated angle between neighbouring segments and no gap wider than a stated point
-spacing; the checks raise :class:`ProfileError` naming the source and point (file line). The smooth
-interpolant is a cubic spline of y and z in arc length (steep flanks stay well conditioned), giving
-z, the slope dz/dy and the signed curvature d2z/dy2 / (1 + z'^2)^(3/2) [1/m] at any y.
-
-Built-in standards: :func:`s1002` (EN 13715 / UIC 510-2 wheel profile S1002, its piecewise
-definition) and :func:`uic60` (EN 13674-1 rail 60E1 = UIC60, the head's arcs R300, R80, R13 and the
-1:20 flank).
+Coordinates (SIMPACK's, CONTACT's and EN 13715 / EN 13674-1's for a right-hand wheel and rail): ``y`` [m] lateral,
+positive towards the field side (a wheel's flange and a rail's gauge face at negative y; a left-hand one is the
+same profile, mirrored); ``z`` [m] vertical, positive downwards (into the rail; away from the axle for a wheel, so
+its rolling radius at y is ``R0 + z(y)``). A :class:`Profile` is checked to be a function of y without sharp kinks
+or wide gaps (:func:`check_profile`) and interpolated by a cubic spline in arc length. Built-in standards:
+:func:`s1002` (EN 13715 / UIC 510-2 wheel S1002) and :func:`uic60` (EN 13674-1 rail 60E1 = UIC60).
 
 References
 ----------
-.. [1] EN 13715:2006+A1:2010, Railway applications - Wheelsets and bogies - Wheels - Tread profile
-   (profile S1002, the piecewise definition also in UIC 510-2).
-.. [2] EN 13674-1:2011, Railway applications - Track - Rail - Part 1: Vignole railway rails 46 kg/m
-   and above (profile 60E1).
-.. [3] P. Shackleton, S. Iwnicki, Comparison of wheel-rail contact codes for railway vehicle simulation:
-   an introduction to the Manchester Contact Benchmark and initial results, Vehicle System Dynamics 46
-   (2008) 3-28. doi:10.1080/00423110701245083
+.. [1] EN 13715:2006+A1:2010, Railway applications - Wheelsets and bogies - Wheels - Tread profile (S1002).
+.. [2] EN 13674-1:2011, Railway applications - Track - Rail - Part 1: Vignole railway rails 46 kg/m and above.
+.. [3] P. Shackleton, S. Iwnicki, Vehicle System Dynamics 46 (2008) 3-28 (the Manchester Contact Benchmark).
+   doi:10.1080/00423110701245083
 """
 from __future__ import annotations
 
@@ -55,6 +39,14 @@ class ProfileError(SceneError):
 @dataclass(frozen=True, eq=False)
 class Profile:
     """A checked wheel or rail cross-section and its smooth interpolant.
+
+    Coordinates: ``y`` lateral, positive towards the field side, ``z`` positive downwards (module docstring);
+    :meth:`mirrored` gives a left-hand profile's mirror image for drawing in track axes. For a wheel, R0 is the
+    nominal radius at the profile origin. The curve must be strictly a function of y (y strictly increasing along
+    the points), with no kink sharper than ``max_kink`` between neighbouring segments and no gap wider than
+    ``max_spacing``; :func:`check_profile` raises :class:`ProfileError` naming the source and point (file line).
+    The smooth interpolant is a cubic spline of y and z in arc length (steep flanks stay well conditioned),
+    giving z, the slope dz/dy and the signed curvature d2z/dy2 / (1 + z'^2)^(3/2) [1/m] at any y.
 
     Parameters
     ----------

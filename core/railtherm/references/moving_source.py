@@ -1,41 +1,18 @@
 """Moving elliptical surface heat source on a half-space (3-D, steady, any Péclet number).
 
-The ellipse (x/a)^2 + (y/b)^2 <= 1 on the surface z = 0 of the half-space z >= 0 carries the flux
-q(x, y) [W/m^2] into the body and moves with speed V in +x (material flows in -x in the source frame).
-The steady rise is the superposition of moving point sources (Carslaw & Jaeger 1959, 10.7;
-Rosenthal 1946):
-
-``T(x, y, z) = 1/(2 pi lambda) int int q(x', y') exp(-P (R + (x - x'))) / R dx' dy'``,
-``P = V/(2 kappa)``, ``R = sqrt((x - x')^2 + (y - y')^2 + z^2)``,
-
-heat trailing to x < 0 (upstream, x > x', the factor is exp(-2 P (x - x')) / R).
-
-Numerics: polar coordinates (rho, phi) centred at the surface point (x, y): x' = x + rho cos(phi),
-y' = y + rho sin(phi), dA = rho drho dphi, so the kernel becomes
-``(rho/R) exp(-P (R - rho cos(phi)))``, bounded (= exp(-P rho (1 - cos phi)) at z = 0): the 1/R
-singularity cancels with the Jacobian. For each ray the source interval [rho1, rho2] follows from the
-ray-ellipse intersection. Radial integral: uniform flux at z = 0 in closed form,
-``(exp(-c rho1) - exp(-c rho2))/c``, c = P (1 - cos phi); otherwise graded Gauss-Legendre toward the
-near end (boundary layer of width 1/c and the depth scale z); the Hertz flux
-``q0 sqrt(1 - (x'/a)^2 - (y'/b)^2)`` is sqrt((rho+ - rho)(rho - rho-)) along the ray, removed by
-rho = m + h cos(theta). Angular integral: composite Gauss-Legendre geometrically graded toward the
-breakpoints phi = 0 (upstream peak of width ~ L^(-1/2)), phi = pi, +-pi/2 (elongated ellipses), the
-tangent directions to the ellipse (outside points) or the directions parallel to the nearest boundary
-(inside points). Each ray and each breakpoint is graded only down to the scale of its feature
-(``adaptive=True``), tangent directions (square-root singularities of the uniform flux) to full depth
-(the Hertz flux's ray integral is analytic there: not graded); a breakpoint close to a finer feature
-inherits its scale plus the distance. A ray whose bound exp(-P (1 - cos phi) rho1) is below e^-100 is
-skipped. Far behind a Pe-1000 patch (the thermal trace) these make a point ~3x cheaper at unchanged
-accuracy (tests/test_references.py::test_moving_source_behind_the_patch_in_depth_at_pe1000).
+The ellipse (x/a)^2 + (y/b)^2 <= 1 on the surface z = 0 of the half-space z >= 0 carries the flux q(x, y) [W/m^2]
+into the body and moves with speed V in +x (material flows in -x in the source frame). The steady rise is the
+superposition of moving point sources (Carslaw & Jaeger 1959, 10.7; Rosenthal 1946),
+``T(x, y, z) = 1/(2 pi lambda) int int q(x', y') exp(-P (R + (x - x'))) / R dx' dy'`` with ``P = V/(2 kappa)``,
+``R = sqrt((x - x')^2 + (y - y')^2 + z^2)``; heat trails to x < 0. It is evaluated in polar coordinates about the
+evaluation point by graded Gauss-Legendre rules (:func:`moving_source_temperature`).
 
 References
 ----------
-.. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7.
-   ISBN 978-0198533689
-.. [2] D. Rosenthal, The theory of moving sources of heat and its application to metal treatments,
-   Trans. ASME 68 (1946) 849-866.
-.. [3] K.L. Johnson, Contact Mechanics, 1985, section 3.2-3.4 (static analogue: the Boussinesq
-   displacement of uniform and Hertz pressure on a circle). doi:10.1017/CBO9781139171731
+.. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, section 10.7. ISBN 978-0198533689
+.. [2] D. Rosenthal, The theory of moving sources of heat and its application to metal treatments, Trans. ASME 68
+   (1946) 849-866.
+.. [3] K.L. Johnson, Contact Mechanics, 1985, sections 3.2-3.4 (static analogue). doi:10.1017/CBO9781139171731
 """
 from __future__ import annotations
 
@@ -354,6 +331,15 @@ def moving_source_temperature(x, y, z, semi_axes, speed: float, material, flux: 
                               shape: str = "uniform", quad_points: int = 8,
                               innermost: float = 1e-10, adaptive: bool = True) -> np.ndarray:
     """Steady temperature rise of a moving elliptical surface heat source on a half-space.
+
+    Polar coordinates (rho, phi) centred at the evaluation point make the kernel ``(rho/R) exp(-P (R - rho cos phi))``
+    bounded (the 1/R singularity cancels with the Jacobian); each ray's source interval [rho1, rho2] is its
+    intersection with the ellipse. Radial integral: for a uniform flux at z = 0 in closed form,
+    ``(exp(-c rho1) - exp(-c rho2))/c`` with c = P (1 - cos phi), otherwise Gauss-Legendre graded toward the near
+    end; the Hertz flux's square root along the ray is removed by rho = m + h cos(theta). Angular integral:
+    composite Gauss-Legendre graded toward phi = 0 (the upstream peak), pi, +-pi/2, the tangent directions to the
+    ellipse (outside points) or the directions parallel to the nearest boundary (inside points). Rays whose bound
+    exp(-c rho1) is below e^-100 are skipped.
 
     Parameters
     ----------

@@ -2,21 +2,10 @@
 wheelset's lateral shift (the Manchester benchmark kind of study, ``studies/manchester_a22.toml``).
 
 Shown when scenes have a wheelset on profiles (``wheelset`` with ``wheel_profile``/``rail_profile``; their
-results carry the patch quantities of docs/DESIGN.md "Result schema"). For each wheel side, with one curve
-per method (chain) at its finest successful level, against the lateral shift [mm] of the wheelset:
-
-* the contact position on the rail [mm] (rail profile's own coordinates) and the contact angle [rad] (the
-  contact search's, the same for every chain);
-* the maximum pressure [MPa], the creep forces Fx, Fy on the wheel [kN] (the CONTACT program reports them on
-  the rail: minus these) and the flash temperature, the hotter body's maximum surface temperature [°C];
-* a table of the same per shift, with each method's flash temperature error against the study's reference
-  method (``metrics.nc``'s, the scorecard's number: the largest over both bodies of the difference in rise
-  above the bulk temperature, relative to the reference's larger rise);
-* the patches of the reference method at the lateral shifts :data:`SHAPE_SHIFTS` (0, 5 and 6.5 mm: tread, the
-  jump towards the flange, flange) drawn on the rail profile and seen from above;
-* the key finding (:func:`wheelset_findings`, also among the verdict's key findings): the shifts at which a
-  method's flash temperature is more than the study's tolerance off the reference (the Hertz + FASTSIM
-  chains against the exact chain ``kalker`` in the benchmark study).
+results carry the patch quantities of docs/DESIGN.md "Result schema"): per wheel side, one curve per method
+(chain) at its finest successful level against the lateral shift, a table of the same with each method's flash
+temperature error against the study's reference method, the reference's patches at :data:`SHAPE_SHIFTS`, and
+the shifts where a method is off the reference (:func:`wheelset_findings`); :func:`wheelset_section` lists them.
 
 The report computes no physics: every value is a run file's or ``metrics.nc``'s, and the rail profile the
 scene's (:attr:`railtherm.input.wheelset_profile.ProfileContact.rail_section`).
@@ -302,7 +291,24 @@ def _draw_shapes(doc: Document, ctx, groups, method: str):
 
 
 def wheelset_section(doc: Document, ctx):
-    """Write the section (nothing when no scene has a wheelset on profiles)."""
+    """Write the section (nothing when no scene has a wheelset on profiles).
+
+    For each wheel side, with one curve per method (chain) at its finest successful level, against the lateral
+    shift [mm] of the wheelset:
+
+    * the contact position on the rail [mm] (rail profile's own coordinates) and the contact angle [rad] (the
+      contact search's, the same for every chain);
+    * the maximum pressure [MPa], the creep forces Fx, Fy on the wheel [kN] (the CONTACT program reports them
+      on the rail: minus these) and the flash temperature, the hotter body's maximum surface temperature [°C];
+    * a table of the same per shift, with each method's flash temperature error against the study's reference
+      method (``metrics.nc``'s, the scorecard's number: the largest over both bodies of the difference in rise
+      above the bulk temperature, relative to the reference's larger rise);
+    * the patches of the reference method at the lateral shifts :data:`SHAPE_SHIFTS` (0, 5 and 6.5 mm: tread,
+      the jump towards the flange, flange) drawn on the rail profile and seen from above;
+    * the key finding (:func:`wheelset_findings`, also among the verdict's key findings): the shifts at which a
+      method's flash temperature is more than the study's tolerance off the reference (the Hertz + FASTSIM
+      chains against the exact chain ``kalker`` in the benchmark study).
+    """
     data = ctx.data
     groups = wheelset_scenes(data)
     methods = [m for m in data.methods if any(data.finest_result(s, m) for g in groups.values() for _, s in g)]

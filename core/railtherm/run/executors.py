@@ -8,20 +8,10 @@ kit's ``railtherm_register``), sent by reference (cloudpickle) with the caller's
 Crash records are written through :mod:`railtherm.output.store`; this module never imports the runner (a
 task's ``existing()`` finds what a worker wrote before it died).
 
-Faults
-------
-* A worker that dies (killed, segfault, out of memory) takes only its current run with it: the run
-  is executed once more on a fresh worker and recorded as ``failed`` if its worker dies again. What
-  was already written stays on disk (atomic writes); a result written just before the death is
-  found by the retry and not written again (same ``run_id``); ``--resume`` completes the study.
-* A run past its time limit is stopped inside the worker (:func:`railtherm.run.timelimit._time_limit`);
-  a run stuck in a C call that ignores it is ended with its worker ``grace`` seconds later and
-  recorded as ``failed`` (not retried).
-
-dask: one task per run (``client.map``); a LocalCluster (one thread per worker process) is started
-unless a scheduler address is given. The scheduler retries a task whose worker died; a LocalCluster
-started here allows one retry (``distributed.scheduler.allowed-failures = 1``), a remote scheduler
-uses its own setting; a task that exhausts them is recorded ``failed`` (KilledWorker).
+Faults: a worker that dies takes only its current run with it (retried once on a fresh worker, then
+``failed``); a run past its time limit is stopped inside the worker (:func:`railtherm.run.timelimit._time_limit`),
+and one stuck in a C call that ignores it is ended with its worker ``grace`` seconds later (``failed``, not
+retried). What was written stays on disk (atomic writes); ``--resume`` completes the study.
 """
 from __future__ import annotations
 
@@ -278,7 +268,9 @@ class ProcessExecutor:
     The parent knows which run each worker holds, so a worker that dies costs only that run (retried
     once on a fresh worker, then recorded ``failed``), and a worker stuck past its run's time limit
     plus ``grace`` seconds is ended and the run recorded ``failed``. A worker gets its first run once
-    it has loaded its plugins and modules (the time limit counts from the start of the run).
+    it has loaded its plugins and modules (the time limit counts from the start of the run). A worker may
+    die killed, by a segfault or out of memory; a result written just before its death is found by the retry
+    and not written again (same ``run_id``).
     """
 
     def __init__(self, workers: int | None = None, grace: float = GRACE, max_attempts: int = MAX_ATTEMPTS):
@@ -398,7 +390,13 @@ def _dask_run(task, *, spec, fn, kw, grace):  # pragma: no cover - runs on a das
 
 
 class DaskExecutor:
-    """dask.distributed: one task per run, on the scheduler at ``scheduler`` or on a LocalCluster."""
+    """dask.distributed: one task per run (``client.map``), on the scheduler at ``scheduler`` or on a LocalCluster.
+
+    A LocalCluster (one thread per worker process) is started unless a scheduler address is given. The scheduler
+    retries a task whose worker died; a LocalCluster started here allows one retry
+    (``distributed.scheduler.allowed-failures = 1``), a remote scheduler uses its own setting; a task that exhausts
+    them is recorded ``failed`` (KilledWorker).
+    """
 
     def __init__(self, scheduler: str | None = None, workers: int | None = None, grace: float = GRACE):
         self.scheduler, self.workers, self.grace = scheduler, workers, grace
@@ -478,8 +476,8 @@ SWEEP_EXTRA = "railtherm[sweep]"
 
 
 def require_optional(module: str, key: str, value: str) -> None:
-    """Raise :class:`SceneError` naming ``key`` = ``value`` when the optional package ``module`` (of the
-    ``sweep`` extra) is not installed, before any run starts."""
+    """Raise :class:`railtherm.contract.errors.SceneError` naming ``key`` = ``value`` when the optional package
+    ``module`` (of the ``sweep`` extra) is not installed, before any run starts."""
     import importlib.util
     from ..contract.errors import SceneError
     if importlib.util.find_spec(module) is None:

@@ -5,22 +5,13 @@ workers: the same function everywhere, so results are identical bit for bit). A 
 exceeds the per-run time limit or returns NaN is recorded as ``failed`` with its message; a scene
 outside a method's validity is ``refused``; neither stops the study. Results go to
 ``<out>/runs/<scene>/<method>/level-<k>.nc`` (temporary file, then rename); refusals and failures
-are recorded beside them as ``level-<k>.status.json``. ``resume`` skips runs whose file exists for
-the same scene hash (failed runs are retried). :mod:`railtherm.output.store` owns the folder's layout, its
-atomic writes and the run records; :mod:`railtherm.run.timelimit` the per-run time limit.
+are recorded beside them as ``level-<k>.status.json``. ``resume`` skips runs whose file exists with the same
+run hash (scene, method, level, options and code versions, :func:`run_hash`; failed runs are retried).
+:mod:`railtherm.output.store` owns the folder's layout, its atomic writes and the run records;
+:mod:`railtherm.run.timelimit` the per-run time limit. Timing and memory: see :func:`execute_run`.
 
-Every invocation of :func:`run_tasks` has a ``run_id``; each file and status record carries the
-``run_id`` that wrote it. A run that is executed again within the same invocation (its worker died
-after writing but before reporting back) finds its own result and does not write it again.
-
-Timing and memory (see :func:`execute_run`): one untimed warm-up per method and process, then the
-result's own solve, timed, with the process's peak memory read in it (:class:`RSSPeak`), repeated only
-while short (:func:`more_solves`). ``--resume`` compares the run hash (scene, method, level, options and
-code versions, :func:`run_hash`), not the scene alone.
-
-Statuses written here are ``ok`` (ran and converged: metrics then decides ok, inaccurate or
-unverified), ``refused`` (with ``reason_kind`` validity or budget) and ``failed`` (``reason_kind``
-error, not-converged, timeout or invalid-input).
+Statuses written here: ``ok`` (ran and converged: metrics then decides ok, inaccurate or unverified), ``refused``
+(``reason_kind`` validity or budget) and ``failed`` (``reason_kind`` error, not-converged, timeout or invalid-input).
 """
 from __future__ import annotations
 
@@ -502,7 +493,9 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
               run_id: str | None = None) -> list[RunRecord]:
     """Execute tasks with the chosen executor; records come back in task order.
 
-    Each task gets this invocation's ``run_id`` (a new one unless given).
+    Each task gets this invocation's ``run_id`` (a new one unless given), and each file and status record carries
+    the ``run_id`` that wrote it: a run executed again within the same invocation (its worker died after writing
+    but before reporting back) finds its own result and does not write it again.
     """
     from .executors import get_executor
 
