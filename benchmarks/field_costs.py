@@ -1,4 +1,4 @@
-"""Shared set-up of the extended-field cost benchmarks (issue 14; benchmarks/test_*_field_benchmark.py):
+"""Shared set-up of the extended-field cost benchmarks (benchmarks/test_*_field_benchmark.py):
 Hertzian given sources at Péclet 1000 (a = 5 mm, core's default material, all heat into the rail), solved
 through ``railtherm.solve`` (dataset built and validated), patch only against ``field`` with the thermal
 trace, and the best wall time of a few solves."""

@@ -1,17 +1,14 @@
-"""Cost of fastsim-fdm's extended field (issue 14): the Hertzian circle at Péclet 1000 (a = 5 mm, rail
-only, given heat source), level 2, surface and depth temperature through ``railtherm.solve``; patch only
-against ``field = {behind = 12a, depth = 0.3 mm}`` with the thermal trace (the same case as
+"""Cost of fastsim-fdm's extended field: the Hertzian circle at Péclet 1000 (a = 5 mm, rail only, given heat
+source), level 2, surface and depth temperature through ``railtherm.solve``; patch only against
+``field = {behind = 12a, depth = 0.3 mm}`` with the thermal trace (the case of
 benchmarks/test_green_field_benchmark.py).
 
-With the field the 3-D block runs its moving-frame steady scheme on a grid that follows the trail (the
-uniform explicit grid of the patch-only ``auto`` run does not resolve the 0.16 mm thermal layer), so two
-ratios are measured: against the patch-only steady run (same scheme: the cost of the trail cells) and
-against the patch-only ``auto`` run (explicit). Measured (this machine, 2 cores, OPENBLAS_NUM_THREADS=1): first
-patch only steady 113 ms (49 x 24 x 54 cells), patch only auto/explicit 46 ms, field 894 ms (141 x 54 x 78 =
-5.9e5 cells: x 3 along x for the trail, x 1.5 in depth, GMRES on the larger grid): ratio 7.9 (same scheme), 19
-(auto); at load ~1 (session 4): steady 49 ms, auto 22 ms, field 263 ms: ratio 5.3 (same scheme), 12 (auto).
-The ratios are printed and recorded (``extra_info``), not asserted: timings are measured, never verdicts.
-``test_seed_paper_level3`` times the main study's two costliest fdm runs (below).
+With the field the 3-D block runs its moving-frame steady scheme on a grid that follows the trail (the uniform
+explicit grid of the patch-only ``auto`` run does not resolve the 0.16 mm thermal layer), so two ratios are
+measured: against the patch-only steady run (same scheme: the cost of the trail cells) and against the patch-only
+``auto`` run (explicit). The ratios are printed and recorded (``extra_info``), not asserted: timings are
+measured, never verdicts (docs/NOTES.md, "Benchmarks", has a measurement). ``test_seed_paper_level3`` times the
+main study's two costliest fdm runs.
 Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_fdm_field_benchmark.py -m benchmark
 --benchmark-enable -p no:cacheprovider -n 0 -s``.
 """

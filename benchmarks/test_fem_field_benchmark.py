@@ -1,4 +1,4 @@
-"""Cost of the FEM's extended field (issue 14): Jaeger's Hertzian band at Péclet 1000 (a = 5 mm, rail
+"""Cost of the FEM's extended field: Jaeger's Hertzian band at Péclet 1000 (a = 5 mm, rail
 only, given heat source; the FEM is 2-D: line contacts only), through ``railtherm.solve``, patch only
 against ``field = {behind = 30a, depth = 0.3 mm}`` with the thermal trace (the case of
 tests/test_fem_field.py). The FEM's thermal layer always reaches 32a behind the centre (its default

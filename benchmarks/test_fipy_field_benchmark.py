@@ -1,4 +1,4 @@
-"""Cost of fipy's extended field (issue 14), through ``railtherm.solve`` (given heat source, dataset built
+"""Cost of fipy's extended field, through ``railtherm.solve`` (given heat source, dataset built
 and validated), rail only, a = 5 mm, Péclet 1000, Hertzian flux: patch only against ``field`` with the
 thermal trace.
 
@@ -7,7 +7,7 @@ thermal trace.
 * 3-D, the circle, level 1: patch only against ``behind = 16a, depth = 0.3 mm`` (about 6x the cells;
   GMRES + ILU).
 
-No target is set for fipy (issue 14 asks only to say what it costs). Measured (this machine, shared, 2
+No target is set for fipy (only what it costs is asked). Measured (this machine, shared, 2
 cores, best of 3): 2-D band level 2: patch only 52 ms, field 519 ms (ratio 10: 32x the cells along x,
 one LU); 3-D circle level 1: patch only 0.76 s, field 3.9 s (ratio 5.1). At load ~1 (session 4): band 49 ->
 407 ms (8.3), circle 0.45 -> 3.1 s (6.9).

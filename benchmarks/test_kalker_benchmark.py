@@ -5,21 +5,12 @@ longitudinal xi = -5e-4, full slip xi = -0.05; from zero traction, with the Hert
 solver's start. Grids of 50^2, 100^2, 200^2, 400^2 elements over the potential contact area (46, 92, 184, 368
 across 2a and 2b with margins of 2, 4, 8, 16; square cells, as the model's for this ellipse, a/b = 0.56).
 
-``operators = "first"`` starts each solve with empty operator caches (the set-up is part of the normal and
-tangential times): a study's first solve on a grid; ``"cached"`` keeps the grid's operators from an earlier solve,
-as later solves on the grid do (a friction or temperature loop, a wheelset's patches), which skip the set-up. ``extra_info`` records the CPU time per stage [s] (``normal_setup``,
-``normal_solve``, ``tangential``), iteration and product counts and the forces.
-
-Scaling with N elements per side, fitted (least squares of log CPU time on log N, first solve, shared 2-core
-machine under load 6): total time ~ N^2.18 (combined), N^2.19 (longitudinal), N^1.63 (full slip) over 50^2-400^2
-and N^2.29, N^2.44, N^1.84 over 100^2-400^2. One FFT product is O(N^2 log N); the GMRES steps grow slowly (67, 100,
-140, 214 summed over the nested grids for combined creepage at 50^2-400^2) while full slip needs a fixed number of
-products (12 normal iterations, on one quadrant for this symmetric gap, and 9 tangential products). Alternated
-before / after pairs (:func:`compare`, first solve, load 7.5-9): 100^2 full slip 0.0248 -> 0.0155 s, longitudinal
-0.104 -> 0.104 s, combined 0.136 -> 0.103 s; 200^2 0.099 -> 0.064, 0.58 -> 0.53, 0.61 -> 0.53 s; docs/kalker.md has
-the per-stage tables. :func:`time_public_api` times ``railtherm.solve`` at level 3.
-:func:`scaling_exponent` fits a run's ``extra_info``.
-
+``operators = "first"`` starts each solve with empty operator caches (a study's first solve on a grid, set-up
+included); ``"cached"`` keeps the grid's operators from an earlier solve, as later solves on the grid do.
+``extra_info`` records the CPU time per stage [s] (``normal_setup``, ``normal_solve``, ``tangential``), iteration
+and product counts and the forces. :func:`compare` alternates two versions of the plugin, :func:`time_public_api`
+times ``railtherm.solve`` at level 3, :func:`scaling_exponent` fits a run's ``extra_info``; docs/kalker.md ("Where
+the time goes") has the per-stage tables and the scaling with N.
 Run: ``OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 NUMBA_NUM_THREADS=1 python -m pytest
 benchmarks/test_kalker_benchmark.py -m benchmark --benchmark-enable -p no:cacheprovider -n 0``.
 """

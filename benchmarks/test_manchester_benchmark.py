@@ -1,27 +1,15 @@
-"""Speed of the Manchester benchmark A-2.2 on real profiles (issue 26's targets): all 42 contacts (21 wheelset
-positions x both wheels) from the scene keys, each one contact search and the exact chain (``kalker`` normal
-and tangential, frictional heat, ``green`` temperatures), on two worker processes; and the contact search
-alone per wheel.
+"""Speed of the Manchester benchmark A-2.2 on real profiles: all 42 contacts (21 wheelset positions x both wheels)
+from the scene keys, each one contact search and the exact chain (``kalker`` normal and tangential, frictional
+heat, ``green`` temperatures), on two worker processes; and the contact search alone per wheel.
 
-Targets: the 42 contacts in <= 20 s on 2 cores (exact normal + tangential at a 0.2 mm grid, green
-temperatures); the contact search <= 5 ms per wheel. The contacts are solved at level 2, the level
-tests/test_manchester.py checks against CONTACT's published results. Its grids are finer than CONTACT's 0.2 mm:
-elements of 0.025 - 0.09 mm along x and 0.011 - 0.09 mm across (0.25 mm across at position 1, whose patch is
-16 mm wide), and more elements in contact at the three published contacts (2,879 against CONTACT's 1,291 at
-position 1 right, 12,630 against 332 at position 13 right, 12,337 against 658 at position 13 left); the
-timing is an upper bound for a 0.2 mm grid.
-
-Records (pytest-benchmark ``extra_info``): the wall time of the 42 contacts after one warm-up contact per
-worker (imports, numba's disk cache), the warm-up's time, the sum of the contacts' own wall and CPU times
-(search + solve, measured in the workers: the CPU time tells the machine's load apart), the slowest contact, the
-load average; and for the search alone the best time per wheel [ms] of
-:func:`railtherm.physics.contact_search.contact_search` and of the whole scene set-up
-(:func:`railtherm.input.scene.load_scene`: search, reference point, normal force, gap fit).
-
-Measured on the shared 2-core machine at load average ~10 (other sessions' studies running): the 42 contacts in
-12.2 s wall after a 8.0 s warm-up (sum of the contacts' wall times 24.0 s, CPU 5.9 s, slowest 1.8 s); the search
-2.5 ms wall, 1.6 ms CPU per wheel, the whole scene set-up 46 ms per wheel.
-
+Targets: the 42 contacts in <= 20 s on 2 cores (exact normal + tangential at a 0.2 mm grid, green temperatures);
+the contact search <= 5 ms per wheel. The contacts are solved at level 2, the level tests/test_manchester.py checks
+against CONTACT's published results; its grids are finer than CONTACT's 0.2 mm (more elements in contact at the
+three published contacts), so the timing is an upper bound for a 0.2 mm grid. Records (``extra_info``): the wall
+time of the 42 contacts after one warm-up contact per worker, the warm-up's time, the sum of the contacts' own wall
+and CPU times (the CPU time tells the machine's load apart), the slowest contact, the load average; and the best
+time per wheel [ms] of :func:`railtherm.physics.contact_search.contact_search` and of the whole scene set-up
+(:func:`railtherm.input.scene.load_scene`). docs/NOTES.md, "Benchmarks", has a measurement.
 Run: ``OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 NUMBA_NUM_THREADS=1 python -m pytest
 benchmarks/test_manchester_benchmark.py -m benchmark --benchmark-enable -p no:cacheprovider -n 0``.
 """
