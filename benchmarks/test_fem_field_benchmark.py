@@ -4,8 +4,8 @@ against ``field = {behind = 30a, depth = 0.3 mm}`` with the thermal trace (the c
 tests/test_fem_field.py). The FEM's thermal layer always reaches 32a behind the centre (its default
 strip), so the field adds the depth resolution the trace asks for and the trace itself, not a longer
 domain. Measured as process CPU time (this machine, 2 cores, OPENBLAS_NUM_THREADS=1; the wall time at a load
-of 5 was 3-40x that): level 1 patch only and field about 14 ms each; level 2 13 -> 24 ms (ratio 1.8); before the
-conduction was solved by depth modes: 73 -> 242 ms and 279 -> 921 ms. The ratios are printed and recorded in
+of 5 was 3-40x that): level 1 patch only and field about 14 ms each; level 2 13 -> 24 ms (ratio 1.8). The
+ratios are printed and recorded in
 ``extra_info`` (not asserted: timings are measured, never verdicts).
 Run: ``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_fem_field_benchmark.py -m benchmark
 --benchmark-enable -p no:cacheprovider -s``.
