@@ -19,9 +19,10 @@ import pytest
 from railtherm import ContactPatch, Material, SurfaceGrid, surface_grid
 from railtherm.models.shapes import cell_average
 from railtherm.physics.friction import ConstantFriction
+from railtherm.physics.partition import HeatPartition
 from railtherm.references.kalker import kalker_coefficients, kalker_linear_forces
 from railtherm_fastsim.fastsim_kernel import fastsim_sweep
-from railtherm.models.sliding import frictional_heat_source
+from railtherm.models.sliding import FrictionalHeat
 from railtherm_fastsim.simplified_theory import (ellipse_cell_integrals, fastsim, fastsim_flexibilities)
 from railtherm_fastsim.tangential import FastsimTangential
 from railtherm import combined_elastic, equal_temperature_partition
@@ -217,6 +218,7 @@ def _scene(**kw):
                 heat_source=None, wheelset=None, tangential="creepage", numerics={}, convection=0.0)
     base.update(kw)
     base.setdefault("friction_law", ConstantFriction(base["friction"]))   # core reads the law (issue 15)
+    base.setdefault("partition", HeatPartition.of(base["heat_partition"]))
     return SimpleNamespace(**base)
 
 
@@ -229,7 +231,7 @@ def _tangential(scene, patch, **opts):
     """FASTSIM as the tangential stage, then core's frictional heat source."""
     model = FastsimTangential()
     pt = model.compute_tangential(scene, patch, 0, model.resolve_options(opts))
-    return pt, frictional_heat_source(scene, pt)
+    return pt, FrictionalHeat().compute_source(scene, pt, 0, {})
 
 
 def test_model_fills_patch_and_heat_source():

@@ -16,10 +16,11 @@ import pytest
 
 from railtherm import ContactPatch, Material
 import railtherm_fastsim.wheelset_normal as wheelset_normal
-from railtherm.models.sliding import frictional_heat_source
+from railtherm.models.sliding import FrictionalHeat
 from railtherm_fastsim.tangential import FastsimTangential
 from railtherm_fastsim.wheelset_normal import WheelsetNormal
 from railtherm.physics import hertz_pressure_grid, rescale_hertz_patch
+from railtherm.physics.partition import HeatPartition
 from railtherm_fastsim.kinematics import PRESSURE_GAUSS, wheelset_contacts
 
 BASE = dict(conicity=0.05, lateral_shift=0.0, yaw_angle=0.0, vertical_load=200e3, wheel_radius=0.46, gauge=1.5,
@@ -85,10 +86,12 @@ def test_model_uses_the_kinematics_for_a_wheelset_scene(monkeypatch):
                          wheel_radius=0.46, gauge=1.5)
     scene = SimpleNamespace(name="ws", speed=30.0, friction=0.3, creepage=None, sliding_speed=None, wheelset=ws,
                             heat_partition=0.5, wheel=steel, rail=steel, contact_shape="ellipse", heat_source=None,
-                            tangential="creepage", semi_axes=None, normal_force=100e3)
+                            tangential="creepage", semi_axes=None, normal_force=100e3, penetration=None,
+                            curvatures=None, wheel_radius=0.46, partition=HeatPartition.of(0.5))
     a, b, p0 = rescale_hertz_patch(100e3, 100e3, 5.88e-3, 10.54e-3)
     g, p = hertz_pressure_grid(a, b, p0, 0, 16, gauss=PRESSURE_GAUSS)
     ref = ContactPatch(grid=g, normal_force=100e3, a=a, b=b, max_pressure=p0, pressure=p)
+    monkeypatch.setattr(wheelset_normal, "hertz_geometry", lambda *args, **kw: (a, b, p0, 100e3))
     monkeypatch.setattr(wheelset_normal, "hertz_patch", lambda *args, **kw: ref)
     model = WheelsetNormal()
     patch = model.compute_patch(scene, 0, {"cells": 16, **model.resolve_options({})})
@@ -103,5 +106,5 @@ def test_model_uses_the_kinematics_for_a_wheelset_scene(monkeypatch):
     assert d["creepage_lateral"] == pytest.approx(sol.eta[0]) and d["creepage_spin"] == pytest.approx(sol.phi[0])
     assert pt.creep_force_x == pytest.approx(sol.creep_force_x[0], rel=1e-6)
     assert pt.pressure is patch.pressure and pt.normal_force == patch.normal_force
-    src = frictional_heat_source(scene, pt)
+    src = FrictionalHeat().compute_source(scene, pt, 0, {})
     assert src.body_speed == (pytest.approx(30.0 * (1 - sol.xi[0])), 30.0)

@@ -21,13 +21,14 @@ def _wheelset_scene():
                          gauge=1.5, contact=1)
     return SimpleNamespace(name="ws", speed=30.0, friction=0.3, creepage=None, sliding_speed=None, wheelset=ws,
                            heat_partition=0.5, wheel=steel, rail=steel, contact_shape="ellipse", heat_source=None,
-                           tangential="creepage", semi_axes=(5.88e-3, 10.54e-3), normal_force=100e3)
+                           tangential="creepage", semi_axes=(5.88e-3, 10.54e-3), normal_force=100e3,
+                           penetration=None, curvatures=None, wheel_radius=0.46)
 
 
 def test_a_singular_wheelset_equilibrium_is_a_failed_run(monkeypatch):
     def singular(*args, **kw):
         return np.linalg.solve(np.zeros((2, 2)), np.ones(2))
-    monkeypatch.setattr(kinematics, "scene_wheelset_contact", singular)
+    monkeypatch.setattr(kinematics, "wheelset_contact", singular)
     model = WheelsetNormal()
     with pytest.raises(SolverError, match="normal-force solve failed") as err:
         model.compute_patch(_wheelset_scene(), 0, {"cells": 16, **model.resolve_options({})})
@@ -38,7 +39,7 @@ def test_a_singular_wheelset_equilibrium_is_a_failed_run(monkeypatch):
 def test_a_wheelset_without_an_equilibrium_contact_stays_refused(monkeypatch):
     def no_contact(*args, **kw):
         raise ValueError("combined elastic constants: both bodies are rigid")
-    monkeypatch.setattr(kinematics, "scene_wheelset_contact", no_contact)
+    monkeypatch.setattr(kinematics, "wheelset_contact", no_contact)
     model = WheelsetNormal()
     with pytest.raises(Refused) as err:
         model.compute_patch(_wheelset_scene(), 0, {"cells": 16, **model.resolve_options({})})

@@ -29,7 +29,7 @@ def _scene(contact):
     return SimpleNamespace(name=f"ws{contact}", speed=30.0, friction=0.3, creepage=None, sliding_speed=None,
                            wheelset=SimpleNamespace(**WS, contact=contact), heat_partition=0.5, wheel=steel,
                            rail=steel, contact_shape="ellipse", heat_source=None, tangential="creepage",
-                           semi_axes=None, normal_force=100e3)
+                           semi_axes=None, normal_force=100e3, penetration=None, curvatures=None, wheel_radius=0.46)
 
 
 @pytest.fixture
@@ -37,6 +37,7 @@ def patches(monkeypatch):
     a, b, p0 = rescale_hertz_patch(100e3, 100e3, *AXES)
     g, p = hertz_pressure_grid(a, b, p0, 0, 16, gauss=PRESSURE_GAUSS)
     ref = ContactPatch(grid=g, normal_force=100e3, a=a, b=b, max_pressure=p0, pressure=p)
+    monkeypatch.setattr(wheelset_normal, "hertz_geometry", lambda *args, **kw: (a, b, p0, 100e3))
     monkeypatch.setattr(wheelset_normal, "hertz_patch", lambda *args, **kw: ref)
     model = WheelsetNormal()
     opts = {"cells": 16, **model.resolve_options({})}
@@ -75,9 +76,10 @@ def test_the_two_contacts_carry_the_vertical_load(patches):
 
 
 def test_contact_outside_1_2_is_refused_by_the_kinematics():
-    from railtherm_fastsim.kinematics import scene_wheelset_contact
+    from railtherm_fastsim.kinematics import wheelset_contact
+    sc = _scene(3)
     with pytest.raises(ValueError, match="1 or 2"):
-        scene_wheelset_contact(_scene(3), None, 3)
+        wheelset_contact(sc.wheelset, sc.wheel, sc.rail, sc.speed, sc.friction, sc.normal_force, AXES, "curvatures", 3)
 
 
 def _study():

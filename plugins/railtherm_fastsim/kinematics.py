@@ -23,7 +23,7 @@ import numpy as np
 from railtherm.physics import combined_elastic, hertz_pressure_grid, rescale_hertz_patch
 from scipy.optimize import brentq
 
-__all__ = ["WheelsetSolution", "wheelset_contacts", "scene_wheelset_contact", "PRESSURE_GAUSS"]
+__all__ = ["WheelsetSolution", "wheelset_contacts", "wheelset_contact", "PRESSURE_GAUSS"]
 
 
 @dataclass
@@ -211,23 +211,34 @@ class _Wheelset:
                 "axle_moment": float(np.dot(fx, radii)) / (Q * r0)}
 
 
-def scene_wheelset_contact(scene, patch=None, contact=None, **fastsim_options):
-    """Creepages (xi, eta, phi) and normal force of one of the scene's wheelset contacts.
+def wheelset_contact(wheelset, wheel, rail, speed, friction, ref_normal_force, ref_semi_axes, scaling,
+                     contact=None, **fastsim_options):
+    """Creepages (xi, eta, phi) and normal force of one of a wheelset's two contacts.
 
-    The scene's contact patch (``patch``, or the scene's semi-axes and normal force) is taken as the
-    reference Hertz patch; it is rescaled to each wheel's normal force (semi-axes ~ N^(1/3) for a
-    contact given by curvatures, fixed for one given by semi-axes). Both contacts come from the one
-    equilibrium of :func:`wheelset_contacts`; ``contact`` picks which one is returned.
+    The reference Hertz patch (``ref_normal_force``, ``ref_semi_axes``) is rescaled to each wheel's
+    normal force (:func:`railtherm.physics.rescale_hertz_patch` with ``scaling``). Both contacts come
+    from the one equilibrium of :func:`wheelset_contacts`; ``contact`` picks which one is returned.
 
     Parameters
     ----------
-    scene : Scene
-        With ``scene.wheelset`` (seed section 6.1).
-    patch : ContactPatch, optional
-        Reference Hertz patch (normal force and semi-axes).
+    wheelset : Wheelset
+        ``conicity`` [1], ``lateral_shift`` [m], ``yaw_angle`` [rad], ``vertical_load`` [N],
+        ``wheel_radius`` [m], ``gauge`` [m] and optionally ``contact`` (seed section 6.1).
+    wheel, rail : Material
+        ``shear_modulus`` [Pa] and ``poisson_ratio`` [1] (combined for FASTSIM).
+    speed : float
+        Rolling speed V [m/s].
+    friction : float
+        Coefficient of friction [1].
+    ref_normal_force : float
+        Normal force of the reference patch [N].
+    ref_semi_axes : (float, float)
+        Semi-axes of the reference patch [m].
+    scaling : {"curvatures", "semi_axes"}
+        How the patch follows the load: ``"semi_axes"`` when the scene gives its semi-axes (fixed).
     contact : {1, 2}, optional
-        1: the scene's wheel (wheel 1), 2: the other wheel; default ``scene.wheelset.contact`` (1 when
-        the wheelset has no such attribute).
+        1: the scene's wheel (wheel 1), 2: the other wheel; default ``wheelset.contact`` (1 when the
+        wheelset has no such attribute).
     **fastsim_options
         Passed to :func:`wheelset_contacts`.
 
@@ -236,20 +247,16 @@ def scene_wheelset_contact(scene, patch=None, contact=None, **fastsim_options):
     xi, eta, phi, normal_force, solution
         Creepages [1], [1], [1/m] and normal force [N] of contact ``contact``; the whole solution.
     """
-    ws = scene.wheelset
+    ws = wheelset
     if contact is None:
         contact = getattr(ws, "contact", 1)
     if contact not in (1, 2):
         raise ValueError(f"wheelset contact must be 1 or 2, not {contact!r}")
     i = int(contact) - 1
-    G, nu = combined_elastic(scene.wheel, scene.rail)
-    if patch is not None:
-        ref_n, axes = patch.normal_force, (patch.a, patch.b)
-    else:
-        ref_n, axes = scene.normal_force, scene.semi_axes
-    scaling = "semi_axes" if getattr(scene, "semi_axes", None) is not None else "curvatures"
+    G, nu = combined_elastic(wheel, rail)
     sol = wheelset_contacts(conicity=ws.conicity, lateral_shift=ws.lateral_shift, yaw_angle=ws.yaw_angle,
                             vertical_load=ws.vertical_load, wheel_radius=ws.wheel_radius, gauge=ws.gauge,
-                            speed=scene.speed, friction=scene.friction, shear_modulus=G, poisson_ratio=nu,
-                            ref_normal_force=ref_n, ref_semi_axes=axes, scaling=scaling, **fastsim_options)
+                            speed=speed, friction=friction, shear_modulus=G, poisson_ratio=nu,
+                            ref_normal_force=ref_normal_force, ref_semi_axes=ref_semi_axes, scaling=scaling,
+                            **fastsim_options)
     return float(sol.xi[i]), float(sol.eta[i]), float(sol.phi[i]), float(sol.normal_force[i]), sol

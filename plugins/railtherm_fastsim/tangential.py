@@ -16,9 +16,11 @@ Dynamics 11 (1982) 1-13. doi:10.1080/00423118208968684
 """
 from __future__ import annotations
 
+import numpy as np
+
 from railtherm import Capabilities, Option, Refused, TangentialContactModel
 from railtherm.physics import combined_elastic, creep_speeds
-from railtherm.physics.friction import SlipVelocityFriction, local_friction
+from railtherm.physics.friction import SlipVelocityFriction, patch_contact_temperature
 
 from .simplified_theory import BOUNDS, FLEXIBILITIES, LEADING_EDGES, fastsim
 
@@ -40,17 +42,31 @@ FASTSIM_OPTIONS = {
 }
 
 
-def scene_creepages(scene, patch) -> tuple[float, float, float]:
+def scene_creepages(patch, creepage, sliding_speed, speed, *, scene_name=None) -> tuple[float, float, float]:
     """(xi [1], eta [1], phi [1/m]) for FASTSIM: the patch's (wheelset kinematics), the scene's
-    creepage, or full sliding xi = -v_s / V."""
+    creepage, or full sliding xi = -v_s / V.
+
+    Parameters
+    ----------
+    patch : ContactPatch
+        The normal stage's patch (its ``creepage``, when the normal model solved a wheelset).
+    creepage : Creepage or None
+        The scene's creepages (``longitudinal`` [1], ``lateral`` [1], ``spin`` [1/m]).
+    sliding_speed : float or None
+        The scene's sliding speed v_s [m/s].
+    speed : float
+        Rolling speed V [m/s].
+    scene_name : str, optional
+        For messages.
+    """
     if patch.creepage is not None:
         return tuple(float(c) for c in patch.creepage)
-    if scene.creepage is not None:
-        c = scene.creepage
+    if creepage is not None:
+        c = creepage
         return float(c.longitudinal), float(c.lateral), float(c.spin)
-    if scene.sliding_speed is not None:
-        return -float(scene.sliding_speed) / float(scene.speed), 0.0, 0.0
-    raise Refused(f"scene {scene.name!r}: no creepage or sliding speed for FASTSIM, and the normal model did not "
+    if sliding_speed is not None:
+        return -float(sliding_speed) / float(speed), 0.0, 0.0
+    raise Refused(f"scene {scene_name!r}: no creepage or sliding speed for FASTSIM, and the normal model did not "
                   "solve a wheelset's kinematics (method chains list 'wheelset' before 'hertz' for that)")
 
 
@@ -85,13 +101,15 @@ class FastsimTangential(TangentialContactModel):
         return None
 
     def compute_tangential(self, scene, patch, level, options):
-        xi, eta, phi = scene_creepages(scene, patch)
+        xi, eta, phi = scene_creepages(patch, scene.creepage, scene.sliding_speed, scene.speed,
+                                       scene_name=scene.name)
         try:
             G, nu = combined_elastic(scene.wheel, scene.rail)
         except ValueError as exc:
             raise Refused(f"model 'fastsim': {exc}") from exc
         V = float(scene.speed)
-        friction, slip_law = friction_of(scene, patch)
+        friction, slip_law = friction_of(getattr(scene, "friction_law", None), scene.friction, patch,
+                                         scene.wheel.bulk_temperature, scene.rail.bulk_temperature)
         common = dict(normal_force=patch.normal_force, friction=friction, shear_modulus=G, poisson_ratio=nu, xi=xi,
                       speed=V, bound=options["bound"], leading_edge=options["leading_edge"], slip_law=slip_law)
         if patch.b is None:
@@ -113,10 +131,22 @@ class FastsimTangential(TangentialContactModel):
                                      diagnostics=diag)
 
 
-def friction_of(scene, patch):
+def friction_of(law, friction, patch, wheel_bulk, rail_bulk):
     """(friction, slip_law) for :func:`~railtherm_fastsim.simplified_theory.fastsim`: the constant mu (a float),
     mu per cell of a temperature law at the patch's contact temperature, or the
     nominal mu and the slip-velocity law solved in the sweep.
+
+    Parameters
+    ----------
+    law : railtherm.physics.friction.FrictionLaw or None
+        The scene's friction law (None: constant ``friction``).
+    friction : float
+        The scene's nominal coefficient of friction [1].
+    patch : ContactPatch
+        The normal stage's patch (its grid, and ``contact_temperature`` [degC] when core's coupled loop
+        put one there).
+    wheel_bulk, rail_bulk : float
+        Bulk temperatures of wheel and rail [degC] (the contact temperature when the patch has none).
 
     An exponential slip-velocity law (or Polach's) makes the bound of a slipping cell mu(v) p with v its
     own slip speed, v = V |L (q - h)| / dx, solved per cell in the sweep
@@ -128,12 +158,13 @@ def friction_of(scene, patch):
     as 1/dx) such a cell would also have two slip roots, and the diagnostics count those cells
     (``friction_nonunique_cells``, their largest kappa ``friction_nonunique_kappa``) instead of refusing.
     """
-    law = getattr(scene, "friction_law", None)
     if law is None or law.kind == "constant":
-        return float(scene.friction), None
+        return float(friction), None
     if law.depends_on_slip:
         if not isinstance(law, SlipVelocityFriction):
             raise Refused(f"model 'fastsim': friction law {law.kind!r} ({law.describe()}) is not an exponential "
                           "slip-velocity law, the form FASTSIM's sweep solves cell by cell")
-        return float(scene.friction), law
-    return local_friction(scene, patch), None
+        return float(friction), law
+    t = patch_contact_temperature(patch, wheel_bulk, rail_bulk)
+    mu = law.mu(np.asarray(0.0, dtype=float), t)
+    return np.broadcast_to(np.asarray(mu, dtype=float), patch.grid.shape).copy(), None

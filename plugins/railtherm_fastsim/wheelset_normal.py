@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from railtherm import Capabilities, ContactPatch, NormalContactModel, Refused, SolverError
-from railtherm.physics import hertz_patch, hertz_pressure_grid, rescale_hertz_patch
+from railtherm.physics import hertz_geometry, hertz_patch, hertz_pressure_grid, rescale_hertz_patch
 
 from .tangential import FASTSIM_OPTIONS
 
@@ -51,17 +51,22 @@ class WheelsetNormal(NormalContactModel):
         return None
 
     def compute_patch(self, scene, level, options):
-        from .kinematics import PRESSURE_GAUSS, scene_wheelset_contact
-        base = hertz_patch(scene, level, options.get("cells"), model=self.name)
+        from .kinematics import PRESSURE_GAUSS, wheelset_contact
+        geometry = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
+                                  penetration=scene.penetration, semi_axes=scene.semi_axes,
+                                  curvatures=scene.curvatures, wheel_radius=scene.wheel_radius, scene_name=scene.name)
+        base = hertz_patch(*geometry, level, options.get("cells"), label=f"scene {scene.name!r}, model {self.name!r}")
         fs_opts = {k: options[k] for k in FASTSIM_OPTIONS}
         contact = int(getattr(scene.wheelset, "contact", 1))
+        scaling = "semi_axes" if getattr(scene, "semi_axes", None) is not None else "curvatures"
         try:
-            xi, eta, phi, n1, sol = scene_wheelset_contact(scene, base, contact, **fs_opts)
+            xi, eta, phi, n1, sol = wheelset_contact(scene.wheelset, scene.wheel, scene.rail, scene.speed,
+                                                     scene.friction, base.normal_force, (base.a, base.b), scaling,
+                                                     contact, **fs_opts)
         except np.linalg.LinAlgError as exc:   # the equilibrium's linear solve broke down: a solver failure
             raise SolverError(f"model 'wheelset': the wheelset equilibrium's normal-force solve failed: {exc}") from exc
         except ValueError as exc:               # no equilibrium contact for these inputs (e.g. both bodies rigid)
             raise Refused(f"model 'wheelset': {exc}") from exc
-        scaling = "semi_axes" if getattr(scene, "semi_axes", None) is not None else "curvatures"
         a1, b1, p01 = rescale_hertz_patch(n1, base.normal_force, base.a, base.b, scaling)
         g1, pr1 = hertz_pressure_grid(a1, b1, p01, 0, base.grid.shape[0], gauss=PRESSURE_GAUSS)
         diag = {"contact": contact,

@@ -11,9 +11,8 @@ from ..contract.options import Option
 from ..contract.results import HeatSource
 from ..contract.stages import HeatSourceModel, TangentialContactModel
 from ..physics.averaging import cell_average, exact_total
-from ..physics.friction import local_friction
+from ..physics.friction import patch_contact_temperature
 from ..physics.kinematics import body_speeds
-from ..physics.partition import scene_partition
 
 
 #: the verdict keys of a closed-form stage (docs/verdicts.md): converged, no iterations, no residual
@@ -43,7 +42,7 @@ class FullSlidingTangential(TangentialContactModel):
     def compute_tangential(self, scene, patch, level, options):
         vs = scene.sliding_speed
         if scene.friction_law.kind != "constant":
-            return self._with_law(scene, patch, vs)
+            return self._with_law(scene.friction_law, scene.wheel, scene.rail, patch, vs, body_speeds(scene))
         mu_p = scene.friction * patch.pressure
         # material flows in -x: the wheel surface moves at -(V + v_s), the rail at -V, so the wheel
         # slips at -v_s relative to the rail and friction pushes it forward (+x) for v_s > 0
@@ -55,32 +54,63 @@ class FullSlidingTangential(TangentialContactModel):
             diagnostics=dict(CLOSED_FORM))
 
     @staticmethod
-    def _with_law(scene, patch, vs):
-        """Full sliding under a friction law: mu of each cell at |v_s| and its contact temperature."""
-        mu = local_friction(scene, patch, abs(vs))
+    def _with_law(law, wheel, rail, patch, vs, body_speed):
+        """Full sliding under a friction law: mu of each cell at |v_s| and its contact temperature.
+
+        Parameters
+        ----------
+        law : railtherm.physics.friction.FrictionLaw
+            The scene's friction law.
+        wheel, rail : Material
+            Their ``bulk_temperature`` [degC] gives the contact temperature when the patch carries none.
+        patch : ContactPatch
+            The normal stage's patch (pressure [Pa], optionally ``contact_temperature`` [degC]).
+        vs : float
+            Sliding speed v_s [m/s].
+        body_speed : (float, float)
+            Surface speeds of wheel and rail through the patch [m/s].
+        """
+        t = patch_contact_temperature(patch, wheel.bulk_temperature, rail.bulk_temperature)
+        mu = np.broadcast_to(np.asarray(law.mu(np.asarray(abs(vs), dtype=float), t), dtype=float),
+                             patch.grid.shape).copy()
         mu_p = mu * patch.pressure
         return patch.with_tangential(
             traction_x=np.sign(vs) * mu_p, slip_velocity_x=np.where(patch.pressure > 0, -vs, 0.0),
             stick=np.where(patch.pressure > 0, 0.0, np.nan),
             creep_force_x=float(np.sign(vs) * patch.grid.integrate(mu_p)),
-            body_speed=body_speeds(scene), dissipation=abs(vs) * mu_p,
+            body_speed=body_speed, dissipation=abs(vs) * mu_p,
             diagnostics={**CLOSED_FORM, "friction_min": float(mu[patch.pressure > 0].min()),
                          "friction_max": float(mu[patch.pressure > 0].max())})
 
 
-def frictional_heat_source(scene, patch) -> HeatSource:
+def _wheel_fraction(partition, wheel, rail, wheel_speed, rail_speed, scene_name):
+    """:meth:`HeatPartition.wheel_fraction` [1], a refusal naming the scene."""
+    try:
+        return partition.wheel_fraction(wheel, rail, wheel_speed, rail_speed)
+    except Refused as exc:
+        raise Refused(f"scene {scene_name!r}: {exc}", kind=exc.kind) from None
+
+
+def frictional_heat_source(patch, partition, wheel, rail, body_speed, *, scene_name=None) -> HeatSource:
     """The heat source of a tangential patch: power density -(traction . slip velocity) [W/m^2].
 
     Uses the patch's ``dissipation`` when the tangential model integrated it exactly over each cell,
     else the product of the traction and slip fields (a missing component counts as zero). The
-    bodies move at the patch's ``body_speed`` (else :func:`railtherm.physics.body_speeds`); the
-    partition is the scene's number or the equal-temperature fraction.
+    bodies move at the patch's ``body_speed``, else at ``body_speed``.
 
     Parameters
     ----------
-    scene : Scene
     patch : ContactPatch
         The tangential stage's patch.
+    partition : railtherm.physics.partition.HeatPartition
+        The scene's heat partition (a fraction, or Blok's equal-temperature rule).
+    wheel, rail : Material
+        Their ``effusivity`` [W s^0.5 m^-2 K^-1] for Blok's rule.
+    body_speed : (float, float)
+        Surface speeds of wheel and rail through the patch [m/s] when the patch has none
+        (:func:`railtherm.physics.body_speeds`).
+    scene_name : str, optional
+        For messages.
 
     Returns
     -------
@@ -91,14 +121,14 @@ def frictional_heat_source(scene, patch) -> HeatSource:
         q = np.asarray(patch.dissipation, dtype=float)
     else:
         if patch.traction_x is None and patch.traction_y is None:
-            raise Refused(f"scene {scene.name!r}: the heat source needs the tangential traction and slip; "
+            raise Refused(f"scene {scene_name!r}: the heat source needs the tangential traction and slip; "
                           "the method's chain has no tangential stage")
         q = np.zeros(patch.pressure.shape)
         for t, s in ((patch.traction_x, patch.slip_velocity_x), (patch.traction_y, patch.slip_velocity_y)):
             if t is not None and s is not None:
                 q = q - np.asarray(t, dtype=float) * np.asarray(s, dtype=float)
-    v_w, v_r = patch.body_speed if patch.body_speed is not None else body_speeds(scene)
-    eps = scene_partition(scene, v_w, v_r)
+    v_w, v_r = patch.body_speed if patch.body_speed is not None else body_speed
+    eps = _wheel_fraction(partition, wheel, rail, v_w, v_r, scene_name)
     return HeatSource(grid=patch.grid, power_density=q, heat_partition=eps, body_speed=(float(v_w), float(v_r)),
                       frictional_power=patch.grid.integrate(q), patch=patch, diagnostics=dict(CLOSED_FORM))
 
@@ -116,16 +146,34 @@ class FrictionalHeat(HeatSourceModel):
                                 provides=frozenset({"heat_flux", "frictional_power", "heat_partition"}))
 
     def compute_source(self, scene, patch, level, options):
-        return frictional_heat_source(scene, patch)
+        return frictional_heat_source(patch, scene.partition, scene.wheel, scene.rail, body_speeds(scene),
+                                      scene_name=scene.name)
 
 
-def given_heat_source(scene, level: int, cells: int | None = None) -> HeatSource:
+def given_heat_source(heat_source, partition, wheel, rail, body_speed, level: int, cells: int | None = None, *,
+                      scene_name=None) -> HeatSource:
     """The heat source a scene gives (``heat_source = { flux, shape, semi_axes | half_width }``).
 
-    Both bodies move at the scene's speed; the partition is the scene's number or the
-    equal-temperature fraction. ``flux`` is the uniform value, or the peak for ``shape = "hertz"``.
+    ``flux`` is the uniform value, or the peak for ``shape = "hertz"``.
+
+    Parameters
+    ----------
+    heat_source : railtherm.input.scene.GivenHeatSource
+        ``flux`` [W/m^2], ``shape`` ("uniform" or "hertz"), ``semi_axes`` [m] or ``half_width`` [m].
+    partition : railtherm.physics.partition.HeatPartition
+        The scene's heat partition.
+    wheel, rail : Material
+        Their ``effusivity`` [W s^0.5 m^-2 K^-1] for Blok's rule.
+    body_speed : (float, float)
+        Surface speeds of wheel and rail [m/s] (both the rolling speed for a given source).
+    level : int
+        Grid level k [1].
+    cells : int, optional
+        Cells along 2a at level 0 [1].
+    scene_name : str, optional
+        For messages.
     """
-    hs = scene.heat_source
+    hs = heat_source
     if hs.semi_axes is not None:
         a, b = hs.semi_axes
     else:
@@ -133,10 +181,10 @@ def given_heat_source(scene, level: int, cells: int | None = None) -> HeatSource
     try:
         grid = surface_grid(a, b, level, cells or BASE_CELLS)
     except Refused as exc:  # over the cell budget: name the scene
-        raise Refused(f"scene {scene.name!r}, given heat source: {exc}", kind=exc.kind) from None
+        raise Refused(f"scene {scene_name!r}, given heat source: {exc}", kind=exc.kind) from None
     q = hs.flux * cell_average(grid, hs.shape, a, b)
-    v_w, v_r = body_speeds(scene)
-    eps = scene_partition(scene, v_w, v_r)
+    v_w, v_r = body_speed
+    eps = _wheel_fraction(partition, wheel, rail, v_w, v_r, scene_name)
     return HeatSource(grid=grid, power_density=q, heat_partition=eps, body_speed=(v_w, v_r),
                       frictional_power=hs.flux * exact_total(hs.shape, a, b), shape=hs.shape, peak_flux=hs.flux,
                       diagnostics=dict(CLOSED_FORM))
@@ -158,4 +206,5 @@ class GivenHeat(HeatSourceModel):
         return None
 
     def compute_source(self, scene, patch, level, options):
-        return given_heat_source(scene, level, options.get("cells"))
+        return given_heat_source(scene.heat_source, scene.partition, scene.wheel, scene.rail, body_speeds(scene),
+                                 level, options.get("cells"), scene_name=scene.name)

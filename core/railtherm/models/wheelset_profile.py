@@ -16,7 +16,7 @@ from ..contract.grid import BASE_CELLS
 from ..contract.capabilities import Capabilities
 from ..contract.options import Option
 from ..contract.stages import NormalContactModel
-from ..physics.hertz import hertz_patch
+from ..physics.hertz import hertz_geometry, hertz_patch
 
 __all__ = ["WheelsetProfileHertz"]
 
@@ -40,9 +40,10 @@ class WheelsetProfileHertz(NormalContactModel):
 
     def compute_patch(self, scene, level, options):
         pc = scene.profile_contact
-        ellipse = dataclasses.replace(scene, contact_shape="ellipse", curvatures=pc.hertz_curvatures,
-                                      gap_coefficients=None, semi_axes=None)
-        patch = hertz_patch(ellipse, level, int(options.get("cells") or BASE_CELLS), model=self.name)
+        geometry = hertz_geometry(scene.wheel, scene.rail, "ellipse", scene.normal_force, penetration=scene.penetration,
+                                  curvatures=pc.hertz_curvatures, scene_name=scene.name)
+        patch = hertz_patch(*geometry, level, int(options.get("cells") or BASE_CELLS),
+                            label=f"scene {scene.name!r}, model {self.name!r}")
         diag = {**patch.diagnostics, "patch_shape": "Hertz-equivalent ellipse from the profiles' curvatures",
                 "curvature_A": pc.hertz_curvatures[0], "curvature_B": pc.hertz_curvatures[1],
                 "contact_angle": pc.contact_angle, "contact_position_rail": pc.contact_position_rail,

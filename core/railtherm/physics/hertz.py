@@ -1,8 +1,9 @@
-"""Hertz patch of a scene: semi-axes, peak pressure and cell-averaged pressure, and its rescaling
+"""Hertz patch of a contact: semi-axes, peak pressure and cell-averaged pressure, and its rescaling
 to another normal force.
 
 The closed forms (complete elliptic integrals, line contact) are core's exact references in
-:mod:`railtherm.references.hertz`; this module applies them to a scene.
+:mod:`railtherm.references.hertz`; this module applies them to the materials, shape and load the
+normal models pass from their scene.
 """
 from __future__ import annotations
 
@@ -11,19 +12,34 @@ import math
 __all__ = ["hertz_geometry", "hertz_patch", "hertz_pressure_grid", "rescale_hertz_patch", "scene_semi_axis"]
 
 
-def hertz_geometry(scene) -> tuple[float, float | None, float, float]:
-    """Semi-axes, peak pressure and normal force of a scene's Hertz patch.
+def hertz_geometry(wheel, rail, shape: str, normal_force: float | None, *, penetration: float | None = None,
+                   semi_axes: tuple[float, float] | None = None, curvatures: tuple[float, float] | None = None,
+                   wheel_radius: float | None = None, scene_name: str | None = None
+                   ) -> tuple[float, float | None, float, float]:
+    """Semi-axes, peak pressure and normal force of a Hertz patch.
 
-    The patch comes from the scene's ``semi_axes`` (pressure from the load), its gap ``curvatures``
-    and ``normal_force`` or ``penetration`` (complete elliptic integrals), or a line contact's
+    The patch comes from the ``semi_axes`` (pressure from the load), the gap ``curvatures`` and
+    ``normal_force`` or ``penetration`` (complete elliptic integrals), or a line contact's
     ``wheel_radius`` and load per width.
 
     Parameters
     ----------
-    scene : Scene-like
-        With ``wheel``, ``rail`` (``shear_modulus`` [Pa], ``poisson_ratio`` [1], ``rigid``),
-        ``contact_shape`` ("ellipse" or "line"), ``normal_force`` [N] ([N/m] for a line) or
-        ``penetration`` [m], and ``semi_axes`` [m] or ``curvatures`` [1/m] or ``wheel_radius`` [m].
+    wheel, rail : Material-like
+        With ``shear_modulus`` [Pa], ``poisson_ratio`` [1] and ``rigid``.
+    shape : {"ellipse", "line"}
+        Contact shape.
+    normal_force : float or None
+        Normal force [N] ([N/m] for a line contact); None when ``penetration`` is given.
+    penetration : float, optional
+        Approach of the two bodies [m] (an ellipse given by its curvatures).
+    semi_axes : (float, float), optional
+        Given semi-axes a, b [m].
+    curvatures : (float, float), optional
+        Gap curvatures A, B [1/m].
+    wheel_radius : float, optional
+        Wheel radius of a line contact [m].
+    scene_name : str, optional
+        Name of the scene, for messages.
 
     Returns
     -------
@@ -48,39 +64,44 @@ def hertz_geometry(scene) -> tuple[float, float | None, float, float]:
     from ..contract.errors import Refused
     from ..references.hertz import (contact_modulus, hertz_from_curvatures, hertz_from_penetration,
                                     hertz_from_semi_axes, hertz_line)
-    e_star = contact_modulus(scene.wheel, scene.rail)
-    if scene.normal_force is not None and scene.normal_force <= 0.0:
-        raise Refused(f"scene {scene.name!r}: normal_force = {scene.normal_force!r} N gives no contact patch "
+    e_star = contact_modulus(wheel, rail)
+    if normal_force is not None and normal_force <= 0.0:
+        raise Refused(f"scene {scene_name!r}: normal_force = {normal_force!r} N gives no contact patch "
                       "(Hertz needs a load > 0); nothing is loaded or heated")
     if not math.isfinite(e_star):
-        raise Refused(f"scene {scene.name!r}: both bodies are rigid; Hertz needs at least one elastic body")
-    if scene.contact_shape == "line":
-        if scene.normal_force is None:
-            raise Refused(f"scene {scene.name!r}: a Hertz line contact on a half-plane has no finite approach; "
+        raise Refused(f"scene {scene_name!r}: both bodies are rigid; Hertz needs at least one elastic body")
+    if shape == "line":
+        if normal_force is None:
+            raise Refused(f"scene {scene_name!r}: a Hertz line contact on a half-plane has no finite approach; "
                           "penetration is defined only for a strip of finite depth: give normal_force [N/m], "
                           "or use method 'fem'")
-        a, p0 = hertz_line(scene.normal_force, scene.wheel_radius, e_star)
-        return a, None, p0, scene.normal_force
-    if scene.semi_axes is not None:
-        h = hertz_from_semi_axes(*scene.semi_axes, scene.normal_force)
-    elif scene.normal_force is not None:
-        h = hertz_from_curvatures(*scene.curvatures, scene.normal_force, e_star)
+        a, p0 = hertz_line(normal_force, wheel_radius, e_star)
+        return a, None, p0, normal_force
+    if semi_axes is not None:
+        h = hertz_from_semi_axes(*semi_axes, normal_force)
+    elif normal_force is not None:
+        h = hertz_from_curvatures(*curvatures, normal_force, e_star)
     else:
-        h = hertz_from_penetration(*scene.curvatures, scene.penetration, e_star)
+        h = hertz_from_penetration(*curvatures, penetration, e_star)
     return h.a, h.b, h.max_pressure, h.normal_force
 
 
-def scene_semi_axis(scene) -> float | None:
-    """Semi-axis a along rolling [m] known from the scene before any stage runs, or None.
+def scene_semi_axis(heat_source, wheel, rail, shape: str, normal_force: float | None, *,
+                    penetration: float | None = None, semi_axes: tuple[float, float] | None = None,
+                    curvatures: tuple[float, float] | None = None, wheel_radius: float | None = None
+                    ) -> float | None:
+    """Semi-axis a along rolling [m] known from a scene before any stage runs, or None.
 
-    A given heat source's ``semi_axes`` or ``half_width``, else the scene's Hertz patch
-    (:func:`hertz_geometry`); None when the scene has no Hertz patch (no load, rigid bodies, a line
-    contact given by penetration).
+    A given heat source's ``semi_axes`` or ``half_width``, else the given ``semi_axes``, else the
+    Hertz patch (:func:`hertz_geometry`); None when there is no Hertz patch (no load, rigid bodies, a
+    line contact given by penetration).
 
     Parameters
     ----------
-    scene : Scene-like
-        As :func:`hertz_geometry`, optionally with ``heat_source`` (``semi_axes`` or ``half_width`` [m]).
+    heat_source : GivenHeatSource-like or None
+        A given heat source, with ``semi_axes`` [m] or ``half_width`` [m].
+    wheel, rail, shape, normal_force, penetration, semi_axes, curvatures, wheel_radius
+        As :func:`hertz_geometry` (materials; shape; [N] or [N/m]; [m]; [m]; [1/m]; [m]).
 
     Returns
     -------
@@ -88,15 +109,15 @@ def scene_semi_axis(scene) -> float | None:
         a [m].
     """
     from ..contract.errors import Refused
-    hs = getattr(scene, "heat_source", None)
-    if hs is not None:
-        if getattr(hs, "semi_axes", None) is not None:
-            return float(hs.semi_axes[0])
-        return float(hs.half_width)
-    if getattr(scene, "semi_axes", None) is not None:
-        return float(scene.semi_axes[0])
+    if heat_source is not None:
+        if getattr(heat_source, "semi_axes", None) is not None:
+            return float(heat_source.semi_axes[0])
+        return float(heat_source.half_width)
+    if semi_axes is not None:
+        return float(semi_axes[0])
     try:
-        return float(hertz_geometry(scene)[0])
+        return float(hertz_geometry(wheel, rail, shape, normal_force, penetration=penetration,
+                                    curvatures=curvatures, wheel_radius=wheel_radius)[0])
     except (Refused, ValueError, TypeError, AttributeError, ZeroDivisionError):
         return None
 
@@ -167,19 +188,25 @@ def hertz_pressure_grid(a: float, b: float | None, p0: float, level: int = 0, ce
     return g, p0 * cell_average(g, "hertz", a, b, gauss or GAUSS_POINTS)
 
 
-def hertz_patch(scene, level: int, cells: int | None = None, *, model: str = "hertz"):
-    """The scene's Hertz contact patch on the surface grid of ``level``.
+def hertz_patch(a: float, b: float | None, p0: float, normal_force: float, level: int, cells: int | None = None,
+                *, label: str):
+    """A Hertz contact patch (:func:`hertz_geometry`'s semi-axes, peak pressure and load) on the surface
+    grid of ``level``.
 
     Parameters
     ----------
-    scene : Scene-like
-        As :func:`hertz_geometry`.
+    a, b : float
+        Semi-axes [m] (b None for a line contact).
+    p0 : float
+        Peak pressure [Pa].
+    normal_force : float
+        Normal force [N] ([N/m] for a line contact).
     level : int
         Grid level k [1].
     cells : int, optional
         Cells along 2a at level 0 [1] (default :data:`railtherm.contract.grid.BASE_CELLS`).
-    model : str
-        Name of the model asking, for messages.
+    label : str
+        Who asks (scene and model), prefixed to a refusal.
 
     Returns
     -------
@@ -189,17 +216,16 @@ def hertz_patch(scene, level: int, cells: int | None = None, *, model: str = "he
     Raises
     ------
     railtherm.Refused
-        No Hertz patch (see :func:`hertz_geometry`), or the grid is over the cell budget (kind
-        "budget").
+        The grid is over the cell budget (kind "budget").
     """
     from ..contract.errors import Refused
     from ..contract.grid import BASE_CELLS
     from ..contract.results import ContactPatch
-    a, b, p0, n = hertz_geometry(scene)
     try:
         grid, pressure = hertz_pressure_grid(a, b, p0, level, int(cells or BASE_CELLS))
     except Refused as exc:  # over the cell budget: name the scene
-        raise Refused(f"scene {scene.name!r}, model {model!r}: {exc}", kind=exc.kind) from None
+        raise Refused(f"{label}: {exc}", kind=exc.kind) from None
     # closed form (the eccentricity's root is found to round-off by brentq, which raises otherwise)
     diag = {"converged": True, "iterations": 0, "residual": 0.0}
-    return ContactPatch(grid=grid, normal_force=n, a=a, b=b, max_pressure=p0, pressure=pressure, diagnostics=diag)
+    return ContactPatch(grid=grid, normal_force=normal_force, a=a, b=b, max_pressure=p0, pressure=pressure,
+                        diagnostics=diag)

@@ -24,10 +24,17 @@ from ..physics.friction import LoopStep, contact_temperature, field_contact_temp
 __all__ = ["needs_loop", "solve_coupled"]
 
 
-def needs_loop(scene) -> bool:
-    """Whether the scene's friction depends on the temperature (and the scene computes its traction)."""
-    law = scene.friction_law
-    return scene.heat_source is None and law is not None and law.depends_on_temperature
+def needs_loop(law, heat_source) -> bool:
+    """Whether the friction depends on the temperature and the scene computes its traction.
+
+    Parameters
+    ----------
+    law : railtherm.physics.friction.FrictionLaw or None
+        The scene's friction law.
+    heat_source : GivenHeatSource or None
+        The scene's given heat source (with one, no traction is computed).
+    """
+    return heat_source is None and law is not None and law.depends_on_temperature
 
 
 def _force(patch) -> float:
@@ -36,19 +43,23 @@ def _force(patch) -> float:
     return float(np.hypot(fx, fy))
 
 
-def solve_coupled(scene, patch, run_tangential, run_source, run_temperature):
+def solve_coupled(law, wheel, rail, patch, run_tangential, run_source, run_temperature, *, scene_name=None):
     """Iterate tangential -> heat -> temperature -> friction to convergence.
 
     Parameters
     ----------
-    scene : Scene
-        With a temperature-dependent friction law.
+    law : railtherm.physics.friction.FrictionLaw
+        A temperature-dependent friction law (its ``nominal`` mu [1] scales the force change).
+    wheel, rail : Material
+        Their ``bulk_temperature`` [degC] gives the first contact temperature.
     patch : ContactPatch
         The normal stage's patch.
     run_tangential, run_source, run_temperature : callable
         ``run_tangential(patch) -> ContactPatch`` (the chain's tangential model on a patch that carries
         ``contact_temperature``), ``run_source(patch) -> HeatSource``, ``run_temperature(source) ->
         TemperatureField``.
+    scene_name : str, optional
+        For messages.
 
     Returns
     -------
@@ -62,7 +73,6 @@ def solve_coupled(scene, patch, run_tangential, run_source, run_temperature):
         When the loop has not converged after
         :data:`~railtherm.physics.friction.LOOP_MAX_ITERATIONS` solves.
     """
-    law = scene.friction_law
     inside = np.asarray(patch.pressure) > 0
     scale = law.nominal * float(patch.normal_force)
 
@@ -73,6 +83,6 @@ def solve_coupled(scene, patch, run_tangential, run_source, run_temperature):
         temp = run_temperature(source)
         return LoopStep((tang, source, temp), field_contact_temperature(temp, patch), _force(tang), scale, inside)
 
-    start = float(contact_temperature(scene.wheel.bulk_temperature, scene.rail.bulk_temperature))
-    (tang, source, temp), hist = iterate_temperature_law(law, solve, start, what=f"scene {scene.name!r}")
+    start = float(contact_temperature(wheel.bulk_temperature, rail.bulk_temperature))
+    (tang, source, temp), hist = iterate_temperature_law(law, solve, start, what=f"scene {scene_name!r}")
     return tang, source, temp, hist

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..contract.errors import PluginError, Refused, SceneError, SolverError
 from ..contract.grid import BASE_CELLS
-from ..models.sliding import given_heat_source as _given
+from ..models.sliding import GivenHeat
 from .capabilities_check import refusal, source_refusal
 from .friction_loop import needs_loop, solve_coupled
 from .plugins import MethodInfo, PluginHost, get_host
@@ -59,7 +59,7 @@ def _check_options(mi: MethodInfo, options, scene: str) -> dict:
 
 def given_heat_source(scene: Scene, level: int, cells: int | None = None):
     """The :class:`railtherm.HeatSource` a scene gives, on the grid of ``level``."""
-    return _given(scene, level, cells)
+    return GivenHeat().compute_source(scene, None, level, {"cells": cells})
 
 
 @dataclass
@@ -115,7 +115,7 @@ def plan(scene: Scene, method: "str | Mapping[str, Any] | MethodInfo", level: in
             raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}{extra}: "
                           f"it has no {stage} stage")
         last = max(last, order.index(stage))
-    if needs_loop(scene) and "tangential" in order[: last + 1]:
+    if needs_loop(scene.friction_law, scene.heat_source) and "tangential" in order[: last + 1]:
         # friction falling with temperature: the tangential stage needs the chain's temperatures
         if "temperature" not in order:
             raise Refused(f"method {mi.name!r} has no temperature stage, but the friction of scene {scene.name!r} "
@@ -304,7 +304,8 @@ def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
             continue
         if stage == "normal":
             patch = result = model.compute_patch(scene, level, opts)
-        elif stage == "tangential" and needs_loop(scene) and not isinstance(pl.models["temperature"], CoupledModel):
+        elif (stage == "tangential" and needs_loop(scene.friction_law, scene.heat_source)
+              and not isinstance(pl.models["temperature"], CoupledModel)):
             patch, source, temp, loop_records = _friction_loop(pl, scene, patch, level, options, cells)
             records.extend(loop_records)
             done.update(id(pl.models[s]) for s in ("tangential", "heat_source", "temperature"))
@@ -344,9 +345,10 @@ def _friction_loop(pl: Plan, scene: Scene, patch: ContactPatch, level: int, opti
         _check_untouched(tm, p, result)
         return result
 
-    patch, source, temp, hist = solve_coupled(scene, patch, tangential,
+    patch, source, temp, hist = solve_coupled(scene.friction_law, scene.wheel, scene.rail, patch, tangential,
                                               lambda p: hm.compute_source(scene, p, level, o_h),
-                                              lambda src: _temperature(km, scene, src, level, o_k))
+                                              lambda src: _temperature(km, scene, src, level, o_k),
+                                              scene_name=scene.name)
     for obj in (patch, source, temp):
         _freeze(obj)
     return patch, source, temp, [StageRecord(tm, {**(patch.diagnostics or {}), **hist.diagnostics()}),
