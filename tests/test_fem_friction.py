@@ -42,7 +42,12 @@ def scene(friction, **kw):
 def fem(friction, level=0, **kw):
     sc = load_scene(scene(friction, **kw))
     m = FemModel()
-    return solve_fem(m._problem(sc, level, m.resolve_options({}), True))
+    return solve_fem(m._problem(
+        level, m.resolve_options({}), True, wheel=sc.wheel, rail=sc.rail, speed=sc.speed,
+        wheel_radius=sc.wheel_radius, normal_force=sc.normal_force, penetration=sc.penetration,
+        friction=sc.friction, friction_law=sc.friction_law, creepage=sc.creepage, sliding_speed=sc.sliding_speed,
+        heat_partition=sc.heat_partition, convection=sc.convection, strip=sc.strip, field=sc.field,
+        numerics=sc.numerics))
 
 
 def mu_slip(v, law=SLIP):

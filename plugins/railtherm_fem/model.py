@@ -120,26 +120,65 @@ class FemModel(CoupledModel):
         return None
 
     # ------------------------------------------------------------------------------------------
-    def _problem(self, scene, level, options, thermal):
-        strip = getattr(scene, "strip", None)
+    @staticmethod
+    def _problem(level, options, thermal, *, wheel, rail, speed, wheel_radius, normal_force, penetration, friction,
+                 friction_law, creepage, sliding_speed, heat_partition, convection, strip, field, numerics):
+        """The FEM problem of a scene's parts at ``level`` with the model's ``options``.
+
+        Parameters
+        ----------
+        level : int
+            Mesh level k [1].
+        options : dict
+            The model's resolved options.
+        thermal : bool
+            Whether the thermal part runs.
+        wheel, rail : Material
+            Elastic and thermal constants of both bodies (SI).
+        speed : float
+            Rolling speed V [m/s].
+        wheel_radius : float
+            Wheel radius r0 [m].
+        normal_force, penetration : float or None
+            Load per width [N/m], or the wheel's penetration [m] when no load is given.
+        friction : float or None
+            Nominal coefficient of friction [1].
+        friction_law : FrictionLaw or None
+            The scene's law.
+        creepage : Creepage or None
+            Creepages (only ``longitudinal`` [1] applies in 2-D); None for full sliding.
+        sliding_speed : float or None
+            Sliding speed v_s [m/s] (full sliding).
+        heat_partition : float or str
+            The scene's ``heat_partition``: the wheel's fraction [1] or the rule's name.
+        convection : float
+            Heat transfer coefficient [W m-2 K-1].
+        strip : Strip or None
+            Strip ``length`` and ``depth`` [m].
+        field : Field or None
+            ``behind`` and ``depth`` [m] of the scene's field.
+        numerics : mapping
+            The scene's numerics (``regularization`` [1]).
+        """
         eps = options.get("regularization")
         if eps is None:
             # exact Coulomb unless asked: the seed's eps = 1e-3 is a relative micro-slip as large as the
             # creepages of rolling (1e-4 .. 1e-3) and would turn the stick zone viscous (Fx ~ mu N |xi| / eps)
-            eps = (getattr(scene, "numerics", None) or {}).get("regularization", 0.0)
+            eps = (numerics or {}).get("regularization", 0.0)
         creep = None
         sliding = None
-        if scene.creepage is not None:
-            creep = float(scene.creepage.longitudinal)
+        if creepage is not None:
+            creep = float(creepage.longitudinal)
         else:
-            sliding = float(scene.sliding_speed or 0.0)
+            sliding = float(sliding_speed or 0.0)
+        behind, field_depth = _field(field)
         return FemProblem(
-            radius=float(scene.wheel_radius), rail=scene.rail, wheel=scene.wheel, speed=float(scene.speed),
-            normal_force=scene.normal_force, penetration=scene.penetration if scene.normal_force is None else None,
-            friction=float(scene.friction or 0.0), friction_law=getattr(scene, "friction_law", None),
+            radius=float(wheel_radius), rail=rail, wheel=wheel, speed=float(speed),
+            normal_force=normal_force, penetration=penetration if normal_force is None else None,
+            friction=float(friction or 0.0), friction_law=friction_law,
             creepage=creep, sliding_speed=sliding,
-            regularization=float(eps), heat_partition=scene.heat_partition,
-            convection=float(scene.convection or 0.0),
+            regularization=float(eps), heat_partition=heat_partition,
+            convection=float(convection or 0.0),
             thermal_resistance=float(options.get("thermal_resistance") or 0.0),
             strip_length=getattr(strip, "length", None) if strip else None,
             strip_depth=getattr(strip, "depth", None) if strip else None,
@@ -147,7 +186,7 @@ class FemModel(CoupledModel):
             grading=float(options.get("grading") or 8.0),
             coupling_tolerance=float(options.get("coupling_tolerance", 1e-6)),
             coupling_max_iterations=int(options.get("coupling_max_iterations", 30)),
-            field_behind=_field(scene)[0], field_depth=_field(scene)[1])
+            field_behind=behind, field_depth=field_depth)
 
     def compute(self, scene, level, options, stages, upstream):
         why = self.supports(scene, level)
@@ -160,7 +199,13 @@ class FemModel(CoupledModel):
         # the pipeline may plan only ("normal",) for a coupled model (docs/DESIGN.md, "Stages"): run the
         # thermal part whenever the scene asks for a temperature output
         thermal = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
-        prob = self._problem(scene, level, options, thermal)
+        prob = self._problem(
+            level, options, thermal, wheel=scene.wheel, rail=scene.rail, speed=scene.speed,
+            wheel_radius=scene.wheel_radius, normal_force=scene.normal_force, penetration=scene.penetration,
+            friction=scene.friction, friction_law=getattr(scene, "friction_law", None), creepage=scene.creepage,
+            sliding_speed=scene.sliding_speed, heat_partition=scene.heat_partition, convection=scene.convection,
+            strip=getattr(scene, "strip", None), field=getattr(scene, "field", None),
+            numerics=getattr(scene, "numerics", None))
         why = fem_limits(prob)
         if why:
             raise Refused(f"scene {scene.name!r}: {why}", kind="validity")
@@ -297,7 +342,7 @@ class FemModel(CoupledModel):
         bodies = [ThermalBody(m.conductivity, m.density * m.specific_heat, v, conv)
                   for m, v in ((scene.wheel, vw), (scene.rail, vr))]
         strip = getattr(scene, "strip", None)
-        behind, fdepth = _field(scene)
+        behind, fdepth = _field(getattr(scene, "field", None))
         length, sdepth = getattr(strip, "length", None), getattr(strip, "depth", None)
         if behind is not None and length and 0.5 * length < behind + (1.0 + FIELD_MARGIN) * a:
             raise Refused(f"scene {scene.name!r}: model 'fem': field.behind = {behind:g} m does not fit on the strip "
@@ -321,9 +366,9 @@ class FemModel(CoupledModel):
         return self._temperature_from(tgrid, theta, grid, 0.0, scene, diag, source)
 
 
-def _field(scene):
-    """The scene's ``field.behind`` and ``field.depth`` [m] (None, None without a field; depth None: default)."""
-    fld = getattr(scene, "field", None)
+def _field(fld):
+    """``field.behind`` and ``field.depth`` [m] of the scene's ``field`` (a :class:`~railtherm.input.scene.Field`
+    or None): (None, None without a field; depth None: the model's default)."""
     if fld is None:
         return None, None
     depth = getattr(fld, "depth", None)
