@@ -6,8 +6,7 @@
 * temperatures of a full-sliding or given heat source without convection: the exact moving source
   (3-D half-space, :mod:`railtherm.references.moving_source`) or Jaeger's band (2-D,
   :mod:`railtherm.references.jaeger`), at any Péclet number, for each body with its share of the heat
-  and its own speed.
-
+  and its own speed;
 * the thermal trace of a scene with ``field`` (same sources): the exact peak temperature, cooling
   rate and time above ``field.threshold`` of a material point on the centre line at each depth, and
   the heated depth (:func:`trace_reference`), from the same references evaluated at depth.
