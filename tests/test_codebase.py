@@ -5,7 +5,8 @@
   ``railtherm.physics``, ``railtherm.references``); hook implementations (``railtherm_*``) are the
   contract every plugin implements and are exempt;
 * no function is over 80 lines without a reason; code text names none of this project's issues;
-* no module docstring is over 15 lines (long derivations belong in the function they describe or docs/).
+* no module docstring is over 15 lines (long derivations belong in the function they describe or docs/);
+* in the modules of :data:`SCENE_PARTS_MODULES`, only the stage hooks take the scene.
 """
 from __future__ import annotations
 
@@ -116,3 +117,35 @@ def test_module_docstrings_at_most_15_lines():
     trimmed = sorted(rel for rel in LONG_MODULE_DOCSTRINGS_TO_TRIM
                      if counts.get(rel, 0) <= MAX_MODULE_DOCSTRING_LINES)
     assert trimmed == [], f"remove from LONG_MODULE_DOCSTRINGS_TO_TRIM (trimmed or gone): {trimmed}"
+
+
+#: the stage hooks of the plugin API (docs/DESIGN.md): they take the scene and hand its parts on
+STAGE_HOOKS = frozenset({"supports", "compute_patch", "compute_tangential", "compute_source", "compute_temperature",
+                         "compute"})
+
+#: modules whose functions below the stage hooks take the scene's parts (materials, heat partition, friction
+#: law, creepage, ...) instead of the Scene, so that each function's inputs show in its signature
+SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/models/sliding.py",
+                       "core/railtherm/models/core_plugin.py", "core/railtherm/models/shapes.py",
+                       "core/railtherm/solving/friction_loop.py", "plugins/railtherm_fastsim/*.py",
+                       "plugins/railtherm_green/model.py", "plugins/railtherm_green/steady.py",
+                       "plugins/railtherm_green/kernel.py", "plugins/railtherm_green/validity.py",
+                       "plugins/railtherm_fem/condense.py", "plugins/railtherm_fem/contact.py",
+                       "plugins/railtherm_fem/coupled.py", "plugins/railtherm_fem/elastic.py",
+                       "plugins/railtherm_fem/friction.py", "plugins/railtherm_fem/mesh.py",
+                       "plugins/railtherm_fem/plugin.py", "plugins/railtherm_fem/thermal.py")
+
+
+def test_functions_below_the_stage_hooks_take_the_scene_s_parts():
+    """In :data:`SCENE_PARTS_MODULES` only the stage hooks have a parameter ``scene``; every other function
+    takes the parts it reads (CONTACT's ``calc_temp(ic, mater, kin, cgrid, outpt)`` is the model)."""
+    paths = [p for pattern in SCENE_PARTS_MODULES for p in sorted(ROOT.glob(pattern))]
+    assert len(paths) >= len(SCENE_PARTS_MODULES)
+    takes = []
+    for path in paths:
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name not in STAGE_HOOKS:
+                args = node.args.posonlyargs + node.args.args + node.args.kwonlyargs
+                if any(a.arg == "scene" for a in args):
+                    takes.append(f"{path.relative_to(ROOT)}:{node.lineno} {node.name}")
+    assert takes == [], "functions below the stage hooks that take the whole scene:\n  " + "\n  ".join(takes)
