@@ -4,6 +4,7 @@ input -> models -> physics -> references -> contract); the contract imports noth
 outside itself; the output folder has one owner (:mod:`railtherm.output.store`) that imports nothing
 above it; the report reads only through the store; nothing but the cli and the kit imports the runner;
 plugins import only the public API (tests/test_physics.py)."""
+from functools import cache
 from pathlib import Path
 
 import pytest
@@ -31,8 +32,9 @@ def layer(mod: str) -> str:
     return parts[1]
 
 
+@cache
 def import_graph() -> dict[str, set[str]]:
-    """Core module -> core modules it imports."""
+    """Core module -> core modules it imports (read once per session; the tests only read it)."""
     return _graph(CORE.parent, "railtherm")
 
 
