@@ -157,10 +157,13 @@ def test_transient_study_histories_computed_on_line_contacts_refused_on_ellipses
     assert "ellipse" in kinds.values() and "line" in kinds.values()
     line = {"name": "passes-line", "speed": 30.0, "mode": "transient", "heat_partition": 0.0,
             "heat_source": {"flux": 1e8, "shape": "hertz", "half_width": 6e-3},
-            "passes": {"count": 2, "interval": 0.05}, "outputs": ["temperature_history", "residual_rise"]}
+            "passes": {"count": 2, "interval": 0.05}, "field": {"depth": [1e-4, 5e-4]},
+            "outputs": ["temperature_history", "residual_rise", "max_surface_temperature"]}
     ds = railtherm.solve(line, "fipy", level=0)
     assert ds.residual_rise.sel(body="rail").values.shape == (2,) and np.all(ds.residual_rise.values[1] > 0)
     assert ds.attrs["fipy_rail_history_heating_scheme"] == "implicit"
+    # the one-pass surface maximum beside the histories (the moving frame's steady field), its depth field not
+    assert list(ds.z.values) == [0.0, 1e-4, 5e-4] and ds.max_surface_temperature.sel(body="rail") > 20.0
 
 
 A, V, Q = 6e-3, 30.0, 1e8

@@ -322,7 +322,9 @@ class FipyTemperature(TemperatureModel):
         if not outputs or any(o in outputs for o in one_pass):
             flash = self._steady(scene, source, level, opts, grid)
             result = self._lumped_steady(scene, source, flash, grid)
-            result = replace(result, diagnostics={**dict(result.diagnostics or {}), **diag})
+            # the one-pass depth field lies on another depth axis than the histories: not returned
+            result = replace(result, z=None, temperature=None,
+                             diagnostics={**dict(result.diagnostics or {}), **diag})
         else:
             result = TemperatureField.from_bodies(grid, bulk, diagnostics=diag)
         return with_history(result, hist)
