@@ -125,7 +125,9 @@ STAGE_HOOKS = frozenset({"supports", "compute_patch", "compute_tangential", "com
 
 #: modules whose functions below the stage hooks take the scene's parts (materials, heat partition, friction
 #: law, creepage, ...) instead of the Scene, so that each function's inputs show in its signature
-SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/models/sliding.py",
+SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/physics/kinematics.py",
+                       "core/railtherm/physics/partition.py", "core/railtherm/physics/friction/contact_temperature.py",
+                       "core/railtherm/models/sliding.py",
                        "core/railtherm/models/core_plugin.py", "core/railtherm/models/shapes.py",
                        "core/railtherm/solving/friction_loop.py", "plugins/railtherm_fastsim/*.py",
                        "plugins/railtherm_green/model.py", "plugins/railtherm_green/steady.py",

@@ -156,14 +156,15 @@ def test_combined_elastic():
 
 # ------------------------------------------------------------------ body speeds
 def test_body_speeds():
-    assert physics.body_speeds(_scene()) == (31.0, 30.0)                                   # seed eqs. 32-33
-    assert physics.body_speeds(_scene(heat_source=object(), tangential="given")) == (30.0, 30.0)
-    assert physics.body_speeds(_scene(sliding_speed=None, tangential="creepage")) == (30.0, 30.0)
-    assert physics.body_speeds(SimpleNamespace(speed=30.0, sliding_speed=-2.0)) == (28.0, 30.0)
+    assert physics.body_speeds(30.0, 1.0, "full-sliding") == (31.0, 30.0)                  # seed eqs. 32-33
+    assert physics.body_speeds(30.0, 1.0, "given") == (30.0, 30.0)
+    assert physics.body_speeds(30.0, None, "creepage") == (30.0, 30.0)
+    assert physics.body_speeds(30.0, 1.0, "creepage") == (30.0, 30.0)     # a wheelset that also gives v_s
+    assert physics.body_speeds(30.0, -2.0, "full-sliding") == (28.0, 30.0)
     scene = railtherm.load_scene({"name": "s", "normal_force": 1e5,
                                   "contact": {"shape": "ellipse", "semi_axes": [5e-3, 5e-3]},
                                   "speed": 20.0, "sliding_speed": 0.5, "friction": 0.3})
-    assert physics.body_speeds(scene) == (20.5, 20.0)
+    assert physics.body_speeds(scene.speed, scene.sliding_speed, scene.tangential) == (20.5, 20.0)
 
 
 # ------------------------------------------------------------------ heat partition
@@ -194,8 +195,11 @@ def test_partition_with_zero_or_negative_speed(v_wheel, v_rail, expected):
 
 
 def test_scene_partition():
-    assert physics.scene_partition(_scene(heat_partition=0.3), 31.0, 30.0) == 0.3
-    assert physics.scene_partition(_scene(), 31.0, 30.0) == physics.equal_temperature_partition(STEEL, STEEL, 31, 30)
+    from railtherm.physics.partition import HeatPartition
+    assert physics.scene_partition(HeatPartition.of(0.3), STEEL, STEEL, 31.0, 30.0) == 0.3
+    assert physics.scene_partition(0.3, STEEL, STEEL, 31.0, 30.0) == 0.3                  # a scene value
+    assert physics.scene_partition(HeatPartition("equal-temperature"), STEEL, STEEL, 31.0, 30.0) == (
+        physics.equal_temperature_partition(STEEL, STEEL, 31, 30))
 
 
 def test_heat_partition_is_resolved_once_with_one_meaning_per_rule():
@@ -211,13 +215,13 @@ def test_heat_partition_is_resolved_once_with_one_meaning_per_rule():
     assert fixed.partition == HeatPartition("fraction", 0.3) and fixed.heat_partition == 0.3
     blok = load_scene({**base, "heat_partition": "equal-temperature"})
     assert blok.partition == load_scene(base).partition == HeatPartition("equal-temperature")
-    assert physics.scene_partition(blok, 31.0, 30.0) == physics.equal_temperature_partition(blok.wheel, blok.rail,
-                                                                                            31.0, 30.0) != 0.5
+    assert physics.scene_partition(blok.partition, blok.wheel, blok.rail, 31.0, 30.0) == (
+        physics.equal_temperature_partition(blok.wheel, blok.rail, 31.0, 30.0)) != 0.5
     mean = load_scene({**base, "heat_partition": "equal-mean-temperature"})
     assert mean.heat_partition == "equal-mean-temperature" and mean.partition.needs_temperatures
     with pytest.raises(railtherm.Refused, match=r"scene 'hp': heat_partition = 'equal-mean-temperature'.*'fem'.*"
                                                 r"'equal-temperature'") as err:
-        physics.scene_partition(mean, 31.0, 30.0)
+        physics.scene_partition(mean.partition, mean.wheel, mean.rail, 31.0, 30.0, scene_name=mean.name)
     assert err.value.kind == "validity"
     assert HeatPartition.of(mean.partition) is mean.partition
     with pytest.raises(ValueError, match="equal-mean-temperature"):

@@ -16,11 +16,9 @@ Dynamics 11 (1982) 1-13. doi:10.1080/00423118208968684
 """
 from __future__ import annotations
 
-import numpy as np
-
 from railtherm import Capabilities, Option, Refused, TangentialContactModel
 from railtherm.physics import combined_elastic, creep_speeds
-from railtherm.physics.friction import SlipVelocityFriction, patch_contact_temperature
+from railtherm.physics.friction import SlipVelocityFriction, local_friction
 
 from .simplified_theory import BOUNDS, FLEXIBILITIES, LEADING_EDGES, fastsim
 
@@ -165,6 +163,4 @@ def friction_of(law, friction, patch, wheel_bulk, rail_bulk):
             raise Refused(f"model 'fastsim': friction law {law.kind!r} ({law.describe()}) is not an exponential "
                           "slip-velocity law, the form FASTSIM's sweep solves cell by cell")
         return float(friction), law
-    t = patch_contact_temperature(patch, wheel_bulk, rail_bulk)
-    mu = law.mu(np.asarray(0.0, dtype=float), t)
-    return np.broadcast_to(np.asarray(mu, dtype=float), patch.grid.shape).copy(), None
+    return local_friction(law, patch, wheel_bulk, rail_bulk), None

@@ -21,8 +21,8 @@ from railtherm.physics.friction import contraction_limit, iterate_slip_law, loca
 __all__ = ["solve_with_law"]
 
 
-def _mu_of(scene, patch, shape, slip_speed=0.0):
-    return local_friction(scene, patch, np.asarray(slip_speed).reshape(np.shape(patch.pressure))
+def _mu_of(law, patch, wheel_bulk, rail_bulk, shape, slip_speed=0.0):
+    return local_friction(law, patch, wheel_bulk, rail_bulk, np.asarray(slip_speed).reshape(np.shape(patch.pressure))
                           if np.ndim(slip_speed) else slip_speed).reshape(shape)
 
 
@@ -60,7 +60,7 @@ def solve_with_law(scene, patch, solve, self_coefficient: float, speed: float):
     p = np.clip(np.asarray(patch.pressure, dtype=float), 0.0, None)
     shape = p.reshape(p.shape[0], -1).shape
     if not law.depends_on_slip:
-        mu = _mu_of(scene, patch, shape)
+        mu = _mu_of(law, patch, scene.wheel.bulk_temperature, scene.rail.bulk_temperature, shape)
         sol, X, Y = solve(mu)
         return sol, X, Y, mu, {}
     V = abs(float(speed))

@@ -40,15 +40,18 @@ def _thermal_case(scene):
     if scene.heat_source is not None:
         hs = scene.heat_source
         a, b = hs.semi_axes if hs.semi_axes is not None else (hs.half_width, None)
-        speeds = body_speeds(scene)
-        return a, b, hs.shape, hs.flux, speeds, scene_partition(scene, *speeds)
+        speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
+        return a, b, hs.shape, hs.flux, speeds, scene_partition(scene.partition, scene.wheel, scene.rail, *speeds,
+                                                                scene_name=scene.name)
     mu = uniform_friction(scene)
     if scene.tangential != "full-sliding" or mu is None:
         return None
     from ..models.hertz import hertz_geometry
     a, b, p0, _ = hertz_geometry(scene)
-    speeds = body_speeds(scene)
-    return a, b, "hertz", mu * scene.sliding_speed * p0, speeds, scene_partition(scene, *speeds)
+    speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
+    return a, b, "hertz", mu * scene.sliding_speed * p0, speeds, scene_partition(scene.partition, scene.wheel,
+                                                                                 scene.rail, *speeds,
+                                                                                 scene_name=scene.name)
 
 
 def uniform_friction(scene) -> float | None:

@@ -118,7 +118,7 @@ def energy_balance(scene, ds) -> tuple[float, str]:
         dy = float(np.diff(ds["y"].values).mean()) if "y" in ds.dims else 1.0
         power = float(np.nansum(hf)) * dx * dy
     if "surface_temperature" in ds.variables and math.isfinite(power) and power > 0:
-        speeds = body_speeds(scene)
+        speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
         a = float(ds.attrs.get("semi_axis_a", math.nan))
         if "semi_axis_a" in ds.variables:
             a = float(ds["semi_axis_a"])

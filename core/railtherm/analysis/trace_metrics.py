@@ -40,7 +40,7 @@ def cooling_rate_depth(scene, a: float) -> np.ndarray:
         Semi-axis of the patch along the rolling direction [m].
     """
     from ..physics import body_speeds
-    speeds = body_speeds(scene)
+    speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
     return np.array([math.sqrt(4.0 * COOLING_TRAVEL * scene.body(i).diffusivity * float(a) / abs(float(v)))
                      if v and a and a > 0 else 0.0 for i, v in enumerate(speeds)])
 

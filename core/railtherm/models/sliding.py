@@ -11,8 +11,9 @@ from ..contract.options import Option
 from ..contract.results import HeatSource
 from ..contract.stages import HeatSourceModel, TangentialContactModel
 from ..physics.averaging import cell_average, exact_total
-from ..physics.friction import patch_contact_temperature
+from ..physics.friction import local_friction
 from ..physics.kinematics import body_speeds
+from ..physics.partition import scene_partition
 
 
 #: the verdict keys of a closed-form stage (docs/verdicts.md): converged, no iterations, no residual
@@ -41,8 +42,10 @@ class FullSlidingTangential(TangentialContactModel):
 
     def compute_tangential(self, scene, patch, level, options):
         vs = scene.sliding_speed
+        speeds = body_speeds(scene.speed, vs, scene.tangential)
         if scene.friction_law.kind != "constant":
-            return self._with_law(scene.friction_law, scene.wheel, scene.rail, patch, vs, body_speeds(scene))
+            return self._with_law(scene.friction_law, scene.wheel.bulk_temperature, scene.rail.bulk_temperature,
+                                  patch, vs, speeds)
         mu_p = scene.friction * patch.pressure
         # material flows in -x: the wheel surface moves at -(V + v_s), the rail at -V, so the wheel
         # slips at -v_s relative to the rail and friction pushes it forward (+x) for v_s > 0
@@ -50,19 +53,19 @@ class FullSlidingTangential(TangentialContactModel):
             traction_x=np.sign(vs) * mu_p, slip_velocity_x=np.where(patch.pressure > 0, -vs, 0.0),
             stick=np.where(patch.pressure > 0, 0.0, np.nan),
             creep_force_x=np.sign(vs) * scene.friction * patch.normal_force,
-            body_speed=body_speeds(scene), dissipation=scene.friction * abs(vs) * patch.pressure,
+            body_speed=speeds, dissipation=scene.friction * abs(vs) * patch.pressure,
             diagnostics=dict(CLOSED_FORM))
 
     @staticmethod
-    def _with_law(law, wheel, rail, patch, vs, body_speed):
+    def _with_law(law, wheel_bulk, rail_bulk, patch, vs, body_speed):
         """Full sliding under a friction law: mu of each cell at |v_s| and its contact temperature.
 
         Parameters
         ----------
         law : railtherm.physics.friction.FrictionLaw
             The scene's friction law.
-        wheel, rail : Material
-            Their ``bulk_temperature`` [degC] gives the contact temperature when the patch carries none.
+        wheel_bulk, rail_bulk : float
+            Bulk temperatures of wheel and rail [degC] (the contact temperature when the patch carries none).
         patch : ContactPatch
             The normal stage's patch (pressure [Pa], optionally ``contact_temperature`` [degC]).
         vs : float
@@ -70,9 +73,7 @@ class FullSlidingTangential(TangentialContactModel):
         body_speed : (float, float)
             Surface speeds of wheel and rail through the patch [m/s].
         """
-        t = patch_contact_temperature(patch, wheel.bulk_temperature, rail.bulk_temperature)
-        mu = np.broadcast_to(np.asarray(law.mu(np.asarray(abs(vs), dtype=float), t), dtype=float),
-                             patch.grid.shape).copy()
+        mu = local_friction(law, patch, wheel_bulk, rail_bulk, abs(vs))
         mu_p = mu * patch.pressure
         return patch.with_tangential(
             traction_x=np.sign(vs) * mu_p, slip_velocity_x=np.where(patch.pressure > 0, -vs, 0.0),
@@ -81,14 +82,6 @@ class FullSlidingTangential(TangentialContactModel):
             body_speed=body_speed, dissipation=abs(vs) * mu_p,
             diagnostics={**CLOSED_FORM, "friction_min": float(mu[patch.pressure > 0].min()),
                          "friction_max": float(mu[patch.pressure > 0].max())})
-
-
-def _wheel_fraction(partition, wheel, rail, wheel_speed, rail_speed, scene_name):
-    """:meth:`HeatPartition.wheel_fraction` [1], a refusal naming the scene."""
-    try:
-        return partition.wheel_fraction(wheel, rail, wheel_speed, rail_speed)
-    except Refused as exc:
-        raise Refused(f"scene {scene_name!r}: {exc}", kind=exc.kind) from None
 
 
 def frictional_heat_source(patch, partition, wheel, rail, body_speed, *, scene_name=None) -> HeatSource:
@@ -128,7 +121,7 @@ def frictional_heat_source(patch, partition, wheel, rail, body_speed, *, scene_n
             if t is not None and s is not None:
                 q = q - np.asarray(t, dtype=float) * np.asarray(s, dtype=float)
     v_w, v_r = patch.body_speed if patch.body_speed is not None else body_speed
-    eps = _wheel_fraction(partition, wheel, rail, v_w, v_r, scene_name)
+    eps = scene_partition(partition, wheel, rail, v_w, v_r, scene_name=scene_name)
     return HeatSource(grid=patch.grid, power_density=q, heat_partition=eps, body_speed=(float(v_w), float(v_r)),
                       frictional_power=patch.grid.integrate(q), patch=patch, diagnostics=dict(CLOSED_FORM))
 
@@ -146,7 +139,8 @@ class FrictionalHeat(HeatSourceModel):
                                 provides=frozenset({"heat_flux", "frictional_power", "heat_partition"}))
 
     def compute_source(self, scene, patch, level, options):
-        return frictional_heat_source(patch, scene.partition, scene.wheel, scene.rail, body_speeds(scene),
+        return frictional_heat_source(patch, scene.partition, scene.wheel, scene.rail,
+                                      body_speeds(scene.speed, scene.sliding_speed, scene.tangential),
                                       scene_name=scene.name)
 
 
@@ -184,7 +178,7 @@ def given_heat_source(heat_source, partition, wheel, rail, body_speed, level: in
         raise Refused(f"scene {scene_name!r}, given heat source: {exc}", kind=exc.kind) from None
     q = hs.flux * cell_average(grid, hs.shape, a, b)
     v_w, v_r = body_speed
-    eps = _wheel_fraction(partition, wheel, rail, v_w, v_r, scene_name)
+    eps = scene_partition(partition, wheel, rail, v_w, v_r, scene_name=scene_name)
     return HeatSource(grid=grid, power_density=q, heat_partition=eps, body_speed=(v_w, v_r),
                       frictional_power=hs.flux * exact_total(hs.shape, a, b), shape=hs.shape, peak_flux=hs.flux,
                       diagnostics=dict(CLOSED_FORM))
@@ -206,5 +200,6 @@ class GivenHeat(HeatSourceModel):
         return None
 
     def compute_source(self, scene, patch, level, options):
-        return given_heat_source(scene.heat_source, scene.partition, scene.wheel, scene.rail, body_speeds(scene),
+        return given_heat_source(scene.heat_source, scene.partition, scene.wheel, scene.rail,
+                                 body_speeds(scene.speed, scene.sliding_speed, scene.tangential),
                                  level, options.get("cells"), scene_name=scene.name)

@@ -4,7 +4,7 @@ from __future__ import annotations
 __all__ = ["body_speeds", "creep_speeds"]
 
 
-def body_speeds(scene) -> tuple[float, float]:
+def body_speeds(speed: float, sliding_speed: float | None, tangential: str) -> tuple[float, float]:
     """Speeds at which wheel and rail material passes through the patch.
 
     Full sliding: the wheel surface moves at ``v_w = V + v_s`` and the rail at ``v_r = V`` (seed
@@ -14,9 +14,13 @@ def body_speeds(scene) -> tuple[float, float]:
 
     Parameters
     ----------
-    scene : Scene-like
-        With ``speed`` V [m/s], ``sliding_speed`` v_s [m/s] (None unless full sliding),
-        ``heat_source`` (None unless given) and ``tangential`` ("full-sliding" or "creepage").
+    speed : float
+        Rolling speed V [m/s].
+    sliding_speed : float or None
+        Sliding speed v_s [m/s] of full sliding (None counts as 0).
+    tangential : str
+        The scene's tangential kind: ``"full-sliding"``, ``"creepage"`` or ``"given"`` (a given heat
+        source); only full sliding moves the wheel at V + v_s.
 
     Returns
     -------
@@ -28,11 +32,9 @@ def body_speeds(scene) -> tuple[float, float]:
     .. [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation
        of temperatures in wheel/rail contact, Wear 253 (2002) 498-508.
     """
-    v0 = float(scene.speed)
-    sliding = getattr(scene, "sliding_speed", None)
-    tangential = getattr(scene, "tangential", "full-sliding" if sliding is not None else None)
-    if getattr(scene, "heat_source", None) is None and tangential == "full-sliding":
-        return v0 + float(sliding or 0.0), v0
+    v0 = float(speed)
+    if tangential == "full-sliding":
+        return v0 + float(sliding_speed or 0.0), v0
     return v0, v0
 
 

@@ -125,24 +125,34 @@ class HeatPartition:
                       "(Blok's fraction) or a number", kind="validity")
 
 
-def scene_partition(scene, wheel_speed: float, rail_speed: float) -> float:
-    """The scene's heat partition: the fraction of the heat entering the wheel [1].
+def scene_partition(partition: HeatPartition, wheel, rail, wheel_speed: float, rail_speed: float, *,
+                    scene_name: str | None = None) -> float:
+    """The scene's heat partition: the fraction of the heat entering the wheel [1], a refusal naming the
+    scene.
 
     Parameters
     ----------
-    scene : Scene-like
-        With ``partition`` (:class:`HeatPartition`; a scene-like object may give ``heat_partition``, the
-        scene's value, instead), ``wheel`` and ``rail``.
+    partition : HeatPartition
+        The scene's resolved ``heat_partition`` (a scene value, a number in [0, 1] or a rule's name, is
+        resolved by :meth:`HeatPartition.of`).
+    wheel, rail : Material-like
+        With ``effusivity`` [W s^0.5 m^-2 K^-1] (Blok's rule).
     wheel_speed, rail_speed : float
         Surface speeds through the patch [m/s] (:func:`railtherm.physics.body_speeds`).
+    scene_name : str, optional
+        For messages.
+
+    Returns
+    -------
+    float
+        eps [1], the fraction entering the wheel.
 
     Raises
     ------
     railtherm.Refused
         For a partition that needs the temperatures (:meth:`HeatPartition.wheel_fraction`).
     """
-    partition = getattr(scene, "partition", None) or HeatPartition.of(scene.heat_partition)
     try:
-        return partition.wheel_fraction(scene.wheel, scene.rail, wheel_speed, rail_speed)
+        return HeatPartition.of(partition).wheel_fraction(wheel, rail, wheel_speed, rail_speed)
     except Refused as exc:
-        raise Refused(f"scene {getattr(scene, 'name', None)!r}: {exc}", kind=exc.kind) from None
+        raise Refused(f"scene {scene_name!r}: {exc}", kind=exc.kind) from None

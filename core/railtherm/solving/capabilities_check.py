@@ -106,7 +106,8 @@ def _temperature_refusal(model: StageModel, scene: "Scene") -> str | None:
                    "(railtherm methods lists them)"))
     if not (caps.moving_surface or caps.peclet != (0.0, float("inf"))):
         return None
-    speeds = (0.0, 0.0) if getattr(scene, "speed", None) is None else body_speeds(scene)
+    speeds = ((0.0, 0.0) if getattr(scene, "speed", None) is None
+              else body_speeds(scene.speed, scene.sliding_speed, scene.tangential))
     return _flow_refusal(model, _given_semi_axis(scene), speeds, (scene.wheel, scene.rail))
 
 

@@ -69,18 +69,21 @@ def patch_contact_temperature(patch, wheel_bulk: float, rail_bulk: float):
     return float(contact_temperature(float(wheel_bulk), float(rail_bulk)))
 
 
-def local_friction(scene, patch, slip_speed=0.0) -> np.ndarray:
-    """The coefficient of friction of every cell of ``patch`` [1], shape ``patch.grid.shape``.
+def local_friction(law, patch, wheel_bulk: float, rail_bulk: float, slip_speed=0.0) -> np.ndarray:
+    """The coefficient of friction of every cell of ``patch`` [1], shape ``patch.grid.shape``: the law's mu
+    at the local slip speed and at the contact temperature of :func:`patch_contact_temperature`.
 
     Parameters
     ----------
-    scene : Scene
-        Its ``friction_law`` and the bulk temperatures of ``wheel`` and ``rail`` [degC].
+    law : railtherm.physics.friction.FrictionLaw
+        The scene's friction law.
     patch : ContactPatch
-        The patch (its grid, and the contact temperature of :func:`patch_contact_temperature`).
+        The patch (its grid, and ``contact_temperature`` [degC] when core's coupled loop put one there).
+    wheel_bulk, rail_bulk : float
+        Bulk temperatures of wheel and rail [degC] (the contact temperature when the patch has none).
     slip_speed : float or ndarray
         Local slip speed |v_slip| [m/s] (broadcast to the grid).
     """
-    t = patch_contact_temperature(patch, scene.wheel.bulk_temperature, scene.rail.bulk_temperature)
-    mu = scene.friction_law.mu(np.asarray(slip_speed, dtype=float), t)
+    t = patch_contact_temperature(patch, wheel_bulk, rail_bulk)
+    mu = law.mu(np.asarray(slip_speed, dtype=float), t)
     return np.broadcast_to(np.asarray(mu, dtype=float), patch.grid.shape).copy()
