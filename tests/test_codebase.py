@@ -127,6 +127,7 @@ STAGE_HOOKS = frozenset({"supports", "compute_patch", "compute_tangential", "com
 #: law, creepage, ...) instead of the Scene, so that each function's inputs show in its signature
 SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/physics/kinematics.py",
                        "core/railtherm/physics/partition.py", "core/railtherm/physics/friction/contact_temperature.py",
+                       "core/railtherm/physics/thermal_trace.py",
                        "core/railtherm/models/sliding.py",
                        "core/railtherm/models/core_plugin.py", "core/railtherm/models/shapes.py",
                        "core/railtherm/solving/friction_loop.py", "plugins/railtherm_fastsim/*.py",
@@ -135,7 +136,8 @@ SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/physic
                        "plugins/railtherm_fem/condense.py", "plugins/railtherm_fem/contact.py",
                        "plugins/railtherm_fem/coupled.py", "plugins/railtherm_fem/elastic.py",
                        "plugins/railtherm_fem/friction.py", "plugins/railtherm_fem/mesh.py",
-                       "plugins/railtherm_fem/plugin.py", "plugins/railtherm_fem/thermal.py")
+                       "plugins/railtherm_fem/model.py", "plugins/railtherm_fem/plugin.py",
+                       "plugins/railtherm_fem/thermal.py")
 
 
 def test_functions_below_the_stage_hooks_take_the_scene_s_parts():

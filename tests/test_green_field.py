@@ -106,7 +106,7 @@ def test_too_short_a_field_is_flagged_not_a_peak():
     peak = temp.peak_temperature[1]
     assert np.isfinite(peak[0]) and np.isnan(peak[-1])
     assert "field too short" in temp.diagnostics["trace_rail_notes"]
-    assert np.array_equal(with_thermal_trace(temp, sc, src).peak_temperature, temp.peak_temperature,
+    assert np.array_equal(with_thermal_trace(temp, sc.field, src).peak_temperature, temp.peak_temperature,
                           equal_nan=True)
     ds = railtherm.solve(sc, "green", 0, OPTS)
     assert "peak_temperature" in ds.attrs["nan_allowed"].split()

@@ -195,7 +195,10 @@ class FemModel(CoupledModel):
         cells = options.get("cells")
         if upstream.source is not None:   # a given heat source (core's "given", run by the plan)
             wanted = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
-            return None, None, self._given(scene, level, options, upstream.source) if wanted else None
+            given = self._given(level, options, upstream.source, wheel=scene.wheel, rail=scene.rail,
+                                convection=scene.convection, strip=getattr(scene, "strip", None),
+                                field=getattr(scene, "field", None), scene_name=scene.name) if wanted else None
+            return None, None, given
         # the pipeline may plan only ("normal",) for a coupled model (docs/DESIGN.md, "Stages"): run the
         # thermal part whenever the scene asks for a temperature output
         thermal = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
@@ -253,29 +256,52 @@ class FemModel(CoupledModel):
                             frictional_power=float(sol.frictional_power), patch=patch, diagnostics=diag)
         temp = None
         if thermal:
-            temp = self._temperature_from(sol.thermal_grid, sol.theta, grid, xc, scene,
-                                          {**diag, **self._stresses(sol, grid, xc)}, source)
+            temp = self._temperature_from(sol.thermal_grid, sol.theta, grid, xc, getattr(scene, "field", None),
+                                          (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
+                                          {**diag, **self._stresses(sol, grid, xc)}, source, scene_name=scene.name)
         return (patch if {"normal", "tangential"} & set(stages) else None,
                 source if "heat_source" in stages or thermal else None, temp)
 
     # ------------------------------------------------------------------------------------------
     @staticmethod
-    def _temperature_from(tgrid, theta, grid, xc, scene, diag, source=None):
-        fld = getattr(scene, "field", None)
+    def _temperature_from(tgrid, theta, grid, xc, fld, bulk_temperature, diag, source=None, *, scene_name=None):
+        """The temperature field of the thermal solution ``theta`` on the patch grid, or on the field's extended
+        grid with the thermal trace.
+
+        Parameters
+        ----------
+        tgrid : ThermalGrid
+            The thermal grid: ``x`` [m] along the strip, ``z`` [m] in depth.
+        theta : sequence of ndarray
+            Temperature rise of wheel and rail on ``tgrid`` [K], shape (nx, nz) each.
+        grid : SurfaceGrid
+            The patch grid (centred on the patch).
+        xc : float
+            Patch centre on the strip [m].
+        fld : Field or None
+            The scene's ``field``: ``behind`` [m], ``depth`` [m] and ``threshold`` [degC].
+        bulk_temperature : (float, float)
+            Bulk temperatures of wheel and rail [degC].
+        diag : dict
+            Diagnostics to report.
+        source : HeatSource, optional
+            Its ``body_speed`` [m/s] for the thermal trace.
+        scene_name : str, optional
+            For messages.
+        """
         if fld is None:
             xs = grid.x + xc
             bodies = [BodyTemperature(np.interp(xs, tgrid.x, theta[j][:, 0]), z=tgrid.z,
                                       depth_rise=np.stack([np.interp(xs, tgrid.x, theta[j][:, k])
                                                            for k in range(tgrid.z.size)], axis=1))
                       for j in range(2)]
-            return TemperatureField.from_bodies(grid, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
-                                                *bodies, z=tgrid.z, diagnostics=diag)
+            return TemperatureField.from_bodies(grid, bulk_temperature, *bodies, z=tgrid.z, diagnostics=diag)
         # the scene's field: core's extended grid, sampled on the thermal layer of the strip
-        out = field_grid(grid, scene)
+        out = field_grid(grid, fld)
         xs = out.x + xc
         reach = float(xc - tgrid.x[0])           # how far behind the patch centre the thermal layer reaches
         if tgrid.x[0] > out.x_edges[0] + xc:
-            raise Refused(f"scene {scene.name!r}: model 'fem': the strip's thermal layer reaches {reach:.4g} m "
+            raise Refused(f"scene {scene_name!r}: model 'fem': the strip's thermal layer reaches {reach:.4g} m "
                           f"behind the patch centre, less than the field's {float(-out.x_edges[0]):.4g} m "
                           f"(a + field.behind); lengthen the strip (strip.length) or shorten field.behind",
                           kind="validity")
@@ -284,7 +310,7 @@ class FemModel(CoupledModel):
         if depth is not None:
             depth = float(depth)
             if z[-1] < depth:
-                raise Refused(f"scene {scene.name!r}: model 'fem': the strip's thermal layer is {z[-1]:.4g} m "
+                raise Refused(f"scene {scene_name!r}: model 'fem': the strip's thermal layer is {z[-1]:.4g} m "
                               f"deep, less than field.depth = {depth:g} m; deepen the strip (strip.depth)",
                               kind="validity")
         bodies = []
@@ -302,9 +328,8 @@ class FemModel(CoupledModel):
         diag = {**diag, "field_behind": float(grid.x_edges[0] - out.x_edges[0]),
                 "field_cells_behind": int(out.x.size - grid.x.size), "field_thermal_reach": reach,
                 "field_thermal_nodes_behind": int(np.sum(tgrid.x < grid.x_edges[0] + xc))}
-        result = TemperatureField.from_bodies(out, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
-                                              *bodies, z=bodies[0].z, diagnostics=diag)
-        return with_thermal_trace(result, scene, source)
+        result = TemperatureField.from_bodies(out, bulk_temperature, *bodies, z=bodies[0].z, diagnostics=diag)
+        return with_thermal_trace(result, fld, source)
 
     @staticmethod
     def _stresses(sol, grid, xc):
@@ -322,8 +347,29 @@ class FemModel(CoupledModel):
                     thermal_stress_xx_min=float((s[0] - s_mech[0]).min()),
                     thin_layer_thermal_stress=float(-E * strip.alpha * tmax / (1 - nu)))
 
-    def _given(self, scene, level, options, source):
-        """Thermal part only, for a heat flux the scene gives (both bodies at their body_speed)."""
+    def _given(self, level, options, source, *, wheel, rail, convection, strip, field, scene_name=None):
+        """Thermal part only, for a heat flux the scene gives (both bodies at their body_speed).
+
+        Parameters
+        ----------
+        level : int
+            Mesh level k [1].
+        options : dict
+            The model's resolved options.
+        source : HeatSource
+            The given heat source: ``shape``, ``peak_flux`` [W/m^2] or ``power_density`` [W/m^2] on its grid,
+            ``heat_partition`` [1] and ``body_speed`` [m/s].
+        wheel, rail : Material
+            Thermal constants of both bodies (SI) and their ``bulk_temperature`` [degC].
+        convection : float or None
+            Heat transfer coefficient [W m-2 K-1].
+        strip : Strip or None
+            Strip ``length`` and ``depth`` [m].
+        field : Field or None
+            The scene's ``field``: ``behind`` and ``depth`` [m], ``threshold`` [degC].
+        scene_name : str, optional
+            For messages.
+        """
         grid = source.grid
         a = grid.a
         level = int(level)
@@ -338,19 +384,18 @@ class FemModel(CoupledModel):
                                     pd[np.clip(np.searchsorted(edges, s) - 1, 0, pd.size - 1)], 0.0)
         two_d = options.get("thermal_model", "2d") == "2d"
         vw, vr = source.body_speed
-        conv = float(scene.convection or 0.0)
+        conv = float(convection or 0.0)
         bodies = [ThermalBody(m.conductivity, m.density * m.specific_heat, v, conv)
-                  for m, v in ((scene.wheel, vw), (scene.rail, vr))]
-        strip = getattr(scene, "strip", None)
-        behind, fdepth = _field(getattr(scene, "field", None))
+                  for m, v in ((wheel, vw), (rail, vr))]
+        behind, fdepth = _field(field)
         length, sdepth = getattr(strip, "length", None), getattr(strip, "depth", None)
         if behind is not None and length and 0.5 * length < behind + (1.0 + FIELD_MARGIN) * a:
-            raise Refused(f"scene {scene.name!r}: model 'fem': field.behind = {behind:g} m does not fit on the strip "
+            raise Refused(f"scene {scene_name!r}: model 'fem': field.behind = {behind:g} m does not fit on the strip "
                           f"(length L = {length:g} m): its outflow end -L/2 must lie {FIELD_MARGIN:g} a beyond -a - behind "
                           f"(a = {a:g} m); use strip length >= {2.0 * (behind + (1.0 + FIELD_MARGIN) * a):.4g} m or leave "
                           "strip.length out", kind="validity")
         if fdepth is not None and sdepth and sdepth < 2.0 * fdepth:
-            raise Refused(f"scene {scene.name!r}: model 'fem': field.depth = {fdepth:g} m is too deep for the strip "
+            raise Refused(f"scene {scene_name!r}: model 'fem': field.depth = {fdepth:g} m is too deep for the strip "
                           f"(depth {sdepth:g} m; its thermal layer must reach 2 x field.depth); use strip depth >= "
                           f"{2.0 * fdepth:.4g} m or leave strip.depth out", kind="validity")
         tgrid = given_grid(a, bodies, level, two_d, length, behind, fdepth)
@@ -363,7 +408,8 @@ class FemModel(CoupledModel):
         diag = dict(converged=bool(np.isfinite(solver.residual) and solver.residual < THERMAL_RESIDUAL_LIMIT),
                     iterations=0, residual=float(solver.residual),
                     thermal_unknowns=int(solver.unknowns), thermal_model="2d" if two_d else "1d")
-        return self._temperature_from(tgrid, theta, grid, 0.0, scene, diag, source)
+        return self._temperature_from(tgrid, theta, grid, 0.0, field, (wheel.bulk_temperature, rail.bulk_temperature),
+                                      diag, source, scene_name=scene_name)
 
 
 def _field(fld):

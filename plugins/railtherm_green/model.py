@@ -140,7 +140,7 @@ class GreenTemperature(TemperatureModel):
         fld = getattr(scene, "field", None)
         transient = getattr(scene, "transient", None)
         patch_grid = source.grid
-        grid = field_grid(patch_grid, scene)
+        grid = field_grid(patch_grid, fld)
         a, b = grid.a, grid.b
         wheel, rail = scene.wheel, scene.rail
         v_w, v_r = (float(v) for v in source.body_speed)
@@ -236,7 +236,7 @@ class GreenTemperature(TemperatureModel):
                                               steady_mean_contact_temperature=steady_mean, diagnostics=diag)
         if transient is not None:
             return with_history(result, hist)
-        return with_thermal_trace(result, scene, source) if trace else result
+        return with_thermal_trace(result, fld, source) if trace else result
 
     # ------------------------------------------------------------------------------------------
     @staticmethod

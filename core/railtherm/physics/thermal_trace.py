@@ -164,17 +164,31 @@ def thermal_trace(x, z, temperature, speed: float, threshold: float) -> Trace:
     return Trace(peak, where, cool, above, hd, tuple(notes))
 
 
-def field_grid(grid, scene):
-    """The grid a temperature model reports on: ``grid`` extended ``scene.field.behind`` [m] beyond the
-    trailing edge (:func:`railtherm.contract.grid.extended_grid`), or ``grid`` itself without ``field``.
+def field_grid(grid, field):
+    """The grid a temperature model reports on: ``grid`` extended ``field.behind`` [m] beyond the trailing
+    edge (:func:`railtherm.contract.grid.extended_grid`), or ``grid`` itself without a field.
 
     Contact and heat fields go onto it with :func:`embed_field` (:func:`railtherm.contract.grid.embed`: zero behind the
-    patch)."""
-    fld = getattr(scene, "field", None)
-    return grid if fld is None else extended_grid(grid, fld.behind)
+    patch).
+
+    Parameters
+    ----------
+    grid : SurfaceGrid
+        The patch grid.
+    field : railtherm.input.scene.Field or None
+        The scene's ``field``: ``behind`` [m] beyond the trailing edge (None: the patch only).
+    """
+    field = _field_of(field)
+    return grid if field is None else extended_grid(grid, field.behind)
 
 
-def with_thermal_trace(temperature, scene, source, outputs=None):
+def _field_of(field):
+    """The scene's ``field`` from ``field`` or, for callers that still hand over the whole scene, from
+    ``scene.field`` (kept until the last of them pass the field itself)."""
+    return getattr(field, "field", field)
+
+
+def with_thermal_trace(temperature, field, source, outputs=None):
     """The temperature field with its thermal trace filled (one implementation for every method).
 
     Parameters
@@ -182,8 +196,8 @@ def with_thermal_trace(temperature, scene, source, outputs=None):
     temperature : railtherm.TemperatureField
         A result with a depth field (``z`` and ``temperature``, shape (2, nx, nz), at y = 0) on
         ``temperature.grid`` (the extended grid of the scene's ``field``).
-    scene : Scene
-        Its ``field.threshold`` [degC] is the threshold (727 degC when the scene has no ``field``).
+    field : railtherm.input.scene.Field or None
+        The scene's ``field``: its ``threshold`` [degC] is the threshold (727 degC without a field).
     source : railtherm.HeatSource
         Its ``body_speed`` (wheel, rail) [m s-1] is the speed of each body's material.
     outputs : iterable of str, optional
@@ -206,7 +220,7 @@ def with_thermal_trace(temperature, scene, source, outputs=None):
     grid = temperature.grid
     if grid is None:
         grid = source.grid
-    fld = getattr(scene, "field", None)
+    fld = _field_of(field)
     thr = float(fld.threshold) if fld is not None else 727.0
     x = np.asarray(grid.x, dtype=float)
     z = np.asarray(temperature.z, dtype=float)
