@@ -211,3 +211,12 @@ def test_study_key_finding_names_the_shifts_off_by_more_than_the_tolerance(out):
     verdict = md.split("### Key findings", 1)[1].split("\n\n", 2)[1]
     assert "flash temperature of [`hertz-fastsim-green`](#wheelset-on-profiles)" in verdict
     assert np.isfinite(list(off.values())).all()
+
+
+@pytest.mark.slow
+def test_profile_patches_are_not_reported_as_typed_in_gaps(out):
+    """The exact-contact section's paragraph and table for a typed-in non-Hertzian gap ("only kalker runs it",
+    "beside the Hertzian ellipse ...") are not written for the wheelset's patches: other chains run them with
+    the equivalent ellipse, and they have their own section."""
+    md = (out / "report.md").read_text()
+    assert "Non-Hertzian contact" not in md and "beside the Hertzian ellipse" not in md

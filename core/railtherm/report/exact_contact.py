@@ -283,9 +283,12 @@ def _combined_scene(data: StudyData, comp: ExactComparison, scenes: list[str]) -
 
 
 def _gap_scenes(data: StudyData, comp: ExactComparison) -> list[str]:
+    """Scenes with a typed-in non-Hertzian gap (a wheelset on profiles has its own section)."""
     out = []
     for s in comp.scenes:
         sc = data.scene[s].scene
+        if getattr(sc, "profile_contact", None) is not None:
+            continue
         if sc is not None and getattr(sc, "contact_shape", "") == "gap":
             out.append(s)
         elif sc is None and not any(data.finest_result(s, m) for m in data.methods if m != comp.exact):
@@ -380,8 +383,10 @@ def _one(doc: Document, ctx, comp: ExactComparison):
                  "power density [MW/m²] (both bodies) side by side, exact contact against "
                  + ", ".join(f"`{c}`" for c in comp.contact) + " (finest levels; cells outside the contact "
                  "blank; one colour scale per column).", XF.maps_figure, maps, f"{combined}: exact vs simplified")
+    hertzian = combined if combined is not None and getattr(data.scene[combined].scene, "contact_shape", "") \
+        == "ellipse" else None
     for s in _gap_scenes(data, comp):
-        _gap(doc, ctx, comp, s, combined)
+        _gap(doc, ctx, comp, s, hertzian)
 
 
 def _monomial(k) -> str:
@@ -394,6 +399,8 @@ def _monomial(k) -> str:
 
 
 def _gap(doc: Document, ctx, comp: ExactComparison, scene: str, hertzian: str | None):
+    """A typed-in non-Hertzian gap: who runs it, its values beside the Hertzian ellipse ``hertzian`` (when the
+    study has one) and the exact method's maps."""
     data = ctx.data
     e = comp.exact
     r = data.finest_result(scene, e)
@@ -403,8 +410,22 @@ def _gap(doc: Document, ctx, comp: ExactComparison, scene: str, hertzian: str | 
     coeffs = getattr(sc, "gap_coefficients", None) or {}
     gap = " + ".join(f"{v:g} " + _monomial(k) for k, v in coeffs.items()) if coeffs else "not Hertzian"
     others = sorted({x.message for x in data.runs_of(scene) if x.method != e and x.status == "refused"})
-    doc.paragraph(f"Non-Hertzian contact `{scene}`: undeformed gap h = {gap} [m] (x, y in m); only `{e}` runs it"
-                  + (" (the others refuse, e.g. " + short(others[0], 240) + ")" if others else "") + ".")
+    ran = sorted({m for m in data.methods if m != e and data.finest_result(scene, m) is not None})
+    doc.paragraph(f"Non-Hertzian contact `{scene}`: undeformed gap h = {gap} [m] (x, y in m); "
+                  + (f"`{e}` and " + ", ".join(f"`{m}`" for m in ran) + " run it" if ran else f"only `{e}` runs it")
+                  + (" (the others refuse, e.g. " + short(others[0], 240) + ")" if others and not ran else "") + ".")
+    if hertzian is not None:
+        _beside_hertzian(doc, data, e, scene, hertzian)
+    ds = data.run_file(scene, e, r.level)
+    if ds is not None:
+        ctx.shown.add((scene, "traction"))
+        ctx.draw(doc, "exact-gap-maps", f"`{scene}`: pressure, traction |q| and frictional power density of `{e}` "
+                 "on the non-Hertzian patch (finest level).", XF.maps_figure, {e: ds}, f"{scene} ({e})",
+                 pressure=True)
+
+
+def _beside_hertzian(doc: Document, data, e: str, scene: str, hertzian: str):
+    """Table: the non-Hertzian ``scene`` by the exact method ``e`` beside the Hertzian ellipse ``hertzian``."""
     qs = dict(QUANTITIES, contact_area=("contact area", "m²"), semi_axis_a=("half-length a", "m"),
               semi_axis_b=("half-width b", "m"), max_pressure=("max. pressure", "Pa"))
     rows = []
@@ -412,7 +433,7 @@ def _gap(doc: Document, ctx, comp: ExactComparison, scene: str, hertzian: str | 
         v = _value(data, scene, e, q)
         if v is None:
             continue
-        h = _value(data, hertzian, e, q) if hertzian else None
+        h = _value(data, hertzian, e, q)
         rows.append([f"{label} [{shown(unit)}]", quantity(v[0], unit, with_unit=False) + f" (level {v[1]})",
                      (quantity(h[0], unit, with_unit=False) + f" (level {h[1]})") if h else "–",
                      pct(relative_error(v[0], h[0], _bulk(data, scene) if q in TEMPERATURES else 0.0), signed=True)
@@ -420,9 +441,3 @@ def _gap(doc: Document, ctx, comp: ExactComparison, scene: str, hertzian: str | 
     doc.table(f"`{scene}` (non-Hertzian) by `{e}` beside the Hertzian ellipse `{hertzian}` by `{e}`: values in "
               "the unit of their row (level in brackets), difference relative to the Hertzian scene [%].",
               ["quantity [unit]", f"{scene}", f"{hertzian} (reference)", "difference [%]"], rows)
-    ds = data.run_file(scene, e, r.level)
-    if ds is not None:
-        ctx.shown.add((scene, "traction"))
-        ctx.draw(doc, "exact-gap-maps", f"`{scene}`: pressure, traction |q| and frictional power density of `{e}` "
-                 "on the non-Hertzian patch (finest level).", XF.maps_figure, {e: ds}, f"{scene} ({e})",
-                 pressure=True)
