@@ -128,7 +128,7 @@ STAGE_HOOKS = frozenset({"supports", "compute_patch", "compute_tangential", "com
 SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/physics/kinematics.py",
                        "core/railtherm/physics/partition.py", "core/railtherm/physics/friction/contact_temperature.py",
                        "core/railtherm/physics/thermal_trace.py",
-                       "core/railtherm/models/sliding.py",
+                       "core/railtherm/models/hertz.py", "core/railtherm/models/sliding.py",
                        "core/railtherm/models/core_plugin.py", "core/railtherm/models/shapes.py",
                        "core/railtherm/solving/friction_loop.py", "plugins/railtherm_fastsim/*.py",
                        "plugins/railtherm_green/model.py", "plugins/railtherm_green/steady.py",

@@ -277,11 +277,13 @@ def test_sweep_is_one_section(study_out):
     assert body.count("**Table ") == 1 and body.count("**Figure ") == 1
     assert any(p.name.startswith("003-sweep-carter") for p in paths)
     # Fx/(mu N) of the finest level: Carter's ratio times (1 + delta(1)), beside the exact ratio
-    from railtherm.models.hertz import hertz_geometry
+    from railtherm.physics import hertz_geometry
     from railtherm.references.carter import carter_2d
     from railtherm.input.study import load_study
     sc = load_study(out.parent / "study.toml").scene("carter--creepage.longitudinal=-0.0004")
-    ratio = carter_2d(-4e-4, hertz_geometry(sc)[0], sc.friction, sc.wheel_radius).force_ratio
+    a = hertz_geometry(sc.wheel, sc.rail, sc.contact_shape, sc.normal_force, penetration=sc.penetration,
+                       semi_axes=sc.semi_axes, curvatures=sc.curvatures, wheel_radius=sc.wheel_radius)[0]
+    ratio = carter_2d(-4e-4, a, sc.friction, sc.wheel_radius).force_ratio
     assert 0.3 < ratio < 0.95  # partial slip: the curve is not trivially saturated here
     header = next(line for line in body.splitlines() if line.startswith("| longitudinal creepage |"))
     header = [c.strip() for c in header.strip("|").split("|")]

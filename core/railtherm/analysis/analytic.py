@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from ..physics import body_speeds, scene_partition
+from ..physics import body_speeds, hertz_geometry, scene_partition
 
 _NAME = {"contact": "Hertz (elliptic integrals)", "carter": "Carter 2-D rolling",
          "ms": "moving surface source on a half-space (point-source superposition)",
@@ -46,8 +46,10 @@ def _thermal_case(scene):
     mu = uniform_friction(scene)
     if scene.tangential != "full-sliding" or mu is None:
         return None
-    from ..models.hertz import hertz_geometry
-    a, b, p0, _ = hertz_geometry(scene)
+    a, b, p0, _ = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
+                                 penetration=scene.penetration, semi_axes=scene.semi_axes,
+                                 curvatures=scene.curvatures, wheel_radius=scene.wheel_radius,
+                                 scene_name=scene.name)
     speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
     return a, b, "hertz", mu * scene.sliding_speed * p0, speeds, scene_partition(scene.partition, scene.wheel,
                                                                                  scene.rail, *speeds,
@@ -351,9 +353,11 @@ def _contact_scalars(scene, out: dict, src: dict) -> bool:
     scene without a given heat source into ``out`` with their tags in ``src``; False when Hertz refuses
     the scene (no exact contact, so nothing downstream either)."""
     from ..contract.errors import Refused
-    from ..models.hertz import hertz_geometry
     try:
-        a, b, p0, n = hertz_geometry(scene)
+        a, b, p0, n = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
+                                     penetration=scene.penetration, semi_axes=scene.semi_axes,
+                                     curvatures=scene.curvatures, wheel_radius=scene.wheel_radius,
+                                     scene_name=scene.name)
     except Refused:
         return False
     out.update(semi_axis_a=a, max_pressure=p0, normal_force=n)
@@ -462,9 +466,11 @@ def reference_fields(scene, ds) -> dict:
     y = None if line else ds["y"].values
     if "pressure" in ds and scene.heat_source is None:
         try:
-            from ..models.hertz import hertz_geometry
             from ..references.hertz import hertz_pressure
-            a, b, p0, _ = hertz_geometry(scene)
+            a, b, p0, _ = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
+                                         penetration=scene.penetration, semi_axes=scene.semi_axes,
+                                         curvatures=scene.curvatures, wheel_radius=scene.wheel_radius,
+                                         scene_name=scene.name)
             if line:
                 out["pressure"] = hertz_pressure(x, None, a, None, p0)
             else:

@@ -2,24 +2,12 @@
 from __future__ import annotations
 
 from ..contract.grid import BASE_CELLS
-from ..physics import hertz as _hertz
-from ..physics.hertz import hertz_patch
+from ..physics.hertz import hertz_geometry, hertz_patch
 from ..contract.capabilities import Capabilities
 from ..contract.options import Option
 from ..contract.stages import NormalContactModel
 
-__all__ = ["HertzContact", "hertz_geometry"]
-
-
-def hertz_geometry(scene) -> tuple[float, float | None, float, float]:
-    """Semi-axes a, b [m] (b None on a line), peak pressure p0 [Pa] and normal force [N] ([N/m] on a line)
-    of a scene's Hertz patch: the scene's materials, contact and load handed to
-    :func:`railtherm.physics.hertz.hertz_geometry` (the one place they are read off a scene, for the
-    normal models' hooks and the exact references)."""
-    return _hertz.hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
-                                 penetration=scene.penetration, semi_axes=scene.semi_axes,
-                                 curvatures=scene.curvatures, wheel_radius=scene.wheel_radius,
-                                 scene_name=scene.name)
+__all__ = ["HertzContact"]
 
 
 class HertzContact(NormalContactModel):
@@ -39,5 +27,9 @@ class HertzContact(NormalContactModel):
     options = {"cells": Option(BASE_CELLS, "cells along 2a at level 0", minimum=1)}
 
     def compute_patch(self, scene, level, options):
-        return hertz_patch(*hertz_geometry(scene), level, int(options.get("cells") or BASE_CELLS),
+        geometry = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
+                                  penetration=scene.penetration, semi_axes=scene.semi_axes,
+                                  curvatures=scene.curvatures, wheel_radius=scene.wheel_radius,
+                                  scene_name=scene.name)
+        return hertz_patch(*geometry, level, int(options.get("cells") or BASE_CELLS),
                            label=f"scene {scene.name!r}, model {self.name!r}")
