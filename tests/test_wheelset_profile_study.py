@@ -82,3 +82,15 @@ def test_a_lost_scene_loads_and_says_why():
     err = sc.profile_contact.failure()
     assert isinstance(err, SceneError) and (err.scene, err.key) == ("lost", "wheelset")
     assert str(err).startswith("scene 'lost': key 'wheelset': no contact: side right: the closest approach")
+
+
+def test_the_report_describes_a_scene_without_contact_as_such(tmp_path):
+    """The report's scene table says a lost wheel found no contact (not "gap contact; normal force 0 kN")
+    and describes a good one by its wheel, shift and patch."""
+    from railtherm.report.study_section import describe_scene
+    study = load_study(_study(tmp_path, gauge="1.6"))
+    good, lost = study.scenes
+    assert describe_scene(lost).startswith("wheelset on profiles (right wheel") and "no contact" in describe_scene(lost)
+    assert "gap contact" not in describe_scene(lost) and "normal force" not in describe_scene(lost)
+    assert re.match(r"wheelset on profiles \(right wheel(, lateral shift [-\d.]+ mm)?, patch 1 of \d\); contact angle",
+                    describe_scene(good)), describe_scene(good)

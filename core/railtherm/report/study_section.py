@@ -23,6 +23,20 @@ MELTING = 1500.0
 
 
 
+def _describe_profile_contact(sc) -> str:
+    """A wheelset on profiles: the wheel, the wheelset's lateral shift and the patch (or why there is none)."""
+    pc = sc.profile_contact
+    ws = (getattr(sc, "source", None) or {}).get("wheelset", {})
+    shift = ws.get("lateral_shift")
+    where = f"{pc.side} wheel" + (f", lateral shift {num(float(shift) * 1e3)} mm" if shift is not None else "")
+    failure = getattr(pc, "failure", None)
+    if callable(failure):
+        return f"wheelset on profiles ({where}): no contact"
+    patch = "all patches" if pc.patch == "all" else f"patch {pc.patch} of {pc.patches}"
+    return (f"wheelset on profiles ({where}, {patch}); contact angle {num(pc.contact_angle, 3)} rad; "
+            f"normal force {quantity(pc.normal_force, 'N')}")
+
+
 def describe_scene(sc) -> str:
     """A scene's inputs in one line, in the units a researcher reads (kN, mm, MW/m², m/s)."""
     if sc is None:
@@ -34,6 +48,10 @@ def describe_scene(sc) -> str:
             size = (f"semi-axes {num(hs.semi_axes[0] * 1e3)} × {num(hs.semi_axes[1] * 1e3)} mm"
                     if hs.semi_axes is not None else f"half-width {quantity(hs.half_width, 'm')}")
             parts.append(f"given heat source ({hs.shape}), flux {quantity(hs.flux, 'W/m2')}, {size}")
+        elif getattr(sc, "profile_contact", None) is not None:
+            parts.append(_describe_profile_contact(sc))
+            if sc.friction is not None:
+                parts.append(f"μ = {num(sc.friction)}")
         else:
             geo = sc.contact_shape
             if sc.semi_axes is not None:
