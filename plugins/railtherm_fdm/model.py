@@ -119,7 +119,7 @@ class FDMTemperature(TemperatureModel):
             return self._histories(scene, source, level, options)
         grid = source.grid
         fld = getattr(scene, "field", None)
-        out = field_grid(grid, scene)
+        out = field_grid(grid, scene.field)
         extra = {}
         if fld is not None:       # without a field the blocks are called exactly as before
             behind = float(grid.x_edges[0] - out.x_edges[0])
@@ -164,7 +164,7 @@ class FDMTemperature(TemperatureModel):
                          "field_cells_behind": int(out.x.size - grid.x.size)})
         result = TemperatureField.from_bodies(out, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
                                               *bodies, z=z, diagnostics=diag)
-        return result if fld is None else with_thermal_trace(result, scene, source)
+        return result if fld is None else with_thermal_trace(result, scene.field, source)
 
     def _histories(self, scene, source, level, options):
         """The pass histories of both bodies (:func:`railtherm_fdm.history.body_histories`), with the steady

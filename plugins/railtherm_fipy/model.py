@@ -279,7 +279,7 @@ class FipyTemperature(TemperatureModel):
         opts = {**options, "refine": int(options["refine"])}   # resolved by core (pipeline)
         if asks_history(scene):
             return self._histories(scene, source, level, opts)
-        grid = field_grid(source.grid, scene)                  # the patch grid, or its extension (field)
+        grid = field_grid(source.grid, scene.field)            # the patch grid, or its extension (field)
         flash = self._steady(scene, source, level, opts, grid)
         if getattr(scene, "mode", "steady") != "transient":
             result = self._lumped_steady(scene, source, flash, grid)
@@ -287,7 +287,7 @@ class FipyTemperature(TemperatureModel):
             result = self._transient(scene, source, level, opts, flash, grid)
         if getattr(scene, "field", None) is None:
             return result
-        return with_thermal_trace(result, scene, source)
+        return with_thermal_trace(result, scene.field, source)
 
     def _histories(self, scene, source, level, opts):
         """The pass histories of both bodies on the FiPy section (:mod:`railtherm_fipy.history`, stepped by
