@@ -178,14 +178,7 @@ def field_grid(grid, field):
     field : railtherm.input.scene.Field or None
         The scene's ``field``: ``behind`` [m] beyond the trailing edge (None: the patch only).
     """
-    field = _field_of(field)
     return grid if field is None else extended_grid(grid, field.behind)
-
-
-def _field_of(field):
-    """The scene's ``field`` from ``field`` or, for callers that still hand over the whole scene, from
-    ``scene.field`` (kept until the last of them pass the field itself)."""
-    return getattr(field, "field", field)
 
 
 def with_thermal_trace(temperature, field, source, outputs=None):
@@ -220,8 +213,7 @@ def with_thermal_trace(temperature, field, source, outputs=None):
     grid = temperature.grid
     if grid is None:
         grid = source.grid
-    fld = _field_of(field)
-    thr = float(fld.threshold) if fld is not None else 727.0
+    thr = float(field.threshold) if field is not None else 727.0
     x = np.asarray(grid.x, dtype=float)
     z = np.asarray(temperature.z, dtype=float)
     arrays = {k: np.empty((2, z.size)) for k in ("peak_temperature", "cooling_rate", "time_above")}
