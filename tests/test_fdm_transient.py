@@ -358,3 +358,15 @@ def test_ellipse_history_converges_at_second_order():
         residual.append(np.max(np.abs(res / ref.residual[:, 0] - 1)))
     assert np.polyfit(np.log(hs), np.log(peak), 1)[0] == pytest.approx(2.0, abs=0.3), peak
     assert residual[1] < 0.5 * residual[0] and residual[2] < 0.5 * residual[1], residual
+
+
+def test_compiled_interp_equals_numpy_interp():
+    """The explicit steps' interpolation of the cumulative flux is numpy.interp's, bit for bit: inside, at the
+    nodes, at and beyond both ends."""
+    from railtherm_fdm.history import _interp
+    rng = np.random.default_rng(3)
+    xp = np.cumsum(rng.uniform(0.1, 1.0, 40))
+    fp = rng.normal(size=40)
+    xs = np.concatenate([rng.uniform(xp[0] - 2, xp[-1] + 2, 500), xp, [xp[0], xp[-1]]])
+    got = np.array([_interp(x, xp, fp) for x in xs])
+    assert got.tobytes() == np.interp(xs, xp, fp).tobytes()
