@@ -25,7 +25,8 @@ KAPPA = STEEL.diffusivity
 
 def _scene(v, shape="ellipse", wheel=STEEL, rail=STEEL, convection=0.0, **kw):
     mats = (wheel, rail)
-    ns = dict(name="t", contact_shape=shape, heat_source=None, tangential="full-sliding", speed=v,
+    ns = dict(name="t", contact_shape=shape, heat_source=None, tangential="full-sliding", speed=v, sliding_speed=None,
+              field=None,
               convection=convection, wheel=wheel, rail=rail, mode="steady", outputs=(), body=lambda i: mats[i])
     ns.update(kw)
     return SimpleNamespace(**ns)
