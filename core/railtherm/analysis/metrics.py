@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..output import store
-from ..physics import body_speeds  # noqa: F401  (also importable from here for one release)
+from ..physics import body_speeds
 
 from .errors import (FIELDS, MAX_FIELD_POINTS, METRICS, SCALARS, _interp_to, chain_references,  # noqa: E402,F401
                      rel_error, rel_l2 as _rel_l2, run_errors, signed_error)
@@ -148,9 +148,6 @@ def energy_balance(scene, ds) -> tuple[float, str]:
     if own:
         return max(own, key=abs), "solver"
     return math.nan, ""
-
-
-_chain_references = chain_references  # importable from here for one release
 
 
 def convergence_order(levels, errors) -> float:
