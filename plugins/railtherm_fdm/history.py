@@ -392,25 +392,19 @@ class _Stepper:
     def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
         """m theta-scheme steps of dt (the first ``start`` backward Euler); source of ``arrivals``."""
         b = self.b
-        T = self.T.reshape(-1)
         nx, nz = self.shape
         top = np.arange(nx) * nz
 
         def power(t):
-            p = np.zeros(T.size)
+            p = np.zeros(nx * nz)
             for arr in arrivals:
                 p[top] += self.src.power(t - arr)
             return p * float(self.factor(t)) if len(arrivals) else p
-        out = np.empty((m, b.depth_index.size))
-        p_old = power(self.t)
-        for i in range(m):
-            p_new = power(self.t + dt)
-            T = self.implicit.step(T, dt, 1.0 if i < start else theta, p_old, p_new)
-            p_old = p_new
-            self.t += dt
-            out[i] = T.reshape(nx, nz)[b.i0, b.depth_index]
+        T, self.t, out, times = _stepping.theta_steps(
+            self.T.reshape(-1), self.t, dt, m, power, self.implicit.step,
+            lambda T: T.reshape(nx, nz)[b.i0, b.depth_index], b.depth_index.size, theta, start)
         self.T = T.reshape(nx, nz)
-        self.times.append(self.t - dt * np.arange(m - 1, -1, -1))
+        self.times.append(times)
         self.rows.append(out)
 
 

@@ -21,6 +21,7 @@ import numpy as np
 from scipy.sparse import csr_matrix, diags
 
 from railtherm.physics import thermal_scales
+from railtherm.physics.section_stepping import theta_steps
 
 from .layout import depth_nodes, rail_nodes
 
@@ -275,16 +276,9 @@ class _Stepper3D:
 
     def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
         """m theta-scheme steps of dt (the first ``start`` backward Euler); source of ``arrivals``."""
-        out = np.empty((m, self.out.size))
-        T = self.T
-        p_old = self._power(self.t, arrivals, float(self.factor(self.t))) if len(arrivals) else np.zeros(T.size)
-        for i in range(m):
-            t1 = self.t + dt
-            p_new = self._power(t1, arrivals, float(self.factor(t1))) if len(arrivals) else np.zeros(T.size)
-            T = self.implicit.step(T, dt, 1.0 if i < start else theta, p_old, p_new)
-            p_old = p_new
-            self.t = t1
-            out[i] = T[self.out]
-        self.T = T
-        self.times.append(self.t - dt * np.arange(m - 1, -1, -1))
+        def power(t):
+            return self._power(t, arrivals, float(self.factor(t))) if len(arrivals) else np.zeros(self.T.size)
+        self.T, self.t, out, times = theta_steps(self.T, self.t, dt, m, power, self.implicit.step,
+                                                 lambda T: T[self.out], self.out.size, theta, start)
+        self.times.append(times)
         self.rows.append(out)

@@ -20,6 +20,7 @@ from scipy.sparse import csr_matrix, diags
 from scipy.sparse.linalg import splu
 
 from railtherm.physics import thermal_scales
+from railtherm.physics.section_stepping import theta_steps
 
 __all__ = ["FipyBlock", "fipy_block", "IMPLICIT_COST"]
 
@@ -156,20 +157,15 @@ class _FipyStepper:
     def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
         """m theta-scheme steps of dt (the first ``start`` backward Euler); source of ``arrivals``."""
         C, K, b = self.b.capacity, self.b.stiffness, self.b
-        out = np.empty((m, b.rows.shape[0]))
-        T = self.T
-        p_old = self._power(self.t, arrivals)
-        for i in range(m):
-            th = 1.0 if i < start else theta
+
+        def step(T, dt, th, p_old, p_new):
             key = (float(dt), th)
             if key not in self.cache:
                 self.cache[key] = splu((diags(C / dt) + th * K).tocsc())
-            p_new = self._power(self.t + dt, arrivals)
-            T = self.cache[key].solve(C / dt * T - (1.0 - th) * (K @ T) + th * p_new + (1.0 - th) * p_old)
             self.solves += 1
-            p_old = p_new
-            self.t += dt
-            out[i] = np.sum(T[b.rows] * b.weights, axis=1)
-        self.T = T
-        self.times.append(self.t - dt * np.arange(m - 1, -1, -1))
+            return self.cache[key].solve(C / dt * T - (1.0 - th) * (K @ T) + th * p_new + (1.0 - th) * p_old)
+        self.T, self.t, out, times = theta_steps(self.T, self.t, dt, m, lambda t: self._power(t, arrivals), step,
+                                                 lambda T: np.sum(T[b.rows] * b.weights, axis=1), b.rows.shape[0],
+                                                 theta, start)
+        self.times.append(times)
         self.rows.append(out)

@@ -22,7 +22,7 @@ import numpy as np
 from ..references.transient import shifted_sum
 
 __all__ = ["heating_scheme", "cooling_ladder", "schedule_factor", "section_history", "superposed_history",
-           "body_histories"]
+           "body_histories", "theta_steps"]
 
 
 def schedule_factor(tr):
@@ -66,6 +66,27 @@ def heating_scheme(requested: str, dt_stab: float, dt_source: float,
     if requested == "explicit" or (requested == "auto" and per_exp <= per_imp):
         return "explicit", dt_exp, ("asked: " if requested == "explicit" else "cheaper: ") + costs
     return "implicit", dt_source, ("asked: " if requested == "implicit" else "cheaper: ") + costs
+
+
+def theta_steps(T, t0: float, dt: float, m: int, power, step, sample, width: int, theta: float = 0.5,
+                start: int = 0):
+    """``m`` theta-scheme steps of ``dt`` [s] from time ``t0`` [s], the first ``start`` backward Euler: the
+    loop of every stepper's ``implicit_steps``, the discretisation its own.
+
+    ``power(t)``: the nodal heat input at time t; ``step(T, dt, theta, p_old, p_new)``: the new state;
+    ``sample(T)``: the ``width`` values recorded after each step. Returns (T, time reached [s], the recorded
+    rows (m, width), their times [s])."""
+    out = np.empty((m, width))
+    t = t0
+    p_old = power(t)
+    for i in range(m):
+        t1 = t + dt
+        p_new = power(t1)
+        T = step(T, dt, 1.0 if i < start else theta, p_old, p_new)
+        p_old = p_new
+        t = t1
+        out[i] = sample(T)
+    return T, t, out, t - dt * np.arange(m - 1, -1, -1)
 
 
 # one driver for the pass windows (explicit or implicit, by cost) and the cooling between them (explicit or
