@@ -225,7 +225,8 @@ def test_steady_is_the_transient_limit():
 def _scene(**kw):
     base = dict(name="seed", speed=1.0, heat_partition=0.0, wheel=RAIL, rail=RAIL, contact_shape="ellipse",
                 heat_source=SimpleNamespace(flux=Q, shape="uniform", semi_axes=(R, R), half_width=None),
-                semi_axes=(R, R), tangential="given", numerics={}, convection=0.0, mode="steady",
+                semi_axes=(R, R), tangential="given", numerics={}, convection=0.0, mode="steady", field=None,
+                sliding_speed=None,
                 outputs=("max_surface_temperature", "temperature"))
     base.update(kw)
     return SimpleNamespace(**base)

@@ -57,7 +57,7 @@ def _cell_average_hertz_2d(g, n=8):
 
 def _scene(v, **kw):
     ns = dict(name="ref", contact_shape="ellipse", heat_source=None, tangential="full-sliding", speed=v,
-              convection=0.0, wheel=STEEL, rail=STEEL, mode="steady", outputs=(), body=lambda i: STEEL)
+              sliding_speed=None, field=None, convection=0.0, wheel=STEEL, rail=STEEL, mode="steady", outputs=(), body=lambda i: STEEL)
     ns.update(kw)
     return SimpleNamespace(**ns)
 

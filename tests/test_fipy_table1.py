@@ -55,7 +55,8 @@ def _direct(case, level=LEVEL):
     src = HeatSource(grid=g, power_density=q, heat_partition=EK["heat_partition"], body_speed=(v0 + vs, v0),
                      frictional_power=c["friction"] * vs * N)
     scene = SimpleNamespace(name=case, contact_shape="ellipse", heat_source=None, tangential="full-sliding",
-                            speed=v0, convection=0.0, wheel=STEEL, rail=STEEL, mode="steady",
+                            speed=v0, sliding_speed=None, field=None, convection=0.0, wheel=STEEL, rail=STEEL,
+                            mode="steady",
                             outputs=("max_surface_temperature", "mean_contact_temperature"),
                             body=lambda i: STEEL)
     assert abs(g.integrate(q) / (c["friction"] * vs * N) - 1) < 2e-3      # 30 kW on the grid
