@@ -129,8 +129,9 @@ def save(fig, path: Path) -> tuple[Path, int]:
     if blob is not None:
         try:
             job = _RENDER[0].submit(_render, blob, str(path))
-        except RuntimeError:  # the pool broke (BrokenProcessPool is a RuntimeError): written here
-            job = None
+        except (RuntimeError, OSError):  # the pool broke: written here. BrokenProcessPool is a RuntimeError;
+            job = None                   # a submit that respawns a killed worker before the pool knows it is
+                                         # broken fails on its closed queue with OSError ("handle is closed")
     if job is None:
         fig.savefig(path, **PNG_OPTIONS)
     else:
