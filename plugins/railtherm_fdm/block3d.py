@@ -172,6 +172,8 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     if fused:
         import numba
         split = 4 * numba.get_num_threads()        # chunks of the active planes per call
+        # one thread (a study's worker): the serial build, the same chunks (hence the same sums)
+        two_steps = K.explicit_two_steps if numba.get_num_threads() > 1 else K.explicit_two_steps_serial
         acc = np.zeros((((nx - 2) + 3) // 4, 6))
     r = kappa * dt / d ** 2
     if scheme == "implicit":
@@ -192,7 +194,7 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
             front = max(front, source.reach(1))
             stop = min(nx - 1, front + 1)
             chunk = max(4, -(-(stop - 1) // split))
-            K.explicit_two_steps(T, Tn, r, src, hls, src2, hls2, Ayz, Axy_b, cap_top, chunk, acc, stop)
+            two_steps(T, Tn, r, src, hls, src2, hls2, Ayz, Axy_b, cap_top, chunk, acc, stop)
             tot = acc.sum(axis=0)         # losses at levels n+1 and n (the kernel sums both)
             ledger.fixed_faces += ledger.g * (tot[3] + tot[4]) + ledger.g * (tot[0] + tot[1])
             ledger.convection += (tot[5] + tot[2]) if h > 0 else 0.0

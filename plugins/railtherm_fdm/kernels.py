@@ -31,8 +31,8 @@ import numba
 import numpy as np
 from numba import prange
 
-__all__ = ["explicit_step", "explicit_step_serial", "explicit_two_steps", "explicit_step_2d", "stencil_matvec",
-           "stencil_matvec_serial", "zline_factor", "sgs_zline", "vdot", "vaxpy", "step_kernel", "matvec_kernel",
+__all__ = ["explicit_step", "explicit_step_serial", "explicit_two_steps", "explicit_two_steps_serial",
+           "explicit_step_2d", "stencil_matvec", "stencil_matvec_serial", "zline_factor", "sgs_zline", "vdot", "vaxpy", "step_kernel", "matvec_kernel",
            "PARALLEL_MIN_NODES", "compile_twice"]
 
 
@@ -135,9 +135,11 @@ explicit_step, explicit_step_serial = compile_twice(_explicit_step, cache=True, 
                                                    boundscheck=False)
 
 
-@numba.njit(parallel=True, cache=True, fastmath=True, boundscheck=False)
-def explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chunk, acc, stop):  # pragma: no cover
+def _explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chunk, acc, stop):  # pragma: no cover
     """Two explicit-Euler steps in one pass over memory (temporal blocking), parallel over x-chunks.
+
+    Compiled twice (:func:`compile_twice`): :func:`explicit_two_steps` (parallel over the chunks) and
+    :func:`explicit_two_steps_serial` (for one thread: the parallel build takes about 7 s to compile).
 
     Equivalent to ``explicit_step(T, Tm, r, src1, hloss1); explicit_step(Tm, T2, r, src2, hloss2)``
     without storing the intermediate level Tm: each chunk of ``chunk`` planes keeps three intermediate
@@ -204,6 +206,10 @@ def explicit_two_steps(T, T2, r, src1, hloss1, src2, hloss2, wyz, wy, wtop2, chu
             q = p - 1
             if q >= i0 and q < i1:
                 plane_step(buf[(q + 1) % 3], buf[q % 3], buf[(q - 1) % 3], T2[q], r, src2[q], hloss2[q])
+
+
+explicit_two_steps, explicit_two_steps_serial = compile_twice(_explicit_two_steps, cache=True, fastmath=True,
+                                                           boundscheck=False)
 
 
 @numba.njit(cache=True, fastmath=True, boundscheck=False, inline="always")
