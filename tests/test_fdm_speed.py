@@ -55,9 +55,11 @@ def test_fused_kernel_skips_only_planes_without_heat(monkeypatch, h):
     def full(*args):
         fused(*args[:-1], args[0].shape[0] - 1)
 
-    monkeypatch.setattr(K, "explicit_two_steps", record)
+    for build in ("explicit_two_steps", "explicit_two_steps_serial"):   # the one this process's threads pick
+        monkeypatch.setattr(K, build, record)
     skipped = _run(R / 4, h=h)
-    monkeypatch.setattr(K, "explicit_two_steps", full)
+    for build in ("explicit_two_steps", "explicit_two_steps_serial"):
+        monkeypatch.setattr(K, build, full)
     every = _run(R / 4, h=h)
     assert skipped.diagnostics["fused_steps"]
     assert stops[0][0] < stops[0][1] and sum(stop < end for stop, end in stops) >= 3
@@ -153,3 +155,19 @@ def test_transient_trail_depth_changes_the_trace_by_less_than_1e_6():
     k = short.z.size
     assert np.array_equal(short.z, ref.z[:k])
     assert np.max(np.abs(short.depth - ref.depth[:, :k])) < 1e-6 * ref.depth.max()
+
+
+def test_serial_build_of_the_fused_kernel_equals_the_parallel_one():
+    """explicit_two_steps_serial (what a one-thread process runs) gives the parallel build's planes and
+    loss sums for the same chunks."""
+    rng = np.random.default_rng(1)
+    n = 18
+    T = rng.random((n, n, n))
+    T[0] = T[-1] = 0.0
+    z, ones = np.zeros((n, n)), np.ones(n)
+    out = []
+    for fn in (K.explicit_two_steps, K.explicit_two_steps_serial):
+        T2, acc = np.zeros_like(T), np.zeros((4, 6))
+        fn(T.copy(), T2, 1 / 6, z + 0.01, z + 1e-3, z + 0.02, z + 1e-3, np.ones((n, n)), ones, ones, 4, acc, n - 1)
+        out.append((T2, acc))
+    assert out[0][0].tobytes() == out[1][0].tobytes() and out[0][1].tobytes() == out[1][1].tobytes()
