@@ -1,42 +1,18 @@
 """Green's transient: Duhamel superposition in time of the 1-D strip solution at a fixed material point.
 
-The material point at the fixed section, on the centre strip y = 0, at depth z, lies under the contact
-while its position relative to the contact, x = x_lead - V (t - t_k), crosses the patch (pass k arrives,
-leading edge first, at t_k = k interval). In green's model each strip is a 1-D half-space heated only
-through its surface (no conduction along x or y), so the point's history is the 1-D Duhamel integral of
-the flux it meets (Carslaw & Jaeger 1959, 2.9):
+The point at the fixed section, on the centre strip y = 0, at depth z, lies under the contact while
+x = x_lead - V (t - t_k) crosses the patch (pass k arrives at t_k = k interval). Each strip is a 1-D
+half-space heated only through its surface, so the history is the 1-D Duhamel integral (Carslaw & Jaeger
+1959, 2.9): ``T(z, t) = 1/(beta sqrt(pi)) int f(t') q(t') exp(-z^2/(4 kappa (t - t'))) dt' / sqrt(t - t')``,
+beta = sqrt(lambda rho c), q the strip's flux (piecewise constant per cell), f the piecewise-linear schedule;
+each interval is integrated exactly (:func:`_f_g`). Neglected: conduction along x and across strips. The
+problem is linear, so one pass's response serves every pass (:func:`shifted_sum`); a temperature-dependent
+flux would break this, and green refuses such scenes (:func:`railtherm_green.history.limits`). Derivation and
+the superposition scheme: docs/NOTES.md, "Green's transient".
 
-``T(z, t) = 1/(beta sqrt(pi)) int f(t') q(t') exp(-z^2/(4 kappa (t - t'))) dt' / sqrt(t - t')``,
-
-beta = sqrt(lambda rho c) the effusivity, q(t') the strip's flux at the point's position (piecewise
-constant per cell of green's grid, as in the steady kernel), f the heat-input schedule (piecewise
-linear). Each (cell, schedule piece) interval is integrated exactly: with s = t - t', c = z^2/(4 kappa),
-
-``F(s) = int_0^s exp(-c/u) du/sqrt(u) = 2 sqrt(s) exp(-c/s) - 2 sqrt(pi c) erfc(sqrt(c/s))``,
-``G(s) = int_0^s sqrt(u) exp(-c/u) du = (2/3) (s^(3/2) exp(-c/s) - c F(s))``,
-
-and a factor f_p + m (t' - p) on [p, r] contributes ``(f_p + m (t - p)) [F] - m [G]`` between
-s = t - min(r, t) and t - p. The 1-D Green function is exact in time; what the model neglects is
-conduction along x (in the patch and, between passes, along the rail) and across the strips (y): the
-heat a 3-D contact's centre strip loses sideways while it cools between passes.
-
-Superposition: the problem is linear, so one pass's response at a constant factor serves every pass
-(:func:`shifted_sum`: evaluated once per distinct (phase, pass index) and summed by cumulative sums; a
-pass whose heating lies in a constant piece of the schedule is that factor times the unit response, the
-passes convolved with their factors, by FFT above 64 passes); only a pass whose heating meets a kink of
-the schedule is integrated with it. One pass's response is cheap: summation by parts makes it a sum over
-cell edges, and on green's own axis (times on the lattice of half cell-crossing times of a uniform grid)
-that sum is one discrete convolution of the edge weights with F on the lattice; the long cooling tail past
-4 contact durations is a checked Chebyshev interpolant in log(time). Where the flux itself depends on
-temperature (a temperature-dependent friction law) the passes are no longer independent and this
-superposition does not hold: the coupled loop would have to run pass by pass (green refuses such scenes,
-:func:`railtherm_green.history.limits`).
-
-References
-----------
-.. [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
-   temperatures in wheel/rail contact, Wear 253 (2002) 498-508 (DOI not verified, see docs/references.md)
-.. [2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, section 2.9.
+References: [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
+temperatures in wheel/rail contact, Wear 253 (2002) 498-508 (DOI not verified, see docs/references.md).
+[2] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, section 2.9.
 """
 from __future__ import annotations
 

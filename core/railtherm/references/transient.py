@@ -3,18 +3,14 @@
 The same source (:class:`MovingSource`: band or ellipse, uniform or Hertz flux) passes the fixed
 section ``count`` times, ``interval`` apart, with a heat-input schedule in the history's time
 (:class:`Schedule`). The problem is linear: the history is the sum of the passes' responses
-(:func:`~railtherm.references.transient_pass.pass_response`, whose module docstring derives the exact
-fixed-frame integrals). The response to the schedule's first value (held since t = -inf) is the same
-curve for every pass, summed by :func:`shifted_sum` with (offsets) x (passes) evaluations; the
-schedule's departure from it is integrated pass by pass. :func:`pass_summary` gives per-pass peaks and
-residual rises, :func:`time_above` the time each pass spends above a rise.
+(:func:`~railtherm.references.transient_pass.pass_response`; derivation in docs/NOTES.md, "Exact pass
+response"). The response to the schedule's first value (held since t = -inf) is the same curve for
+every pass, summed by :func:`shifted_sum`; the schedule's departure from it is integrated pass by pass.
+:func:`pass_summary` gives per-pass peaks and residual rises, :func:`time_above` the time above a rise.
 
-References
-----------
-.. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, sections 10.2,
-   10.3 and 10.7. ISBN 978-0198533689
-.. [2] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy. Soc.
-   New South Wales 76 (1942) 203-224.
+References: [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959,
+sections 10.2, 10.3 and 10.7. ISBN 978-0198533689. [2] J.C. Jaeger, Moving sources of heat and the
+temperature at sliding contacts, J. Proc. Roy. Soc. New South Wales 76 (1942) 203-224.
 """
 from __future__ import annotations
 

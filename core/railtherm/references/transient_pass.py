@@ -1,57 +1,18 @@
 """One pass of a moving surface source over a fixed material point of a half-space: exact fixed-frame rise.
 
-A surface heat source (a 2-D band |x - x_c| <= a, or a 3-D ellipse ((x - x_c)/a)^2 + (y/b)^2 <= 1) moves
-with speed V in +x over the half-space z >= 0 (conductivity lambda, diffusivity kappa, rho c =
-lambda/kappa; the free surface is insulated outside the source). The observed material point sits at
-the fixed section x = 0, on the centre line y = 0, at depth z. The source's leading edge reaches the
-section at time 0 (centre x_c(t) = V t - a), so the point lies under the source for 0 <= t <= D,
-``D = 2 a / V`` (the contact duration). The flux is ``f(t) q(x - x_c, y)``: a shape q (uniform, or
-Hertzian ``q0 sqrt(1 - ((x - x_c)/a)^2 [- (y/b)^2]``) times a heat-input schedule f(t) (piecewise
-linear, constant end values outside the given times). The source exists for all times (it comes from
-far upstream and goes far downstream); a schedule that is 0 at both ends gives a finite heat input.
+A band or ellipse source (:class:`MovingSource`, uniform or Hertz flux) moves with speed V over the insulated
+half-space; the point sits at depth z under the centre line of the fixed section x = 0 and lies under the source
+for 0 <= t <= D = 2 a / V. The flux is a shape times a piecewise-linear heat-input schedule (:class:`Schedule`).
+:func:`pass_response` gives the rise as the fixed-frame integral of instantaneous surface sources (Carslaw &
+Jaeger 1959, 10.2-10.3), inner integrals in closed form (erf, Bessel I0e + I1e) or Gauss-Legendre, the time
+integral in u = sqrt(tau) by hp-quadrature (:mod:`._quadrature`). The schedule's first value gives the steady
+moving field swept past the point (:mod:`.jaeger`, :mod:`.moving_source`); only its departure is integrated in
+time. The derivation is in docs/NOTES.md, "Exact pass response".
 
-Passes (:mod:`.transient`) shift this response: pass k arrives at k interval, the schedule staying in
-the time of the whole history (``arrival``).
-
-Fixed-frame integral (Carslaw & Jaeger 1959, 10.2-10.3: instantaneous line and point sources on the
-insulated surface, doubled by the image), with tau = t - t' and s = 2 sqrt(kappa tau):
-
-* band: ``T = 1/(rho c) int f(t') 2/(pi s^2) exp(-z^2/s^2) int q(x') exp(-(xi - x')^2/s^2) dx' dt'``,
-* ellipse: ``T = 1/(rho c) int f(t') 2/(pi^(3/2) s^3) exp(-z^2/s^2) int int q exp(-((xi - x')^2 + y'^2)/s^2)
-  dx' dy' dt'``,
-
-xi = a - V t' the point's position relative to the source centre at emission. Inner integrals:
-
-* uniform band: closed form, ``int = (s sqrt(pi)/2) [erf((xi + a)/s) - erf((xi - a)/s)]``;
-* uniform ellipse: the x' integral in closed form (erf) on each chord, the y' integral (a Gaussian
-  centred on the centre line, y' = b sin(psi)) by Gauss-Legendre over its window |y'| <= 6.5 s;
-* Hertz ellipse: the y' integral in closed form,
-  ``int_{-c}^{c} sqrt(c^2 - y^2) exp(-y^2/s^2) dy = (pi c^2/2) [I0e(w) + I1e(w)]``, w = c^2/(2 s^2)
-  (y = c sin(theta), then 2 theta = phi and I_n(w) = (1/pi) int_0^pi exp(w cos phi) cos(n phi) dphi,
-  Abramowitz & Stegun 9.6.19), the x' integral (x' = -a cos(phi)) by Gauss-Legendre over the window
-  |x' - xi| <= 6.5 s; the Hertz band likewise. The Gaussian's tail beyond 6.5 s is e^-42.
-
-The outer time integral uses u = sqrt(tau) (removes the tau^(-1/2) singularity of the surface point
-under the source: the integrand becomes bounded), split at the pass's edges (t' = 0, D), the
-schedule's times and the depth layer tau = z^2/(4 kappa), each piece by a composite Gauss-Legendre rule
-geometrically graded toward both ends (hp-quadrature, :mod:`._quadrature`), which resolves the boundary
-layers of any width at the edges; the error decays exponentially with the points per panel (see
-tests/test_references_transient.py). Emission times so far upstream that exp(-d^2/(4 kappa tau)) <
-e^-45 (d the distance to the source's leading edge) are left out.
-
-A constant factor (the schedule's first value, which holds from t = -inf) gives the steady moving
-field swept past the point, ``T(t) = T_steady(a - V t, 0, z)``, evaluated by the steady references
-(:mod:`.jaeger`, :mod:`.moving_source`); only the schedule's departure from it, ``f - f(-inf)``, is
-integrated in time. ``via_time_integral=True`` integrates everything in time (the check of the two
-routes against each other is a test).
-
-References
-----------
-.. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, sections 10.2,
-   10.3 and 10.7. ISBN 978-0198533689
-.. [2] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts, J. Proc. Roy. Soc.
-   New South Wales 76 (1942) 203-224.
-.. [3] M. Abramowitz, I.A. Stegun, Handbook of Mathematical Functions, NBS, 1964, 9.6.19 and 9.7.1.
+References: [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, 10.2, 10.3 and
+10.7, ISBN 978-0198533689. [2] J.C. Jaeger, Moving sources of heat and the temperature at sliding contacts,
+J. Proc. Roy. Soc. New South Wales 76 (1942) 203-224. [3] M. Abramowitz, I.A. Stegun, Handbook of Mathematical
+Functions, NBS, 1964, 9.6.19 and 9.7.1.
 """
 
 from __future__ import annotations
