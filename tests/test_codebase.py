@@ -87,11 +87,6 @@ LONG_MODULE_DOCSTRINGS_TO_TRIM = frozenset({
     "plugins/railtherm_fdm/history.py",
     "plugins/railtherm_fdm/kernels.py",
     "plugins/railtherm_fdm/model.py",
-    "plugins/railtherm_fipy/mesh.py",
-    "plugins/railtherm_fipy/model.py",
-    "plugins/railtherm_fipy/solvers.py",
-    "plugins/railtherm_fipy/steady.py",
-    "plugins/railtherm_fipy/transient.py",
 })
 
 

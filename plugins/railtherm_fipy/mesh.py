@@ -1,26 +1,13 @@
 """Graded finite-volume meshes for the moving-frame heat conduction problem.
 
-Everything here is derived from the scene's scales (:func:`railtherm.physics.thermal_scales`), not
-from hand-tuned lengths:
-
-* Péclet number ``Pe = V a / (2 kappa)`` [1];
-* thermal layer under the patch ``delta = a / sqrt(Pe) = sqrt(2 kappa a / V)`` [m] (seed eq. 24);
-* thermal wake length ``ell = 2 kappa / V = a / Pe`` [m]: ahead of the patch the temperature decays
-  like ``exp(-2 s / ell)`` and a perturbation at the outflow reaches back only ``~ ell``.
-
-Mesh along the rolling direction: the surface grid's cells on ``[-a, a]`` (subdivided ``refine``
-times), then cells growing geometrically away from the patch up to ``margin = max(4 ell, a/4)``
-on both sides (inflow at ``x = a + margin``, outflow at ``x = -a - margin``).
-
-Mesh in depth: first cell ``min(delta, a) / layer_cells`` at level 0, geometric growth to the depth
-``D = 3 * 2 sqrt(kappa L_x / V)`` (three diffusion lengths of the residence time over the domain
-length ``L_x``: ``erfc(3) = 2e-5``; at low Péclet number this is about ``12 ell``).
-
-Lateral mesh (3-D): the grid's cells on ``[-b, b]``, then geometric growth to ``b + max(5 ell, b/4)``.
-
-Refinement: level ``k`` subdivides every level-0 cell into ``2**k`` cells along the same smooth
-geometric map (the growth ratio becomes ``ratio**(1/2**k)``), so meshes are nested and every cell
-size halves per level -- what the convergence-rate fits assume (:func:`railtherm.physics.geometric_edges`).
+Everything is derived from the scene's scales (:func:`railtherm.physics.thermal_scales`), not from
+hand-tuned lengths: Péclet number ``Pe = V a / (2 kappa)`` [1]; thermal layer ``delta = a / sqrt(Pe)``
+(seed eq. 24); thermal wake length ``ell = 2 kappa / V = a / Pe`` (ahead of the patch the temperature
+decays like ``exp(-2 s / ell)``). The surface grid's cells cover the patch; cells grow geometrically to a
+margin of a few ``ell`` along x and across, and in depth from ``min(delta, a) / layer_cells`` to three
+diffusion lengths of the residence time. Level ``k`` subdivides every level-0 cell into ``2**k`` along the
+same geometric map, so meshes are nested and every cell size halves per level -- what the convergence-rate
+fits assume (:func:`railtherm.physics.geometric_edges`). Lengths: docs/NOTES.md, "FiPy meshes".
 """
 from __future__ import annotations
 

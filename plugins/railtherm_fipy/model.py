@@ -1,57 +1,17 @@
 """Temperature stage model "fipy": finite-volume heat conduction with FiPy.
 
-Steady mode: each body (wheel at ``v_wheel``, rail at ``v_rail``) is solved in the frame moving with
-the contact (:mod:`railtherm_fipy.steady`) on a mesh graded from the scene's scales
-(:mod:`railtherm_fipy.mesh`):
-
-* line contact: one 2-D (x-z) problem per body;
-* ellipse, ``dimension = 2`` ("strips"): every row ``y_j`` of the surface grid is solved as an
-  independent 2-D x-z problem with that row's flux. This neglects lateral conduction, valid when the
-  thermal layer ``delta = a/sqrt(Pe)`` is thin compared with the lateral extent b of the patch; the
-  model refuses it when ``delta / b > max_strip_delta`` (default 0.02). Measured against the exact
-  moving Hertz source on a circle (tests/test_fipy_references.py): the strip error levels off at
-  1.2 % of the peak for delta/b = 0.032 (Pe 1e3) and stays below the discretisation error (< 0.8 %)
-  for delta/b <= 0.01 (Pe >= 1e4); Ertz & Knothe's case has delta/b = 0.007;
-* ellipse, ``dimension = 3``: one 3-D (x-y-z) problem per body (half the width when the source is
-  symmetric in y), LU up to 20 000 cells, else GMRES + ILU; refused when the mesh would exceed
-  ``max_cells`` (default 400 000: about 20-30 s on the development machine);
-* ``dimension = "auto"``: line -> 2-D; ellipse -> strips where valid, else 3-D if it fits in
-  ``max_cells``, else refused with both reasons.
-
-Budgets (refused before any mesh is solved, ``Refused(kind="budget")``): the cell caps ``max_cells`` /
-``max_cells_low_peclet`` and an estimated wall time ``max_seconds`` (default 60 s): for the 3-D solves
-cells x expected GMRES iterations x a calibrated cost (:func:`estimate_seconds_3d`, measurements in
-the comment above it), for a fixed-step transient the number of steps x 4e-5 s
-(:data:`railtherm_fipy.transient.SECONDS_PER_STEP`).
-
-Transient mode (``scene.mode = "transient"``): the heating of the wheel over many revolutions,
-:mod:`railtherm_fipy.transient` (radial FiPy conduction in the wheel with the revolution-averaged
-tread balance), on top of the steady flash field. In steady mode the long-term values
-``steady_wheel_temperature`` / ``steady_mean_contact_temperature`` are the lumped balance the
-transient converges to.
-
-Accuracy (tests/test_fipy_references.py, Hertz flux, max-norm error over the patch / peak): 2-D
-against Jaeger's band 0.014 % (Pe 0.1, level 3), 0.05 % (Pe 10), 0.6 % (Pe 1e3, 1e4, level 4 = 128
-cells along 2a); 3-D against the moving surface source 0.5 % (Pe 0.1, level 1), 0.8 % (Pe 10) and
-2.4 % (Pe 1e3, 1e4) at level 2. Along the flow the scheme is first order wherever the cell Péclet
-number exceeds ~2 (upwinding): that, not the depth grading, limits the accuracy at high Pe.
-
-Behind the patch and in depth (scene key ``field``; ``Capabilities(field=True)``): the model
-reports on core's extended grid (:func:`railtherm.physics.field_grid`: whole patch cells added until
-``-a - field.behind``); the flux is zero there (convection ``h`` acts on it as on any free surface).
-The mesh's uniform cells run from the extended grid's first edge to ``+a``, the outflow grading starts
-behind them, and the mesh depth grows with the domain length (three diffusion lengths of the residence
-time) and reaches at least ``field.depth``; ``temperature(body, x, z)`` is given on the cell centres
-above ``field.depth`` and at ``field.depth`` itself (linear between the two centres around it). The
-thermal trace is :func:`railtherm.physics.with_thermal_trace` of that depth field. Budgets: a 3-D mesh
-with the trail is counted against ``max_cells`` / ``max_seconds`` (refused, kind "budget", naming the
-trail), a 2-D mesh (per body or per strip) against ``max_cells``. Measured against the exact
-references at Péclet 1000 (tests/test_fipy_field.py): Jaeger's band, peak temperature at depth to
-3.2e-3 of the rise at level 3 (first order, fitted 0.85), depth field behind the patch 6.6e-3; the 3-D
-circle, peak 1.2e-2 at level 1. Cost (benchmarks/test_fipy_field_benchmark.py): 10x the patch-only run
-for the band with behind = 30a, 5x for the circle with 16a. Without ``field`` nothing changes.
-
-Temperatures returned are absolute: the rise plus the body's ``bulk_temperature``.
+Steady mode: each body (wheel at ``v_wheel``, rail at ``v_rail``) is solved in the frame moving with the
+contact (:mod:`railtherm_fipy.steady`) on a mesh graded from the scene's scales (:mod:`railtherm_fipy.mesh`):
+a line contact as one 2-D (x-z) problem per body; an ellipse as 2-D "strips" (``dimension = 2``, one x-z
+problem per row, valid while the thermal layer ``delta = a/sqrt(Pe)`` is thin against b, refused when
+``delta / b > max_strip_delta``) or one 3-D problem (``dimension = 3``); ``"auto"`` picks strips where valid,
+else 3-D within ``max_cells``. Budgets (cells, estimated seconds, :func:`estimate_seconds_3d`) refuse a
+scene before any solve. Transient mode: :mod:`railtherm_fipy.transient` (wheel heating over revolutions).
+Behind the patch and in depth (scene key ``field``): core's extended grid
+(:func:`railtherm.physics.field_grid`) and :func:`railtherm.physics.with_thermal_trace`. The scheme is first
+order along the flow wherever the cell Péclet number exceeds ~2 (upwinding), which limits accuracy at high Pe.
+Measured accuracy, costs and details: docs/NOTES.md, "FiPy model". Temperatures returned are absolute: the
+rise plus the body's ``bulk_temperature``.
 """
 from __future__ import annotations
 

@@ -1,21 +1,12 @@
 """Import FiPy safely and solve its linear systems with a checked SciPy solver.
 
-FiPy chooses its solver suite once, at import, from command-line flags in ``sys.argv``
-(``--petsc``, ``--scipy``, ``--trilinos``, ``--pyamgx``; it also scans ``sys.argv`` for ``--inline``,
-``--cache`` ...) and then from the environment variable ``FIPY_SOLVERS``. railtherm's own command line
-(``railtherm run study.toml --out x``) must not be read by FiPy, so :func:`import_fipy` sets
-``FIPY_SOLVERS=scipy`` and hides ``sys.argv`` while FiPy is imported (PETSc and Trilinos have no
-wheels on PyPI; the SciPy suite is the one this plugin is tested with).
-
-Linear solves go through :func:`solve_checked`, which runs FiPy's ``eq.solve`` with one of two
-solvers and turns a non-converged or non-finite solve into :class:`railtherm.SolverError`:
-
-* 2-D: :class:`LU` -- FiPy's SciPy ``LinearLUSolver`` with the minimum-degree ordering of
-  ``A^T + A`` (``MMD_AT_PLUS_A``), which fills the factor of a structured 2-D finite-volume matrix
-  about 40 % less than FiPy's default COLAMD (0.22 s instead of 0.34 s at 80 000 cells on the
-  development machine); the residual check and iterative refinement of FiPy are kept.
-* 3-D: FiPy's ``LinearGMRESSolver`` (restart 50) with an incomplete-LU preconditioner in
-  minimum-degree ordering (:func:`_ilu_class`); LU for small 3-D meshes.
+FiPy chooses its solver suite at import from flags in ``sys.argv`` and from ``FIPY_SOLVERS``; railtherm's
+own command line must not be read by FiPy, so :func:`import_fipy` sets ``FIPY_SOLVERS=scipy`` and hides
+``sys.argv`` during the import (the SciPy suite is the one this plugin is tested with). Linear solves go
+through :func:`solve_checked`, which turns a non-converged or non-finite solve into
+:class:`railtherm.SolverError`: in 2-D an LU (:func:`_lu_class`) with the minimum-degree ordering of
+``A^T + A`` (less fill than FiPy's default COLAMD), in 3-D GMRES (restart 50) with an incomplete-LU
+preconditioner (:func:`_ilu_class`), LU for small 3-D meshes. Details: docs/NOTES.md, "FiPy solvers".
 """
 from __future__ import annotations
 

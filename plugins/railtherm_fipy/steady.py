@@ -1,25 +1,16 @@
 """Steady heat conduction in the frame moving with the contact, solved with FiPy.
 
-In the frame of the contact the body's material flows with velocity ``u = (-V, 0, 0)`` (it enters
-the patch at the leading edge ``x = +a``). The temperature rise ``T`` above the bulk temperature
-obeys the steady convection-diffusion equation
+In the frame of the contact the material flows with velocity ``u = (-V, 0, 0)`` (entering at ``x = +a``).
+The rise ``T`` above the bulk temperature obeys
 
     kappa laplace(T) - div(u T) = 0                                     (1)
 
-with, on the surface z = 0: the frictional heat flux ``-lambda dT/dz = q`` on the patch and
-convection ``-lambda dT/dz = -h T`` outside it; at the inflow ``x = a + margin``: ``T = 0`` (bulk);
-at the outflow: zero gradient (``T.faceGrad.constrain(0)``: without it FiPy's outflow acts as a
-wall); on the lateral and deep boundaries: no flux (insulated, so the outflow carries the heat put in,
-which :meth:`MovingFrameSolver.solve` reports as ``energy_balance``). The flux enters as the source
-``div(mask q/(rho c) n)`` on the surface faces (FiPy's recipe for a Neumann flux); convection as an
-implicit source on the surface cells.
-
-FiPy's sign convention (checked against its ``exponential1D`` example in the tests): the equation
-``DiffusionTerm(kappa) - ConvectionTerm(u) == 0`` is (1).
-
-The surface temperature is the face value of the finite-volume solution: ``T_s = T_P + q dz_1 / (2
-lambda)`` on the patch (the discrete flux condition) and ``T_s = T_P / (1 + h dz_1 / (2 lambda))``
-outside it.
+with the frictional flux on the patch, convection ``h`` outside it, ``T = 0`` at the inflow, zero
+gradient at the outflow and insulated lateral and deep boundaries (so the outflow carries the heat put in,
+which :meth:`MovingFrameSolver.solve` reports as ``energy_balance``). FiPy's sign convention (checked
+against its ``exponential1D`` example in the tests): ``DiffusionTerm(kappa) - ConvectionTerm(u) == 0`` is
+(1). The surface temperature is the face value of the finite-volume solution. Boundary terms and face
+values: docs/NOTES.md, "FiPy steady solve".
 """
 from __future__ import annotations
 

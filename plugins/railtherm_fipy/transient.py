@@ -1,40 +1,16 @@
 """Transient heating of the wheel over many revolutions (FiPy, implicit Euler in time).
 
-Scales: one contact lasts ``2a / V`` (0.4 ms at 30 m/s) and heats a layer ``delta ~ 75 um``; one
-revolution takes ``2 pi R / V`` (0.1 s); the wheel warms up over minutes to hours (seed §5.3:
-"30-120 min"). Resolving every passage over thousands of revolutions is neither possible nor needed:
-after one revolution the flash layer has diffused into the rim (``sqrt(kappa 2 pi R / V) ~ 1 mm``),
-so on the time scale of the warm-up the tread sees the revolution-averaged heat balance of seed
-§5.1-5.3:
-
-* frictional heat into the wheel ``eps P`` [W] (``eps`` the source's partition);
-* conduction from the warm wheel into the cold rail (seed eqs. 40-43): two half-spaces at
-  ``T_s`` and 0 brought into contact take the interface temperature ``eps_c T_s`` with the Blok
-  fraction ``eps_c = beta_w sqrt(v_w) / (beta_w sqrt(v_w) + beta_r sqrt(v_r))`` (eq. 41), and the
-  rail takes ``G_cond T_s`` with, per strip of half-length ``a_y``,
-  ``eps_c beta_r sqrt(8 a_y v_r / pi)`` per unit width (eq. 43); integrated over the ellipse's strips
-  ``a_y = a sqrt(1 - y^2/b^2)``: ``G_cond = eps_c beta_r sqrt(8 a v_r / pi) b B(1/2, 5/4)`` [W/K]
-  (per unit width of a line contact: ``eps_c beta_r sqrt(8 a v_r / pi)`` [W/(m K)]);
-* convection ``alpha A_c T_s`` through the lumped wheel's convective area A_c (seed eqs. 45-48), the
-  one documented choice of :func:`railtherm.physics.convective_area` (the whole wheel as a disc,
-  ``2 pi R^2 + 2 pi R 2b``; per unit width ``2 pi R`` for a line contact).
-
-The wheel is a disc of the rolling radius R and of the width of the running band ``w = 2 b`` (1 m
-per unit width for a line contact), heated through its tread ``A = 2 pi R w``; FiPy solves the radial
-conduction ``rho c dT/dt = (1/r) d/dr (lambda r dT/dr)`` on a ``CylindricalGrid1D`` graded towards
-the tread, with the tread flux ``(eps P - (G_cond + alpha A_c) T_s) / A`` (implicit in ``T_s``; the
-losses are lumped onto the tread). Its steady state is the uniform
-``T_inf = eps P / (G_cond + alpha A_c)`` -- :func:`railtherm.physics.lumped_wheel`, the same as the
-steady mode and the "green" method (seed eq. 52 in its 3-D form); the transient says how fast the
-tread and the bulk of the wheel get there.
-
-Reported (``TemperatureField``): ``steady_wheel_temperature`` = tread temperature at the end of the
-simulated time (+ bulk), ``steady_mean_contact_temperature`` = the cold-wheel mean flash
-temperature of the wheel + ``eps_c T_s`` (seed eq. 54, superposition), and the surface fields of
-the steady flash solve shifted by the same superposition (wheel and rail in the patch by
-``eps_c T_s``, the wheel outside it by ``T_s``). Time stepping: ``numerics.time_step`` if given,
-else steps growing from ``tau / 1e4`` (``tau`` the lumped time constant), see :func:`time_steps`;
-duration ``numerics.duration`` or ``numerics.revolutions * 2 pi R / v_w``, default ``8 tau``.
+One contact lasts ``2a / V`` (0.4 ms at 30 m/s); the wheel warms up over minutes to hours (seed §5.3). After
+one revolution the flash layer has diffused into the rim, so on the warm-up's time scale the tread sees the
+revolution-averaged heat balance of seed §5.1-5.3: frictional heat ``eps P`` in, conduction into the cold
+rail ``G_cond T_s`` (Blok fraction ``eps_c``, seed eqs. 40-43) and convection ``alpha A_c T_s``
+(:func:`railtherm.physics.convective_area`, seed eqs. 45-48) out. FiPy solves the radial conduction
+``rho c dT/dt = (1/r) d/dr (lambda r dT/dr)`` in a disc of the rolling radius and the running band's width,
+with that balance as tread flux; its steady state is :func:`railtherm.physics.lumped_wheel` (seed eq. 52).
+Reported: the tread temperature at the end and the steady flash fields shifted by superposition (seed
+eq. 54). Time steps: ``numerics.time_step`` if given, else growing from ``tau / 1e4`` (:func:`time_steps`);
+duration ``numerics.duration`` or ``numerics.revolutions`` turns, default ``8 tau``. Derivation of
+``G_cond`` and the reported fields: docs/NOTES.md, "FiPy transient".
 """
 from __future__ import annotations
 
