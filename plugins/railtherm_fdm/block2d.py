@@ -1,35 +1,15 @@
 """Finite differences for a line contact: the 2-D (x-z) rail block of seed section 6.3.
 
-A line contact has no lateral extent: the block is a half-plane section x-z, per unit width, with
-the same equations as :mod:`.block3d` without the y direction (the 3-D block
-with insulated lateral faces and a source uniform in y has exactly this solution; a dedicated 2-D
-solver is used because it is some hundred times cheaper):
-
-* ``d theta/dt = kappa (theta_xx + theta_zz)`` in the block                                   (56)
-* fixed far faces ``theta = 0`` (x = 0, x = L_x, z = L_z)                                    (58)
-* ``-lambda d theta/dz = q`` on the surface inside the patch, ``= -h theta`` outside        (59)-(60)
-
-Schemes (as for the 3-D block):
-
-``explicit``
-    Rail frame, the source moves over the top face; explicit Euler on a uniform node grid of
-    spacing d (dual-cell finite volumes, surface nodes on z = 0). Stable for
-    ``dt <= 1 / (4 kappa/d^2 + 2 h/(rho c d))`` (d^2/(4 kappa) without convection).
-``implicit``
-    Same grid and moving source, backward Euler (convection lagged), each step solved by the 3-D
-    block's conjugate gradients with the z-line Gauss-Seidel preconditioner (one lateral node).
-``steady``
-    Moving frame: ``-V d theta/dx = kappa (theta_xx + theta_zz)`` on a cell-centred grid graded
-    towards the surface and the patch, solved directly (sparse LU). Fluxes along x by default with
-    the second-order upwind face value (``x_scheme="upwind2"``: the BDF2 of the marching problem at
-    high Péclet number) plus central diffusion, or by the exponential (Allen-Southwell) scheme of
-    the 3-D block (first order at high cell Péclet number); central diffusion in z. Inflow
-    theta = 0, outflow zero diffusive flux, bottom theta = 0. Direct solves work at any Péclet
-    number (measured within 0.012 % of Jaeger at Pe 0.01 and 1e5, level 3).
-
-Layout, source loading, heat balance and the implicit solvers are the 3-D block's (:mod:`.layout`,
-:mod:`.source_loading`, :mod:`.energy`, :mod:`.linear_solvers`). Per unit width: energies in [J/m],
-powers in [W/m].
+A line contact has no lateral extent: the block is an x-z section per unit width with the equations of
+:mod:`.block3d` without y (the 3-D block with a source uniform in y has exactly this solution; the 2-D
+solver is some hundred times cheaper): ``d theta/dt = kappa (theta_xx + theta_zz)`` (56), ``theta = 0``
+on the far faces (58), ``-lambda d theta/dz = q`` on the patch and ``-h theta`` outside (59)-(60).
+Schemes as in 3-D: ``explicit`` (stable for ``dt <= d^2/(4 kappa)`` without convection), ``implicit``
+(backward Euler with the 3-D block's CG), ``steady`` (moving frame, graded grid, sparse LU; second-order
+upwind ``x_scheme="upwind2"`` or Allen-Southwell fluxes along x; any Péclet number). Details:
+docs/NOTES.md, "FDM 2-D block". Layout, source loading, heat balance and implicit solvers are the 3-D
+block's (:mod:`.layout`, :mod:`.source_loading`, :mod:`.energy`, :mod:`.linear_solvers`). Per unit width:
+energies in [J/m], powers in [W/m].
 """
 from __future__ import annotations
 

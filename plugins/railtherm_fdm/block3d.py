@@ -1,42 +1,16 @@
 """Finite-difference rail block of seed section 6.3: transient (explicit / implicit) and moving-frame steady.
 
-The rail (or any body) is a block below the surface z = 0 over which a heat source -- the flux
-``q(x, y)`` on the patch grid of the heat-source stage -- moves at the body's speed V relative to
-the contact. Seed eqs. (56)-(60), in their physically consistent form:
-
-* ``d theta/dt = kappa Laplace(theta)`` in the block, kappa = lambda/(rho c)                  (56)
-* insulated lateral faces ``d theta/dy = 0``                                                  (57)
-* fixed far faces ``theta = 0`` (x = 0, x = L_x, z = L_z)                                     (58)
-* ``-lambda d theta/dz = q`` on the surface inside the patch                                   (59)
-* ``-lambda d theta/dz = -h theta`` on the surface outside the patch (ambient = bulk)          (60)
-
-The seed prints eqs. (59)-(60) without the conductivity (``d theta/dz = P_d``) and with the
-convection sign of a flux leaving the body; here the flux into the body is q and the convective
-loss h theta [W/m^2]. theta is the rise above the bulk temperature.
-
-Three schemes share this model:
-
-``explicit``
-    The seed's scheme: rail frame, the source moves over the top face, explicit Euler on a uniform
-    node grid of spacing d (dual-cell finite volumes, surface nodes on z = 0). Stable for
-    ``dt <= 1 / (6 kappa/d^2 + 2 h/(rho c d))`` = d^2/(6 kappa) without convection; the seed's
-    condition "V >= 6 alpha/d" is this limit for its choice dt = d/V (the source advances one cell
-    per step). The default step is the largest ``q d / (p V) <= min(dt_stable, d/V)`` with q <= 8
-    (p steps per q cells, :func:`railtherm_fdm.layout.plan_steps`).
-``implicit``
-    Same grid and moving source, backward Euler (convection lagged), each step solved by conjugate
-    gradients with a symmetric z-line Gauss-Seidel preconditioner; any step (default d/V).
-``steady``
-    Moving frame: the quasi-steady state ``-V d theta/dx = kappa Laplace(theta)`` solved directly on
-    a cell-centred grid graded towards the surface and the patch (exponential -- Allen-Southwell --
-    fluxes in x, central diffusion elsewhere; inflow theta = 0, outflow zero diffusive flux), by
-    GMRES with the same preconditioner. This is the transient schemes' limit once the source has
-    travelled far enough, without the need to resolve the rail's length: the variant for stiff
-    cases (high speed, micrometre cells).
-
-The block's layout (extent, node grid, time steps, graded grid: :mod:`.layout`), the conservative
-source loading (:mod:`.source_loading`), the heat balance (:mod:`.energy`) and the linear solvers
-(:mod:`.linear_solvers`) are shared with the 2-D block of a line contact (:mod:`.block2d`).
+A heat source (flux ``q(x, y)`` on the heat-source stage's patch grid) moves at the body's speed V over
+a block below z = 0. Seed eqs. (56)-(60) in their physically consistent form (theta the rise above bulk):
+``d theta/dt = kappa Laplace(theta)`` (56); ``d theta/dy = 0`` on the lateral faces (57); ``theta = 0`` on
+the far faces x = 0, L_x and z = L_z (58); ``-lambda d theta/dz = q`` on the patch (59) and ``= -h theta``
+outside it (60) (the seed prints (59)-(60) without lambda and with the opposite convection sign).
+Schemes: ``explicit`` (the seed's: rail frame, explicit Euler on a uniform node grid, stable for
+``dt <= d^2/(6 kappa)`` without convection, steps from :func:`railtherm_fdm.layout.plan_steps`);
+``implicit`` (backward Euler, CG with a z-line Gauss-Seidel preconditioner); ``steady`` (moving frame,
+graded grid, Allen-Southwell fluxes in x, GMRES: the transient limit, for stiff cases). Details:
+docs/NOTES.md, "FDM 3-D block". Layout (:mod:`.layout`), source loading (:mod:`.source_loading`), heat
+balance (:mod:`.energy`) and linear solvers (:mod:`.linear_solvers`) are shared with :mod:`.block2d`.
 """
 from __future__ import annotations
 

@@ -1,43 +1,18 @@
 """fdm's transient histories on a line contact: the rail section (x-z block) under repeated passes.
 
-The material point at the fixed section lies in a 2-D block of the body (rail frame, per unit width)
-x in [-W, W] around the section (x = 0), z in [0, L_z]; the band source sweeps over its top face once
-per pass, its flux multiplied by the scene's schedule. Node-centred finite volumes (seed 6.3, the 2-D
-block of :mod:`.block2d`): spacing h = 2a/32/2**level along x within four nodes of the section, growing by
-``1.3 ** (1 / 2**level)`` beyond (the source needs h at the section only; x-conduction carries a fraction
-1/(4 Pe) of the heat), nodes graded from the surface in z (first spacing
-``delta / 4 / 2**level``, growth ``1.3 ** (1 / 2**level)``, delta = sqrt(2 a kappa / V) the contact-time
-thermal layer; the depths of ``field.depth`` are nodes), insulated x ends, theta = 0 at z = L_z, convection
-h on the whole top face:
+The section's material point lies in a 2-D block (rail frame, per unit width) x in [-W, W], z in [0, L_z];
+the band source sweeps over its top face once per pass, its flux times the scene's schedule. Node-centred
+finite volumes (seed 6.3, as :mod:`.block2d`), fine along x near the section and graded from the surface in
+z on the contact-time thermal layer: ``C d theta/dt = -K theta + P(t)``. While a source is over the block
+the explicit (forward Euler) or Crank-Nicolson scheme runs, chosen by cost (:func:`heating_scheme`,
+:data:`IMPLICIT_COST_FACTOR`); between passes a ladder of growing steps, explicit or Peaceman-Rachford ADI
+(:data:`ADI_COST_FACTOR`) after two backward-Euler start steps [2]. Neglected: conduction beyond the
+block's insulated x ends (a fraction 1/(4 Pe) of the vertical flow) and the tread's curvature. Grid,
+stepping and error: docs/NOTES.md, "FDM pass histories on a line contact".
 
-``C d theta/dt = -K theta + P(t)``   (C node capacities [J/(K m)], K conductances [W/(K m)], P [W/m]).
-
-The source term of a top node is the band's flux averaged exactly over the node's dual cell at the step's
-mid-time (the flux piecewise constant on the source grid), times the schedule factor there.
-
-Time stepping, per phase and chosen by cost (diagnostics ``history_phases``):
-
-* while a source is over the block (each pass from -W/V to (W + 2a)/V about its arrival): the explicit
-  (forward Euler, numba) scheme at ``min(0.9 dt_stab, h/V)`` when its steps cost less than the implicit
-  scheme's at the source's step h/V (a Crank-Nicolson LU solve counted as :data:`IMPLICIT_COST_FACTOR`
-  node updates), :func:`heating_scheme`; ``dt_stab = min C_i / K_ii`` is the explicit stability limit
-  (Gershgorin);
-* between the passes (no source): a ladder of ``2**(level + 1)`` steps of the heating step, as many of
-  twice it, four times ... (dt/t about 2**-(level + 2)); each rung explicit at the stability limit while
-  that takes at most :data:`ADI_COST_FACTOR` steps per rung step, else implicit: Peaceman-Rachford
-  alternating directions (second order; tridiagonal solves along x and z, no factorisation), two
-  backward-Euler (Lie) start steps damping the stiff surface modes the source leaves.
-
-What the block neglects: conduction along the rail beyond its ends (insulated; W = 2a +
-2 sqrt(kappa t_end)); its x-gradient there is the history's time derivative over V, the heat it carries a
-fraction 1/(4 Pe) of the vertical flow. The wheel's tread is treated as the same flat block (curvature
-neglected), one pass per revolution.
-
-References
-----------
-.. [1] The seed paper, section 6.3 (docs/references.md).
-.. [2] R. Rannacher, Finite element solution of diffusion problems with irregular data, Numer. Math. 43
-   (1984) 309-327, doi:10.1007/BF01390130 (backward-Euler start steps before Crank-Nicolson).
+References: [1] The seed paper, section 6.3 (docs/references.md). [2] R. Rannacher, Finite element
+solution of diffusion problems with irregular data, Numer. Math. 43 (1984) 309-327,
+doi:10.1007/BF01390130 (backward-Euler start steps before Crank-Nicolson).
 """
 from __future__ import annotations
 

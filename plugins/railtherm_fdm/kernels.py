@@ -1,27 +1,18 @@
 """Numba kernels of the finite-difference rail block (seed section 6.3).
 
 * :func:`explicit_step` -- one explicit-Euler step of the 7-point heat equation on a uniform node
-  grid (the seed's spreadsheet scheme), parallel over the outer (x) index with ``prange``;
-  :func:`explicit_step_serial` is the same body compiled without threads, for small grids;
+  grid (the seed's spreadsheet scheme), parallel over x with ``prange``; :func:`explicit_step_serial`
+  is the same body compiled without threads, for small grids;
 * :func:`explicit_two_steps` -- two such steps in one pass over memory (temporal blocking), for
-  large grids where the stencil is memory bound, with the loss sums of both levels
-  (:func:`plane_losses`);
+  large, memory-bound grids, with the loss sums of both levels (:func:`plane_losses`);
 * :func:`explicit_step_2d` -- the explicit step of the 2-D (x-z) block of a line contact;
-* :func:`stencil_matvec` (and ``_serial``, the same body), :func:`zline_factor`, :func:`sgs_zline` --
-  a general 7-point operator and its symmetric block Gauss-Seidel preconditioner with z-lines as
-  blocks (Thomas algorithm along the depth), used by the implicit (backward Euler) and the
-  moving-frame steady schemes; the BLAS-free vector helpers :func:`vdot`, :func:`vaxpy`.
+* :func:`stencil_matvec` (and ``_serial``; operator convention in :func:`_stencil_matvec`),
+  :func:`zline_factor`, :func:`sgs_zline` -- a general 7-point operator and its symmetric block
+  Gauss-Seidel preconditioner with z-lines as blocks (Thomas algorithm along the depth), used by the
+  implicit and moving-frame steady schemes; the BLAS-free vector helpers :func:`vdot`, :func:`vaxpy`.
 
-Array layout: ``T[i, j, k]`` with i along the rolling direction x, j lateral (y), k depth (z, k = 0 is
-the surface); C order, so the depth index is contiguous.
-
-Operator convention of :func:`stencil_matvec`: row (i, j, k) of ``A t`` is ::
-
-    aP t[i,j,k] - aE t[i+1,j,k] - aW t[i-1,j,k] - aN t[i,j+1,k] - aS t[i,j-1,k]
-                - aT t[i,j,k-1] - aB t[i,j,k+1]
-
-with coefficients that reach outside the array set to zero (boundary conditions are folded into
-``aP`` and the right-hand side).
+Array layout: ``T[i, j, k]`` with i along x, j lateral (y), k depth (z, k = 0 the surface); C order,
+so the depth index is contiguous.
 """
 from __future__ import annotations
 
@@ -273,7 +264,13 @@ def explicit_step_2d(T, Tn, r, src, hloss):  # pragma: no cover - compiled
 
 
 def _stencil_matvec(aP, aE, aW, aN, aS, aT, aB, t, out):  # pragma: no cover - compiled
-    """``out = A t`` for the 7-point operator described in the module docstring.
+    """``out = A t`` for the general 7-point operator: row (i, j, k) of ``A t`` is ::
+
+        aP t[i,j,k] - aE t[i+1,j,k] - aW t[i-1,j,k] - aN t[i,j+1,k] - aS t[i,j-1,k]
+                    - aT t[i,j,k-1] - aB t[i,j,k+1]
+
+    with coefficients that reach outside the array set to zero (boundary conditions are folded into
+    ``aP`` and the right-hand side).
 
     Compiled twice (:func:`compile_twice`): :func:`stencil_matvec` (parallel over x) and
     :func:`stencil_matvec_serial`.

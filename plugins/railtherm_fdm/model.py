@@ -1,48 +1,18 @@
 """Temperature model "fdm": the finite-difference rail block of seed section 6.3.
 
-Each body (wheel and rail) is treated as the seed treats the rail: a block whose top face carries
-the body's share of the heat source moving at the body's speed relative to the contact. (For the
-wheel this is its flash temperature in one pass of the contact; its heating over revolutions is the
-pass histories of a transient scene, below.) An elliptical patch runs the 3-D block
-(:mod:`.block3d`), a line contact the 2-D (x-z) block (:mod:`.block2d`; the 3-D block with a laterally
-uniform source, exactly). The schemes --
-``explicit`` (the seed's), ``implicit`` and the moving-frame ``steady`` one for stiff cases -- are
-described in :mod:`.block3d`; which one runs is decided per body (:mod:`.scheme_choice`).
+Each body (wheel and rail) is a block whose top face carries its share of the heat source moving at the
+body's speed relative to the contact. An elliptical patch runs the 3-D block (:mod:`.block3d`), a line
+contact the 2-D (x-z) block (:mod:`.block2d`; exactly the 3-D block with a laterally uniform source). The
+schemes (``explicit``, the seed's; ``implicit``; the moving-frame ``steady`` one for stiff cases) are
+described in :mod:`.block3d`; :mod:`.scheme_choice` picks one per body. The result is the surface field in
+the patch frame once the source has travelled ``travel`` (:func:`railtherm_fdm.layout.block_extent`),
+flagged quasi-steady when it changed by less than 0.2 % over the last semi-axis. Scene key ``field``
+stretches the block to hold the trail (:func:`railtherm_fdm.layout.trail_extent`). Pass histories of
+transient scenes come from :mod:`.history` (line contact) and :mod:`.history3d` (patch); what they refuse:
+:func:`history_limits`. Details: docs/NOTES.md, "FDM model".
 
-Reported surface temperature: the transient schemes run until the source has travelled ``travel``
-(:func:`railtherm_fdm.layout.block_extent`); the surface field in the frame of the patch at that time
-is the result. It is declared quasi-steady when it differs by less than 0.2 % of its maximum from the
-same field sampled one semi-axis of travel earlier (at the same offset to the grid); diagnostics
-``<body>_quasi_steady_change`` and ``<body>_quasi_steady``.
-
-Behind the patch and in depth (scene key ``field``): the block is stretched to hold the
-trail (:func:`railtherm_fdm.layout.trail_extent`): the steady scheme's graded grid reaches
-``field.behind`` beyond the trailing edge and ``field.depth`` deep with cells of width
-``max(h, s/8/2**level)`` at distance s behind the trailing edge (h the patch cells) and
-``max(dz1, z/8/2**level)`` at depth z (the trail varies on these scales), growing as without field
-beyond them; the transient schemes let the source travel ``field.behind`` further (the trail at the
-end of the field then carries the start-up deficit of the patch-only run). Both fields are sampled on
-core's extended grid (:func:`railtherm.physics.field_grid`); the depth field reaches exactly
-``field.depth`` (linear interpolation between the block's depths); the thermal trace is core's
-(:func:`railtherm.physics.with_thermal_trace`). A block that would need more cells or nodes than its
-budget (options ``max_cells``, ``max_nodes``) is refused (kind "budget") with the field named. A
-field needs the depth: on the 3-D block a transient scheme whose uniform node spacing is coarser than
-half the thermal layer sqrt(2 a kappa / V) cannot give it, so ``auto`` runs the steady scheme there (at
-Péclet >= 0.1) and an explicitly requested transient scheme is refused (kind "validity"); the 2-D
-block's transient spacing resolves that layer from level 0 on. Without ``field`` every array is the one of the patch-only run, bit for bit.
-
-Transient scenes with passes (``passes``, ``schedule``, the history outputs): the histories of the
-section's material point come from the block around the section -- 2-D for a line contact
-(:mod:`.history`), 3-D for a patch (:mod:`.history3d`) -- explicit while a source is over it and implicit
-between the passes, each chosen by cost with the reason in the diagnostics
-(``<body>_history_heating_reason``, ``..._cooling_reason``), one pass's response superposed over the
-passes when the schedule is constant. A temperature-dependent friction law, bodies at different bulk
-temperatures and the depth-field outputs are refused with the reason (:func:`history_limits`).
-
-References
-----------
-.. [1] The seed paper, section 6.3: "Comparison of Numerical Methods for Solution of Thermoelastic
-   Wheel-Rail Contact Problems with Friction" (docs/references.md).
+References: [1] The seed paper, section 6.3: "Comparison of Numerical Methods for Solution of
+Thermoelastic Wheel-Rail Contact Problems with Friction" (docs/references.md).
 """
 from __future__ import annotations
 
