@@ -84,8 +84,9 @@ class FemModel(CoupledModel):
                                 tangential=frozenset({"full-sliding", "creepage"}), convection=True, field=True,
                                 modes=frozenset({"steady"}), moving_surface=True, provides=PROVIDES,
                                 friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}),
-                                advice={"modes": "it is quasistatic (steady in the moving frame); use a transient "
-                                                 "method (e.g. fastsim-fdm or fipy)",
+                                advice={"modes": "it is quasistatic (steady in the moving frame); use a method "
+                                                 "with pass histories (green; fipy for line contacts; the fdm "
+                                                 "temperature model, e.g. fastsim-fdm or a chain with it)",
                                         "moving_surface": "it needs a positive rolling speed (steady moving frame)"})
     options = {
         "thermal_model": Option("2d", "conduction along x included ('2d') or dropped (seed eq. 16, '1d')",
