@@ -32,6 +32,14 @@ TAG = {"contact": "hertz", "carter": "carter", "ms": "moving-source", "jaeger": 
        "sliding": "full-sliding", "given": "given-source"}
 
 
+def scene_hertz_geometry(scene):
+    """:func:`railtherm.physics.hertz_geometry` of a scene's contact: (a [m], b [m] or None, p0 [Pa], normal
+    force [N or N/m]); the analysis's one reading of the Hertz inputs off a scene."""
+    return hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
+                          penetration=scene.penetration, semi_axes=scene.semi_axes, curvatures=scene.curvatures,
+                          wheel_radius=scene.wheel_radius, scene_name=scene.name)
+
+
 def _thermal_case(scene):
     """(a, b, shape, peak flux, (v_wheel, v_rail), eps) of the scene's heat source, or None (no closed form:
     convection, or a heat partition that depends on the temperatures)."""
@@ -46,10 +54,7 @@ def _thermal_case(scene):
     mu = uniform_friction(scene)
     if scene.tangential != "full-sliding" or mu is None:
         return None
-    a, b, p0, _ = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
-                                 penetration=scene.penetration, semi_axes=scene.semi_axes,
-                                 curvatures=scene.curvatures, wheel_radius=scene.wheel_radius,
-                                 scene_name=scene.name)
+    a, b, p0, _ = scene_hertz_geometry(scene)
     speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
     return a, b, "hertz", mu * scene.sliding_speed * p0, speeds, scene_partition(scene.partition, scene.wheel,
                                                                                  scene.rail, *speeds,
@@ -354,10 +359,7 @@ def _contact_scalars(scene, out: dict, src: dict) -> bool:
     the scene (no exact contact, so nothing downstream either)."""
     from ..contract.errors import Refused
     try:
-        a, b, p0, n = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
-                                     penetration=scene.penetration, semi_axes=scene.semi_axes,
-                                     curvatures=scene.curvatures, wheel_radius=scene.wheel_radius,
-                                     scene_name=scene.name)
+        a, b, p0, n = scene_hertz_geometry(scene)
     except Refused:
         return False
     out.update(semi_axis_a=a, max_pressure=p0, normal_force=n)
@@ -467,10 +469,7 @@ def reference_fields(scene, ds) -> dict:
     if "pressure" in ds and scene.heat_source is None:
         try:
             from ..references.hertz import hertz_pressure
-            a, b, p0, _ = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
-                                         penetration=scene.penetration, semi_axes=scene.semi_axes,
-                                         curvatures=scene.curvatures, wheel_radius=scene.wheel_radius,
-                                         scene_name=scene.name)
+            a, b, p0, _ = scene_hertz_geometry(scene)
             if line:
                 out["pressure"] = hertz_pressure(x, None, a, None, p0)
             else:

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..output import store
 from ..contract.errors import Refused
-from ..physics import hertz_geometry
+from .analytic import scene_hertz_geometry
 
 __all__ = ["reference_curves", "write_reference_curves", "read_reference_curves", "FILE_NAME"]
 
@@ -217,10 +217,7 @@ def _creep(scene, group_values: list[float]) -> tuple[dict, dict, list[str]]:
         return {}, {}, []
     from ..contract.errors import Refused
     try:
-        a, b, p0, n = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
-                                     penetration=scene.penetration, semi_axes=scene.semi_axes,
-                                     curvatures=scene.curvatures, wheel_radius=scene.wheel_radius,
-                                     scene_name=scene.name)
+        a, b, p0, n = scene_hertz_geometry(scene)
     except Refused:
         return {}, {}, []
     xs = _creepage_range(scene, group_values)
