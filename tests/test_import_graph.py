@@ -1,9 +1,9 @@
 """Core's import graph (read with :mod:`ast`, function-level imports included): no circle; the layers
-import one way, with no exception (cli/testing -> run -> report -> analysis -> solving -> output ->
-input -> models -> physics -> references -> contract); the contract imports nothing of railtherm
-outside itself; the output folder has one owner (:mod:`railtherm.output.store`) that imports nothing
-above it; the report reads only through the store; nothing but the cli and the kit imports the runner;
-plugins import only the public API (tests/test_physics.py)."""
+import one way (docs/DESIGN.md, lowest first: contract -> references, physics -> input, models -> solving ->
+output -> analysis -> report -> run -> cli/testing; a module imports its own layer and lower ones); physics
+imports only the contract; the contract imports nothing of railtherm outside itself; the output folder has
+one owner (:mod:`railtherm.output.store`); the report reads only through the store; nothing but the cli and
+the kit imports the runner; plugins import only the public API (tests/test_physics.py)."""
 from functools import cache
 from pathlib import Path
 
@@ -16,9 +16,27 @@ import railtherm
 CORE = Path(railtherm.__file__).parent
 
 
-#: bottom to top; a module imports only its own layer and layers below it
-LAYERS = ("contract", "_version", "references", "physics", "models", "input", "output", "solving", "analysis",
-          "report", "run", "top")
+#: rank of each layer, lowest first (docs/DESIGN.md, "Layout"): a module imports its own layer and layers of
+#: lower rank, never a sibling of its rank (so physics imports only the contract)
+RANKS = {"contract": 0, "_version": 0, "references": 1, "physics": 1, "input": 2, "models": 2, "solving": 3,
+         "output": 4, "analysis": 5, "report": 6, "run": 7, "top": 8}
+LAYERS = tuple(RANKS)
+#: imports that point up or out of physics and wait for a move in files of concurrent work; the list only
+#: shrinks (the tests fail on an entry that no longer occurs):
+#: * physics.hertz applies the Hertz closed forms of references.hertz (hertz_geometry, scene_semi_axis): the
+#:   adapter belongs in models/hertz.py, with its callers analysis/analytic.py, models/wheelset_profile.py,
+#:   railtherm_fastsim/wheelset_normal.py;
+#: * physics.section_stepping reads the schedule of references.transient;
+#: * references.hertz names contact_modulus (home: physics.elastic) for input/wheelset_profile.py, which
+#:   imports it from there;
+#: * solving.pipeline encodes a run's sweep with output.store.encode_sweep (its home is the result schema,
+#:   railtherm.contract.schema.encode_sweep, which the store re-exports)
+UPWARD_TO_MOVE = frozenset({
+    "railtherm.physics.hertz -> railtherm.references.hertz",
+    "railtherm.physics.section_stepping -> railtherm.references.transient",
+    "railtherm.references.hertz -> railtherm.physics.elastic",
+    "railtherm.solving.pipeline -> railtherm.output.store",
+})
 #: the flat module paths of 0.1 (removed: each concept has one home in its layer)
 OLD_PATHS = {f"railtherm.{n}" for n in ("errors", "grid", "hookspec", "stages", "schema", "options", "scene", "study",
                                         "materials", "store", "plugins", "pipeline", "metrics", "results",
@@ -55,11 +73,26 @@ def test_core_has_no_import_cycle():
     assert cycles(import_graph()) == []
 
 
+def _edges_breaking_the_layers(graph) -> list[str]:
+    """Edges ``a -> b`` of ``graph`` where b is in another layer than a whose rank is not below a's."""
+    return sorted(f"{m} -> {d}" for m, deps in graph.items() for d in deps
+                  if layer(d) != layer(m) and RANKS[layer(d)] >= RANKS[layer(m)])
+
+
+def test_the_layer_check_can_fail():
+    graph = {"railtherm.solving.a": {"railtherm.output.store"}, "railtherm.physics.b": {"railtherm.references.c"},
+             "railtherm.output.store": {"railtherm.contract.grid"}, "railtherm.references.c": set(),
+             "railtherm.models.m": {"railtherm.input.scene"}}
+    assert _edges_breaking_the_layers(graph) == ["railtherm.models.m -> railtherm.input.scene",
+                                                 "railtherm.physics.b -> railtherm.references.c",
+                                                 "railtherm.solving.a -> railtherm.output.store"]
+
+
 def test_layers_import_one_way():
-    graph = import_graph()
-    rank = {name: i for i, name in enumerate(LAYERS)}
-    upward = sorted(f"{m} -> {d}" for m, deps in graph.items() for d in deps if rank[layer(d)] > rank[layer(m)])
-    assert upward == [], upward
+    bad = _edges_breaking_the_layers(import_graph())
+    assert sorted(set(bad) - UPWARD_TO_MOVE) == [], sorted(set(bad) - UPWARD_TO_MOVE)
+    assert sorted(UPWARD_TO_MOVE - set(bad)) == [], "remove from UPWARD_TO_MOVE (moved): " + str(
+        sorted(UPWARD_TO_MOVE - set(bad)))
 
 
 def test_contract_imports_nothing_of_railtherm_outside_it():

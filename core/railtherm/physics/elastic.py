@@ -1,10 +1,11 @@
-"""Combined elastic constants of two bodies in contact.
+"""Combined elastic constants of two bodies in contact: Kalker's shear modulus and Poisson's ratio, and
+the plane-strain contact modulus E* of Hertz theory.
 
-A body whose ``rigid`` attribute is true contributes no compliance. The contact modulus E* of Hertz
-theory lives with the exact reference (:func:`railtherm.references.hertz.contact_modulus`) and is
-re-exported here.
+A body whose ``rigid`` attribute is true contributes no compliance.
 """
 from __future__ import annotations
+
+import math
 
 __all__ = ["combined_elastic", "contact_modulus"]
 
@@ -50,25 +51,38 @@ def combined_elastic(wheel, rail) -> tuple[float, float]:
     return g, g * nug
 
 
-def contact_modulus(wheel, rail) -> float:
-    """Combined plane-strain contact modulus E* [Pa] (``inf`` when both are rigid).
+def _youngs(body) -> float:
+    """Young's modulus of ``body`` [Pa]: its ``youngs_modulus``, else ``2 G (1 + nu)``."""
+    e = getattr(body, "youngs_modulus", None)
+    if e is None:
+        e = 2.0 * body.shear_modulus * (1.0 + body.poisson_ratio)
+    return float(e)
 
-    ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``; see
-    :func:`railtherm.references.hertz.contact_modulus`.
+
+def contact_modulus(wheel, rail) -> float:
+    """Combined contact modulus E* of two bodies (plane strain).
+
+    ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` with ``E = 2 G (1 + nu)``; a rigid body contributes
+    nothing.
 
     Parameters
     ----------
     wheel, rail : Material-like
-        Objects with ``shear_modulus`` [Pa], ``poisson_ratio`` [1] and optionally ``rigid`` [bool].
+        As :func:`combined_elastic`.
 
     Returns
     -------
     float
-        E* [Pa].
+        E* [Pa]. ``inf`` when both bodies are rigid.
 
     References
     ----------
     .. [1] K.L. Johnson, Contact Mechanics, 1985, eq. (4.22). doi:10.1017/CBO9781139171731
     """
-    from ..references.hertz import contact_modulus as _contact_modulus
-    return _contact_modulus(wheel, rail)
+    compliance = 0.0
+    for body in (wheel, rail):
+        if getattr(body, "rigid", False):
+            continue
+        nu = float(body.poisson_ratio)
+        compliance += (1.0 - nu * nu) / _youngs(body)
+    return math.inf if compliance == 0.0 else 1.0 / compliance

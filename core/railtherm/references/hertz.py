@@ -3,7 +3,8 @@
 Conventions: x is the rolling direction, y lateral. The undeformed gap between the bodies is
 ``h(x, y) = A x^2 + B y^2`` [m] with curvature coefficients ``A``, ``B`` [1/m] (``A = (1/R1x + 1/R2x)/2``).
 The contact ellipse has semi-axis ``a`` along x and ``b`` along y. The combined (plane-strain) modulus
-``E*`` follows 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (Johnson 1985, eq. 4.22).
+``E*`` follows 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (Johnson 1985, eq. 4.22;
+:func:`railtherm.physics.elastic.contact_modulus`).
 
 References
 ----------
@@ -21,45 +22,13 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk, ellipkm1
 
+# E* of the closed forms below has its home with the other combined elastic constants; named here for the
+# callers that read it with them (input.wheelset_profile)
+from ..physics.elastic import contact_modulus
+
 __all__ = ["contact_modulus", "HertzEllipse", "hertz_from_curvatures", "hertz_from_penetration",
            "hertz_from_semi_axes", "hertz_line", "hertz_pressure", "curvature_ratio",
            "elliptic_k_minus_e"]
-
-
-def _youngs(body) -> float:
-    e = getattr(body, "youngs_modulus", None)
-    if e is None:
-        e = 2.0 * body.shear_modulus * (1.0 + body.poisson_ratio)
-    return float(e)
-
-
-def contact_modulus(wheel, rail) -> float:
-    """Combined contact modulus E* of two bodies (plane strain).
-
-    ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` with ``E = 2 G (1 + nu)``; a body whose ``rigid``
-    attribute is true contributes nothing.
-
-    Parameters
-    ----------
-    wheel, rail : Material-like
-        Objects with ``shear_modulus`` [Pa], ``poisson_ratio`` [1] and optionally ``rigid`` [bool].
-
-    Returns
-    -------
-    float
-        E* [Pa]. ``inf`` when both bodies are rigid.
-
-    References
-    ----------
-    .. [1] K.L. Johnson, Contact Mechanics, 1985, eq. (4.22). doi:10.1017/CBO9781139171731
-    """
-    compliance = 0.0
-    for body in (wheel, rail):
-        if getattr(body, "rigid", False):
-            continue
-        nu = float(body.poisson_ratio)
-        compliance += (1.0 - nu * nu) / _youngs(body)
-    return math.inf if compliance == 0.0 else 1.0 / compliance
 
 
 @dataclass(frozen=True)
