@@ -401,5 +401,6 @@ def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, reques
         return ellipse_block(float(grid.a), float(grid.b), *args)
     what = ("finite-volume block around the section (2-D for a line contact, 3-D for a patch), explicit while a "
             "source is over it and implicit between passes, chosen by cost")
-    return _stepping.body_histories(scene, grid, fluxes, speeds, bodies, bulk, level, requested, make_block, what,
-                                    "conduction along the rail beyond the block's ends; the wheel's curvature")
+    return _stepping.histories_at_section(scene.transient, scene.convection, grid.x_edges, grid.y_edges, fluxes,
+                                          speeds, bodies, bulk, level, requested, make_block, what,
+                                          "conduction along the rail beyond the block's ends; the wheel's curvature")

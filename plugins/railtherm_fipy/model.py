@@ -251,9 +251,9 @@ class FipyTemperature(TemperatureModel):
 
     def _histories(self, scene, source, level, opts):
         """The pass histories of both bodies on the FiPy section (:mod:`railtherm_fipy.history`, stepped by
-        :func:`railtherm.physics.section_stepping.body_histories`), with the steady one-pass fields of the
+        :func:`railtherm.physics.section_stepping.histories_at_section`), with the steady one-pass fields of the
         moving frame when the scene asks them."""
-        from railtherm.physics.section_stepping import body_histories
+        from railtherm.physics.section_stepping import histories_at_section
         from .history import fipy_block
         grid = source.grid
         if not grid.line:
@@ -270,8 +270,9 @@ class FipyTemperature(TemperatureModel):
         def make_block(v, m, convection, duration, z):
             return fipy_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat, convection, level,
                               duration, z)
-        hist, diag = body_histories(
-            scene, grid, [q if np.any(q != 0) else None for q in fluxes], tuple(float(v) for v in source.body_speed),
+        hist, diag = histories_at_section(
+            scene.transient, scene.convection, grid.x_edges, grid.y_edges,
+            [q if np.any(q != 0) else None for q in fluxes], tuple(float(v) for v in source.body_speed),
             (scene.wheel, scene.rail), bulk, int(level), "implicit", make_block,
             "FiPy cell-centred finite volumes of the fixed section (x-z), Crank-Nicolson steps (FiPy has no explicit "
             "stepping)", "conduction along the rail beyond the section's ends; the wheel's curvature")

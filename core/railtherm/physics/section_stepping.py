@@ -19,10 +19,12 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from ..contract.transient import TransientHistory
 from ..references.transient import shifted_sum
+from .pass_history import pass_peaks_and_residual, pass_time_above
 
 __all__ = ["heating_scheme", "cooling_ladder", "schedule_factor", "section_history", "superposed_history",
-           "body_histories", "theta_steps"]
+           "histories_at_section", "body_histories", "theta_steps"]
 
 
 def schedule_factor(tr):
@@ -222,16 +224,40 @@ def superposed_history(block, x_edges, flux, speed: float, tr, interval: float, 
     return time, rise, residual, diag
 
 
-def body_histories(scene, grid, fluxes, speeds, bodies, bulk, level: int, requested: str, make_block, method: str,
-                   neglects: str):
+def histories_at_section(transient, convection, x_edges, y_edges, fluxes, speeds, bodies, bulk, level: int,
+                         requested: str, make_block, method: str, neglects: str):
     """The :class:`~railtherm.contract.transient.TransientHistory` of both bodies on the union of their time
     axes, and diagnostics: each heated body's history by :func:`superposed_history` (a constant schedule,
     several passes) or :func:`section_history` on the block ``make_block(speed [m/s], material, convection
-    [W/(m^2 K)], duration [s], depths [m])``. ``fluxes`` each body's flux [W/m^2] on the source grid (None
-    or zeros: the body stays at its bulk temperature); ``method`` and ``neglects`` describe the block."""
-    from ..contract.transient import TransientHistory
-    from .pass_history import pass_peaks_and_residual, pass_time_above
-    tr = scene.transient
+    [W/(m^2 K)], duration [s], depths [m])``.
+
+    Parameters
+    ----------
+    transient : railtherm.input.transient.Transient
+        The scene's passes (``count``, ``interval`` [s], resolved), schedule, ``depths`` [m] and
+        ``threshold`` [degC].
+    convection : float or None
+        Heat transfer coefficient of the surface [W/(m^2 K)]; None: 0.
+    x_edges, y_edges : array_like or None
+        Cell edges of the source grid [m] (``y_edges`` None for a line contact).
+    fluxes : sequence of array_like or None
+        Each body's flux [W/m^2] on the source grid (None or zeros: the body stays at its bulk temperature).
+    speeds : (float, float)
+        Each body's surface speed through the contact [m/s].
+    bodies : (Material, Material)
+        Wheel and rail, handed to ``make_block``.
+    bulk : (float, float)
+        Bulk temperatures [degC].
+    level : int
+        Resolution level [1].
+    requested : str
+        Heating scheme: "auto", "explicit" or "implicit".
+    make_block : callable
+        The method's block (see above).
+    method, neglects : str
+        What the block is and what it neglects (diagnostics).
+    """
+    tr = transient
     count, interval = int(tr.count), float(tr.interval)
     z = np.asarray(tr.depths, dtype=float)
     runs, diag = [], {"transient_passes": count, "transient_interval": interval, "transient_method": method,
@@ -240,10 +266,10 @@ def body_histories(scene, grid, fluxes, speeds, bodies, bulk, level: int, reques
         if q is None or not np.any(np.asarray(q) != 0):
             runs.append(None)
             continue
-        block = make_block(v, m, float(scene.convection or 0.0), count * interval, z)
+        block = make_block(v, m, float(convection or 0.0), count * interval, z)
         constant = tr.schedule_factor is None or len(set(tr.schedule_factor)) == 1
         run = superposed_history if constant and count > 1 else section_history
-        t, r, res, d = run(block, grid.x_edges, q, v, tr, interval, level, requested, grid.y_edges)
+        t, r, res, d = run(block, x_edges, q, v, tr, interval, level, requested, y_edges)
         runs.append((t, r, res))
         diag.update({f"{('wheel', 'rail')[i]}_history_{k}": val for k, val in d.items()})
     axes = [r[0] for r in runs if r is not None]
@@ -262,3 +288,11 @@ def body_histories(scene, grid, fluxes, speeds, bodies, bulk, level: int, reques
     diag["transient_time_samples"] = int(time.size)
     return TransientHistory(time=time, z=z, temperature=temperature, peak=peak, residual=residual,
                             time_above=above), diag
+
+
+def body_histories(scene, grid, fluxes, speeds, bodies, bulk, level: int, requested: str, make_block, method: str,
+                   neglects: str):
+    """:func:`histories_at_section` with the parts read off a scene (``transient``, ``convection``) and a
+    grid (``x_edges``, ``y_edges``): the scene-taking form, for callers that have not moved to the parts."""
+    return histories_at_section(scene.transient, scene.convection, grid.x_edges, grid.y_edges, fluxes, speeds,
+                                bodies, bulk, level, requested, make_block, method, neglects)
