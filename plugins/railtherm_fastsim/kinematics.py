@@ -23,7 +23,7 @@ import numpy as np
 from railtherm.physics import combined_elastic, hertz_pressure_grid, rescale_hertz_patch
 from scipy.optimize import brentq
 
-__all__ = ["WheelsetSolution", "wheelset_contacts", "wheelset_contact", "PRESSURE_GAUSS"]
+__all__ = ["WheelsetSolution", "wheelset_contacts", "wheelset_contact", "PRESSURE_GAUSS", "CHAIN_RTOL"]
 
 
 @dataclass
@@ -41,7 +41,13 @@ class WheelsetSolution:
     iterations: int
     converged: bool
     residuals: dict = field(default_factory=dict)
+    #: the FASTSIM equilibrium a solve with another model's creep forces started from (None: this is it)
+    start: "WheelsetSolution | None" = None
 
+
+#: the equilibrium with a chain's own creep forces (:func:`balance_with`) stops when its relative residuals
+#: (vertical, roll, axle moment) are all below this [1]
+CHAIN_RTOL = 1e-9
 
 #: Gauss-Legendre points across each cell in y of the wheelset's Hertz pressure grids [1]
 #: (railtherm.physics.hertz_pressure_grid; the core default is 8)
@@ -50,8 +56,10 @@ PRESSURE_GAUSS = 12
 
 def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, wheel_radius, gauge, speed,
                       friction, shear_modulus, poisson_ratio, ref_normal_force, ref_semi_axes,
-                      scaling="curvatures", cells=16, rtol=1e-10, maxiter=100, **fastsim_options):
-    """Solve the seed's wheelset kinematics (section 6.1) by its fixed-point iteration.
+                      scaling="curvatures", cells=16, rtol=1e-10, maxiter=100, creep_forces=None,
+                      **fastsim_options):
+    """Solve the seed's wheelset kinematics (section 6.1) by its fixed-point iteration, with FASTSIM's creep
+    forces or, given ``creep_forces``, with another model's (:func:`_balance_with`, from FASTSIM's solution).
 
     Parameters
     ----------
@@ -83,6 +91,10 @@ def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, whee
         FASTSIM cells along 2a [1].
     rtol : float
         Convergence tolerance of the normal forces [1].
+    creep_forces : callable, optional
+        ``creep_forces(i, N, (xi, eta, phi)) -> (Fx, Fy)`` [N]: the creep forces on the wheel of contact i (0:
+        wheel 1, 1: wheel 2) under normal force N [N] at the creepages; the equilibrium is then solved with
+        these forces to relative residuals below :data:`CHAIN_RTOL` (``solution.start``: FASTSIM's).
     **fastsim_options
         bound, flexibility, leading_edge of :func:`railtherm_fastsim.simplified_theory.fastsim`.
 
@@ -109,7 +121,55 @@ def wheelset_contacts(*, conicity, lateral_shift, yaw_angle, vertical_load, whee
             break
     xi, eta, phi = w.creepages(theta)
     fx, fy = w.forces(theta, N)
-    return WheelsetSolution(N, xi, eta, phi, fx, fy, float(theta), w.radii, it, converged, w.residuals(N, fx, fy))
+    sol = WheelsetSolution(N, xi, eta, phi, fx, fy, float(theta), w.radii, it, converged, w.residuals(N, fx, fy))
+    return sol if creep_forces is None else _balance_with(w, creep_forces, sol)
+
+
+def _residual_vector(w, x, forces):
+    """Relative residuals (vertical, roll, axle moment) at x = (theta, N_1 / Q, N_2 / Q) with ``forces(theta, N)
+    -> (fx, fy)``, and those forces."""
+    N = np.asarray(x[1:]) * w.Q
+    fx, fy = forces(float(x[0]), N)
+    r = w.residuals(N, fx, fy)
+    return np.array([r["vertical"], r["roll"], r["axle_moment"]]), fx, fy
+
+
+def _balance_with(w, creep_forces, start: WheelsetSolution, rtol: float = CHAIN_RTOL, maxiter: int = 40):
+    """The equilibrium with ``creep_forces`` (:func:`wheelset_contacts`): Broyden's method on (theta, N_1 / Q,
+    N_2 / Q), started at FASTSIM's equilibrium ``start`` with the Jacobian of FASTSIM's residuals there (forward
+    differences): another contact model's forces differ from FASTSIM's by some per cent, so the first step is
+    close and each costs one solve of both contacts. ``iterations`` counts those solves."""
+    def chain(theta, N):
+        xi, eta, phi = w.creepages(theta)
+        pairs = [creep_forces(i, float(N[i]), (float(xi[i]), float(eta[i]), float(phi[i]))) for i in range(2)]
+        return np.array([p[0] for p in pairs], float), np.array([p[1] for p in pairs], float)
+
+    x = np.array([start.theta, *(start.normal_force / w.Q)])
+    r_fast = _residual_vector(w, x, w.forces)[0]
+    steps = np.array([1e-7, 1e-7, 1e-7])
+    J = np.empty((3, 3))
+    for k in range(3):
+        dx = np.zeros(3)
+        dx[k] = steps[k]
+        J[:, k] = (_residual_vector(w, x + dx, w.forces)[0] - r_fast) / steps[k]
+    r, fx, fy = _residual_vector(w, x, chain)
+    it, converged = 1, False
+    while it < maxiter:
+        if np.max(np.abs(r)) < rtol:
+            converged = True
+            break
+        dx = -np.linalg.solve(J, r)
+        x = x + dx
+        r_new, fx, fy = _residual_vector(w, x, chain)
+        it += 1
+        J += np.outer(r_new - r - J @ dx, dx) / float(dx @ dx)
+        r = r_new
+    else:
+        converged = bool(np.max(np.abs(r)) < rtol)
+    N = x[1:] * w.Q
+    xi, eta, phi = w.creepages(x[0])
+    return WheelsetSolution(N, xi, eta, phi, fx, fy, float(x[0]), w.radii, it, converged, w.residuals(N, fx, fy),
+                            start=start)
 
 
 @dataclass(frozen=True)

@@ -1,15 +1,20 @@
 """Normal model "wheelset": the normal force and creepages of a wheelset's contact (seed section 6.1).
 
 A conical wheelset on two rails (``[scene.wheelset]``) sets both the normal force of each contact and
-its creepages; they are found together by the fixed-point iteration of
-:func:`railtherm_fastsim.kinematics.wheelset_contacts` (FASTSIM creep forces -> roll/vertical
-equilibrium -> normal forces). The model returns the Hertz patch of contact ``wheelset.contact`` (1:
-the scene's wheel, 2: the other wheel; both from the one equilibrium) rescaled to its equilibrium
-normal force, with that contact's kinematic creepages in ``patch.creepage``; the
-tangential stage (FASTSIM) then computes the tractions on it. Chains list it before ``hertz``: it
-declines every scene without a wheelset.
+its creepages; they are found together by :func:`railtherm_fastsim.kinematics.wheelset_contacts` (creep
+forces -> axle moment, roll and vertical equilibrium -> normal forces) with the creep forces of the chain's
+own tangential model: FASTSIM's by the seed's fixed-point iteration, another model's (``kalker``) by Broyden's
+method from FASTSIM's equilibrium, that model solving both contacts on the level's grid at every step. The
+pipeline hands the chain's tangential stage over (option ``chain_tangential``, :attr:`uses_chain_tangential`);
+the diagnostic ``equilibrium_forces`` (result attribute ``wheelset_equilibrium_forces``) names whose forces
+balance it. The model returns the Hertz patch of contact ``wheelset.contact`` (1: the scene's wheel, 2: the
+other; both from the one equilibrium) at its equilibrium normal force, with its creepages in
+``patch.creepage``; the tangential stage then solves the tractions on it, the forces the equilibrium balanced.
+Chains list it before ``hertz``: it declines every scene without a wheelset.
 """
 from __future__ import annotations
+
+import json
 
 import numpy as np
 
@@ -18,7 +23,12 @@ from railtherm.physics import hertz_geometry, hertz_patch, hertz_pressure_grid, 
 
 from .tangential import FASTSIM_OPTIONS
 
-__all__ = ["WheelsetNormal"]
+__all__ = ["WheelsetNormal", "EQUILIBRIUM_CACHE"]
+
+#: equilibria solved with a chain's tangential model in this process, by their inputs: a study's two scenes of
+#: one wheelset (contacts 1 and 2) share one solve (at most :data:`CACHE_SIZE` kept)
+EQUILIBRIUM_CACHE: dict = {}
+CACHE_SIZE = 8
 
 
 class WheelsetNormal(NormalContactModel):
@@ -26,8 +36,10 @@ class WheelsetNormal(NormalContactModel):
 
     name = "wheelset"
     description = ("conical wheelset on two rails (seed 6.1): normal force and creepages of the contact from "
-                   "the equilibrium with FASTSIM creep forces (contact 1 or 2 of the wheelset); Hertz patch "
-                   "rescaled to that force")
+                   "the equilibrium with the chain's own creep forces (contact 1 or 2 of the wheelset); Hertz "
+                   "patch rescaled to that force")
+    #: the pipeline passes the chain's tangential stage as option ``chain_tangential``
+    uses_chain_tangential = True
     capabilities = Capabilities(contacts=frozenset({"ellipse"}), sources=frozenset({"computed"}),
                                 provides=frozenset({"pressure", "normal_force", "semi_axis_a", "semi_axis_b", "contact_area",
                                                     "max_pressure"}))
@@ -59,10 +71,28 @@ class WheelsetNormal(NormalContactModel):
         fs_opts = {k: options[k] for k in FASTSIM_OPTIONS}
         contact = int(getattr(scene.wheelset, "contact", 1))
         scaling = "semi_axes" if getattr(scene, "semi_axes", None) is not None else "curvatures"
+        cells = base.grid.shape[0]
+        chain = options.get("chain_tangential")
+        forces = "fastsim" if chain is None or chain.model == "fastsim" else chain.model
+        creep = None if forces == "fastsim" else _chain_creep(chain, base, scaling, cells)
+        geometry_key = [getattr(scene.wheelset, k) for k in ("conicity", "lateral_shift", "yaw_angle",
+                                                             "vertical_load", "wheel_radius", "gauge")]
+        key = None if creep is None or contact not in (1, 2) else json.dumps(
+            [geometry_key, scene.speed, scene.friction, repr(scene.wheel), repr(scene.rail), base.normal_force,
+             base.a, base.b, scaling, cells, forces, chain.options, fs_opts], sort_keys=True, default=repr)
         try:
-            xi, eta, phi, n1, sol = wheelset_contact(scene.wheelset, scene.wheel, scene.rail, scene.speed,
-                                                     scene.friction, base.normal_force, (base.a, base.b), scaling,
-                                                     contact, **fs_opts)
+            if key in EQUILIBRIUM_CACHE:
+                sol = EQUILIBRIUM_CACHE[key]
+            else:
+                sol = wheelset_contact(scene.wheelset, scene.wheel, scene.rail, scene.speed, scene.friction,
+                                       base.normal_force, (base.a, base.b), scaling, contact, creep_forces=creep,
+                                       **fs_opts)[4]
+                if key is not None and sol.converged:
+                    if len(EQUILIBRIUM_CACHE) >= CACHE_SIZE:
+                        EQUILIBRIUM_CACHE.pop(next(iter(EQUILIBRIUM_CACHE)))
+                    EQUILIBRIUM_CACHE[key] = sol
+            i = contact - 1
+            xi, eta, phi, n1 = (float(sol.xi[i]), float(sol.eta[i]), float(sol.phi[i]), float(sol.normal_force[i]))
         except np.linalg.LinAlgError as exc:   # the equilibrium's linear solve broke down: a solver failure
             raise SolverError(f"model 'wheelset': the wheelset equilibrium's normal-force solve failed: {exc}") from exc
         except ValueError as exc:               # no equilibrium contact for these inputs (e.g. both bodies rigid)
@@ -74,9 +104,35 @@ class WheelsetNormal(NormalContactModel):
                 "xi_1": float(sol.xi[0]), "eta_1": float(sol.eta[0]), "phi_1": float(sol.phi[0]),
                 "xi_2": float(sol.xi[1]), "eta_2": float(sol.eta[1]), "phi_2": float(sol.phi[1]),
                 "theta": sol.theta, **{f"residual_{k}": v for k, v in sol.residuals.items()},
+                # whose creep forces balance the equilibrium (the chain's tangential model), and FASTSIM's
+                # equilibrium the solve with another model's forces started from
+                "equilibrium_forces": forces,
+                **({} if sol.start is None else {"fastsim_normal_force_1": float(sol.start.normal_force[0]),
+                                                 "fastsim_normal_force_2": float(sol.start.normal_force[1]),
+                                                 "fastsim_theta": float(sol.start.theta)}),
                 # the fixed-point iteration on the normal forces is the solver (docs/verdicts.md); its
                 # residual is the worst of its relative equilibrium residuals (vertical, roll, axle moment)
                 "converged": bool(sol.converged), "iterations": int(sol.iterations),
                 "residual": float(max(abs(float(v)) for v in sol.residuals.values()))}
         return ContactPatch(grid=g1, normal_force=n1, a=a1, b=b1, max_pressure=p01, pressure=pr1,
                             creepage=(xi, eta, phi), diagnostics=diag)
+
+
+def _chain_creep(chain, base, scaling: str, cells: int):
+    """``creep_forces(i, N, creepages) -> (Fx, Fy)`` [N] for the equilibrium: the chain's tangential stage
+    ``chain`` on the Hertz patch of ``base`` rescaled to N [N], on the grid the model returns (``cells`` along
+    2a, :data:`PRESSURE_GAUSS` points), so that the forces balanced are those the run's tangential stage gives."""
+    from .kinematics import PRESSURE_GAUSS
+
+    def creep_forces(i, normal_force, creepage):
+        a, b, p0 = rescale_hertz_patch(normal_force, base.normal_force, base.a, base.b, scaling)
+        g, p = hertz_pressure_grid(a, b, p0, 0, cells, gauss=PRESSURE_GAUSS)
+        out = chain(ContactPatch(grid=g, normal_force=normal_force, a=a, b=b, max_pressure=p0, pressure=p,
+                                 creepage=tuple(creepage)))
+        if not bool((out.diagnostics or {}).get("converged", True)):
+            raise SolverError(f"model 'wheelset': the chain's tangential model {chain.model!r} did not converge "
+                              f"on contact {i + 1} in the equilibrium (N = {normal_force:.6g} N, creepages "
+                              f"{tuple(float(c) for c in creepage)})")
+        return float(out.creep_force_x), float(out.creep_force_y)
+
+    return creep_forces

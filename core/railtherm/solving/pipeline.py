@@ -303,6 +303,8 @@ def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
             records.append(StageRecord(model, diag))
             continue
         if stage == "normal":
+            if getattr(model, "uses_chain_tangential", False):   # its equilibrium solves the creep forces
+                opts["chain_tangential"] = _chain_tangential(pl, scene, level, options, cells)
             patch = result = model.compute_patch(scene, level, opts)
         elif (stage == "tangential" and needs_loop(scene.friction_law, scene.heat_source)
               and not isinstance(pl.models["temperature"], CoupledModel)):
@@ -323,6 +325,23 @@ def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
         done.add(id(model))
     _check_heat_sign(pl, source)
     return patch, source, temp, records
+
+
+def _chain_tangential(pl: Plan, scene: Scene, level: int, options, cells):
+    """The chain's tangential stage as ``patch -> patch`` (attributes ``model``: its name, ``options``: its
+    resolved options), for a normal model whose equilibrium needs the chain's own creep forces (fastsim's
+    ``wheelset``), also when no output needs the tangential stage; None when the chain has none for the scene."""
+    try:
+        tm = pl.models.get("tangential") or _select(get_host(), pl.method, "tangential", scene, level)
+    except Refused:
+        return None
+    opts = {**tm.resolve_options(options), "cells": cells}
+
+    def tangential(patch):
+        return tm.compute_tangential(scene, patch, level, opts)
+
+    tangential.model, tangential.options = tm.name, opts
+    return tangential
 
 
 def _temperature(model: StageModel, scene: Scene, source, level: int, opts):
