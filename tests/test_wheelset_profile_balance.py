@@ -7,6 +7,7 @@ load split moves by 1.5 L d(phi) / delta; holding that to the normal force's 3 %
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 
 import pytest
@@ -62,3 +63,35 @@ def test_the_wheel_carries_half_the_axle_load_and_the_result_says_the_roll():
     assert right.profile_contact.vertical_force == 1e4
     r = railtherm.solve(right, {"normal": "wheelset-profile"}, level=0)
     assert r.attrs["wheelset_roll_angle"] == right.profile_contact.balanced_roll
+
+
+def test_the_result_says_which_forces_balance_the_roll():
+    """Every chain gets the roll balanced with the Hertz-equivalent forces (not kalker's normal solve), and its
+    result says so."""
+    from railtherm.input.wheelset_profile import ROLL_BALANCE
+    right = _balanced(13, "right", outputs=["normal_force"])
+    r = railtherm.solve(right, {"normal": "wheelset-profile"}, level=0)
+    assert r.attrs["wheelset_roll_balance"] == ROLL_BALANCE
+    assert "Hertz-equivalent" in ROLL_BALANCE and "not the chain's normal stage" in ROLL_BALANCE
+
+
+def test_the_hertz_equivalent_heights_of_both_wheels_agree_at_the_balanced_roll():
+    """With the forces the attribute names (each wheel's Hertz-equivalent approach under half the axle load plus
+    its gap to first touch, input.wheelset_profile._wheel_height), the wheelset centre's height is the same for
+    both wheels at the balanced roll to 1e-10 m (secant tolerance 1e-11 m); 1 urad away they differ by more than
+    0.3 um (the arm L = 0.75 m moves the wheels apart by 2 L d(phi) = 1.5 um)."""
+    from railtherm.input import wheelset_profile as wp
+    from railtherm.physics.elastic import combined_elastic
+    from railtherm.references.hertz import contact_modulus
+    sc = _balanced(13)
+    pc = sc.profile_contact
+    geo, _ = wp._geometry(sc.name, dict(sc.source["wheelset"], roll_angle=0.0), None)
+    base = dataclasses.replace(wp._nominal(geo, sc.speed), vertical_force=0.5 * geo.vertical_force)
+    bodies = (contact_modulus(sc.wheel, sc.rail), *combined_elastic(sc.wheel, sc.rail))
+
+    def mismatch(roll):
+        return (wp._wheel_height(sc.name, base, "right", roll, bodies, sc.friction, sc.speed)
+                - wp._wheel_height(sc.name, base, "left", roll, bodies, sc.friction, sc.speed))
+
+    assert abs(mismatch(pc.balanced_roll)) < 1e-10
+    assert abs(mismatch(pc.balanced_roll + 1e-6)) > 3e-7

@@ -210,6 +210,7 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
                          "wheelset_lateral_force_estimate": float(wheelset.lateral_force_estimate)})
         if getattr(wheelset, "balanced_roll", None) is not None:   # roll_angle = "balance": the roll found
             ds.attrs["wheelset_roll_angle"] = float(wheelset.balanced_roll)
+            ds.attrs["wheelset_roll_balance"] = str(getattr(wheelset, "roll_balance", ""))
     if nan_ok:
         ds.attrs["nan_allowed"] = " ".join(sorted(set(str(ds.attrs.get("nan_allowed", "")).split()) | set(nan_ok)))
     return ds

@@ -20,6 +20,7 @@ import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 from ..contract.errors import SceneError
@@ -46,6 +47,11 @@ GAP_DEGREE = 8
 REFERENCE_FRACTION = 0.5
 #: points of the rail profile a ProfileContact keeps for drawing (rail_section)
 SECTION_POINTS = 400
+#: which forces ``roll_angle = "balance"`` balances (result attribute ``wheelset_roll_balance``): every chain
+#: gets the same roll, found at scene load before any chain runs
+ROLL_BALANCE = ("Hertz-equivalent normal forces of each wheel's patches (the profiles' curvatures at the contact), "
+                "the lateral creep force estimated by Kalker's linear theory, saturated (Shen-Hedrick-Elkins); "
+                "not the chain's normal stage (kalker's non-Hertzian normal solve is not used)")
 
 
 @dataclass(frozen=True)
@@ -118,6 +124,8 @@ class ProfileContact:
     rail_section: tuple = field(default=((), ()), repr=False, compare=False)
     #: the wheelset's roll [rad] found by ``roll_angle = "balance"`` (None: the scene gave it)
     balanced_roll: float | None = None
+    #: the forces that balance that roll (:data:`ROLL_BALANCE`)
+    roll_balance: ClassVar[str] = ROLL_BALANCE
     #: the pitch velocity [rad/s] the creepages were taken at when the scene left it ``"free"`` (None: given)
     free_pitch: float | None = None
     #: the reference point relative to the wheelset centre and the axle's direction, in the wheel's axes (z down)
@@ -615,7 +623,10 @@ def balance_roll(scene_name: str, geo, bodies, friction, speed: float, tol: floa
     The wheelset centre sits at one height: each wheel's height to carry Fz / 2 (:func:`_wheel_height`, its
     patches' Hertz-equivalent forces, as the normal force of a scene is estimated) must be the same for the
     right and the left wheel; the roll that makes them equal is found by the secant method to ``tol`` [m].
-    A scene with ``pitch_velocity = "free"`` balances the roll at -V / R0.
+    A scene with ``pitch_velocity = "free"`` balances the roll at -V / R0. These are the forces of every chain
+    (:data:`ROLL_BALANCE`, result attribute ``wheelset_roll_balance``): the roll is found when the scene is
+    loaded; kalker's own normal solve of a non-Hertzian patch would give another approach, hence another roll
+    (A-2.2 position 2 right: -1.95e-5 against CONTACT's -2.30e-5 rad).
     """
     base = dataclasses.replace(_nominal(geo, speed), vertical_force=0.5 * float(geo.vertical_force))
 

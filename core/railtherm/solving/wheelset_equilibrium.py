@@ -100,5 +100,5 @@ def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool
     out.attrs.update({"wheelset_pitch_velocity": float(x1), "wheelset_axle_moment": float(f1),
                       "wall_time": time.perf_counter() - t0})
     if pc.balanced_roll is not None:
-        out.attrs["wheelset_roll_angle"] = float(pc.balanced_roll)
+        out.attrs.update(wheelset_roll_angle=float(pc.balanced_roll), wheelset_roll_balance=pc.roll_balance)
     return out
