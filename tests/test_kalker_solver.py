@@ -777,3 +777,74 @@ def test_folded_normal_solves_in_threads_equal_the_serial_solve():
     for r in results:
         np.testing.assert_array_equal(r.pressure, serial.pressure)
         assert r.iterations == serial.iterations
+
+
+def test_mirrored_products_equal_the_products_on_both_halves():
+    """apply_at(..., mirrored=True) on the elements j >= ny/2 (the x component mirrored evenly, the y component
+    oddly onto j' = ny - 1 - j, the transforms along x on half of the columns) equals apply_at on both halves
+    to 1e-13 of the largest value in float64 (1e-6 in float32), also between whole-grid products on other elements
+    (the work field cleared), and through the general path (no pocketfft work arrays)."""
+    area, X, Y, g = _setup(24, 4)
+    conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
+    nx, ny = conv.shape
+    assert ny % 2 == 0
+    idx_all = np.nonzero((g > 0).ravel())[0]
+    idx = idx_all[idx_all % ny >= ny // 2]
+    twin = idx - 2 * (idx % ny) + ny - 1
+    rng = np.random.default_rng(5)
+    v = rng.normal(size=(2, idx.size))
+    both = np.hstack([v, v * np.array([[1.0], [-1.0]])])
+    expected = conv.apply_at(both, np.concatenate([idx, twin]))[:, :idx.size]
+    for general in (False, True):
+        conv._buffered_ok = not general
+        try:
+            got = [conv.apply_at(v, idx, mirrored=True), conv.apply_at(rng.normal(size=(2, idx_all.size)), idx_all),
+                   conv.apply_at(v, idx, mirrored=True),
+                   conv.apply_at(v.astype(np.float32), idx, single=True, mirrored=True)]
+        finally:
+            conv._buffered_ok = True
+        for k in (0, 2):
+            np.testing.assert_allclose(got[k], expected, rtol=0, atol=1e-13 * np.abs(expected).max())
+        assert got[3].dtype == np.float32
+        np.testing.assert_allclose(got[3], expected, rtol=0, atol=1e-6 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("creepage", [(-5e-4, 0.0, 0.0), (-0.05, 0.0, 0.0), (-2e-3, 1e-3, 0.2), (0.0, 1e-3, 0.0)])
+def test_a_problem_symmetric_in_y_is_solved_on_one_half(creepage):
+    """Longitudinal creepage on a bound symmetric about the grid's centre line along x is solved on the half
+    j >= ny/2 (every grid of the nested solve with an even ny), with the traction, slip and stick of the whole-grid
+    solve (mirror=False) to 1e-9 of max g (the same Newton and GMRES iterations up to round-off; the residual to the
+    1e-10 tolerance); lateral creepage or spin is solved on the whole grid, identically."""
+    area, X, Y, g = _setup(48, 4)
+    g = 0.5 * (g + g[:, ::-1])
+    half = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, G, NU), area.x_edges, area.y_edges, g,
+                                   creepage)
+    whole = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, G, NU), area.x_edges, area.y_edges, g,
+                                    creepage, mirror=False)
+    assert half.mirrored == (creepage[1:] == (0.0, 0.0)) and not whole.mirrored
+    assert half.converged and whole.converged and half.residual <= 1e-10
+    np.testing.assert_allclose(half.traction, whole.traction, rtol=0, atol=1e-9 * g.max())
+    np.testing.assert_allclose(half.slip, whole.slip, rtol=0, atol=1e-9 * np.abs(whole.slip).max())
+    np.testing.assert_array_equal(half.stick, whole.stick)
+    if half.mirrored:           # the mirror images of the half: x component even, y component odd
+        np.testing.assert_array_equal(half.traction[0], half.traction[0][:, ::-1])
+        np.testing.assert_array_equal(half.traction[1], -half.traction[1][:, ::-1])
+    else:
+        np.testing.assert_array_equal(half.traction, whole.traction)
+
+
+def test_a_bound_that_is_not_symmetric_is_solved_on_the_whole_grid():
+    """A traction bound off its mirror image by more than MIRROR_TOLERANCE (or an odd ny) keeps the whole grid."""
+    from railtherm_kalker.tangential_solver import MIRROR_TOLERANCE
+    area, X, Y, g = _setup(24, 4)
+    conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
+    w = rigid_slip(X, Y, -5e-4, 0.0, 0.0)
+    g = 0.5 * (g + g[:, ::-1])
+    assert solve_tangential(conv, g, w).mirrored
+    g2 = g.copy()
+    g2[g2.shape[0] // 2, g2.shape[1] // 2 - 1] *= 1 + 10 * MIRROR_TOLERANCE     # an element at the centre
+    assert not solve_tangential(conv, g2, w).mirrored
+    area3, X3, Y3, g3 = _setup(25, 4)
+    conv3 = rolling_operator(area3.x_edges, area3.y_edges, G, NU)
+    assert g3.shape[1] % 2 == 1
+    assert not solve_tangential(conv3, g3, rigid_slip(X3, Y3, -5e-4, 0.0, 0.0)).mirrored

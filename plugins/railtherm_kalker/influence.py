@@ -399,14 +399,22 @@ class Convolution:
         (mx, my), ny = self.padded, self.shape[1]
         return _work_arrays(np.dtype(dt).char, nc, mx, ny, my, threading.get_ident())
 
-    def _buffered(self, work, spec):
+    def _buffered(self, work, spec, mirrored=False):
         """Inverse transform of ``spec`` times the spectra of the padded fields work[0], in the work arrays (no
         allocation: with scipy.fft's functions the temporaries of a product at 200^2 elements are 0.3-0.6 MB each,
         and their allocation's page faults made a float64 product 2-3 times slower). Returns work[2] (nc, M_x, ny),
-        overwritten by the next call."""
+        overwritten by the next call. ``mirrored``: two fields with x component even and y component odd about the
+        grid's centre line along x (:meth:`apply_at`), given and returned on the columns j >= ny/2 only (the
+        transforms along x of the other half are their mirror images)."""
         buf, half, out, F = work[0], work[1], work[2], work[4]
         ny = self.shape[1]
-        _pocketfft.r2c(buf, (1,), True, 0, half[..., :ny], 1)      # half's columns ny.. stay zero
+        if mirrored:
+            h = ny // 2
+            _pocketfft.r2c(buf[..., h:], (1,), True, 0, half[..., h:ny], 1)
+            half[0, :, h - 1::-1] = half[0, :, h:ny]
+            np.negative(half[1, :, h:ny], out=half[1, :, h - 1::-1])
+        else:
+            _pocketfft.r2c(buf, (1,), True, 0, half[..., :ny], 1)      # half's columns ny.. stay zero
         _pocketfft.c2c(half, (2,), True, 0, F, 1)
         if F.shape[0] == 1:
             np.multiply(F[0], spec[(0, 0)] if isinstance(spec, dict) else spec, out=F[0])
@@ -415,22 +423,38 @@ class Convolution:
         else:
             F[...] = self._product(F, spec)
         _pocketfft.c2c(F, (2,), False, 2, F, 1)
-        _pocketfft.c2r(F[..., :ny], (1,), self.padded[0], False, 2, out, 1)
+        lo = ny // 2 if mirrored else 0
+        _pocketfft.c2r(F[..., lo:ny], (1,), self.padded[0], False, 2, out[..., lo:], 1)
         return out
 
-    def apply_at(self, v: np.ndarray, idx: np.ndarray, single: bool = False) -> np.ndarray:
+    def apply_at(self, v: np.ndarray, idx: np.ndarray, single: bool = False, mirrored: bool = False) -> np.ndarray:
         """(A p)[idx] for the tractions p that are v on the elements ``idx`` and zero elsewhere.
 
         v : ndarray (ncomp, len(idx)) [Pa]; idx: flat indices into the (nx, ny) grid. The values are
         scattered straight into the array padded along x (a flat index i ny + j is the same in the
         (M_x, ny) array) and gathered from the unpadded inverse: no zero-padding copies. Returns
-        (ncomp, len(idx)), float32 when ``single``.
+        (ncomp, len(idx)), float32 when ``single``. ``mirrored`` (two components, ny even, idx on the columns
+        j >= ny/2): p is also -- x component even, y component odd -- the mirror image of v on the elements
+        (i, ny - 1 - j); the transforms along x run on half of the columns.
         """
         self.products += 1
         nc, ny, (mx, my) = self.ncomp, self.shape[1], self.padded
         dt = np.float32 if single else np.float64
         spec = self._spec32 if single else self._spec
         v = np.asarray(v, dtype=dt).reshape(nc, -1)
+        if mirrored and not (self._buffered_ok and _scatter is not None and nc == 2 and ny % 2 == 0):
+            twin = idx - 2 * (idx % ny) + ny - 1           # the general path on both halves
+            out = self.apply_at(np.hstack([v, v * np.array([[1.0], [-1.0]], dtype=dt)]), np.concatenate([idx, twin]),
+                                single=single)
+            return out[:, :idx.size]
+        if mirrored:
+            work = self._work_arrays(dt, nc)
+            buf = work[0].reshape(nc, mx * ny)
+            if work[3] is not idx:
+                buf[...] = 0.0
+                work[3] = idx
+            _scatter(buf, idx, v)
+            return _gather(self._buffered(work, spec, mirrored=True).reshape(nc, mx * ny), idx)
         if self._buffered_ok:
             work = self._work_arrays(dt, nc)
             buf = work[0].reshape(nc, mx * ny)

@@ -86,6 +86,8 @@ class TangentialSolution:
         GMRES iterations summed over the Newton steps [1].
     products : int
         FFT products of the rolling operator [1].
+    mirrored : bool
+        Solved on the half y >= 0 of a problem symmetric about the grid's centre line along x (:func:`_y_mirror`).
     """
 
     traction: np.ndarray
@@ -97,6 +99,7 @@ class TangentialSolution:
     history: list = field(default_factory=list)
     linear_iterations: int = 0
     products: int = 0
+    mirrored: bool = False
 
 
 def rigid_slip(X, Y, xi: float, eta: float, phi: float, line: bool = False) -> np.ndarray:
@@ -254,12 +257,40 @@ def _forcing_term(history, eta_prev, tol, forcing, good_start):
     return max(eta_k, LINEAR_MIN, FINAL_MARGIN * tol / max(res, 1e-300))
 
 
+#: a problem is solved on the half j >= ny/2 of its grid when its traction bound equals its mirror image about the
+#: grid's centre line along x to this fraction of its largest value [1] (the bound is then averaged with the image)
+MIRROR_TOLERANCE = 1e-13
+
+
+def _y_mirror(g, w) -> bool:
+    """Whether steady rolling on bound g and rigid slip w is symmetric about the centre line along x of its grid
+    (an even number of elements across): w = (xi, 0) (no lateral creepage, no spin: w_x even and w_y odd in y, as
+    compared) and g(x, -y) = g(x, y) to :data:`MIRROR_TOLERANCE`. The traction then has an even x and an odd y
+    component (the solution is unique and B keeps that symmetry: its kernels B_xx, B_yy are even in y, B_xy odd),
+    and :func:`solve_tangential` solves on one half: the Krylov spaces from a symmetric start stay in the symmetric
+    subspace, whose inner product is twice the half's, so Newton and GMRES take the same steps with half the
+    orthogonalisation, preconditioner and element-wise work (the FFT products stay those of the whole grid)."""
+    if w.shape[0] != 2 or g.ndim != 2 or g.shape[1] < 2 or g.shape[1] % 2:
+        return False
+    wmax = float(np.abs(w).max())
+    if np.any(np.abs(w[0] - w[0][:, ::-1]) > MIRROR_TOLERANCE * wmax) or np.any(np.abs(w[1]) > 0.0):
+        return False
+    return bool(np.all(np.abs(g - g[:, ::-1]) <= MIRROR_TOLERANCE * float(np.abs(g).max())))
+
+
+def _mirror_average(a, sign):
+    """The part of a (ncomp, nx, ny) with the symmetry of :func:`_y_mirror` (component c times sign[c] mirrored)."""
+    a = np.asarray(a, dtype=float)
+    return 0.5 * (a + np.asarray(sign, dtype=float)[:, None, None] * a[:, :, ::-1])
+
+
 # over 80 lines: the Newton loop, its Jacobian and line search share the unknowns' layout (idx, restrict,
 # embed) and the step's state; split, they would pass a dozen arrays around
 def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TANGENTIAL_TOLERANCE,
                      maxiter: int = 60, initial: np.ndarray | None = None, rscale: float = 1.0,
                      precondition: bool = True, forcing: str = "ew",
-                     initial_slip: np.ndarray | None = None, good_start: bool = False) -> TangentialSolution:
+                     initial_slip: np.ndarray | None = None, good_start: bool = False,
+                     mirror: bool = True) -> TangentialSolution:
     """Solve Kalker's steady rolling problem with semismooth Newton-GMRES.
 
     Coulomb's law is the fixed point ``p = Proj_g(p - r s(p))`` (each element's traction projected on the disc of
@@ -296,6 +327,9 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         (:data:`GOOD_START_FORCING`) and the cheaper sweep preconditioner (few GMRES steps in all).
     precondition : bool
         Precondition GMRES with :class:`LocalPreconditioner` (False: plain GMRES, for comparison).
+    mirror : bool
+        Solve a problem symmetric about the grid's centre line along x on one half (:func:`_y_mirror`; False: on
+        the whole grid, for comparison).
 
     Returns
     -------
@@ -304,23 +338,41 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
     g = np.asarray(bound, dtype=float)
     w = np.asarray(w, dtype=float)
     nc = w.shape[0]
+    mirrored = mirror and _y_mirror(g, w)
+    sign = np.array([1.0, -1.0])
+    if mirrored:        # the symmetric parts (the bound's to MIRROR_TOLERANCE; a coarse grid's start to its tolerance)
+        g = 0.5 * (g + g[:, ::-1])
+        initial = None if initial is None else _mirror_average(initial, sign)
+        initial_slip = None if initial_slip is None else _mirror_average(initial_slip, sign)
     inside = g > 0
     gmax = float(g.max()) if inside.any() else 1.0
     idx = np.nonzero(inside.ravel())[0]
+    if mirrored:        # the unknowns j >= ny/2; their mirror images j' = ny - 1 - j follow with the sign
+        ny = g.shape[1]
+        idx = idx[idx % ny >= ny // 2]
+        twin = idx - 2 * (idx % ny) + ny - 1
     nin = idx.size
     full_shape = w.shape
     n0 = conv.products
     r = rscale / abs(float(conv.self_coefficient))     # inverse of the self-influence |B_xx(0)|
 
+    def product(v, single=False):
+        """B v on the unknown elements for v (nc, nin) on them (and, mirrored, its image on the twins)."""
+        if mirrored:
+            return conv.apply_at(v, idx, single=single, mirrored=True)
+        return conv.apply_at(v, idx, single=single)
+
     def slip_of(p):
         """Slip s = w - B p on the unknown elements (nc, nin) of a traction p (nc, nx, ny) zero outside them."""
-        return w_in - conv.apply_at(restrict(p), idx)
+        return w_in - product(restrict(p))
 
     def embed(v):
         out = np.zeros((nc, g.size), dtype=v.dtype)
         vv = v.reshape(nc, nin)
         for c in range(nc):                     # np.put: about twice as fast as fancy assignment
             np.put(out[c], idx, vv[c])
+            if mirrored:
+                np.put(out[c], twin, sign[c] * vv[c])
         return out.reshape(full_shape)
 
     def restrict(a):
@@ -359,9 +411,9 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         def jac(v):
             v = v.reshape(nc, nin)
             if single:      # a float32 product, the rows in the basis's precision: no conversions of the product
-                bv = conv.apply_at(v.astype(np.float32, copy=False), idx, single=True)
+                bv = product(v.astype(np.float32, copy=False), single=True)
             else:
-                bv = conv.apply_at(v, idx)
+                bv = product(v)
             if _jacobian_rows is not None:
                 return _jacobian_rows(v, bv, slipping, zh, fac, r).ravel()
             bv = bv.astype(float, copy=False)
@@ -396,11 +448,13 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
         converged = res <= tol
     stick = np.zeros(g.shape, dtype=bool)
     stick.ravel()[idx] = nz <= gin
+    if mirrored:
+        stick.ravel()[twin] = nz <= gin
     # tractions exactly on the bound where slipping; zero slip outside the contact
     s_out = embed(s)
     return TangentialSolution(traction=p, slip=s_out, stick=stick, converged=converged, iterations=it,
                               residual=res, history=history, linear_iterations=lin_total,
-                              products=conv.products - n0)
+                              products=conv.products - n0, mirrored=mirrored)
 
 
 def _coarsen(a: np.ndarray, line: bool) -> np.ndarray:
@@ -505,7 +559,7 @@ def _level_start(p, slip0, levels, k, line):
 def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_elements: int = 12,
                             tol: float = TANGENTIAL_TOLERANCE, maxiter: int = 60,
                             coarse_tol: float = 1e-2, offset: float = 0.0,
-                            initial: np.ndarray | None = None) -> TangentialSolution:
+                            initial: np.ndarray | None = None, mirror: bool = True) -> TangentialSolution:
     """Nested iteration: solve on grids of 2, 4, ... times larger elements first, starting from zero
     traction on the coarsest, and start each finer solve from the coarser solution. With ``initial`` (a
     traction on this grid, e.g. the previous solve of a friction-law or temperature loop) only this grid is
@@ -532,6 +586,8 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         As :func:`solve_tangential` (finest grid).
     initial : ndarray (ncomp, nx, ny), optional
         A warm start on this grid [Pa]: no coarse solves.
+    mirror : bool
+        As :func:`solve_tangential` (every grid).
     offset : float
         Rigid slip evaluated at x + offset dx instead of the element centre [elements] (default 0; 1/6 with the
         first-order operator is CONTACT's discretisation). No offset makes the first-order operator a
@@ -569,7 +625,7 @@ def solve_tangential_nested(conv_for, x_edges, y_edges, bound, creepage, *, min_
         init = _level_start(p, slip0, levels, k, line)
         last = k == 0
         sol = solve_tangential(conv, g, w, tol=tol if last else max(tol, coarse_tol), maxiter=maxiter, initial=init,
-                               initial_slip=slip0, good_start=slip0 is not None)
+                               initial_slip=slip0, good_start=slip0 is not None, mirror=mirror)
         products += sol.products
         linear += sol.linear_iterations
         if not last:
