@@ -32,6 +32,7 @@ from .rises import RISES, bulk_of as _bulk  # noqa: E402,F401  (temperatures on 
 from .trace_metrics import TRACE_METRICS, TRACE_PROFILES, trace_errors  # noqa: E402,F401  (metrics.nc's trace metrics)
 from .transient_metrics import TRANSIENT_METRICS, transient_errors  # noqa: E402  (metrics.nc's transient metrics)
 from .verdicts import independent  # noqa: E402,F401
+from .patch_metrics import patch_columns, patch_errors  # noqa: E402  (several patches scored patch by patch)
 #: the quantity a scene's verdict is given on: the first of these that the scene asks for
 HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
                   "semi_axis_a", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
@@ -323,6 +324,7 @@ def _score(ctx: _Study, rec) -> dict:
     if {k for k in ref_values if not k.startswith("_")} or ref_ds is not None:
         own = ctx.cache[rec.path] if rec.path in ctx.cache else _open(rec.path)
         errs = run_errors(scene, own, ref_values, ref_ds, ref_tag=ref_tag, notes=notes, signed=signed)
+        patch_errors(scene, own, ref_ds, errs, notes=notes, signed=signed, row=row, headline=headline(scene))
         if "cooling_rate" in errs:
             row["cooling_rate_depth"] = _cooling_depth(scene, own)
         if ctx.kind(scene) == "analytic" and getattr(scene, "transient", None) is not None:
@@ -394,7 +396,7 @@ def _run_table(rows: list[dict], metrics: tuple):
     for m in signed:
         ds[f"signed_error_{m}"].attrs.update(units="1", long_name=f"error_{m} with the sign of (value - reference)")
     ds["run"].attrs.update(units="1", long_name="run index")
-    return ds
+    return patch_columns(ds, rows)
 
 
 def _scene_vars(ds, ctx: _Study, snames: list, mnames: list, metrics: tuple):
