@@ -278,7 +278,7 @@ class Convolution:
             want = (mx, my) if placed else (2 * nx - 1, 2 * ny - 1)
             if k.shape != want:
                 raise ValueError(f"kernel {key} has shape {k.shape}, expected {want}")
-            spectra[key] = self._spectrum(k) if placed else self._embed(k, nx - 1, ny - 1)
+            spectra[key] = k if placed else self._embed(k, nx - 1, ny - 1)    # placed: transformed when first used
         if symmetric and (0, 1) in spectra and (1, 0) not in spectra:
             spectra[(1, 0)] = spectra[(0, 1)]
         if placed:      # offset o at o mod M: the offsets -r..r of the near neighbours by index
@@ -294,7 +294,8 @@ class Convolution:
                      for key, k in (kernels if near_kernels is None else near_kernels).items()}
         if symmetric and (0, 1) in self.near and (1, 0) not in self.near:
             self.near[(1, 0)] = self.near[(0, 1)]
-        self._spec = spectra
+        self._spec_cache = None if placed else spectra
+        self._placed_kernels = spectra if placed else None
         self._spec32_cache = None
         self._inverse32 = None
         #: the periodic grid of the preconditioner's circulant (:meth:`precondition`)
@@ -316,6 +317,19 @@ class Convolution:
             self._inverse32 = (1.0 / lam).astype(np.float32)
         self.products = 0
         self._buffered_ok = _pocketfft is not None and my > 1
+
+    @property
+    def _spec(self):
+        """The kernels' spectra in the layout of :meth:`_fwd`; for kernels given placed, transformed on the first
+        product (the normal operator of a gap symmetric in x and y never needs them: its solve runs on the folded
+        operator, :mod:`railtherm_kalker._fold`)."""
+        if self._spec_cache is None:
+            spectra = {}
+            for key, k in self._placed_kernels.items():
+                shared = [s for kk, s in spectra.items() if self._placed_kernels[kk] is k]
+                spectra[key] = shared[0] if shared else self._spectrum(k)
+            self._spec_cache, self._placed_kernels = spectra, None
+        return self._spec_cache
 
     @property
     def _spec32(self):
