@@ -26,15 +26,19 @@ def _mu_of(law, patch, wheel_bulk, rail_bulk, shape, slip_speed=0.0):
                           if np.ndim(slip_speed) else slip_speed).reshape(shape)
 
 
-def solve_with_law(scene, patch, solve, self_coefficient: float, speed: float):
-    """Solve the tangential problem under the scene's friction law.
+def solve_with_law(law, patch, wheel_bulk: float, rail_bulk: float, solve, self_coefficient: float, speed: float):
+    """Solve the tangential problem under a friction law (the scene's ``friction_law``).
 
     Parameters
     ----------
-    scene : Scene
-        Its ``friction_law``.
+    law : railtherm.physics.friction.FrictionLaw
+        The scene's friction law (``scene.friction_law``).
     patch : ContactPatch
         Grid, pressure [Pa] and (for a temperature law) ``contact_temperature`` [degC].
+    wheel_bulk, rail_bulk : float
+        Bulk temperatures of the wheel and the rail [degC] (``scene.wheel.bulk_temperature``,
+        ``scene.rail.bulk_temperature``): a temperature law's contact temperature where the patch has none
+        (:func:`railtherm.physics.friction.local_friction`).
     solve : callable
         ``solve(mu, previous=None) -> (solution, X, Y)``: the tangential solve with mu per element (nx, ny) [1],
         warm-started from ``previous`` (the last such tuple) when given.
@@ -56,11 +60,10 @@ def solve_with_law(scene, patch, solve, self_coefficient: float, speed: float):
     railtherm.SolverError
         When the slip-law iteration does not converge (:func:`railtherm.physics.friction.iterate_slip_law`).
     """
-    law = scene.friction_law
     p = np.clip(np.asarray(patch.pressure, dtype=float), 0.0, None)
     shape = p.reshape(p.shape[0], -1).shape
     if not law.depends_on_slip:
-        mu = _mu_of(law, patch, scene.wheel.bulk_temperature, scene.rail.bulk_temperature, shape)
+        mu = _mu_of(law, patch, wheel_bulk, rail_bulk, shape)
         sol, X, Y = solve(mu)
         return sol, X, Y, mu, {}
     V = abs(float(speed))

@@ -288,7 +288,8 @@ class KalkerTangential(TangentialContactModel):
                 return out
 
             b0 = abs(float(rolling_operator(patch.grid.x_edges, patch.grid.y_edges, G, nu, order).self_coefficient))
-            sol, X, Y, _, law_diag = solve_with_law(scene, patch, solve, b0, V)
+            sol, X, Y, _, law_diag = solve_with_law(scene.friction_law, patch, scene.wheel.bulk_temperature,
+                                                    scene.rail.bulk_temperature, solve, b0, V)
         grid = patch.grid
         area = grid.cell_area
         shape = np.shape(patch.pressure)
