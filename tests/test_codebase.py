@@ -138,3 +138,234 @@ def test_functions_below_the_stage_hooks_take_the_scene_s_parts():
                 if any(a.arg == "scene" for a in args):
                     takes.append(f"{path.relative_to(ROOT)}:{node.lineno} {node.name}")
     assert takes == [], "functions below the stage hooks that take the whole scene:\n  " + "\n  ".join(takes)
+
+
+# ---------------------------------------------------------------------------------------------
+# no alias module; imports at the top of modules unless a comment says why
+
+def _is_alias_module(tree: ast.Module) -> bool:
+    """Whether a module (not a package's ``__init__``) only imports and re-exports: besides its docstring,
+    ``__all__`` and ``from __future__``, its body holds imports and nothing else, or it replaces itself in
+    ``sys.modules``."""
+    body = [n for n in tree.body if not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))]
+    body = [n for n in body if not (isinstance(n, ast.ImportFrom) and n.module == "__future__")]
+    body = [n for n in body if not (isinstance(n, (ast.Assign, ast.AnnAssign)) and "__all__" in ast.unparse(n))]
+    replaces = "sys.modules[__name__]" in ast.unparse(tree)
+    return replaces or (bool(body) and all(isinstance(n, (ast.Import, ast.ImportFrom)) for n in body))
+
+
+def test_the_alias_check_can_fail():
+    assert _is_alias_module(ast.parse('"""Moved."""\nfrom .run.runner import *  # noqa\n__all__ = ["x"]\n'))
+    assert _is_alias_module(ast.parse("import sys\nfrom .store import store\nsys.modules[__name__] = store\n"))
+    assert not _is_alias_module(ast.parse("from .grid import embed\n\ndef f():\n    return embed\n"))
+
+
+#: alias modules that wait for their users in files of concurrent work; the list only shrinks:
+#: * models/shapes.py re-exports physics.averaging's cell_average and exact_total for analysis/analytic.py
+#:   (in a function) and tests/test_fastsim.py, test_fastsim_friction.py, test_fastsim_line.py, test_fdm.py,
+#:   test_fdm_speed.py, which would import them from railtherm.physics
+ALIAS_MODULES_TO_REMOVE = frozenset({"core/railtherm/models/shapes.py"})
+
+
+def test_no_alias_module():
+    """A module has one path: no module of core or a plugin (packages' ``__init__`` aside) only re-exports
+    another (a deprecation would live in one ``_deprecated.py``, as pytest's ``_pytest/deprecated.py``)."""
+    aliases = {str(p.relative_to(ROOT)) for p in SOURCES
+               if p.name != "__init__.py" and _is_alias_module(ast.parse(p.read_text(encoding="utf-8")))}
+    assert sorted(aliases - ALIAS_MODULES_TO_REMOVE) == [], sorted(aliases - ALIAS_MODULES_TO_REMOVE)
+    assert sorted(ALIAS_MODULES_TO_REMOVE - aliases) == [], "remove from ALIAS_MODULES_TO_REMOVE (gone)"
+
+
+def _function_imports_without_reason(path: Path):
+    """Line numbers of the imports inside functions of ``path`` that neither end in a ``#`` comment nor stand
+    below one (directly, or below a run of imports that starts directly below one)."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    tree = ast.parse("\n".join(lines))
+    inner = {n.lineno for f in ast.walk(tree) if isinstance(f, (ast.FunctionDef, ast.AsyncFunctionDef))
+             for n in ast.walk(f) if isinstance(n, (ast.Import, ast.ImportFrom))}
+    starts = {n.lineno: n.end_lineno for n in ast.walk(tree) if isinstance(n, (ast.Import, ast.ImportFrom))}
+    for line in sorted(inner):
+        above = line - 1
+        while True:                                  # climb over the imports directly above
+            prev = next((s for s, e in starts.items() if e == above), None)
+            if prev is None or "#" in lines[prev - 1]:
+                break
+            above = prev - 1
+        reason = "#" in lines[line - 1] or (above >= 1 and lines[above - 1].strip().startswith("#")) or (
+            prev is not None and "#" in lines[prev - 1])
+        if not reason:
+            yield line
+
+
+def test_the_function_import_check_can_fail(tmp_path):
+    p = tmp_path / "m.py"
+    p.write_text("import os\n\ndef f():\n    import json\n    return json\n\n\ndef g():\n"
+                 "    # numba: compiled on first use only\n    import numba\n    import math\n    return numba\n\n"
+                 "def h():\n    import re  # 40 ms, only for messages\n    return re\n")
+    assert list(_function_imports_without_reason(p)) == [4]
+
+
+#: files of concurrent work with imports inside functions that give no reason, and how many; the list only
+#: shrinks (a file that has fewer must lower its number, one with none must leave the list)
+FUNCTION_IMPORTS_TO_MOVE: dict[str, int] = {
+    "core/railtherm/analysis/analytic.py": 14, "core/railtherm/analysis/errors.py": 2,
+    "core/railtherm/analysis/metrics.py": 13, "core/railtherm/analysis/metrics_diff.py": 2,
+    "core/railtherm/analysis/reference_curves.py": 10, "core/railtherm/analysis/results.py": 3,
+    "core/railtherm/analysis/trace_metrics.py": 2, "core/railtherm/analysis/transient_metrics.py": 3,
+    "core/railtherm/cli.py": 12, "core/railtherm/input/wheelset_profile.py": 2,
+    "core/railtherm/report/environment.py": 2, "core/railtherm/report/figures.py": 12,
+    "core/railtherm/report/load.py": 2, "core/railtherm/report/scene_figures.py": 3,
+    "core/railtherm/report/sweep_maps.py": 1, "core/railtherm/report/verdict.py": 3,
+    "core/railtherm/run/analysis_phase.py": 5, "core/railtherm/run/executors.py": 22,
+    "core/railtherm/run/runner.py": 24, "core/railtherm/run/timelimit.py": 1, "core/railtherm/run/timing.py": 3,
+    "core/railtherm/solving/pipeline.py": 4, "core/railtherm/solving/plugins.py": 5,
+    "core/railtherm/solving/wheelset_patches.py": 1, "plugins/railtherm_fastsim/fastsim_line.py": 3,
+    "plugins/railtherm_fastsim/kinematics.py": 1, "plugins/railtherm_fastsim/simplified_theory.py": 1,
+    "plugins/railtherm_fastsim/tangential.py": 1, "plugins/railtherm_fastsim/wheelset_normal.py": 2,
+    "plugins/railtherm_fdm/block2d.py": 2, "plugins/railtherm_fdm/block3d.py": 1,
+    "plugins/railtherm_fdm/history.py": 1, "plugins/railtherm_fdm/linear_solvers.py": 2,
+    "plugins/railtherm_fdm/model.py": 3, "plugins/railtherm_fdm/plugin.py": 1,
+    "plugins/railtherm_fem/condense.py": 1, "plugins/railtherm_fem/elastic.py": 3,
+    "plugins/railtherm_fem/mesh.py": 1, "plugins/railtherm_fem/plugin.py": 1,
+    "plugins/railtherm_fem/thermal.py": 4, "plugins/railtherm_fipy/history.py": 1,
+    "plugins/railtherm_fipy/model.py": 6, "plugins/railtherm_fipy/plugin.py": 1,
+    "plugins/railtherm_fipy/solvers.py": 8, "plugins/railtherm_fipy/steady.py": 2,
+    "plugins/railtherm_fipy/transient.py": 1, "plugins/railtherm_green/kernel.py": 1,
+    "plugins/railtherm_green/plugin.py": 1, "plugins/railtherm_green/steady.py": 1,
+    "plugins/railtherm_green/transient.py": 1, "plugins/railtherm_green/validity.py": 6
+}
+
+
+def test_imports_inside_functions_say_why():
+    """Imports stand at the top of a module; one inside a function carries a ``#`` comment saying why
+    (a heavy library a plain ``import railtherm`` must not load, a cycle, an optional dependency)."""
+    found = {str(p.relative_to(ROOT)): len(list(_function_imports_without_reason(p))) for p in SOURCES}
+    found = {k: n for k, n in found.items() if n}
+    new = sorted(f"{k}: {n}" for k, n in found.items() if n > FUNCTION_IMPORTS_TO_MOVE.get(k, 0))
+    assert new == [], "imports inside functions without a '#' reason (move them to the top):\n  " + "\n  ".join(new)
+    fewer = sorted(f"{k}: {n} -> {found.get(k, 0)}" for k, n in FUNCTION_IMPORTS_TO_MOVE.items()
+                   if found.get(k, 0) < n)
+    assert fewer == [], f"lower FUNCTION_IMPORTS_TO_MOVE: {fewer}"
+
+
+# ---------------------------------------------------------------------------------------------
+# one home for friction and for the heat partition
+
+FRICTION = "core/railtherm/physics/friction/"
+#: the scene's friction law keys
+LAW_KINDS = frozenset({"constant", "slip-velocity", "polach", "temperature"})
+#: files of concurrent work whose capabilities still spell out every law key instead of
+#: ``railtherm.physics.friction.LAW_KINDS``; the list only shrinks
+LAW_KEYS_TO_REPLACE = frozenset({"plugins/railtherm_fastsim/tangential.py", "plugins/railtherm_fem/model.py",
+                                 "plugins/railtherm_kalker/tangential_model.py"})
+
+
+def _trees():
+    for p in SOURCES:
+        yield str(p.relative_to(ROOT)), ast.parse(p.read_text(encoding="utf-8"))
+
+
+def _law_key_collections(rel: str, tree) -> list[str]:
+    """Tuples, lists, sets and dicts of ``tree`` that hold two or more friction law keys as strings."""
+    out = []
+    for node in ast.walk(tree):
+        items = node.keys if isinstance(node, ast.Dict) else getattr(node, "elts", None)
+        if isinstance(node, (ast.Tuple, ast.List, ast.Set, ast.Dict)) and items:
+            words = {n.value for n in items if isinstance(n, ast.Constant) and isinstance(n.value, str)}
+            if len(words & LAW_KINDS) >= 2:
+                out.append(f"{rel}:{node.lineno}")
+    return out
+
+
+def test_friction_law_keys_are_defined_once():
+    """The law keys of the scene's ``friction`` table are listed in one place, the laws of
+    ``physics/friction/laws.py`` (each law's ``kind``); the scene validator reads them from there."""
+    from railtherm.physics.friction import LAW_KINDS as KINDS
+    assert KINDS == LAW_KINDS
+    assert _law_key_collections("x", ast.parse('LAWS = ("constant", "polach")')) == ["x:1"]
+    found = [where for rel, tree in _trees() if not rel.startswith(FRICTION) for where in _law_key_collections(rel, tree)]
+    found = [where for where in found if where.split(":")[0] not in LAW_KEYS_TO_REPLACE]
+    assert found == [], f"friction law keys listed outside {FRICTION} (use railtherm.physics.friction.LAW_KINDS): {found}"
+    listed = {where.split(":")[0] for rel, tree in _trees() for where in _law_key_collections(rel, tree)}
+    assert LAW_KEYS_TO_REPLACE <= listed, f"remove from LAW_KEYS_TO_REPLACE: {sorted(LAW_KEYS_TO_REPLACE - listed)}"
+
+
+def test_one_contact_temperature_and_one_mu_tolerance():
+    """The contact temperature a temperature law reads is computed by the functions of
+    ``physics/friction/contact_temperature.py`` only, and the tolerances on mu of the friction iterations
+    are defined in ``physics/friction/tolerances.py`` only."""
+    temps, tolerances = [], []
+    for rel, tree in _trees():
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and "contact_temperature" in node.name \
+                    and rel != FRICTION + "contact_temperature.py":
+                temps.append(f"{rel}:{node.lineno} {node.name}")
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target] \
+                if isinstance(node, ast.AnnAssign) else []
+            for t in targets:
+                name = getattr(t, "id", getattr(t, "attr", ""))
+                if "MU" in name.upper().split("_") and "TOLERANCE" in name.upper() \
+                        and rel != FRICTION + "tolerances.py":
+                    tolerances.append(f"{rel}:{node.lineno} {name}")
+    assert temps == [], f"contact temperatures computed outside {FRICTION}contact_temperature.py: {temps}"
+    assert tolerances == [], f"mu tolerances defined outside {FRICTION}tolerances.py: {tolerances}"
+
+
+def _calls(tree, name: str) -> bool:
+    return any(isinstance(n, ast.Call) and name in (getattr(n.func, "id", None), getattr(n.func, "attr", None))
+               for n in ast.walk(tree))
+
+
+def test_one_coupled_temperature_friction_loop():
+    """Core's chains and the FEM run the one temperature-friction loop,
+    :func:`railtherm.physics.friction.iterate_temperature_law`; no module defines another."""
+    trees = dict(_trees())
+    for user in ("core/railtherm/solving/friction_loop.py", "plugins/railtherm_fem/coupled.py"):
+        assert _calls(trees[user], "iterate_temperature_law"), user
+    import re
+    loop = re.compile(r"(temperature|friction)_loop|iterate_\w*law|fixed_point")
+    others = [f"{rel}:{n.lineno} {n.name}" for rel, tree in trees.items() if not rel.startswith(FRICTION)
+              for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef)) and loop.search(n.name)
+              and not (_calls(n, "iterate_temperature_law") or _calls(n, "solve_coupled"))]
+    assert others == [], f"temperature-friction loops outside {FRICTION}: {others}"
+
+
+def test_each_heat_partition_rule_has_one_meaning():
+    """The rule words of ``heat_partition`` are listed once (:attr:`railtherm.physics.partition.HeatPartition.RULES`),
+    and a function that tests a value for ``"equal-temperature"`` means Blok's fraction: it computes
+    :func:`railtherm.physics.equal_temperature_partition` (the FEM's rule that equalises mean temperatures is
+    ``"equal-mean-temperature"``)."""
+    lists, meanings = [], []
+    for rel, tree in _trees():
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Tuple, ast.List, ast.Set)) and rel != "core/railtherm/physics/partition.py":
+                words = {n.value for n in node.elts if isinstance(n, ast.Constant)}
+                if "equal-mean-temperature" in words:
+                    lists.append(f"{rel}:{node.lineno}")
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                tests = [c for c in ast.walk(node) if isinstance(c, ast.Compare)
+                         and any(isinstance(x, ast.Constant) and x.value == "equal-temperature"
+                                 for x in [c.left, *c.comparators])]
+                if tests and not _calls(node, "equal_temperature_partition"):
+                    meanings.append(f"{rel}:{node.lineno} {node.name}")
+    assert lists == [], f"heat partition rules listed outside physics/partition.py: {lists}"
+    assert meanings == [], f"'equal-temperature' taken to mean something else than Blok's fraction: {meanings}"
+
+
+def test_the_scene_is_resolved_once():
+    """Only ``core/railtherm/input/`` reads the scene's raw table (``scene.source[...]``) for the friction law
+    and the heat partition; everything else reads the typed parts ``scene.friction_law`` and
+    ``scene.partition`` resolved at load time."""
+    raw = []
+    for rel, tree in _trees():
+        if rel.startswith("core/railtherm/input/"):
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Subscript) and isinstance(node.slice, ast.Constant) \
+                    and node.slice.value in ("friction", "heat_partition") and "source" in ast.unparse(node.value):
+                raw.append(f"{rel}:{node.lineno} {ast.unparse(node)}")
+            if isinstance(node, ast.Call) and getattr(node.func, "attr", None) == "get" and node.args \
+                    and isinstance(node.args[0], ast.Constant) and node.args[0].value in ("friction", "heat_partition") \
+                    and "source" in ast.unparse(node.func.value):
+                raw.append(f"{rel}:{node.lineno} {ast.unparse(node)}")
+    assert raw == [], f"the scene's friction or heat partition re-read from its source: {raw}"

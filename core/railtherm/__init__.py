@@ -6,14 +6,16 @@ TemperatureModel, CoupledModel, Method, ...).
 
 Packages, highest first (imports run one way, down; tests/test_import_graph.py checks it): ``cli`` and
 ``testing`` (command line, plugin conformance kit); ``run/`` (runner, executors, time limits);
-``report/``; ``analysis/`` (exact values, metrics, reference curves); ``solving/`` (plugin host, stage
-pipeline); ``output/`` (the output folder's one owner); ``input/`` (scenes, studies, materials) and
-``models/`` (core's stage models); ``physics/`` (shared formulas) and ``references/`` (exact and published
-solutions); ``contract/`` (what a plugin implements). docs/DESIGN.md has the full table.
+``report/``; ``analysis/`` (exact values, metrics, reference curves); ``output/`` (the output folder's one
+owner); ``solving/`` (plugin host, stage pipeline); ``input/`` (scenes, studies, materials) and ``models/``
+(core's stage models); ``physics/`` (shared formulas) and ``references/`` (exact and published solutions);
+``contract/`` (what a plugin implements). docs/DESIGN.md has the full table.
 
 Plugins import ``railtherm`` (this module), ``railtherm.physics`` and ``railtherm.references`` only.
 """
 from __future__ import annotations
+
+import importlib
 
 from ._version import __version__
 
@@ -41,7 +43,6 @@ _LAZY = {
 
 def __getattr__(name):  # lazy: keep `railtherm validate` / `methods` fast
     if name in _LAZY:
-        import importlib
         mod = importlib.import_module(f".{_LAZY[name]}", __name__)
         return getattr(mod, name)
     raise AttributeError(f"module 'railtherm' has no attribute {name!r}")

@@ -16,10 +16,16 @@ refuse with a reason.
 from __future__ import annotations
 
 import copy
+import inspect
 
 import numpy as np
 
+from .contract.capabilities import Capabilities
 from .contract.errors import PluginError, Refused
+from .contract.options import Option
+from .contract.schema import VARIABLES, validate_dataset
+from .contract.stages import (STAGES, CoupledModel, HeatSourceModel, NormalContactModel, StageModel,
+                              TangentialContactModel, TemperatureModel)
 
 _MAT = {"shear_modulus": 82e9, "poisson_ratio": 0.28, "density": 7850.0, "specific_heat": 450.0,
         "conductivity": 50.0, "thermal_expansion": 12e-6, "bulk_temperature": 0.0}
@@ -55,10 +61,6 @@ def canonical(name: str, **changes) -> dict:
 
 def check_model_class(cls) -> None:
     """Static checks of a stage-model class: name, description, stages, capabilities, options."""
-    from .contract.schema import VARIABLES
-    from .contract.capabilities import Capabilities
-    from .contract.options import Option
-    from .contract.stages import STAGES, StageModel
     assert isinstance(cls, type) and issubclass(cls, StageModel), f"{cls!r} is not a StageModel"
     assert cls.name and isinstance(cls.name, str), f"{cls!r} has no name"
     assert cls.description, f"model {cls.name!r} has no description"
@@ -71,9 +73,6 @@ def check_model_class(cls) -> None:
         assert isinstance(opt, Option) and opt.doc, f"model {cls.name!r}: option {k!r} needs an Option with doc"
     # plugin API 2: the model implements the compute method of its stage (a coupled model: compute
     # with the plan's Upstream)
-    import inspect
-    from .contract.stages import (CoupledModel, HeatSourceModel, NormalContactModel, TangentialContactModel,
-                         TemperatureModel)
     for base, meth in ((CoupledModel, "compute"), (NormalContactModel, "compute_patch"),
                        (TangentialContactModel, "compute_tangential"), (HeatSourceModel, "compute_source"),
                        (TemperatureModel, "compute_temperature")):
@@ -195,6 +194,8 @@ def check_tangential_models(method: str, raws, level: int = 0) -> dict[str, str]
     A declared model must run on at least one of these scenes, unless core's capability checks or its
     ``supports`` decline every one of them (the note says so).
     """
+    # here, not at the top: this kit is a pytest plugin that every pytest session loads, and solving/ and
+    # analysis/ cost ~0.5 s to import
     from .input.scene import LATERAL_OUTPUTS, load_scene
     from .solving.capabilities_check import refusal
     from .solving.pipeline import solve
@@ -247,7 +248,8 @@ def check_other_models(method: str, raws, level: int, ran: set) -> dict[str, str
     A declared model must run on at least one scene, unless core's capability checks or its ``supports``
     decline every one of them (a wheelset normal model on scenes without a wheelset: the note says so).
     """
-    from .contract.schema import validate_dataset
+    # here, not at the top: this kit is a pytest plugin that every pytest session loads, and solving/ and
+    # analysis/ cost ~0.5 s to import
     from .input.scene import load_scene
     from .solving.capabilities_check import refusal
     from .solving.pipeline import solve
@@ -306,6 +308,8 @@ def _flux_balance(ds) -> float:
 
 
 def _headline(scene) -> str:
+    # here, not at the top: this kit is a pytest plugin that every pytest session loads, and solving/ and
+    # analysis/ cost ~0.5 s to import
     from .analysis.metrics import headline
     return headline(scene)
 
@@ -316,6 +320,8 @@ def _exact_errors(scene, ds) -> dict[str, tuple[float, str]]:
     Quantities that a model of the chain reproduces by construction (e.g. Hertz's pressure from the
     ``hertz`` model) are not errors (see :func:`railtherm.analysis.metrics.run_errors`).
     """
+    # here, not at the top: this kit is a pytest plugin that every pytest session loads, and solving/ and
+    # analysis/ cost ~0.5 s to import
     from .analysis.analytic import reference_values
     from .analysis.metrics import SCALARS, run_errors
     ref = reference_values(scene)
@@ -373,7 +379,7 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
     AssertionError
         Naming the method, the scene, the quantity, its error and the reference.
     """
-    from .solving.plugins import get_host
+    from .solving.plugins import get_host  # here: solving/ costs ~0.4 s; the kit is loaded by every pytest session
 
     info = get_host().method(method)
     assert not info.api1, (f"method {method!r} is registered with a plugin API 1 chain ({'; '.join(info.api1)}); "
@@ -397,7 +403,8 @@ def check_method(method: str, scenes=None, level: int = 0, *, tolerance: float =
 def _solve_scenes(info, raws, level: int, outcome: dict) -> list:
     """Solve every scene with the method, check the form of each result (or refusal) and fill ``outcome``;
     returns [(scene, result)] of the solved ones (at least one, else AssertionError)."""
-    from .contract.schema import validate_dataset
+    # here, not at the top: this kit is a pytest plugin that every pytest session loads, and solving/ and
+    # analysis/ cost ~0.5 s to import
     from .input.scene import load_scene
     from .solving.pipeline import plan, solve
     method = info.name
@@ -444,6 +451,8 @@ def _solve_scenes(info, raws, level: int, outcome: dict) -> list:
 
 def _check_accuracy(method: str, solved, level: int, tolerance: float, energy_tolerance: float) -> None:
     """Verified on at least one scene, and the energy balance on every verified scene (:func:`check_method`)."""
+    # here, not at the top: this kit is a pytest plugin that every pytest session loads, and solving/ and
+    # analysis/ cost ~0.5 s to import
     from .analysis import metrics
     energy = getattr(metrics, "energy_balance", None)
     verified, notes = [], []
@@ -487,7 +496,7 @@ if pytest is not None:
     @pytest.fixture
     def railtherm_register():
         """Install a fresh plugin host with core plus inline plugins for one test."""
-        from .solving import plugins as _p
+        from .solving import plugins as _p  # here: solving/ costs ~0.4 s, paid only by a test that uses this
         saved = _p._HOST
 
         def register(name, obj, autoload=False, strict=True):

@@ -15,6 +15,8 @@ import math
 from dataclasses import dataclass
 from typing import Any, Iterable, Mapping
 
+import numpy as np
+
 from .errors import SceneError
 
 __all__ = ["Option", "GLOBAL_OPTIONS", "REFERENCE_KINDS", "MAX_LEVEL", "check_options", "check_cells", "check_levels",
@@ -53,11 +55,7 @@ def _key(where: str, key: str) -> str:
 
 
 def _is_integral(value: Any) -> bool:
-    try:
-        import numpy as np
-        ints, floats = (int, np.integer), (float, np.floating)
-    except ImportError:  # pragma: no cover
-        ints, floats = (int,), (float,)
+    ints, floats = (int, np.integer), (float, np.floating)
     if isinstance(value, bool):
         return False
     if isinstance(value, ints):

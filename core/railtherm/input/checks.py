@@ -11,6 +11,7 @@ import re
 from typing import Any, Mapping
 
 from ..contract.errors import SceneError
+from ..contract.schema import VARIABLES
 from ..physics.friction import LAWS as FRICTION_LAWS
 from ..physics.friction import Parameter
 
@@ -292,7 +293,6 @@ class Friction(Check):
 
 
 def variable_names():
-    from ..contract.schema import VARIABLES
     return set(VARIABLES)
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ..contract.errors import SceneError
+from ..contract.schema import VARIABLES
 from .scene import MATERIAL_KEYS, SCENE_KEYS, SCHEMA_VERSION, Scene, Table, load_scene
 
 STUDY_KEYS = {"name", "description", "methods", "levels", "reference", "options", "repeat", "timeout",
@@ -65,7 +66,6 @@ class Study:
             return self.store
         if self.keep_fields is not False:
             return "zarr"
-        from ..contract.schema import VARIABLES
         scalar = all(VARIABLES[o].dims in ((), ("body",)) for s in self.scenes for o in s.outputs if o in VARIABLES)
         return "zarr" if n_runs >= AUTO_ZARR_RUNS and scalar else "files"
 

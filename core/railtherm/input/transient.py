@@ -14,11 +14,13 @@ A scene with ``mode = "transient"`` may give
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any, Mapping
 
 from ..contract.errors import SceneError
+from .materials import Material
 
 __all__ = ["Transient", "TRANSIENT_OUTPUTS", "DEFAULT_THRESHOLD", "transient_from_table", "scene_transient"]
 
@@ -202,9 +204,6 @@ def scene_transient(name: str, c: dict, raw: Mapping, kw: dict) -> Transient | N
     """The scene loader's transient part (:func:`transient_from_table` on the checked keys ``c`` of the scene
     ``raw``; ``kw`` the scene's resolved speed and line wheel radius), its interval resolved: without
     ``passes.interval`` a pass is one revolution of the wheel, 2 pi wheel_radius / speed."""
-    import dataclasses
-
-    from .materials import Material
     table = {k: c[k] for k in ("mode", "passes", "schedule") if k in c}
     if "field" in c:
         table["field"] = {k: v for k, v in c["field"].items() if k != "behind"}

@@ -2,13 +2,13 @@
 from __future__ import annotations
 
 from ..contract.hookspec import hookimpl
+from .hertz import HertzContact
+from .sliding import FrictionalHeat, FullSlidingTangential, GivenHeat
+from .wheelset_profile import WheelsetProfileHertz
 
 
 @hookimpl
 def railtherm_register_models():
-    from .hertz import HertzContact
-    from .sliding import FrictionalHeat, FullSlidingTangential, GivenHeat
-    from .wheelset_profile import WheelsetProfileHertz
     return [HertzContact, WheelsetProfileHertz, FullSlidingTangential, FrictionalHeat, GivenHeat]
 
 

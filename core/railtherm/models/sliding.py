@@ -11,7 +11,7 @@ from ..contract.options import Option
 from ..contract.results import HeatSource
 from ..contract.stages import HeatSourceModel, TangentialContactModel
 from ..physics.averaging import cell_average, exact_total
-from ..physics.friction import local_friction
+from ..physics.friction import LAW_KINDS, local_friction
 from ..physics.kinematics import body_speeds
 from ..physics.partition import scene_partition
 
@@ -38,7 +38,7 @@ class FullSlidingTangential(TangentialContactModel):
     capabilities = Capabilities(contacts=frozenset({"ellipse", "line", "gap"}),
                                 tangential=frozenset({"full-sliding"}), sources=frozenset({"computed"}),
                                 provides=frozenset({"traction_x", "slip_velocity_x", "stick", "creep_force_x"}),
-                                friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}))
+                                friction_laws=LAW_KINDS)
 
     def compute_tangential(self, scene, patch, level, options):
         vs = scene.sliding_speed

@@ -24,6 +24,9 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
+from ..input.scene import SCENE_KEYS, Table
+from . import zarr_store
+
 #: run statuses, in the order reports list them (docs/verdicts.md): the one vocabulary
 STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
 
@@ -157,7 +160,7 @@ def _write_netcdf4(ds, path) -> None:
     :meth:`xarray.Dataset.to_netcdf` (engine netcdf4, format NETCDF4); only datasets of those
     dtypes without encodings or non-index coordinates take this path (see :func:`_direct_writable`).
     """
-    import netCDF4
+    import netCDF4  # on first use: a study on the zarr store, or a reader of metrics only, needs none
 
     nc = netCDF4.Dataset(path, "w", format="NETCDF4")
     try:
@@ -204,7 +207,7 @@ def write_references(path, attrs: Mapping[str, Any], groups: Mapping[str, Any]) 
 
     Written even when ``groups`` is empty, so that a reader can tell "no reference" from "not computed".
     """
-    import netCDF4
+    import netCDF4  # on first use: a study on the zarr store, or a reader of metrics only, needs none
 
     def write(tmp):
         rest = {}
@@ -234,21 +237,20 @@ def remove_stale_tmp(folders) -> None:
 # reading
 def read_attrs(path) -> dict:
     """Global attributes of a netCDF file (netCDF4-python; ten times cheaper than xarray)."""
-    import netCDF4
+    import netCDF4  # on first use: a study on the zarr store, or a reader of metrics only, needs none
     with netCDF4.Dataset(path, "r") as nc:
         return {k: nc.getncattr(k) for k in nc.ncattrs()}
 
 
 def open_dataset(path, **kw):
     """A netCDF file as an xarray Dataset, loaded into memory and the file closed."""
-    import xarray as xr
+    import xarray as xr  # on first use: ~0.5 s to import
     with xr.open_dataset(path, engine="netcdf4", **kw) as ds:
         return ds.load()
 
 
 def open_run(out, scene: str, method: str, level: int):
     """The Dataset of one run (loaded), or None when the run has no file (or no result in the Zarr store)."""
-    from . import zarr_store
     if zarr_store.is_zarr(out):
         return zarr_store.open_run(out, scene, method, level)
     p = run_path(out, scene, method, level)
@@ -257,7 +259,6 @@ def open_run(out, scene: str, method: str, level: int):
 
 def open_result(path):
     """The Dataset of a run from its record's ``path``: a run file, or a run of the Zarr store (loaded)."""
-    from . import zarr_store
     if zarr_store.is_ref(str(path)):
         return zarr_store.open_ref(str(path))
     return open_dataset(path)
@@ -265,13 +266,11 @@ def open_result(path):
 
 def has_store(out) -> bool:
     """Whether ``out`` keeps its runs in the Zarr store (``results.zarr``) rather than ``runs/``."""
-    from . import zarr_store
     return zarr_store.is_zarr(out)
 
 
 def run_attributes(out, scene: str, method: str, level: int) -> dict:
     """Global attributes of a run ({} when it has none): of its file, or what the Zarr store records."""
-    from . import zarr_store
     if zarr_store.is_zarr(out):
         return zarr_store.run_attrs(out, scene, method, level)
     p = run_path(out, scene, method, level)
@@ -280,7 +279,6 @@ def run_attributes(out, scene: str, method: str, level: int) -> dict:
 
 def open_store(out, *, variables=None, unstack=None):
     """The Zarr store of ``out`` as a lazy (dask-backed) Dataset (:func:`railtherm.output.zarr_store.open_lazy`)."""
-    from . import zarr_store
     return zarr_store.open_lazy(out, variables=variables, unstack=unstack)
 
 
@@ -290,7 +288,7 @@ def read_run_scalars(path, variables=None):
     ``variables``: names to read (default: all such variables). netCDF4-python directly (about 2 ms
     per file; xarray's ``open_dataset`` takes five times longer).
     """
-    import netCDF4
+    import netCDF4  # on first use: a study on the zarr store, or a reader of metrics only, needs none
     with netCDF4.Dataset(path, "r") as nc:
         nc.set_auto_maskandscale(False)
         attrs = {k: nc.getncattr(k) for k in nc.ncattrs()}
@@ -324,7 +322,7 @@ def read_metrics(out):
 
 def read_references(path) -> dict:
     """Scene name -> Dataset of a reference-curves file (one netCDF4 group per scene; loaded)."""
-    import netCDF4
+    import netCDF4  # on first use: a study on the zarr store, or a reader of metrics only, needs none
     with netCDF4.Dataset(path, "r") as nc:
         groups = list(nc.groups)
     out = {}
@@ -341,7 +339,6 @@ SWEEP_ATTR = "sweep"
 
 def _dotted(key: str) -> str:
     """The study key of a swept attribute name: ``creepage_longitudinal`` -> ``creepage.longitudinal``."""
-    from ..input.scene import SCENE_KEYS, Table
     if key in SCENE_KEYS or "." in key:
         return key
     for i, ch in enumerate(key):
@@ -381,7 +378,6 @@ def sweep_of(attrs) -> dict:
 
 def run_sweeps(out) -> dict:
     """Scene name -> sweep of a study output folder, from the first run file of each scene (or the Zarr store)."""
-    from . import zarr_store
     if zarr_store.is_zarr(out):
         return zarr_store.sweeps(out)
     found = {}

@@ -14,6 +14,7 @@ are done from the store itself (:func:`read_region`). This module imports nothin
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
@@ -23,6 +24,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from ..contract.schema import VARIABLES, variable_attrs
+from ..input.scene import key_units
 
 #: the store's folder in a study output folder
 ZARR = "results.zarr"
@@ -81,7 +85,6 @@ def is_zarr(out) -> bool:
 
 def scalar_names() -> dict[str, bool]:
     """Every scalar of the result schema: name -> per body (dims ``(body,)``)."""
-    from ..contract.schema import VARIABLES
     return {n: v.dims == ("body",) for n, v in VARIABLES.items() if v.dims in ((), ("body",))}
 
 
@@ -128,7 +131,6 @@ class Layout:
         return (scene_i * len(self.methods) + self.methods.index(method)) * len(self.levels) + self.levels.index(level)
 
     def key(self) -> str:
-        import hashlib
         doc = json.dumps([self.scenes, self.methods, self.levels, self.sweeps, self.chunk_scenes,
                           self.keep_fields], default=str)
         return hashlib.sha256(doc.encode()).hexdigest()[:16]
@@ -163,7 +165,7 @@ def create(out, layout: Layout, *, resume: bool = False) -> bool:
         scene_name(scene), sweep__<key>(scene), method_name(method_name), level(level)  written here
         fields/s<scene index>/<method>/level-<k>/   the run's fields, when ``keep_fields`` asks
     """
-    import zarr
+    import zarr  # on first use: ~0.9 s to import, and only a study on the zarr store needs it
 
     path = zarr_path(out)
     if resume and is_zarr(out):
@@ -174,7 +176,6 @@ def create(out, layout: Layout, *, resume: bool = False) -> bool:
             pass
     if path.exists():
         shutil.rmtree(path)
-    from ..contract.schema import variable_attrs
     n, c = layout.n_runs, max(1, layout.chunk)
     g = zarr.open_group(str(path), mode="w", zarr_format=3)
 
@@ -221,7 +222,7 @@ _ARRAYS: dict = {}
 
 
 def _group(out, mode="r+"):
-    import zarr
+    import zarr  # on first use: ~0.9 s to import, and only a study on the zarr store needs it
     return zarr.open_group(str(zarr_path(out)), mode=mode)
 
 
@@ -251,8 +252,8 @@ def attrs(out) -> dict:
 
 def _set_all(arrays: dict, cols: dict, sel: slice) -> None:
     """Write ``cols`` into rows ``sel`` of their arrays, concurrently (zarr's asynchronous arrays)."""
+    # zarr's own event loop, loaded with zarr on first use (as in create)
     import asyncio
-
     from zarr.core.sync import sync
 
     async def write_all():
@@ -370,7 +371,7 @@ def write_fields(out, scene_i: int, method: str, level: int, ds) -> None:
 
 def read_fields(out, scene_i: int, method: str, level: int):
     """The kept fields of a run (loaded), or None."""
-    import xarray as xr
+    import xarray as xr  # on first use: ~0.5 s to import
     p = zarr_path(out) / fields_group(scene_i, method, level)
     if not (p / "zarr.json").exists():
         return None
@@ -469,9 +470,8 @@ def run_attrs(out, scene: str, method: str, level: int) -> dict:
 
 def open_run(out, scene: str, method: str, level: int):
     """A stored run as a Dataset: its scalars (with the schema's attributes), fields when kept; or None."""
-    import xarray as xr
+    import xarray as xr  # on first use: ~0.5 s to import
 
-    from ..contract.schema import variable_attrs
     t = read_table(out)
     i = t.index(scene, method, level)
     if i is None or status_text(t.cols["status"][i]) not in ("ok", "inaccurate", "unverified"):
@@ -530,7 +530,7 @@ def open_lazy(out, *, variables=None, unstack: bool | None = None):
     ``scene`` becomes one dimension per swept study key, so that ``ds.max_surface_temperature.sel(speed=30)``
     reads only the chunks it needs. Runs not run are NaN with status ``missing``.
     """
-    import xarray as xr
+    import xarray as xr  # on first use: ~0.5 s to import
 
     path = str(zarr_path(out))
     g = _group(out, "r")
@@ -561,7 +561,6 @@ def open_lazy(out, *, variables=None, unstack: bool | None = None):
     for k in gattrs.get("sweep_keys", []):
         cols[k] = np.asarray(g[f"sweep__{k}"][:])
         sweep_names[k] = "sweep_" + k if k in data or k in coords else k
-    from ..input.scene import key_units
     for k, n in sweep_names.items():
         col = cols[k] if cols[k].dtype.kind == "f" else np.asarray(cols[k], dtype=object)
         coords[n] = ("scene", col, {"units": key_units(k) or "1", "long_name": f"swept study key '{k}'"})

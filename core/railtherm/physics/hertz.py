@@ -9,6 +9,12 @@ from __future__ import annotations
 
 import math
 
+from ..contract.errors import Refused
+from ..contract.grid import BASE_CELLS, surface_grid
+from ..contract.results import ContactPatch
+from .averaging import GAUSS_POINTS, cell_average
+from .elastic import contact_modulus
+
 __all__ = ["hertz_geometry", "hertz_patch", "hertz_pressure_grid", "rescale_hertz_patch", "scene_semi_axis"]
 
 
@@ -61,9 +67,9 @@ def hertz_geometry(wheel, rail, shape: str, normal_force: float | None, *, penet
     ----------
     .. [1] K.L. Johnson, Contact Mechanics, 1985, sections 4.2-4.3. doi:10.1017/CBO9781139171731
     """
-    from ..contract.errors import Refused
-    from ..references.hertz import (contact_modulus, hertz_from_curvatures, hertz_from_penetration,
-                                    hertz_from_semi_axes, hertz_line)
+    # the closed forms are core's exact references (scipy's elliptic integrals, which `import railtherm`
+    # does not load); this adapter moves to the models (tests/test_import_graph.py, UPWARD_TO_MOVE)
+    from ..references.hertz import hertz_from_curvatures, hertz_from_penetration, hertz_from_semi_axes, hertz_line
     e_star = contact_modulus(wheel, rail)
     if normal_force is not None and normal_force <= 0.0:
         raise Refused(f"scene {scene_name!r}: normal_force = {normal_force!r} N gives no contact patch "
@@ -108,7 +114,6 @@ def scene_semi_axis(heat_source, wheel, rail, shape: str, normal_force: float | 
     float or None
         a [m].
     """
-    from ..contract.errors import Refused
     if heat_source is not None:
         if getattr(heat_source, "semi_axes", None) is not None:
             return float(heat_source.semi_axes[0])
@@ -182,8 +187,6 @@ def hertz_pressure_grid(a: float, b: float | None, p0: float, level: int = 0, ce
     pressure : ndarray
         Cell-averaged pressure [Pa].
     """
-    from ..contract.grid import surface_grid
-    from .averaging import GAUSS_POINTS, cell_average
     g = surface_grid(a, b, level, cells)
     return g, p0 * cell_average(g, "hertz", a, b, gauss or GAUSS_POINTS)
 
@@ -218,9 +221,6 @@ def hertz_patch(a: float, b: float | None, p0: float, normal_force: float, level
     railtherm.Refused
         The grid is over the cell budget (kind "budget").
     """
-    from ..contract.errors import Refused
-    from ..contract.grid import BASE_CELLS
-    from ..contract.results import ContactPatch
     try:
         grid, pressure = hertz_pressure_grid(a, b, p0, level, int(cells or BASE_CELLS))
     except Refused as exc:  # over the cell budget: name the scene

@@ -21,6 +21,7 @@ from functools import lru_cache
 
 import numba
 import numpy as np
+from scipy.special import ellipe, ellipk
 
 from ._quadrature import GRADING_RATIO
 from .flash import thermal_properties
@@ -444,7 +445,6 @@ def static_circle_uniform(r, radius: float, conductivity: float, flux: float = 1
     numpy.ndarray
         Temperature rise [K].
     """
-    from scipy.special import ellipe, ellipk
     r = np.asarray(r, dtype=float)
     a = float(radius)
     out = np.empty(r.shape)

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from .contact_temperature import (contact_temperature, field_contact_temperature, local_friction,
                                   patch_contact_temperature)
-from .laws import (LAWS, ConstantFriction, FrictionLaw, PolachFriction, SlipVelocityFriction, TemperatureFriction,
-                   friction_law)
+from .laws import (LAW_KINDS, LAWS, ConstantFriction, FrictionLaw, PolachFriction, SlipVelocityFriction,
+                   TemperatureFriction, friction_law)
 from .parameters import Parameter
 from .slip_iteration import contraction_limit, iterate_slip_law
 from .temperature_loop import LoopHistory, LoopStep, iterate_temperature_law
@@ -20,7 +20,7 @@ from .tolerances import (LOOP_FORCE_TOLERANCE, LOOP_MAX_ITERATIONS, LOOP_MU_TOLE
                          SLIP_MU_TOLERANCE)
 
 __all__ = ["FrictionLaw", "ConstantFriction", "SlipVelocityFriction", "PolachFriction", "TemperatureFriction",
-           "LAWS", "Parameter", "friction_law", "contact_temperature", "field_contact_temperature",
+           "LAWS", "LAW_KINDS", "Parameter", "friction_law", "contact_temperature", "field_contact_temperature",
            "patch_contact_temperature",
            "local_friction", "contraction_limit", "iterate_slip_law", "LoopStep", "LoopHistory",
            "iterate_temperature_law", "LOOP_MU_TOLERANCE", "LOOP_FORCE_TOLERANCE",

@@ -24,7 +24,7 @@ import numpy as np
 from .parameters import Parameter
 
 __all__ = ["FrictionLaw", "ConstantFriction", "SlipVelocityFriction", "PolachFriction", "TemperatureFriction",
-           "LAWS", "friction_law"]
+           "LAWS", "LAW_KINDS", "friction_law"]
 
 #: a coefficient of friction that must stay > 0 [1]
 _POSITIVE = dict(lower=0.0, lower_open=True)
@@ -230,6 +230,8 @@ class TemperatureFriction(FrictionLaw):
 #: the laws a scene gives as a table ``friction = { law = kind, ... }``, by kind (the constant law is a number)
 LAWS: dict[str, type[FrictionLaw]] = {law.kind: law for law in (SlipVelocityFriction, PolachFriction,
                                                                   TemperatureFriction)}
+#: every law key of the scene's ``friction`` (a model that applies them all declares these capabilities)
+LAW_KINDS: frozenset[str] = frozenset({ConstantFriction.kind, *LAWS})
 
 
 def friction_law(value) -> FrictionLaw:
