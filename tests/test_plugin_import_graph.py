@@ -1,5 +1,5 @@
 """Each plugin package's import graph (read with :mod:`ast`, function-level imports included) has no
-circle (issue 12, "checked by"; the 700-line limit is tests/test_codebase.py's)."""
+circle (the 700-line limit is tests/test_codebase.py's)."""
 import ast
 from pathlib import Path
 

@@ -4,8 +4,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, asdict
 
-from ..physics.elastic import combined_elastic  # noqa: F401  (re-export of railtherm.physics.elastic's)
-
 
 @dataclass(frozen=True)
 class Material:

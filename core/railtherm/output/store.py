@@ -1,7 +1,7 @@
 """The study output folder: its layout, atomic writes, one reader, run records and crash records.
 
 The only code that knows where things live in the output folder of ``railtherm run`` and how they are
-written and read; every other layer goes through it, and it imports no other railtherm package::
+written and read; every other layer goes through it, and it imports only the layers below it::
 
     DIR/runs/<scene>/<method>/level-<k>.nc           one result (xarray Dataset, netCDF4)
     DIR/runs/<scene>/<method>/level-<k>.status.json  a refused or failed run (a RunRecord as JSON)
