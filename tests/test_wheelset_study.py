@@ -190,3 +190,18 @@ def test_the_kalker_equilibrium_differs_from_fastsims_by_the_creep_force_differe
     shift = x_k - x_f
     assert np.all(np.abs(shift[1:]) > 5e-3 * x_f[1:])      # the loads move by more than 0.5 %
     assert predicted == pytest.approx(shift, rel=0.02)
+
+
+def test_the_chains_forces_balance_it_also_when_no_output_needs_them(kalker_contacts):
+    """A run asking only the normal force: the chain's tangential model (kalker) still balances the equilibrium
+    (the same loads as the full chain's, bit for bit), and a chain without a tangential model gets FASTSIM's,
+    said in the result."""
+    scene, by = kalker_contacts
+    src = dict(scene.source, outputs=["normal_force"])
+    wheelset_normal.EQUILIBRIUM_CACHE.clear()     # solved again, not the fixture's equilibrium
+    only = railtherm.solve(railtherm.load_scene(src), {"normal": ["wheelset"], "tangential": "kalker"}, 0)
+    assert float(only["normal_force"]) == float(by[1]["normal_force"])
+    assert only.attrs["wheelset_equilibrium_forces"] == "kalker"
+    bare = railtherm.solve(railtherm.load_scene(src), {"normal": ["wheelset"]}, 0)
+    assert bare.attrs["wheelset_equilibrium_forces"] == "fastsim" and "FASTSIM" in bare.attrs["wheelset_equilibrium_note"]
+    assert float(bare["normal_force"]) == pytest.approx(by[1].attrs["wheelset_fastsim_normal_force_1"], rel=1e-12)

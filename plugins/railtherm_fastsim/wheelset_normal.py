@@ -107,6 +107,8 @@ class WheelsetNormal(NormalContactModel):
                 # whose creep forces balance the equilibrium (the chain's tangential model), and FASTSIM's
                 # equilibrium the solve with another model's forces started from
                 "equilibrium_forces": forces,
+                **({"equilibrium_note": "the chain has no tangential model that solves a patch alone for this "
+                                        "scene: FASTSIM's forces balance the equilibrium"} if chain is None else {}),
                 **({} if sol.start is None else {"fastsim_normal_force_1": float(sol.start.normal_force[0]),
                                                  "fastsim_normal_force_2": float(sol.start.normal_force[1]),
                                                  "fastsim_theta": float(sol.start.theta)}),

@@ -330,10 +330,13 @@ def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
 def _chain_tangential(pl: Plan, scene: Scene, level: int, options, cells):
     """The chain's tangential stage as ``patch -> patch`` (attributes ``model``: its name, ``options``: its
     resolved options), for a normal model whose equilibrium needs the chain's own creep forces (fastsim's
-    ``wheelset``), also when no output needs the tangential stage; None when the chain has none for the scene."""
+    ``wheelset``), also when no output needs the tangential stage; None when the chain has none for the scene, or
+    a coupled one."""
     try:
         tm = pl.models.get("tangential") or _select(get_host(), pl.method, "tangential", scene, level)
     except Refused:
+        return None
+    if isinstance(tm, CoupledModel):   # it solves with other stages, not on a patch alone
         return None
     opts = {**tm.resolve_options(options), "cells": cells}
 
