@@ -198,14 +198,11 @@ def hertz_patch(a: float, b: float | None, p0: float, normal_force: float, level
 
     Parameters
     ----------
-    a, b : float
-        Semi-axes [m] (b None for a line contact).
-    p0 : float
-        Peak pressure [Pa].
+    a, b, p0, level
+        As :func:`hertz_pressure_grid`: semi-axes [m] (b None for a line contact), peak pressure [Pa],
+        grid level k [1].
     normal_force : float
         Normal force [N] ([N/m] for a line contact).
-    level : int
-        Grid level k [1].
     cells : int, optional
         Cells along 2a at level 0 [1] (default :data:`railtherm.contract.grid.BASE_CELLS`).
     label : str

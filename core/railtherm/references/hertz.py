@@ -134,6 +134,23 @@ def _check_curvatures(A, B):
         raise ValueError(f"curvatures must be positive and finite, got A={A!r}, B={B!r} [1/m]")
 
 
+def _eccentricity(A: float, B: float) -> tuple[float, float, float, float]:
+    """The smaller curvature [1/m], the parameter m = 1 - (c_minor/c_major)^2 [1] of the ellipse of the gap
+    curvatures A, B, and K(m), D(m) = (K - E)/m [1] (Johnson 1985, section 4.2)."""
+    small, large = min(A, B), max(A, B)
+    m = _solve_m(large / small)
+    k, _, d, _ = elliptic_k_minus_e(m)
+    return small, m, k, d
+
+
+def _semi_axes(c_major: float, m: float, A: float, B: float) -> tuple[float, float, float]:
+    """Semi-axes a (along x), b [m] and the minor one c_minor [m]: the major axis lies along the smaller
+    curvature."""
+    c_minor = c_major * math.sqrt(1.0 - m)
+    a, b = (c_major, c_minor) if A <= B else (c_minor, c_major)
+    return a, b, c_minor
+
+
 def hertz_from_curvatures(A: float, B: float, normal_force: float, e_star: float) -> HertzEllipse:
     """Hertz elliptical contact from the gap curvatures and the normal force.
 
@@ -159,6 +176,7 @@ def hertz_from_curvatures(A: float, B: float, normal_force: float, e_star: float
     Returns
     -------
     HertzEllipse
+        With the approach the load gives.
 
     References
     ----------
@@ -167,12 +185,9 @@ def hertz_from_curvatures(A: float, B: float, normal_force: float, e_star: float
     _check_curvatures(A, B)
     if not normal_force > 0:
         raise ValueError(f"normal_force must be positive, got {normal_force!r} [N]")
-    small, large = min(A, B), max(A, B)
-    m = _solve_m(large / small)
-    k, _, d, _ = elliptic_k_minus_e(m)
+    small, m, k, d = _eccentricity(A, B)
     c_major = (3.0 * normal_force * d / (2.0 * math.pi * small * e_star)) ** (1.0 / 3.0)
-    c_minor = c_major * math.sqrt(1.0 - m)
-    a, b = (c_major, c_minor) if A <= B else (c_minor, c_major)
+    a, b, c_minor = _semi_axes(c_major, m, A, B)
     p0 = 3.0 * normal_force / (2.0 * math.pi * a * b)
     approach = p0 * c_minor * k / e_star
     return HertzEllipse(a=a, b=b, max_pressure=p0, approach=approach, normal_force=float(normal_force))
@@ -196,6 +211,7 @@ def hertz_from_penetration(A: float, B: float, approach: float, e_star: float) -
     Returns
     -------
     HertzEllipse
+        With the normal force the approach gives.
 
     References
     ----------
@@ -204,12 +220,9 @@ def hertz_from_penetration(A: float, B: float, approach: float, e_star: float) -
     _check_curvatures(A, B)
     if not approach > 0:
         raise ValueError(f"approach must be positive, got {approach!r} [m]")
-    small, large = min(A, B), max(A, B)
-    m = _solve_m(large / small)
-    k, _, d, _ = elliptic_k_minus_e(m)
+    small, m, k, d = _eccentricity(A, B)
     c_major = math.sqrt(approach * d / (small * k))
-    c_minor = c_major * math.sqrt(1.0 - m)
-    a, b = (c_major, c_minor) if A <= B else (c_minor, c_major)
+    a, b, c_minor = _semi_axes(c_major, m, A, B)
     p0 = approach * e_star / (c_minor * k)
     n = 2.0 * math.pi * p0 * a * b / 3.0
     return HertzEllipse(a=a, b=b, max_pressure=p0, approach=float(approach), normal_force=n)

@@ -209,12 +209,8 @@ def flexibilities(a: float, b: float, G: float, nu: float) -> tuple[float, float
 
     Parameters
     ----------
-    a, b : float
-        Semi-axes along x and y [m].
-    G : float
-        Combined shear modulus [Pa].
-    nu : float
-        Combined Poisson's ratio [1].
+    a, b, G, nu : float
+        As :func:`kalker_linear_forces`: semi-axes [m], combined shear modulus [Pa] and Poisson's ratio [1].
 
     Returns
     -------
@@ -249,16 +245,9 @@ def weighted_flexibility(a: float, b: float, G: float, nu: float, xi: float, eta
 
     Parameters
     ----------
-    a, b : float
-        Semi-axes along x and y [m].
-    G : float
-        Combined shear modulus [Pa].
-    nu : float
-        Combined Poisson's ratio [1].
-    xi, eta : float
-        Longitudinal and lateral creepage [1].
-    phi : float
-        Spin creepage [1/m].
+    a, b, G, nu, xi, eta, phi : float
+        As :func:`kalker_linear_forces`: semi-axes [m], combined shear modulus [Pa] and Poisson's ratio [1],
+        creepages [1] and spin creepage [1/m].
     form : {"kalker", "contact"}
         Weighting rule.
 

@@ -465,19 +465,15 @@ def static_circle_hertz(r, radius: float, conductivity: float, flux: float = 1.0
 
     Parameters
     ----------
-    r : array_like
-        Radial distance [m].
-    radius : float
-        Source radius a [m].
-    conductivity : float
-        lambda [W/(m K)].
+    r, radius, conductivity
+        As :func:`static_circle_uniform`: radial distance [m], source radius a [m], lambda [W/(m K)].
     flux : float
         Peak flux q0 [W/m^2].
 
     Returns
     -------
     numpy.ndarray
-        Temperature rise [K].
+        Temperature rise [K] at each r, of r's shape.
     """
     r = np.asarray(r, dtype=float)
     a = float(radius)
