@@ -12,20 +12,24 @@ part of the edge hats outside [-a, a]); stick is the state of the nearest node i
 Temperatures: the rail from the strip's conduction problem; the wheel -- rigid or not -- from the same
 solver applied to the wheel's material moving at V + v_s, with the wheel's share eps of the heat (and the
 contact conductance, when given); for a rigid wheel that temperature is a report only. Fields behind the
-patch and in depth (``field``): :class:`FemModel`.
+patch and in depth (``field``): :class:`FemModel`. Transient scenes (passes over the section or wheel
+revolutions): one pass's heat source stepped in time on the FE section, :mod:`railtherm_fem.history`.
 """
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
 from railtherm import (BodyTemperature, Capabilities, ContactPatch, CoupledModel, HeatSource, Option, Refused,
-                       SolverError, TemperatureField, surface_grid)
+                       SolverError, TemperatureField, asks_history, surface_grid, with_history)
 from railtherm.physics import field_grid, nodal_cell_average, with_thermal_trace
+from railtherm.physics.pass_history import superposition_limits
 from railtherm.physics.thermal_trace import TRACE_OUTPUTS
 
 from .coupled import FIELD_MARGIN, FIELD_TRAIL_RATIO, FemProblem, _interpolator, fem_limits, solve_fem
+from .history import section_histories
 from .thermal import ThermalBody, ThermalSolver, hat_load, thermal_grid
 
 __all__ = ["FemModel"]
@@ -36,7 +40,10 @@ PROVIDES = frozenset({
     "pressure", "traction_x", "slip_velocity_x", "stick", "normal_force", "semi_axis_a", "contact_area", "max_pressure",
     "creep_force_x", "heat_flux", "frictional_power", "heat_partition", "surface_temperature", "temperature",
     "max_surface_temperature", "mean_contact_temperature",
+    "temperature_history", "pass_peak_temperature", "residual_rise",
 }) | frozenset(TRACE_OUTPUTS)
+#: one pass's surface outputs a transient scene may ask beside the histories (the steady moving-frame solve)
+ONE_PASS_SURFACE = ("surface_temperature", "max_surface_temperature", "mean_contact_temperature")
 
 
 #: a direct (LU) thermal solve whose relative residual ||A theta - b|| / ||b|| exceeds this is reported as
@@ -75,6 +82,13 @@ class FemModel(CoupledModel):
     refused with the limit. Behind the patch the x-spacing then grows by 1 + 0.02/2^level only. Against
     Jaeger's band at Pe 1000 (tests/test_fem_field.py): peak temperature at 0..0.3 mm to 8.5e-4 of the
     rise at level 2 (second order). Without ``field`` the grids and results are those of the patch alone.
+
+    Transient scenes (``mode = "transient"`` with passes, a schedule or a transient output; line contacts):
+    one pass's heat source (the scene's, or the contact's) heats the fixed section of each body, a Q1 FE
+    heat equation stepped by Crank-Nicolson (:func:`railtherm_fem.history.section_histories`); the outputs
+    ``temperature_history``, ``pass_peak_temperature``, ``residual_rise`` and ``time_above``, beside one
+    pass's steady surface temperatures when asked. Against the exact moving band
+    (tests/test_fem_transient.py): second order in the section's spacing.
     """
 
     name = "fem"
@@ -82,12 +96,10 @@ class FemModel(CoupledModel):
                    "regularised Coulomb by semismooth Newton, moving-frame conduction, Steps 1-4 coupling (seed section 4)")
     capabilities = Capabilities(contacts=frozenset({"line"}), sources=frozenset({"computed", "given"}),
                                 tangential=frozenset({"full-sliding", "creepage"}), convection=True, field=True,
-                                modes=frozenset({"steady"}), moving_surface=True, provides=PROVIDES,
+                                modes=frozenset({"steady", "transient"}), histories=True, moving_surface=True,
+                                provides=PROVIDES,
                                 friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}),
-                                advice={"modes": "it is quasistatic (steady in the moving frame); use a method "
-                                                 "with pass histories (green; fipy for line contacts; the fdm "
-                                                 "temperature model, e.g. fastsim-fdm or a chain with it)",
-                                        "moving_surface": "it needs a positive rolling speed (steady moving frame)"})
+                                advice={"moving_surface": "it needs a positive rolling speed (steady moving frame)"})
     options = {
         "thermal_model": Option("2d", "conduction along x included ('2d') or dropped (seed eq. 16, '1d')",
                                 choices=("2d", "1d")),
@@ -118,6 +130,12 @@ class FemModel(CoupledModel):
             if scene.normal_force is not None and not scene.normal_force > 0:
                 return (f"model 'fem': normal_force = {scene.normal_force!r} N/m presses nothing into the strip "
                         "(no contact, no heat); give a load > 0 or a penetration")
+        if getattr(scene, "mode", "steady") == "transient":
+            if not asks_history(scene):
+                return ("model 'fem' computes the pass histories of a transient scene (passes, schedule or a transient "
+                        "output: temperature_history, pass_peak_temperature, residual_rise, time_above); this scene "
+                        "asks none (a wheel warming over revolutions is model 'fipy''s transient mode)")
+            return superposition_limits(scene, "fem")
         return None
 
     # ------------------------------------------------------------------------------------------
@@ -150,8 +168,9 @@ class FemModel(CoupledModel):
             Creepages (only ``longitudinal`` [1] applies in 2-D); None for full sliding.
         sliding_speed : float or None
             Sliding speed v_s [m/s] (full sliding).
-        heat_partition : float or str
-            The scene's ``heat_partition``: the wheel's fraction [1] or the rule's name.
+        heat_partition : HeatPartition, float or str
+            The scene's ``heat_partition``: the wheel's fraction [1] or the rule (resolved by
+            :meth:`railtherm.physics.partition.HeatPartition.of` in :class:`FemProblem`).
         convection : float
             Heat transfer coefficient [W m-2 K-1].
         strip : Strip or None
@@ -194,31 +213,87 @@ class FemModel(CoupledModel):
         if why:
             raise Refused(why)
         cells = options.get("cells")
+        bulk = (scene.wheel.bulk_temperature, scene.rail.bulk_temperature)
+        transient = asks_history(scene)
+        if transient:
+            # the pass histories, beside one pass's steady surface temperatures when the scene asks them (or no
+            # outputs); no field behind the patch (a transient scene's field gives the histories' depths)
+            outputs = tuple(scene.outputs or ())
+            thermal = not outputs or any(o in ONE_PASS_SURFACE for o in outputs)
+            fld = None
+        else:
+            # the pipeline may plan only ("normal",) for a coupled model (docs/DESIGN.md, "Stages"): run the
+            # thermal part whenever the scene asks for a temperature output
+            thermal = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
+            fld = getattr(scene, "field", None)
         if upstream.source is not None:   # a given heat source (core's "given", run by the plan)
-            wanted = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
             given = self._given(level, options, upstream.source, wheel=scene.wheel, rail=scene.rail,
                                 convection=scene.convection, strip=getattr(scene, "strip", None),
-                                field=getattr(scene, "field", None), scene_name=scene.name) if wanted else None
+                                field=fld, scene_name=scene.name) if thermal else None
+            if transient:
+                given = self._with_histories(given, *section_histories(scene, upstream.source, level), bulk)
             return None, None, given
-        # the pipeline may plan only ("normal",) for a coupled model (docs/DESIGN.md, "Stages"): run the
-        # thermal part whenever the scene asks for a temperature output
-        thermal = "temperature" in stages or any(o in TEMPERATURE_OUTPUTS for o in scene.outputs)
         prob = self._problem(
             level, options, thermal, wheel=scene.wheel, rail=scene.rail, speed=scene.speed,
             wheel_radius=scene.wheel_radius, normal_force=scene.normal_force, penetration=scene.penetration,
             friction=scene.friction, friction_law=getattr(scene, "friction_law", None), creepage=scene.creepage,
             sliding_speed=scene.sliding_speed, heat_partition=scene.heat_partition, convection=scene.convection,
-            strip=getattr(scene, "strip", None), field=getattr(scene, "field", None),
-            numerics=getattr(scene, "numerics", None))
+            strip=getattr(scene, "strip", None), field=fld, numerics=getattr(scene, "numerics", None))
+        if transient and prob.heat_partition.needs_temperatures and not prob.thermal:
+            # the partition rule's fraction is found with the steady pass's temperatures (Step 3)
+            prob = replace(prob, thermal=True)
         why = fem_limits(prob)
         if why:
             raise Refused(f"scene {scene.name!r}: {why}", kind="validity")
+        sol = self._solve(prob, scene.name, level)
+        patch, source, grid, xc, diag = self._patch_and_source(sol, prob, level, cells)
+        temp = None
+        if thermal:
+            temp = self._temperature_from(sol.thermal_grid, sol.theta, grid, xc, fld, bulk,
+                                          {**diag, **self._stresses(sol, grid, xc)}, source, scene_name=scene.name)
+        if transient:
+            temp = self._with_histories(temp, *section_histories(scene, source, level), bulk)
+        return (patch if {"normal", "tangential"} & set(stages) else None,
+                source if "heat_source" in stages or thermal or transient else None, temp)
+
+    @staticmethod
+    def _with_histories(one_pass, history, diag, grid, bulk):
+        """The transient result: one pass's steady surface temperatures ``one_pass`` (a
+        :class:`TemperatureField`, or None: bulk temperatures on ``grid``) without their depth field (on
+        another depth axis than the histories), with ``history`` (a
+        :class:`~railtherm.contract.transient.TransientHistory`) and its diagnostics ``diag``; ``bulk``: the
+        bulk temperatures of wheel and rail [degC]."""
+        if one_pass is None:
+            return with_history(TemperatureField.from_bodies(grid, bulk, diagnostics=diag), history)
+        return with_history(replace(one_pass, z=None, temperature=None,
+                                    diagnostics={**dict(one_pass.diagnostics or {}), **diag}), history)
+
+    @staticmethod
+    def _solve(prob, scene_name, level):
+        """:func:`solve_fem` of ``prob``; an internal failure on valid input (mesh, factorisation) raises
+        :class:`railtherm.SolverError` with the solver's words (``scene_name``, ``level`` [1] for the message)."""
         try:
-            sol = solve_fem(prob)
+            return solve_fem(prob)
         except (RuntimeError, ValueError, np.linalg.LinAlgError) as exc:
-            # an internal failure on valid input (mesh, factorisation): a failed run with the solver's words
-            raise SolverError(f"scene {scene.name!r}, level {level}: model 'fem' failed: "
+            raise SolverError(f"scene {scene_name!r}, level {level}: model 'fem' failed: "
                               f"{type(exc).__name__}: {exc}") from exc
+
+    @staticmethod
+    def _patch_and_source(sol, prob, level, cells):
+        """The contact patch and heat source of a FEM solution on the patch grid ``surface_grid(a, None, level,
+        cells)`` centred on the computed patch: (patch, source, grid, patch centre xc [m], diagnostics).
+
+        Parameters
+        ----------
+        sol : FemSolution
+            The solution of :func:`railtherm_fem.coupled.solve_fem`.
+        prob : FemProblem
+            Its problem (``speed`` [m/s], ``friction`` [1], ``creepage`` [1], ``sliding_speed`` [m/s]).
+        level : int
+            Mesh level k [1].
+        cells : int or None
+            Cells of the patch grid at level 0 (the model's option).
+        """
         c = sol.contact
         a, xc = sol.half_width, sol.centre
         grid = surface_grid(a, None, level, cells)
@@ -234,7 +309,7 @@ class FemModel(CoupledModel):
         near = loaded[np.argmin(np.abs(c.x[loaded][None, :] - (grid.x + xc)[:, None]), axis=1)]
         stick = np.where(grid.inside(), c.stick[near].astype(float), np.nan)
         diag = dict(sol.diagnostics)
-        diag.update(verdict_diagnostics(sol, thermal))
+        diag.update(verdict_diagnostics(sol, prob.thermal))
         diag.update(patch_centre=float(xc), coupling_iterations=int(sol.coupling_iterations),
                     coupling_converged=bool(sol.coupling_converged),
                     coupling_history=",".join(f"{h:.3e}" for h in sol.history),
@@ -255,13 +330,7 @@ class FemModel(CoupledModel):
         source = HeatSource(grid=grid, power_density=power, heat_partition=float(sol.heat_partition),
                             body_speed=tuple(float(v) for v in sol.body_speed),
                             frictional_power=float(sol.frictional_power), patch=patch, diagnostics=diag)
-        temp = None
-        if thermal:
-            temp = self._temperature_from(sol.thermal_grid, sol.theta, grid, xc, getattr(scene, "field", None),
-                                          (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
-                                          {**diag, **self._stresses(sol, grid, xc)}, source, scene_name=scene.name)
-        return (patch if {"normal", "tangential"} & set(stages) else None,
-                source if "heat_source" in stages or thermal else None, temp)
+        return patch, source, grid, xc, diag
 
     # ------------------------------------------------------------------------------------------
     @staticmethod

@@ -1,0 +1,290 @@
+"""fem's pass histories of a line contact: the rail (or wheel) section in the fixed frame (x-z, per unit width).
+
+The heat equation ``rho c dT/dt = lambda laplace T`` on a block around the fixed section, bilinear (Q1)
+finite elements on a tensor mesh assembled by scikit-fem (consistent mass M, stiffness K, convection on the
+surface), T = 0 on the deep face, the block's ends insulated; the band's piecewise-constant flux enters the
+surface nodes as its exact integrals against the hat functions. Core's driver
+(:mod:`railtherm.physics.section_stepping`) steps the passes: Crank-Nicolson steps of
+``M dT/dt = -K T + P(t)`` at the section's step h/V while the source is over the block, a ladder of growing
+steps between the passes, one sparse LU per step size reused by every step of that size. Nodes: spacing
+h = 2a/32/2**level along x over the section and four cells either side, growing by ``1.3 ** (1 / 2**level)``
+to 2a + 2 sqrt(kappa t_end); in depth from delta/4/2**level at the surface (delta = sqrt(2 a kappa / V)),
+growing alike to max(8 sqrt(kappa t_end), 10 delta, 1.5 x the deepest output). The history at a depth: the
+section's node column, linear in z between nodes (the elements' own interpolant).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.linalg import splu
+from skfem import Basis, BilinearForm, ElementQuad1, FacetBasis, MeshQuad, asm
+
+from railtherm import Refused, SceneError
+from railtherm.physics import thermal_scales
+from railtherm.physics.section_stepping import body_histories, theta_steps
+
+__all__ = ["FemBlock", "fem_block", "hat_integrals", "section_histories", "IMPLICIT_COST"]
+
+#: one Crank-Nicolson LU solve counted as this many explicit node updates (the FE section has no explicit
+#: stepping: the model always asks the implicit scheme; the cost is recorded with the reason)
+IMPLICIT_COST = 50.0
+
+
+def _spacings(first: float, growth: float, uniform: int, end: float) -> np.ndarray:
+    """Element lengths [m] from 0: ``uniform`` of ``first``, then growing by ``growth`` until they reach ``end``."""
+    w = [first] * uniform
+    while sum(w) < end:
+        w.append(w[-1] * growth)
+    return np.array(w)
+
+
+def hat_integrals(x: np.ndarray, edges: np.ndarray, flux: np.ndarray) -> np.ndarray:
+    """Exact integrals int q(s) phi_i(s) ds [W/m] of a piecewise-constant flux against the P1 hats of ``x``.
+
+    Parameters
+    ----------
+    x : ndarray
+        Increasing nodes [m].
+    edges : ndarray
+        Increasing edges of the flux's cells [m], shape (n + 1,).
+    flux : ndarray
+        Flux in each cell [W/m^2], shape (n,); zero outside the cells.
+
+    Returns
+    -------
+    ndarray
+        Nodal loads [W/m], shape (x.size,).
+
+    Notes
+    -----
+    With Q(s) = int_{-inf}^s q and R(s) = int_{-inf}^s Q (piecewise quadratic, exact at any s), integration by
+    parts gives the interior load ``(R(x_{i+1}) - R(x_i)) / h_i - (R(x_i) - R(x_{i-1})) / h_{i-1}`` and at the
+    ends ``(R(x_1) - R(x_0)) / h_0 - Q(x_0)`` and ``Q(x_n) - (R(x_n) - R(x_{n-1})) / h_{n-1}``.
+    """
+    e = np.asarray(edges, dtype=float)
+    q = np.asarray(flux, dtype=float).reshape(-1)
+    w = np.diff(e)
+    Q = np.concatenate([[0.0], np.cumsum(q * w)])
+    R = np.concatenate([[0.0], np.cumsum(Q[:-1] * w + 0.5 * q * w * w)])
+    s = np.asarray(x, dtype=float)
+    k = np.clip(np.searchsorted(e, s, side="right") - 1, 0, q.size - 1)
+    d = np.clip(s - e[k], 0.0, w[k])                  # within cell k (clipped: before e[0] / after e[-1])
+    Rs = R[k] + Q[k] * d + 0.5 * q[k] * d * d + Q[-1] * np.clip(s - e[-1], 0.0, None)
+    Qs = np.interp(s, e, Q)
+    h = np.diff(s)
+    slope = np.diff(Rs) / h                           # mean of Q over each element
+    load = np.empty(s.size)
+    load[1:-1] = slope[1:] - slope[:-1]
+    load[0] = slope[0] - Qs[0]
+    load[-1] = Qs[-1] - slope[-1]
+    return load
+
+
+class FemBlock:
+    """The section's Q1 elements and their operators (free node i (nz - 1) + j, j = 0 at the surface).
+
+    Attributes: ``x`` node positions along the rail [m] (the section at ``x[i0]`` = 0), ``z`` node depths [m]
+    (the last, deep one fixed at 0), ``mass`` and ``stiffness`` [J/(K m)], [W/(K m)] on the free nodes,
+    ``capacity`` (the lumped mass, one entry per unknown), ``dt_stab`` (min C/K_ii [s], for the cost record),
+    ``surface`` (free indices of the surface nodes), ``rows`` (depths, 2) and ``weights`` (depths, 2) of the
+    output depths."""
+
+    def __init__(self, x, z, mass, stiffness, depths):
+        self.x, self.z = np.asarray(x, float), np.asarray(z, float)
+        self.i0 = int(np.argmin(np.abs(self.x)))
+        self.mass, self.stiffness = mass, stiffness
+        self.capacity = np.asarray(mass.sum(axis=1)).ravel()
+        self.dt_stab = float(np.min(self.capacity / stiffness.diagonal()))
+        m = self.z.size - 1                               # free nodes per column
+        self.surface = np.arange(self.x.size) * m
+        rows, weights = [], []
+        for d in depths:
+            j = int(np.clip(np.searchsorted(self.z, d, side="right") - 1, 0, self.z.size - 2))
+            s = (d - self.z[j]) / (self.z[j + 1] - self.z[j])
+            lower = self.i0 * m + j + 1 if j + 1 < m else self.i0 * m + j    # the deep node is 0: weight 0 below
+            rows.append([self.i0 * m + j, lower])
+            weights.append([1.0 - s, s if j + 1 < m else 0.0])
+        self.rows = np.array(rows)
+        self.weights = np.array(weights)
+
+    @property
+    def node_shape(self) -> str:
+        return f"{self.x.size}x{self.z.size}"
+
+    def stepper(self, x_edges, y_edges, flux, speed, factor, t0):
+        """A :class:`_FemStepper` under the band's ``flux`` (nx,) [W/m^2] on ``x_edges`` [m] at ``speed``
+        [m/s], heat-input factor ``factor(t)``, from t0 [s]."""
+        return _FemStepper(self, x_edges, flux, speed, factor, t0)
+
+
+def assemble_section(x, z, conductivity: float, capacity: float, convection: float):
+    """Consistent mass M [J/(K m)] and stiffness K [W/(K m)] (conduction plus surface convection) of Q1
+    elements on the tensor mesh of nodes ``x`` (along the rail) and ``z`` (depth, 0 the surface) [m], all
+    nodes in the order i z.size + j, by scikit-fem."""
+    mesh = MeshQuad.init_tensor(np.asarray(x, float), np.asarray(z, float))
+    basis = Basis(mesh, ElementQuad1())
+
+    @BilinearForm
+    def conduction(u, v, w):
+        return conductivity * (u.grad[0] * v.grad[0] + u.grad[1] * v.grad[1])
+
+    @BilinearForm
+    def heat(u, v, w):
+        return capacity * u * v
+
+    K = asm(conduction, basis)
+    if convection:
+        top = FacetBasis(mesh, ElementQuad1(), facets=mesh.facets_satisfying(lambda p: np.isclose(p[1], 0.0)))
+
+        @BilinearForm
+        def loss(u, v, w):
+            return convection * u * v
+        K = K + asm(loss, top)
+    return csr_matrix(asm(heat, basis)), csr_matrix(K)
+
+
+def fem_block(a: float, speed: float, conductivity: float, capacity: float, convection: float, level: int,
+              duration_total: float, depths) -> FemBlock:
+    """The nodes and operators of the module docstring for a band of half-width ``a`` [m] at ``speed``
+    [m/s], lambda [W/(m K)], rho c [J/(m^3 K)], surface convection h [W/(m^2 K)], refinement ``level``, a
+    history of ``duration_total`` [s] and the output ``depths`` [m]."""
+    kappa = conductivity / capacity
+    delta = thermal_scales(a, speed, kappa).thermal_depth
+    reach = math.sqrt(kappa * duration_total)
+    growth = 1.3 ** (1.0 / 2 ** int(level))
+    h = 2.0 * a / (32 * 2 ** int(level))
+    side = np.cumsum(_spacings(h, growth, 4, 2.0 * a + 2.0 * reach))
+    x = np.concatenate([-side[::-1], [0.0], side])
+    z = np.concatenate([[0.0], np.cumsum(_spacings(delta / 4.0 / 2 ** int(level), growth, 1,
+                                                    max(8.0 * reach, 10.0 * delta, 1.5 * max(depths))))])
+    M, K = assemble_section(x, z, conductivity, capacity, convection)
+    free = np.ones((x.size, z.size), dtype=bool)
+    free[:, -1] = False                                # the deep face: T = 0
+    free = free.ravel()
+    return FemBlock(x, z, M[free][:, free].tocsr(), K[free][:, free].tocsr(), depths)
+
+
+class _FemStepper:
+    """Crank-Nicolson (and backward-Euler start) steps of the FE section, with the interface of core's
+    driver (:mod:`railtherm.physics.section_stepping`); no explicit steps."""
+
+    heating_cost = IMPLICIT_COST
+    implicit_cost = 0.0                                 # every cooling rung implicit
+    cooling_implicit = "Crank-Nicolson steps of the FE section (one sparse LU per step size; two backward-Euler start steps)"
+
+    def __init__(self, block: FemBlock, x_edges, flux, speed, factor, t0):
+        self.b = block
+        self.args = (x_edges, flux, speed)
+        self.xe = np.asarray(x_edges, dtype=float)
+        self.flux = np.asarray(flux, dtype=float).reshape(-1)
+        self.speed = float(speed)
+        self.factor = factor
+        self.T = np.zeros(block.capacity.size)
+        self.t = t0
+        self.times, self.rows = [], []
+        self.explicit_steps = 0
+        self.adi_steps = 0
+        self.implicit = self
+        self.cache = {}
+        self.solves = 0
+
+    def fresh(self, t0: float) -> "_FemStepper":
+        """A stepper of the same block and source from t0 [s], state zero (shares the factorisations)."""
+        out = _FemStepper(self.b, *self.args, self.factor, t0)
+        out.cache = self.cache
+        return out
+
+    def _power(self, t, arrivals):
+        """Nodal heat input [W/m] at time t of the passes arriving at ``arrivals`` [s]: the leading edge of
+        pass k at x = V (t - arrival_k), the band moving towards +x."""
+        p = np.zeros(self.T.size)
+        f = float(self.factor(t))
+        if f == 0.0:
+            return p
+        for arr in arrivals:
+            shift = self.xe[-1] - self.speed * (t - arr)      # source coordinate of block position 0
+            p[self.b.surface] += hat_integrals(self.b.x + shift, self.xe, self.flux)
+        return f * p
+
+    def explicit(self, dt, m, arrivals, heated=True):
+        raise NotImplementedError("the FE section is stepped implicitly only")
+
+    def adi(self, dt: float, m: int, start: int = 0):
+        """m source-free Crank-Nicolson steps of dt, the first ``start`` backward Euler."""
+        self.implicit_steps(dt, m, (), 0.5, start)
+        self.adi_steps += m
+
+    def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
+        """m theta-scheme steps of dt (the first ``start`` backward Euler); source of ``arrivals``."""
+        M, K, b = self.b.mass, self.b.stiffness, self.b
+
+        def step(T, dt, th, p_old, p_new):
+            key = (float(dt), th)
+            if key not in self.cache:
+                self.cache[key] = splu((M / dt + th * K).tocsc())
+            self.solves += 1
+            return self.cache[key].solve(M @ T / dt - (1.0 - th) * (K @ T) + th * p_new + (1.0 - th) * p_old)
+        self.T, self.t, out, times = theta_steps(self.T, self.t, dt, m, lambda t: self._power(t, arrivals), step,
+                                                 lambda T: np.sum(T[b.rows] * b.weights, axis=1), b.rows.shape[0],
+                                                 theta, start)
+        self.times.append(times)
+        self.rows.append(out)
+
+
+def section_histories(scene, source, level: int):
+    """The pass histories of both bodies under one pass's ``source`` on the FE sections of :func:`fem_block`,
+    stepped by core's driver (:func:`railtherm.physics.section_stepping.body_histories`: Crank-Nicolson, one
+    pass's response superposed over the passes under a constant schedule): (TransientHistory, diagnostics,
+    the source's grid).
+
+    Parameters
+    ----------
+    scene : Scene
+        A transient scene asking the histories (``transient``: passes, interval [s], schedule, depths [m];
+        ``convection`` [W/(m^2 K)]; ``wheel`` and ``rail`` materials and bulk temperatures [degC]).
+    source : HeatSource
+        One pass's heat source of a line contact: flux [W/m^2] on its grid, ``body_speed`` [m/s].
+    level : int
+        Refinement level of the sections [1].
+
+    Raises
+    ------
+    railtherm.Refused
+        An elliptical patch, or a heated body whose surface does not move through the contact.
+    railtherm.SceneError
+        ``passes.interval`` shorter than a heated body's contact duration 2a/V.
+    """
+    grid = source.grid
+    tr = scene.transient
+    if not grid.line:
+        raise Refused(f"scene {scene.name!r}: model 'fem' computes the pass histories of a line contact only",
+                      kind="validity")
+    fluxes = [np.asarray(source.flux(i), dtype=float).reshape(-1) for i in range(2)]
+    speeds = tuple(float(v) for v in source.body_speed)
+    span = float(grid.x_edges[-1] - grid.x_edges[0])
+    for i, q in enumerate(fluxes):
+        if not np.any(q != 0):
+            continue
+        body = ("wheel", "rail")[i]
+        if not speeds[i] > 0.0:
+            raise Refused(f"model 'fem' ({body}): its surface moves at {speeds[i]:g} m/s relative to the contact; "
+                          "the section's passes need a body moving through it", kind="validity")
+        if float(tr.interval) < span / speeds[i]:
+            raise SceneError.bad_value(scene.name, "passes.interval", float(tr.interval),
+                                       f"a time >= the contact duration 2a/V = {span / speeds[i]:.6g} s of the {body} "
+                                       "(a pass must end before the next begins)")
+
+    def make_block(v, m, convection, duration, z):
+        return fem_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat, convection, level,
+                         duration, z)
+    bulk = (float(scene.wheel.bulk_temperature), float(scene.rail.bulk_temperature))
+    hist, diag = body_histories(
+        scene, grid, [q if np.any(q != 0) else None for q in fluxes], speeds, (scene.wheel, scene.rail), bulk,
+        int(level), "implicit", make_block, "bilinear finite elements (scikit-fem) of the fixed section (x-z), "
+        "Crank-Nicolson steps, one LU per step size", "conduction along the rail beyond the section's ends; the "
+        "wheel's curvature")
+    diag.update({"converged": True, "iterations": 0, "residual": 0.0,
+                 "scheme": "transient FE section (Crank-Nicolson)"})
+    return hist, diag, grid
