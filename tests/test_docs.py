@@ -207,3 +207,25 @@ def test_every_path_of_designs_layout_table_exists():
     assert named and missing == []
     layers = {p.name for p in (root / "core" / "railtherm").iterdir() if p.is_dir() and (p / "__init__.py").exists()}
     assert layers <= {p.name for p in named}, layers - {p.name for p in named}
+
+
+def test_designs_layout_table_orders_the_layers_as_the_import_graph_test():
+    """The indented rows of docs/DESIGN.md's layout table, read bottom up, are the layers of
+    tests/test_import_graph.py's ``RANKS`` rank by rank (two layers in one row share a rank), and the
+    count the table states is the number of rows."""
+    import re
+    from test_import_graph import RANKS
+    text = (DOCS / "DESIGN.md").read_text()
+    table = text[text.index("## Layout"):]
+    table = table[:table.index("\n\n")]
+    rows = [line.split("|")[1].strip() for line in table.splitlines()[2:]]
+    layers = [{p.split("/")[0].split(".")[0] for p in re.findall(r"`\s*([\w./-]+)`", cell)}
+              for cell in rows if cell.startswith("`  ")]
+    ranked = {}
+    for name, rank in RANKS.items():
+        ranked.setdefault(rank, set()).add("cli" if name == "top" else name)
+    expected = [ranked[r] - {"_version"} for r in sorted(ranked)]
+    assert [layer - {"testing"} for layer in reversed(layers)] == expected
+    words = {"seven": 7, "eight": 8, "nine": 9, "ten": 10}
+    stated = re.search(r"in (\w+) layers", table)
+    assert stated and words[stated.group(1)] == len(layers), stated
