@@ -7,6 +7,7 @@ every result before it is stored and names the plugin and the variable that brea
 from __future__ import annotations
 
 import datetime as _dt
+import json
 from dataclasses import dataclass
 
 import math
@@ -354,3 +355,14 @@ def validate_dataset(ds, plugin: str = "?", *, check_attrs: bool = True) -> None
         missing = [a for a in REQUIRED_ATTRS if a not in ds.attrs]
         if missing:
             raise PluginError(f"plugin {plugin!r}: result lacks global attributes {missing}")
+
+
+#: global attribute of a run file holding its sweep as JSON
+SWEEP_ATTR = "sweep"
+
+
+def encode_sweep(sweep) -> str:
+    """The ``sweep`` attribute of a run file: JSON of the swept study keys (dotted) and their values."""
+    def plain(v):
+        return v.item() if hasattr(v, "item") else v
+    return json.dumps({str(k): plain(v) for k, v in dict(sweep or {}).items()}, separators=(", ", ": "))

@@ -24,6 +24,7 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
+from ..contract.schema import SWEEP_ATTR, encode_sweep
 from ..input.scene import SCENE_KEYS, Table
 from . import zarr_store
 
@@ -332,9 +333,7 @@ def read_references(path) -> dict:
     return out
 
 
-# -- the sweep attribute of a run file -------------------------------------------------------------
-#: global attribute of a run file holding its sweep as JSON
-SWEEP_ATTR = "sweep"
+# -- the sweep attribute of a run file (written by the pipeline: railtherm.contract.schema.encode_sweep) ----
 
 
 def _dotted(key: str) -> str:
@@ -347,13 +346,6 @@ def _dotted(key: str) -> str:
             if isinstance(SCENE_KEYS.get(head), Table) and rest in SCENE_KEYS[head].keys:
                 return f"{head}.{rest}"
     return key
-
-
-def encode_sweep(sweep) -> str:
-    """The ``sweep`` attribute of a run file: JSON of the swept study keys (dotted) and their values."""
-    def plain(v):
-        return v.item() if hasattr(v, "item") else v
-    return json.dumps({str(k): plain(v) for k, v in dict(sweep or {}).items()}, separators=(", ", ": "))
 
 
 def sweep_of(attrs) -> dict:
