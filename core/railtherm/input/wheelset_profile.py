@@ -32,7 +32,7 @@ from ..references.kalker import kalker_linear_forces
 from .profiles import CONICAL_ONLY_KEYS, wheelset_geometry_from_table
 
 __all__ = ["ProfileContact", "ProfileContacts", "NoContact", "NoContactError", "profile_contact",
-           "normal_force_from_vertical", "share_vertical_force", "patch_scenes", "check_patch_outputs", "WINDOW",
+           "roll_height_mismatch", "normal_force_from_vertical", "share_vertical_force", "patch_scenes", "check_patch_outputs", "WINDOW",
            "GAP_DEGREE"]
 
 #: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
@@ -47,11 +47,11 @@ GAP_DEGREE = 8
 REFERENCE_FRACTION = 0.5
 #: points of the rail profile a ProfileContact keeps for drawing (rail_section)
 SECTION_POINTS = 400
-#: which forces ``roll_angle = "balance"`` balances (result attribute ``wheelset_roll_balance``): every chain
-#: gets the same roll, found at scene load before any chain runs
+#: which forces balance the roll found at scene load (``roll_angle = "balance"``; result attribute
+#: ``wheelset_roll_balance``); a chain with a non-Hertzian normal stage corrects it with its own
+#: (:func:`railtherm.solving.wheelset_equilibrium.solve_balanced_roll`)
 ROLL_BALANCE = ("Hertz-equivalent normal forces of each wheel's patches (the profiles' curvatures at the contact), "
-                "the lateral creep force estimated by Kalker's linear theory, saturated (Shen-Hedrick-Elkins); "
-                "not the chain's normal stage (kalker's non-Hertzian normal solve is not used)")
+                "the lateral creep force estimated by Kalker's linear theory, saturated (Shen-Hedrick-Elkins)")
 
 
 @dataclass(frozen=True)
@@ -623,10 +623,10 @@ def balance_roll(scene_name: str, geo, bodies, friction, speed: float, tol: floa
     The wheelset centre sits at one height: each wheel's height to carry Fz / 2 (:func:`_wheel_height`, its
     patches' Hertz-equivalent forces, as the normal force of a scene is estimated) must be the same for the
     right and the left wheel; the roll that makes them equal is found by the secant method to ``tol`` [m].
-    A scene with ``pitch_velocity = "free"`` balances the roll at -V / R0. These are the forces of every chain
-    (:data:`ROLL_BALANCE`, result attribute ``wheelset_roll_balance``): the roll is found when the scene is
-    loaded; kalker's own normal solve of a non-Hertzian patch would give another approach, hence another roll
-    (A-2.2 position 2 right: -1.95e-5 against CONTACT's -2.30e-5 rad).
+    A scene with ``pitch_velocity = "free"`` balances the roll at -V / R0. This roll (:data:`ROLL_BALANCE`,
+    result attribute ``wheelset_roll_balance``) is found when the scene is loaded; the solve of a chain whose
+    normal stage is not Hertzian (kalker) corrects it with that stage's approaches
+    (:func:`railtherm.solving.wheelset_equilibrium.solve_balanced_roll`).
     """
     base = dataclasses.replace(_nominal(geo, speed), vertical_force=0.5 * float(geo.vertical_force))
 
@@ -646,6 +646,19 @@ def balance_roll(scene_name: str, geo, bodies, friction, speed: float, tol: floa
                          f"wheels' vertical forces (height mismatch {f1:.3g} m after 40 steps)", scene=scene_name,
                          key="wheelset.roll_angle", value="balance")
     return float(r1)
+
+
+def roll_height_mismatch(scene, roll: float) -> float:
+    """The wheelset centre's height for the right wheel to carry half the axle load minus the left wheel's [m]
+    (:func:`_wheel_height`, Hertz-equivalent forces) at ``roll`` [rad], for a scene loaded with ``roll_angle =
+    "balance"`` (:func:`balance_roll` zeroes it; :mod:`railtherm.solving.wheelset_equilibrium` corrects it with
+    the chain's own normal approaches)."""
+    table = dict(scene.source["wheelset"], roll_angle=0.0)
+    geo, _ = _geometry(scene.name, {k: v for k, v in table.items() if k != "patch"}, None)
+    base = dataclasses.replace(_nominal(geo, scene.speed), vertical_force=0.5 * float(geo.vertical_force))
+    bodies = (contact_modulus(scene.wheel, scene.rail), *combined_elastic(scene.wheel, scene.rail))
+    return (_wheel_height(scene.name, base, "right", roll, bodies, scene.friction, scene.speed)
+            - _wheel_height(scene.name, base, "left", roll, bodies, scene.friction, scene.speed))
 
 
 #: the outputs a scene of several patches gives by default (per patch, and the wheel's totals)

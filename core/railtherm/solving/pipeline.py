@@ -392,8 +392,8 @@ def _versions(pl: Plan, host: PluginHost) -> str:
 
 def _wheelset_solver(scene: Scene):
     """The solve of a wheelset on profiles beyond one patch at given motion, or None: a wheel that found no
-    contact raises its error; ``pitch_velocity = "free"`` (:mod:`.wheelset_equilibrium`) and ``patch = "all"``
-    (:mod:`.wheelset_patches`) solve their patches with :func:`solve`."""
+    contact raises its error; ``pitch_velocity = "free"`` and ``roll_angle = "balance"`` (:mod:`.wheelset_equilibrium`)
+    and ``patch = "all"`` (:mod:`.wheelset_patches`) solve their patches with :func:`solve`."""
     pc = scene.profile_contact
     if hasattr(pc, "failure"):
         raise pc.failure()
@@ -403,6 +403,9 @@ def _wheelset_solver(scene: Scene):
     if getattr(pc, "patch", None) == "all":
         from .wheelset_patches import solve_patches
         return solve_patches
+    if getattr(pc, "balanced_roll", None) is not None:   # the roll with the chain's own normal approaches
+        from .wheelset_equilibrium import solve_balanced_roll
+        return solve_balanced_roll
     return None
 
 

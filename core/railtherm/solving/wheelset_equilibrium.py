@@ -10,6 +10,15 @@ the scenes are built twice and the creepages of any omega interpolated; the seca
 scene is then loaded again with that pitch velocity given and solved: its result is the result of that scene,
 with the attributes ``wheelset_pitch_velocity`` [rad/s] and ``wheelset_axle_moment`` [N m] (the moment left);
 its ``wall_time`` is the whole search's.
+
+``roll_angle = "balance"`` (one patch per scene, pitch velocity given; :func:`solve_balanced_roll`): the scene
+comes loaded with the roll at which both wheels' Hertz-equivalent heights agree (:func:`railtherm.input.
+wheelset_profile.balance_roll`). A chain whose normal stage solves the patch's own gap (kalker) reports its
+normal approach delta; each wheel's height is then corrected by (delta - delta_Hertz) / cos(contact angle) at
+the wheel's normal force, and the roll is moved until the corrected heights agree (chord steps with the Hertz
+heights' slope). A chain on the Hertz-equivalent ellipse keeps the loaded roll. The result's attributes
+``wheelset_roll_angle`` [rad], ``wheelset_roll_balance`` (whose forces), ``wheelset_roll_angle_hertz`` [rad] and
+``wheelset_roll_height_mismatch`` [m] say which.
 """
 from __future__ import annotations
 
@@ -22,15 +31,20 @@ import numpy as np
 
 from ..contract.errors import SolverError
 from ..input.scene import load_scene
-from ..input.wheelset_profile import patch_scenes
+from ..input.wheelset_profile import ROLL_BALANCE, patch_scenes, roll_height_mismatch
+from ..references.hertz import contact_modulus, hertz_from_curvatures
 
-__all__ = ["solve_free_pitch", "axle_moment", "NEED"]
+__all__ = ["solve_free_pitch", "solve_balanced_roll", "axle_moment", "NEED"]
 
 #: what the moment needs of each patch's solve
 NEED = ("normal_force", "creep_force_x", "creep_force_y", "contact_angle")
 #: the secant stops when the moment is below this fraction of (sum of normal forces) x (nominal radius)
 MOMENT_TOL = 1e-7
 MAX_STEPS = 30
+#: the roll balanced with the chain's normal stage: the wheels' corrected heights agree to this [m]
+HEIGHT_TOL = 1e-10
+#: normal models whose patch is the Hertz-equivalent ellipse the loaded roll was balanced with
+HERTZ_EQUIVALENT = ("wheelset-profile",)
 
 
 def axle_moment(pc, normal, creep_x, creep_y, angle) -> float:
@@ -101,4 +115,62 @@ def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool
                       "wall_time": time.perf_counter() - t0})
     if pc.balanced_roll is not None:
         out.attrs.update(wheelset_roll_angle=float(pc.balanced_roll), wheelset_roll_balance=pc.roll_balance)
+    return out
+
+
+def _approach_correction(scene, side, roll, method, level, options, solve_one, host):
+    """(height correction [m], normal model, patches) of wheel ``side`` at ``roll``: (delta - delta_Hertz) /
+    cos(contact angle), delta the chain's normal approach (result attribute ``<normal model>_approach``) and
+    delta_Hertz the Hertz-equivalent one, both at the wheel's normal force; None for the correction when the
+    chain's normal model is Hertz-equivalent or reports no approach."""
+    pc = scene.profile_contact
+    src = _source(scene, side, float(scene.source["wheelset"]["pitch_velocity"]), roll_angle=float(roll),
+                  vertical_force=float(pc.vertical_force))
+    sub = _loaded(dict(src, outputs=["normal_force"]))
+    r = solve_one(sub, method, level, options, validate=False, host=host)
+    model = dict(part.split(":", 1) for part in str(r.attrs.get("stages", "")).split()).get("normal", "")
+    delta = r.attrs.get(f"{model}_approach")
+    if model in HERTZ_EQUIVALENT or delta is None:
+        return None, model, sub.profile_contact.patches
+    q = sub.profile_contact
+    hertz = hertz_from_curvatures(*q.hertz_curvatures, float(r["normal_force"]), contact_modulus(sub.wheel, sub.rail))
+    return (float(delta) - hertz.approach) / math.cos(q.contact_angle), model, q.patches
+
+
+def solve_balanced_roll(scene, method, level, options, *, solve_one, validate: bool = True, host=None, peers=None,
+                        **kw):
+    """Solve ``scene`` (``roll_angle = "balance"``) at the roll that balances the wheels' heights with the
+    chain's own normal approaches (module docstring)."""
+    t0 = time.perf_counter()
+    pc = scene.profile_contact
+    hertz_roll = roll = float(pc.balanced_roll)
+    balance, mismatch = ROLL_BALANCE, 0.0
+    inner = dict(method=method, level=level, options=options, solve_one=solve_one, host=host)
+    right, model, n_right = _approach_correction(scene, "right", roll, **inner)
+    if right is not None:
+        left, _, n_left = _approach_correction(scene, "left", roll, **inner)
+        if max(n_right, n_left) > 1:
+            balance = (f"{ROLL_BALANCE}; the chain's normal stage ({model}) is not used: a wheel has "
+                       f"{max(n_right, n_left)} patches, and one scene carries one")
+        else:
+            slope = (roll_height_mismatch(scene, roll + 1e-6) - roll_height_mismatch(scene, roll - 1e-6)) / 2e-6
+            for _ in range(MAX_STEPS):
+                mismatch = roll_height_mismatch(scene, roll) + right - left
+                if abs(mismatch) <= HEIGHT_TOL:
+                    break
+                roll -= mismatch / slope
+                right = _approach_correction(scene, "right", roll, **inner)[0]
+                left = _approach_correction(scene, "left", roll, **inner)[0]
+            else:
+                raise SolverError(f"scene {scene.name!r}: key 'wheelset.roll_angle' = 'balance': no roll balances "
+                                  f"the wheels' heights with {model}'s approaches in {MAX_STEPS} steps (last "
+                                  f"{roll:.9g} rad, mismatch {mismatch:.3g} m)")
+            balance = (f"the chain's normal stage ({model}): each wheel's Hertz-equivalent height corrected by "
+                       f"({model}'s normal approach - Hertz's) / cos(contact angle) at its normal force")
+    final = load_scene(_source(scene, pc.side, float(scene.source["wheelset"]["pitch_velocity"]),
+                               roll_angle=roll, vertical_force=float(pc.vertical_force)))
+    out = solve_one(final, method, level, options, validate=validate, host=host, peers=peers, **kw)
+    out.attrs.update({"wheelset_roll_angle": roll, "wheelset_roll_balance": balance,
+                      "wheelset_roll_angle_hertz": hertz_roll, "wheelset_roll_height_mismatch": float(mismatch),
+                      "wall_time": time.perf_counter() - t0})
     return out
