@@ -779,13 +779,17 @@ def test_folded_normal_solves_in_threads_equal_the_serial_solve():
         assert r.iterations == serial.iterations
 
 
-def test_mirrored_products_equal_the_products_on_both_halves():
+@pytest.mark.parametrize("path", ["dct", "fft", "general"])
+def test_mirrored_products_equal_the_products_on_both_halves(path):
     """apply_at(..., mirrored=True) on the elements j >= ny/2 (the x component mirrored evenly, the y component
-    oddly onto j' = ny - 1 - j, the transforms along x on half of the columns) equals apply_at on both halves
-    to 1e-13 of the largest value in float64 (1e-6 in float32), also between whole-grid products on other elements
-    (the work field cleared), and through the general path (no pocketfft work arrays)."""
+    oddly onto j' = ny - 1 - j) equals apply_at on both halves to 1e-13 of the largest value in float64 (1e-6 in
+    float32), also between whole-grid products on other elements (the work field cleared): by DCT-II/DST-II along y
+    (the default, _mirror.MirroredProduct), by the padded FFT along y with the transforms along x on half of the
+    columns, and through the general path (no pocketfft work arrays)."""
     area, X, Y, g = _setup(24, 4)
     conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
+    mp = conv.mirrored_product
+    assert mp is not None
     nx, ny = conv.shape
     assert ny % 2 == 0
     idx_all = np.nonzero((g > 0).ravel())[0]
@@ -795,18 +799,21 @@ def test_mirrored_products_equal_the_products_on_both_halves():
     v = rng.normal(size=(2, idx.size))
     both = np.hstack([v, v * np.array([[1.0], [-1.0]])])
     expected = conv.apply_at(both, np.concatenate([idx, twin]))[:, :idx.size]
-    for general in (False, True):
-        conv._buffered_ok = not general
-        try:
-            got = [conv.apply_at(v, idx, mirrored=True), conv.apply_at(rng.normal(size=(2, idx_all.size)), idx_all),
-                   conv.apply_at(v, idx, mirrored=True),
-                   conv.apply_at(v.astype(np.float32), idx, single=True, mirrored=True)]
-        finally:
-            conv._buffered_ok = True
-        for k in (0, 2):
-            np.testing.assert_allclose(got[k], expected, rtol=0, atol=1e-13 * np.abs(expected).max())
-        assert got[3].dtype == np.float32
-        np.testing.assert_allclose(got[3], expected, rtol=0, atol=1e-6 * np.abs(expected).max())
+    conv._buffered_ok = path != "general"
+    conv._mirrored_product = None if path == "fft" else mp       # the operator is cached: restored below
+    try:
+        got = [conv.apply_at(v, idx, mirrored=True), conv.apply_at(rng.normal(size=(2, idx_all.size)), idx_all),
+               conv.apply_at(v, idx, mirrored=True), conv.apply_at(v.astype(np.float32), idx, single=True, mirrored=True),
+               conv.apply_at(v[:, ::2], idx[::2], mirrored=True)]
+    finally:
+        conv._buffered_ok, conv._mirrored_product = True, mp
+    for k in (0, 2):
+        np.testing.assert_allclose(got[k], expected, rtol=0, atol=1e-13 * np.abs(expected).max())
+    assert got[3].dtype == np.float32
+    np.testing.assert_allclose(got[3], expected, rtol=0, atol=1e-6 * np.abs(expected).max())
+    sub = conv.apply_at(np.hstack([v[:, ::2], v[:, ::2] * np.array([[1.0], [-1.0]])]),
+                        np.concatenate([idx[::2], twin[::2]]))[:, :idx[::2].size]
+    np.testing.assert_allclose(got[4], sub, rtol=0, atol=1e-13 * np.abs(sub).max())
 
 
 @pytest.mark.parametrize("creepage", [(-5e-4, 0.0, 0.0), (-0.05, 0.0, 0.0), (-2e-3, 1e-3, 0.2), (0.0, 1e-3, 0.0)])

@@ -23,6 +23,7 @@ import threading
 import numpy as np
 import scipy.fft as sfft
 
+from ._mirror import MirroredProduct, _combine
 from ._quadrant import (ROLLING_EXTRA, _quadrant_differences_cached, mirror_quadrant, place_even,
                         quadrant_differences, tangential_quadrants)
 
@@ -317,6 +318,7 @@ class Convolution:
             self._inverse32 = (1.0 / lam).astype(np.float32)
         self.products = 0
         self._buffered_ok = _pocketfft is not None and my > 1
+        self._local_half = threading.local()
 
     @property
     def _spec(self):
@@ -468,7 +470,11 @@ class Convolution:
                 buf[...] = 0.0
                 work[3] = idx
             _scatter(buf, idx, v)
-            return _gather(self._buffered(work, spec, mirrored=True).reshape(nc, mx * ny), idx)
+            if self.mirrored_product is None:
+                return _gather(self._buffered(work, spec, mirrored=True).reshape(nc, mx * ny), idx)
+            h = ny // 2
+            at = self._half_index(idx)
+            return _gather(self.mirrored_product.apply(work[0]).reshape(nc, mx * h), at)
         if self._buffered_ok:
             work = self._work_arrays(dt, nc)
             buf = work[0].reshape(nc, mx * ny)
@@ -492,6 +498,32 @@ class Convolution:
             f = sfft.ifft(f, axis=-1, workers=1, overwrite_x=True)[..., :ny]
         u = sfft.irfft(f, n=mx, axis=-2, workers=1)
         return np.take(u.reshape(nc, mx * ny), idx, axis=1)
+
+    @property
+    def mirrored_product(self):
+        """The product on one half of mirrored fields by DCT/DST along y (:class:`railtherm_kalker._mirror.
+        MirroredProduct`), made on the first mirrored product; None where it does not apply (one component, odd ny,
+        no pocketfft binding or numba): :meth:`apply_at` then transforms the whole padded grid along y."""
+        mp = getattr(self, "_mirrored_product", False)
+        if mp is False:
+            nx, ny = self.shape
+            mp = None
+            if self.ncomp == 2 and ny % 2 == 0 and self._buffered_ok and _combine is not None and _scatter is not None:
+                spectra_x = {key: sfft.ifft(self._spec[key], axis=1, workers=1) for key in ((0, 0), (0, 1), (1, 1))}
+                mp = MirroredProduct(spectra_x, self.shape, self.padded[0])
+            self._mirrored_product = mp
+        return mp
+
+    def _half_index(self, idx):
+        """Flat indices of the elements idx (columns j >= ny/2) in the half grid (M_x, ny/2); the last one kept."""
+        last = getattr(self._local_half, "last", None)
+        if last is not None and last[0] is idx:
+            return last[1]
+        ny = self.shape[1]
+        h = ny // 2
+        at = (idx // ny) * h + (idx % ny - h)
+        self._local_half.last = (idx, at)
+        return at
 
     def precondition(self, r: np.ndarray) -> np.ndarray:
         """The inverse of the Strang circulant applied to r (nx, ny), in float32 (an approximate inverse of A
