@@ -171,15 +171,11 @@ def kalker_linear_forces(a: float, b: float, G: float, nu: float, xi: float, eta
     Parameters
     ----------
     a, b : float
-        Semi-axes along x (rolling) and y [m].
-    G : float
-        Combined shear modulus [Pa].
-    nu : float
-        Combined Poisson's ratio [1].
-    xi, eta : float
-        Longitudinal and lateral creepage [1].
-    phi : float
-        Spin creepage [1/m].
+        Semi-axes [m] of the contact ellipse along x (rolling) and y.
+    G, nu : float
+        Combined shear modulus [Pa] and Poisson's ratio [1] (:func:`railtherm.physics.combined_elastic`).
+    xi, eta, phi : float
+        Longitudinal and lateral creepage [1], spin creepage [1/m].
 
     Returns
     -------
