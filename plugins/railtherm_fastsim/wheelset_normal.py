@@ -14,8 +14,6 @@ Chains list it before ``hertz``: it declines every scene without a wheelset.
 """
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
 from railtherm import Capabilities, ContactPatch, NormalContactModel, Refused, SolverError
@@ -23,12 +21,7 @@ from railtherm.physics import hertz_geometry, hertz_patch, hertz_pressure_grid, 
 
 from .tangential import FASTSIM_OPTIONS
 
-__all__ = ["WheelsetNormal", "EQUILIBRIUM_CACHE"]
-
-#: equilibria solved with a chain's tangential model in this process, by their inputs: a study's two scenes of
-#: one wheelset (contacts 1 and 2) share one solve (at most :data:`CACHE_SIZE` kept)
-EQUILIBRIUM_CACHE: dict = {}
-CACHE_SIZE = 8
+__all__ = ["WheelsetNormal"]
 
 
 class WheelsetNormal(NormalContactModel):
@@ -75,22 +68,10 @@ class WheelsetNormal(NormalContactModel):
         chain = options.get("chain_tangential")
         forces = "fastsim" if chain is None or chain.model == "fastsim" else chain.model
         creep = None if forces == "fastsim" else _chain_creep(chain, base, scaling, cells)
-        geometry_key = [getattr(scene.wheelset, k) for k in ("conicity", "lateral_shift", "yaw_angle",
-                                                             "vertical_load", "wheel_radius", "gauge")]
-        key = None if creep is None or contact not in (1, 2) else json.dumps(
-            [geometry_key, scene.speed, scene.friction, repr(scene.wheel), repr(scene.rail), base.normal_force,
-             base.a, base.b, scaling, cells, forces, chain.options, fs_opts], sort_keys=True, default=repr)
         try:
-            if key in EQUILIBRIUM_CACHE:
-                sol = EQUILIBRIUM_CACHE[key]
-            else:
-                sol = wheelset_contact(scene.wheelset, scene.wheel, scene.rail, scene.speed, scene.friction,
-                                       base.normal_force, (base.a, base.b), scaling, contact, creep_forces=creep,
-                                       **fs_opts)[4]
-                if key is not None and sol.converged:
-                    if len(EQUILIBRIUM_CACHE) >= CACHE_SIZE:
-                        EQUILIBRIUM_CACHE.pop(next(iter(EQUILIBRIUM_CACHE)))
-                    EQUILIBRIUM_CACHE[key] = sol
+            sol = wheelset_contact(scene.wheelset, scene.wheel, scene.rail, scene.speed, scene.friction,
+                                   base.normal_force, (base.a, base.b), scaling, contact, creep_forces=creep,
+                                   **fs_opts)[4]
             i = contact - 1
             xi, eta, phi, n1 = (float(sol.xi[i]), float(sol.eta[i]), float(sol.phi[i]), float(sol.normal_force[i]))
         except np.linalg.LinAlgError as exc:   # the equilibrium's linear solve broke down: a solver failure
