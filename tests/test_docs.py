@@ -229,3 +229,29 @@ def test_designs_layout_table_orders_the_layers_as_the_import_graph_test():
     words = {"seven": 7, "eight": 8, "nine": 9, "ten": 10}
     stated = re.search(r"in (\w+) layers", table)
     assert stated and words[stated.group(1)] == len(layers), stated
+
+
+def test_paths_the_contract_docs_cite_exist():
+    """Every dotted name ``railtherm...`` (or a built-in plugin's) in backticks in docs/DESIGN.md and
+    docs/NOTES.md is a module, or an attribute of one, of this tree (no alias path, no removed module); the
+    entry-point group ``railtherm.plugins`` is a name, not a module."""
+    import importlib
+    def resolves(dotted):
+        parts = dotted.split(".")
+        for i in range(len(parts), 0, -1):
+            try:
+                obj = importlib.import_module(".".join(parts[:i]))
+            except ImportError:
+                continue
+            try:
+                for name in parts[i:]:
+                    obj = getattr(obj, name)
+            except AttributeError:
+                return False
+            return True
+        return False
+    assert not resolves("railtherm.runner") and resolves("railtherm.physics.friction.LAW_KINDS")
+    cited = {(doc, m) for doc in ("DESIGN.md", "NOTES.md")
+             for m in re.findall(r"`(railtherm(?:_\w+)?(?:\.\w+)+)", (DOCS / doc).read_text())}
+    missing = sorted(f"{doc}: {m}" for doc, m in cited if m != "railtherm.plugins" and not resolves(m))
+    assert cited and missing == [], missing
