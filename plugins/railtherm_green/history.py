@@ -84,6 +84,10 @@ def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[Transi
     residual = np.empty((2, count))
     above = np.empty((2, count, z.size))
     for i in range(2):
+        if not np.any(qc[i]):                           # an unheated body stays at its bulk temperature
+            peak[i], residual[i] = bulk[i], 0.0
+            above[i] = interval if tr.threshold - bulk[i] < 0 else 0.0
+            continue
         p, r = pass_peaks_and_residual(time, rise[i], count, interval)
         peak[i], residual[i] = p + bulk[i], r[:, 0]
         above[i] = pass_time_above(time, rise[i], count, interval, tr.threshold - bulk[i])
