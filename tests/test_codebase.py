@@ -328,6 +328,13 @@ def test_one_contact_temperature_and_one_mu_tolerance():
                     tolerances.append(f"{rel}:{node.lineno} {name}")
     assert temps == [], f"contact temperatures computed outside {FRICTION}contact_temperature.py: {temps}"
     assert tolerances == [], f"mu tolerances defined outside {FRICTION}tolerances.py: {tolerances}"
+    # ... and there, one tolerance: every other bound on mu is derived from LOOP_MU_TOLERANCE
+    tree = dict(_trees())[FRICTION + "tolerances.py"]
+    own = [n for n in tree.body if isinstance(n, ast.Assign) and "MU" in n.targets[0].id.split("_")
+           and "TOLERANCE" in n.targets[0].id]
+    assert [n.targets[0].id for n in own][:1] == ["LOOP_MU_TOLERANCE"], "LOOP_MU_TOLERANCE comes first"
+    free = [n.targets[0].id for n in own[1:] if "LOOP_MU_TOLERANCE" not in ast.unparse(n.value)]
+    assert free == [], f"mu tolerances not derived from LOOP_MU_TOLERANCE: {free}"
 
 
 def _calls(tree, name: str) -> bool:

@@ -1,4 +1,4 @@
-"""When a friction iteration stops: the two tolerances on mu and their step limits, for every method.
+"""When a friction iteration stops: one tolerance on mu (tightened for a plain fixed point) and step limits.
 
 Two iterations solve a friction law whose mu depends on the solution, and both stop on the largest change
 of mu over the contact cells:
@@ -27,9 +27,10 @@ LOOP_FORCE_TOLERANCE = 1e-4
 #: core's loop fails (not converged) after this many tangential solves
 LOOP_MAX_ITERATIONS = 30
 
-#: the slip-velocity iteration stops when max |mu_{k+1} - mu_k| over the contact is below this [1]
-#: (remaining error <= kappa / (1 - kappa) x 1e-5 < LOOP_MU_TOLERANCE for kappa <= 0.9)
-SLIP_MU_TOLERANCE = 1e-5
+#: the slip-velocity iteration stops when max |mu_{k+1} - mu_k| over the contact is below this [1]: the one
+#: tolerance on mu, tightened for a plain fixed point (remaining error <= kappa / (1 - kappa) x 1e-5 <
+#: LOOP_MU_TOLERANCE for kappa <= 0.9)
+SLIP_MU_TOLERANCE = LOOP_MU_TOLERANCE / 10
 #: ... and fails after this many steps (a solver that did not converge, :class:`railtherm.SolverError`):
 #: at kappa = 0.8 the change falls by 0.8 per step, from mu ~ 0.3 to 1e-5 in about 46 steps
 SLIP_MAX_STEPS = 60
