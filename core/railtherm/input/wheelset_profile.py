@@ -32,8 +32,8 @@ from ..references.kalker import kalker_linear_forces
 from .profiles import CONICAL_ONLY_KEYS, wheelset_geometry_from_table
 
 __all__ = ["ProfileContact", "ProfileContacts", "NoContact", "NoContactError", "profile_contact",
-           "roll_height_mismatch", "normal_force_from_vertical", "share_vertical_force", "patch_scenes", "check_patch_outputs", "WINDOW",
-           "GAP_DEGREE"]
+           "roll_height_mismatch", "normal_force_from_vertical", "share_vertical_force", "patch_scenes",
+           "check_patch_outputs", "WINDOW", "GAP_DEGREE", "ROLL_BALANCE"]
 
 #: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
 WINDOW = (1.6, 2.0)
