@@ -279,9 +279,9 @@ def test_passes_under_constant_factors_are_weighted_unit_passes():
 
 
 def test_smooth_tail_matches_the_direct_sums():
-    """The Chebyshev tail in log(time) (checked at the interleaved points of twice its degree) against the
+    """The Chebyshev tail in 1/time (checked at the interleaved points of twice its degree) against the
     direct edge sums at 3000 random times from 4 contact durations to 30 s, z = 0 .. 1 mm: within 1e-10
-    of the maximum."""
+    of the maximum (measured 1.5e-12, degree 22)."""
     from railtherm_green.transient import _PassResponse, _with_smooth_tail
     xe, fl = _grid(LEVEL2, "hertz")
     d = 2 * A / V

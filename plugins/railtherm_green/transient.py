@@ -150,17 +150,18 @@ class _PassResponse:
 
 
 @numba.njit(cache=True)
-def _log_chebval(theta, lo, hi, coef):  # pragma: no cover - compiled
-    """Clenshaw sum of the Chebyshev series coef (degree + 1, m) at u = 2 (log theta - lo)/(hi - lo) - 1,
-    shape (theta.size, m): one pass over the times without the (m, times) temporaries of chebval, the m
-    columns' recurrences interleaved."""
+def _tail_chebval(theta, lo, hi, coef):  # pragma: no cover - compiled
+    """sqrt(theta) times the Clenshaw sum of the Chebyshev series coef (degree + 1, m) at
+    u = 2 (1/theta - lo)/(hi - lo) - 1, shape (theta.size, m): one pass over the times without the (m, times)
+    temporaries of chebval, the m columns' recurrences interleaved."""
     n, m = theta.size, coef.shape[1]
     deg = coef.shape[0] - 1
     out = np.empty((n, m))
     b1 = np.empty(m)
     b2 = np.empty(m)
     for i in range(n):
-        u2 = 4.0 * (math.log(theta[i]) - lo) / (hi - lo) - 2.0
+        u2 = 4.0 * (1.0 / theta[i] - lo) / (hi - lo) - 2.0
+        root = math.sqrt(theta[i])
         b1[:] = 0.0
         b2[:] = 0.0
         for k in range(deg, 0, -1):
@@ -169,7 +170,7 @@ def _log_chebval(theta, lo, hi, coef):  # pragma: no cover - compiled
                 b2[j] = b1[j]
                 b1[j] = b0
         for j in range(m):
-            out[i, j] = 0.5 * u2 * b1[j] - b2[j] + coef[0, j]
+            out[i, j] = root * (0.5 * u2 * b1[j] - b2[j] + coef[0, j])
     return out
 
 
@@ -185,11 +186,16 @@ def _chop(coef, tol):
 
 def _with_smooth_tail(fn, theta, after, rtol=1e-11):
     """fn(theta) (shape (theta.size, m)), with the long tail theta >= ``after`` (past the contact: the smooth
-    1-D cooling) taken from a Chebyshev interpolant in log(theta) when that is cheaper. On the
-    Chebyshev-Lobatto points of degree d (from 32, doubling) the interpolant is checked at the d points
-    the degree 2d adds between them and used once it matches fn there within ``rtol`` of max|fn| of each
-    column (measured: degree 64, checked at its 64 interleaved points, for z = 0 .. 1 mm over 4 D .. 50 s);
-    above degree 512 fn is evaluated directly."""
+    1-D cooling) taken from a Chebyshev interpolant when that is cheaper.
+
+    The interpolant is of fn(theta)/sqrt(theta) in w = 1/theta: each edge term F(theta - c) of
+    :class:`_PassResponse` is sqrt(theta - c) times a power series in 1/(theta - c) plus a constant (which
+    the edge weights' zero sum cancels), so fn/sqrt(theta) is analytic in w with its singularities at
+    w = 1/c >= 1/D, at least 4x the interval's end 1/after (after = 4 D): Chebyshev coefficients fall like
+    (7 + sqrt 48)^-k = 13.9^-k whatever the span of theta (a series in log(theta) needs several times the
+    degree over long histories). On the Chebyshev-Lobatto points of degree d (from 16, doubling) the
+    interpolant is checked at the d points the degree 2d adds between them and used once it matches fn there
+    within ``rtol`` of max|fn| of each column; above degree 512 fn is evaluated directly."""
     theta = np.asarray(theta, dtype=float)
     far = theta >= after
     nfar = int(far.sum())
@@ -198,31 +204,35 @@ def _with_smooth_tail(fn, theta, after, rtol=1e-11):
     out[~far] = near
     if nfar == 0:
         return out
-    lo, hi = math.log(after), math.log(float(theta[far].max()) * (1.0 + 1e-12))
+    lo, hi = 1.0 / (float(theta[far].max()) * (1.0 + 1e-12)), 1.0 / after
     if not hi > lo:
         out[far] = fn(theta[far])
         return out
 
     def at(u):
-        return fn(np.exp(lo + (hi - lo) * (u + 1.0) / 2.0))
-    degree = 32
+        th = 1.0 / (lo + (hi - lo) * (u + 1.0) / 2.0)
+        return fn(th), np.sqrt(th)[:, None]
+    degree = 16
     u = np.cos(math.pi * np.arange(degree + 1) / degree)
-    vals = at(u)
+    vals, roots = at(u)
     while 2 * degree < nfar and degree <= 512:
         mid = np.cos(math.pi * (2 * np.arange(degree) + 1) / (2 * degree))
-        exact = at(mid)
-        coef = chebyshev.chebfit(u, vals, degree)
+        exact, mid_roots = at(mid)
+        coef = chebyshev.chebfit(u, vals / roots, degree)
         scale = np.maximum(np.maximum(np.abs(vals).max(axis=0), np.abs(exact).max(axis=0)), 1e-300)
-        miss = np.abs(chebyshev.chebval(mid, coef).T - exact).max(axis=0)
+        miss = np.abs(mid_roots * chebyshev.chebval(mid, coef).T - exact).max(axis=0)
         if np.all(miss <= rtol * scale):
-            # trailing coefficients whose sum stays within the check's margin are dropped (cheaper sums)
-            coef = _chop(coef.reshape(degree + 1, -1), 0.5 * (rtol * scale - miss))
-            out[far] = _log_chebval(theta[far], lo, hi, np.ascontiguousarray(coef))
+            # trailing coefficients whose sum (times the largest sqrt(theta)) stays within the check's margin
+            # are dropped (cheaper sums)
+            big = math.sqrt(1.0 / lo)
+            coef = _chop(coef.reshape(degree + 1, -1), 0.5 * (rtol * scale - miss) / big)
+            out[far] = _tail_chebval(theta[far], lo, hi, np.ascontiguousarray(coef))
             return out
         u = np.concatenate([u, mid])
         vals = np.concatenate([vals, exact])
+        roots = np.concatenate([roots, mid_roots])
         order = np.argsort(-u)
-        u, vals = u[order], vals[order]
+        u, vals, roots = u[order], vals[order], roots[order]
         degree *= 2
     out[far] = fn(theta[far])
     return out
