@@ -855,3 +855,31 @@ def test_a_bound_that_is_not_symmetric_is_solved_on_the_whole_grid():
     conv3 = rolling_operator(area3.x_edges, area3.y_edges, G, NU)
     assert g3.shape[1] % 2 == 1
     assert not solve_tangential(conv3, g3, rigid_slip(X3, Y3, -5e-4, 0.0, 0.0)).mirrored
+
+
+def test_operators_made_lazily_in_threads_equal_the_serial_products():
+    """A fresh rolling operator's spectra and mirrored product, made on first use, give in threads that use it at
+    once (whole-grid and mirrored products, float64 and float32) the products of a serial operator exactly."""
+    from concurrent.futures import ThreadPoolExecutor
+    from railtherm_kalker import tangential_model
+    area, X, Y, g = _setup(32, 4)
+    nx, ny = area.shape
+    idx_all = np.nonzero((g > 0).ravel())[0]
+    idx = idx_all[idx_all % ny >= ny // 2]
+    rng = np.random.default_rng(11)
+    v, w = rng.normal(size=(2, idx.size)), rng.normal(size=(2, idx_all.size))
+
+    def products(conv):
+        return [conv.apply_at(v, idx, mirrored=True), conv.apply_at(w, idx_all),
+                conv.apply_at(v.astype(np.float32), idx, single=True, mirrored=True)]
+
+    tangential_model.clear_operator_caches()
+    serial = products(rolling_operator(area.x_edges, area.y_edges, G, NU))
+    for _ in range(3):
+        tangential_model.clear_operator_caches()
+        conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
+        with ThreadPoolExecutor(4) as pool:
+            results = list(pool.map(lambda _: products(conv), range(8)))
+        for got in results:
+            for a, b in zip(got, serial):
+                np.testing.assert_array_equal(a, b)

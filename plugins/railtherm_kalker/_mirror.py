@@ -30,16 +30,16 @@ __all__ = ["MirroredProduct"]
 
 
 def _symbols(spectra_x, ny, L):
-    """The symbols along y (DCT-I of the even kernels over offsets 0..L, DST-I of the odd one over 1..L-1, zero beyond
-    offset ny - 1) of kernels transformed along x, ``spectra_x[key]`` (M_x/2 + 1, M_y) complex with offset o at
-    o mod M_y: (C00, C11, D01) each (M_x/2 + 1, L) complex."""
+    """The symbols along y of the kernels transformed along x, ``spectra_x[key]`` (M_x/2 + 1, >= ny) complex at the
+    y offsets 0, 1, ...: the DCT-I of the even kernels over the offsets 0..L (C00, C11, (M_x/2 + 1, L + 1)) and the
+    DST-I of the odd one over 1..L-1 (D01, (M_x/2 + 1, L), zero at frequency 0), the kernels zero beyond ny - 1."""
     out = []
     for key, even in (((0, 0), True), ((1, 1), True), ((0, 1), False)):
         k = np.zeros((spectra_x[key].shape[0], L + 1), dtype=complex)
         k[:, :ny] = spectra_x[key][:, :ny]
         if even:
-            out.append(sfft.dct(k, type=1, axis=1, workers=1)[:, :L])
-        else:            # D01[f] for f = 0 .. L - 1 (zero at f = 0)
+            out.append(sfft.dct(k, type=1, axis=1, workers=1))
+        else:
             d = np.zeros_like(k[:, :L])
             d[:, 1:] = sfft.dst(k[:, 1:L], type=1, axis=1, workers=1)
             out.append(d)
@@ -75,7 +75,7 @@ class MirroredProduct:
     Parameters
     ----------
     spectra_x : dict
-        The kernels transformed along x, ``(out, in) -> (M_x/2 + 1, M_y)`` complex, offset o along y at o mod M_y
+        The kernels transformed along x at the y offsets 0 .. ny - 1, ``(out, in) -> (M_x/2 + 1, ny)`` complex
         (B_yx = B_xy).
     shape : (int, int)
         The element grid (nx, ny), ny even.
@@ -87,14 +87,8 @@ class MirroredProduct:
         nx, ny = shape
         self.shape, self.mx, self.h = (nx, ny), mx, ny // 2
         self.L = L = sfft.next_fast_len(ny, real=True)
-        c00, c11, d01 = _symbols(spectra_x, ny, L)
-        rows = mx // 2 + 1
-        c11e = np.empty((rows, L + 1), dtype=complex)      # C11 at frequencies 0 .. L (the DST's last is L)
-        c11e[:, :L] = c11
-        k = np.zeros((rows, L + 1), dtype=complex)
-        k[:, :ny] = spectra_x[(1, 1)][:, :ny]
-        c11e[:, L] = sfft.dct(k, type=1, axis=1, workers=1)[:, L]
-        self._sym = {np.dtype(np.complex128): (c00, c11e, d01)}
+        c00, c11, d01 = _symbols(spectra_x, ny, L)      # C11 at frequencies 0 .. L: the DST-II's last is L
+        self._sym = {np.dtype(np.complex128): (np.ascontiguousarray(c00[:, :L]), c11, d01)}
         self._local = threading.local()
 
     def _symbols_of(self, dt):

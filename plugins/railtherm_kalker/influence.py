@@ -297,6 +297,7 @@ class Convolution:
             self.near[(1, 0)] = self.near[(0, 1)]
         self._spec_cache = None if placed else spectra
         self._placed_kernels = spectra if placed else None
+        self._lazy = threading.Lock()             # the spectra and the mirrored product are made on first use
         self._spec32_cache = None
         self._inverse32 = None
         #: the periodic grid of the preconditioner's circulant (:meth:`precondition`)
@@ -323,15 +324,24 @@ class Convolution:
     @property
     def _spec(self):
         """The kernels' spectra in the layout of :meth:`_fwd`; for kernels given placed, transformed on the first
-        product (the normal operator of a gap symmetric in x and y never needs them: its solve runs on the folded
-        operator, :mod:`railtherm_kalker._fold`)."""
+        whole-grid product (never for the normal operator of a gap symmetric in x and y, whose solve runs on the
+        folded operator, :mod:`railtherm_kalker._fold`, nor for the rolling operator of a problem mirrored about its
+        centre line, :attr:`mirrored_product`). Under a lock: threads may share a cached operator."""
         if self._spec_cache is None:
-            spectra = {}
-            for key, k in self._placed_kernels.items():
-                shared = [s for kk, s in spectra.items() if self._placed_kernels[kk] is k]
-                spectra[key] = shared[0] if shared else self._spectrum(k)
-            self._spec_cache, self._placed_kernels = spectra, None
+            with self._lazy:
+                if self._spec_cache is None:
+                    spectra, done = {}, {}
+                    for key, k in self._placed_kernels.items():
+                        if id(k) not in done:
+                            done[id(k)] = self._spectrum(k)
+                        spectra[key] = done[id(k)]
+                    self._spec_cache, self._placed_kernels = spectra, None
         return self._spec_cache
+
+    def _mirrorable(self):
+        """Whether :meth:`apply_at` can take mirrored fields by :class:`railtherm_kalker._mirror.MirroredProduct`."""
+        return (self.ncomp == 2 and self.shape[1] % 2 == 0 and self._buffered_ok and _combine is not None
+                and _scatter is not None)
 
     @property
     def _spec32(self):
@@ -357,12 +367,23 @@ class Convolution:
 
     def _spectrum(self, emb):
         """Spectrum of a kernel placed circulantly on the padded grid, in the layout of :meth:`_fwd`."""
-        mx, my = self.padded
-        if _pocketfft is None or my == 1:
-            f = sfft.rfft(emb, axis=0, workers=1)
-            return f if my == 1 else sfft.fft(f, axis=1, workers=1, overwrite_x=True)
-        f = np.empty((mx // 2 + 1, my), dtype=complex)      # both passes in one array (no temporaries)
+        return self._along_y(self._along_x(emb))
+
+    def _along_x(self, emb):
+        """The real transform along x of a kernel placed on the padded grid (or of some of its columns),
+        (M_x/2 + 1, columns) complex."""
+        if _pocketfft is None or self.padded[1] == 1:
+            return sfft.rfft(emb, axis=0, workers=1)
+        f = np.empty((self.padded[0] // 2 + 1, emb.shape[1]), dtype=complex)
         _pocketfft.r2c(emb, (0,), True, 0, f, 1)
+        return f
+
+    def _along_y(self, f):
+        """The complex transform along y of :meth:`_along_x`'s f, in place where the pocketfft binding is there."""
+        if self.padded[1] == 1:
+            return f
+        if _pocketfft is None:
+            return sfft.fft(f, axis=1, workers=1, overwrite_x=True)
         return _pocketfft.c2c(f, (1,), True, 0, f, 1)
 
     def _fwd(self, a):
@@ -506,13 +527,21 @@ class Convolution:
         no pocketfft binding or numba): :meth:`apply_at` then transforms the whole padded grid along y."""
         mp = getattr(self, "_mirrored_product", False)
         if mp is False:
-            nx, ny = self.shape
-            mp = None
-            if self.ncomp == 2 and ny % 2 == 0 and self._buffered_ok and _combine is not None and _scatter is not None:
-                spectra_x = {key: sfft.ifft(self._spec[key], axis=1, workers=1) for key in ((0, 0), (0, 1), (1, 1))}
-                mp = MirroredProduct(spectra_x, self.shape, self.padded[0])
-            self._mirrored_product = mp
+            with self._lazy:
+                mp = getattr(self, "_mirrored_product", False)
+                if mp is False:
+                    mp = None
+                    if self._mirrorable():
+                        mp = MirroredProduct(self._mirror_kernels(), self.shape, self.padded[0])
+                    self._mirrored_product = mp
         return mp
+
+    def _mirror_kernels(self):
+        """The kernels transformed along x at the y offsets 0 .. ny - 1 (columns :ny); called under the lock."""
+        keys, ny = ((0, 0), (0, 1), (1, 1)), self.shape[1]
+        if self._placed_kernels is not None:          # the whole spectra not made (yet): the ny columns along x
+            return {key: self._along_x(self._placed_kernels[key][:, :ny]) for key in keys}
+        return {key: sfft.ifft(self._spec_cache[key], axis=1, workers=1)[:, :ny] for key in keys}
 
     def _half_index(self, idx):
         """Flat indices of the elements idx (columns j >= ny/2) in the half grid (M_x, ny/2); the last one kept."""

@@ -515,7 +515,8 @@ def _full_slip_start(conv_for, level, creepage, offset, line):
     """The full-slip traction -g w/|w| of the rigid slip w on the finest grid when its residual is below
     :data:`FULL_SLIP_START` (creepages beyond saturation: the elastic slip is a small part of w, so the
     coarse grids would only reproduce it), else None; its slip w - B p (handed to the solve, which then
-    needs no product for its first residual); and the products spent [1]."""
+    needs no product for its first residual; on the contact's elements only when the problem is mirrored, see
+    :func:`_y_mirror`); and the products spent [1]."""
     xe, ye, g = level
     w = rigid_slip(*_centres(xe, ye, offset, line), *creepage, line=line)
     nw = np.sqrt(np.sum(w * w, axis=0))
@@ -524,7 +525,19 @@ def _full_slip_start(conv_for, level, creepage, offset, line):
     conv = conv_for(xe, ye)
     p, _ = _project(-g * w / np.where(nw > 0, nw, 1.0), g)
     r = 1.0 / abs(float(conv.self_coefficient))
-    s = w - conv.apply(p)
+    if _y_mirror(g, w):     # the product on the contact's half j >= ny/2 (solve_tangential solves there)
+        ny = g.shape[1]
+        idx = np.nonzero((g > 0).ravel())[0]
+        idx = idx[idx % ny >= ny // 2]
+        twin = idx - 2 * (idx % ny) + ny - 1
+        s = w.copy()
+        bp = conv.apply_at(np.take(p.reshape(2, -1), idx, axis=1), idx, mirrored=True)
+        for c, sign in ((0, 1.0), (1, -1.0)):
+            sc = s[c].reshape(-1)
+            sc[idx] -= bp[c]
+            sc[twin] = sign * sc[idx]
+    else:
+        s = w - conv.apply(p)
     proj, _ = _project(p - r * s, g)
     F = np.where(g > 0, p - proj, 0.0)
     res = float(np.max(np.sqrt(np.sum(F * F, axis=0)))) / float(g.max())
