@@ -97,15 +97,20 @@ def pass_time_above(time, history, count: int, interval: float, rise: float) -> 
     time = np.asarray(time, dtype=float)
     history = np.asarray(history, dtype=float).reshape(time.size, -1)
     edges = interval * np.arange(count + 1)
-    ends = np.stack([np.interp(edges, time, history[:, j]) for j in range(history.shape[1])], axis=1)
     # one axis for all windows: the pass boundaries (values interpolated) and the samples strictly inside
     # the windows; each interval between neighbours belongs to the window of its left end
     on_edge = edges[np.clip(np.searchsorted(edges, time), 0, count)] == time
-    inside = (time > edges[0]) & (time < edges[-1]) & ~on_edge
-    t_in = time[inside]
-    at = np.searchsorted(t_in, edges)
-    t = np.insert(t_in, at, edges)
-    g = np.insert(history[inside], at, ends, axis=0) - rise
+    if np.count_nonzero(on_edge) == count + 1:          # every boundary a sample: that axis as it is
+        within = (time >= edges[0]) & (time <= edges[-1])
+        t = time[within]
+        g = history[within] - rise
+    else:
+        ends = np.stack([np.interp(edges, time, history[:, j]) for j in range(history.shape[1])], axis=1)
+        inside = (time > edges[0]) & (time < edges[-1]) & ~on_edge
+        t_in = time[inside]
+        at = np.searchsorted(t_in, edges)
+        t = np.insert(t_in, at, edges)
+        g = np.insert(history[inside], at, ends, axis=0) - rise
     pos = np.clip(g, 0.0, None) > 0
     dt = np.diff(t)[:, None]
     both = pos[:-1] & pos[1:]

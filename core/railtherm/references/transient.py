@@ -133,17 +133,22 @@ def shifted_sum(time, count: int, interval: float | None, curve, reach: float = 
     n_lo = -int(math.ceil(reach / step)) - 1
     n_hi = max(int(k.max()), n_lo)
     ns = np.arange(n_lo, n_hi + 1)
-    theta = uph[:, None] + step * ns[None, :]
-    live = theta > -reach
+    theta = (uph[:, None] + step * ns[None, :]).ravel()
+    live = np.flatnonzero(theta > -reach)
     vals = curve(theta[live])
-    table = np.zeros(theta.shape + (vals.shape[1],))
-    table[live] = vals
-    cum = np.concatenate([np.zeros((uph.size, 1, vals.shape[1])), np.cumsum(table, axis=1)], axis=1)
+    m = vals.shape[1]
+    table = np.zeros((theta.size, m))
+    table[live] = vals                                  # rows (phase, n) of one pass's response
+    # cumulative sums over n, a zero row first; flat rows (phase, n) index the gathers below
+    cum = np.zeros((uph.size, ns.size + 1, m))
+    np.cumsum(table.reshape(uph.size, ns.size, m), axis=1, out=cum[:, 1:])
+    cum = cum.reshape(-1, m)
     # passes j = 0 .. last: n = k - j from k - last to k, within the table's n range
     hi = np.clip(k - n_lo + 1, 0, ns.size)
     lo = np.clip(k - last - n_lo, 0, ns.size)
     lo = np.minimum(lo, hi)
-    return cum[inv, hi] - cum[inv, lo]
+    row = inv * (ns.size + 1)
+    return cum[row + hi] - cum[row + lo]
 
 
 def temperature_history(time, depth, source: MovingSource, material, count: int = 1,
