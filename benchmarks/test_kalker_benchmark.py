@@ -7,8 +7,9 @@ across 2a and 2b with margins of 2, 4, 8, 16; square cells, as the model's for t
 
 ``operators = "first"`` starts each solve with empty operator caches (a study's first solve on a grid, set-up
 included); ``"cached"`` keeps the grid's operators from an earlier solve, as later solves on the grid do.
-``extra_info`` records the CPU time per stage [s] (``normal_setup``, ``normal_solve``, ``tangential``), iteration
-and product counts and the forces. :func:`compare` alternates two versions of the plugin, :func:`time_public_api`
+``extra_info`` records the CPU time per stage [s] (``normal_setup``, ``normal_solve``, ``tangential``), the total's CPU
+and wall time (``total``, ``total_wall``), iteration and product counts, whether the tangential solve ran on one half
+(``mirrored``: longitudinal creepage and full slip on this y-symmetric ellipse) and the forces. :func:`compare` alternates two versions of the plugin, :func:`time_public_api`
 times ``railtherm.solve`` at level 3, :func:`scaling_exponent` fits a run's ``extra_info``; docs/kalker.md ("Where
 the time goes") has the per-stage tables and the scaling with N.
 Run: ``OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 NUMBA_NUM_THREADS=1 python -m pytest
@@ -50,7 +51,7 @@ def solve_both(n, margin, creepage, order=ROLLING_ORDER, cached=False):
     X, Y = area.mesh()
     ca, cb = hertz_curvatures(A, B, N, e_star)
     hz = hertz_from_curvatures(ca, cb, N, e_star)
-    t0 = time.process_time()
+    w0, t0 = time.perf_counter(), time.process_time()
     conv = normal_operator(*area.shape, element_size(area.x_edges), element_size(area.y_edges), e_star)  # model's key
     t1 = time.process_time()
     ns = solve_normal(conv, ca * X ** 2 + cb * Y ** 2, area.dx * area.dy, force=N,
@@ -58,10 +59,11 @@ def solve_both(n, margin, creepage, order=ROLLING_ORDER, cached=False):
     t2 = time.process_time()
     ts = solve_tangential_nested(lambda xe, ye: rolling_operator(xe, ye, G, NU, order), area.x_edges, area.y_edges,
                                  MU * ns.pressure, creepage)
-    t3 = time.process_time()
+    t3, w3 = time.process_time(), time.perf_counter()
     dA = area.dx * area.dy
-    return {"shape": list(area.shape), "rolling_order": order, "cached_operators": cached, "normal_setup": t1 - t0, "normal_solve": t2 - t1, "tangential": t3 - t2,
-            "total": t3 - t0, "normal_iterations": ns.iterations, "normal_products": ns.products,
+    return {"shape": list(area.shape), "rolling_order": order, "cached_operators": cached, "normal_setup": t1 - t0,
+            "normal_solve": t2 - t1, "tangential": t3 - t2, "total": t3 - t0, "total_wall": w3 - w0,
+            "mirrored": bool(ts.mirrored), "normal_iterations": ns.iterations, "normal_products": ns.products,
             "newton_steps": ts.iterations, "gmres_iterations": ts.linear_iterations,
             "coarse_newton_steps": [[list(shape), steps] for shape, steps in ts.coarse],
             "tangential_products": ts.products, "residual": ts.residual, "converged": ts.converged,
@@ -109,7 +111,8 @@ def _plugin_modules(package):
 
 
 def _solve_with(mods, n, margin, creepage, cached):
-    """solve_both's first or cached solve with the given plugin modules: (total, normal, tangential [s], forces)."""
+    """solve_both's first or cached solve with the given plugin modules: CPU times (total, normal, tangential) [s],
+    forces, tangential products, total wall time [s]."""
     inf, nsm, tm, tsm, pa = mods
     if not cached:
         inf.normal_operator.cache_clear()
@@ -120,24 +123,24 @@ def _solve_with(mods, n, margin, creepage, cached):
     X, Y = area.mesh()
     ca, cb = pa.hertz_curvatures(A, B, N, e_star)
     hz = hertz_from_curvatures(ca, cb, N, e_star)
-    t0 = time.process_time()
+    w0, t0 = time.perf_counter(), time.process_time()
     conv = inf.normal_operator(*area.shape, inf.element_size(area.x_edges), inf.element_size(area.y_edges), e_star)
     ns = nsm.solve_normal(conv, ca * X ** 2 + cb * Y ** 2, area.dx * area.dy, force=N,
                           initial=hertz_pressure(X, Y, hz.a, hz.b, hz.max_pressure))
     t1 = time.process_time()
     ts = tsm.solve_tangential_nested(lambda xe, ye: tm.rolling_operator(xe, ye, G, NU), area.x_edges, area.y_edges,
                                      MU * ns.pressure, creepage)
-    t2 = time.process_time()
+    t2, w2 = time.process_time(), time.perf_counter()
     dA = area.dx * area.dy
     forces = (float(ts.traction[0].sum() * dA), float(ts.traction[1].sum() * dA),
               float((X * ts.traction[1] - Y * ts.traction[0]).sum() * dA))
-    return t2 - t0, t1 - t0, t2 - t1, forces, ts.products
+    return t2 - t0, t1 - t0, t2 - t1, forces, ts.products, w2 - w0
 
 
 def compare(before_package, sides, cases, repetitions, cached=False):
     """Before / after pairs alternated in one process: the plugin copy importable as ``before_package`` against the
-    installed plugin, best CPU time of ``repetitions`` per version, printed with the forces' largest difference
-    (relative to |F|, the spin moment to |F| a)."""
+    installed plugin, best CPU time of ``repetitions`` per version (and the best wall time), printed with the
+    forces' largest difference (relative to |F|, the spin moment to |F| a)."""
     versions = {"before": _plugin_modules(before_package), "after": _plugin_modules("railtherm_kalker")}
     for side in sides:
         n, margin = GRIDS[side]
@@ -150,16 +153,18 @@ def compare(before_package, sides, cases, repetitions, cached=False):
                 for k, mods in versions.items():
                     runs[k].append(_solve_with(mods, n, margin, CASES[case], cached))
             b, a = min(runs["before"]), min(runs["after"])
+            bw, aw = (min(r[5] for r in runs[k]) for k in ("before", "after"))
             scale = math.hypot(b[3][0], b[3][1])
             diff = max(abs(a[3][0] - b[3][0]), abs(a[3][1] - b[3][1]), abs(a[3][2] - b[3][2]) / A) / scale
             print(f"{side}^2 {case:12s} before {b[0]:.4f} ({b[1]:.4f} / {b[2]:.4f}) after {a[0]:.4f} ({a[1]:.4f} / "
-                  f"{a[2]:.4f}) ratio {a[0] / b[0]:.2f}, products {b[4]} -> {a[4]}, forces {diff:.1e}", flush=True)
+                  f"{a[2]:.4f}) ratio {a[0] / b[0]:.2f}, wall {bw:.4f} -> {aw:.4f}, products {b[4]} -> {a[4]}, "
+                  f"forces {diff:.1e}", flush=True)
 
 
 def time_public_api(cases, repetitions):
     """``railtherm.solve(scene, "kalker", 3)`` on the E&K ellipse (144 x 144 elements), creep forces and spin moment
-    only, the operator caches emptied before each solve: best CPU time [s] of ``repetitions`` per case, printed with
-    the forces. The plugin is the one first on the path (a copy named railtherm_kalker on PYTHONPATH for "before")."""
+    only, the operator caches emptied before each solve: best CPU (and wall) time [s] of ``repetitions`` per case,
+    printed with the forces. The plugin is the one first on the path (a copy named railtherm_kalker on PYTHONPATH for "before")."""
     import railtherm  # here: the benchmarks above need only the plugin's modules
     from railtherm import load_scene
     from railtherm.testing import canonical
@@ -171,15 +176,16 @@ def time_public_api(cases, repetitions):
                                      creepage={"longitudinal": xi, "lateral": eta, "spin": phi},
                                      outputs=["creep_force_x", "creep_force_y", "spin_moment"]))
         railtherm.solve(scene, "kalker", 3)
-        best = math.inf
+        best = best_wall = math.inf
         for _ in range(repetitions):
             influence.normal_operator.cache_clear()
             tangential_model._rolling_operator.cache_clear()
             getattr(tangential_model, "clear_operator_caches", lambda: None)()
-            t0 = time.process_time()
+            w0, t0 = time.perf_counter(), time.process_time()
             ds = railtherm.solve(scene, "kalker", 3)
             best = min(best, time.process_time() - t0)
-        print(f"{case:12s} best {best:.4f} s, Fx {float(ds['creep_force_x']):.9e} Fy {float(ds['creep_force_y']):.9e} "
+            best_wall = min(best_wall, time.perf_counter() - w0)
+        print(f"{case:12s} best {best:.4f} s (wall {best_wall:.4f} s), Fx {float(ds['creep_force_x']):.9e} Fy {float(ds['creep_force_y']):.9e} "
               f"Mz {float(ds['spin_moment']):.9e}", flush=True)
 
 
