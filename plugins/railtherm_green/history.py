@@ -75,7 +75,10 @@ def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[Transi
             raise SceneError.bad_value(scene.name, "passes.interval", interval,
                                        f"a time >= the contact duration 2a/V = {duration:.6g} s (a pass must end "
                                        "before the next begins)")
-    time = np.unique(np.concatenate([strip_time_axis(x_edges, v, count, interval) for v in speeds]))
+    # the heated bodies' own axes (their union when their speeds differ)
+    heated = sorted({float(v) for i, v in enumerate(speeds) if np.any(qc[i])}) or [float(speeds[1])]
+    axes = [strip_time_axis(x_edges, v, count, interval) for v in heated]
+    time = axes[0] if len(axes) == 1 else np.unique(np.concatenate(axes))
     z = np.asarray(tr.depths, dtype=float)
     rise = np.stack([strip_history(time, z, x_edges, qc[i], m.effusivity, m.diffusivity, speeds[i], count=count,
                                    interval=interval, schedule_time=tr.schedule_time,

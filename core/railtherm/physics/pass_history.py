@@ -6,6 +6,7 @@ it; these are those reductions, written once. Times in [s], rises in [K] above t
 """
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 __all__ = ["pass_peaks_and_residual", "pass_time_above", "superposition_limits"]
@@ -64,9 +65,13 @@ def pass_peaks_and_residual(time, history, count: int, interval: float) -> tuple
     history = np.asarray(history, dtype=float).reshape(time.size, -1)
     edges = interval * np.arange(count + 1)
     lo = np.searchsorted(time, edges, side="left")        # first sample >= k interval: windows by index
-    peak = np.empty((count, history.shape[1]))
-    for k in range(count):
-        peak[k] = history[lo[k]:lo[k + 1]].max(axis=0)
+    if np.all(lo[1:] > lo[:-1]) and lo[-2] < time.size:   # every window holds a sample: one reduction
+        peak = np.maximum.reduceat(history, lo[:-1], axis=0)
+        peak[-1] = history[lo[-2]:lo[-1]].max(axis=0)          # the last window ends at its boundary
+    else:
+        peak = np.empty((count, history.shape[1]))
+        for k in range(count):
+            peak[k] = history[lo[k]:lo[k + 1]].max(axis=0)
     residual = np.stack([np.interp(edges[1:], time, history[:, j]) for j in range(history.shape[1])], axis=1)
     return peak, residual
 
@@ -111,12 +116,28 @@ def pass_time_above(time, history, count: int, interval: float, rise: float) -> 
         at = np.searchsorted(t_in, edges)
         t = np.insert(t_in, at, edges)
         g = np.insert(history[inside], at, ends, axis=0) - rise
-    pos = np.clip(g, 0.0, None) > 0
-    dt = np.diff(t)[:, None]
-    both = pos[:-1] & pos[1:]
-    cross = pos[:-1] != pos[1:]
-    # on a crossing interval the part above is the fraction on the positive side
-    frac = np.abs(np.where(pos[:-1], g[:-1], g[1:])) / np.maximum(np.abs(g[1:] - g[:-1]), 1e-300)
-    part = np.where(both, dt, 0.0) + np.where(cross, dt * frac, 0.0)
-    window = np.clip(np.searchsorted(edges, t[:-1], side="right") - 1, 0, count - 1)
-    return np.stack([np.bincount(window, part[:, j], minlength=count) for j in range(part.shape[1])], axis=1)
+    return _time_above_sums(t, np.ascontiguousarray(g), edges, int(count))
+
+
+@numba.njit(cache=True)
+def _time_above_sums(t, g, edges, count):  # pragma: no cover - compiled
+    """Per window [edges[k], edges[k + 1]) and column, the time [s] the sampled g (n, m) is positive: the
+    whole step where both ends are, the fraction on the positive side where it crosses (linear between
+    samples); each step belongs to the window of its left end. One pass over the samples."""
+    n, m = g.shape
+    out = np.zeros((count, m))
+    w = 0
+    for i in range(n - 1):
+        while w + 1 < count and t[i] >= edges[w + 1]:
+            w += 1
+        dt = t[i + 1] - t[i]
+        for j in range(m):
+            p0 = g[i, j] > 0.0
+            p1 = g[i + 1, j] > 0.0
+            if p0 and p1:
+                out[w, j] += dt
+            elif p0 != p1:
+                # on a crossing interval the part above is the fraction on the positive side
+                num = abs(g[i, j]) if p0 else abs(g[i + 1, j])
+                out[w, j] += dt * (num / max(abs(g[i + 1, j] - g[i, j]), 1e-300))
+    return out
