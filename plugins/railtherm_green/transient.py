@@ -93,7 +93,7 @@ class _PassResponse:
     ``R(theta) = sum_k w_k F(theta - c_k) / (beta sqrt(pi))``   (F(s) = 0 for s <= 0).
 
     On a uniform grid (c_k = r tau, r = 0 .. n, tau = h/V) and at times on the lattice theta = i tau/2 (green's
-    own axis: the crossings of the cell edges and centres) that is a discrete convolution of the upsampled w
+    own axis: the crossings of the cell edges) that is a discrete convolution of the upsampled w
     with F on the lattice: F is evaluated once per lattice point instead of once per (time, edge). Times off
     the lattice (another body's axis, a Chebyshev node of the tail) take the direct edge sum. A time within
     ``snap`` [s] of a lattice point is taken on it: green's axis is on the lattice up to the rounding of the
