@@ -543,6 +543,22 @@ def test_moving_source_symmetry_and_sign():
     assert float(s1) == pytest.approx(float(s2), rel=1e-10)
 
 
+@pytest.mark.parametrize("shape", ["uniform", "hertz"])
+def test_moving_source_on_the_axis_integrates_half_the_angles(shape):
+    """On y = 0 the angular integral is taken over the half above the axis and doubled; it equals the full
+    integral (evaluated at y = 1e-300 b, which takes the full path) to 1e-12 of the maximum, inside, outside,
+    on the edge and in depth (measured 4e-14)."""
+    a, b = A, 1.8 * A
+    x = np.concatenate([np.linspace(-6.0, 2.0, 17) * a, [a, -a, 0.0]])
+    for pe in (0.05, 100.0, 5000.0):
+        for z in (0.0, 0.02 * a, 0.3 * a):
+            on = moving_source_temperature(x, 0.0 * x, z + 0 * x, (a, b), _speed(pe), STEEL, 1.0, shape,
+                                           quad_points=12)
+            off = moving_source_temperature(x, 1e-300 * b + 0 * x, z + 0 * x, (a, b), _speed(pe), STEEL, 1.0,
+                                            shape, quad_points=12)
+            assert np.max(np.abs(on - off)) <= 1e-12 * np.max(np.abs(off)), (pe, z)
+
+
 @pytest.mark.parametrize("pe", [0.01, 100.0, 1e4])
 def test_moving_source_accuracy_and_convergence_rate(pe):
     """Surface (z = 0) inside and outside the ellipse: error of the default rule < 1e-4 relative to the max

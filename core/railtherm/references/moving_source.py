@@ -297,12 +297,17 @@ def _temperature(xs, ys, zs, a, b, pc, hertz, ot, ow, ct, cw, adaptive, log_rati
         r0sq = px * px + py * py
         bp, bs = _angle_breakpoints(px, py, r0sq, a, b, pc, hertz)
         bs = _propagate_scales(bp, bs, r0sq < 1.0)
+        # on the axis y = 0 the integrand is even in phi (the reflection y -> -y) and the breakpoints, their
+        # scales and so the panels are symmetric about the axis: the intervals below it mirror those above
+        mirror = py == 0.0
         total = 0.0
         for j in range(bp.size - 1):
             lo = bp[j]
             hi = bp[j + 1]
             half = 0.5 * (hi - lo)
             if half <= 0.0:
+                continue
+            if mirror and math.sin(lo + half) < 0.0:
                 continue
             for side in range(2):
                 sc = bs[j] if side == 0 else bs[j + 1]
@@ -319,7 +324,7 @@ def _temperature(xs, ys, zs, a, b, pc, hertz, ot, ow, ct, cw, adaptive, log_rati
                         phi = lo + d if side == 0 else hi - d
                         total += w * half * _radial(px, py, r0sq, zs[i], a, b, pc, phi, hertz,
                                                     ot, ow, ct, cw, adaptive, log_ratio)
-        out[i] = total
+        out[i] = 2.0 * total if mirror else total
     return out
 
 
