@@ -10,7 +10,6 @@ doi:10.1109/78.295213): the transforms along y run on real arrays of L points in
 """
 from __future__ import annotations
 
-import functools
 import threading
 
 import numpy as np
@@ -92,18 +91,20 @@ class MirroredProduct:
         self._local = threading.local()
 
     def _symbols_of(self, dt):
+        """The symbols in the complex precision dt (the single-precision ones converted on first use)."""
         if dt not in self._sym:
             self._sym[dt] = tuple(s.astype(dt) for s in self._sym[np.dtype(np.complex128)])
         return self._sym[dt]
 
     def _work(self, real):
+        """This thread's work arrays for fields of precision ``real``: the transforms (2, M_x/2 + 1, L) (columns
+        h.. zero between calls) and the output (2, M_x, ny/2)."""
         work = getattr(self._local, "work", None)
         if work is None:
             work = self._local.work = {}
         key = np.dtype(real).char
         if key not in work:
             cplx = np.complex64 if key == "f" else np.complex128
-            nx, ny = self.shape
             work[key] = (np.zeros((2, self.mx // 2 + 1, self.L), dtype=cplx), np.empty((2, self.mx, self.h), dtype=real))
         return work[key]
 
@@ -113,7 +114,6 @@ class MirroredProduct:
         h, L = self.h, self.L
         G, out = self._work(buf.dtype)
         c00, c11, d01 = self._symbols_of(G.dtype)
-        ny = self.shape[1]
         _pocketfft.r2c(buf[..., h:], (1,), True, 0, G[..., :h], 1)      # G's columns h.. stay zero
         Gr = G.view(buf.dtype).reshape(2, G.shape[1], L, 2)
         _pocketfft.dct(Gr[0], 2, (1,), 0, Gr[0], 1)
