@@ -148,7 +148,13 @@ def shifted_sum(time, count: int, interval: float | None, curve, reach: float = 
     lo = np.clip(k - last - n_lo, 0, ns.size)
     lo = np.minimum(lo, hi)
     row = inv * (ns.size + 1)
-    return cum[row + hi] - cum[row + lo]
+    if n_lo != -1:
+        return cum[row + hi] - cum[row + lo]
+    # nothing ahead of arrival (reach <= 0): the row n = -1 is zero, so is every lower sum up to it
+    out = cum[row + hi]
+    below = np.flatnonzero(lo > 1)
+    out[below] -= cum[row[below] + lo[below]]
+    return out
 
 
 def temperature_history(time, depth, source: MovingSource, material, count: int = 1,
