@@ -80,9 +80,12 @@ def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[Transi
     axes = [strip_time_axis(x_edges, v, count, interval) for v in heated]
     time = axes[0] if len(axes) == 1 else np.unique(np.concatenate(axes))
     z = np.asarray(tr.depths, dtype=float)
-    rise = np.stack([strip_history(time, z, x_edges, qc[i], m.effusivity, m.diffusivity, speeds[i], count=count,
-                                   interval=interval, schedule_time=tr.schedule_time,
-                                   schedule_factor=tr.schedule_factor) for i, m in enumerate(bodies)])
+    rise = np.zeros((2, time.size, z.size))
+    for i, m in enumerate(bodies):
+        if np.any(qc[i]):
+            rise[i] = strip_history(time, z, x_edges, qc[i], m.effusivity, m.diffusivity, speeds[i], count=count,
+                                    interval=interval, schedule_time=tr.schedule_time,
+                                    schedule_factor=tr.schedule_factor)
     peak = np.empty((2, count, z.size))
     residual = np.empty((2, count))
     above = np.empty((2, count, z.size))

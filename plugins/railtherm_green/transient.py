@@ -451,4 +451,5 @@ def strip_time_axis(x_edges, speed: float, count: int = 1, interval: float | Non
     offsets = np.linspace(0.0, min(2.0 * d, span), 2 * n + 1)
     if span > 2.0 * d:
         offsets = np.concatenate([offsets, np.geomspace(2.0 * d, span, int(tail_samples) + 1)[1:]])
-    return np.concatenate([k * span + offsets[:-1] for k in range(int(count))] + [[int(count) * span]])
+    passes = (np.arange(int(count))[:, None] * span + offsets[None, :-1]).ravel()
+    return np.concatenate([passes, [int(count) * span]])
