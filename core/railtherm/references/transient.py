@@ -148,12 +148,13 @@ def shifted_sum(time, count: int, interval: float | None, curve, reach: float = 
     lo = np.clip(k - last - n_lo, 0, ns.size)
     lo = np.minimum(lo, hi)
     row = inv * (ns.size + 1)
+    # np.take along the rows: the same copies as cum[index], several times faster on long axes
     if n_lo != -1:
-        return cum[row + hi] - cum[row + lo]
+        return np.take(cum, row + hi, axis=0) - np.take(cum, row + lo, axis=0)
     # nothing ahead of arrival (reach <= 0): the row n = -1 is zero, so is every lower sum up to it
-    out = cum[row + hi]
+    out = np.take(cum, row + hi, axis=0)
     below = np.flatnonzero(lo > 1)
-    out[below] -= cum[row[below] + lo[below]]
+    out[below] -= np.take(cum, row[below] + lo[below], axis=0)
     return out
 
 
