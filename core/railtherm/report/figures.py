@@ -136,7 +136,8 @@ def save(fig, path: Path) -> tuple[Path, int]:
         fig.savefig(path, **PNG_OPTIONS)
     else:
         _RENDER[1].append((job, blob, str(path)))
-    fig.clear()
+    # the caller drops ``fig``: no Figure.clear(), which re-initialises every axes before removing it (as
+    # long as drawing them)
     return path, width
 
 
