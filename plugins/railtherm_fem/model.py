@@ -130,7 +130,7 @@ class FemModel(CoupledModel):
             if scene.normal_force is not None and not scene.normal_force > 0:
                 return (f"model 'fem': normal_force = {scene.normal_force!r} N/m presses nothing into the strip "
                         "(no contact, no heat); give a load > 0 or a penetration")
-        if getattr(scene, "mode", "steady") == "transient":
+        if getattr(scene, "transient", None) is not None:     # a transient scene
             if not asks_history(scene):
                 return ("model 'fem' computes the pass histories of a transient scene (passes, schedule or a transient "
                         "output: temperature_history, pass_peak_temperature, residual_rise, time_above); this scene "
@@ -237,7 +237,7 @@ class FemModel(CoupledModel):
             level, options, thermal, wheel=scene.wheel, rail=scene.rail, speed=scene.speed,
             wheel_radius=scene.wheel_radius, normal_force=scene.normal_force, penetration=scene.penetration,
             friction=scene.friction, friction_law=getattr(scene, "friction_law", None), creepage=scene.creepage,
-            sliding_speed=scene.sliding_speed, heat_partition=scene.heat_partition, convection=scene.convection,
+            sliding_speed=scene.sliding_speed, heat_partition=scene.partition, convection=scene.convection,
             strip=getattr(scene, "strip", None), field=fld, numerics=getattr(scene, "numerics", None))
         if transient and prob.heat_partition.needs_temperatures and not prob.thermal:
             # the partition rule's fraction is found with the steady pass's temperatures (Step 3)
