@@ -7,8 +7,9 @@ superposes one pass's response, :func:`railtherm.physics.section_stepping.superp
 study's 8-pass line contact (studies/transient.toml, "train-8-passes-line") against its steady scene.
 
 Each case is timed interleaved with the others (best and median in one process; the 1,000-pass case
-once per round, in the first two rounds); the ratios are recorded (``extra_info``), not asserted: timings
-are measured, never test verdicts. Run:
+once per round, in the first two rounds); the ratios of wall and of process CPU time are recorded
+(``extra_info``; a loaded machine stretches wall time, not a single-threaded solve's CPU time), not asserted:
+timings are measured, never test verdicts. Run:
 ``OPENBLAS_NUM_THREADS=1 python -m pytest benchmarks/test_fipy_transient_benchmark.py -m benchmark
 --benchmark-enable -p no:cacheprovider -s -n 0``.
 """
@@ -59,8 +60,8 @@ def study_scene(name: str, steady: bool = False) -> dict:
 
 
 def interleaved(cases: dict, reps: int = 3, once=()) -> dict:
-    """Best and median wall time [s] of each case, the cases interleaved in every round; the cases in
-    ``once`` only in the first two rounds."""
+    """Best and median wall time [s] and best process CPU time [s] of each case, the cases interleaved in
+    every round; the cases in ``once`` only in the first two rounds."""
     for sc in cases.values():
         railtherm.solve(sc, "fipy", level=2)                        # imports and FiPy's first use once
     times = {n: [] for n in cases}
@@ -68,10 +69,11 @@ def interleaved(cases: dict, reps: int = 3, once=()) -> dict:
         for n, sc in cases.items():
             if n in once and rep >= 2:
                 continue
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             railtherm.solve(sc, "fipy", level=2)
-            times[n].append(time.perf_counter() - t0)
-    return {n: (min(v), statistics.median(v)) for n, v in times.items()}
+            times[n].append((time.perf_counter() - t0, time.process_time() - c0))
+    return {n: (min(w for w, _ in v), statistics.median(w for w, _ in v), min(c for _, c in v))
+            for n, v in times.items()}
 
 
 @pytest.mark.benchmark
@@ -80,13 +82,16 @@ def test_benchmark_fipy_transient(benchmark):
     cost = interleaved({n: scene(n) for n in (None, 1, 10, 1000)}, once=(1000,))
     steady = cost[None][0]
     line = ", ".join(f"{'steady' if n is None else f'{n} passes'} {b:.3f} s (median {m:.3f})"
-                     for n, (b, m) in cost.items())
+                     for n, (b, m, _) in cost.items())
     print(f"\nfipy level 2, Hertz band: {line}; 10 passes / steady {cost[10][0] / steady:.1f}, "
-          f"1000 passes / 1 pass {cost[1000][0] / cost[1][0]:.1f}")
+          f"1000 passes / 1 pass {cost[1000][0] / cost[1][0]:.1f}; CPU time: 10 passes / steady "
+          f"{cost[10][2] / cost[None][2]:.1f}, 1000 passes / 1 pass {cost[1000][2] / cost[1][2]:.1f}")
     study = interleaved({"steady": study_scene("train-8-passes-line", steady=True),
                          "8 passes": study_scene("train-8-passes-line")})
     print(f"fipy level 2, study scene train-8-passes-line: steady {study['steady'][0]:.3f} s, 8 passes "
           f"{study['8 passes'][0]:.3f} s; 8 passes / steady {study['8 passes'][0] / study['steady'][0]:.1f}")
-    benchmark.extra_info.update({f"{'steady' if n is None else n}_best_s": b for n, (b, _) in cost.items()})
+    benchmark.extra_info.update({f"{'steady' if n is None else n}_best_s": b for n, (b, _, _) in cost.items()})
     benchmark.extra_info.update(ratio_10_steady=cost[10][0] / steady, ratio_1000_1=cost[1000][0] / cost[1][0],
-                                study_train8_ratio=study["8 passes"][0] / study["steady"][0])
+                                study_train8_ratio=study["8 passes"][0] / study["steady"][0],
+                                cpu_ratio_10_steady=cost[10][2] / cost[None][2],
+                                cpu_ratio_1000_1=cost[1000][2] / cost[1][2])

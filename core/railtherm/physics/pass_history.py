@@ -107,8 +107,7 @@ def pass_time_above(time, history, count: int, interval: float, rise: float) -> 
     on_edge = edges[np.clip(np.searchsorted(edges, time), 0, count)] == time
     if np.count_nonzero(on_edge) == count + 1:          # every boundary a sample: that axis as it is
         within = (time >= edges[0]) & (time <= edges[-1])
-        t = time[within]
-        g = history[within] - rise
+        t, g = (time, history - rise) if within.all() else (time[within], history[within] - rise)
     else:
         ends = np.stack([np.interp(edges, time, history[:, j]) for j in range(history.shape[1])], axis=1)
         inside = (time > edges[0]) & (time < edges[-1]) & ~on_edge
