@@ -11,6 +11,7 @@
 from __future__ import annotations
 
 import ast
+import functools
 from collections import defaultdict
 from pathlib import Path
 
@@ -21,6 +22,18 @@ MAX_LINES = 700
 SOURCES = sorted((ROOT / "core").rglob("*.py")) + sorted((ROOT / "plugins").rglob("*.py"))
 
 
+@functools.lru_cache(maxsize=None)
+def _text(path: Path) -> str:
+    """The text of ``path``, read once per test process (a dozen rules read every module)."""
+    return path.read_text(encoding="utf-8")
+
+
+@functools.lru_cache(maxsize=None)
+def _parse(path: Path) -> ast.Module:
+    """The parse tree of ``path``, parsed once per test process; the rules only read it."""
+    return ast.parse(_text(path))
+
+
 #: modules of concurrent work over 700 lines, to split; the list only shrinks (an entry at or under the limit
 #: fails until it leaves the list)
 MODULES_TO_SPLIT = frozenset({"core/railtherm/input/wheelset_profile.py"})
@@ -28,7 +41,7 @@ MODULES_TO_SPLIT = frozenset({"core/railtherm/input/wheelset_profile.py"})
 
 @pytest.mark.parametrize("path", SOURCES, ids=[str(p.relative_to(ROOT)) for p in SOURCES])
 def test_no_module_over_700_lines(path):
-    n = len(path.read_text(encoding="utf-8").splitlines())
+    n = len(_text(path).splitlines())
     if str(path.relative_to(ROOT)) in MODULES_TO_SPLIT:
         assert n > MAX_LINES, f"remove {path.relative_to(ROOT)} from MODULES_TO_SPLIT ({n} lines)"
         return
@@ -39,7 +52,7 @@ def test_no_public_function_in_two_plugins():
     homes = defaultdict(set)
     for path in (ROOT / "plugins").rglob("*.py"):
         package = path.relative_to(ROOT / "plugins").parts[0]
-        for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        for node in _parse(path).body:
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and not node.name.startswith(("_", "railtherm_")):
                 homes[node.name].add(package)
     twice = {name: sorted(pkgs) for name, pkgs in homes.items() if len(pkgs) > 1}
@@ -53,8 +66,8 @@ def _long_functions(path: Path):
     """(name, first line, length) of every function (methods and nested ones too) of ``path`` longer than
     :data:`MAX_FUNCTION_LINES` (from its ``def`` to its last line, docstring included) whose first line
     (its first decorator, else its ``def``) is not directly below a ``#`` comment giving the reason."""
-    lines = path.read_text(encoding="utf-8").splitlines()
-    for node in ast.walk(ast.parse("\n".join(lines))):
+    lines = _text(path).splitlines()
+    for node in ast.walk(_parse(path)):
         if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
             continue
         length = node.end_lineno - node.lineno + 1
@@ -97,7 +110,7 @@ def _issue_lines(path: Path) -> list[int]:
     """Lines of ``path`` that name an issue of this project ("issue 14", "Issue 3")."""
     import re
     pattern = re.compile(r"\bissue \d+", re.IGNORECASE)
-    return [i for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1) if pattern.search(line)]
+    return [i for i, line in enumerate(_text(path).splitlines(), 1) if pattern.search(line)]
 
 
 def test_code_text_does_not_narrate_this_project_s_issues(tmp_path):
@@ -123,7 +136,7 @@ LONG_MODULE_DOCSTRINGS_TO_TRIM: frozenset[str] = frozenset({"core/railtherm/solv
 
 def _module_docstring_lines(path: Path) -> int:
     """Lines of the text of ``path``'s module docstring (0 without one)."""
-    doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8")))
+    doc = ast.get_docstring(_parse(path))
     return len(doc.splitlines()) if doc else 0
 
 
@@ -170,7 +183,7 @@ def test_functions_below_the_stage_hooks_take_the_scene_s_parts():
     assert len(paths) >= len(SCENE_PARTS_MODULES)
     takes = []
     for path in paths:
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(_parse(path)):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name not in STAGE_HOOKS:
                 args = node.args.posonlyargs + node.args.args + node.args.kwonlyargs
                 if any(a.arg == "scene" for a in args):
@@ -209,7 +222,7 @@ def test_no_alias_module():
     """A module has one path: no module of core or a plugin (packages' ``__init__`` aside) only re-exports
     another (a deprecation would live in one ``_deprecated.py``, as pytest's ``_pytest/deprecated.py``)."""
     aliases = {str(p.relative_to(ROOT)) for p in SOURCES
-               if p.name != "__init__.py" and _is_alias_module(ast.parse(p.read_text(encoding="utf-8")))}
+               if p.name != "__init__.py" and _is_alias_module(_parse(p))}
     assert sorted(aliases - ALIAS_MODULES_TO_REMOVE) == [], sorted(aliases - ALIAS_MODULES_TO_REMOVE)
     assert sorted(ALIAS_MODULES_TO_REMOVE - aliases) == [], "remove from ALIAS_MODULES_TO_REMOVE (gone)"
 
@@ -217,8 +230,8 @@ def test_no_alias_module():
 def _function_imports_without_reason(path: Path):
     """Line numbers of the imports inside functions of ``path`` that neither end in a ``#`` comment nor stand
     below one (directly, or below a run of imports that starts directly below one)."""
-    lines = path.read_text(encoding="utf-8").splitlines()
-    tree = ast.parse("\n".join(lines))
+    lines = _text(path).splitlines()
+    tree = _parse(path)
     inner = {n.lineno for f in ast.walk(tree) if isinstance(f, (ast.FunctionDef, ast.AsyncFunctionDef))
              for n in ast.walk(f) if isinstance(n, (ast.Import, ast.ImportFrom))}
     starts = {n.lineno: n.end_lineno for n in ast.walk(tree) if isinstance(n, (ast.Import, ast.ImportFrom))}
@@ -300,7 +313,7 @@ LAW_KEYS_TO_REPLACE = frozenset({"plugins/railtherm_fastsim/tangential.py", "plu
 
 def _trees():
     for p in SOURCES:
-        yield str(p.relative_to(ROOT)), ast.parse(p.read_text(encoding="utf-8"))
+        yield str(p.relative_to(ROOT)), _parse(p)
 
 
 def _law_key_collections(rel: str, tree) -> list[str]:
