@@ -119,9 +119,10 @@ def test_report_reads_only_through_the_store():
     graph = import_graph()
     outside = {d for m, deps in graph.items() if m.startswith("railtherm.report") for d in deps
                if not d.startswith("railtherm.report")}
-    # the store (the output folder) and the study file that study.json names; no runner, executors,
-    # metrics, physics or reference computations
-    assert outside <= {"railtherm.output.store", "railtherm.input.study"}, outside
+    # the store (the output folder), the study file that study.json names and the scorecard rule's numbers
+    # (the report applies the rule to metrics written without verdicts); no runner, executors, metrics,
+    # physics or reference computations
+    assert outside <= {"railtherm.output.store", "railtherm.input.study", "railtherm.contract.verdict_rules"}, outside
 
 
 def test_store_and_time_limits_import_nothing_above_them():

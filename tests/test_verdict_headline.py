@@ -115,6 +115,25 @@ def test_the_cheapest_level_among_those_that_hold_under_refinement():
     assert v["level"] == 0
 
 
+def test_levels_whose_times_tie_give_the_lowest_level():
+    """Two runs of one study time a short solve tens of per cent apart: qualifying levels within TIME_TIE (1.5)
+    of the cheapest cost the same and the lowest is quoted, in the stored verdict and in the report's rule;
+    a finer level clearly cheaper (more than 1.5 times) is still taken."""
+    from railtherm.analysis.verdicts import ladder_verdict
+    from railtherm.contract.verdict_rules import TIME_TIE
+    from railtherm.report.load import Run
+    from railtherm.report.verdict import ladder_rule
+    assert TIME_TIE == 1.5
+    errors = [0.01, 0.005, 0.002]
+    for times, level in (({0: 0.012, 1: 0.010, 2: 0.5}, 0), ({0: 0.010, 1: 0.012, 2: 0.5}, 0),
+                         ({0: 0.030, 1: 0.010, 2: 0.5}, 1), ({0: math.inf, 1: 0.2, 2: 0.29}, 1)):
+        ladder = _ladder(errors, times=times)
+        assert ladder_verdict(ladder, 0.05)["level"] == level, times
+        runs = [Run("s", "m", r["level"], r["status"], wall_time=r["wall_time"], headline_error=r["headline_error"])
+                for r in ladder]
+        assert ladder_rule(runs, 0.05)["level"] == level, times
+
+
 def test_metrics_store_the_scorecard(carter):
     """verdict_* on scene_name x method_name; every qualifying level's finer levels are within tolerance."""
     m = carter

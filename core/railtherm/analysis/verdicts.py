@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from ..contract.verdict_rules import RISE_FRACTION, cheapest
 from .rises import RISES
 
 #: a reference whose magnitude (the max-norm of its rise for temperatures) is below this is noise, and
@@ -27,9 +28,6 @@ NOISE_FLOOR.update({q: (1e-6, "K") for q in ("max_surface_temperature", "mean_co
 STAGE_OF = {"semi_axis_a": "normal", "max_pressure": "normal", "pressure_l2": "normal",
             "creep_force_x": "tangential", "frictional_power": "heat_source"}
 STAGE_ORDER = ("normal", "tangential", "heat_source", "temperature")
-#: an error at a finer level this much (in units of the tolerance) above the smallest error of the coarser
-#: levels makes a ladder non-monotone ("rises again under refinement")
-RISE_FRACTION = 0.1
 #: a reference method is converged on a quantity when its own finest-level error estimate is below this
 #: fraction of the tolerance
 REFERENCE_FRACTION = 0.25
@@ -213,8 +211,9 @@ def ladder_verdict(runs: list[dict], tol: float) -> dict:
     A level qualifies when its headline error (against an independent reference) and that of every finer
     level that ran are finite and within ``tol``: a failed run ran (its headline is not within tolerance),
     except one stopped by the time limit (no result, like a budget refusal); refused runs did not run. Of the
-    qualifying levels the cheapest ``ok`` one (smallest wall time, then lowest level) is the verdict, else the
-    cheapest qualifying one with its status.
+    qualifying levels the cheapest ``ok`` one is the verdict, else the cheapest qualifying one with its status;
+    levels within :data:`railtherm.contract.verdict_rules.TIME_TIE` of the smallest wall time cost the same, and
+    the lowest of them is taken.
 
     Parameters
     ----------
@@ -250,9 +249,8 @@ def ladder_verdict(runs: list[dict], tol: float) -> dict:
             words.insert(0, f"no level qualifies: the finest level that ran (level {last['level']}) is {state}")
         return {"level": -1, "error": math.nan, "time": math.nan, "status": "", "monotone": monotone,
                 "message": "; ".join(words)}
-    wt = lambda r: (r["wall_time"] if math.isfinite(r["wall_time"]) else math.inf, r["level"])  # noqa: E731
     ok = [r for r in qual if r["status"] == "ok"]
-    pick = min(ok or qual, key=wt)
+    pick = cheapest(ok or qual, time=lambda r: r["wall_time"], level=lambda r: r["level"])
     return {"level": int(pick["level"]), "error": float(pick["headline_error"]), "time": float(pick["wall_time"]),
             "status": pick["status"], "monotone": monotone, "message": "; ".join(words)}
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..contract.verdict_rules import RISE_FRACTION, cheapest
 from .document import Cell
 from .format import duration, label, level, level_range, pct, ratio, short
 from .load import Run, StudyData, independent
@@ -163,11 +164,6 @@ def stored_verdicts(data) -> dict:
     return out
 
 
-#: a finer level's headline error this much (in units of the tolerance) above the smallest of the coarser levels
-#: makes a ladder non-monotone (railtherm.analysis.verdicts.RISE_FRACTION)
-RISE_FRACTION = 0.1
-
-
 def ladder_rule(runs: list, tol: float) -> dict:
     """docs/verdicts.md's scorecard rule for metrics.nc files written without ``verdict_*`` (an earlier
     release): the report reads only the output folder, so it applies the rule that
@@ -186,7 +182,7 @@ def ladder_rule(runs: list, tol: float) -> dict:
     if not qual:
         return {"level": -1, "error": math.nan, "time": math.nan, "status": "", "message": message}
     ok = [r for r in qual if r.status == "ok"]
-    r = min(ok or qual, key=lambda r: (r.wall_time if math.isfinite(r.wall_time) else math.inf, r.level))
+    r = cheapest(ok or qual, time=lambda r: r.wall_time, level=lambda r: r.level)
     return {"level": r.level, "error": r.headline_error, "time": r.wall_time, "status": r.status, "message": message}
 
 
