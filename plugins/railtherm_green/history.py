@@ -19,7 +19,7 @@ import numpy as np
 from railtherm import SceneError, TransientHistory
 from railtherm.physics import pass_peaks_and_residual, pass_time_above, superposition_limits
 
-from .transient import strip_history, strip_time_axis
+from .transient import scheduled_passes, strip_history, strip_time_axis
 
 __all__ = ["limits", "centre_flux", "histories"]
 
@@ -77,7 +77,10 @@ def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[Transi
                                        "before the next begins)")
     # the heated bodies' own axes (their union when their speeds differ)
     heated = sorted({float(v) for i, v in enumerate(speeds) if np.any(qc[i])}) or [float(speeds[1])]
-    axes = [strip_time_axis(x_edges, v, count, interval) for v in heated]
+    # passes a schedule's kink meets are sampled at the edges and centres (a short spike's peak)
+    axes = [strip_time_axis(x_edges, v, count, interval,
+                            dense=scheduled_passes(count, interval, (x_edges[-1] - x_edges[0]) / v,
+                                                   tr.schedule_time, tr.schedule_factor)) for v in heated]
     time = axes[0] if len(axes) == 1 else np.unique(np.concatenate(axes))
     z = np.asarray(tr.depths, dtype=float)
     rise = np.zeros((2, time.size, z.size))

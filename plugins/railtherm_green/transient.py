@@ -24,7 +24,7 @@ from numpy.polynomial import chebyshev
 from railtherm.references.transient import shifted_sum
 from scipy.special import erfc
 
-__all__ = ["strip_history", "strip_time_axis"]
+__all__ = ["strip_history", "strip_time_axis", "scheduled_passes"]
 
 
 def _f_g(s, c):
@@ -273,6 +273,17 @@ def _pass_weights(count, step, duration, sched):
     return w
 
 
+def scheduled_passes(count: int, interval: float | None, duration: float, schedule_time=None,
+                     schedule_factor=None) -> np.ndarray:
+    """Indices of the passes whose heating [k interval, k interval + duration] [s] meets a kink of the
+    schedule (the factor not constant over it): the passes :func:`strip_history` integrates with the schedule
+    rather than as a multiple of one pass's response. None of them without a schedule."""
+    if schedule_time is None:
+        return np.zeros(0, dtype=int)
+    sched = (np.asarray(schedule_time, dtype=float), np.asarray(schedule_factor, dtype=float))
+    return np.flatnonzero(~np.isfinite(_pass_weights(int(count), float(interval or 0.0), float(duration), sched)))
+
+
 def _weighted_pass_sum(time, step, weights, curve):
     """``sum_k weights[k] curve(t - k step)`` over passes k with a finite weight: per distinct phase the
     pass-index table of one pass's response convolved with the weights (FFT above 64 passes)."""
@@ -412,7 +423,7 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
 
 
 def strip_time_axis(x_edges, speed: float, count: int = 1, interval: float | None = None,
-                    tail_samples: int = 40, per_cell: int = 1) -> np.ndarray:
+                    tail_samples: int = 40, per_cell: int = 1, dense=()) -> np.ndarray:
     """Green's own time axis [s]: in every pass the crossing times of the cell edges (``per_cell`` = 1: one
     sample per cell, >= 20 per contact duration from 20 cells on, 32 at level 0; 2: the edges and the
     centres), then the same times after the contact (cooling, over one more contact duration), then
@@ -420,7 +431,9 @@ def strip_time_axis(x_edges, speed: float, count: int = 1, interval: float | Non
     interval: to 100 contact durations). Every sample lies on the lattice of :class:`_PassResponse`. One
     sample per cell keeps the sampled peak's error (h^2) below the strip's own (h^1.5) and time above a
     threshold within 0.05 % of the contact duration at level 0 (tests/test_green_transient.py), at half the
-    samples of every pass (the cost of long histories is their samples).
+    samples of every pass (the cost of long histories is their samples). The passes in ``dense`` (those a
+    schedule's kink meets, :func:`scheduled_passes`: a short spike peaks between two edge crossings) take
+    the edges and the centres.
 
     Parameters
     ----------
@@ -436,6 +449,8 @@ def strip_time_axis(x_edges, speed: float, count: int = 1, interval: float | Non
         Samples between two contact durations after the arrival and the next pass [1].
     per_cell : int
         Samples per cell crossing over the two contact durations after each arrival, 1 or 2 [1].
+    dense : sequence of int
+        Passes sampled at 2 per cell crossing whatever ``per_cell``.
 
     Returns
     -------
@@ -447,9 +462,18 @@ def strip_time_axis(x_edges, speed: float, count: int = 1, interval: float | Non
     span = interval if interval is not None else 100.0 * d
     if per_cell not in (1, 2):
         raise ValueError(f"per_cell must be 1 or 2 (samples per cell crossing), got {per_cell!r}")
-    n = int(per_cell) * (x_edges.size - 1)
-    offsets = np.linspace(0.0, min(2.0 * d, span), 2 * n + 1)
-    if span > 2.0 * d:
-        offsets = np.concatenate([offsets, np.geomspace(2.0 * d, span, int(tail_samples) + 1)[1:]])
-    passes = (np.arange(int(count))[:, None] * span + offsets[None, :-1]).ravel()
-    return np.concatenate([passes, [int(count) * span]])
+
+    def pass_offsets(per):
+        n = per * (x_edges.size - 1)
+        out = np.linspace(0.0, min(2.0 * d, span), 2 * n + 1)
+        if span > 2.0 * d:
+            out = np.concatenate([out, np.geomspace(2.0 * d, span, int(tail_samples) + 1)[1:]])
+        return out[:-1]
+    offsets = pass_offsets(int(per_cell))
+    passes = (np.arange(int(count))[:, None] * span + offsets[None, :]).ravel()
+    dense = sorted({int(k) for k in dense if 0 <= int(k) < int(count)}) if int(per_cell) == 1 else []
+    if not dense:
+        return np.concatenate([passes, [int(count) * span]])
+    fine = pass_offsets(2)
+    per_pass = [k * span + (fine if k in dense else offsets) for k in range(int(count))]
+    return np.concatenate(per_pass + [[int(count) * span]])
