@@ -112,7 +112,7 @@ def test_study_runs_both_contacts_at_level_0(tmp_path):
     assert all(runs[(s, me)] in ("ok", "inaccurate") for s in ("outer-wheel", "inner-wheel")
                for me in ("green", "fastsim-fdm"))
     # both contacts' loads from each chain's own equilibrium, heat and creep forces in the run files
-    n, forces = {}, {}
+    n, forces, normals = {}, {}, {}
     for s in ("outer-wheel", "inner-wheel"):
         for me in ("wheelset-kalker", "green", "fastsim-fdm"):
             ds = store.open_dataset(store.run_path(tmp_path, s, me, 0))
@@ -120,7 +120,13 @@ def test_study_runs_both_contacts_at_level_0(tmp_path):
             assert float(ds["max_surface_temperature"][0]) > 0
             n[(s, me)] = float(ds["normal_force"])
             forces[me] = ds.attrs["wheelset_equilibrium_forces"]
+            normals[me] = ds.attrs["stages"].split()[0]
     assert forces == {"wheelset-kalker": "kalker", "green": "fastsim", "fastsim-fdm": "fastsim"}
+    # the normal stage is named with the forces of its equilibrium: the contacts of the kalker chain and of the
+    # FASTSIM chains are not one computation, so their loads and pressures are compared
+    assert normals == {"wheelset-kalker": "normal:wheelset[kalker]", "green": "normal:wheelset[fastsim]",
+                       "fastsim-fdm": "normal:wheelset[fastsim]"}
+    assert str(m["reference_max_pressure"].values[list(m.method.values).index("green")]).startswith("method:")
     for s in ("outer-wheel", "inner-wheel"):
         assert n[(s, "green")] == n[(s, "fastsim-fdm")]       # FASTSIM's equilibrium for both FASTSIM chains
         assert abs(n[(s, "wheelset-kalker")] / n[(s, "green")] - 1) > 5e-3   # kalker's own equilibrium

@@ -327,6 +327,17 @@ def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
     return patch, source, temp, records
 
 
+def _stage_name(pl: Plan, stage: str) -> str:
+    """The model of ``stage`` as the result's ``stages`` attribute names it: a normal model whose equilibrium
+    solves with the chain's creep forces (fastsim's ``wheelset``) is named with that tangential model, since two
+    chains that share it but not their tangential models compute different contacts (not one computation)."""
+    model = pl.models[stage]
+    tangential = pl.models.get("tangential")
+    if stage == "normal" and getattr(model, "uses_chain_tangential", False) and tangential is not None:
+        return f"{model.name}[{tangential.name}]"
+    return model.name
+
+
 def _chain_tangential(pl: Plan, scene: Scene, level: int, options, cells):
     """The chain's tangential stage as ``patch -> patch`` (attributes ``model``: its name, ``options``: its
     resolved options), for a normal model whose equilibrium needs the chain's own creep forces (fastsim's
@@ -472,7 +483,7 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
         "history": history_line(f"railtherm.solve(scene={scene.name!r}, method={method!r}, level={level})"),
         "references": "see the docstrings of the models named in 'source'",
         "method": method, "scene": scene.name, "scene_hash": scene.hash, "level": level,
-        "stages": " ".join(f"{s}:{pl.models[s].name}" for s in pl.stages),
+        "stages": " ".join(f"{s}:{_stage_name(pl, s)}" for s in pl.stages),
         "outputs": " ".join(scene.outputs),
         "wall_time": wall, "converged": int(converged),
         "sweep": encode_sweep(scene.sweep),
