@@ -110,7 +110,9 @@ def test_uniform_band_history_at_level_1_within_the_level_2_targets():
 def test_hertz_band_history_at_level_2_within_the_targets():
     """The targets at level 2 on the Hertz band: pass peaks and residual rise within 2 %, the history within 3 %
     of the exact band (measured 0.050 %, 0.043 %, 0.84 %; at levels 0, 1: 0.37 %, 0.39 %, 3.6 % and 0.16 %,
-    0.13 %, 1.6 %)."""
+    0.13 %, 1.6 %). The history's largest error is at the first step after the leading edge reaches the
+    section, whose node's hat is heated from h ahead of it (1.9 % at level 1, 1.0 % at level 2 on one pass:
+    first order, where the pass peaks and residual rises converge at second order)."""
     peak, residual, history = _band_errors("hertz", 2)
     assert peak < 0.02 and residual < 0.02 and history < 0.03, (peak, residual, history)
 
