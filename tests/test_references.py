@@ -559,6 +559,22 @@ def test_moving_source_on_the_axis_integrates_half_the_angles(shape):
             assert np.max(np.abs(on - off)) <= 1e-12 * np.max(np.abs(off)), (pe, z)
 
 
+@pytest.mark.parametrize("shape", ["uniform", "hertz"])
+def test_moving_source_evaluates_mirrored_points_once(shape):
+    """Points of a grid that differ only in the sign of y are evaluated once: the values equal those evaluated
+    one point at a time to 1e-12 of the maximum, and the mirrored ones equal each other exactly."""
+    a, b = A, 1.8 * A
+    y = np.array([-0.7, -0.3, 0.0, 0.3, 0.7, 0.45]) * b
+    X, Y = np.meshgrid(np.array([-2.0, -0.5, 0.4, 1.2]) * a, y)
+    v = _speed(300.0)
+    grid = moving_source_temperature(X, Y, 0.1 * a, (a, b), v, STEEL, 1.0, shape)
+    alone = np.array([[float(moving_source_temperature(x, yy, 0.1 * a, (a, b), v, STEEL, 1.0, shape))
+                       for x, yy in zip(xr, yr)] for xr, yr in zip(X, Y)])
+    assert np.max(np.abs(grid - alone)) <= 1e-12 * np.max(np.abs(alone))
+    np.testing.assert_array_equal(grid[0], grid[4])
+    np.testing.assert_array_equal(grid[1], grid[3])
+
+
 @pytest.mark.parametrize("pe", [0.01, 100.0, 1e4])
 def test_moving_source_accuracy_and_convergence_rate(pe):
     """Surface (z = 0) inside and outside the ellipse: error of the default rule < 1e-4 relative to the max

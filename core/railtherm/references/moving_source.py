@@ -419,10 +419,24 @@ def moving_source_temperature(x, y, z, semi_axes, speed: float, material, flux: 
         raise ValueError("depth z must be >= 0")
     ot, ow, ct, cw = _panel_tables(int(quad_points), GRADING_RATIO, float(innermost))
     pc = float(speed) / (2.0 * kappa)
-    # copies: broadcast views are read-only, which numba's typing warns about
-    out = _temperature(np.array(x.ravel(), dtype=float), np.array(y.ravel(), dtype=float),
-                       np.array(z.ravel(), dtype=float), a, b, pc, shape == "hertz",
+    # the rise is even in y: points that differ only in the sign of y (a grid symmetric about the x axis) are
+    # evaluated once, at |y|. Only exact mirrors: the adaptive rule is not continuous in the point (a point on
+    # the edge, r = 1 +- 1e-16, takes the inside or the outside breakpoints), so merging points that differ by
+    # round-off would move such values by the rule's error (copies: broadcast views are read-only, which
+    # numba's typing warns about)
+    pts = np.column_stack([x.ravel(), np.abs(y.ravel()), z.ravel()])
+    inverse = None
+    if pts.shape[0] > 1:
+        _, first, inverse = np.unique(pts, axis=0, return_index=True, return_inverse=True)
+        if first.size < pts.shape[0]:
+            pts = pts[first]
+        else:
+            inverse = None
+    out = _temperature(np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1]),
+                       np.ascontiguousarray(pts[:, 2]), a, b, pc, shape == "hertz",
                        ot, ow, ct, cw, bool(adaptive), math.log(GRADING_RATIO))
+    if inverse is not None:
+        out = out[inverse.ravel()]
     return (flux / (2.0 * math.pi * lam) * out).reshape(x.shape)
 
 
