@@ -348,6 +348,20 @@ def _panel_tables(n: int, ratio: float, innermost: float):
     return ot, ow, ct, cw
 
 
+def _distinct_points(x, y, z):
+    """The points (n, 3) at which :func:`_temperature` is evaluated, and the index of each input point among them
+    (None: one each). The rise is even in y: points that differ only in the sign of y (a grid symmetric about
+    the x axis) are evaluated once, at |y|. Only exact mirrors: the adaptive rule is not continuous in the point
+    (a point on the edge, r = 1 +- 1e-16, takes the inside or the outside breakpoints), so merging points that
+    differ by round-off would move such values by the rule's error."""
+    pts = np.column_stack([x.ravel(), np.abs(y.ravel()), z.ravel()])
+    if pts.shape[0] > 1:
+        _, first, inverse = np.unique(pts, axis=0, return_index=True, return_inverse=True)
+        if first.size < pts.shape[0]:
+            return pts[first], inverse
+    return pts, None
+
+
 def moving_source_temperature(x, y, z, semi_axes, speed: float, material, flux: float = 1.0,
                               shape: str = "uniform", quad_points: int = 8,
                               innermost: float = 1e-10, adaptive: bool = True) -> np.ndarray:
@@ -419,19 +433,7 @@ def moving_source_temperature(x, y, z, semi_axes, speed: float, material, flux: 
         raise ValueError("depth z must be >= 0")
     ot, ow, ct, cw = _panel_tables(int(quad_points), GRADING_RATIO, float(innermost))
     pc = float(speed) / (2.0 * kappa)
-    # the rise is even in y: points that differ only in the sign of y (a grid symmetric about the x axis) are
-    # evaluated once, at |y|. Only exact mirrors: the adaptive rule is not continuous in the point (a point on
-    # the edge, r = 1 +- 1e-16, takes the inside or the outside breakpoints), so merging points that differ by
-    # round-off would move such values by the rule's error (copies: broadcast views are read-only, which
-    # numba's typing warns about)
-    pts = np.column_stack([x.ravel(), np.abs(y.ravel()), z.ravel()])
-    inverse = None
-    if pts.shape[0] > 1:
-        _, first, inverse = np.unique(pts, axis=0, return_index=True, return_inverse=True)
-        if first.size < pts.shape[0]:
-            pts = pts[first]
-        else:
-            inverse = None
+    pts, inverse = _distinct_points(x, y, z)
     out = _temperature(np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1]),
                        np.ascontiguousarray(pts[:, 2]), a, b, pc, shape == "hertz",
                        ot, ow, ct, cw, bool(adaptive), math.log(GRADING_RATIO))
