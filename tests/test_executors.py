@@ -469,3 +469,26 @@ outputs = ["max_surface_temperature"]
         m.close()
     assert counts["false"] == [1]
     assert counts["true"] == [3]
+
+
+def test_a_kind_on_its_first_run_is_not_started_twice():
+    """A (method, level) on its first run compiles its kernels (cached on disk): another worker takes the next
+    other task meanwhile, the order otherwise kept; once that kind has a result (not a refusal) it is warm;
+    when every pending task waits for a compilation the first is taken."""
+    from collections import deque
+    from types import SimpleNamespace as T
+
+    from railtherm.run.executors import _FirstRuns
+    tasks = [T(method=m, level=3) for m in ("kalker", "kalker", "fdm", "kalker", "fdm")]
+    first, pending = _FirstRuns(tasks), deque(range(5))
+    order = []
+    for _ in range(3):
+        i = first.take(pending)
+        first.started(i)
+        order.append(i)
+    assert order == [0, 2, 1] and list(pending) == [3, 4]
+    first.ended(1, T(status="refused"))            # a refusal compiled nothing: kalker still compiling (run 0)
+    assert first.take(pending) == 3                # all wait: the first is taken
+    pending.appendleft(3)
+    first.ended(0, T(status="ok"))
+    assert ("kalker", 3) in first.done and first.take(pending) == 3

@@ -16,6 +16,7 @@ retried). What was written stays on disk (atomic writes); ``--resume`` completes
 from __future__ import annotations
 
 import contextlib
+import itertools
 import os
 import pickle
 import sys
@@ -262,6 +263,44 @@ class _Worker:
         self.conn.close()
 
 
+class _FirstRuns:
+    """The kinds of run (method, level) that have finished with a result, and those on their first run in a
+    worker. A kind's first run compiles the kernels of its code path, which numba then caches on disk: a second
+    worker that took the same kind meanwhile would compile them again, so it takes the next other task instead
+    (the order is otherwise kept; when every pending task waits for a compilation, the first is taken)."""
+
+    RESULTS = ("ok", "inaccurate", "unverified")
+    #: pending tasks looked at for one not waiting for a compilation
+    LOOKAHEAD = 64
+
+    def __init__(self, tasks):
+        self.tasks, self.done, self.compiling, self.first = tasks, set(), {}, {}
+
+    def _kind(self, i):
+        return getattr(self.tasks[i], "method", None), getattr(self.tasks[i], "level", None)
+
+    def take(self, pending: deque) -> int:
+        for j, i in enumerate(itertools.islice(pending, self.LOOKAHEAD)):
+            k = self._kind(i)
+            if k in self.done or not self.compiling.get(k):
+                del pending[j]
+                return i
+        return pending.popleft()
+
+    def started(self, i: int) -> None:
+        k = self._kind(i)
+        if k not in self.done:
+            self.compiling[k] = self.compiling.get(k, 0) + 1
+            self.first[i] = k
+
+    def ended(self, i: int, record=None) -> None:
+        k = self.first.pop(i, None)
+        if k is not None:
+            self.compiling[k] -= 1
+        if getattr(record, "status", "") in self.RESULTS:
+            self.done.add(self._kind(i))
+
+
 class ProcessExecutor:
     """Local worker processes (spawn), one run at a time each, supervised.
 
@@ -292,6 +331,7 @@ class ProcessExecutor:
         # finest levels first (longest-processing-time order): the long level-3 solves start while there is
         # still short work to fill the other workers, instead of ending the study one worker at a time
         pending = deque(sorted(range(n), key=lambda i: -getattr(tasks[i], "level", 0)))
+        first = _FirstRuns(tasks)
         attempts = [0] * n
         with worker_threads(min(self.workers, n)):
             pool = [_Worker(ctx, spec, fn) for _ in range(min(self.workers, n))]
@@ -302,11 +342,13 @@ class ProcessExecutor:
             while done < n:
                 for w in pool:
                     if w.ready and w.task is None and pending:
-                        i = pending.popleft()
+                        i = first.take(pending)
                         attempts[i] += 1
                         if not w.send(i, tasks[i], kw):  # a dead worker: found below
                             attempts[i] -= 1
                             pending.appendleft(i)
+                        else:
+                            first.started(i)
                 watched = [w for w in pool if w.task is not None or not w.ready]
                 ready = set(wait([w.conn for w in watched] + [w.proc.sentinel for w in watched], timeout=0.5))
                 for k, w in enumerate(pool):
@@ -327,6 +369,7 @@ class ProcessExecutor:
                             done += 1
                             if isinstance(out, str):
                                 out = _crash_record(tasks[j], out)
+                            first.ended(j, out)
                             yield j, out
                             continue
                     if broken or w.proc.sentinel in ready or not w.proc.is_alive():
@@ -336,6 +379,7 @@ class ProcessExecutor:
                             w.proc.join(5.0)
                         why = _exit_text(w.proc.exitcode)
                         if i is not None:
+                            first.ended(i)
                             if attempts[i] >= self.max_attempts:
                                 done += 1
                                 yield i, _crash_record(tasks[i], f"worker process died ({why}) in each of "
@@ -357,6 +401,7 @@ class ProcessExecutor:
                         w.proc.join(5.0)
                         w.conn.close()
                         done += 1
+                        first.ended(i)
                         with worker_threads(len(pool)):
                             pool[k] = _Worker(ctx, spec, fn) if pending else None
                         yield i, _crash_record(tasks[i], f"run exceeded the per-run time limit of {limit:g} s and "
