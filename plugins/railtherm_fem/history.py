@@ -23,7 +23,7 @@ from skfem import Basis, BilinearForm, ElementQuad1, FacetBasis, MeshQuad, asm
 
 from railtherm import Refused, SceneError
 from railtherm.physics import thermal_scales
-from railtherm.physics.section_stepping import body_histories, theta_steps
+from railtherm.physics.section_stepping import ImplicitSectionStepper, body_histories
 
 __all__ = ["FemBlock", "fem_block", "hat_integrals", "section_histories", "IMPLICIT_COST"]
 
@@ -180,36 +180,30 @@ def fem_block(a: float, speed: float, conductivity: float, capacity: float, conv
     return FemBlock(x, z, M[free][:, free].tocsr(), K[free][:, free].tocsr(), depths, breaks)
 
 
-class _FemStepper:
-    """Crank-Nicolson (and backward-Euler start) steps of the FE section, with the interface of core's
-    driver (:mod:`railtherm.physics.section_stepping`); no explicit steps."""
+class _FemStepper(ImplicitSectionStepper):
+    """Crank-Nicolson (and backward-Euler start) steps of the FE section (core's
+    :class:`~railtherm.physics.section_stepping.ImplicitSectionStepper`): consistent mass, each step loaded with
+    its mean heat input."""
 
     heating_cost = IMPLICIT_COST
-    implicit_cost = 0.0                                 # every cooling rung implicit
     cooling_implicit = "Crank-Nicolson steps of the FE section (one sparse LU per step size; two backward-Euler start steps)"
 
     def __init__(self, block: FemBlock, x_edges, flux, speed, factor, t0):
-        self.b = block
-        self.args = (x_edges, flux, speed)
-        self.xe = np.asarray(x_edges, dtype=float)
+        super().__init__(block, x_edges, flux, speed, factor, t0)
         self.flux = np.asarray(flux, dtype=float).reshape(-1)
-        self.speed = float(speed)
-        self.factor = factor
-        self.T = np.zeros(block.capacity.size)
-        self.t = t0
-        self.times, self.rows = [], []
-        self.explicit_steps = 0
-        self.adi_steps = 0
-        self.implicit = self
-        self.cache = {}
-        self.solves = 0
         self._last = None
 
-    def fresh(self, t0: float) -> "_FemStepper":
-        """A stepper of the same block and source from t0 [s], state zero (shares the factorisations)."""
-        out = _FemStepper(self.b, *self.args, self.factor, t0)
-        out.cache = self.cache
-        return out
+    def _factor(self, dt: float, th: float):
+        return splu((self.b.mass / dt + th * self.b.stiffness).tocsc())
+
+    def _rhs(self, T, dt, th, p_old, p_mean):
+        M, K = self.b.mass, self.b.stiffness
+        return M @ T / dt - (1.0 - th) * (K @ T) + p_mean
+
+    def _load(self, dt: float, arrivals):
+        # the "power" at the end of each step is the step's mean load (the end values' mean, composite over the
+        # schedule's kinks inside the step: a spike shorter than the step keeps its energy)
+        return lambda t: self._mean_power(t, dt, arrivals)
 
     def _power(self, t, arrivals):
         """Nodal heat input [W/m] at time t of the passes arriving at ``arrivals`` [s]: the leading edge of
@@ -241,32 +235,6 @@ class _FemStepper:
         if self._last is None or self._last[0] != key:
             self._last = (key, self._power(t, arrivals))
         return self._last[1]
-
-    def explicit(self, dt, m, arrivals, heated=True):
-        raise NotImplementedError("the FE section is stepped implicitly only")
-
-    def adi(self, dt: float, m: int, start: int = 0):
-        """m source-free Crank-Nicolson steps of dt, the first ``start`` backward Euler."""
-        self.implicit_steps(dt, m, (), 0.5, start)
-        self.adi_steps += m
-
-    def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
-        """m theta-scheme steps of dt (the first ``start`` backward Euler); source of ``arrivals``."""
-        M, K, b = self.b.mass, self.b.stiffness, self.b
-
-        def step(T, dt, th, p_old, p_mean):
-            key = (float(dt), th)
-            if key not in self.cache:
-                self.cache[key] = splu((M / dt + th * K).tocsc())
-            self.solves += 1
-            return self.cache[key].solve(M @ T / dt - (1.0 - th) * (K @ T) + p_mean)
-        # the "power" at the end of each step is the step's mean load (the end values' mean, composite over the
-        # schedule's kinks inside the step: a spike shorter than the step keeps its energy)
-        self.T, self.t, out, times = theta_steps(self.T, self.t, dt, m, lambda t: self._mean_power(t, dt, arrivals), step,
-                                                 lambda T: np.sum(T[b.rows] * b.weights, axis=1), b.rows.shape[0],
-                                                 theta, start)
-        self.times.append(times)
-        self.rows.append(out)
 
 
 def section_histories(scene, source, level: int):

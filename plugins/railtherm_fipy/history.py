@@ -20,7 +20,7 @@ from scipy.sparse import csr_matrix, diags
 from scipy.sparse.linalg import splu
 
 from railtherm.physics import thermal_scales
-from railtherm.physics.section_stepping import theta_steps
+from railtherm.physics.section_stepping import ImplicitSectionStepper
 
 __all__ = ["FipyBlock", "fipy_block", "IMPLICIT_COST"]
 
@@ -106,35 +106,30 @@ def fipy_block(a: float, speed: float, conductivity: float, capacity: float, con
     return FipyBlock(faces_x, faces_z, cap, csr_matrix(K), depths)
 
 
-class _FipyStepper:
-    """Crank-Nicolson (and backward-Euler start) steps of the FiPy operator, with the interface of core's
-    driver (:mod:`railtherm.physics.section_stepping`); no explicit steps."""
+class _FipyStepper(ImplicitSectionStepper):
+    """Crank-Nicolson (and backward-Euler start) steps of the FiPy operator (core's
+    :class:`~railtherm.physics.section_stepping.ImplicitSectionStepper`): lumped cell capacities, each step
+    loaded with the theta-weighted heat input of its ends."""
 
     heating_cost = IMPLICIT_COST
-    implicit_cost = 0.0                                 # every cooling rung implicit
     cooling_implicit = "Crank-Nicolson steps of FiPy's operator (one sparse LU per step; two backward-Euler start steps)"
 
     def __init__(self, block: FipyBlock, x_edges, flux, speed, factor, t0):
-        self.b = block
-        self.args = (x_edges, flux, speed)
-        self.xe = np.asarray(x_edges, dtype=float)
+        super().__init__(block, x_edges, flux, speed, factor, t0)
         self.cum = np.concatenate([[0.0], np.cumsum(np.asarray(flux, dtype=float).reshape(-1) * np.diff(self.xe))])
-        self.speed = float(speed)
-        self.factor = factor
-        self.T = np.zeros(block.capacity.size)
-        self.t = t0
-        self.times, self.rows = [], []
-        self.explicit_steps = 0
-        self.adi_steps = 0
-        self.implicit = self
-        self.cache = {}
-        self.solves = 0
 
-    def fresh(self, t0: float) -> "_FipyStepper":
-        """A stepper of the same block and source from t0 [s], state zero (shares the factorisations)."""
-        out = _FipyStepper(self.b, *self.args, self.factor, t0)
-        out.cache = self.cache
-        return out
+    def _factor(self, dt: float, th: float):
+        # C/dt + theta K is symmetric (FiPy's diffusion operator): a minimum-degree ordering of A^T + A
+        # keeps the LU factors of the 2-D five-point matrix about half as full as scipy's default
+        # COLAMD (measured at level 2, 87x88 cells: 2.7e5 against 4.8e5 nonzeros, solves 4x faster)
+        return splu((diags(self.b.capacity / dt) + th * self.b.stiffness).tocsc(), permc_spec="MMD_AT_PLUS_A")
+
+    def _rhs(self, T, dt, th, p_old, p_new):
+        C, K = self.b.capacity, self.b.stiffness
+        return C / dt * T - (1.0 - th) * (K @ T) + th * p_new + (1.0 - th) * p_old
+
+    def _load(self, dt: float, arrivals):
+        return lambda t: self._power(t, arrivals)
 
     def _power(self, t, arrivals):
         p = np.zeros(self.T.size)
@@ -146,30 +141,3 @@ class _FipyStepper:
             shift = self.xe[-1] - self.speed * (t - arr)
             p[:fx.size - 1] += np.diff(np.interp(fx + shift, self.xe, self.cum))
         return f * p
-
-    def explicit(self, dt, m, arrivals, heated=True):
-        raise NotImplementedError("fipy's section is stepped implicitly only")
-
-    def adi(self, dt: float, m: int, start: int = 0):
-        """m source-free Crank-Nicolson steps of dt, the first ``start`` backward Euler."""
-        self.implicit_steps(dt, m, (), 0.5, start)
-        self.adi_steps += m
-
-    def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
-        """m theta-scheme steps of dt (the first ``start`` backward Euler); source of ``arrivals``."""
-        C, K, b = self.b.capacity, self.b.stiffness, self.b
-
-        def step(T, dt, th, p_old, p_new):
-            key = (float(dt), th)
-            if key not in self.cache:
-                # C/dt + theta K is symmetric (FiPy's diffusion operator): a minimum-degree ordering of A^T + A
-                # keeps the LU factors of the 2-D five-point matrix about half as full as scipy's default
-                # COLAMD (measured at level 2, 87x88 cells: 2.7e5 against 4.8e5 nonzeros, solves 4x faster)
-                self.cache[key] = splu((diags(C / dt) + th * K).tocsc(), permc_spec="MMD_AT_PLUS_A")
-            self.solves += 1
-            return self.cache[key].solve(C / dt * T - (1.0 - th) * (K @ T) + th * p_new + (1.0 - th) * p_old)
-        self.T, self.t, out, times = theta_steps(self.T, self.t, dt, m, lambda t: self._power(t, arrivals), step,
-                                                 lambda T: np.sum(T[b.rows] * b.weights, axis=1), b.rows.shape[0],
-                                                 theta, start)
-        self.times.append(times)
-        self.rows.append(out)

@@ -91,6 +91,64 @@ def theta_steps(T, t0: float, dt: float, m: int, power, step, sample, width: int
     return T, t, out, t - dt * np.arange(m - 1, -1, -1)
 
 
+class ImplicitSectionStepper:
+    """Crank-Nicolson steps (the first ``start`` backward Euler) of a linear section ``C dT/dt + K T = p`` with the
+    interface of :func:`section_history` and no explicit steps: one sparse LU per (step size, theta), shared by
+    the steppers :meth:`fresh` makes. A method's section gives ``block`` (its ``capacity`` size, ``rows`` and
+    ``weights`` of the sampled points), :meth:`_factor` (the LU of ``C/dt + theta K``), :meth:`_rhs` (the right
+    side of one step), :meth:`_load` (the nodal heat input at the end of each step) and
+    :attr:`cooling_implicit` (what its steps are, for the record)."""
+
+    implicit_cost = 0.0                                 # every cooling rung implicit
+    cooling_implicit = ""
+
+    def __init__(self, block, x_edges, flux, speed, factor, t0):
+        self.b = block
+        self.args = (x_edges, flux, speed)
+        self.xe = np.asarray(x_edges, dtype=float)
+        self.speed = float(speed)
+        self.factor = factor
+        self.T = np.zeros(block.capacity.size)
+        self.t = t0
+        self.times, self.rows = [], []
+        self.explicit_steps = 0
+        self.adi_steps = 0
+        self.implicit = self
+        self.cache = {}
+        self.solves = 0
+
+    def fresh(self, t0: float):
+        """A stepper of the same block and source from t0 [s], state zero (shares the factorisations)."""
+        out = type(self)(self.b, *self.args, self.factor, t0)
+        out.cache = self.cache
+        return out
+
+    def explicit(self, dt, m, arrivals, heated=True):
+        raise NotImplementedError(f"{type(self).__name__} steps its section implicitly only")
+
+    def adi(self, dt: float, m: int, start: int = 0):
+        """m source-free Crank-Nicolson steps of dt, the first ``start`` backward Euler."""
+        self.implicit_steps(dt, m, (), 0.5, start)
+        self.adi_steps += m
+
+    def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
+        """m theta-scheme steps of dt [s] (the first ``start`` backward Euler); heat of the passes arriving at
+        ``arrivals`` [s]."""
+        b = self.b
+
+        def step(T, dt, th, p_old, p_new):
+            key = (float(dt), th)
+            if key not in self.cache:
+                self.cache[key] = self._factor(dt, th)
+            self.solves += 1
+            return self.cache[key].solve(self._rhs(T, dt, th, p_old, p_new))
+        self.T, self.t, out, times = theta_steps(self.T, self.t, dt, m, self._load(dt, arrivals), step,
+                                                 lambda T: np.sum(T[b.rows] * b.weights, axis=1), b.rows.shape[0],
+                                                 theta, start)
+        self.times.append(times)
+        self.rows.append(out)
+
+
 # one driver for the pass windows (explicit or implicit, by cost) and the cooling between them (explicit or
 # implicit per rung of the step ladder, by cost): the phases share the stepper and the cost model
 def section_history(block, x_edges, flux, speed: float, tr, interval: float, level: int,
