@@ -161,14 +161,17 @@ def test_dask_local_cluster_matches_serial_bit_for_bit(serial_sweep40, tmp_path)
 
 
 def _workers_of_this_process():
-    """Worker processes spawned by this process (not multiprocessing's resource tracker)."""
+    """Worker processes started for this process: forks of its fork server (the server is this process's child,
+    its workers are the server's) or spawned children; not multiprocessing's resource tracker."""
     out = []
-    for c in psutil.Process().children(recursive=False):
+    for c in psutil.Process().children(recursive=True):
         try:
-            cmd = " ".join(c.cmdline())
+            cmd, parent = " ".join(c.cmdline()), c.ppid()
         except psutil.Error:
             continue
-        if "spawn_main" in cmd and "resource_tracker" not in cmd:
+        if "resource_tracker" in cmd:
+            continue
+        if "spawn_main" in cmd or ("forkserver" in cmd and parent != os.getpid()):
             out.append(c)
     return out
 

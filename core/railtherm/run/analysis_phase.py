@@ -25,11 +25,10 @@ def _analysis_pool(executor: str, workers: int, scored: int):
     if executor != "processes" or workers < 2 or scored < PARALLEL_METRICS_MIN_RUNS:
         yield None
         return
-    import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
-    from .executors import host_spec, install_host, worker_threads
+    from .executors import host_spec, install_host, worker_context, worker_threads
     with worker_threads(workers):
-        pool = ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"), initializer=install_host,
+        pool = ProcessPoolExecutor(workers, mp_context=worker_context(), initializer=install_host,
                                    initargs=(host_spec(),))
     with pool:
         yield pool.map

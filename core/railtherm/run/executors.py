@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import itertools
+import multiprocessing as mp
 import os
 import pickle
 import sys
@@ -178,9 +179,38 @@ def _preload() -> None:
             pass
 
 
-def _worker_main(conn, spec, fn):  # pragma: no cover - runs in the worker process
+_CONTEXT = None
+
+
+def worker_context():
+    """The multiprocessing context of railtherm's worker processes (runs, scoring, figures): a fork server
+    that has imported :mod:`railtherm.run.warm_imports` where the platform has one (Linux, macOS), so that a
+    worker starts in tens of milliseconds instead of importing the numerical libraries and the plugins (about
+    2 s of CPU each); else spawn. A forked worker takes the environment of its parent at its start
+    (:func:`environment`), except what the libraries read when the server imported them: the thread counts
+    of BLAS and numba are those of the server's first pool (:func:`worker_threads`)."""
+    global _CONTEXT
+    if _CONTEXT is None:
+        try:
+            ctx = mp.get_context("forkserver")
+            ctx.set_forkserver_preload(["railtherm.run.warm_imports"])
+        except ValueError:  # pragma: no cover - no fork server on this platform (Windows)
+            ctx = mp.get_context("spawn")
+        _CONTEXT = ctx
+    return _CONTEXT
+
+
+def environment(env: dict | None) -> None:
+    """Make this (worker) process's environment ``env`` (the parent's at the worker's start; None: keep)."""
+    if env is not None and env != dict(os.environ):
+        os.environ.clear()
+        os.environ.update(env)
+
+
+def _worker_main(conn, spec, fn, env=None):  # pragma: no cover - runs in the worker process
     import signal
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C and ends its workers
+    environment(env)
     setup_error = None
     try:
         install_host(spec)
@@ -232,7 +262,7 @@ class _Worker:
 
     def __init__(self, ctx, spec, fn):
         parent, child = ctx.Pipe()
-        self.proc = ctx.Process(target=_worker_main, args=(child, spec, fn), daemon=True,
+        self.proc = ctx.Process(target=_worker_main, args=(child, spec, fn, dict(os.environ)), daemon=True,
                                 name="railtherm-worker")
         self.proc.start()
         child.close()
@@ -320,13 +350,12 @@ class ProcessExecutor:
     # one supervision loop: dispatch, results, worker deaths, overrun runs and respawns share the pool state
     # (which worker holds which run, attempts per run), so splitting it would pass all of that around
     def map(self, fn, tasks, **kw):
-        import multiprocessing as mp
         from multiprocessing.connection import wait
 
         n = len(tasks)
         if n == 0:
             return
-        ctx = mp.get_context("spawn")
+        ctx = worker_context()
         spec = host_spec()
         # finest levels first (longest-processing-time order): the long level-3 solves start while there is
         # still short work to fill the other workers, instead of ending the study one worker at a time
