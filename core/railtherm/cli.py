@@ -158,6 +158,7 @@ def _report(args) -> int:
 
     from .output import store
     from .report import write_report
+    from .run.executors import worker_context  # the fork server: render workers start with matplotlib loaded
     out = Path(args.out)
     if not out.exists():
         raise SceneError(f"output folder {str(out)!r} does not exist: give the --out folder of `railtherm run`",
@@ -171,7 +172,7 @@ def _report(args) -> int:
     if args.benchmarks is not None and not Path(args.benchmarks).is_file():
         raise SceneError(f"--benchmarks {args.benchmarks!r} is not a file (a pytest-benchmark JSON file)",
                          key="benchmarks", value=args.benchmarks, allowed="a pytest-benchmark JSON file")
-    for p in write_report(out, benchmarks=args.benchmarks, workers=os.cpu_count() or 1):
+    for p in write_report(out, benchmarks=args.benchmarks, workers=os.cpu_count() or 1, context=worker_context()):
         print(p)
     return 0
 

@@ -54,7 +54,7 @@ def _left_out_notes(doc: Document, ctx: Context, scenes: list, limit: int):
                       + (" …" if len(ctx.left_out) > 12 else "") + ".", note=True)
 
 
-def write_report(out, study=None, benchmarks=None, workers: int = 1) -> list[Path]:
+def write_report(out, study=None, benchmarks=None, workers: int = 1, context=None) -> list[Path]:
     """Write ``report.md``, ``report.html`` and ``figures/*.png`` for a study output folder.
 
     Parameters
@@ -101,7 +101,7 @@ def write_report(out, study=None, benchmarks=None, workers: int = 1) -> list[Pat
     left_out = singles[limit:]
     for row in left_out:  # no section: the scorecard row links nowhere
         row.anchor = ""
-    with rendering(workers):  # figures are drawn in worker processes while the sections are written
+    with rendering(workers, context):  # figures are drawn in worker processes while the sections are written
         verdict_section(doc, ctx, table_rows)
         study_section(doc, ctx, table_rows)
         friction_section(doc, ctx)        # a friction study's point, before the long exact-contact tables

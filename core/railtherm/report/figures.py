@@ -87,11 +87,13 @@ def _render(blob: bytes, path: str) -> str:
 
 
 @contextlib.contextmanager
-def rendering(workers: int):
+def rendering(workers: int, context=None):
     """Within the block, :func:`save` hands each figure (pickled) to ``workers`` processes, which lay it
     out and write the PNG while the report goes on; leaving the block waits for every file. Drawing is
-    most of a report's time (constrained layout draws each figure twice). With ``workers`` < 2, a figure
-    that cannot be pickled, or a pool whose worker died, the figure is written here."""
+    most of a report's time (constrained layout draws each figure twice). ``context``: the multiprocessing
+    context of the pool (the caller's fork server, whose workers start with matplotlib imported), else spawn.
+    With ``workers`` < 2, a figure that cannot be pickled, or a pool whose worker died, the figure is written
+    here."""
     global _RENDER
     if workers < 2:
         yield
@@ -99,7 +101,7 @@ def rendering(workers: int):
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
     from concurrent.futures.process import BrokenProcessPool
-    pool, jobs = ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn")), []
+    pool, jobs = ProcessPoolExecutor(workers, mp_context=context or mp.get_context("spawn")), []
     _RENDER = (pool, jobs)
     try:
         yield

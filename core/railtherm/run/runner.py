@@ -36,6 +36,7 @@ from ..output.store import RunRecord
 from ..input.study import Study, load_study
 from .timelimit import RunTimeout, _time_limit
 from .analysis_phase import analyse
+from .executors import worker_context
 from .timing import TIMING_BUDGET, RSSPeak, compile_watch, more_solves
 
 
@@ -529,13 +530,26 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
 
 
 def _children_cpu() -> float:
-    """CPU time [s] of this process's finished child processes (local workers), user + system."""
+    """CPU time [s] of the finished local worker processes, user + system: this process's finished children,
+    and those of its living children (the fork server reaps the workers forked from it; psutil reads its
+    children's time from /proc)."""
     try:
         import resource
         r = resource.getrusage(resource.RUSAGE_CHILDREN)
-        return r.ru_utime + r.ru_stime
+        total = r.ru_utime + r.ru_stime
     except (ImportError, OSError):  # pragma: no cover
         return math.nan
+    try:
+        import psutil  # a dependency; only here, for the timing record
+        for child in psutil.Process().children(recursive=False):
+            try:
+                t = child.cpu_times()
+                total += getattr(t, "children_user", 0.0) + getattr(t, "children_system", 0.0)
+            except psutil.Error:
+                pass
+    except ImportError:  # pragma: no cover
+        pass
+    return total
 
 
 def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike = "out", *, executor: str = "serial",
@@ -605,7 +619,7 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
                             indent=1, default=str)
     if report:
         from ..report import write_report
-        write_report(out, study=study, workers=workers if executor == "processes" else 1)
+        write_report(out, study=study, workers=workers if executor == "processes" else 1, context=worker_context())
     return metrics
 
 
