@@ -145,6 +145,12 @@ def test_processes_match_serial_bit_for_bit(serial_sweep, tmp_path, monkeypatch)
     assert sorted(got) == sorted(exp) and len(exp) == 2 * len(SPEEDS16)
     for scene in exp:
         assert got[scene].identical(exp[scene]), scene
+    # the workers' CPU time is recorded (forked from the fork server, they are not this process's children):
+    # at least the runs' own solves
+    import json
+    study_json = json.loads((tmp_path / "out" / "study.json").read_text())
+    solved = sum(r["phases"]["cpu"] for r in study_json["records"] if r.get("phases"))
+    assert study_json["timing"]["cpu_local_workers"] >= solved > 0
 
 
 @pytest.mark.slow  # the dask path's bit-for-bit check in the default suite: test_real_method_bit_for_bit_on_every_executor
