@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from railtherm import ContactPatch, Material, SurfaceGrid, surface_grid
-from railtherm.models.shapes import cell_average
+from railtherm.physics import cell_average
 from railtherm.physics.friction import ConstantFriction
 from railtherm.physics.partition import HeatPartition
 from railtherm.references.kalker import kalker_coefficients, kalker_linear_forces

@@ -54,7 +54,7 @@ def _model_patch(friction, creep, temperature=None, level=1):
     """The scene, a Hertz patch (cell-averaged pressure, as core's Hertz model gives it) and FASTSIM's result."""
     from railtherm import ContactPatch, surface_grid
     from railtherm.input.scene import load_scene
-    from railtherm.models.shapes import cell_average
+    from railtherm.physics import cell_average
     from railtherm_fastsim.tangential import FastsimTangential
     sc = load_scene({**BASE, "friction": friction, "creepage": creep, "outputs": ["creep_force_x"]})
     a, b = 5.88e-3, 10.54e-3

@@ -25,7 +25,7 @@ import railtherm
 import railtherm_fastsim.plugin as fastsim_plugin
 from railtherm import Material, SurfaceGrid, surface_grid
 from railtherm.analysis.analytic import reference_values
-from railtherm.models.shapes import cell_average
+from railtherm.physics import cell_average
 from railtherm.references.carter import carter_2d, carter_normal_load
 from railtherm.references.jaeger import jaeger_band_temperature
 from railtherm.input.scene import load_scene

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from railtherm import HeatSource, Material, Refused, surface_grid
-from railtherm.models.shapes import cell_average
+from railtherm.physics import cell_average
 from railtherm.references.moving_source import moving_source_temperature
 from railtherm_fdm.block3d import steady_block, transient_block
 from railtherm_fdm.layout import block_extent, explicit_stability_limit

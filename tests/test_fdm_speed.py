@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from railtherm import Material, surface_grid
-from railtherm.models.shapes import cell_average
+from railtherm.physics import cell_average
 from railtherm.physics import thermal_scales
 from railtherm_fdm import kernels as K
 from railtherm_fdm.block3d import transient_block

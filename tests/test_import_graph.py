@@ -26,16 +26,10 @@ LAYERS = tuple(RANKS)
 #: * physics.hertz applies the Hertz closed forms of references.hertz (hertz_geometry, scene_semi_axis): the
 #:   adapter belongs in models/hertz.py, with its callers analysis/analytic.py, models/wheelset_profile.py,
 #:   railtherm_fastsim/wheelset_normal.py;
-#: * physics.section_stepping reads the schedule of references.transient;
-#: * references.hertz names contact_modulus (home: physics.elastic) for input/wheelset_profile.py, which
-#:   imports it from there;
-#: * solving.pipeline encodes a run's sweep with output.store.encode_sweep (its home is the result schema,
-#:   railtherm.contract.schema.encode_sweep, which the store re-exports)
+#: * physics.section_stepping reads the schedule of references.transient.
 UPWARD_TO_MOVE = frozenset({
     "railtherm.physics.hertz -> railtherm.references.hertz",
     "railtherm.physics.section_stepping -> railtherm.references.transient",
-    "railtherm.references.hertz -> railtherm.physics.elastic",
-    "railtherm.solving.pipeline -> railtherm.output.store",
 })
 #: the flat module paths of 0.1 (removed: each concept has one home in its layer)
 OLD_PATHS = {f"railtherm.{n}" for n in ("errors", "grid", "hookspec", "stages", "schema", "options", "scene", "study",

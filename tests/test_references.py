@@ -24,8 +24,9 @@ from railtherm.references.carter import carter_2d, carter_normal_load
 from railtherm.references.flash import (flash_max_hertz_coefficient, flash_max_hertz_location, flash_temperature_1d,
                                         flash_uniform_max_coefficient, flash_uniform_mean_coefficient,
                                         hertz_band_integral)
-from railtherm.references.hertz import (contact_modulus, hertz_from_curvatures, hertz_from_penetration,
-                                        hertz_from_semi_axes, hertz_line, hertz_pressure)
+from railtherm.physics.elastic import contact_modulus
+from railtherm.references.hertz import (hertz_from_curvatures, hertz_from_penetration, hertz_from_semi_axes,
+                                        hertz_line, hertz_pressure)
 from railtherm.references.jaeger import jaeger_band_temperature
 from railtherm.references.moving_source import (moving_source_temperature, static_circle_hertz,
                                                 static_circle_uniform)

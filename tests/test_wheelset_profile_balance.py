@@ -117,7 +117,7 @@ def test_the_hertz_equivalent_heights_of_both_wheels_agree_at_the_balanced_roll(
     0.3 um (the arm L = 0.75 m moves the wheels apart by 2 L d(phi) = 1.5 um)."""
     from railtherm.input import wheelset_profile as wp
     from railtherm.physics.elastic import combined_elastic
-    from railtherm.references.hertz import contact_modulus
+    from railtherm.physics.elastic import contact_modulus
     sc = _balanced(13)
     pc = sc.profile_contact
     geo, _ = wp._geometry(sc.name, dict(sc.source["wheelset"], roll_angle=0.0), None)

@@ -14,7 +14,8 @@ import railtherm
 from railtherm import SceneError
 from railtherm.contract.schema import validate_dataset
 from railtherm.input.scene import load_scene
-from railtherm.input.wheelset_profile import patch_scenes, share_vertical_force
+from railtherm.input.wheelset_patch_scenes import patch_scenes
+from railtherm.input.wheelset_profile import share_vertical_force
 from railtherm.references.hertz import hertz_from_curvatures
 from railtherm.solving.wheelset_patches import wheel_totals
 

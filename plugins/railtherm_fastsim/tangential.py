@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from railtherm import Capabilities, Option, Refused, TangentialContactModel
 from railtherm.physics import combined_elastic, creep_speeds
-from railtherm.physics.friction import SlipVelocityFriction, local_friction
+from railtherm.physics.friction import LAW_KINDS, SlipVelocityFriction, local_friction
 
 from .simplified_theory import BOUNDS, FLEXIBILITIES, LEADING_EDGES, fastsim
 
@@ -85,7 +85,7 @@ class FastsimTangential(TangentialContactModel):
         tangential=frozenset({"creepage", "full-sliding"}),
         provides=frozenset({"traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick",
                             "creep_force_x", "creep_force_y", "spin_moment"}),
-        friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}))
+        friction_laws=LAW_KINDS)
     options = FASTSIM_OPTIONS
 
     def supports(self, scene, level):

@@ -25,6 +25,7 @@ import numpy as np
 from railtherm import (BodyTemperature, Capabilities, ContactPatch, CoupledModel, HeatSource, Option, Refused,
                        SolverError, TemperatureField, asks_history, surface_grid, with_history)
 from railtherm.physics import field_grid, nodal_cell_average, with_thermal_trace
+from railtherm.physics.friction import LAW_KINDS
 from railtherm.physics.pass_history import superposition_limits
 from railtherm.physics.thermal_trace import TRACE_OUTPUTS
 
@@ -98,7 +99,7 @@ class FemModel(CoupledModel):
                                 tangential=frozenset({"full-sliding", "creepage"}), convection=True, field=True,
                                 modes=frozenset({"steady", "transient"}), histories=True, moving_surface=True,
                                 provides=PROVIDES,
-                                friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}),
+                                friction_laws=LAW_KINDS,
                                 advice={"moving_surface": "it needs a positive rolling speed (steady moving frame)"})
     options = {
         "thermal_model": Option("2d", "conduction along x included ('2d') or dropped (seed eq. 16, '1d')",

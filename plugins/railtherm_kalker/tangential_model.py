@@ -21,6 +21,7 @@ import functools
 import numpy as np
 from railtherm import Capabilities, Option, Refused, TangentialContactModel
 from railtherm.physics import combined_elastic, creep_speeds
+from railtherm.physics.friction import LAW_KINDS
 from scipy.fft import next_fast_len
 
 from .friction_laws import solve_with_law
@@ -244,7 +245,7 @@ class KalkerTangential(TangentialContactModel):
         tangential=frozenset({"creepage", "full-sliding"}),
         provides=frozenset({"traction_x", "traction_y", "slip_velocity_x", "slip_velocity_y", "stick",
                             "creep_force_x", "creep_force_y", "spin_moment"}),
-        friction_laws=frozenset({"constant", "slip-velocity", "polach", "temperature"}))
+        friction_laws=LAW_KINDS)
     options = {"tangential_tolerance": Option(TANGENTIAL_TOLERANCE, "tolerance of the tangential solver, "
                                               "max |F| / max(mu p) [1]", minimum=0.0),
                "rolling_scheme": Option("second-order", "the rolling derivative of the steady-state slip: "

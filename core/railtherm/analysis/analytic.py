@@ -336,7 +336,7 @@ def _scalars_uncached(scene):
         a, b, shape, q, speeds, eps = case
         out["heat_partition"] = eps
         if scene.heat_source is not None:
-            from ..models.shapes import exact_total
+            from ..physics import exact_total  # the given source's total: only for a scene with one
             out["frictional_power"] = q * exact_total(shape, a, b)
             src["frictional_power"] = "given-source"
         peaks = [_surface_scalars(scene, case, body) for body in (0, 1)]

@@ -495,7 +495,7 @@ def _check_outputs(name: str, kw: dict) -> None:
     pc = kw.get("profile_contact")
     if pc is not None and not hasattr(pc, "failure"):
         # imported here, as in _profile_wheelset: the contact search pulls in scipy and core's references
-        from .wheelset_profile import PATCH_DEFAULT_OUTPUTS, check_patch_outputs
+        from .wheelset_patch_scenes import PATCH_DEFAULT_OUTPUTS, check_patch_outputs
         if "outputs" not in kw and pc.patch == "all":
             kw["outputs"] = PATCH_DEFAULT_OUTPUTS
         check_patch_outputs(name, kw.get("outputs", DEFAULT_OUTPUTS), pc, lambda o: VARIABLES[o].dims)

@@ -27,13 +27,14 @@ from ..contract.errors import SceneError
 from ..physics.contact_search import _rotation, contact_search
 from ..physics.elastic import combined_elastic
 from ..physics.profiles import ProfileError
-from ..references.hertz import contact_modulus, hertz_from_curvatures, hertz_from_penetration
+from ..physics.elastic import contact_modulus
+from ..references.hertz import hertz_from_curvatures, hertz_from_penetration
 from ..references.kalker import kalker_linear_forces
 from .profiles import CONICAL_ONLY_KEYS, wheelset_geometry_from_table
 
 __all__ = ["ProfileContact", "ProfileContacts", "NoContact", "NoContactError", "profile_contact",
-           "roll_height_mismatch", "normal_force_from_vertical", "share_vertical_force", "patch_scenes",
-           "check_patch_outputs", "WINDOW", "GAP_DEGREE", "ROLL_BALANCE"]
+           "roll_height_mismatch", "normal_force_from_vertical", "share_vertical_force", "WINDOW", "GAP_DEGREE",
+           "ROLL_BALANCE"]
 
 #: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
 WINDOW = (1.6, 2.0)
@@ -659,46 +660,3 @@ def roll_height_mismatch(scene, roll: float) -> float:
     bodies = (contact_modulus(scene.wheel, scene.rail), *combined_elastic(scene.wheel, scene.rail))
     return (_wheel_height(scene.name, base, "right", roll, bodies, scene.friction, scene.speed)
             - _wheel_height(scene.name, base, "left", roll, bodies, scene.friction, scene.speed))
-
-
-#: the outputs a scene of several patches gives by default (per patch, and the wheel's totals)
-PATCH_DEFAULT_OUTPUTS = ("contact_position_rail", "contact_angle", "normal_force", "max_pressure", "contact_area",
-                         "creep_force_x", "creep_force_y", "wheel_force_x", "wheel_force_y", "wheel_force_z",
-                         "max_surface_temperature")
-#: what the wheel's totals need of each patch
-TOTALS_NEED = ("normal_force", "creep_force_x", "creep_force_y", "contact_angle")
-
-
-def check_patch_outputs(scene_name: str, outputs, pc, dims_of) -> None:
-    """SceneError unless ``outputs`` suit the scene's wheelset: the wheel's totals (``wheel_force_x/y/z``) need
-    ``patch = "all"``, and a scene of several patches asks only quantities without a grid (each patch has its
-    own grid: ``dims_of(name)`` must lie within ("body",))."""
-    totals = [o for o in outputs if o.startswith("wheel_force_")]
-    if not isinstance(pc, ProfileContacts):
-        if totals:
-            _fail(scene_name, "outputs", totals[0], "the wheel's total force over its patches only with "
-                  "wheelset.patch = \"all\" (a scene of one patch: its normal_force, creep_force_x/y)")
-        return
-    gridded = [o for o in outputs if set(dims_of(o)) - {"body"}]
-    if gridded:
-        _fail(scene_name, "outputs", gridded[0], "a quantity without a grid in a scene of several patches "
-              "(wheelset.patch = \"all\": each patch has its own grid), e.g. "
-              + ", ".join(PATCH_DEFAULT_OUTPUTS) + "; ask a field of one patch with wheelset.patch = 1, 2 or 3")
-
-
-def patch_scenes(scene, outputs) -> list:
-    """One scene per loaded patch of a ``patch = "all"`` scene: the patch's gap, normal force (its share) and
-    creepages, asking ``outputs``; its source names the patch, so each has a hash of its own."""
-    import dataclasses
-
-    from .checks import gap_powers, quadratic_curvatures
-    creepage = type(scene.creepage)   # the scene's Creepage (the first patch's)
-    out = []
-    for pc in scene.profile_contact.contacts:
-        gap = gap_powers(pc.gap_coefficients)
-        quad = quadratic_curvatures(gap)
-        source = dict(scene.source, wheelset=dict(scene.source.get("wheelset", {}), patch=pc.patch))
-        out.append(dataclasses.replace(scene, profile_contact=pc, contact_shape="ellipse" if quad else "gap",
-                                       curvatures=quad, gap_coefficients=gap, normal_force=pc.normal_force,
-                                       creepage=creepage(*pc.creepage), outputs=tuple(outputs), source=source))
-    return out

@@ -22,11 +22,7 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk, ellipkm1
 
-# E* of the closed forms below has its home with the other combined elastic constants; named here for the
-# callers that read it with them (input.wheelset_profile)
-from ..physics.elastic import contact_modulus
-
-__all__ = ["contact_modulus", "HertzEllipse", "hertz_from_curvatures", "hertz_from_penetration",
+__all__ = ["HertzEllipse", "hertz_from_curvatures", "hertz_from_penetration",
            "hertz_from_semi_axes", "hertz_line", "hertz_pressure", "curvature_ratio",
            "elliptic_k_minus_e"]
 

@@ -23,7 +23,7 @@ from ..models.sliding import GivenHeat
 from .capabilities_check import refusal, source_refusal
 from .friction_loop import needs_loop, solve_coupled
 from .plugins import MethodInfo, PluginHost, get_host
-from ..output.store import encode_sweep
+from ..contract.schema import encode_sweep
 from ..input.scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
 from ..contract.schema import (STAGE_OF_GROUP, VARIABLES, WHEELSET_VARIABLES, build_dataset, history_line,
                                validate_dataset)

@@ -31,8 +31,10 @@ import numpy as np
 
 from ..contract.errors import SolverError
 from ..input.scene import load_scene
-from ..input.wheelset_profile import ROLL_BALANCE, patch_scenes, roll_height_mismatch
-from ..references.hertz import contact_modulus, hertz_from_curvatures
+from ..input.wheelset_patch_scenes import patch_scenes
+from ..input.wheelset_profile import ROLL_BALANCE, roll_height_mismatch
+from ..physics.elastic import contact_modulus
+from ..references.hertz import hertz_from_curvatures
 
 __all__ = ["solve_free_pitch", "solve_balanced_roll", "axle_moment", "NEED"]
 

@@ -1,6 +1,6 @@
 """A wheelset on profiles with several patches (``wheelset.patch = "all"``): each loaded patch is solved by the
 chain as a scene of its own (its gap, its share of the wheel's vertical force from one common approach, its
-creepages; :func:`railtherm.input.wheelset_profile.patch_scenes`), and the results are stacked along the
+creepages; :func:`railtherm.input.wheelset_patch_scenes.patch_scenes`), and the results are stacked along the
 dimension ``patch`` (1 = the closest; last: ``max_surface_temperature(body, patch)``) with the wheel's totals
 added: ``wheel_force_x/y/z`` [N], the rail's force on the wheel in track axes (x rolling, y lateral, z up; the
 left wheel's y mirrored as its patches'), from each patch's normal force N, creep forces Fx, Fy (on the wheel,
@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from ..contract.schema import WHEEL_TOTALS, validate_dataset, variable_attrs
-from ..input.wheelset_profile import TOTALS_NEED, patch_scenes
+from ..input.wheelset_patch_scenes import TOTALS_NEED, patch_scenes
 
 __all__ = ["solve_patches", "wheel_totals"]
 
