@@ -6,6 +6,7 @@ import shutil
 
 import railtherm
 from railtherm.report import write_report
+from railtherm.run.executors import worker_context
 
 from test_report_document import STUDY
 
@@ -19,7 +20,7 @@ def test_figures_drawn_in_worker_processes_equal_those_drawn_here(tmp_path):
     parallel = tmp_path / "parallel"
     shutil.copytree(serial, parallel)
     one = write_report(serial, study, workers=1)
-    two = write_report(parallel, study, workers=2)
+    two = write_report(parallel, study, workers=2, context=worker_context())   # as run_study and the CLI draw
     figs = sorted(p.name for p in one if p.suffix == ".png")
     assert figs and figs == sorted(p.name for p in two if p.suffix == ".png")
     for name in figs:

@@ -104,21 +104,20 @@ def test_a_solve_that_compiles_is_not_a_timing(scene, tmp_path, monkeypatch):
 
 
 def test_metrics_scored_in_worker_processes_equal_the_serial_ones(tmp_path, write_study):
-    """The scenes of a study scored in a process pool (spawned, the plugin host rebuilt) give metrics.nc's
-    values exactly as scored in this process."""
+    """The scenes of a study scored in a process pool (the study's: forked from the fork server, the plugin host
+    rebuilt) give metrics.nc's values exactly as scored in this process."""
     import json
-    import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
 
     from railtherm.analysis.metrics import compute_metrics
     from railtherm.output.store import RunRecord
-    from railtherm.run.executors import host_spec, install_host
+    from railtherm.run.executors import host_spec, install_host, worker_context
     study = write_study(methods='["green"]', speed="[20.0, 30.0, 60.0]")
     out = tmp_path / "out"
     serial = railtherm.run_study(study, out, report=False)
     st = railtherm.load_study(study)
     recs = [RunRecord.from_dict(r) for r in json.loads((out / "study.json").read_text())["records"]]
-    with ProcessPoolExecutor(2, mp_context=mp.get_context("spawn"), initializer=install_host,
+    with ProcessPoolExecutor(2, mp_context=worker_context(), initializer=install_host,
                              initargs=(host_spec(),)) as pool:
         par = compute_metrics(st, out, recs, map=pool.map)
     assert set(par.data_vars) == set(serial.data_vars)
