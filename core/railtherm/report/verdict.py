@@ -121,7 +121,8 @@ def anchor_of(scene: str) -> str:
 
 
 #: the rule the scorecard's caption states
-SCORECARD_RULE = ("Each cell: the cheapest level (smallest wall time) whose headline quantity is within the tolerance "
+SCORECARD_RULE = ("Each cell: the cheapest level (smallest wall time; levels within a factor 1.5 of it count as equal "
+                  "and the lowest is taken) whose headline quantity is within the tolerance "
                   "of an independent reference (an exact solution or another method, never the method's own finest "
                   "level) together with every finer level that ran, with its status, signed headline error, best wall "
                   "time and level; \"ok\" also needs every other error within the tolerance. When no level qualifies: "
