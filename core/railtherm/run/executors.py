@@ -200,6 +200,17 @@ def worker_context():
     return _CONTEXT
 
 
+def start_worker_server(workers: int | None) -> None:
+    """Start the fork server of :func:`worker_context` now (it imports in the background while this process
+    loads and checks the study), with the thread counts of ``workers`` local workers (None: one per core)."""
+    ctx = worker_context()
+    if ctx.get_start_method() != "forkserver":  # pragma: no cover - spawn: nothing to start
+        return
+    from multiprocessing import forkserver  # only where there is a fork server
+    with worker_threads(workers or os.cpu_count() or 1):
+        forkserver.ensure_running()
+
+
 def environment(env: dict | None) -> None:
     """Make this (worker) process's environment ``env`` (the parent's at the worker's start; None: keep)."""
     if env is not None and env != dict(os.environ):

@@ -36,7 +36,7 @@ from ..output.store import RunRecord
 from ..input.study import Study, load_study
 from .timelimit import RunTimeout, _time_limit
 from .analysis_phase import analyse
-from .executors import worker_context
+from .executors import start_worker_server, worker_context
 from .timing import TIMING_BUDGET, RSSPeak, compile_watch, more_solves
 
 
@@ -586,6 +586,8 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
         The metrics (also written to ``out/metrics.nc``).
     """
     t0, c0, w0 = time.perf_counter(), time.process_time(), _children_cpu()
+    if executor in ("auto", "processes"):
+        start_worker_server(workers)   # its imports overlap the loading and checking of the study below
     study = study_or_path if isinstance(study_or_path, Study) else load_study(study_or_path)
     from ..contract.options import check_study
     from ..solving.plugins import get_host
