@@ -18,20 +18,13 @@ import time
 import pytest
 
 import railtherm
+from transient_scenes import transient_scene
 
-A, V, Q = 6e-3, 30.0, 1e8
-INTERVAL = 0.083
 
 
 def scene(passes: int | None) -> dict:
     """The rail heated by a given Hertzian band; ``passes`` None: the steady scene."""
-    out = {"name": f"fdm-band-{passes}", "speed": V, "heat_source": {"flux": Q, "shape": "hertz", "half_width": A},
-           "heat_partition": 0.0, "rail": {"bulk_temperature": 20.0}, "wheel": {"bulk_temperature": 20.0}}
-    if passes is not None:
-        out.update(mode="transient", passes={"count": passes, "interval": INTERVAL},
-                   field={"depth": [1e-4, 5e-4], "threshold": 400.0},
-                   outputs=["temperature_history", "pass_peak_temperature", "residual_rise", "time_above"])
-    return out
+    return transient_scene(f"fdm-band-{passes}", passes)
 
 
 def interleaved(counts, reps: int = 5) -> dict:

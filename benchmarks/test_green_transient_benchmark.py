@@ -24,22 +24,14 @@ import pytest
 
 import railtherm
 from railtherm_green import history as green_history
+from transient_scenes import transient_scene
 
-A, B, V, Q = 6e-3, 4e-3, 30.0, 1e8
-INTERVAL = 0.083
-SOURCES = {"band": {"shape": "hertz", "half_width": A}, "ellipse": {"shape": "hertz", "semi_axes": [A, B]}}
 REPS = 9
 
 
 def scene(kind: str, passes: int | None) -> dict:
     """The rail heated by a given Hertzian source; ``passes`` None: the steady scene."""
-    out = {"name": f"green-{kind}-{passes}", "speed": V, "heat_source": {"flux": Q, **SOURCES[kind]},
-           "heat_partition": 0.0, "rail": {"bulk_temperature": 20.0}, "wheel": {"bulk_temperature": 20.0}}
-    if passes is not None:
-        out.update(mode="transient", passes={"count": passes, "interval": INTERVAL},
-                   field={"depth": [1e-4, 5e-4], "threshold": 400.0},
-                   outputs=["temperature_history", "pass_peak_temperature", "residual_rise", "time_above"])
-    return out
+    return transient_scene(f"green-{kind}-{passes}", passes, kind)
 
 
 def interleaved(kind: str, counts, reps: int = REPS, history_times: dict | None = None,
