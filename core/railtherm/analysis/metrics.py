@@ -556,7 +556,7 @@ def compute_metrics(study, out, records, tolerance: float | None = None, *, map=
     ds = _scene_vars(ds, ctx, snames, mnames, metrics)
     by_sm: dict = {}
     for r in rows:
-        if r["status"] in ("ok", "inaccurate", "unverified"):
+        if r["status"] in store.RESULT_STATUSES:
             by_sm.setdefault((r["scene"], r["method"]), []).append(r)
     ds = _convergence_vars(ds, ctx, by_sm, snames, mnames, metrics)
     ds = verdict_vars(ds, rows, snames, mnames, tol)

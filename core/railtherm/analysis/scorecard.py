@@ -8,9 +8,10 @@ import math
 
 import numpy as np
 
+from ..output.store import RESULT_STATUSES
 from .verdicts import ladder_verdict, reference_convergence, reference_note
 
-RESULTS = ("ok", "inaccurate", "unverified")
+RESULTS = RESULT_STATUSES
 
 
 def finest_step(rows: list[dict], metric: str) -> float:

@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from ..contract.verdict_rules import RISE_FRACTION, cheapest
+from ..output.store import RESULT_STATUSES
 from .rises import RISES
 
 #: a reference whose magnitude (the max-norm of its rise for temperatures) is below this is noise, and
@@ -32,7 +33,7 @@ STAGE_ORDER = ("normal", "tangential", "heat_source", "temperature")
 #: fraction of the tolerance
 REFERENCE_FRACTION = 0.25
 #: statuses of a run that produced a result
-RESULTS = ("ok", "inaccurate", "unverified")
+RESULTS = RESULT_STATUSES
 
 
 def label(metric: str, cooling_depth: float = math.nan) -> str:

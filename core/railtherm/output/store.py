@@ -30,8 +30,10 @@ from . import zarr_store
 
 #: run statuses, in the order reports list them (docs/verdicts.md): the one vocabulary
 STATUSES = ("ok", "inaccurate", "unverified", "refused", "failed")
+#: the statuses of a run that produced a result
+RESULT_STATUSES = STATUSES[:3]
 
-__all__ = ["STATUSES", "RUNS", "METRICS", "REFERENCES", "STUDY", "REPORT_MD", "REPORT_HTML", "FIGURES",
+__all__ = ["STATUSES", "RESULT_STATUSES", "RUNS", "METRICS", "REFERENCES", "STUDY", "REPORT_MD", "REPORT_HTML", "FIGURES",
            "run_path", "status_path", "metrics_path", "references_path", "study_path", "figures_dir",
            "run_files", "status_files",
            "write_atomic", "write_atomic_bytes", "write_text_atomic", "write_json_atomic",

@@ -474,7 +474,7 @@ def open_run(out, scene: str, method: str, level: int):
 
     t = read_table(out)
     i = t.index(scene, method, level)
-    if i is None or status_text(t.cols["status"][i]) not in ("ok", "inaccurate", "unverified"):
+    if i is None or status_text(t.cols["status"][i]) not in STATUS_CODES[:3]:   # a run with a result
         return None
     data = {}
     for name, per_body in scalar_names().items():

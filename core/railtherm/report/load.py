@@ -26,8 +26,7 @@ __all__ = ["HEADLINE_ORDER", "RESULT_STATUSES", "Run", "Order", "SceneInfo", "St
 HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
                   "semi_axis_a", "frictional_power")
 #: statuses of runs that produced a result
-RESULT_STATUSES = ("ok", "inaccurate", "unverified")
-from ..output.store import STATUSES
+from ..output.store import RESULT_STATUSES, STATUSES
 
 
 @dataclass

@@ -310,7 +310,7 @@ class _FirstRuns:
     worker that took the same kind meanwhile would compile them again, so it takes the next other task instead
     (the order is otherwise kept; when every pending task waits for a compilation, the first is taken)."""
 
-    RESULTS = ("ok", "inaccurate", "unverified")
+    RESULTS = store.RESULT_STATUSES
     #: pending tasks looked at for one not waiting for a compilation
     LOOKAHEAD = 64
 
