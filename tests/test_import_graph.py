@@ -23,12 +23,8 @@ RANKS = {"contract": 0, "_version": 0, "references": 1, "physics": 1, "input": 2
 LAYERS = tuple(RANKS)
 #: imports that point up or out of physics and wait for a move in files of concurrent work; the list only
 #: shrinks (the tests fail on an entry that no longer occurs):
-#: * physics.hertz applies the Hertz closed forms of references.hertz (hertz_geometry, scene_semi_axis): the
-#:   adapter belongs in models/hertz.py, with its callers analysis/analytic.py, models/wheelset_profile.py,
-#:   railtherm_fastsim/wheelset_normal.py;
 #: * physics.section_stepping reads the schedule of references.transient.
 UPWARD_TO_MOVE = frozenset({
-    "railtherm.physics.hertz -> railtherm.references.hertz",
     "railtherm.physics.section_stepping -> railtherm.references.transient",
 })
 #: the flat module paths of 0.1 (removed: each concept has one home in its layer)

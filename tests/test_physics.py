@@ -18,6 +18,7 @@ import pytest
 
 import railtherm
 from railtherm import Material, Refused, SurfaceGrid, physics, surface_grid
+from railtherm.models.hertz import hertz_geometry, scene_semi_axis
 
 ROOT = Path(__file__).resolve().parents[1]
 PUBLISHED = ROOT / "tests" / "data" / "published.toml"
@@ -38,17 +39,17 @@ def _scene(**kw):
 
 
 def _hertz(scene):
-    """:func:`railtherm.physics.hertz_geometry` on a scene's parts."""
-    return physics.hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
-                                  penetration=scene.penetration, semi_axes=scene.semi_axes,
-                                  curvatures=scene.curvatures, wheel_radius=scene.wheel_radius, scene_name=scene.name)
+    """:func:`railtherm.models.hertz.hertz_geometry` on a scene's parts."""
+    return hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
+                          penetration=scene.penetration, semi_axes=scene.semi_axes,
+                          curvatures=scene.curvatures, wheel_radius=scene.wheel_radius, scene_name=scene.name)
 
 
 def _semi_axis(scene):
-    """:func:`railtherm.physics.scene_semi_axis` on a scene's parts."""
-    return physics.scene_semi_axis(scene.heat_source, scene.wheel, scene.rail, scene.contact_shape,
-                                   scene.normal_force, penetration=scene.penetration, semi_axes=scene.semi_axes,
-                                   curvatures=scene.curvatures, wheel_radius=scene.wheel_radius)
+    """:func:`railtherm.models.hertz.scene_semi_axis` on a scene's parts."""
+    return scene_semi_axis(scene.heat_source, scene.wheel, scene.rail, scene.contact_shape,
+                           scene.normal_force, penetration=scene.penetration, semi_axes=scene.semi_axes,
+                           curvatures=scene.curvatures, wheel_radius=scene.wheel_radius)
 
 
 # ------------------------------------------------------------------ Hertz

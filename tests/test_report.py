@@ -277,7 +277,7 @@ def test_sweep_is_one_section(study_out):
     assert body.count("**Table ") == 1 and body.count("**Figure ") == 1
     assert any(p.name.startswith("003-sweep-carter") for p in paths)
     # Fx/(mu N) of the finest level: Carter's ratio times (1 + delta(1)), beside the exact ratio
-    from railtherm.physics import hertz_geometry
+    from railtherm.models.hertz import hertz_geometry
     from railtherm.references.carter import carter_2d
     from railtherm.input.study import load_study
     sc = load_study(out.parent / "study.toml").scene("carter--creepage.longitudinal=-0.0004")

@@ -148,7 +148,8 @@ def kalker_contacts():
 
 def _fastsim_wheelset(scene):
     """The equilibrium's _Wheelset with FASTSIM's forces on the reference patch the model uses for ``scene``."""
-    from railtherm.physics import combined_elastic, hertz_geometry
+    from railtherm.models.hertz import hertz_geometry
+    from railtherm.physics import combined_elastic
     a, b, _, n0 = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
                                  curvatures=scene.curvatures, scene_name=scene.name)
     G, nu = combined_elastic(scene.wheel, scene.rail)

@@ -38,6 +38,7 @@ _LAZY = {
     "methods": "solving.plugins", "get_host": "solving.plugins",
     "run_study": "run.runner",
     "open_results": "analysis.results",
+    "hertz_geometry": "models.hertz",
 }
 
 

@@ -20,7 +20,8 @@ import math
 
 import numpy as np
 
-from ..physics import body_speeds, hertz_geometry, scene_partition
+from ..models.hertz import hertz_geometry
+from ..physics import body_speeds, scene_partition
 
 _NAME = {"contact": "Hertz (elliptic integrals)", "carter": "Carter 2-D rolling",
          "ms": "moving surface source on a half-space (point-source superposition)",
@@ -33,7 +34,7 @@ TAG = {"contact": "hertz", "carter": "carter", "ms": "moving-source", "jaeger": 
 
 
 def scene_hertz_geometry(scene):
-    """:func:`railtherm.physics.hertz_geometry` of a scene's contact: (a [m], b [m] or None, p0 [Pa], normal
+    """:func:`railtherm.models.hertz.hertz_geometry` of a scene's contact: (a [m], b [m] or None, p0 [Pa], normal
     force [N or N/m]); the analysis's one reading of the Hertz inputs off a scene."""
     return hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
                           penetration=scene.penetration, semi_axes=scene.semi_axes, curvatures=scene.curvatures,

@@ -1,13 +1,127 @@
-"""Core contact model "hertz": the analytic Hertz patch (ellipse or line)."""
+"""Core contact model "hertz": the analytic Hertz patch (ellipse or line), and the semi-axes, peak pressure
+and load of a scene's contact that it and the other Hertz-based normal models start from (the closed forms of
+:mod:`railtherm.references.hertz` applied to the materials, shape and load the models pass from their scene).
+"""
 from __future__ import annotations
 
-from ..contract.grid import BASE_CELLS
-from ..physics.hertz import hertz_geometry, hertz_patch
+import math
+
 from ..contract.capabilities import Capabilities
+from ..contract.errors import Refused
+from ..contract.grid import BASE_CELLS
 from ..contract.options import Option
 from ..contract.stages import NormalContactModel
+from ..physics.elastic import contact_modulus
+from ..physics.hertz import hertz_patch
+from ..references.hertz import hertz_from_curvatures, hertz_from_penetration, hertz_from_semi_axes, hertz_line
 
-__all__ = ["HertzContact"]
+__all__ = ["HertzContact", "hertz_geometry", "scene_semi_axis"]
+
+
+def hertz_geometry(wheel, rail, shape: str, normal_force: float | None, *, penetration: float | None = None,
+                   semi_axes: tuple[float, float] | None = None, curvatures: tuple[float, float] | None = None,
+                   wheel_radius: float | None = None, scene_name: str | None = None
+                   ) -> tuple[float, float | None, float, float]:
+    """Semi-axes, peak pressure and normal force of a Hertz patch.
+
+    The patch comes from the ``semi_axes`` (pressure from the load), the gap ``curvatures`` and
+    ``normal_force`` or ``penetration`` (complete elliptic integrals), or a line contact's
+    ``wheel_radius`` and load per width.
+
+    Parameters
+    ----------
+    wheel, rail : Material-like
+        With ``shear_modulus`` [Pa], ``poisson_ratio`` [1] and ``rigid``.
+    shape : {"ellipse", "line"}
+        Contact shape.
+    normal_force : float or None
+        Normal force [N] ([N/m] for a line contact); None when ``penetration`` is given.
+    penetration : float, optional
+        Approach of the two bodies [m] (an ellipse given by its curvatures).
+    semi_axes : (float, float), optional
+        Given semi-axes a, b [m].
+    curvatures : (float, float), optional
+        Gap curvatures A, B [1/m].
+    wheel_radius : float, optional
+        Wheel radius of a line contact [m].
+    scene_name : str, optional
+        Name of the scene, for messages.
+
+    Returns
+    -------
+    a : float
+        Semi-axis along rolling [m].
+    b : float or None
+        Lateral semi-axis [m]; None for a line contact.
+    p0 : float
+        Peak pressure [Pa].
+    normal_force : float
+        [N] ([N/m] for a line contact).
+
+    Raises
+    ------
+    railtherm.Refused
+        When Hertz theory gives no patch (zero load, rigid-rigid, penetration on a line contact).
+
+    References
+    ----------
+    .. [1] K.L. Johnson, Contact Mechanics, 1985, sections 4.2-4.3. doi:10.1017/CBO9781139171731
+    """
+    e_star = contact_modulus(wheel, rail)
+    if normal_force is not None and normal_force <= 0.0:
+        raise Refused(f"scene {scene_name!r}: normal_force = {normal_force!r} N gives no contact patch "
+                      "(Hertz needs a load > 0); nothing is loaded or heated")
+    if not math.isfinite(e_star):
+        raise Refused(f"scene {scene_name!r}: both bodies are rigid; Hertz needs at least one elastic body")
+    if shape == "line":
+        if normal_force is None:
+            raise Refused(f"scene {scene_name!r}: a Hertz line contact on a half-plane has no finite approach; "
+                          "penetration is defined only for a strip of finite depth: give normal_force [N/m], "
+                          "or use method 'fem'")
+        a, p0 = hertz_line(normal_force, wheel_radius, e_star)
+        return a, None, p0, normal_force
+    if semi_axes is not None:
+        h = hertz_from_semi_axes(*semi_axes, normal_force)
+    elif normal_force is not None:
+        h = hertz_from_curvatures(*curvatures, normal_force, e_star)
+    else:
+        h = hertz_from_penetration(*curvatures, penetration, e_star)
+    return h.a, h.b, h.max_pressure, h.normal_force
+
+
+def scene_semi_axis(heat_source, wheel, rail, shape: str, normal_force: float | None, *,
+                    penetration: float | None = None, semi_axes: tuple[float, float] | None = None,
+                    curvatures: tuple[float, float] | None = None, wheel_radius: float | None = None
+                    ) -> float | None:
+    """Semi-axis a along rolling [m] known from a scene before any stage runs, or None.
+
+    A given heat source's ``semi_axes`` or ``half_width``, else the given ``semi_axes``, else the
+    Hertz patch (:func:`hertz_geometry`); None when there is no Hertz patch (no load, rigid bodies, a
+    line contact given by penetration).
+
+    Parameters
+    ----------
+    heat_source : GivenHeatSource-like or None
+        A given heat source, with ``semi_axes`` [m] or ``half_width`` [m].
+    wheel, rail, shape, normal_force, penetration, semi_axes, curvatures, wheel_radius
+        As :func:`hertz_geometry` (materials; shape; [N] or [N/m]; [m]; [m]; [1/m]; [m]).
+
+    Returns
+    -------
+    float or None
+        a [m].
+    """
+    if heat_source is not None:
+        if getattr(heat_source, "semi_axes", None) is not None:
+            return float(heat_source.semi_axes[0])
+        return float(heat_source.half_width)
+    if semi_axes is not None:
+        return float(semi_axes[0])
+    try:
+        return float(hertz_geometry(wheel, rail, shape, normal_force, penetration=penetration,
+                                    curvatures=curvatures, wheel_radius=wheel_radius)[0])
+    except (Refused, ValueError, TypeError, AttributeError, ZeroDivisionError):
+        return None
 
 
 class HertzContact(NormalContactModel):
