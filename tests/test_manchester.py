@@ -14,6 +14,9 @@ quantities of a wheelset on profiles, docs/DESIGN.md "Result schema").
 """
 from __future__ import annotations
 
+import math
+
+import numpy as np
 import pytest
 
 import railtherm
@@ -68,10 +71,6 @@ KNOWN_MISSES = {
                                    "moment; 5 % of it is a longitudinal creepage accuracy of 3e-9, below any "
                                    "reference-point choice (railtherm's Fx at the table's pitch velocity is -23 N: "
                                    "a creepage 5e-6 away)",
-    (1, "right", "creepage_longitudinal"): "railtherm reports the rigid slip at the contact plane's origin (the gap "
-                                           "minimum, where kalker takes it), 1.36 mm from the reference point, where "
-                                           "spin adds 8.6e-5: 1.43e-4 against CONTACT's 5.67e-5; at the reference "
-                                           "point it is 5.76e-5 (1.7 % off)",
 }
 
 
@@ -85,6 +84,31 @@ def test_a22_against_contact(position, side, quantity, request):
         assert got == pytest.approx(want, rel=tol), (quantity, got, want)
     else:
         assert got == pytest.approx(want, abs=tol), (quantity, got, want)
+
+
+@pytest.mark.parametrize("position,side", [(1, "right"), (13, "right")])
+def test_a22_reported_creepages_are_the_rigid_slip_at_the_reference_point(position, side):
+    """The reported longitudinal and lateral creepages are the wheel's rigid slip at the contact reference point
+    (where ``contact_position_rail`` lies and CONTACT reports its creepages), to 1e-9 relative: (1) the slip
+    field kalker solves with, (xi - phi y, eta + phi x) of the scene's creepages on the contact plane, at the
+    reference point's y = (contact_position_rail - plane_position_rail) / cos(plane_angle) (the rail is not
+    inclined here), x = 0; (2) the wheelset's motion there, v = V e_x + omega axle x arm, over V, along x and
+    along the contact plane's lateral direction (0, cos(delta), sin(delta)). At position 1 the reference point
+    lies 1.36 mm from the plane's origin and spin moves the creepage by 8.6e-5: the slip at the origin
+    (1.43e-4) fails both."""
+    scene, r = _solve(position, side)
+    pc, c = scene.profile_contact, scene.creepage
+    got = (float(r["creepage_longitudinal"]), float(r["creepage_lateral"]), float(r["creepage_spin"]))
+    y_ref = (pc.contact_position_rail - pc.plane_position_rail) / math.cos(pc.plane_angle)
+    field = (c.longitudinal - c.spin * y_ref, c.lateral, c.spin)
+    assert got == pytest.approx(field, rel=1e-9, abs=1e-15)
+    speed, omega = scene.speed, float(scene.source["wheelset"]["pitch_velocity"])
+    v = np.array([speed, 0.0, 0.0]) + np.cross(omega * np.asarray(pc.axle), np.asarray(pc.arm))
+    delta = float(r["contact_angle"])
+    rigid = (v[0] / speed, (v[1] * math.cos(delta) + v[2] * math.sin(delta)) / speed)
+    assert got[:2] == pytest.approx(rigid, rel=1e-9, abs=1e-15)
+    if position == 1:
+        assert abs(c.longitudinal - got[0]) > 8e-5
 
 
 PATCH_UNITS = {"contact_position_rail": "m", "contact_angle": "rad", "normal_force": "N", "creep_force_x": "N",

@@ -238,10 +238,10 @@ def _put_patch(put, patch, line) -> None:
 
 
 def _put_wheelset(put, wheelset, patch) -> None:
-    """The wheelset patch's position, contact angle and creepages."""
+    """The wheelset patch's position, contact angle and creepages (at its reference point)."""
     put("contact_position_rail", wheelset.contact_position_rail)
     put("contact_angle", wheelset.contact_angle)
-    xi, eta, phi = patch.creepage if patch.creepage is not None else wheelset.creepage
+    xi, eta, phi = patch.creepage if patch.creepage is not None else wheelset.reference_creepage
     put("creepage_longitudinal", xi)
     put("creepage_lateral", eta)
     put("creepage_spin", phi)

@@ -4,8 +4,8 @@ the gap, load and creepages of its patches, when the scene is loaded (docs/DESIG
 The contact search (:func:`railtherm.physics.contact_search.contact_search`) finds the wheel's patches. Per
 patch: ``contact = {shape = "gap"}`` with the undeformed gap on its contact plane as a polynomial (:func:`_gap_fit`)
 for ``kalker``, the Hertz-equivalent ellipse for Hertz-based chains (normal model ``wheelset-profile``); the
-creepages of the wheelset's rigid motion at :func:`reference_point` (railtherm's sign, minus CONTACT's); the normal
-force from the wheel's vertical force (:func:`normal_force_from_vertical`, after Shen, Hedrick and Elkins [1]).
+wheelset's rigid slip (railtherm's sign, minus CONTACT's) at the plane's origin for the models, reported at
+:func:`reference_point`; the normal force from the wheel's vertical force (:func:`normal_force_from_vertical`, [1]).
 ``patch = "all"``: every patch, sharing Fz at one common approach (:func:`share_vertical_force`). ``roll_angle =
 "balance"``: the roll giving both wheels half the axle load (:func:`balance_roll`); ``pitch_velocity = "free"``:
 the solve finds it (:mod:`railtherm.solving.wheelset_equilibrium`). No contact: :class:`NoContact`, runs fail.
@@ -86,7 +86,12 @@ class ProfileContact:
     gap_residual : float
         Largest misfit of the polynomial on its window [m].
     creepage : tuple of float
-        (longitudinal [1], lateral [1], spin [1/m]), railtherm's convention.
+        (longitudinal [1], lateral [1], spin [1/m]), railtherm's convention: the wheel's rigid slip at the
+        contact plane's origin, where the scene's contact models take it (their slip field (xi - phi y,
+        eta + phi x) on the plane is the wheel's rigid slip everywhere on it).
+    reference_offset : float
+        The reference point's coordinate across the contact plane from its origin [m] (on the rail at
+        plane_position_rail + reference_offset cos(plane_angle)).
     vertical_force : float
         The wheel's vertical force Fz [N].
     normal_force : float
@@ -122,6 +127,7 @@ class ProfileContact:
     vertical_force: float
     normal_force: float
     lateral_force_estimate: float
+    reference_offset: float = 0.0
     rail_section: tuple = field(default=((), ()), repr=False, compare=False)
     #: the wheelset's roll [rad] found by ``roll_angle = "balance"`` (None: the scene gave it)
     balanced_roll: float | None = None
@@ -132,6 +138,21 @@ class ProfileContact:
     #: the reference point relative to the wheelset centre and the axle's direction, in the wheel's axes (z down)
     arm: tuple = field(default=(), repr=False, compare=False)
     axle: tuple = field(default=(), repr=False, compare=False)
+
+    @property
+    def reference_creepage(self) -> tuple[float, float, float]:
+        """(longitudinal [1], lateral [1], spin [1/m]) at the contact reference point: the contact models' slip
+        field (xi - phi y, eta + phi x) of :attr:`creepage` at x = 0, y = :attr:`reference_offset`. This is what
+        a result reports (``creepage_longitudinal``, ``creepage_lateral``, ``creepage_spin``): the CONTACT
+        program reports its creepages at its contact reference point, the point its ``ycp_r`` gives [1].
+
+        References
+        ----------
+        .. [1] E. A. H. Vollebregt, Detailed wheel/rail geometry processing using the planar contact approach,
+           Vehicle System Dynamics 60 (2022) 1253-1291. doi:10.1080/00423114.2020.1853180
+        """
+        xi, eta, phi = self.creepage
+        return xi - phi * self.reference_offset, eta, phi
 
 
 class NoContactError(SceneError):
@@ -247,17 +268,21 @@ def reference_point(geo, p, approach: float, speed: float) -> dict:
     half the approach), and the contact angle the rail's there: A-2.2 position 1 right, two gap minima 11 mm
     apart in one patch, -8.644 mm and -0.0288 rad against CONTACT's -8.66 mm and -0.029 rad (the centroid of
     the interpenetration at the whole approach gave -9.86 mm). The spin creepage is the
-    wheelset's angular velocity along that plane's normal, and the longitudinal and lateral creepages
-    are the rigid slip at the plane's origin (the minimum), so that kalker's slip field
-    (xi - phi y, eta + phi x) is the wheel's rigid slip at every point of the plane. Where the gap has
-    one clear minimum this is the minimum itself; where a second nearly touching minimum lies inside
+    wheelset's angular velocity along that plane's normal. The scene's longitudinal and lateral creepages
+    (``creepage``) are the rigid slip at the plane's origin (the minimum), so that kalker's slip field
+    (xi - phi y, eta + phi x) is the wheel's rigid slip at every point of the plane; the reported ones
+    (``creepage_reference``, :attr:`ProfileContact.reference_creepage`) are that field at the reference
+    point, y = ``offset`` on the plane, where CONTACT reports its creepages. Where the gap has one clear
+    minimum the reference point is the minimum itself; where a second nearly touching minimum lies inside
     the patch (a two-point geometry) the plane and the spin are those of the patch's middle, as CONTACT
     reports them.
 
     Returns
     -------
     dict
-        ``y_rail``, ``z_rail`` [m] (rail profile's own coordinates), ``angle`` [rad], ``creepage``.
+        ``y_rail``, ``z_rail`` [m] (rail profile's own coordinates), ``angle`` [rad], ``creepage`` (at the
+        plane's origin) and ``creepage_reference`` (at the reference point) [1, 1, 1/m], ``offset`` [m] (the
+        reference point across the plane from its origin), ``arm`` [m] and ``axle`` (wheel axes, z down).
     """
     y = np.linspace(-SECTION_HALF_WIDTH, SECTION_HALF_WIDTH, 2401)
     lo, hi = _below(y, p.gap(0.0, y) - p.gap(0.0, 0.0), REFERENCE_FRACTION * approach)
@@ -287,6 +312,7 @@ def reference_point(geo, p, approach: float, speed: float) -> dict:
     # kalker's slip field (xi - phi y, eta + phi x) on the plane through the minimum equals it there
     return {"y_rail": cb * y_inc - sb * z_inc, "z_rail": sb * y_inc + cb * z_inc, "angle": angle,
             "creepage": (xi_ref + phi * eta, eta_ref, phi), "creepage_reference": (xi_ref, eta_ref, phi),
+            "offset": eta,
             "arm": tuple(float(v) for v in arm), "axle": tuple(float(v) for v in axle)}
 
 
@@ -456,7 +482,8 @@ def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star, ro
                           hertz_curvatures=(float(curv[0]), float(curv[1])), gap_coefficients=coef,
                           gap_residual=residual, creepage=ref["creepage"],
                           vertical_force=float(geo.vertical_force), normal_force=float(N),
-                          lateral_force_estimate=float(fy), rail_section=_rail_section(geo.rail_profile),
+                          lateral_force_estimate=float(fy), reference_offset=float(ref["offset"]),
+                          rail_section=_rail_section(geo.rail_profile),
                           balanced_roll=roll, free_pitch=free, arm=ref["arm"], axle=ref["axle"])
 
 
