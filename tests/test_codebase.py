@@ -262,7 +262,7 @@ FUNCTION_IMPORTS_TO_MOVE: dict[str, int] = {
     "core/railtherm/analysis/trace_metrics.py": 2, "core/railtherm/analysis/transient_metrics.py": 3,
     "core/railtherm/cli.py": 12,
     "core/railtherm/report/environment.py": 2, "core/railtherm/report/figures.py": 12,
-    "core/railtherm/report/load.py": 2, "core/railtherm/report/scene_figures.py": 3,
+    "core/railtherm/report/load.py": 1, "core/railtherm/report/scene_figures.py": 3,
     "core/railtherm/report/sweep_maps.py": 1, "core/railtherm/report/verdict.py": 3,
     "core/railtherm/run/analysis_phase.py": 4, "core/railtherm/run/executors.py": 21,
     "core/railtherm/run/runner.py": 24, "core/railtherm/run/timelimit.py": 1, "core/railtherm/run/timing.py": 3,

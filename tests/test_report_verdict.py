@@ -1,8 +1,6 @@
 """The report's verdict, tables and style on synthetic metrics (no solver runs).
 
-metrics.nc is built by hand following docs/verdicts.md, once with every column of the second release
-and once as the first release wrote it (no reason_kind, per-metric references, headline, ...): the
-report must work with both.
+metrics.nc is built by hand following docs/verdicts.md (its one layout: each error with its own reference).
 """
 from __future__ import annotations
 
@@ -84,8 +82,8 @@ RUNS = [
 ]
 
 
-def _metrics(new: bool):
-    """A metrics Dataset of RUNS, with (new=True) or without the columns of the second release."""
+def _metrics():
+    """A metrics Dataset of RUNS with the columns docs/verdicts.md describes."""
     import xarray as xr
     n = len(RUNS)
     col = lambda i: [r[i] for r in RUNS]
@@ -100,47 +98,38 @@ def _metrics(new: bool):
     scenes, methods = ["ek", "strip"], ["fem", "fipy", "green"]
     order = np.full((2, 3, len(METRICS)), np.nan)
     order[0, 2, 0], order[0, 1, 0], order[1, 0, 0] = 2.1, -0.4, 1.6
-    if new:
-        data.update({
-            "status": ("run", np.array(col(3), dtype=object)),
-            "reason_kind": ("run", np.array(col(4), dtype=object)),
-            "wall_time_median": ("run", np.array(col(6), float) * 1.1),
-            "timing_runs": ("run", np.where(has, 5, 0).astype("int32")),
-            "peak_rss": ("run", np.where(has, 12e6, np.nan)),
-            "energy_balance": ("run", np.where(has, 1e-3, np.nan)),
-            "energy_reference": ("run", np.array(["solver" if h else "" for h in has], dtype=object)),
-            "reference_max_surface_temperature": ("run", np.array(col(8), dtype=object)),
-            "reference_creep_force_x": ("run", np.array(["analytic:full-sliding" if h else "" for h in has],
-                                                        dtype=object)),
-            "reference_pressure_l2": ("run", np.array([""] * n, dtype=object)),
-            "headline_error": ("run", np.array([r[7] if r[8].startswith("analytic") else np.nan for r in RUNS])),
-            "headline_reference": ("run", np.array([r[8] if r[8].startswith("analytic") else "" for r in RUNS],
-                                                   dtype=object)),
-            "headline": ("scene_name", np.array(["max_surface_temperature"] * 2, dtype=object)),
-            "reference_kind": ("scene_name", np.array(["analytic", "analytic"], dtype=object)),
-            "analytic_max_surface_temperature": (("scene_name", "body"), np.array([[149.5, 149.5], [np.nan] * 2])),
-        })
-        theo = np.full_like(order, np.nan)
-        theo[0, 2, 0], theo[0, 1, 0], theo[1, 0, 0] = 2.0, 2.0, 2.0
-        oref = np.full(order.shape, "", dtype=object)
-        oref[0, 2, 0] = oref[0, 1, 0] = "analytic:moving-source"
-        oref[1, 0, 0] = "self:finest"
-        rich = np.full_like(order, np.nan)
-        rich[1, 0, 0] = 0.003
-        unc = np.full_like(order, np.nan)
-        unc[1, 0, 0] = 0.001
-        data.update({"order_reference": (("scene_name", "method_name", "metric"), oref),
-                     "theoretical_order": (("scene_name", "method_name", "metric"), theo),
-                     "richardson_error": (("scene_name", "method_name", "metric"), rich),
-                     "richardson_uncertainty": (("scene_name", "method_name", "metric"), unc)})
-    else:  # first release: ok/inaccurate/refused/failed and one combined reference text
-        legacy_status = ["ok" if s == "unverified" else s for s in col(3)]
-        text = {"analytic:moving-source": "moving surface source on a half-space (point-source superposition)",
-                "self:finest": "finest level of fem (level 2) where no analytic value", "": ""}
-        data.update({"status": ("run", np.array(legacy_status, dtype=object)),
-                     "reference": ("run", np.array([text[r[8]] for r in RUNS], dtype=object)),
-                     "peak_memory": ("run", np.where(has, 3e6, np.nan)),
-                     "heat_balance": ("run", np.where(has, 2e-3, np.nan))})
+    data.update({
+        "status": ("run", np.array(col(3), dtype=object)),
+        "reason_kind": ("run", np.array(col(4), dtype=object)),
+        "wall_time_median": ("run", np.array(col(6), float) * 1.1),
+        "timing_runs": ("run", np.where(has, 5, 0).astype("int32")),
+        "peak_rss": ("run", np.where(has, 12e6, np.nan)),
+        "energy_balance": ("run", np.where(has, 1e-3, np.nan)),
+        "energy_reference": ("run", np.array(["solver" if h else "" for h in has], dtype=object)),
+        "reference_max_surface_temperature": ("run", np.array(col(8), dtype=object)),
+        "reference_creep_force_x": ("run", np.array(["analytic:full-sliding" if h else "" for h in has],
+                                                    dtype=object)),
+        "reference_pressure_l2": ("run", np.array([""] * n, dtype=object)),
+        "headline_error": ("run", np.array([r[7] if r[8].startswith("analytic") else np.nan for r in RUNS])),
+        "headline_reference": ("run", np.array([r[8] if r[8].startswith("analytic") else "" for r in RUNS],
+                                               dtype=object)),
+        "headline": ("scene_name", np.array(["max_surface_temperature"] * 2, dtype=object)),
+        "reference_kind": ("scene_name", np.array(["analytic", "analytic"], dtype=object)),
+        "analytic_max_surface_temperature": (("scene_name", "body"), np.array([[149.5, 149.5], [np.nan] * 2])),
+    })
+    theo = np.full_like(order, np.nan)
+    theo[0, 2, 0], theo[0, 1, 0], theo[1, 0, 0] = 2.0, 2.0, 2.0
+    oref = np.full(order.shape, "", dtype=object)
+    oref[0, 2, 0] = oref[0, 1, 0] = "analytic:moving-source"
+    oref[1, 0, 0] = "self:finest"
+    rich = np.full_like(order, np.nan)
+    rich[1, 0, 0] = 0.003
+    unc = np.full_like(order, np.nan)
+    unc[1, 0, 0] = 0.001
+    data.update({"order_reference": (("scene_name", "method_name", "metric"), oref),
+                 "theoretical_order": (("scene_name", "method_name", "metric"), theo),
+                 "richardson_error": (("scene_name", "method_name", "metric"), rich),
+                 "richardson_uncertainty": (("scene_name", "method_name", "metric"), unc)})
     data["convergence_order"] = (("scene_name", "method_name", "metric"), order)
     data["cross_difference"] = (("scene_name", "quantity", "method_name", "other_method"), np.full((2, 1, 3, 3), np.nan))
     ds = xr.Dataset(data, coords={"run": np.arange(n), "scene_name": np.array(scenes, dtype=object),
@@ -153,15 +142,15 @@ def _metrics(new: bool):
     return ds
 
 
-def _folder(tmp_path: Path, new: bool) -> Path:
+def _folder(tmp_path: Path) -> Path:
     """An output folder: study file, study.json, metrics.nc and one run file (green's finest on ek)."""
     import xarray as xr
-    out = tmp_path / ("new" if new else "legacy")
+    out = tmp_path / "out"
     out.mkdir()
     (tmp_path / "study.toml").write_text(STUDY)
     (out / "study.json").write_text(json.dumps({"study": "synthetic", "path": str(tmp_path / "study.toml"),
                                                 "argv": ["railtherm", "run"], "records": []}))
-    _metrics(new).to_netcdf(out / "metrics.nc", engine="netcdf4")
+    _metrics().to_netcdf(out / "metrics.nc", engine="netcdf4")
     run = out / "runs" / "ek" / "green"
     run.mkdir(parents=True)
     xr.Dataset({"max_surface_temperature": ("body", [149.1, 149.1])}, coords={"body": ["wheel", "rail"]},
@@ -170,12 +159,12 @@ def _folder(tmp_path: Path, new: bool) -> Path:
     return out
 
 
-@pytest.fixture(scope="module", params=[True, False], ids=["second-release", "first-release"])
-def report(request, tmp_path_factory):
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
     from railtherm.report import write_report
-    out = _folder(tmp_path_factory.mktemp("synthetic"), request.param)
+    out = _folder(tmp_path_factory.mktemp("synthetic"))
     paths = write_report(out)
-    return request.param, out, paths[0].read_text(), paths[1].read_text()
+    return out, paths[0].read_text(), paths[1].read_text()
 
 
 def _section(md: str, title: str) -> str:
@@ -197,7 +186,7 @@ def _scorecard(md: str) -> dict:
 
 
 def test_verdict_first(report):
-    _, _, md, html = report
+    _, md, html = report
     assert re.findall(r"^## (.*)$", md, flags=re.M)[0] == "Verdict"
     body = html.split("<body>", 1)[1]
     assert body.index("<h2") == body.index('<h2 id="verdict">')
@@ -205,7 +194,7 @@ def test_verdict_first(report):
 
 def test_scorecard_cheapest_ok_level(report):
     """fipy on ek: level 0 is inaccurate, levels 1 and 2 are ok and level 2 is the cheaper one."""
-    _, _, md, html = report
+    _, md, html = report
     card = _scorecard(md)
     assert card[("ek", "fipy")] == "ok · 0.40 % · 0.40 s · level 2"
     assert card[("ek", "green")] == "ok · 0.40 % · 1.0 ms · level 0"
@@ -217,9 +206,7 @@ def test_scorecard_cheapest_ok_level(report):
 
 
 def test_second_release_columns(report):
-    new, _, md, _ = report
-    if not new:
-        pytest.skip("second release only")
+    _, md, _ = report
     card = _scorecard(md)
     assert card[("ek", "fem")] == "refused (validity)" and card[("strip", "green")] == "failed (timeout)"
     assert "Richardson ≈0.30 %" in card[("strip", "fem")]
@@ -233,11 +220,10 @@ def test_second_release_columns(report):
 
 
 def test_refusals_are_one_line_per_reason(report):
-    new, _, md, _ = report
+    _, md, _ = report
     ek = _section(md, "1. Scene `ek`")
-    kind = " (validity)" if new else ""
-    assert f"- **fem refused levels 0–2**{kind}: {FEM_ELLIPSE}" in ek
-    assert f"- **fipy refused level 3**{' (budget)' if new else ''}: {FIPY_BUDGET}" in ek
+    assert f"- **fem refused levels 0–2** (validity): {FEM_ELLIPSE}" in ek
+    assert f"- **fipy refused level 3** (budget): {FIPY_BUDGET}" in ek
     assert ek.count(FEM_ELLIPSE) == 1
     strip = _section(md, "2. Scene `strip`")
     assert "**green failed level 0**" in strip and "timed out after 120 s" in strip
@@ -245,7 +231,7 @@ def test_refusals_are_one_line_per_reason(report):
 
 
 def test_all_zero_and_missing_columns_dropped(report):
-    _, _, md, _ = report
+    _, md, _ = report
     ek = _section(md, "1. Scene `ek`")
     table = next(line for line in ek.splitlines() if line.startswith("| method | level |"))
     assert "err max T [%]" in table and "err Fx" not in table and "err p L2" not in table
@@ -254,7 +240,7 @@ def test_all_zero_and_missing_columns_dropped(report):
 
 
 def test_published_value_printed_exactly(report):
-    _, _, md, _ = report
+    _, md, _ = report
     ek = _section(md, "1. Scene `ek`")
     row = next(line for line in ek.splitlines() if line.startswith("| `max_surface_temperature` |"))
     cells = [c.strip() for c in row.strip("|").split("|")]
@@ -263,7 +249,7 @@ def test_published_value_printed_exactly(report):
 
 
 def test_findings(report):
-    _, _, md, _ = report
+    _, md, _ = report
     verdict = _section(md, "Verdict")
     findings = verdict.split("### Key findings")[1].split("\n\n")[1]
     items = [line for line in findings.splitlines() if line.startswith("- ")]
@@ -271,19 +257,6 @@ def test_findings(report):
     assert any(i.startswith("- 1 run failed: green on `strip`") for i in items)
     assert any("fem is unverified on `strip`" in i for i in items)
     assert any("green reaches 0.40 % error in 1.0 ms; fipy needs" in i for i in items)
-
-
-def test_legacy_status_of_self_referenced_runs(tmp_path):
-    """First-release metrics: fem's 'ok' against its own finest level is shown as unverified."""
-    from railtherm.report.load import load
-    data = load(_folder(tmp_path, new=False))
-    fem = [r for r in data.runs if r.scene == "strip" and r.method == "fem"]
-    assert {r.status for r in fem} == {"unverified"}
-    green = [r for r in data.runs if r.scene == "ek" and r.method == "green"]
-    assert {r.status for r in green} == {"ok"}
-    assert green[0].references["max_surface_temperature"] == "analytic:moving-source"
-    assert green[0].headline_error == pytest.approx(0.004)
-    assert data.memory_label == "peak traced memory"
 
 
 def test_method_colours():
@@ -324,7 +297,7 @@ def test_number_formats():
 def test_report_imports_no_physics(tmp_path):
     """The report is a pure reader: writing one imports neither railtherm.analysis.analytic, railtherm.references
     nor any stage model beyond what `import railtherm` itself loads."""
-    out = _folder(tmp_path, new=True)
+    out = _folder(tmp_path)
     code = textwrap.dedent(f"""
         import sys
         import railtherm
@@ -362,8 +335,7 @@ def _reference_data(status_kalker: str = "inaccurate"):
             runs.append(Run(s, "green", lv, "inaccurate", wall_time=t / 100, headline_error=0.08,
                             headline_reference="method:kalker"))
     return StudyData(out=Path("."), name="x", tolerance=0.05, runs=runs, scenes=list(info), methods=["green", "kalker"],
-                     levels=[0, 1, 2], info={}, study=None, scene=info, orders={}, cross={}, curves=None,
-                     memory_label="", legacy=False)
+                     levels=[0, 1, 2], info={}, study=None, scene=info, orders={}, cross={}, curves=None)
 
 
 @pytest.mark.parametrize("status", ["inaccurate", "ok"])
@@ -453,7 +425,7 @@ def _ladder_data(errors, stages=None, signed=None, scenes=("ek-exact",), referen
                                 headline_reference="" if m == reference else f"method:{reference}"))
     data = StudyData(out=Path("."), name="x", tolerance=0.05, runs=runs, scenes=list(scenes), methods=methods,
                      levels=list(range(len(errors))), info={}, study=None, scene=info, orders={}, cross={},
-                     curves=None, memory_label="", legacy=False)
+                     curves=None)
     if stages:
         data.stages = lambda sc, m: stages[m]
     if signed is not None:

@@ -92,7 +92,7 @@ def _fake_data(tmp_path) -> StudyData:
         files[name, "hertz", 0] = _result(-0.1 * shift * 1e3, th)
     data = StudyData(out=tmp_path, name="fake", tolerance=0.05, runs=runs, scenes=[f[0] for f in FAKE],
                      methods=["hertz", "kalker"], levels=[0], info={}, study=None, scene=info, orders={}, cross={},
-                     curves=None, memory_label="", legacy=False)
+                     curves=None)
     data._files.update(files)
     return data
 

@@ -133,10 +133,6 @@ def _run_items(data: StudyData) -> list[str]:
     argv = info.get("argv")
     if argv:
         items.append("Command line of the run: `" + " ".join(shlex.quote(str(a)) for a in argv) + "`")
-    if data.legacy:
-        items.append("metrics.nc of the first release (no per-metric references): each error's reference is read "
-                     "from the run's reference text, and runs compared with nothing independent are shown as "
-                     "unverified")
     return items
 
 

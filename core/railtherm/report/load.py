@@ -2,12 +2,8 @@
 files' attributes and ``references.nc``, all through :mod:`railtherm.output.store` (the output folder's owner).
 The report is a pure reader: it computes no physics.
 
-``metrics.nc`` is read as ``docs/verdicts.md`` describes it; every column of the second release
-(``reason_kind``, ``wall_time_median``, ``timing_runs``, ``peak_rss``, ``reference_<metric>``,
-``energy_balance``, ``headline_error``, per-scene ``headline`` ... ) is optional. Without
-``reference_<metric>`` (metrics of the first release) the reference of each error is read from the
-run's combined ``reference`` text, and a run whose errors are all against its own finest level is
-shown as ``unverified``, as the second release defines it.
+``metrics.nc`` is read as ``docs/verdicts.md`` describes it (one layout: each error with its own
+``reference_<metric>``); a column a study did not produce is read as missing (NaN or "").
 """
 from __future__ import annotations
 
@@ -19,14 +15,9 @@ from pathlib import Path
 import numpy as np
 
 from ..output import store
+from ..output.store import RESULT_STATUSES   # statuses of runs that produced a result
 
-__all__ = ["HEADLINE_ORDER", "RESULT_STATUSES", "Run", "Order", "SceneInfo", "StudyData", "load"]
-
-#: the quantity a verdict is given on: the first of these that the scene asks for (docs/verdicts.md)
-HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
-                  "semi_axis_a", "frictional_power")
-#: statuses of runs that produced a result
-from ..output.store import RESULT_STATUSES, STATUSES
+__all__ = ["RESULT_STATUSES", "Run", "Order", "SceneInfo", "StudyData", "load"]
 
 
 @dataclass
@@ -100,8 +91,7 @@ class StudyData:
     orders: dict[str, list[Order]]
     cross: dict[str, dict]
     curves: dict | None
-    memory_label: str
-    legacy: bool
+    memory_label: str = "peak RSS"   # metrics.nc's peak_rss: the peak resident set size of the run
     notes: list[str] = field(default_factory=list)
     _files: dict = field(default_factory=dict, repr=False)
     _attrs: dict = field(default_factory=dict, repr=False)
@@ -194,37 +184,6 @@ def _sweeps(out: Path, names, scenes_obj: dict, info: dict) -> dict:
     return out_sweeps
 
 
-# -- legacy (first release) metrics: reference of each error from the combined text ------------------
-_LEGACY_ANALYTIC = {  # words of the combined reference text -> metrics that reference gives
-    "Hertz": ("max_pressure", "semi_axis_a", "pressure_l2", "frictional_power"),
-    "Carter": ("creep_force_x",),
-    "full sliding": ("creep_force_x", "frictional_power"),
-    "moving surface source": ("max_surface_temperature", "mean_contact_temperature", "surface_temperature_l2",
-                              "frictional_power"),
-    "Jaeger": ("max_surface_temperature", "mean_contact_temperature", "surface_temperature_l2",
-               "frictional_power"),
-}
-
-
-_LEGACY_NAME = {"Hertz": "hertz", "Carter": "carter", "full sliding": "full-sliding",
-                "moving surface source": "moving-source", "Jaeger": "jaeger"}
-
-
-def _legacy_references(text: str, method: str, metrics) -> dict[str, str]:
-    import re
-    out = {}
-    fallback = ""
-    for part in (p.strip() for p in text.split(";")):
-        m = re.match(r"finest level of (\S+)", part) or re.match(r"(\S+) level \d+", part)
-        if m:
-            fallback = "self:finest" if m.group(1) == method else f"method:{m.group(1)}"
-    for met in metrics:
-        ref = next((f"analytic:{_LEGACY_NAME[word]}" for word, mets in _LEGACY_ANALYTIC.items()
-                    if word in text and met in mets), "")
-        out[met] = ref or fallback
-    return out
-
-
 def independent(reference: str) -> bool:
     """True for an error against something other than the run's own method (analytic or another method)."""
     return bool(reference) and not reference.startswith("self")
@@ -235,7 +194,7 @@ def load_metrics(out: Path):
     return store.read_metrics(out)
 
 
-def _runs(m, metrics: list[str], legacy: bool) -> list[Run]:
+def _runs(m, metrics: list[str]) -> list[Run]:
     n = m.sizes.get("run", 0)
 
     def col(k, default=math.nan):
@@ -244,11 +203,9 @@ def _runs(m, metrics: list[str], legacy: bool) -> list[Run]:
     scene, method, status, level = col("scene"), col("method"), col("status"), col("level", 0)
     message, reason = col("message", ""), col("reason_kind", "")
     wall, median, nruns = col("wall_time"), col("wall_time_median"), col("timing_runs")
-    mem = col("peak_rss") if "peak_rss" in m else col("peak_memory")
-    energy = col("energy_balance") if "energy_balance" in m else col("heat_balance")
+    mem, energy = col("peak_rss"), col("energy_balance")
     energy_ref = col("energy_reference", "")
     h_err, h_ref = col("headline_error"), col("headline_reference", "")
-    legacy_ref = col("reference", "")
     errs = {k: col(f"error_{k}") for k in metrics}
     refs = {k: col(f"reference_{k}", "") for k in metrics}
     signs = {k: m[f"signed_error_{k}"].values for k in metrics if f"signed_error_{k}" in m}
@@ -257,10 +214,7 @@ def _runs(m, metrics: list[str], legacy: bool) -> list[Run]:
     for i in range(n):
         # inf is kept: a value that is not finite where its reference is fails the metric (docs/verdicts.md)
         errors = {k: _float(v[i]) for k, v in errs.items() if not math.isnan(_float(v[i]))}
-        if legacy:
-            references = {k: v for k, v in _legacy_references(_str(legacy_ref[i]), str(method[i]), errors).items()}
-        else:
-            references = {k: _str(refs[k][i]) for k in errors}
+        references = {k: _str(refs[k][i]) for k in errors}
         runs.append(Run(str(scene[i]), str(method[i]), int(level[i]), str(status[i]), _str(message[i]),
                         _str(reason[i]), _float(wall[i]), _float(median[i]), _float(nruns[i]), _float(mem[i]),
                         errors, references, _float(energy[i]), _str(energy_ref[i]), _float(h_err[i]),
@@ -392,14 +346,7 @@ def load(out, study=None) -> StudyData:
         if note:
             notes.append(note)
     metrics = [k[len("error_"):] for k in m.data_vars if k.startswith("error_")]
-    legacy = not any(k.startswith("reference_") for k in m.data_vars)
-    runs = _runs(m, metrics, legacy)
-    if legacy:  # first-release metrics: "ok" against nothing independent is unverified (docs/verdicts.md)
-        for r in runs:
-            if r.status == "ok" and not any(independent(r.references.get(k, "")) for k in r.errors):
-                r.status = "unverified"
-                r.message = r.message or "no independent reference: errors only against its own finest level"
-    memory_label = "peak RSS" if "peak_rss" in m else "peak traced memory"
+    runs = _runs(m, metrics)
 
     scenes_obj = {s.name: s for s in study.scenes} if study is not None else {}
     names = list(scenes_obj)
@@ -424,16 +371,7 @@ def load(out, study=None) -> StudyData:
                 da = _per_scene(m, var, nm)
                 if da is not None:
                     si.analytic[var[len("analytic_"):]] = np.asarray(da.values, float)
-        if not si.headline:
-            si.headline = _legacy_headline(sc, [r for r in runs if r.scene == nm])
         scene_info[nm] = si
-    if not any(h in m for h in ("headline_error",)):  # derive the headline error of each run
-        for r in runs:
-            h = scene_info[r.scene].headline if r.scene in scene_info else ""
-            ref = r.references.get(h, "")
-            if h and independent(ref) and h in r.errors:
-                r.headline_error, r.headline_reference = r.errors[h], ref
-
     curves, note = _load_curves(out)
     if note:
         notes.append(note)
@@ -443,15 +381,5 @@ def load(out, study=None) -> StudyData:
         tolerance=tol, runs=runs, scenes=names, methods=sorted({r.method for r in runs}),
         levels=sorted({r.level for r in runs}), info=info, study=study, scene=scene_info,
         orders={nm: _orders(m, nm) for nm in names}, cross={nm: _cross(m, nm) for nm in names},
-        curves=curves, memory_label=memory_label, legacy=legacy, notes=notes)
+        curves=curves, notes=notes)
 
-
-def _legacy_headline(sc, runs: list[Run]) -> str:
-    outputs = set(getattr(sc, "outputs", ()) or ())
-    for q in HEADLINE_ORDER:
-        if q in outputs:
-            return q
-    for q in HEADLINE_ORDER:
-        if any(q in r.errors for r in runs):
-            return q
-    return ""
