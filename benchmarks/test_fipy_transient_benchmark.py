@@ -3,7 +3,7 @@ of the same method and level for fipy; the 1,000-pass case <= 20x one pass": a H
 a = 6 mm) heating the rail at 30 m/s, level 2, through ``railtherm.solve(scene, "fipy", level=2)``: the
 steady scene (FiPy's moving-frame steady section, default outputs) against the transient scene with 1, 10
 and 1,000 passes 83 ms apart (history outputs at the surface and 0.1, 0.5 mm; the constant schedule
-superposes one pass's response, :func:`railtherm.physics.section_stepping.superposed_history`), and the
+superposes one pass's response, :func:`railtherm.solving.section_stepping.superposed_history`), and the
 study's 8-pass line contact (studies/transient.toml, "train-8-passes-line") against its steady scene.
 
 Each case is timed interleaved with the others (best and median in one process; the 1,000-pass case

@@ -276,7 +276,7 @@ FUNCTION_IMPORTS_TO_MOVE: dict[str, int] = {
     "plugins/railtherm_fem/condense.py": 1, "plugins/railtherm_fem/elastic.py": 3,
     "plugins/railtherm_fem/mesh.py": 1, "plugins/railtherm_fem/plugin.py": 1,
     "plugins/railtherm_fem/thermal.py": 4, "plugins/railtherm_fipy/history.py": 1,
-    "plugins/railtherm_fipy/model.py": 6, "plugins/railtherm_fipy/plugin.py": 1,
+    "plugins/railtherm_fipy/model.py": 5, "plugins/railtherm_fipy/plugin.py": 1,
     "plugins/railtherm_fipy/solvers.py": 8, "plugins/railtherm_fipy/steady.py": 2,
     "plugins/railtherm_fipy/transient.py": 1, "plugins/railtherm_green/kernel.py": 1,
     "plugins/railtherm_green/plugin.py": 1, "plugins/railtherm_green/steady.py": 1,

@@ -22,7 +22,7 @@ import railtherm
 from railtherm import Refused, SceneError
 from railtherm.input.materials import Material
 from railtherm.physics import pass_peaks_and_residual
-from railtherm.physics.section_stepping import section_history
+from railtherm.solving.section_stepping import section_history
 from railtherm.references.transient import MovingSource, Schedule, pass_summary, temperature_history
 from railtherm_fem.history import assemble_section, fem_block, hat_integrals
 from railtherm_fem.thermal import _fe_1d, hat_load

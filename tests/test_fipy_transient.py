@@ -229,7 +229,7 @@ def test_section_history_converges_at_second_order():
     residual 0.052, 0.014, 0.004 %; level 0 is pre-asymptotic at 0.5 mm, 0.70 %)."""
     from railtherm.input.materials import Material
     from railtherm.physics import pass_peaks_and_residual
-    from railtherm.physics.section_stepping import section_history
+    from railtherm.solving.section_stepping import section_history
     from railtherm.references.transient import MovingSource, Schedule, pass_summary
     from railtherm_fipy.history import fipy_block
     steel = Material()
@@ -256,7 +256,7 @@ def test_scene_taking_body_histories_is_the_parts_taking_form():
     """section_stepping.body_histories(scene, grid, ...) hands the parts it reads (scene.transient,
     scene.convection, grid.x_edges, grid.y_edges) to histories_at_section: the same histories, bit for bit,
     on fipy's section (Hertz band, 2 passes 10 ms apart, level 0)."""
-    from railtherm.physics.section_stepping import body_histories, histories_at_section
+    from railtherm.solving.section_stepping import body_histories, histories_at_section
     from railtherm_fipy.history import fipy_block
     a, v, q = 6e-3, 30.0, 1e8
     xe = np.linspace(-a, a, 33)

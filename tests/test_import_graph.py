@@ -21,12 +21,6 @@ CORE = Path(railtherm.__file__).parent
 RANKS = {"contract": 0, "_version": 0, "references": 1, "physics": 1, "input": 2, "models": 2, "solving": 3,
          "output": 4, "analysis": 5, "report": 6, "run": 7, "top": 8}
 LAYERS = tuple(RANKS)
-#: imports that point up or out of physics and wait for a move in files of concurrent work; the list only
-#: shrinks (the tests fail on an entry that no longer occurs):
-#: * physics.section_stepping reads the schedule of references.transient.
-UPWARD_TO_MOVE = frozenset({
-    "railtherm.physics.section_stepping -> railtherm.references.transient",
-})
 #: the flat module paths of 0.1 (removed: each concept has one home in its layer)
 OLD_PATHS = {f"railtherm.{n}" for n in ("errors", "grid", "hookspec", "stages", "schema", "options", "scene", "study",
                                         "materials", "store", "plugins", "pipeline", "metrics", "results",
@@ -80,9 +74,7 @@ def test_the_layer_check_can_fail():
 
 def test_layers_import_one_way():
     bad = _edges_breaking_the_layers(import_graph())
-    assert sorted(set(bad) - UPWARD_TO_MOVE) == [], sorted(set(bad) - UPWARD_TO_MOVE)
-    assert sorted(UPWARD_TO_MOVE - set(bad)) == [], "remove from UPWARD_TO_MOVE (moved): " + str(
-        sorted(UPWARD_TO_MOVE - set(bad)))
+    assert bad == [], bad
 
 
 def test_contract_imports_nothing_of_railtherm_outside_it():

@@ -24,9 +24,9 @@ import numpy as np
 from scipy.sparse import diags, csr_matrix
 from scipy.sparse.linalg import splu
 
+from railtherm import heating_scheme as core_heating_scheme
+from railtherm import histories_at_section, section_history, superposed_history, theta_steps
 from railtherm.physics import thermal_scales
-from railtherm.physics import section_stepping as _stepping
-from railtherm.physics.section_stepping import section_history, superposed_history
 
 from .layout import depth_nodes, rail_nodes
 
@@ -375,7 +375,7 @@ class _Stepper:
             for arr in arrivals:
                 p[top] += self.src.power(t - arr)
             return p * float(self.factor(t)) if len(arrivals) else p
-        T, self.t, out, times = _stepping.theta_steps(
+        T, self.t, out, times = theta_steps(
             self.T.reshape(-1), self.t, dt, m, power, self.implicit.step,
             lambda T: T.reshape(nx, nz)[b.i0, b.depth_index], b.depth_index.size, theta, start)
         self.T = T.reshape(nx, nz)
@@ -385,13 +385,13 @@ class _Stepper:
 
 def heating_scheme(requested: str, dt_stab: float, dt_source: float,
                    implicit_cost: float = IMPLICIT_COST_FACTOR) -> tuple[str, float, str]:
-    """:func:`railtherm.physics.section_stepping.heating_scheme` with the 2-D block's implicit cost
+    """:func:`railtherm.solving.section_stepping.heating_scheme` with the 2-D block's implicit cost
     (a Crank-Nicolson LU solve: :data:`IMPLICIT_COST_FACTOR` explicit node updates) by default."""
-    return _stepping.heating_scheme(requested, dt_stab, dt_source, implicit_cost)
+    return core_heating_scheme(requested, dt_stab, dt_source, implicit_cost)
 
 
 def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, requested: str = "auto"):
-    """:func:`railtherm.physics.section_stepping.body_histories` on fdm's blocks: the 2-D section block of a
+    """:func:`railtherm.solving.section_stepping.body_histories` on fdm's blocks: the 2-D section block of a
     line contact, the 3-D block (:mod:`.history3d`) of a patch."""
     def make_block(v, m, convection, duration, z):
         args = (v, m.conductivity, m.density * m.specific_heat, convection, level, duration, z)
@@ -401,6 +401,6 @@ def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, reques
         return ellipse_block(float(grid.a), float(grid.b), *args)
     what = ("finite-volume block around the section (2-D for a line contact, 3-D for a patch), explicit while a "
             "source is over it and implicit between passes, chosen by cost")
-    return _stepping.histories_at_section(scene.transient, scene.convection, grid.x_edges, grid.y_edges, fluxes,
-                                          speeds, bodies, bulk, level, requested, make_block, what,
-                                          "conduction along the rail beyond the block's ends; the wheel's curvature")
+    return histories_at_section(scene.transient, scene.convection, grid.x_edges, grid.y_edges, fluxes,
+                                speeds, bodies, bulk, level, requested, make_block, what,
+                                "conduction along the rail beyond the block's ends; the wheel's curvature")

@@ -20,8 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.sparse import csr_matrix, diags
 
+from railtherm import theta_steps
 from railtherm.physics import thermal_scales
-from railtherm.physics.section_stepping import theta_steps
 
 from .layout import depth_nodes, rail_nodes
 

@@ -4,7 +4,7 @@ The heat equation ``rho c dT/dt = lambda laplace T`` on a block around the fixed
 finite elements on a tensor mesh assembled by scikit-fem (consistent mass M, stiffness K, convection on the
 surface), T = 0 on the deep face, the block's ends insulated; the band's piecewise-constant flux enters the
 surface nodes as its exact integrals against the hat functions. Core's driver
-(:mod:`railtherm.physics.section_stepping`) steps the passes: Crank-Nicolson steps of
+(:mod:`railtherm.solving.section_stepping`) steps the passes: Crank-Nicolson steps of
 ``M dT/dt = -K T + P(t)`` at the section's step h/V while the source is over the block, a ladder of growing
 steps between the passes, one sparse LU per step size reused by every step of that size. Nodes: spacing
 h = 2a/32/2**level along x over the section and four cells either side, growing by ``1.3 ** (1 / 2**level)``
@@ -21,9 +21,8 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.linalg import splu
 from skfem import Basis, BilinearForm, ElementQuad1, FacetBasis, MeshQuad, asm
 
-from railtherm import Refused, SceneError
+from railtherm import ImplicitSectionStepper, Refused, SceneError, body_histories
 from railtherm.physics import thermal_scales
-from railtherm.physics.section_stepping import ImplicitSectionStepper, body_histories
 
 __all__ = ["FemBlock", "fem_block", "hat_integrals", "section_histories", "IMPLICIT_COST"]
 
@@ -182,7 +181,7 @@ def fem_block(a: float, speed: float, conductivity: float, capacity: float, conv
 
 class _FemStepper(ImplicitSectionStepper):
     """Crank-Nicolson (and backward-Euler start) steps of the FE section (core's
-    :class:`~railtherm.physics.section_stepping.ImplicitSectionStepper`): consistent mass, each step loaded with
+    :class:`~railtherm.solving.section_stepping.ImplicitSectionStepper`): consistent mass, each step loaded with
     its mean heat input."""
 
     heating_cost = IMPLICIT_COST
@@ -239,7 +238,7 @@ class _FemStepper(ImplicitSectionStepper):
 
 def section_histories(scene, source, level: int):
     """The pass histories of both bodies under one pass's ``source`` on the FE sections of :func:`fem_block`,
-    stepped by core's driver (:func:`railtherm.physics.section_stepping.body_histories`: Crank-Nicolson, one
+    stepped by core's driver (:func:`railtherm.solving.section_stepping.body_histories`: Crank-Nicolson, one
     pass's response superposed over the passes under a constant schedule): (TransientHistory, diagnostics,
     the source's grid).
 

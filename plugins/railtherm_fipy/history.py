@@ -3,7 +3,7 @@
 FiPy's cell-centred finite volumes (``TransientTerm(rho c) == DiffusionTerm(lambda)`` on a ``Grid2D``, the
 deep face at theta = 0, the rail's ends and the surface insulated, the band's flux entering the surface
 cells) give the capacity C [J/(K m)] and conductance K [W/(K m)] once; the passes are stepped by core's
-driver (:mod:`railtherm.physics.section_stepping`): Crank-Nicolson steps of ``C dT/dt = -K T + P(t)``
+driver (:mod:`railtherm.solving.section_stepping`): Crank-Nicolson steps of ``C dT/dt = -K T + P(t)``
 with one sparse LU per step size (FiPy's own ``eq.solve`` rebuilds the matrix every step, ~85 ms for
 1,600 cells), the source at the section's step h/V while it is over the block, a ladder of growing steps
 between the passes. Cells: width h = 2a/32/2**level along x over the section and four cells either side,
@@ -19,8 +19,8 @@ import numpy as np
 from scipy.sparse import csr_matrix, diags
 from scipy.sparse.linalg import splu
 
+from railtherm import ImplicitSectionStepper
 from railtherm.physics import thermal_scales
-from railtherm.physics.section_stepping import ImplicitSectionStepper
 
 __all__ = ["FipyBlock", "fipy_block", "IMPLICIT_COST"]
 
@@ -108,7 +108,7 @@ def fipy_block(a: float, speed: float, conductivity: float, capacity: float, con
 
 class _FipyStepper(ImplicitSectionStepper):
     """Crank-Nicolson (and backward-Euler start) steps of the FiPy operator (core's
-    :class:`~railtherm.physics.section_stepping.ImplicitSectionStepper`): lumped cell capacities, each step
+    :class:`~railtherm.solving.section_stepping.ImplicitSectionStepper`): lumped cell capacities, each step
     loaded with the theta-weighted heat input of its ends."""
 
     heating_cost = IMPLICIT_COST

@@ -23,7 +23,7 @@ import numpy as np
 from dataclasses import dataclass, field, replace
 
 from railtherm import (BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel, asks_history,
-                       with_history)
+                       histories_at_section, with_history)
 from railtherm.physics import (embed_field, field_grid, lumped_wheel, superposition_limits, thermal_scales,
                                with_thermal_trace)
 from railtherm.physics.thermal_trace import TRACE_OUTPUTS
@@ -251,9 +251,8 @@ class FipyTemperature(TemperatureModel):
 
     def _histories(self, scene, source, level, opts):
         """The pass histories of both bodies on the FiPy section (:mod:`railtherm_fipy.history`, stepped by
-        :func:`railtherm.physics.section_stepping.histories_at_section`), with the steady one-pass fields of the
+        :func:`railtherm.solving.section_stepping.histories_at_section`), with the steady one-pass fields of the
         moving frame when the scene asks them."""
-        from railtherm.physics.section_stepping import histories_at_section
         from .history import fipy_block
         grid = source.grid
         if not grid.line:

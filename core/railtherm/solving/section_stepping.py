@@ -20,11 +20,11 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..contract.transient import TransientHistory
+from ..physics.pass_history import pass_peaks_and_residual, pass_time_above
 from ..references.transient import shifted_sum
-from .pass_history import pass_peaks_and_residual, pass_time_above
 
 __all__ = ["heating_scheme", "cooling_ladder", "schedule_factor", "section_history", "superposed_history",
-           "histories_at_section", "body_histories", "theta_steps"]
+           "histories_at_section", "body_histories", "theta_steps", "ImplicitSectionStepper"]
 
 
 def schedule_factor(tr):
