@@ -13,7 +13,6 @@ from ..contract.options import Option
 from ..contract.stages import NormalContactModel
 from ..physics.elastic import contact_modulus
 from ..physics.hertz import hertz_patch
-from ..references.hertz import hertz_from_curvatures, hertz_from_penetration, hertz_from_semi_axes, hertz_line
 
 __all__ = ["HertzContact", "hertz_geometry", "scene_semi_axis"]
 
@@ -67,6 +66,9 @@ def hertz_geometry(wheel, rail, shape: str, normal_force: float | None, *, penet
     ----------
     .. [1] K.L. Johnson, Contact Mechanics, 1985, sections 4.2-4.3. doi:10.1017/CBO9781139171731
     """
+    # here, not at the top: the closed forms load scipy.optimize (about 1 s), which the first Hertz patch
+    # needs but registering core's models in a plugin host must not pay
+    from ..references.hertz import hertz_from_curvatures, hertz_from_penetration, hertz_from_semi_axes, hertz_line
     e_star = contact_modulus(wheel, rail)
     if normal_force is not None and normal_force <= 0.0:
         raise Refused(f"scene {scene_name!r}: normal_force = {normal_force!r} N gives no contact patch "
