@@ -266,7 +266,7 @@ FUNCTION_IMPORTS_TO_MOVE: dict[str, int] = {
     "core/railtherm/report/sweep_maps.py": 1, "core/railtherm/report/verdict.py": 3,
     "core/railtherm/run/analysis_phase.py": 4, "core/railtherm/run/executors.py": 21,
     "core/railtherm/run/runner.py": 24, "core/railtherm/run/timelimit.py": 1, "core/railtherm/run/timing.py": 3,
-    "core/railtherm/solving/pipeline.py": 5, "core/railtherm/solving/plugins.py": 5,
+    "core/railtherm/solving/pipeline.py": 5,
     "core/railtherm/solving/wheelset_patches.py": 1, "plugins/railtherm_fastsim/fastsim_line.py": 3,
     "plugins/railtherm_fastsim/kinematics.py": 1, "plugins/railtherm_fastsim/simplified_theory.py": 1,
     "plugins/railtherm_fastsim/tangential.py": 1, "plugins/railtherm_fastsim/wheelset_normal.py": 2,

@@ -7,9 +7,9 @@ parameters of the study become coordinates along ``scene``; ``unstack=True`` tur
 into one dimension per swept parameter.
 
 A run file names its swept study keys in one global attribute, ``sweep``: a JSON object of the dotted
-study keys and their values (``{"creepage.longitudinal": -0.001}``); :func:`sweep_of` decodes it (and the
-``sweep_<key>`` attributes written by railtherm 0.1, whose dots were lost, for one release). Files are read with netCDF4-python directly (about 2 ms per
-run file, 20 s for a sweep of 10 000 scenes; xarray's ``open_dataset`` takes five times longer).
+study keys and their values (``{"creepage.longitudinal": -0.001}``); :func:`sweep_of` decodes it. Files
+are read with netCDF4-python directly (about 2 ms per run file, 20 s for a sweep of 10 000 scenes;
+xarray's ``open_dataset`` takes five times longer).
 """
 from __future__ import annotations
 
@@ -20,12 +20,11 @@ import numpy as np
 
 from ..output import store
 # the sweep attribute is part of the run file's format: railtherm.output.store owns it (importable from here)
-from ..output.store import SWEEP_ATTR, _dotted, encode_sweep, run_sweeps, sweep_of  # noqa: F401
+from ..output.store import SWEEP_ATTR, encode_sweep, run_sweeps, sweep_of  # noqa: F401
 
 def _sweep_coord_attrs(key: str) -> dict:
     """units (UDUNITS-2, from the one table of study keys) and long_name of a swept study key."""
     from ..input.scene import key_units
-    key = _dotted(key)
     return {"units": key_units(key) or "1", "long_name": f"swept study key '{key}'"}
 
 

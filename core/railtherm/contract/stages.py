@@ -182,9 +182,8 @@ class Method:
     For each stage the chain lists candidate model names; the first candidate whose
     declared capabilities and :meth:`StageModel.supports` accept the scene runs. A coupled model is named in each stage
     it covers. A chain without a ``heat_source`` stage gets core's ``frictional`` (traction x slip)
-    when it has a tangential and a temperature stage. A plugin API 1 chain (stage ``contact``; a
-    tangential model such as ``full-sliding`` listed under ``heat_source``) is translated by the
-    plugin host, with a warning, for one release. ``default_cells`` sets the surface grid's cells
+    when it has a tangential and a temperature stage; the plugin host refuses a chain naming any
+    other stage (such as plugin API 1's ``contact``). ``default_cells`` sets the surface grid's cells
     along 2a at level 0.
 
     ``orders`` declares the theoretical convergence order of the method per error metric

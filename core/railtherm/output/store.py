@@ -25,7 +25,6 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from ..contract.schema import SWEEP_ATTR, encode_sweep
-from ..input.scene import SCENE_KEYS, Table
 from . import zarr_store
 
 #: run statuses, in the order reports list them (docs/verdicts.md): the one vocabulary
@@ -338,36 +337,26 @@ def read_references(path) -> dict:
 # -- the sweep attribute of a run file (written by the pipeline: railtherm.contract.schema.encode_sweep) ----
 
 
-def _dotted(key: str) -> str:
-    """The study key of a swept attribute name: ``creepage_longitudinal`` -> ``creepage.longitudinal``."""
-    if key in SCENE_KEYS or "." in key:
-        return key
-    for i, ch in enumerate(key):
-        if ch == "_":
-            head, rest = key[:i], key[i + 1:]
-            if isinstance(SCENE_KEYS.get(head), Table) and rest in SCENE_KEYS[head].keys:
-                return f"{head}.{rest}"
-    return key
-
-
 def sweep_of(attrs) -> dict:
-    """The sweep of a run from its global attributes: ``{dotted study key: value}``.
+    """The sweep of a run from its global attributes: ``{dotted study key: value}``, read from the JSON
+    attribute ``sweep`` ({} without one).
 
-    Reads the JSON attribute ``sweep``; files written by railtherm 0.1 carry ``sweep_<key>`` attributes
-    instead (dots replaced by underscores), decoded against the scene vocabulary.
+    Raises
+    ------
+    ValueError
+        The attribute is not a JSON object.
     """
     raw = attrs.get(SWEEP_ATTR) if hasattr(attrs, "get") else None
-    if raw is not None:
-        raw = raw.decode() if isinstance(raw, bytes) else str(raw)
-        try:
-            out = json.loads(raw)
-        except ValueError as exc:
-            raise ValueError(f"run attribute 'sweep' is not JSON ({raw!r}): {exc}") from None
-        if not isinstance(out, dict):
-            raise ValueError(f"run attribute 'sweep' is not a JSON object: {raw!r}")
-        return out
-    return {_dotted(k[len("sweep_"):]): (v.item() if hasattr(v, "item") else v)   # railtherm 0.1
-            for k, v in attrs.items() if k.startswith("sweep_")}
+    if raw is None:
+        return {}
+    raw = raw.decode() if isinstance(raw, bytes) else str(raw)
+    try:
+        out = json.loads(raw)
+    except ValueError as exc:
+        raise ValueError(f"run attribute 'sweep' is not JSON ({raw!r}): {exc}") from None
+    if not isinstance(out, dict):
+        raise ValueError(f"run attribute 'sweep' is not a JSON object: {raw!r}")
+    return out
 
 
 def run_sweeps(out) -> dict:

@@ -11,14 +11,15 @@ import importlib.metadata as md
 import os
 import warnings
 from dataclasses import dataclass, field
-from types import ModuleType
 from typing import Any, Iterable, Mapping
 
 import pluggy
 
+from .._version import __version__
 from ..contract import hookspec
-from ..contract.errors import PluginError
-from ..contract.stages import STAGES, CoupledModel, Method, StageModel
+from ..contract.errors import PluginError, SceneError
+from ..contract.stages import STAGES, Method, StageModel
+from ..models import core_plugin
 
 GROUP = "railtherm.plugins"
 DISABLE_ENV = "RAILTHERM_DISABLE_PLUGIN_AUTOLOAD"
@@ -64,8 +65,6 @@ class MethodInfo:
     plugin: str
     version: str
     models: tuple[ModelInfo, ...] = ()
-    #: how the host translated a plugin API 1 chain (empty for an API 2 chain)
-    api1: tuple[str, ...] = ()
 
     @property
     def name(self) -> str:
@@ -169,7 +168,14 @@ class PluginHost:
             self._problem(f"plugin {plugin!r}: method {m.name!r} is already registered by plugin "
                           f"{self.methods[m.name].plugin!r}; skipped")
             return
-        raw, api1 = self._api2_chain(plugin, m)
+        raw = {k: tuple(v) for k, v in dict(m.chain).items()}
+        unknown = sorted(set(raw) - set(STAGES))
+        if unknown:
+            self._problem(f"plugin {plugin!r}: method {m.name!r} names stages {unknown}; allowed {STAGES}; "
+                          "method skipped")
+            return
+        if "tangential" in raw and "temperature" in raw and "heat_source" not in raw:
+            raw["heat_source"] = ("frictional",)       # traction x slip, core's heat source
         chain = {}
         used = []
         for stage in STAGES:
@@ -192,40 +198,7 @@ class PluginHost:
             return
         method = Method(m.name, chain, m.description, m.default_cells, dict(getattr(m, "orders", {}) or {}))
         self.methods[m.name] = MethodInfo(method, plugin, self._versions.get(plugin, "0"),
-                                          tuple(self.models[n] for n in used), tuple(api1))
-
-    def _api2_chain(self, plugin: str, m: Method) -> tuple[dict, list[str]]:
-        """The method's chain in plugin API 2 stages, and what was translated (empty for API 2).
-
-        An API 1 chain (stage ``contact``; tangential models such as ``full-sliding`` or ``fastsim``
-        listed under ``heat_source``) is translated, with a warning, for one release: ``contact``
-        becomes ``normal`` and tangential models move to ``tangential``. A chain with tangential and
-        temperature stages but no heat source gets core's ``frictional`` (traction x slip).
-        """
-        chain = {k: tuple(v) for k, v in dict(m.chain).items()}
-        notes: list[str] = []
-        unknown = set(chain) - set(STAGES) - {"contact"}
-        if unknown:
-            self._problem(f"plugin {plugin!r}: method {m.name!r} names stages {sorted(unknown)}; allowed {STAGES}")
-        if "contact" in chain:
-            warnings.warn(f"plugin {plugin!r}: method {m.name!r} uses the plugin API 1 stage 'contact'; "
-                          "read as 'normal' (API 2 stages: normal, tangential, heat_source, temperature)",
-                          DeprecationWarning, stacklevel=2)
-            chain.setdefault("normal", chain.pop("contact"))
-            notes.append("stage 'contact' read as 'normal'")
-        heat = chain.get("heat_source", ())
-        moved = tuple(n for n in heat if n in self.models and "tangential" in self.models[n].stages
-                      and "heat_source" not in self.models[n].stages)
-        if moved:
-            warnings.warn(f"plugin {plugin!r}: method {m.name!r} lists tangential models {list(moved)} under "
-                          "'heat_source' (plugin API 1); moved to 'tangential', heat source 'frictional'",
-                          DeprecationWarning, stacklevel=2)
-            chain["tangential"] = tuple(dict.fromkeys(chain.get("tangential", ()) + moved))
-            chain["heat_source"] = tuple(n for n in heat if n not in moved) or ("frictional",)
-            notes.append(f"tangential models {list(moved)} moved from 'heat_source' to 'tangential'")
-        if "tangential" in chain and "temperature" in chain and "heat_source" not in chain:
-            chain["heat_source"] = ("frictional",)
-        return chain, notes
+                                          tuple(self.models[n] for n in used))
 
     # -- chains composed by a study or a caller ------------------------------------------
     def compose(self, chain: Mapping[str, Any], name: str | None = None, where: str = "method") -> MethodInfo:
@@ -248,7 +221,6 @@ class PluginHost:
             An unknown stage, a model that is not registered or does not implement its stage, an
             empty chain; the message names the key, the value and what is allowed.
         """
-        from ..contract.errors import SceneError
         chain = dict(chain)
         name = name or chain.pop("name", None)
         chain.pop("name", None)
@@ -277,8 +249,7 @@ class PluginHost:
         out = {s: out[s] for s in STAGES if s in out}
         name = name or "+".join(dict.fromkeys(n for names in out.values() for n in names[:1]))
         used = list(dict.fromkeys(n for names in out.values() for n in names))
-        from .._version import __version__ as version
-        return MethodInfo(Method(name, out, f"chain composed by the study: {out}"), "study", version,
+        return MethodInfo(Method(name, out, f"chain composed by the study: {out}"), "study", __version__,
                           tuple(self.models[n] for n in used))
 
     def resolve(self, method: "str | Mapping[str, Any]") -> MethodInfo:
@@ -292,7 +263,6 @@ class PluginHost:
         try:
             return self.methods[name]
         except KeyError:
-            from ..contract.errors import SceneError
             allowed = ", ".join(sorted(self.methods)) or "none"
             raise SceneError(f"unknown method {name!r}; installed methods: {allowed}"
                              + (f" (plugin problems: {'; '.join(self.problems)})" if self.problems else ""),
@@ -310,8 +280,7 @@ def new_host(plugins: Iterable[tuple[str, Any]] = (), *, autoload: bool | None =
     host = PluginHost(pm, strict=strict)
     plugins = list(plugins)
     host.extra = plugins  # how the host was built: executors rebuild it on workers
-    from ..models import core_plugin
-    host.add_plugin(core_plugin, "railtherm", _core_version())
+    host.add_plugin(core_plugin, "railtherm", __version__)
     if autoload is None:
         autoload = not os.environ.get(DISABLE_ENV)
     host.autoload = autoload
@@ -328,11 +297,6 @@ def new_host(plugins: Iterable[tuple[str, Any]] = (), *, autoload: bool | None =
     for name, obj in plugins:
         host.add_plugin(obj, name, getattr(obj, "__version__", "0"))
     return host.build()
-
-
-def _core_version() -> str:
-    from .._version import __version__
-    return __version__
 
 
 _HOST: PluginHost | None = None
