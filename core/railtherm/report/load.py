@@ -43,6 +43,10 @@ class Run:
     signed: dict = field(default_factory=dict)       # metric -> error with the sign of (value − reference)
     not_scored: dict = field(default_factory=dict)   # metric -> why it is not scored (its error is NaN)
     cooling_depth: float = math.nan                  # shallowest depth [m] at which the cooling rate is scored
+    #: a result with several patches: metric -> {patch: error [1]} (metrics.nc's patch_errors_<metric>, each
+    #: patch against the reference's same patch on its own scale) and the patch of the headline error (0: none)
+    patch_errors: dict = field(default_factory=dict)
+    headline_patch: int = 0
 
     @property
     def has_result(self) -> bool:
@@ -210,6 +214,8 @@ def _runs(m, metrics: list[str]) -> list[Run]:
     refs = {k: col(f"reference_{k}", "") for k in metrics}
     signs = {k: m[f"signed_error_{k}"].values for k in metrics if f"signed_error_{k}" in m}
     unscored, depth = col("not_scored", ""), col("cooling_rate_depth")
+    per_patch = {k: m[f"patch_errors_{k}"].values for k in metrics if f"patch_errors_{k}" in m}
+    hpatch = col("headline_patch", 0)
     runs = []
     for i in range(n):
         # inf is kept: a value that is not finite where its reference is fails the metric (docs/verdicts.md)
@@ -219,8 +225,20 @@ def _runs(m, metrics: list[str]) -> list[Run]:
                         _str(reason[i]), _float(wall[i]), _float(median[i]), _float(nruns[i]), _float(mem[i]),
                         errors, references, _float(energy[i]), _str(energy_ref[i]), _float(h_err[i]),
                         _str(h_ref[i]), {k: _float(v[i]) for k, v in signs.items() if not math.isnan(_float(v[i]))},
-                        not_scored_reasons(_str(unscored[i]), metrics), _float(depth[i])))
+                        not_scored_reasons(_str(unscored[i]), metrics), _float(depth[i]),
+                        {k: patch_errors(_str(v[i])) for k, v in per_patch.items() if _str(v[i])},
+                        int(_float(hpatch[i])) if math.isfinite(_float(hpatch[i])) else 0))
     return runs
+
+
+def patch_errors(text: str) -> dict[int, float]:
+    """metrics.nc's ``patch_errors_<metric>`` text ("1: 0.1047; 2: 0.01498") as {patch: error [1]}."""
+    out = {}
+    for part in text.split(";"):
+        k, sep, v = part.partition(":")
+        if sep:
+            out[int(k)] = _float(v)
+    return out
 
 
 def not_scored_reasons(text: str, metrics) -> dict[str, str]:
