@@ -20,8 +20,10 @@ import math
 
 import numpy as np
 
+from ..contract.errors import Refused
 from ..models.hertz import hertz_geometry
 from ..physics import body_speeds, scene_partition
+from ..references.carter import carter_2d
 
 _NAME = {"contact": "Hertz (elliptic integrals)", "carter": "Carter 2-D rolling",
          "ms": "moving surface source on a half-space (point-source superposition)",
@@ -80,10 +82,12 @@ def _surface_rise(scene, case, x, y, body):
     mat = scene.body(body)
     if share == 0.0 or q == 0.0:
         return np.zeros(np.broadcast(x, y if y is not None else x).shape)
+    # the exact temperatures import on first use: they load scipy and numba (about 1.3 s), which the callers
+    # that read only a scene's Hertz geometry or thermal case (reference curves, trace metrics) never need
     if b is None:
-        from ..references.jaeger import jaeger_band_temperature
+        from ..references.jaeger import jaeger_band_temperature  # scipy, as above
         return jaeger_band_temperature(x, np.zeros_like(x), a, speeds[body], mat, share * q, shape)
-    from ..references.moving_source import moving_source_temperature
+    from ..references.moving_source import moving_source_temperature  # numba, as above
     return moving_source_temperature(x, y, np.zeros_like(x), (a, b), speeds[body], mat, share * q, shape)
 
 
@@ -96,9 +100,9 @@ def _depth_rise(scene, case, x, z, body):
         return np.zeros(x.shape)
     mat = scene.body(body)
     if b is None:
-        from ..references.jaeger import jaeger_band_temperature
+        from ..references.jaeger import jaeger_band_temperature  # scipy: on first use, as in _surface_rise
         return jaeger_band_temperature(x, z, a, speeds[body], mat, share * q, shape)
-    from ..references.moving_source import moving_source_temperature
+    from ..references.moving_source import moving_source_temperature  # numba: on first use, as in _surface_rise
     return moving_source_temperature(x, np.zeros_like(x), z, (a, b), speeds[body], mat, share * q, shape,
                                      quad_points=12)
 
@@ -124,6 +128,7 @@ def _line_trace(f, a: float, v: float, thr: float, z: float, surface_kink: bool,
     surface (``surface_kink``) the exact cooling rate is infinite (the flux ends at the trailing edge): NaN.
     ``peak_only``: (peak, x_peak, NaN, NaN, NaN) without the cooling rate and the crossings.
     """
+    # scipy's spline and root finders (about 1 s to import) load with the first exact trace
     from scipy.interpolate import CubicSpline
     from scipy.optimize import brentq, minimize_scalar
     length = 6.0 * a
@@ -191,7 +196,7 @@ def _heated_depth(peak, a: float) -> float:
     doubling until it brackets. The search does not depend on the depths a run asked for, so every run of
     a scene gets the same heated depth and it is computed once per scene (:func:`trace_reference`).
     """
-    from scipy.optimize import brentq
+    from scipy.optimize import brentq  # about 1 s to import: with the first heated depth
     if peak(0.0) <= 0.0:
         return 0.0
     hi = 0.05 * a
@@ -228,7 +233,7 @@ def _body_key(scene, case, body: int) -> tuple:
     [m/s], conductivity [W/(m K)], diffusivity [m^2/s]). Scenes that differ elsewhere (name, load, friction
     law, methods, outputs) but heat a body alike share its exact temperatures; the values are the same
     whichever scene computed them (the same arguments reach the same references)."""
-    from ..references.flash import thermal_properties
+    from ..references.flash import thermal_properties  # loads scipy.integrate and .optimize: on first use
     a, b, shape, q, speeds, eps = case
     share = eps if body == 0 else 1.0 - eps
     return (a, b, shape, share * q, float(speeds[body])) + thermal_properties(scene.body(body))
@@ -358,7 +363,6 @@ def _contact_scalars(scene, out: dict, src: dict) -> bool:
     """Put the Hertz patch and, where exact, the creep force and frictional power (full sliding, Carter) of a
     scene without a given heat source into ``out`` with their tags in ``src``; False when Hertz refuses
     the scene (no exact contact, so nothing downstream either)."""
-    from ..contract.errors import Refused
     try:
         a, b, p0, n = scene_hertz_geometry(scene)
     except Refused:
@@ -378,7 +382,6 @@ def _contact_scalars(scene, out: dict, src: dict) -> bool:
     elif (b is None and scene.creepage is not None and scene.creepage.lateral == 0 and scene.creepage.spin == 0
           and _identical_elastic(scene.wheel, scene.rail) and scene.friction > 0
           and scene.friction_law.kind == "constant"):
-        from ..references.carter import carter_2d
         c = carter_2d(scene.creepage.longitudinal, a, scene.friction, scene.wheel_radius)
         out["creep_force_x"] = c.force_ratio * scene.friction * n
         src["creep_force_x"] = "carter"
@@ -401,7 +404,7 @@ def _surface_rises(scene, case, body: int) -> tuple[float, float]:
     """(maximum, mean over the patch) of the exact surface rise [K] of ``body``: the maximum on y = 0
     (symmetric sources) from 161 samples refined by a bounded search, the mean by Gauss-Legendre in x
     (and across y on the chord for an ellipse)."""
-    from scipy.optimize import minimize_scalar
+    from scipy.optimize import minimize_scalar  # about 1 s to import: with the first exact surface rise
     a, b = case[0], case[1]
     xs = np.linspace(-1.0, 1.0, 161) * a
     f = lambda xx: _surface_rise(scene, case, np.atleast_1d(xx), None if b is None else np.zeros(1), body)
@@ -463,13 +466,12 @@ def _cached_surface_rise(scene, case, x: np.ndarray, y: np.ndarray | None, body:
 def reference_fields(scene, ds) -> dict:
     """Field references on the grid of result ``ds``: pressure [Pa], surface_temperature [degC]."""
     out = {}
-    from ..contract.errors import Refused
     line = "y" not in ds.dims
     x = ds["x"].values
     y = None if line else ds["y"].values
     if "pressure" in ds and scene.heat_source is None:
         try:
-            from ..references.hertz import hertz_pressure
+            from ..references.hertz import hertz_pressure  # scipy.optimize: with the first pressure field
             a, b, p0, _ = scene_hertz_geometry(scene)
             if line:
                 out["pressure"] = hertz_pressure(x, None, a, None, p0)

@@ -10,25 +10,26 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import time
 from dataclasses import dataclass
 from typing import Any, Mapping
 
 import numpy as np
 
+from .._version import __version__
 from ..contract.errors import PluginError, Refused, SceneError, SolverError
 from ..contract.grid import BASE_CELLS
+from ..contract.options import check_options
+from ..contract.results import ContactPatch
+from ..contract.schema import (STAGE_OF_GROUP, VARIABLES, WHEELSET_VARIABLES, build_dataset, encode_sweep,
+                               history_line, validate_dataset)
+from ..contract.stages import STAGES, CoupledModel, StageModel, Upstream
+from ..input.scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
 from ..models.sliding import GivenHeat
 from .capabilities_check import refusal, source_refusal
 from .friction_loop import needs_loop, solve_coupled
 from .plugins import MethodInfo, PluginHost, get_host
-from ..contract.schema import encode_sweep
-from ..input.scene import LATERAL_OUTPUTS as LATERAL, Scene, load_scene
-from ..contract.schema import (STAGE_OF_GROUP, VARIABLES, WHEELSET_VARIABLES, build_dataset, history_line,
-                               validate_dataset)
-from ..contract.results import ContactPatch
-from ..contract.stages import STAGES, CoupledModel, StageModel, Upstream
+from .wheelset_patches import solve_patches
 
 __all__ = ["solve", "plan", "given_heat_source", "Plan", "duplicate_of"]
 
@@ -47,7 +48,6 @@ def check_level(level, *, where: str = "") -> int:
 
 def _check_options(mi: MethodInfo, options, scene: str) -> dict:
     """Validate method options: unknown keys and bad values are :class:`railtherm.SceneError`."""
-    from ..contract.options import check_options
     try:
         return check_options(mi, dict(options or {}), method=mi.name)
     except SceneError as exc:
@@ -389,7 +389,6 @@ def _friction_loop(pl: Plan, scene: Scene, patch: ContactPatch, level: int, opti
 
 
 def _versions(pl: Plan, host: PluginHost) -> str:
-    from .._version import __version__
     parts = [f"railtherm {__version__}", f"method {pl.method.name} from plugin {pl.method.plugin} {pl.method.version}"]
     seen = []
     for s in pl.stages:
@@ -409,13 +408,14 @@ def _wheelset_solver(scene: Scene):
     if hasattr(pc, "failure"):
         raise pc.failure()
     if getattr(pc, "free_pitch", None) is not None:
+        # the wheelset equilibrium imports here: it loads scipy.optimize (about 1.4 s), which only a scene
+        # with a free pitch or a balanced roll needs
         from .wheelset_equilibrium import solve_free_pitch
         return solve_free_pitch
     if getattr(pc, "patch", None) == "all":
-        from .wheelset_patches import solve_patches
         return solve_patches
     if getattr(pc, "balanced_roll", None) is not None:   # the roll with the chain's own normal approaches
-        from .wheelset_equilibrium import solve_balanced_roll
+        from .wheelset_equilibrium import solve_balanced_roll  # scipy.optimize, as above
         return solve_balanced_roll
     return None
 
