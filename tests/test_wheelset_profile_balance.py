@@ -33,9 +33,10 @@ def _rounding(value: float) -> float:
     return 0.0 if value == 0.0 else 0.5 * 10.0 ** (math.floor(math.log10(abs(value))) - 3)
 
 
-KNOWN_MISSES = {2: "position 2 right's patch is far from Hertzian (its gap fit misses by 0.22 mm, module docstring "
-                   "of railtherm.input.wheelset_profile): the Hertz-equivalent approach the balance uses is not "
-                   "CONTACT's, roll -1.95e-5 against the table's -2.30e-5 rad"}
+KNOWN_MISSES = {2: "position 2 right's patch is far from Hertzian (a sharp gap minimum beside a flat region 5 mm "
+                   "away): the Hertz-equivalent approach the balance uses at scene load is not CONTACT's, roll "
+                   "-1.95e-5 against the table's -2.30e-5 rad; the kalker chain's own approaches give it "
+                   "(test_kalkers_approaches_give_position_2_the_benchmarks_roll)"}
 
 
 @pytest.mark.parametrize("position", [1, 2, 5, 10, 11, 13, 16, 21])
@@ -82,7 +83,7 @@ def _table_tolerance(pc, want):
 
 def test_the_kalker_chain_balances_the_roll_with_its_own_approaches():
     """Position 13, kalker at level 1: the roll moves from the Hertz-equivalent one by the approaches' difference
-    (-6.27071e-4 -> -6.27223e-4 rad, measured; the table's -6.272e-4); at the roll returned, the wheels' heights
+    (-6.27071e-4 -> -6.27231e-4 rad, measured; the table's -6.272e-4); at the roll returned, the wheels' heights
     with kalker's approaches, recomputed here, agree to 1e-10 m, and the roll is within the table's tolerance."""
     from railtherm.input.wheelset_profile import roll_height_mismatch
     from railtherm.solving import wheelset_equilibrium as we
@@ -99,15 +100,15 @@ def test_the_kalker_chain_balances_the_roll_with_its_own_approaches():
     assert roll == pytest.approx(want, abs=_table_tolerance(sc.profile_contact, want))
 
 
-def test_kalkers_approaches_move_position_2_towards_the_benchmarks_roll():
-    """Position 2 right (the non-Hertzian patch of KNOWN_MISSES), kalker at level 2: -2.104e-5 rad against the
-    Hertz-equivalent -1.950e-5 and the table's -2.304e-5 (measured): the miss shrinks to below 0.65 of the
-    Hertz-equivalent one (0.56 measured), still beyond the tolerance (the gap fit's 0.22 mm misfit remains)."""
+def test_kalkers_approaches_give_position_2_the_benchmarks_roll():
+    """Position 2 right (the non-Hertzian patch of KNOWN_MISSES), kalker at level 2 on the contact search's sampled
+    gap: -2.3486e-5 rad against the table's -2.304e-5 (tolerance 6.9e-7) and the Hertz-equivalent -1.950e-5
+    (measured). The grid does not move it: -2.3493, -2.3485, -2.3486, -2.3485e-5 at levels 0 to 3; solving the
+    gap polynomial instead (0.22 mm misfit) gave -2.104e-5 at every level, outside the tolerance."""
     sc = _balanced(2, outputs=["normal_force"])
     r = railtherm.solve(sc, "kalker", level=2)
     want = A22["position"][1]["roll"]
-    miss, hertz_miss = abs(r.attrs["wheelset_roll_angle"] - want), abs(r.attrs["wheelset_roll_angle_hertz"] - want)
-    assert miss < 0.65 * hertz_miss
+    assert r.attrs["wheelset_roll_angle"] == pytest.approx(want, abs=_table_tolerance(sc.profile_contact, want))
 
 
 def test_the_hertz_equivalent_heights_of_both_wheels_agree_at_the_balanced_roll():

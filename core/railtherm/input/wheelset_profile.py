@@ -34,12 +34,15 @@ from .profiles import CONICAL_ONLY_KEYS, wheelset_geometry_from_table
 
 __all__ = ["ProfileContact", "ProfileContacts", "NoContact", "NoContactError", "profile_contact",
            "roll_height_mismatch", "normal_force_from_vertical", "share_vertical_force", "WINDOW", "GAP_DEGREE",
-           "ROLL_BALANCE"]
+           "ROLL_BALANCE", "GAP_SECTION_HALF_WIDTH"]
 
 #: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
 WINDOW = (1.6, 2.0)
 #: half-width [m] of the lateral section the contact search samples the gap on
 SECTION_HALF_WIDTH = 12e-3
+#: half-width [m] of the sampled gap a patch carries for a solver of the gap itself (ProfileContact.gap_section):
+#: twice the search's section (A-2.2 position 1 right's interpenetration reaches 12.4 mm from the plane's origin)
+GAP_SECTION_HALF_WIDTH = 2.0 * SECTION_HALF_WIDTH
 #: how far (in fitting windows) the gap polynomial must stay open
 FIT_CHECK = 1.5
 #: degree of the gap polynomial in the lateral coordinate
@@ -85,6 +88,11 @@ class ProfileContact:
         The gap polynomial's coefficients, scene keys ``x<i>y<j>`` [m^(1-i-j)].
     gap_residual : float
         Largest misfit of the polynomial on its window [m].
+    gap_section : GapSection
+        The undeformed gap on the contact plane as the contact search samples it over |y| <=
+        :data:`GAP_SECTION_HALF_WIDTH`, zero at the origin (:class:`railtherm.physics.contact_search.GapSection`):
+        what a solver of the gap itself takes (kalker)
+        instead of the polynomial, whose misfit is not small where the patch is far from Hertzian.
     creepage : tuple of float
         (longitudinal [1], lateral [1], spin [1/m]), railtherm's convention: the wheel's rigid slip at the
         contact plane's origin, where the scene's contact models take it (their slip field (xi - phi y,
@@ -128,6 +136,7 @@ class ProfileContact:
     normal_force: float
     lateral_force_estimate: float
     reference_offset: float = 0.0
+    gap_section: object = field(default=None, repr=False, compare=False)
     rail_section: tuple = field(default=((), ()), repr=False, compare=False)
     #: the wheelset's roll [rad] found by ``roll_angle = "balance"`` (None: the scene gave it)
     balanced_roll: float | None = None
@@ -141,16 +150,10 @@ class ProfileContact:
 
     @property
     def reference_creepage(self) -> tuple[float, float, float]:
-        """(longitudinal [1], lateral [1], spin [1/m]) at the contact reference point: the contact models' slip
-        field (xi - phi y, eta + phi x) of :attr:`creepage` at x = 0, y = :attr:`reference_offset`. This is what
-        a result reports (``creepage_longitudinal``, ``creepage_lateral``, ``creepage_spin``): the CONTACT
-        program reports its creepages at its contact reference point, the point its ``ycp_r`` gives [1].
-
-        References
-        ----------
-        .. [1] E. A. H. Vollebregt, Detailed wheel/rail geometry processing using the planar contact approach,
-           Vehicle System Dynamics 60 (2022) 1253-1291. doi:10.1080/00423114.2020.1853180
-        """
+        """(longitudinal [1], lateral [1], spin [1/m]) at the contact reference point, as a result reports them:
+        the contact models' slip field (xi - phi y, eta + phi x) of :attr:`creepage` at x = 0, y =
+        :attr:`reference_offset`. The CONTACT program reports its creepages at its contact reference point, where
+        its ``ycp_r`` lies (Vollebregt 2022, :mod:`railtherm.physics.contact_search` [1])."""
         xi, eta, phi = self.creepage
         return xi - phi * self.reference_offset, eta, phi
 
@@ -342,8 +345,8 @@ def _gap_fit(scene_name, p, h):
     fitting window: c2(y) > 0 and min over x of h(x, y) > 0 for |y| beyond the window out to FIT_CHECK
     windows (a polynomial of high degree can turn down just outside its data, and the normal solver then
     finds no bounded patch). Terms to y^8 and x^2 y^6; the misfit (:attr:`ProfileContact.gap_residual`) is below
-    1 um at 38 of the 42 CONTACT A-2.2 contacts, 0.22 mm at position 2 right, whose kalker result is not to be
-    trusted."""
+    1 um at 38 of the 42 CONTACT A-2.2 contacts, 0.22 mm at position 2 right: kalker solves the sampled gap
+    (:attr:`ProfileContact.gap_section`) instead; the polynomial is the scene's ``contact`` for the others."""
     half_x, half_y = WINDOW[0] * h.a, _lateral_window(p, h)
     reach = half_y
     y = np.linspace(-FIT_CHECK * half_y, FIT_CHECK * half_y, 1601)
@@ -483,8 +486,14 @@ def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star, ro
                           gap_residual=residual, creepage=ref["creepage"],
                           vertical_force=float(geo.vertical_force), normal_force=float(N),
                           lateral_force_estimate=float(fy), reference_offset=float(ref["offset"]),
+                          gap_section=_zeroed(p.section(GAP_SECTION_HALF_WIDTH)),
                           rail_section=_rail_section(geo.rail_profile),
                           balanced_roll=roll, free_pitch=free, arm=ref["arm"], axle=ref["axle"])
+
+
+def _zeroed(section):
+    """``section`` with its value at the plane's origin subtracted (the patch's own gap, zero at its minimum)."""
+    return dataclasses.replace(section, origin=float(section(0.0, 0.0)))
 
 
 # -- several patches of one wheel sharing its vertical force -------------------------------------------------

@@ -23,7 +23,7 @@ import numpy as np
 
 from .profiles import Profile, ProfileError
 
-__all__ = ["WheelsetOnTrack", "Patch", "WheelContact", "contact_search", "rail_placement",
+__all__ = ["WheelsetOnTrack", "Patch", "GapSection", "WheelContact", "contact_search", "rail_placement",
            "MAX_SEPARATION", "MAX_PATCHES"]
 
 #: largest vertical distance [m] of a secondary gap minimum above the smallest for it to be a patch
@@ -84,6 +84,44 @@ class WheelsetOnTrack:
     yaw_angle: float = 0.0
     roll_angle: float = 0.0
     pitch_velocity: float | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class GapSection:
+    """The undeformed gap on a patch's contact plane as the contact search samples it (:meth:`Patch.gap`).
+
+    h(x, y) = h_lat(y) + k_x(y) (x - x_c(y))^2 / 2 - ``origin``, interpolated linearly in y between the samples:
+    the lateral section's normal distance between rail and wheel, plus the wheel's drop along x (each slice's own
+    curvature along rolling and locus offset); outside the sampled stretch of y it is +inf.
+
+    Attributes
+    ----------
+    eta : ndarray
+        Lateral sample positions on the contact plane, increasing [m].
+    h : ndarray
+        Normal distance between the two profiles at ``eta`` [m].
+    xc : ndarray
+        Longitudinal offset of the wheel's slice at ``eta`` (the contact locus) [m].
+    kx : ndarray
+        The wheel slice's curvature along rolling, cos(alpha) / r [1/m].
+    origin : float
+        Subtracted from every value [m] (0: the distances as sampled).
+    """
+
+    eta: np.ndarray
+    h: np.ndarray
+    xc: np.ndarray
+    kx: np.ndarray
+    origin: float = 0.0
+
+    def __call__(self, x, y) -> np.ndarray:
+        """h(x, y) [m] at points x (rolling) and y (lateral) on the plane [m]."""
+        x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
+        inside = (y >= self.eta[0]) & (y <= self.eta[-1])
+        lat = np.interp(y, self.eta, self.h)
+        xc = np.interp(y, self.eta, self.xc)
+        k = np.interp(y, self.eta, self.kx)
+        return np.where(inside, lat + 0.5 * k * (x - xc) ** 2 - self.origin, np.inf)
 
 
 @dataclass(frozen=True, eq=False)
@@ -171,15 +209,19 @@ class Patch:
             the locus offset x_c is first order in the yaw angle (the only small-angle approximation: the
             search itself has none).
         """
-        if not self._section_cache:   # sampled on first use: the search itself does not need it
-            self._section_cache.update(self._section_of())
-        s = self._section_cache
-        x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
-        inside = (y >= s["eta"][0]) & (y <= s["eta"][-1])
-        lat = np.interp(y, s["eta"], s["h"])
-        xc = np.interp(y, s["eta"], s["xc"])
-        k = np.interp(y, s["eta"], s["kx"])
-        return np.where(inside, lat + 0.5 * k * (x - xc) ** 2, np.inf)
+        return self.section()(x, y)
+
+    def section(self, half_width: float | None = None) -> GapSection:
+        """The sampled gap of :meth:`gap` as a :class:`GapSection` (``origin`` 0), over the search's section
+        (sampled on first use: the search itself does not need it) or, with ``half_width`` [m], over
+        |y| <= half_width (sampled anew)."""
+        if half_width is not None:
+            s = self._section_of(half_width=float(half_width))
+        else:
+            if not self._section_cache:
+                self._section_cache.update(self._section_of())
+            s = self._section_cache
+        return GapSection(s["eta"], s["h"], s["xc"], s["kx"])
 
     def gap_coefficients(self, half_x: float, half_y: float, degree: int = 6, step: float = 0.1e-3):
         """A polynomial fit of the gap for the scene's ``contact = {shape = "gap", coefficients = ...}``.
@@ -446,7 +488,8 @@ def _patch(k, t, separation, g0, frame, sign, speed, half_width) -> Patch:
     creep = None
     if speed is not None and ws.pitch_velocity is not None:
         creep = _creepages(float(speed), float(ws.pitch_velocity), rot, np.array([x, y - shift, z - zc]), delta)
-    section = functools.partial(_section, frame, t, np.array([x, y, z_rail_inc - top]), delta, half_width, g0)
+    section = functools.partial(_section, frame, t, np.array([x, y, z_rail_inc - top]), delta,
+                                half_width=half_width, g0=g0)
     alpha = np.arctan(dzw)
     return Patch(index=k, y_rail=float(y_own), z_rail=float(z_own), y_wheel=s, z_wheel=zw, x=x, y_track=y,
                  z_track=z_rail_inc - top, contact_angle=delta, rolling_radius=r, separation=float(separation),
