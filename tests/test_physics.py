@@ -18,7 +18,7 @@ import pytest
 
 import railtherm
 from railtherm import Material, Refused, SurfaceGrid, physics, surface_grid
-from railtherm.models.hertz import hertz_geometry, scene_semi_axis
+from railtherm.models.hertz import hertz_geometry, hertz_patch, scene_semi_axis
 
 ROOT = Path(__file__).resolve().parents[1]
 PUBLISHED = ROOT / "tests" / "data" / "published.toml"
@@ -110,7 +110,7 @@ def test_rescaled_patch_is_the_hertz_patch_at_the_new_load():
 def test_hertz_patch_carries_the_load():
     """Cell averages are exact in x: the sampled pressure integrates to N to round-off (measured 2e-16)."""
     for scene in (_scene(), _scene(contact_shape="line", normal_force=1e6)):
-        patch = physics.hertz_patch(*_hertz(scene), 1, 16, label="test")
+        patch = hertz_patch(*_hertz(scene), 1, 16, label="test")
         assert patch.grid.integrate(patch.pressure) == pytest.approx(scene.normal_force, rel=1e-12)
         assert patch.max_pressure == _hertz(scene)[2]
 

@@ -2,8 +2,9 @@
 
 Public API: load_study, solve, run_study, methods, open_results, SceneError, Refused, hookimpl, the
 stage interfaces of plugin API 2 (NormalContactModel, TangentialContactModel, HeatSourceModel,
-TemperatureModel, CoupledModel, Method, ...), a scene's Hertz patch (hertz_geometry) and the driver of a
-pass history at a fixed section (section_history, ImplicitSectionStepper, ...: ``solving/section_stepping``).
+TemperatureModel, CoupledModel, Method, ...), a scene's Hertz patch (hertz_geometry, hertz_patch) and
+the driver of a pass history at a fixed section (section_history, ImplicitSectionStepper, ...:
+``solving/section_stepping``).
 
 Packages, highest first (imports run one way, down; tests/test_import_graph.py checks it): ``cli`` and
 ``testing`` (command line, plugin conformance kit); ``run/`` (runner, executors, time limits);
@@ -39,7 +40,7 @@ _LAZY = {
     "methods": "solving.plugins", "get_host": "solving.plugins",
     "run_study": "run.runner",
     "open_results": "analysis.results",
-    "hertz_geometry": "models.hertz",
+    "hertz_geometry": "models.hertz", "hertz_patch": "models.hertz",
     **{name: "solving.section_stepping" for name in (
         "ImplicitSectionStepper", "body_histories", "heating_scheme", "histories_at_section", "section_history",
         "superposed_history", "theta_steps")},

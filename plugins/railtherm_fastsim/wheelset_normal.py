@@ -16,8 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from railtherm import Capabilities, ContactPatch, NormalContactModel, Refused, SolverError, hertz_geometry
-from railtherm.physics import hertz_patch, hertz_pressure_grid, rescale_hertz_patch
+from railtherm import Capabilities, ContactPatch, NormalContactModel, Refused, SolverError, hertz_geometry, hertz_patch
+from railtherm.physics import hertz_pressure_grid, rescale_hertz_patch
 
 from .tangential import FASTSIM_OPTIONS
 

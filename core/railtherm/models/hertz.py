@@ -10,11 +10,12 @@ from ..contract.capabilities import Capabilities
 from ..contract.errors import Refused
 from ..contract.grid import BASE_CELLS
 from ..contract.options import Option
+from ..contract.results import ContactPatch
 from ..contract.stages import NormalContactModel
 from ..physics.elastic import contact_modulus
-from ..physics.hertz import hertz_patch
+from ..physics.hertz import hertz_pressure_grid
 
-__all__ = ["HertzContact", "hertz_geometry", "scene_semi_axis"]
+__all__ = ["HertzContact", "hertz_geometry", "hertz_patch", "scene_semi_axis"]
 
 
 def hertz_geometry(wheel, rail, shape: str, normal_force: float | None, *, penetration: float | None = None,
@@ -124,6 +125,43 @@ def scene_semi_axis(heat_source, wheel, rail, shape: str, normal_force: float | 
                                     curvatures=curvatures, wheel_radius=wheel_radius)[0])
     except (Refused, ValueError, TypeError, AttributeError, ZeroDivisionError):
         return None
+
+
+def hertz_patch(a: float, b: float | None, p0: float, normal_force: float, level: int, cells: int | None = None,
+                *, label: str):
+    """A Hertz contact patch (:func:`hertz_geometry`'s semi-axes, peak pressure and load) on the surface
+    grid of ``level``.
+
+    Parameters
+    ----------
+    a, b, p0, level
+        As :func:`railtherm.physics.hertz_pressure_grid`: semi-axes [m] (b None for a line contact), peak
+        pressure [Pa], grid level k [1].
+    normal_force : float
+        Normal force [N] ([N/m] for a line contact).
+    cells : int, optional
+        Cells along 2a at level 0 [1] (default :data:`railtherm.contract.grid.BASE_CELLS`).
+    label : str
+        Who asks (scene and model), prefixed to a refusal.
+
+    Returns
+    -------
+    railtherm.ContactPatch
+        Grid, normal force [N], semi-axes [m], peak pressure [Pa] and cell-averaged pressure [Pa].
+
+    Raises
+    ------
+    railtherm.Refused
+        The grid is over the cell budget (kind "budget").
+    """
+    try:
+        grid, pressure = hertz_pressure_grid(a, b, p0, level, int(cells or BASE_CELLS))
+    except Refused as exc:  # over the cell budget: name the scene
+        raise Refused(f"{label}: {exc}", kind=exc.kind) from None
+    # closed form (the eccentricity's root is found to round-off by brentq, which raises otherwise)
+    diag = {"converged": True, "iterations": 0, "residual": 0.0}
+    return ContactPatch(grid=grid, normal_force=normal_force, a=a, b=b, max_pressure=p0, pressure=pressure,
+                        diagnostics=diag)
 
 
 class HertzContact(NormalContactModel):

@@ -16,8 +16,7 @@ from ..contract.grid import BASE_CELLS
 from ..contract.capabilities import Capabilities
 from ..contract.options import Option
 from ..contract.stages import NormalContactModel
-from ..physics.hertz import hertz_patch
-from .hertz import hertz_geometry
+from .hertz import hertz_geometry, hertz_patch
 
 __all__ = ["WheelsetProfileHertz"]
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 from .averaging import cell_average, exact_total, nodal_cell_average
 from .elastic import combined_elastic, contact_modulus
 from .grading import geometric_edges
-from .hertz import hertz_patch, hertz_pressure_grid, rescale_hertz_patch
+from .hertz import hertz_pressure_grid, rescale_hertz_patch
 from .kinematics import body_speeds, creep_speeds
 from .lumped_wheel import (CONVECTIVE_AREA, ELLIPSE_SQRT_WIDTH, LumpedWheel, conduction_conductance,
                            convective_area, lumped_wheel)
@@ -27,7 +27,7 @@ from .pass_history import pass_peaks_and_residual, pass_time_above, superpositio
 from .scales import ThermalScales, peclet_number, thermal_scales
 from .thermal_trace import Trace, embed_field, extended_grid, field_grid, thermal_trace, with_thermal_trace
 
-__all__ = ["hertz_patch", "hertz_pressure_grid", "rescale_hertz_patch",
+__all__ = ["hertz_pressure_grid", "rescale_hertz_patch",
            "cell_average", "exact_total", "nodal_cell_average", "combined_elastic", "contact_modulus",
            "body_speeds", "creep_speeds", "equal_temperature_partition", "scene_partition", "ThermalScales", "thermal_scales",
            "peclet_number", "geometric_edges", "CONVECTIVE_AREA", "ELLIPSE_SQRT_WIDTH", "LumpedWheel",

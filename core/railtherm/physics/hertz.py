@@ -1,19 +1,18 @@
-"""Hertz patch on a surface grid: cell-averaged pressure of given semi-axes and peak pressure, and their
+"""Hertz pressure on a surface grid: cell-averaged pressure of given semi-axes and peak pressure, and their
 rescaling to another normal force.
 
 The semi-axes and peak pressure of a scene's contact come from the closed forms of
-:mod:`railtherm.references.hertz`, applied by :func:`railtherm.models.hertz.hertz_geometry`.
+:mod:`railtherm.references.hertz`, applied by :func:`railtherm.models.hertz.hertz_geometry`;
+:func:`railtherm.models.hertz.hertz_patch` makes the contact patch of them.
 """
 from __future__ import annotations
 
 import math
 
-from ..contract.errors import Refused
-from ..contract.grid import BASE_CELLS, surface_grid
-from ..contract.results import ContactPatch
+from ..contract.grid import surface_grid
 from .averaging import GAUSS_POINTS, cell_average
 
-__all__ = ["hertz_patch", "hertz_pressure_grid", "rescale_hertz_patch"]
+__all__ = ["hertz_pressure_grid", "rescale_hertz_patch"]
 
 
 def rescale_hertz_patch(normal_force: float, ref_normal_force: float, ref_a: float, ref_b: float | None,
@@ -78,40 +77,3 @@ def hertz_pressure_grid(a: float, b: float | None, p0: float, level: int = 0, ce
     """
     g = surface_grid(a, b, level, cells)
     return g, p0 * cell_average(g, "hertz", a, b, gauss or GAUSS_POINTS)
-
-
-def hertz_patch(a: float, b: float | None, p0: float, normal_force: float, level: int, cells: int | None = None,
-                *, label: str):
-    """A Hertz contact patch (:func:`railtherm.models.hertz.hertz_geometry`'s semi-axes, peak pressure and load) on the surface
-    grid of ``level``.
-
-    Parameters
-    ----------
-    a, b, p0, level
-        As :func:`hertz_pressure_grid`: semi-axes [m] (b None for a line contact), peak pressure [Pa],
-        grid level k [1].
-    normal_force : float
-        Normal force [N] ([N/m] for a line contact).
-    cells : int, optional
-        Cells along 2a at level 0 [1] (default :data:`railtherm.contract.grid.BASE_CELLS`).
-    label : str
-        Who asks (scene and model), prefixed to a refusal.
-
-    Returns
-    -------
-    railtherm.ContactPatch
-        Grid, normal force [N], semi-axes [m], peak pressure [Pa] and cell-averaged pressure [Pa].
-
-    Raises
-    ------
-    railtherm.Refused
-        The grid is over the cell budget (kind "budget").
-    """
-    try:
-        grid, pressure = hertz_pressure_grid(a, b, p0, level, int(cells or BASE_CELLS))
-    except Refused as exc:  # over the cell budget: name the scene
-        raise Refused(f"{label}: {exc}", kind=exc.kind) from None
-    # closed form (the eccentricity's root is found to round-off by brentq, which raises otherwise)
-    diag = {"converged": True, "iterations": 0, "residual": 0.0}
-    return ContactPatch(grid=grid, normal_force=normal_force, a=a, b=b, max_pressure=p0, pressure=pressure,
-                        diagnostics=diag)
