@@ -170,7 +170,7 @@ def _draw_side(top, plan, rail, shapes, reference):
         top.plot([sh.point[0] * 1e3], [sh.point[1] * 1e3], "o", color=c, ms=4)
         plan.contourf(sh.y * 1e3, sh.x * 1e3, f, levels=[0.5, 1.5], colors=[c], alpha=0.55)
         plan.annotate(sh.role or str(sh.patch), (sh.y[cols].mean() * 1e3, sh.x[sh.inside.any(axis=1)].max() * 1e3),
-                      textcoords="offset points", xytext=(0, 3), ha="center", fontsize=7, color=c)
+                      textcoords="offset points", xytext=(0, 3), ha="center", fontsize=8, color=c)
 
 
 def shapes_figure(rails, shapes, reference, *, path: Path):
@@ -196,5 +196,5 @@ def shapes_figure(rails, shapes, reference, *, path: Path):
             ax.tick_params(labelsize=7)
         handles, _ = top.get_legend_handles_labels()
         handles += [Line2D([], [], color="0.3", ls="--", lw=0.9, label=f"{m} (outline)") for m in others]
-        top.legend(handles=handles, fontsize=6.5, frameon=False, loc="lower left")
+        top.legend(handles=handles, fontsize=7.5, frameon=False, loc="lower left")
     return save(fig, path)

@@ -138,7 +138,7 @@ def _rows(data: StudyData, groups, methods, ref) -> list[list[str]]:
             for k in sorted({k for v in per.values() for k in v}):
                 first = next(v[k] for v in per.values() if k in v)
                 g = first.values.get
-                row = [side, num(x * 1e3), f"{k} ({first.role})" if first.role else str(k),
+                row = [side, num(x * 1e3), f"{k} {first.role}" if first.role else str(k),
                        num(g("contact_position_rail") * 1e3, 4) if g("contact_position_rail") is not None else "–",
                        num(g("contact_angle"), 3) if g("contact_angle") is not None else "–",
                        num(g("normal_force") * 1e-3, 3) if g("normal_force") is not None else "–"]
@@ -214,8 +214,8 @@ def wheelset_section(doc: Document, ctx):
       on the rail: minus these) and the flash temperature, the hotter body's maximum surface temperature [°C];
     * the patches at the lateral shifts :data:`~.wheelset_data.SHAPE_SHIFTS` (0, 5 and 6.5 mm: tread, the jump
       towards the flange, flange) drawn on the rail profile and seen from above;
-    * a table of the same per contact and patch, with each method's flash temperature error against the study's
-      reference method (``metrics.nc``'s, per patch);
+    * a table of the same per contact and patch (collapsed), with each method's flash temperature error against
+      the study's reference method (``metrics.nc``'s, per patch);
     * the key finding (:func:`wheelset_findings`, also among the verdict's key findings): the shifts at which a
       method's flash temperature is more than the study's tolerance off the reference (the Hertz + FASTSIM
       chains against the exact chain ``kalker`` in the benchmark study), and the reference of those errors.
@@ -240,7 +240,9 @@ def wheelset_section(doc: Document, ctx):
     head = ["wheel", "shift [mm]", "patch", "y on rail [mm]", "angle [rad]", "N [kN]"]
     for m in methods:
         head += [f"`{m}` p0 [MPa]", f"`{m}` T_max [°C]"] + ([f"`{m}` ΔT_max [%]"] if m != ref else [])
-    doc.table("Per contact and patch: the contact search's position on the rail, contact angle and normal force; "
-              "each method's maximum pressure, flash temperature (the hotter body's) and its error against "
-              + (f"`{ref}`" if ref else "the reference") + f" (tolerance {pct(data.tolerance)}).", head,
-              _rows(data, groups, methods, ref))
+    rows = _rows(data, groups, methods, ref)
+    with doc.details(f"The patches contact by contact as a table ({len(rows)} rows)"):
+        doc.table("Per contact and patch: the contact search's position on the rail, contact angle and normal "
+                  "force; each method's maximum pressure, flash temperature (the hotter body's) and its error "
+                  "against " + (f"`{ref}`" if ref else "the reference") + f" (tolerance {pct(data.tolerance)}).",
+                  head, rows)
