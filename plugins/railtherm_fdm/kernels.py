@@ -415,11 +415,19 @@ def vaxpy(alpha, x, y):  # pragma: no cover - compiled
 PARALLEL_MIN_NODES = 400_000
 
 
+def _threaded(nodes: int) -> bool:
+    """Whether a grid of ``nodes`` nodes takes the parallel build: only when it is large and numba has more
+    than one thread (a worker process of a study runs one; its parallel build would only add seconds of
+    compilation)."""
+    return nodes >= PARALLEL_MIN_NODES and numba.get_num_threads() > 1
+
+
 def step_kernel(nodes):
-    """The explicit-step kernel for a grid of ``nodes`` nodes (parallel for large grids)."""
-    return explicit_step if nodes >= PARALLEL_MIN_NODES else explicit_step_serial
+    """The explicit-step kernel for a grid of ``nodes`` nodes (parallel for large grids and several threads)."""
+    return explicit_step if _threaded(nodes) else explicit_step_serial
 
 
 def matvec_kernel(nodes):
-    """The 7-point operator kernel for a grid of ``nodes`` nodes (parallel for large grids)."""
-    return stencil_matvec if nodes >= PARALLEL_MIN_NODES else stencil_matvec_serial
+    """The 7-point operator kernel for a grid of ``nodes`` nodes (parallel for large grids and several
+    threads)."""
+    return stencil_matvec if _threaded(nodes) else stencil_matvec_serial
