@@ -24,7 +24,7 @@ from ..physics.pass_history import pass_peaks_and_residual, pass_time_above
 from ..references.transient import shifted_sum
 
 __all__ = ["heating_scheme", "cooling_ladder", "schedule_factor", "section_history", "superposed_history",
-           "histories_at_section", "body_histories", "theta_steps", "ImplicitSectionStepper"]
+           "histories_at_section", "body_histories", "theta_steps", "ImplicitSectionStepper", "pass_windows"]
 
 
 def schedule_factor(tr):
@@ -149,6 +149,32 @@ class ImplicitSectionStepper:
         self.rows.append(out)
 
 
+def pass_windows(count: int, interval: float, before: float, after: float) -> list[tuple[int, int]]:
+    """(first pass, last pass) of each stepping window: pass k heats the block from ``k interval - before``
+    to ``k interval + after`` [s]; windows that overlap are merged into one."""
+    windows, k = [], 0
+    while k < count:
+        last = k
+        while last + 1 < count and (last + 1) * interval - before <= last * interval + after:
+            last += 1
+        windows.append((k, last))
+        k = last + 1
+    return windows
+
+
+def _residuals(time, rise, count: int, interval: float, lead: float, ahead: dict) -> np.ndarray:
+    """Residual surface rise [K] of each pass (:func:`section_history`): from the source-free side run where
+    the next pass opens a window of its own (``ahead``: pass -> rise), else the last step before the next
+    pass's source reaches the section node's dual cell (``lead`` [s] = h/(2V) before its arrival); the last
+    pass's at the end of the history."""
+    before = np.searchsorted(time, interval * np.arange(1, count + 1) - lead, side="right") - 1
+    residual = rise[np.clip(before, 0, time.size - 1), 0]
+    for k, value in ahead.items():
+        residual[k] = value
+    residual[-1] = rise[-1, 0]
+    return residual
+
+
 # one driver for the pass windows (explicit or implicit, by cost) and the cooling between them (explicit or
 # implicit per rung of the step ladder, by cost): the phases share the stepper and the cost model
 def section_history(block, x_edges, flux, speed: float, tr, interval: float, level: int,
@@ -176,14 +202,7 @@ def section_history(block, x_edges, flux, speed: float, tr, interval: float, lev
     heat_scheme, dt_heat, heat_reason = heating_scheme(requested, block.dt_stab, h / V, st.heating_cost)
     n_before = int(math.ceil((W / V) / dt_heat))
     n_after = int(math.ceil(((W + a2) / V) / dt_heat))
-    windows = []                                        # (first pass, last pass): overlapping windows merged
-    k = 0
-    while k < count:
-        last = k
-        while last + 1 < count and (last + 1) * interval - n_before * dt_heat <= last * interval + n_after * dt_heat:
-            last += 1
-        windows.append((k, last))
-        k = last + 1
+    windows = pass_windows(count, interval, n_before * dt_heat, n_after * dt_heat)
     st.t = -n_before * dt_heat
     per_doubling = 2 ** (int(level) + 1)
     rungs_explicit = rungs_implicit = 0
@@ -223,13 +242,7 @@ def section_history(block, x_edges, flux, speed: float, tr, interval: float, lev
     keep = time > 0
     time = np.concatenate([[0.0], time[keep]])
     rise = np.concatenate([np.zeros((1, rise.shape[1])), rise[keep]])
-    # passes whose next one overlaps their window: the last step before the next pass's source reaches the
-    # section node's dual cell
-    before = np.searchsorted(time, interval * np.arange(1, count + 1) - 0.5 * h / V, side="right") - 1
-    residual = rise[np.clip(before, 0, time.size - 1), 0]
-    for k, value in ahead.items():
-        residual[k] = value
-    residual[-1] = rise[-1, 0]
+    residual = _residuals(time, rise, count, interval, 0.5 * h / V, ahead)
     diag = {"nodes": n, "node_shape": block.node_shape, "cell_x": h,
             "first_depth_cell": float(block.z[1]), "block_half_length": W, "block_depth": float(block.z[-1]),
             "stability_limit": block.dt_stab, "heating_scheme": heat_scheme, "heating_step": dt_heat,
