@@ -1,24 +1,12 @@
-"""``pitch_velocity = "free"``: the wheelset's pitch velocity at which the forces of the chain's own solution on
-both wheels have no moment about the axle (no traction or braking torque).
+"""The wheelset's equilibrium with the chain's own forces, beyond one patch at given motion.
 
-For a pitch velocity omega every patch of both wheels (``wheelset.patch = "all"``) is solved with the chain;
-the moment about the axle is sum (r x F) . a over the patches, r the patch's reference point from the wheelset
-centre, a the axle's direction and F the rail's force on the wheel from the result's normal force N and creep
-forces Fx, Fy in the contact plane at contact angle delta: (Fx, Fy cos(delta) + N sin(delta), Fy sin(delta) -
-N cos(delta)) in the wheel's axes (z down). The creepages are affine in omega (the rigid slip of the wheel), so
-the scenes are built twice and the creepages of any omega interpolated; the secant method finds the root. The
-scene is then loaded again with that pitch velocity given and solved: its result is the result of that scene,
-with the attributes ``wheelset_pitch_velocity`` [rad/s] and ``wheelset_axle_moment`` [N m] (the moment left);
-its ``wall_time`` is the whole search's.
-
-``roll_angle = "balance"`` (one patch per scene, pitch velocity given; :func:`solve_balanced_roll`): the scene
-comes loaded with the roll at which both wheels' Hertz-equivalent heights agree (:func:`railtherm.input.
-wheelset_profile.balance_roll`). A chain whose normal stage solves the patch's own gap (kalker) reports its
-normal approach delta; each wheel's height is then corrected by (delta - delta_Hertz) / cos(contact angle) at
-the wheel's normal force, and the roll is moved until the corrected heights agree (chord steps with the Hertz
-heights' slope). A chain on the Hertz-equivalent ellipse keeps the loaded roll. The result's attributes
-``wheelset_roll_angle`` [rad], ``wheelset_roll_balance`` (whose forces), ``wheelset_roll_angle_hertz`` [rad] and
-``wheelset_roll_height_mismatch`` [m] say which.
+* ``pitch_velocity = "free"`` (:func:`solve_free_pitch`): the pitch velocity at which the forces of the
+  chain's own solution on every patch of both wheels have no moment about the axle (no traction or braking
+  torque; :func:`axle_moment`); the result carries ``wheelset_pitch_velocity`` [rad/s] and
+  ``wheelset_axle_moment`` [N m].
+* ``roll_angle = "balance"`` (:func:`solve_balanced_roll`): the roll at which both wheels' heights agree
+  with the normal approaches of the chain's normal stage; the result carries ``wheelset_roll_angle`` [rad],
+  ``wheelset_roll_balance``, ``wheelset_roll_angle_hertz`` [rad] and ``wheelset_roll_height_mismatch`` [m].
 """
 from __future__ import annotations
 
@@ -50,8 +38,13 @@ HERTZ_EQUIVALENT = ("wheelset-profile",)
 
 
 def axle_moment(pc, normal, creep_x, creep_y, angle) -> float:
-    """(r x F) . a [N m] of one patch (module docstring) from its ProfileContact (``arm``, ``axle``) and its
-    normal force [N], creep forces on the wheel [N] and contact angle [rad]."""
+    """(r x F) . a [N m] of one patch from its ProfileContact (``arm``, ``axle``) and its normal force [N],
+    creep forces on the wheel [N] and contact angle [rad].
+
+    r is the patch's reference point from the wheelset centre, a the axle's direction and F the rail's force
+    on the wheel from the result's normal force N and creep forces Fx, Fy in the contact plane at contact
+    angle delta: (Fx, Fy cos(delta) + N sin(delta), Fy sin(delta) - N cos(delta)) in the wheel's axes
+    (z down)."""
     c, s = math.cos(angle), math.sin(angle)
     force = np.array([creep_x, creep_y * c + normal * s, creep_y * s - normal * c])
     return float(np.cross(np.asarray(pc.arm), force) @ np.asarray(pc.axle))
@@ -72,7 +65,15 @@ def _loaded(mapping):
 
 
 def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool = True, **kw):
-    """Solve ``scene`` at the pitch velocity that balances the axle's moment (module docstring)."""
+    """Solve ``scene`` at the pitch velocity that balances the axle's moment.
+
+    For a pitch velocity omega every patch of both wheels (``wheelset.patch = "all"``) is solved with the
+    chain; the moment about the axle is the sum of :func:`axle_moment` over the patches. The creepages are
+    affine in omega (the rigid slip of the wheel), so the scenes are built twice and the creepages of any
+    omega interpolated; the secant method finds the root. The scene is then loaded again with that pitch
+    velocity given and solved: its result is the result of that scene, with the attributes
+    ``wheelset_pitch_velocity`` [rad/s] and ``wheelset_axle_moment`` [N m] (the moment left); its
+    ``wall_time`` is the whole search's."""
     t0 = time.perf_counter()
     pc = scene.profile_contact
     w0 = float(pc.free_pitch)
@@ -142,7 +143,16 @@ def _approach_correction(scene, side, roll, method, level, options, solve_one, h
 def solve_balanced_roll(scene, method, level, options, *, solve_one, validate: bool = True, host=None, peers=None,
                         **kw):
     """Solve ``scene`` (``roll_angle = "balance"``) at the roll that balances the wheels' heights with the
-    chain's own normal approaches (module docstring)."""
+    chain's own normal approaches.
+
+    One patch per scene, pitch velocity given: the scene comes loaded with the roll at which both wheels'
+    Hertz-equivalent heights agree (:func:`railtherm.input.wheelset_profile.balance_roll`). A chain whose
+    normal stage solves the patch's own gap (kalker) reports its normal approach delta; each wheel's height
+    is then corrected by (delta - delta_Hertz) / cos(contact angle) at the wheel's normal force, and the
+    roll is moved until the corrected heights agree (chord steps with the Hertz heights' slope). A chain on
+    the Hertz-equivalent ellipse keeps the loaded roll. The result's attributes ``wheelset_roll_angle``
+    [rad], ``wheelset_roll_balance`` (whose forces), ``wheelset_roll_angle_hertz`` [rad] and
+    ``wheelset_roll_height_mismatch`` [m] say which."""
     t0 = time.perf_counter()
     pc = scene.profile_contact
     hertz_roll = roll = float(pc.balanced_roll)
