@@ -3,8 +3,7 @@
 Public API: load_study, solve, run_study, methods, open_results, SceneError, Refused, hookimpl, the
 stage interfaces of plugin API 2 (NormalContactModel, TangentialContactModel, HeatSourceModel,
 TemperatureModel, CoupledModel, Method, ...), a scene's Hertz patch (hertz_geometry, hertz_patch) and
-the driver of a pass history at a fixed section (section_history, ImplicitSectionStepper, ...:
-``solving/section_stepping``).
+the section-stepping driver of pass histories (section_history, ImplicitSectionStepper, ...).
 
 Packages, highest first (imports run one way, down; tests/test_import_graph.py checks it): ``cli`` and
 ``testing`` (command line, plugin conformance kit); ``run/`` (runner, executors, time limits);
