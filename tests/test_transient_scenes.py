@@ -184,3 +184,38 @@ def test_history_is_scored_over_the_same_passes_at_every_level():
     assert "first 9 of 1000 passes" in notes["temperature_history"]
     notes = {}
     assert history_samples(np.linspace(0.0, 0.3, 3000), 3, 0.1, 4e-4, notes)[:2] == (1, 3000) and not notes
+
+
+#: the study's locked-wheel slide: sliding_speed = -speed, the wheel's surface at rest under the contact
+LOCKED = {"name": "locked-wheel-slide", "normal_force": 0.8e6, "contact": {"shape": "line", "wheel_radius": 0.4345},
+          "speed": 10.0, "sliding_speed": -10.0, "friction": 0.3, "heat_partition": 0.066, "mode": "transient",
+          "rail": STEEL, "wheel": STEEL, "passes": {"count": 1, "interval": 0.1},
+          "schedule": {"time": [0.0, 1e-4, 0.05, 0.0501], "factor": [0.0, 1.0, 1.0, 0.0]},
+          "outputs": ["temperature_history", "pass_peak_temperature", "residual_rise", "time_above"]}
+
+
+@pytest.mark.parametrize("method", ["green", "fipy", "fem"])
+def test_locked_wheel_is_refused_by_the_moving_frame_methods(method):
+    """green, FiPy and the FEM work in the frame moving with the contact: the wheel's spot at rest is refused with
+    the reason (core's moving-surface check), never answered with a steady field."""
+    with pytest.raises(Refused, match="wheel moves at 0 m/s"):
+        railtherm.solve(LOCKED, method, level=0)
+
+
+def test_locked_wheel_heat_and_exact_sources():
+    """sliding_speed = -speed: full-slip heat mu p |v_s| (the analytic frictional power positive), the rail's exact
+    reference the moving band at 10 m/s, the wheel's the band at rest (references.transient_spot), each with its
+    share of the heat; a wheel moving backwards through the contact (sliding_speed < -speed) is a SceneError."""
+    from railtherm.analysis.analytic import _thermal_case
+    from railtherm.analysis.transient_metrics import transient_sources
+    from railtherm.input.scene import load_scene
+    from railtherm.references.transient_spot import FixedSource
+    scene = load_scene(LOCKED)
+    a, b, shape, q0, speeds, eps = _thermal_case(scene)
+    assert q0 > 0 and speeds == (0.0, 10.0) and eps == 0.066 and b is None
+    (wheel, _), (rail, _) = transient_sources(scene)[0]
+    assert isinstance(wheel, FixedSource) and wheel.flux == pytest.approx(0.066 * q0, rel=1e-14)
+    assert isinstance(rail, MovingSource) and rail.speed == 10.0 and rail.flux == pytest.approx(0.934 * q0, rel=1e-14)
+    with pytest.raises(SceneError) as err:
+        load_scene({**LOCKED, "sliding_speed": -10.5})
+    assert err.value.key == "sliding_speed" and "locked wheel" in str(err.value)

@@ -137,26 +137,38 @@ class FDMTemperature(TemperatureModel):
         return result if fld is None else with_thermal_trace(result, scene.field, source)
 
     def _histories(self, scene, source, level, options):
-        """The pass histories of both bodies (:func:`railtherm_fdm.history.body_histories`), with the steady
-        one-pass surface (the moving-frame steady block) when the scene asks for it."""
-        from .history import body_histories
+        """The pass histories of both bodies (:func:`railtherm_fdm.history.body_histories`; a body at rest under
+        the contact, a locked wheel: :mod:`railtherm_fdm.spot`), with the steady one-pass surface (the
+        moving-frame steady block) when the scene asks for it."""
+        from .history import body_histories                  # numba on first use
+        from .spot import resting_body_history, with_resting_body
         grid = source.grid
         bodies_m = (scene.wheel, scene.rail)
         fluxes = [np.asarray(source.flux(i), dtype=float).reshape(grid.shape) for i in range(2)]
-        for i, q in enumerate(fluxes):
-            if np.any(q != 0) and not float(source.body_speed[i]) > 0.0:
-                raise Refused(f"model 'fdm' ({BODY_NAMES[i]}): its surface moves at {float(source.body_speed[i]):g} "
-                              "m/s relative to the contact; the section's passes need a body moving through it")
+        # a body whose surface does not move through the contact (a locked wheel): its spot heated in place
+        resting = [i for i, q in enumerate(fluxes) if np.any(q != 0) and not float(source.body_speed[i]) > 0.0]
+        outputs = tuple(getattr(scene, "outputs", ()) or ())
+        one_pass = not outputs or any(o in outputs for o in _ONE_PASS)
+        if resting and one_pass:
+            raise Refused(f"model 'fdm' ({BODY_NAMES[resting[0]]}): its surface does not move through the contact "
+                          f"(speed {float(source.body_speed[resting[0]]):g} m/s), so it has no one-pass surface field "
+                          f"in the contact's frame ({', '.join(_ONE_PASS)}); ask only the histories "
+                          "(temperature_history, pass_peak_temperature, residual_rise, time_above)", kind="validity")
         bulk = (float(scene.wheel.bulk_temperature), float(scene.rail.bulk_temperature))
         requested = requested_scheme(scene, options)
         if requested == "steady":
             raise Refused("model 'fdm': scheme 'steady' (the moving frame) has no history at a fixed section; use "
                           "'auto', 'explicit' or 'implicit' for the pass histories", kind="validity")
-        hist, diag = body_histories(scene, grid, [q if np.any(q != 0) else None for q in fluxes], bodies_m,
+        hist, diag = body_histories(scene, grid, [q if np.any(q != 0) and i not in resting else None
+                                                  for i, q in enumerate(fluxes)], bodies_m,
                                     tuple(float(v) for v in source.body_speed), bulk, int(level), requested)
-        outputs = tuple(getattr(scene, "outputs", ()) or ())
+        for i in resting:
+            t, rise, d = resting_body_history(scene.transient, grid, fluxes[i], bodies_m[i],
+                                              float(scene.convection or 0.0), int(level), BODY_NAMES[i])
+            hist = with_resting_body(hist, i, t, rise, scene.transient, bulk[i])
+            diag.update({f"{BODY_NAMES[i]}_history_{k}": v for k, v in d.items()})
         bodies = [None, None]
-        if not outputs or any(o in outputs for o in _ONE_PASS):
+        if one_pass:
             cell0 = float(options["cell_size"]) or 2.0 * float(grid.a) / 16.0
             for i, q in enumerate(fluxes):
                 if np.any(q > 0):

@@ -59,7 +59,7 @@ def _thermal_case(scene):
         return None
     a, b, p0, _ = scene_hertz_geometry(scene)
     speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
-    return a, b, "hertz", mu * scene.sliding_speed * p0, speeds, scene_partition(scene.partition, scene.wheel,
+    return a, b, "hertz", mu * abs(scene.sliding_speed) * p0, speeds, scene_partition(scene.partition, scene.wheel,
                                                                                  scene.rail, *speeds,
                                                                                  scene_name=scene.name)
 
@@ -375,7 +375,7 @@ def _contact_scalars(scene, out: dict, src: dict) -> bool:
     out["_names"].append(_NAME["contact"])
     mu = uniform_friction(scene)
     if scene.tangential == "full-sliding" and mu is not None:
-        out["frictional_power"] = mu * scene.sliding_speed * n
+        out["frictional_power"] = mu * abs(scene.sliding_speed) * n
         out["creep_force_x"] = math.copysign(mu * n, scene.sliding_speed) if scene.sliding_speed else 0.0
         src.update(frictional_power="full-sliding", creep_force_x="full-sliding")
         out["_names"].append(_NAME["sliding"])

@@ -1,7 +1,7 @@
 """The transient metrics of ``metrics.nc`` (scenes with ``mode = "transient"``): a run's histories at the
 fixed section against core's exact transient references (:mod:`railtherm.references.transient`: the
 moving band for a line contact, the moving ellipse in 3-D, uniform or Hertzian flux, at any depth, with
-the scene's passes and schedule).
+the scene's passes and schedule; a locked wheel's spot: :mod:`railtherm.references.transient_spot`).
 
 * ``error_pass_peak_temperature``: the largest relative error of the per-pass peak rise, over bodies,
   passes and depths (entries whose exact peak is below :data:`FLOOR` of the body's largest are left out:
@@ -41,9 +41,11 @@ MIN_PER_CONTACT = 20
 
 
 def transient_sources(scene):
-    """Each body's exact moving source as (MovingSource or None, bulk temperature [degC]) for wheel and
-    rail, and the reference's tag; None when the scene's heat source has no closed form."""
+    """Each body's exact source as (MovingSource, FixedSource for a body at rest under the contact -- a
+    locked wheel's spot, scored when the schedule switches it on at a finite time -- or None, bulk temperature
+    [degC]) for wheel and rail, and the reference's tag; None when the scene's heat source has no closed form."""
     from ..references.transient import MovingSource
+    from ..references.transient_spot import FixedSource  # with the metrics only, as the moving source above
     from .analytic import _thermal_case
     case = _thermal_case(scene)
     if case is None:
@@ -56,6 +58,9 @@ def transient_sources(scene):
     for i, (frac, body) in enumerate(((float(eps), scene.wheel), (1.0 - float(eps), scene.rail))):
         q = q0 * frac
         src = MovingSource(kind, a, float(speeds[i]), q, shape, b) if q > 0 and speeds[i] > 0 else None
+        tr = getattr(scene, "transient", None)
+        if q > 0 and not speeds[i] > 0 and tr is not None and tr.schedule_factor and tr.schedule_factor[0] == 0:
+            src = FixedSource(kind, a, q, shape, b)
         out.append((src, float(body.bulk_temperature)))
     return out, f"transient-{kind}"
 
@@ -107,7 +112,9 @@ def transient_errors(scene, ds, notes: dict | None = None, cache: dict | None = 
     cache : dict, optional
         Per-scene cache of the exact per-pass summary (the same for every level of the scene).
     """
-    from ..references.transient import Schedule, pass_summary, temperature_history
+    from ..references.transient import MovingSource, Schedule, pass_summary, temperature_history
+    from ..references.transient_spot import (FixedSource, fixed_source_history,  # with the metrics only
+                                             fixed_source_summary)
     notes = {} if notes is None else notes
     tr = getattr(scene, "transient", None)
     if tr is None or "temperature_history" not in ds:
@@ -121,20 +128,24 @@ def transient_errors(scene, ds, notes: dict | None = None, cache: dict | None = 
     sched = None if tr.schedule_time is None else Schedule(tr.schedule_time, tr.schedule_factor)
     z = np.asarray(ds["z"].values, dtype=float)
     every, n, t = history_samples(np.asarray(ds["time"].values, dtype=float), tr.count, tr.interval,
-                                  min((s.contact_duration for s, _ in sources if s is not None), default=0.0), notes)
+                                  min((s.contact_duration for s, _ in sources if isinstance(s, MovingSource)),
+                                      default=0.0), notes)
     errs: dict[str, list[float]] = {m: [] for m in TRANSIENT_METRICS}
     for i, (src, bulk) in enumerate(sources):
         if src is None:
             continue
+        at_rest = isinstance(src, FixedSource)
         key = ("transient-summary", scene.name, i, tuple(z))
         if cache is None or key not in cache:
-            summary = pass_summary(z, src, scene.body(i), tr.count, tr.interval, sched, **_QUAD)
+            summary = (fixed_source_summary(z, src, scene.body(i), tr.count, tr.interval, sched) if at_rest else
+                       pass_summary(z, src, scene.body(i), tr.count, tr.interval, sched, **_QUAD))
             if cache is not None:
                 cache[key] = summary
         summary = cache[key] if cache is not None else summary
         errs["pass_peak_temperature"].append(_rel(ds["pass_peak_temperature"].values[i] - bulk, summary.peak, FLOOR))
         errs["residual_rise"].append(_rel(ds["residual_rise"].values[i], summary.residual[:, 0], FLOOR))
-        exact = temperature_history(t[:n], z, src, scene.body(i), tr.count, tr.interval, sched, **_QUAD)
+        exact = (fixed_source_history(t[:n], z, src, scene.body(i), sched) if at_rest else
+                 temperature_history(t[:n], z, src, scene.body(i), tr.count, tr.interval, sched, **_QUAD))
         rise = ds["temperature_history"].values[i, ::every][:n] - bulk
         scale = np.max(np.abs(exact), axis=0)
         ok = scale > 0

@@ -57,7 +57,8 @@ SCENE_KEYS: dict[str, Check] = {
                       "curvatures": Pair(Num(0, lo_open=True, unit="m-1")),
                       "wheel_radius": Num(0, lo_open=True, unit="m")}),
     "speed": Num(0, lo_open=True, unit="m s-1"),
-    "sliding_speed": Num(0, unit="m s-1"),
+    "sliding_speed": Num(unit="m s-1", note=">= -speed: the wheel's surface moves at speed + sliding_speed; -speed is "
+                         "a locked wheel"),
     "creepage": Table({"longitudinal": Num(-1, 1), "lateral": Num(-1, 1), "spin": Num(unit="m-1")}),
     "friction": Friction(),
     "heat_partition": Either(Num(0, 1), Choice(*HeatPartition.RULES)),
@@ -477,6 +478,10 @@ def _load_and_slip(name: str, c: dict, kw: dict) -> None:
              "give exactly one of 'sliding_speed' [m/s] (full sliding) or 'creepage' (a table)"
              + ("; with a wheelset both may be left out (the kinematics give the creepages)" if ws else ""))
     _require(name, "friction" in c, "friction", "key 'friction' (a coefficient >= 0 or a friction-law table) is missing")
+    if "sliding_speed" in c and "speed" in c and c["sliding_speed"] < -c["speed"]:
+        raise SceneError.bad_value(name, "sliding_speed", c["sliding_speed"],
+                                   f"a number >= -speed = {-c['speed']:g} [m s-1] (the wheel's surface moves at speed + "
+                                   "sliding_speed, not backwards; -speed: a locked wheel)")
     if "creepage" in c:
         kw["creepage"] = Creepage(**c["creepage"])
     for k in ("normal_force", "penetration", "sliding_speed"):

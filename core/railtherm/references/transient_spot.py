@@ -1,21 +1,16 @@
 """Exact history of a half-space under a surface source at rest (a locked wheel's contact spot).
 
 A band (2-D, per unit length) or ellipse (3-D) source, uniform or Hertzian flux (:class:`FixedSource`), sits at
-rest on the insulated half-space and is switched on and off by a piecewise-linear heat-input schedule
-(:class:`~railtherm.references.transient_pass.Schedule`) that starts at factor 0: a source heated since
-t = -inf has no finite history on the band. The material point lies at depth z under the source's centre.
-The rise is the time integral of the instantaneous surface sources (Carslaw & Jaeger 1959, 10.2-10.5),
-
-    theta(z, t) = q / (rho c) int f(t') K(z, t - t') dt',
-
-the source-integrated kernel K the one of :mod:`.transient_pass` at the source's centre (xi = 0: inner
-integrals in closed form or by Gauss-Legendre windows), the time integral in u = sqrt(t - t') by graded
-composite Gauss-Legendre panels between the schedule's kinks. Closed forms it reduces to: the uniform disc
-on its axis (C&J 10.5 (6)), the 1-D half-space under a constant flux (C&J 2.9 (7)) where the source is wide
-against sqrt(kappa t).
+rest on the insulated half-space, switched on and off by a piecewise-linear schedule that starts at factor 0 (a
+band heated since t = -inf has no finite history). The point lies at depth z under the source's centre:
+theta(z, t) = q / (rho c) int f(t') K(z, t - t') dt', K the instantaneous surface sources integrated over the
+source (Carslaw & Jaeger 1959, 10.2-10.5; the band's in closed form, the ellipse's by the window quadratures of
+:mod:`.transient_pass`), the time integral in u = sqrt(t - t') by graded Gauss-Legendre panels between the
+schedule's kinks. Limits it reduces to: the uniform disc on its axis (C&J 10.5 (6)), the 1-D half-space (2.9 (7)).
 
 References: [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford, 1959, sections 2.9,
-10.2-10.5. ISBN 978-0198533689.
+10.2-10.5. ISBN 978-0198533689. [2] M. Abramowitz, I.A. Stegun, Handbook of Mathematical Functions, NBS, 1964,
+9.6.18-19.
 """
 from __future__ import annotations
 
@@ -24,11 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import optimize
+from scipy.special import erf
 
 from ._quadrature import two_sided_rule
 from .flash import thermal_properties
 from .transient import PassSummary
-from .transient_pass import _INNER, Schedule, _as_depth
+from .transient_pass import _INNER, Schedule, _as_depth, _bessel_sum
 
 __all__ = ["FixedSource", "fixed_source_history", "fixed_source_summary", "heating_window"]
 
@@ -92,38 +88,50 @@ def heating_window(schedule: Schedule) -> tuple[float, float]:
     return start, stop
 
 
-def _kernel_u(u, z, src, kappa, nx):
-    """rho c / q times the source-integrated kernel at its centre times dtau/du, at tau = u^2 [s^0.5 ...]."""
+def _centre_inner(s, src, nx):
+    """(1/s^d) times the source's flux shape integrated against exp(-r^2/s^2) about its centre [1] (d = 1 band,
+    2 ellipse): the band's in closed form, (1/s) int_{-a}^{a} exp(-x^2/s^2) dx = sqrt(pi) erf(a/s) and
+    (1/s) int_{-a}^{a} sqrt(1 - x^2/a^2) exp(-x^2/s^2) dx = (pi a / (2 s)) (I0e(w) + I1e(w)), w = a^2/(2 s^2)
+    (Abramowitz & Stegun 9.6.18-19); the ellipse's by :mod:`.transient_pass`'s window quadratures."""
+    a = src.half_width
+    if src.kind == "band" and src.shape == "uniform":
+        return math.sqrt(math.pi) * erf(a / s)
+    if src.kind == "band":
+        return 0.5 * math.pi * a / s * _bessel_sum(0.5 * (a / s) ** 2)
+    return _INNER[(src.kind, src.shape)](np.zeros(s.size), s, src, nx)
+
+
+def _kernel_u(u, depth, src, kappa, nx):
+    """rho c / q times the source-integrated kernel under its centre times dtau/du at tau = u^2, at each depth:
+    shape (u.size, depth.size)."""
     s = 2.0 * math.sqrt(kappa) * u
-    out = np.zeros(u.shape)
+    out = np.zeros((u.size, depth.size))
     ok = s > 0
     if not np.any(ok):
         return out
-    inner = _INNER[(src.kind, src.shape)](np.zeros(int(np.count_nonzero(ok))), s[ok], src, nx)
-    with np.errstate(under="ignore"):
-        depth = np.exp(-(z / s[ok]) ** 2)
     power = 1.0 if src.kind == "band" else 1.5
-    out[ok] = 2.0 / (math.pi ** power * math.sqrt(kappa)) * inner * depth
+    inner = 2.0 / (math.pi ** power * math.sqrt(kappa)) * _centre_inner(s[ok], src, nx)
+    with np.errstate(under="ignore"):
+        out[ok] = inner[:, None] * np.exp(-(depth[None, :] / s[ok, None]) ** 2)
     return out
 
 
-def _rise_at(t, z, src, kappa, schedule, start, stop, n, nx):
-    """int_{start}^{min(stop, t)} f(t') K(z, t - t') dt' [K per q/(rho c)]: panels between the schedule's
-    kinks and t - z^2/(4 kappa) (the kernel's peak at depth z), each graded toward both ends in u."""
+def _rise_at(t, depth, src, kappa, schedule, start, stop, n, nx):
+    """int_{start}^{min(stop, t)} f(t') K(z, t - t') dt' [K per q/(rho c)] at each depth: panels between the
+    schedule's kinks and t - z^2/(4 kappa) (the kernel's peak at each depth z), each graded toward both ends in
+    u = sqrt(t - t')."""
     hi = min(stop, t)
     if hi <= start:
-        return 0.0
-    pts = [start, hi] + [b for b in schedule.time if start < b < hi]
-    peak = t - z * z / (4.0 * kappa)
-    if start < peak < hi:
-        pts.append(peak)
+        return np.zeros(depth.size)
+    peaks = t - depth * depth / (4.0 * kappa)
+    pts = [start, hi] + [b for b in schedule.time if start < b < hi] + [p for p in peaks if start < p < hi]
     pts = np.unique(pts)
     rule, w = two_sided_rule(int(n))
-    total = 0.0
+    total = np.zeros(depth.size)
     for p, q in zip(pts[:-1], pts[1:]):
         u1, u2 = math.sqrt(t - q), math.sqrt(t - p)
         u = u1 + (u2 - u1) * rule
-        total += (u2 - u1) * float(np.dot(w, schedule(t - u * u) * _kernel_u(u, z, src, kappa, nx)))
+        total += (u2 - u1) * (w * schedule(t - u * u)) @ _kernel_u(u, depth, src, kappa, nx)
     return total
 
 
@@ -165,9 +173,7 @@ def fixed_source_history(time, depth, source: FixedSource, material, schedule: S
     scale = source.flux * kappa / lam
     out = np.zeros((time.size, depth.size))
     for i, t in enumerate(time):
-        for j, z in enumerate(depth):
-            out[i, j] = scale * _rise_at(float(t), float(z), source, kappa, schedule, start, stop, quad_points,
-                                         inner_points)
+        out[i] = scale * _rise_at(float(t), depth, source, kappa, schedule, start, stop, quad_points, inner_points)
     return out
 
 
