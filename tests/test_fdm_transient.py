@@ -434,3 +434,25 @@ def test_locked_wheel_refusals_name_the_reason():
                         FDM_CHAIN, level=0)
     with pytest.raises(Refused, match="must start at factor 0"):
         railtherm.solve(load_scene({k: v for k, v in LOCKED.items() if k != "schedule"}), FDM_CHAIN, level=0)
+
+
+def test_3d_history_block_has_a_node_budget():
+    """The 3-D section block grows ~8x a level and with the history's reach sqrt(kappa t_end): above the option
+    max_history_nodes (default 1e6) the history is refused (kind "budget") naming the node count, the shape, the
+    level and the option, before any step. The study's train (4 passes 83 ms apart) fits at level 2 (372,810
+    nodes) and not at level 3 (2.8e6); 1,000 passes 50 ms apart on the same ellipse fit to level 1 only."""
+    from railtherm_fdm.history3d import ellipse_nodes
+    kappa = STEEL.diffusivity
+
+    def nodes(level, duration):
+        return int(np.prod([n.size for n in ellipse_nodes(A, B, V, kappa, level, duration, [0.0, 1e-4, 5e-4, 1e-3])]))
+    train = [nodes(level, 4 * 0.08333333333333333) for level in range(4)]
+    assert train[2] == 372810 < 1e6 < train[3]
+    assert 6.5 < train[2] / train[1] < 9.5 and 6.5 < train[3] / train[2] < 9.5
+    assert nodes(1, 1000 * 0.05) < 1e6 < nodes(2, 1000 * 0.05)
+    scene = _scene({"shape": "hertz", "semi_axes": [A, B]}, passes={"count": 2, "interval": INTERVAL})
+    del scene["schedule"]
+    with pytest.raises(Refused, match=r"needs 27x13x22 = 7.72e\+03 nodes at level 0, above the budget "
+                                      r"max_history_nodes = 5e\+03") as err:
+        railtherm.solve(scene, "fastsim-fdm", level=0, options={"max_history_nodes": 5e3})
+    assert err.value.kind == "budget"

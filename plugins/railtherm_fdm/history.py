@@ -390,15 +390,17 @@ def heating_scheme(requested: str, dt_stab: float, dt_source: float,
     return core_heating_scheme(requested, dt_stab, dt_source, implicit_cost)
 
 
-def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, requested: str = "auto"):
+def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, requested: str = "auto",
+                   max_nodes: float = math.inf):
     """:func:`railtherm.solving.section_stepping.body_histories` on fdm's blocks: the 2-D section block of a
-    line contact, the 3-D block (:mod:`.history3d`) of a patch."""
+    line contact, the 3-D block (:mod:`.history3d`) of a patch, refused above ``max_nodes`` nodes."""
     def make_block(v, m, convection, duration, z):
         args = (v, m.conductivity, m.density * m.specific_heat, convection, level, duration, z)
         if grid.line:
             return section_block(float(grid.a), *args)
         from .history3d import ellipse_block
-        return ellipse_block(float(grid.a), float(grid.b), *args)
+        return ellipse_block(float(grid.a), float(grid.b), *args, max_nodes=max_nodes,
+                             body="wheel" if m is bodies[0] else "rail")
     what = ("finite-volume block around the section (2-D for a line contact, 3-D for a patch), explicit while a "
             "source is over it and implicit between passes, chosen by cost")
     return histories_at_section(scene.transient, scene.convection, grid.x_edges, grid.y_edges, fluxes,

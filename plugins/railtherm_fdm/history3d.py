@@ -20,12 +20,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.sparse import csr_matrix, diags
 
-from railtherm import theta_steps
+from railtherm import Refused, theta_steps
 from railtherm.physics import thermal_scales
 
 from .layout import depth_nodes, rail_nodes
 
-__all__ = ["EllipseBlock", "ellipse_block", "CG_RTOL", "CG_COST_FACTOR"]
+__all__ = ["EllipseBlock", "ellipse_block", "ellipse_nodes", "check_node_budget", "CG_RTOL", "CG_COST_FACTOR"]
 
 #: relative residual of each implicit step's conjugate gradients
 CG_RTOL = 1e-10
@@ -88,12 +88,11 @@ class EllipseBlock:
         return _Stepper3D(self, _EllipseSource(self, x_edges, y_edges, flux, speed), factor, t0)
 
 
-def ellipse_block(a: float, b: float, speed: float, conductivity: float, capacity: float, convection: float,
-                  level: int, duration_total: float, depths) -> EllipseBlock:
-    """The block of the module docstring for an ellipse of semi-axes ``a``, ``b`` [m] at ``speed`` [m/s],
-    material lambda [W/(m K)] and rho c [J/(m^3 K)], top convection h [W/(m^2 K)], refinement ``level``, a
-    history of ``duration_total`` [s] and the output ``depths`` [m]."""
-    kappa = conductivity / capacity
+def ellipse_nodes(a: float, b: float, speed: float, kappa: float, level: int, duration_total: float,
+                  depths) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The nodes (x, y, z) [m] of the block of the module docstring for an ellipse of semi-axes ``a``, ``b`` [m]
+    at ``speed`` [m/s], diffusivity ``kappa`` [m^2/s], refinement ``level``, a history of ``duration_total`` [s]
+    and the output ``depths`` [m]: about 8x more a level, and more with the history's reach sqrt(kappa t)."""
     delta = thermal_scales(a, speed, kappa).thermal_depth
     reach = math.sqrt(kappa * duration_total)
     growth = 1.3 ** (1.0 / 2 ** int(level))
@@ -101,6 +100,38 @@ def ellipse_block(a: float, b: float, speed: float, conductivity: float, capacit
     y = _graded(b / 8.0 / 2 ** int(level), growth, b, b + 2.0 * reach)
     bottom = max(8.0 * reach, 10.0 * delta, 1.5 * max(depths))
     z = depth_nodes(delta / 4.0 / 2 ** int(level), growth, bottom, depths)
+    return x, y, z
+
+
+def check_node_budget(nodes, level: int, max_nodes: float, body: str) -> None:
+    """Refuse a 3-D history block of more than ``max_nodes`` nodes, naming its shape, the level and the option.
+
+    Raises
+    ------
+    railtherm.Refused
+        kind "budget": the block's memory (its operator and one matrix per implicit step size, ~15 on the cooling
+        ladder) and each step's work grow with the node count, 8x a level.
+    """
+    shape = tuple(int(np.size(n)) for n in nodes)
+    total = int(np.prod(shape))
+    if total > max_nodes:
+        raise Refused(f"model 'fdm' ({body}): the 3-D section block of this history needs {'x'.join(map(str, shape))} "
+                      f"= {total:.3g} nodes at level {int(level)}, above the budget max_history_nodes = {max_nodes:.3g} "
+                      "(memory: the operator and a matrix per implicit step size; work: every step; both 8x a level "
+                      "and growing with the history's length): use a lower level, a shorter history or raise the "
+                      "option max_history_nodes", kind="budget")
+
+
+def ellipse_block(a: float, b: float, speed: float, conductivity: float, capacity: float, convection: float,
+                  level: int, duration_total: float, depths, max_nodes: float = math.inf,
+                  body: str = "rail") -> EllipseBlock:
+    """The block of the module docstring for an ellipse of semi-axes ``a``, ``b`` [m] at ``speed`` [m/s],
+    material lambda [W/(m K)] and rho c [J/(m^3 K)], top convection h [W/(m^2 K)], refinement ``level``, a
+    history of ``duration_total`` [s] and the output ``depths`` [m]; refused above ``max_nodes`` nodes
+    (:func:`check_node_budget`, ``body`` named)."""
+    kappa = conductivity / capacity
+    x, y, z = ellipse_nodes(a, b, speed, kappa, level, duration_total, depths)
+    check_node_budget((x, y, z), level, max_nodes, body)
     nx, ny, nz = x.size, y.size, z.size
     wx, wy = _duals(x), _duals(y)
     gaps = np.diff(z)

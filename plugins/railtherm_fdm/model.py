@@ -68,6 +68,9 @@ class FDMTemperature(TemperatureModel):
         "budget": Option(4e9, "'auto': largest explicit cost in node updates", minimum=0.0),
         "threads": Option(0, "numba threads for the explicit stencil (0: numba's default)", minimum=0),
         "max_nodes": Option(5e7, "transient schemes: largest node count of the block (refused above)", minimum=1),
+        "max_history_nodes": Option(1e6, "pass histories on a patch: largest node count of the 3-D section block "
+                                         "(refused above; at 1e6 each sparse matrix, the operator and one per implicit step size, ~90 MB)",
+                                    minimum=1),
         "max_cells": Option(4e6, "steady scheme: largest cell count of the graded grid (refused above)", minimum=1),
         "line_x_scheme": Option("upwind2", "line contacts, steady scheme: fluxes along x 'upwind2' (second-order "
                                            "upwind, default) or 'exponential' (as the 3-D block)",
@@ -161,10 +164,12 @@ class FDMTemperature(TemperatureModel):
                           "'auto', 'explicit' or 'implicit' for the pass histories", kind="validity")
         hist, diag = body_histories(scene, grid, [q if np.any(q != 0) and i not in resting else None
                                                   for i, q in enumerate(fluxes)], bodies_m,
-                                    tuple(float(v) for v in source.body_speed), bulk, int(level), requested)
+                                    tuple(float(v) for v in source.body_speed), bulk, int(level), requested,
+                                    max_nodes=float(options["max_history_nodes"]))
         for i in resting:
             t, rise, d = resting_body_history(scene.transient, grid, fluxes[i], bodies_m[i],
-                                              float(scene.convection or 0.0), int(level), BODY_NAMES[i])
+                                              float(scene.convection or 0.0), int(level), BODY_NAMES[i],
+                                              max_nodes=float(options["max_history_nodes"]))
             hist = with_resting_body(hist, i, t, rise, scene.transient, bulk[i])
             diag.update({f"{BODY_NAMES[i]}_history_{k}": v for k, v in d.items()})
         bodies = [None, None]

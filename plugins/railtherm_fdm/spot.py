@@ -100,10 +100,12 @@ def spot_history(block, power: np.ndarray, sample: np.ndarray, implicit, tr, lev
     return np.concatenate(times), np.concatenate(rows), diag
 
 
-def resting_body_history(tr, grid, flux, material, convection: float, level: int, body: str):
+def resting_body_history(tr, grid, flux, material, convection: float, level: int, body: str,
+                         max_nodes: float = math.inf):
     """The history of a body at rest under the contact (its spot): (time [s], rise [K] (nt, depths),
-    diagnostics), on fdm's block of the contact (2-D for a line contact, 3-D for a patch) with the source's
-    ``flux`` [W/m^2] on the source grid ``grid`` at rest over the block's centre."""
+    diagnostics), on fdm's block of the contact (2-D for a line contact, 3-D for a patch, refused above
+    ``max_nodes`` nodes) with the source's ``flux`` [W/m^2] on the source grid ``grid`` at rest over the block's
+    centre."""
     a = float(grid.a)
     start, stop = heating_time(tr, body)
     end = int(tr.count) * float(tr.interval)
@@ -120,7 +122,7 @@ def resting_body_history(tr, grid, flux, material, convection: float, level: int
         power[np.arange(block.x.size) * nz] = _BandSource(block, xe, flux, 1.0).power(float(xe[-1]))
         sample, implicit = block.i0 * nz + block.depth_index, _Implicit(block)
     else:
-        block = ellipse_block(a, float(grid.b), *args)
+        block = ellipse_block(a, float(grid.b), *args, max_nodes=max_nodes, body=body)
         ny, nz = block.y.size, block.z.size
         power = np.zeros(block.capacity.size)
         top = (np.arange(block.x.size)[:, None] * ny + np.arange(ny)[None, :]) * nz
