@@ -109,8 +109,9 @@ def test_report_reads_only_through_the_store():
 
 def test_store_and_time_limits_import_nothing_above_them():
     graph = import_graph()
-    # the store reads the result schema (variables, the sweep attribute), nothing more
-    assert graph["railtherm.output.store"] <= {"railtherm.contract.schema", "railtherm.output.zarr_store"}, \
+    # the store reads the result schema (variables, the sweep attribute, the fields of several patches), nothing more
+    assert graph["railtherm.output.store"] <= {"railtherm.contract.schema", "railtherm.contract.patch_grid",
+                                               "railtherm.output.zarr_store"}, \
         graph["railtherm.output.store"]
     assert graph["railtherm.run.timelimit"] == set()
     for mod, deps in graph.items():

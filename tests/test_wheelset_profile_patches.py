@@ -135,10 +135,11 @@ def test_one_patch_against_contact(side):
     assert float(r["max_pressure"][0]) == pytest.approx(ref["pmax"] * 1e6, rel=0.08)
 
 
-def test_a_field_in_a_scene_of_several_patches_is_refused():
-    s = dict(_all(11), outputs=["normal_force", "pressure"])
-    with pytest.raises(SceneError, match=r"scene 'a22-11-right': key 'outputs' = 'pressure' is not allowed: a "
-                                         r"quantity without a grid in a scene of several patches"):
+def test_a_pass_history_in_a_scene_of_several_patches_is_refused():
+    s = dict(_all(11), outputs=["normal_force", "temperature_history"])
+    with pytest.raises(SceneError, match=r"scene 'a22-11-right': key 'outputs' = 'temperature_history' is not "
+                                         r"allowed: a quantity over the body and the patch's grid in a scene of "
+                                         r"several patches"):
         load_scene(s)
 
 

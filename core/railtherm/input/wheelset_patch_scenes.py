@@ -20,19 +20,20 @@ TOTALS_NEED = ("normal_force", "creep_force_x", "creep_force_y", "contact_angle"
 
 def check_patch_outputs(scene_name: str, outputs, pc, dims_of) -> None:
     """SceneError unless ``outputs`` suit the scene's wheelset: the wheel's totals (``wheel_force_x/y/z``) need
-    ``patch = "all"``, and a scene of several patches asks only quantities without a grid (each patch has its
-    own grid: ``dims_of(name)`` must lie within ("body",))."""
+    ``patch = "all"``, and a scene of several patches asks only quantities over the body and the patch's grid
+    (``dims_of(name)`` within ("body", "x", "y", "z"): each patch's field is kept on its own grid,
+    :mod:`railtherm.contract.patch_grid`), no pass history."""
     totals = [o for o in outputs if o.startswith("wheel_force_")]
     if not isinstance(pc, ProfileContacts):
         if totals:
             _fail(scene_name, "outputs", totals[0], "the wheel's total force over its patches only with "
                   "wheelset.patch = \"all\" (a scene of one patch: its normal_force, creep_force_x/y)")
         return
-    gridded = [o for o in outputs if set(dims_of(o)) - {"body"}]
-    if gridded:
-        _fail(scene_name, "outputs", gridded[0], "a quantity without a grid in a scene of several patches "
-              "(wheelset.patch = \"all\": each patch has its own grid), e.g. "
-              + ", ".join(PATCH_DEFAULT_OUTPUTS) + "; ask a field of one patch with wheelset.patch = 1, 2 or 3")
+    other = [o for o in outputs if set(dims_of(o)) - {"body", "x", "y", "z"}]
+    if other:
+        _fail(scene_name, "outputs", other[0], "a quantity over the body and the patch's grid in a scene of several "
+              "patches (wheelset.patch = \"all\"), e.g. " + ", ".join(PATCH_DEFAULT_OUTPUTS)
+              + ", pressure; ask a pass history of one patch with wheelset.patch = 1, 2 or 3")
 
 
 def patch_scenes(scene, outputs) -> list:

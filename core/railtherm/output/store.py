@@ -24,6 +24,7 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
+from ..contract.patch_grid import patch_field, patch_numbers  # a run's fields patch by patch, for readers
 from ..contract.schema import SWEEP_ATTR, encode_sweep
 from . import zarr_store
 
@@ -39,6 +40,7 @@ __all__ = ["STATUSES", "RESULT_STATUSES", "RUNS", "METRICS", "REFERENCES", "STUD
            "write_dataset_atomic", "write_references", "remove_stale_tmp",
            "read_attrs", "open_dataset", "open_run", "open_result", "has_store", "run_attributes", "open_store", "read_run_scalars", "read_json", "read_study_info",
            "read_metrics", "read_references", "run_sweeps", "SWEEP_ATTR", "encode_sweep", "sweep_of",
+           "patch_field", "patch_numbers",
            "RunRecord", "write_status", "read_status", "crash_record"]
 
 # ----------------------------------------------------------------------------------------------
