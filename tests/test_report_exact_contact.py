@@ -1,14 +1,16 @@
-"""The report's exact-contact section (issue 13 item 6): a small study (level 0) of Ertz & Knothe's ellipse
-with creepage, measured against method "kalker" (reference = "kalker"), run by kalker, green (FASTSIM ->
-green) and fastsim-fdm (FASTSIM -> fdm). Checks: the contact-model and thermal-model error columns are
-computed from the run files (one cell recomputed here from the files), each names its reference, the
-contact-model error agrees with metrics.nc's error against method:kalker, and the figures are written."""
+"""The report's exact-contact section: a small study (level 0) of Ertz & Knothe's ellipse with creepage,
+measured against method "kalker" (reference = "kalker"), run by kalker, green (FASTSIM -> green) and fastsim-fdm
+(FASTSIM -> fdm). Checks: the contact-model and thermal-model error columns are computed from the run files (one
+cell recomputed here from the files), each names its reference, the contact-model error agrees with metrics.nc's
+error against method:kalker, and the figures are written; on data built here, a result of several patches (a
+wheelset on profiles) has rows for every patch, each with its own values and error."""
 from __future__ import annotations
 
 import re
 
 import math
 import textwrap
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -16,9 +18,11 @@ import xarray as xr
 
 import railtherm
 from railtherm.output import store
-from railtherm.report.exact_contact import error_rows, exact_comparisons, relative_error
+from railtherm.contract.schema import variable_attrs
+from railtherm.report.exact_contact import (ExactComparison, _split_summary, error_rows, exact_comparisons,
+                                            relative_error)
 from railtherm.report.format import pct
-from railtherm.report.load import load
+from railtherm.report.load import Run, SceneInfo, StudyData, load
 
 STUDY = textwrap.dedent("""
     schema_version = 1
@@ -171,3 +175,54 @@ def test_contact_and_total_errors_are_read_from_metrics(out, tmp_path):
     from railtherm.report import write_report
     md = write_report(copy)[0].read_text()                      # the creep curve's table: Fx's stored error
     assert re.search(r"^\| -0\.003 \| [^|]+ \| `fastsim-fdm` \| [^|]+ \| \+75 % \|$", md, flags=re.M)
+
+
+# -- a result of several patches (a wheelset on profiles, wheelset.patch = "all"), on data built here -----------
+def _patched(fx, temps) -> xr.Dataset:
+    """A result of two patches: creep force Fx [N] and the bodies' max. surface temperatures [degC] per patch."""
+    ds = xr.Dataset({"creep_force_x": (("patch",), fx),
+                     "max_surface_temperature": (("body", "patch"), [temps, [t - 1.0 for t in temps]])},
+                    coords={"body": ["wheel", "rail"], "patch": [1, 2]}, attrs={"wheelset_patch": "all"})
+    for v in ds.data_vars:
+        ds[v].attrs.update(variable_attrs(v))
+    return ds
+
+
+def _patched_study(tmp_path, stored: bool):
+    """kalker (the exact contact) and a Hertz chain on one scene of two patches; metrics.nc's errors per patch
+    (``patch_errors_<q>``, magnitudes) when ``stored``, its signed error the worst patch's."""
+    scene = SimpleNamespace(profile_contact=SimpleNamespace(patch="all"), wheel=SimpleNamespace(bulk_temperature=0.0))
+    q = "max_surface_temperature"
+    runs = [Run("w", "kalker", 2, "unverified"),
+            Run("w", "hertz", 2, "inaccurate", references={q: "method:kalker"} if stored else {},
+                signed={q: 0.55} if stored else {}, patch_errors={q: {1: 0.12, 2: 0.55}} if stored else {})]
+    data = StudyData(out=tmp_path, name="fake", tolerance=0.05, runs=runs, scenes=["w"], methods=["kalker", "hertz"],
+                     levels=[2], info={}, study=None, scene={"w": SceneInfo("w", reference_kind="kalker", scene=scene)},
+                     orders={}, cross={}, curves=None)
+    data._files["w", "kalker", 2] = _patched([100.0, 20.0], [50.0, 4.0])
+    data._files["w", "hertz", 2] = _patched([90.0, 30.0], [45.0, 6.0])
+    return data, ExactComparison("kalker", ["w"], contact=["hertz"])
+
+
+@pytest.mark.parametrize("stored", [True, False])
+def test_every_patch_of_a_result_of_several_patches_has_its_rows(tmp_path, stored):
+    """A row per patch and quantity with that patch's values (not patch 1's for both) and its own error: metrics.nc's
+    per-patch error signed by the difference where stored (12 % and 55 %, over both bodies), else
+    (value - reference) / |reference - bulk| of the wheel's values (10 % and 50 %)."""
+    data, comp = _patched_study(tmp_path, stored)
+    _, rows = error_rows(data, comp)
+    got = {(r[0], r[1].split(" [")[0]): r for r in rows}
+    assert sorted({r[0] for r in rows}) == ["`w` patch 1", "`w` patch 2"]
+    fx2 = got["`w` patch 2", "creep force Fx"]
+    assert fx2[2] == "0.02" and fx2[3] == "0.03" and fx2[4].text == pct(0.5, signed=True)   # kN; (30 - 20) / 20
+    t1, t2 = got["`w` patch 1", "max. surface temperature (wheel)"], got["`w` patch 2", "max. surface temperature (wheel)"]
+    assert (t1[2], t1[3], t2[2], t2[3]) == ("50", "45", "4", "6")
+    e1, e2 = (0.12, 0.55) if stored else (0.1, 0.5)
+    assert t1[4].text == pct(-e1, signed=True) and t2[4].text == pct(e2, signed=True)
+
+
+def test_the_summary_counts_the_patches(tmp_path):
+    data, comp = _patched_study(tmp_path, True)
+    text = _split_summary(data, comp)
+    assert "over its one scene (2 patches: each patch of a wheelset on profiles on its own)" in text
+    assert f"{pct(-0.12, signed=True)} to {pct(0.55, signed=True)}" in text

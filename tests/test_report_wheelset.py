@@ -2,8 +2,8 @@
 reader: its table, figures and key finding hold the run files' and metrics.nc's numbers patch by patch, which
 is what is checked, on a study's data built here (fast), and, opt-in (``-m slow``), on three contacts of the
 Manchester benchmark A-2.2 (right wheel at 5 mm lateral shift, two patches, and 6 mm; left wheel at 6 mm; every
-patch of each, wheelset.patch = "all") and one scene of one patch (5 mm, right, for the patch shapes) run by the
-exact chain and a Hertz + FASTSIM chain at level 0 and written by ``railtherm run``.
+patch of each, wheelset.patch = "all", each keeping its pressure field for the patch shapes) run by the exact chain
+and a Hertz + FASTSIM chain at level 0 and written by ``railtherm run``.
 
 Run: ``OPENBLAS_NUM_THREADS=1 MPLBACKEND=Agg python -m pytest -q tests/test_report_wheelset.py``
 """
@@ -251,18 +251,76 @@ def test_shapes_figure_is_drawn_with_units(tmp_path, monkeypatch):
         assert re.search(r"\[mm\]", ax.get_xlabel()) and re.search(r"\[mm\]", ax.get_ylabel())
 
 
+def _with_patch_fields(data):
+    """The 0 mm right contact as a result of two patches (wheelset.patch = "all") keeping each patch's pressure on
+    its own grid, padded with NaN (contract.patch_grid): patch 1 on the tread (5 x 3 cells, contact plane at
+    y0 = -10 mm, -0.05 rad), patch 2 on the flange root (4 x 2 cells, y0 = -35 mm, -0.3 rad), 6 and 2 cells in
+    contact for kalker (1 and 2 for the Hertz chain), 8 and 2 kN."""
+    grids = {1: (np.linspace(-2e-3, 2e-3, 5), np.linspace(-1e-3, 1e-3, 3)),
+             2: (np.linspace(-1.5e-3, 1.5e-3, 4), np.linspace(-0.5e-3, 0.5e-3, 2))}
+    planes = {1: (-0.01, -0.05), 2: (-0.035, -0.3)}
+    contacts = tuple(SimpleNamespace(patch=k, plane_position_rail=planes[k][0], plane_angle=planes[k][1],
+                                     contact_position_rail=planes[k][0] - 1e-3, contact_height_rail=1e-3 * k,
+                                     contact_angle=planes[k][1], normal_force=math.nan) for k in (1, 2))
+    si = data.scene["r0"]
+    si.scene.profile_contact = SimpleNamespace(side="right", patch="all", contacts=contacts,
+                                               rail_section=((-0.05, 0.0, 0.03), (2e-2, 0.0, 1e-3)))
+    cells = {"kalker": {1: (slice(1, 4), slice(1, None)), 2: (slice(1, 3), 0)},
+             "hertz": {1: (2, 1), 2: (slice(1, 3), 1)}}
+    for m in ("kalker", "hertz"):
+        p = np.full((5, 3, 2), np.nan)
+        px, py = np.full((5, 2), np.nan), np.full((3, 2), np.nan)
+        for k, (x, y) in grids.items():
+            p[:x.size, :y.size, k - 1] = 0.0
+            p[(*cells[m][k], k - 1)] = 1e8
+            px[:x.size, k - 1], py[:y.size, k - 1] = x, y
+        ds = _result([10.0, 3.0], True).assign(normal_force=("patch", [8e3, 2e3], variable_attrs("normal_force")),
+                                                  pressure=(("x", "y", "patch"), p, variable_attrs("pressure")))
+        data._files["r0", m, 0] = ds.assign_coords(patch_x=(("x", "patch"), px), patch_y=(("y", "patch"), py))
+    return grids, planes
+
+
+def test_patch_shapes_of_several_patches_come_from_each_patch_field(tmp_path):
+    """A result of every patch: one shape per patch and method, each from its own field on its own grid (padding
+    dropped), placed by its own contact plane, with its own share of the load and its role."""
+    data = _fake_data(tmp_path)
+    grids, planes = _with_patch_fields(data)
+    shapes = patch_shapes(data, shape_scenes(data), ["kalker", "hertz"])
+    assert [(s.shift, s.patch, s.method, s.role, s.shared) for s in shapes["right"]] == [
+        (0.0, 1, "kalker", "tread", True), (0.0, 1, "hertz", "tread", True),
+        (0.0, 2, "kalker", "flange", True), (0.0, 2, "hertz", "flange", True)]
+    k1, h1, k2, h2 = shapes["right"]
+    assert (k1.normal_force, k2.normal_force) == (8e3, 2e3)
+    assert k2.point == (planes[2][0] - 1e-3, 2e-3) and np.array_equal(k2.x, grids[2][0])
+    assert np.allclose(k2.y, planes[2][0] + grids[2][1] * np.cos(planes[2][1]))
+    assert k2.inside.shape == (4, 2) and k2.inside.sum() == 2 and k1.inside.sum() == 6
+    assert (h1.inside.sum(), h2.inside.sum()) == (1, 2)
+
+
+def test_shapes_caption_says_each_patch_carries_its_share(tmp_path, monkeypatch):
+    data = _fake_data(tmp_path)
+    _with_patch_fields(data)
+    figs, drawn = {}, {}
+    monkeypatch.setattr(WF, "save", lambda fig, path: figs.setdefault(path.stem, fig) and (path, 900))
+    doc = Document()
+    wheelset_section(doc, _ctx(data, drawn, tmp_path))
+    caption, (rails, shapes, reference), _ = drawn["wheelset-patch-shapes"]
+    assert "its own pressure field" in caption and "its own share of the wheel's vertical force" in caption
+    assert "whole vertical force" not in caption and reference == "kalker"
+    labels = [t.get_text() for ax in figs["wheelset-patch-shapes"].axes for t in
+              (ax.get_legend().get_texts() if ax.get_legend() else [])]
+    assert "0 mm, tread 1, N = 8 kN" in labels and "0 mm, flange 2, N = 2 kN" in labels
+
+
 # -- slow: the benchmark's contacts through railtherm run --------------------------------------------------------
 @pytest.fixture(scope="module")
 def out(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("wheelset")
     path = tmp / "wheelset.toml"
     scenes = [_scene(*p).replace('" }', '", patch = "all" }') for p in POSITIONS]
-    shape = _scene("shape-p11-right", *POSITIONS[0][1:]).replace('" }', '", patch = 1 }').replace(
-        "wheelset =", 'outputs = ["contact_angle", "normal_force", "max_pressure", "pressure", '
-                      '"max_surface_temperature"]\nwheelset =')
     path.write_text(STUDY.replace('"max_pressure", "max_surface_temperature"]',
                                   '"max_pressure", "contact_position_rail", "contact_angle", '
-                                  '"max_surface_temperature"]') + "".join(scenes) + shape)
+                                  '"max_surface_temperature", "pressure"]') + "".join(scenes))
     out = tmp / "out"
     railtherm.run_study(path, out=out, executor="serial")   # writes the report
     return out
@@ -277,7 +335,7 @@ def test_study_section_table_holds_the_run_files_numbers_per_patch(out):
     md = (out / "report.md").read_text()
     assert "## Wheelset on profiles: the patches and their flash temperature against lateral shift" in md
     assert (out / "figures" / "wheelset-against-shift.png").exists()
-    assert (out / "figures" / "wheelset-patch-shapes.png").exists()       # the 5 mm patch, right wheel
+    assert (out / "figures" / "wheelset-patch-shapes.png").exists()       # the 5 mm patches, right wheel
     seen = 0
     for name, shift, *_, side in POSITIONS:
         k, h = _run(out, name, "kalker"), _run(out, name, "hertz-fastsim-green")

@@ -7,7 +7,8 @@ model: ``green`` against ``kalker``), the **thermal model's error** (same tangen
 temperature model: ``fastsim-fdm`` against ``green``) and the **total** (what ``metrics.nc`` records).
 It also draws a creepage sweep's creep-force curves, the traction, slip and power-density maps of one
 combined-creepage scene, and a scene whose gap is not Hertzian (which only the exact method runs); the
-error definitions are in :func:`exact_contact_section`.
+error definitions are in :func:`exact_contact_section`. A result of several patches (a wheelset on profiles with
+``wheelset.patch = "all"``) is compared patch by patch: a row per scene, patch and quantity.
 
 The report computes no physics: every value is a run file's, every reference curve ``references.nc``'s.
 """
@@ -22,6 +23,7 @@ from . import exact_figures as XF
 from .document import Cell, Document
 from .format import finite, num, pct, quantity, short
 from .format import unit as shown
+from ..output.store import patch_numbers
 from .load import StudyData
 
 __all__ = ["ExactComparison", "QUANTITIES", "exact_comparisons", "exact_contact_section", "relative_error"]
@@ -52,18 +54,36 @@ class ExactComparison:
     thermal: dict = field(default_factory=dict)          # thermal method -> the contact method it shares a contact with
 
 
-def _value(data: StudyData, scene: str, method: str, q: str):
-    """(value [unit of q], level) at the method's finest successful level, or None."""
+def _value(data: StudyData, scene: str, method: str, q: str, patch: int | None = None):
+    """(value [unit of q], level) at the method's finest successful level, or None; of patch ``patch`` [1] in a
+    result of several patches (None: a result without patches; the patch missing: None)."""
     r = data.finest_result(scene, method)
     if r is None:
         return None
     ds = data.run_file(scene, method, r.level)
     if ds is None or q not in ds:
         return None
-    v = np.asarray(ds[q].values, float).ravel()
+    da = ds[q]
+    if "patch" in da.dims:
+        if patch is None or patch not in patch_numbers(ds):
+            return None
+        da = da.sel(patch=patch)
+    v = np.asarray(da.values, float).ravel()
     if v.size == 0 or not np.isfinite(v[0]):
         return None
     return float(v[0]), r.level      # body 0 (the wheel) for per-body quantities
+
+
+def _patches(data: StudyData, scene: str, method: str) -> list[int | None]:
+    """The patches [1] of the method's finest successful run of ``scene`` (``[None]``: a result without
+    patches)."""
+    r = data.finest_result(scene, method)
+    ds = data.run_file(scene, method, r.level) if r is not None else None
+    return (patch_numbers(ds) if ds is not None else []) or [None]
+
+
+def _named(scene: str, patch: int | None) -> str:
+    return f"`{scene}`" if patch is None else f"`{scene}` patch {patch}"
 
 
 def _bulk(data: StudyData, scene: str) -> float:
@@ -74,20 +94,26 @@ def _bulk(data: StudyData, scene: str) -> float:
         return 0.0
 
 
-def stored_error(data: StudyData, scene: str, method: str, q: str, reference: str) -> float:
+def stored_error(data: StudyData, scene: str, method: str, q: str, reference: str, patch: int | None = None) -> float:
     """metrics.nc's signed error of ``q`` at the method's finest successful level when it was taken against
-    method ``reference`` (NaN otherwise): the number the run table and the scorecard print."""
+    method ``reference`` (NaN otherwise): the number the run table and the scorecard print. For patch ``patch``
+    of a result of several patches, its own error (``patch_errors_<q>``, its magnitude; the caller signs it)."""
     r = data.finest_result(scene, method)
     if r is None or r.references.get(q) != f"method:{reference}":
         return math.nan
+    if patch is not None:
+        return r.patch_errors.get(q, {}).get(patch, math.nan)
     return r.signed.get(q, math.nan)
 
 
 def _against(data: StudyData, scene: str, method: str, q: str, value: tuple, ref_method: str, ref: tuple,
-             bulk: float) -> float:
-    """The signed error of ``method`` against ``ref_method`` on ``q``: metrics.nc's where it stores it, else
+             bulk: float, patch: int | None = None) -> float:
+    """The signed error of ``method`` against ``ref_method`` on ``q`` (of patch ``patch`` of a result of several
+    patches): metrics.nc's where it stores it (a patch's signed as the difference of the two values), else
     (quantities metrics.nc does not score, such as Fy and Mz) from the two run files' values."""
-    e = stored_error(data, scene, method, q, ref_method)
+    e = stored_error(data, scene, method, q, ref_method, patch)
+    if finite(e) and patch is not None:
+        return math.copysign(e, value[0] - ref[0]) if value[0] != ref[0] else 0.0
     return e if finite(e) else relative_error(value[0], ref[0], bulk)
 
 
@@ -142,8 +168,9 @@ def _stages(data: StudyData, scenes: list[str], method: str) -> dict:
 
 
 def _thermal_scenes(data: StudyData, comp: ExactComparison) -> list[str]:
-    """Scenes with temperatures of the exact method and a result of a compared method."""
-    return [s for s in comp.scenes if any(_value(data, s, comp.exact, q) for q in TEMPERATURES)
+    """Scenes with temperatures of the exact method (on some patch) and a result of a compared method."""
+    return [s for s in comp.scenes
+            if any(_value(data, s, comp.exact, q, k) for q in TEMPERATURES for k in _patches(data, s, comp.exact))
             and any(data.finest_result(s, m) is not None for m in comp.contact)]
 
 
@@ -159,40 +186,47 @@ def error_rows(data: StudyData, comp: ExactComparison) -> tuple[list[str], list[
     header.append("levels used")
     rows = []
     for s in _thermal_scenes(data, comp):
-        bulk = _bulk(data, s)
-        for q, (label, unit) in QUANTITIES.items():
-            ref = _value(data, s, e, q)
-            if ref is None or (q not in TEMPERATURES and q != "frictional_power" and abs(ref[0]) < NEGLIGIBLE):
-                continue
-            b = bulk if q in TEMPERATURES else 0.0
-            levels = {e: ref[1]}
-            row = [f"`{s}`", f"{label} [{shown(unit)}]", quantity(ref[0], unit, with_unit=False)]
-            got = {}
-            for c in comp.contact:
-                v = _value(data, s, c, q)
-                got[c] = v
-                if v is None:
-                    row += ["–", "–"]
-                    continue
-                levels[c] = v[1]
-                contact = _against(data, s, c, q, v, e, ref, b)
-                row += [quantity(v[0], unit, with_unit=False),
-                        Cell(pct(contact, signed=True, floor=ROUND_OFF), _css(contact, data.tolerance))]
-            for t, c in comp.thermal.items():
-                v = _value(data, s, t, q)
-                if v is None:
-                    row += ["–", "–", "–"]
-                    continue
-                levels[t] = v[1]
-                vc = got.get(c)
-                thermal = relative_error(v[0], vc[0], b) if vc is not None else math.nan
-                total = _against(data, s, t, q, v, e, ref, b)
-                row += [quantity(v[0], unit, with_unit=False),
-                        Cell(pct(thermal, signed=True, floor=ROUND_OFF), _css(thermal, data.tolerance)),
-                        Cell(pct(total, signed=True, floor=ROUND_OFF), _css(total, data.tolerance))]
-            row.append(", ".join(f"{m} level {lv}" for m, lv in levels.items()))
-            rows.append(row)
+        for k in _patches(data, s, e):
+            rows += _patch_rows(data, comp, s, k)
     return header, rows
+
+
+def _patch_rows(data: StudyData, comp: ExactComparison, s: str, k: int | None) -> list[list]:
+    """The rows of :func:`error_rows` of scene ``s``'s patch ``k`` (None: a result without patches)."""
+    e, bulk, rows = comp.exact, _bulk(data, s), []
+    for q, (label, unit) in QUANTITIES.items():
+        ref = _value(data, s, e, q, k)
+        if ref is None or (q not in TEMPERATURES and q != "frictional_power" and abs(ref[0]) < NEGLIGIBLE):
+            continue
+        b = bulk if q in TEMPERATURES else 0.0
+        levels = {e: ref[1]}
+        row = [_named(s, k), f"{label} [{shown(unit)}]", quantity(ref[0], unit, with_unit=False)]
+        got = {}
+        for c in comp.contact:
+            v = _value(data, s, c, q, k)
+            got[c] = v
+            if v is None:
+                row += ["–", "–"]
+                continue
+            levels[c] = v[1]
+            contact = _against(data, s, c, q, v, e, ref, b, k)
+            row += [quantity(v[0], unit, with_unit=False),
+                    Cell(pct(contact, signed=True, floor=ROUND_OFF), _css(contact, data.tolerance))]
+        for t, c in comp.thermal.items():
+            v = _value(data, s, t, q, k)
+            if v is None:
+                row += ["–", "–", "–"]
+                continue
+            levels[t] = v[1]
+            vc = got.get(c)
+            thermal = relative_error(v[0], vc[0], b) if vc is not None else math.nan
+            total = _against(data, s, t, q, v, e, ref, b, k)
+            row += [quantity(v[0], unit, with_unit=False),
+                    Cell(pct(thermal, signed=True, floor=ROUND_OFF), _css(thermal, data.tolerance)),
+                    Cell(pct(total, signed=True, floor=ROUND_OFF), _css(total, data.tolerance))]
+        row.append(", ".join(f"{m} level {lv}" for m, lv in levels.items()))
+        rows.append(row)
+    return rows
 
 
 def _split_summary(data: StudyData, comp: ExactComparison, q: str = "max_surface_temperature") -> str:
@@ -205,9 +239,10 @@ def _split_summary(data: StudyData, comp: ExactComparison, q: str = "max_surface
         ref_m = ref_of(who)
         errs = []
         for s in scenes:
-            v, r = _value(data, s, who, q), _value(data, s, ref_m, q)
-            if v is not None and r is not None:
-                errs.append(_against(data, s, who, q, v, ref_m, r, _bulk(data, s)))
+            for k in _patches(data, s, comp.exact):
+                v, r = _value(data, s, who, q, k), _value(data, s, ref_m, q, k)
+                if v is not None and r is not None:
+                    errs.append(_against(data, s, who, q, v, ref_m, r, _bulk(data, s), k))
         errs = [e for e in errs if finite(e)]
         if errs:
             kind = "contact model" if who in comp.contact else "thermal model"
@@ -217,6 +252,9 @@ def _split_summary(data: StudyData, comp: ExactComparison, q: str = "max_surface
     if not parts:
         return ""
     over = "its one scene" if len(scenes) == 1 else f"the {len(scenes)} scenes"
+    patches = sum(len(_patches(data, s, comp.exact)) for s in scenes)
+    if patches > len(scenes):
+        over += f" ({patches} patches: each patch of a wheelset on profiles on its own)"
     return f"On the wheel's maximum surface temperature over {over}: " + "; ".join(parts) + " (finest levels)."
 
 
@@ -273,7 +311,9 @@ def creep_curve(data: StudyData, comp: ExactComparison) -> XF.CreepCurve | None:
 
 
 def _combined_scene(data: StudyData, comp: ExactComparison, scenes: list[str]) -> str | None:
-    """The thermal scene with the most non-zero creepage components (a combined creepage)."""
+    """The thermal scene with the most non-zero creepage components (a combined creepage), not a wheelset on
+    profiles (its patches have their own section, and a result of several patches keeps its fields per patch)."""
+    scenes = [s for s in scenes if getattr(data.scene[s].scene, "profile_contact", None) is None]
     def count(s):
         c = getattr(data.scene[s].scene, "creepage", None)
         return sum(1 for v in (getattr(c, "longitudinal", 0), getattr(c, "lateral", 0), getattr(c, "spin", 0)) if v) \

@@ -103,11 +103,15 @@ def wheelset_scenes(data: StudyData) -> dict[str, list[tuple[float, str]]]:
 
 
 def shape_scenes(data: StudyData) -> dict[str, list[tuple[float, str]]]:
-    """Wheel side -> [(lateral shift [m], scene)] at :data:`SHAPE_SHIFTS` whose runs keep a pressure field: the
-    scenes of one patch (a scene of several patches keeps no field)."""
-    rows = [r for r in _profile_scenes(data) if r[3] != "all"
-            and any(abs(r[1] - x) < 1e-9 for x in SHAPE_SHIFTS)]
-    return _by_side(rows)
+    """Wheel side -> [(lateral shift [m], scene)] at :data:`SHAPE_SHIFTS` whose runs may keep a pressure field, by
+    shift, at each shift the scenes of every patch (``patch = "all"``: each patch's field with its share of the
+    load) before the scenes of one patch (the whole vertical force on that patch)."""
+    rows = [r for r in _profile_scenes(data) if any(abs(r[1] - x) < 1e-9 for x in SHAPE_SHIFTS)]
+    rows.sort(key=lambda r: (r[0], r[1], r[3] != "all", r[2]))
+    out: dict[str, list] = {}
+    for side, shift, s, _ in rows:
+        out.setdefault(side, []).append((shift, s))
+    return {side: out[side] for side in SIDES if side in out}
 
 
 def reference_method(data: StudyData, scenes) -> str | None:

@@ -4,7 +4,7 @@
   method (chain, by colour) and patch role (tread: solid line, filled markers; flange: dashed, open markers);
 * :func:`shapes_figure`: the patches at :data:`~.wheelset_data.SHAPE_SHIFTS` on the rail profile (each patch's
   lateral extent on the section and its reference point) and seen from above (the reference method's cells in
-  contact filled, the other methods' outlined dashed).
+  contact filled, the other methods' outlined dashed), each patch from its own pressure field.
 
 They draw what :func:`curve_panels` and :func:`patch_shapes` read from the run files.
 """
@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..output.store import patch_field, patch_numbers
 from .figures import figure, save
 from .format import num
 from .load import StudyData
@@ -93,9 +94,10 @@ def curves_figure(panels, methods, palette, *, path: Path):
 # -- the patch shapes on the rail profile ---------------------------------------------------------------------
 @dataclass(frozen=True)
 class Shape:
-    """One run's patch at a shape shift: its cells with pressure on the rail (lateral y [m] in the rail profile's
-    coordinates, x [m] rolling, ``inside`` over (x, y)), its reference point (y, z) on the rail [m], role and
-    normal force [N] (NaN when the run has none)."""
+    """One patch of one run at a shape shift: its cells with pressure on the rail (lateral y [m] in the rail
+    profile's coordinates, x [m] rolling, ``inside`` over (x, y)), its reference point (y, z) on the rail [m],
+    role, normal force [N] (NaN when the run has none) and whether that force is the patch's share of the wheel's
+    (``shared``: a result of every patch) or the wheel's whole vertical force (a scene of one patch)."""
 
     shift: float
     patch: int
@@ -106,6 +108,7 @@ class Shape:
     x: np.ndarray
     inside: np.ndarray
     normal_force: float
+    shared: bool = False
 
 
 def rail_of(data: StudyData, scene: str):
@@ -116,36 +119,58 @@ def rail_of(data: StudyData, scene: str):
     return np.asarray(section[0], float), np.asarray(section[1], float)
 
 
-def _shape(data: StudyData, shift: float, scene: str, method: str) -> Shape | None:
-    """The method's cells with pressure of ``scene``'s patch in the rail profile's lateral coordinate
-    y = y0 + s cos(delta0) (s across the contact plane, y0 and delta0 the plane's origin and angle) and x."""
-    r = data.finest_result(scene, method)
-    ds = data.run_file(scene, method, r.level) if r is not None else None
-    if ds is None or "pressure" not in ds or "y" not in ds.dims:
-        return None
-    pc = data.scene[scene].scene.profile_contact
-    y = pc.plane_position_rail + np.asarray(ds["y"].values, float) * math.cos(pc.plane_angle)
-    inside = np.asarray(ds["pressure"].transpose("x", "y").values, float) > 0.0
+def _one_shape(shift, method, pc, pressure, normal_force, shared) -> Shape | None:
+    """The cells with pressure of one patch (contact search's patch ``pc``, its ``pressure`` on its own grid) in
+    the rail profile's lateral coordinate y = y0 + s cos(delta0) (s across the contact plane, y0 and delta0 the
+    plane's origin and angle) and x."""
+    y = pc.plane_position_rail + np.asarray(pressure["y"].values, float) * math.cos(pc.plane_angle)
+    inside = np.asarray(pressure.transpose("x", "y").values, float) > 0.0
     if not inside.any():
         return None
-    n = float(ds["normal_force"]) if "normal_force" in ds else getattr(pc, "normal_force", math.nan)
     return Shape(shift, int(getattr(pc, "patch", 1)), role_of(getattr(pc, "contact_angle", None)), method,
-                 (pc.contact_position_rail, pc.contact_height_rail), y, np.asarray(ds["x"].values, float), inside, n)
+                 (pc.contact_position_rail, pc.contact_height_rail), y, np.asarray(pressure["x"].values, float),
+                 inside, normal_force, shared)
+
+
+def _shapes(data: StudyData, shift: float, scene: str, method: str) -> list[Shape]:
+    """The method's patches of ``scene`` with their pressure field: every patch of a result of several patches
+    (each on its own grid, :func:`railtherm.contract.patch_grid.patch_field`, with its own share of the load),
+    or the one patch of a scene of one patch."""
+    r = data.finest_result(scene, method)
+    ds = data.run_file(scene, method, r.level) if r is not None else None
+    if ds is None or "pressure" not in ds or "y" not in ds["pressure"].dims:
+        return []
+    pc = data.scene[scene].scene.profile_contact
+    numbers = patch_numbers(ds)
+    if not numbers:
+        n = float(ds["normal_force"]) if "normal_force" in ds else getattr(pc, "normal_force", math.nan)
+        one = _one_shape(shift, method, pc, ds["pressure"], n, False)
+        return [one] if one is not None else []
+    out = []
+    for k in numbers:
+        if k > len(getattr(pc, "contacts", ())):
+            continue
+        n = float(ds["normal_force"].sel(patch=k)) if "normal_force" in ds else pc.contacts[k - 1].normal_force
+        one = _one_shape(shift, method, pc.contacts[k - 1], patch_field(ds, "pressure", k), n, True)
+        if one is not None:
+            out.append(one)
+    return out
 
 
 def patch_shapes(data: StudyData, groups, methods) -> dict[str, list[Shape]]:
-    """side -> the patches of ``methods`` (the reference first) on the scenes ``groups`` at :data:`SHAPE_SHIFTS`,
-    by shift and patch."""
+    """side -> the patches of ``methods`` (the reference first) at :data:`SHAPE_SHIFTS`, by shift and patch: at
+    each shift those of the first scene of ``groups`` (:func:`~.wheelset_data.shape_scenes`: every patch of the
+    wheel before a scene of one patch) whose runs keep a pressure field."""
     out: dict[str, list] = {}
     for side, members in groups.items():
         for shift in SHAPE_SHIFTS:
             for x, s in members:
                 if abs(x - shift) > 1e-9:
                     continue
-                for m in methods:
-                    sh = _shape(data, shift, s, m)
-                    if sh is not None:
-                        out.setdefault(side, []).append(sh)
+                found = [sh for m in methods for sh in _shapes(data, shift, s, m)]
+                if found:
+                    out.setdefault(side, []).extend(found)
+                    break
     return {side: sorted(v, key=lambda sh: (sh.shift, sh.patch, methods.index(sh.method)))
             for side, v in out.items()}
 

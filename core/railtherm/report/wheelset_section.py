@@ -160,9 +160,9 @@ def _draw_shapes(doc: Document, ctx, methods: list[str], reference: str):
     shapes = patch_shapes(ctx.data, groups, methods)
     if not shapes:
         if groups or wheelset_scenes(ctx.data):
-            doc.paragraph("The patch shapes are not drawn: no run of a scene of one patch at lateral shifts "
-                          + ", ".join(num(x * 1e3) for x in SHAPE_SHIFTS) + " mm keeps its pressure field (a "
-                          "scene of several patches, wheelset.patch = \"all\", keeps none).", note=True)
+            doc.paragraph("The patch shapes are not drawn: no run at lateral shifts "
+                          + ", ".join(num(x * 1e3) for x in SHAPE_SHIFTS) + " mm keeps its pressure field (the "
+                          "scenes do not ask the output `pressure`).", note=True)
         return
     rails = {side: next((r for _, s in groups[side] for r in [rail_of(ctx.data, s)] if r is not None), None)
              for side in shapes}
@@ -179,13 +179,20 @@ def _shapes_caption(shapes, methods, reference) -> str:
     several = sorted({(side, sh.shift) for side, v in shapes.items() for sh in v if sh.patch > 1})
     where = ", ".join(f"{num(x * 1e3)} mm on the {side} wheel" for side, x in several)
     others = ", ".join(f"`{m}`" for m in methods if m != reference) or "other methods"
-    return ("The patches at lateral shifts " + ", ".join(num(x * 1e3) for x in SHAPE_SHIFTS) + " mm on the rail "
+    whole = sorted({(side, sh.shift) for side, v in shapes.items() for sh in v if not sh.shared})
+    text = ("The patches at lateral shifts " + ", ".join(num(x * 1e3) for x in SHAPE_SHIFTS) + " mm on the rail "
             f"profile: the lateral extent of each patch of `{reference}` on the profile and its reference point "
             f"(top), and the cells in contact seen from above (bottom; `{reference}` filled, {others} outlined "
-            "dashed; the contact plane's lateral coordinate projected on the rail's). Each is a scene of one patch "
-            "carrying the wheel's whole vertical force"
-            + (f" (where the wheel has several patches, at {where}, they share it: their normal forces are in the "
-               "table, and the drawn patches are larger than the shared ones)" if several else "") + ".")
+            "dashed; the contact plane's lateral coordinate projected on the rail's). ")
+    if not whole:
+        return text + ("Each patch is drawn from its own pressure field in the result of every patch of the wheel "
+                       "(`wheelset.patch = \"all\"`), carrying its own share of the wheel's vertical force (N in "
+                       "the legend)" + (f"; the wheel has several patches at {where}" if several else "") + ".")
+    at = ", ".join(f"{num(x * 1e3)} mm on the {side} wheel" for side, x in whole)
+    return text + (f"At {at} the patch is a scene of one patch carrying the wheel's whole vertical force (the study "
+                   "has no result of every patch there that keeps its pressure field)"
+                   + (f"; where the wheel has several patches, at {where}, they share it and the drawn patches are "
+                      "larger than the shared ones" if several else "") + ".")
 
 
 def _intro(doc: Document, groups, ref):
