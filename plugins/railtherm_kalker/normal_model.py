@@ -23,7 +23,7 @@ from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
 
 from .influence import element_size, normal_operator
 from .normal_solver import NORMAL_TOLERANCE, solve_normal
-from .potential_area import check_border, potential_area, rolling_refinement, scene_gap
+from .potential_area import SampledGap, check_border, potential_area, rolling_refinement, scene_gap
 
 __all__ = ["KalkerNormal", "solve_scene_normal", "contact_extent", "DEFAULT_CELLS", "ROLLING_REFINEMENTS"]
 
@@ -238,6 +238,9 @@ class KalkerNormal(NormalContactModel):
                 # loaded elements x element area (a line contact: x element length, the contact length)
                 "contact_area": float(np.count_nonzero(sol.pressure > 0)) * area.dx * area.dy,
                 "gap": "hertz" if gap.hertz is not None else "non-hertzian",
+                # 1: the gap solved is a profile wheelset's as the contact search samples it, so that the result
+                # reports the CONTACT program's reference point at this approach (ProfileContact.reported_reference)
+                "sampled_gap": int(isinstance(gap, SampledGap)),
                 "residual_history": np.asarray(sol.history, dtype=float)}
         return ContactPatch(grid=grid, normal_force=float(scene.normal_force if scene.normal_force is not None
                                                           else sol.force),

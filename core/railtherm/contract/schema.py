@@ -186,8 +186,9 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
 
     if patch is not None:
         _put_patch(put, patch, line)
+    reference = None
     if wheelset is not None and patch is not None:
-        _put_wheelset(put, wheelset, patch)
+        reference = _put_wheelset(put, wheelset, patch, attrs or {})
     if source is not None:
         _put_source(put, source)
     if temperature is not None:
@@ -209,6 +210,8 @@ def build_dataset(grid, patch=None, source=None, temperature=None, *, outputs=()
         ds.attrs.update({"wheelset_side": wheelset.side, "wheelset_patch": int(wheelset.patch),
                          "wheelset_patches": int(wheelset.patches),
                          "wheelset_lateral_force_estimate": float(wheelset.lateral_force_estimate)})
+        if reference is not None:
+            ds.attrs["wheelset_reference_point"] = reference
         if getattr(wheelset, "balanced_roll", None) is not None:   # roll_angle = "balance": the roll found
             ds.attrs["wheelset_roll_angle"] = float(wheelset.balanced_roll)
             ds.attrs["wheelset_roll_balance"] = str(getattr(wheelset, "roll_balance", ""))
@@ -237,14 +240,23 @@ def _put_patch(put, patch, line) -> None:
         put("contact_area", 2.0 * patch.a if line else math.pi * patch.a * patch.b)
 
 
-def _put_wheelset(put, wheelset, patch) -> None:
-    """The wheelset patch's position, contact angle and creepages (at its reference point)."""
-    put("contact_position_rail", wheelset.contact_position_rail)
-    put("contact_angle", wheelset.contact_angle)
-    xi, eta, phi = patch.creepage if patch.creepage is not None else wheelset.reference_creepage
+def _put_wheelset(put, wheelset, patch, attrs) -> str:
+    """The wheelset patch's position, contact angle and creepages at its reference point
+    (:meth:`railtherm.input.wheelset_profile.ProfileContact.reported_reference`): the CONTACT program's at the
+    approach of a normal stage that solved the patch's sampled gap (its diagnostics ``sampled_gap`` and
+    ``approach`` among the result's ``attrs``), else the contact search's. Returns how it was found (the result
+    attribute ``wheelset_reference_point``)."""
+    stages = dict(part.split(":", 1) for part in str(attrs.get("stages", "")).split() if ":" in part)
+    normal = stages.get("normal")
+    approach = attrs.get(f"{normal}_approach") if normal and attrs.get(f"{normal}_sampled_gap") else None
+    ref = wheelset.reported_reference(approach)
+    put("contact_position_rail", ref["y_rail"])
+    put("contact_angle", ref["angle"])
+    xi, eta, phi = patch.creepage if patch.creepage is not None else ref["creepage"]
     put("creepage_longitudinal", xi)
     put("creepage_lateral", eta)
     put("creepage_spin", phi)
+    return ref["how"]
 
 
 def _put_source(put, source) -> None:

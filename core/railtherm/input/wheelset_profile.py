@@ -4,8 +4,8 @@ the gap, load and creepages of its patches, when the scene is loaded (docs/DESIG
 The contact search (:func:`railtherm.physics.contact_search.contact_search`) finds the wheel's patches. Per
 patch: ``contact = {shape = "gap"}`` with the undeformed gap on its contact plane as a polynomial (:func:`_gap_fit`)
 for ``kalker``, the Hertz-equivalent ellipse for Hertz-based chains (normal model ``wheelset-profile``); the
-wheelset's rigid slip (railtherm's sign, minus CONTACT's) at the plane's origin for the models, reported at
-:func:`reference_point`; the normal force from the wheel's vertical force (:func:`normal_force_from_vertical`, [1]).
+wheelset's rigid slip (railtherm's sign, minus CONTACT's) at the plane's origin for the models, reported at the
+patch's reference point (:mod:`.wheelset_profile_reference`); N from Fz (:func:`normal_force_from_vertical`, [1]).
 ``patch = "all"``: every patch, sharing Fz at one common approach (:func:`share_vertical_force`). ``roll_angle =
 "balance"``: the roll giving both wheels half the axle load (:func:`balance_roll`); ``pitch_velocity = "free"``:
 the solve finds it (:mod:`railtherm.solving.wheelset_equilibrium`). No contact: :class:`NoContact`, runs fail.
@@ -17,6 +17,7 @@ References
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -24,22 +25,23 @@ from typing import ClassVar
 
 import numpy as np
 from ..contract.errors import SceneError
-from ..physics.contact_search import _rotation, contact_search
+from ..physics.contact_search import contact_search
 from ..physics.elastic import combined_elastic
 from ..physics.profiles import ProfileError
 from ..physics.elastic import contact_modulus
 from ..references.hertz import hertz_from_curvatures, hertz_from_penetration
 from ..references.kalker import kalker_linear_forces
 from .profiles import CONICAL_ONLY_KEYS, wheelset_geometry_from_table
+from .wheelset_profile_reference import (CONTACT_REFERENCE, SEARCH_REFERENCE, SECTION_HALF_WIDTH, _below,
+                                         contact_reference, reference_at, reference_point)
 
 __all__ = ["ProfileContact", "ProfileContacts", "NoContact", "NoContactError", "profile_contact",
            "roll_height_mismatch", "normal_force_from_vertical", "share_vertical_force", "WINDOW", "GAP_DEGREE",
-           "ROLL_BALANCE", "GAP_SECTION_HALF_WIDTH"]
+           "ROLL_BALANCE", "GAP_SECTION_HALF_WIDTH", "SEARCH_REFERENCE", "CONTACT_REFERENCE", "reference_at",
+           "contact_reference"]
 
 #: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
 WINDOW = (1.6, 2.0)
-#: half-width [m] of the lateral section the contact search samples the gap on
-SECTION_HALF_WIDTH = 12e-3
 #: half-width [m] of the sampled gap a patch carries for a solver of the gap itself (ProfileContact.gap_section):
 #: twice the search's section (A-2.2 position 1 right's interpenetration reaches 12.4 mm from the plane's origin)
 GAP_SECTION_HALF_WIDTH = 2.0 * SECTION_HALF_WIDTH
@@ -47,8 +49,6 @@ GAP_SECTION_HALF_WIDTH = 2.0 * SECTION_HALF_WIDTH
 FIT_CHECK = 1.5
 #: degree of the gap polynomial in the lateral coordinate
 GAP_DEGREE = 8
-#: the reference point is the middle of the interpenetration region at this fraction of the approach
-REFERENCE_FRACTION = 0.5
 #: points of the rail profile a ProfileContact keeps for drawing (rail_section)
 SECTION_POINTS = 400
 #: which forces balance the roll found at scene load (``roll_angle = "balance"``; result attribute
@@ -116,6 +116,9 @@ class ProfileContact:
         solve finds the one that balances the axle's moment (:mod:`railtherm.solving.wheelset_equilibrium`).
     arm, axle : tuple of float
         The reference point relative to the wheelset centre [m] and the axle's unit vector, wheel axes (z down).
+    reference_of : callable
+        ``reference_of(approach)``: :func:`contact_reference` of this patch's sampled gap at a normal solution's
+        approach [m] (None: not available).
     """
 
     side: str
@@ -147,6 +150,7 @@ class ProfileContact:
     #: the reference point relative to the wheelset centre and the axle's direction, in the wheel's axes (z down)
     arm: tuple = field(default=(), repr=False, compare=False)
     axle: tuple = field(default=(), repr=False, compare=False)
+    reference_of: object = field(default=None, repr=False, compare=False)
 
     @property
     def reference_creepage(self) -> tuple[float, float, float]:
@@ -156,6 +160,23 @@ class ProfileContact:
         its ``ycp_r`` lies (Vollebregt 2022, :mod:`railtherm.physics.contact_search` [1])."""
         xi, eta, phi = self.creepage
         return xi - phi * self.reference_offset, eta, phi
+
+    def reported_reference(self, approach: float | None = None) -> dict:
+        """The patch's reference point as a result reports it: ``y_rail`` (``contact_position_rail``) [m],
+        ``angle`` (``contact_angle``) [rad], ``creepage`` (longitudinal [1], lateral [1], spin [1/m], the wheel's
+        rigid slip there) and ``how`` (:data:`SEARCH_REFERENCE` or :data:`CONTACT_REFERENCE`).
+
+        With the ``approach`` [m] of a normal solution of :attr:`gap_section` (kalker's): the CONTACT program's
+        reference point at that approach (:func:`contact_reference`), where CONTACT reports its position, angle
+        and creepages. Without (a Hertz-based chain): the contact search's, :attr:`contact_position_rail`,
+        :attr:`contact_angle` and :attr:`reference_creepage`. The scene's creepages, which the contact models
+        solve with, are the same either way."""
+        if approach is None or self.reference_of is None:
+            return {"y_rail": self.contact_position_rail, "angle": self.contact_angle,
+                    "creepage": self.reference_creepage, "how": SEARCH_REFERENCE}
+        ref = self.reference_of(float(approach))
+        return {"y_rail": ref["y_rail"], "angle": ref["angle"], "creepage": ref["creepage_reference"],
+                "how": CONTACT_REFERENCE}
 
 
 class NoContactError(SceneError):
@@ -241,16 +262,6 @@ def _distinct_patches(patches, wheel, rail, vertical_force) -> list:
     return [first] + [q for q in patches[1:] if not _connected(first, q, h.approach)]
 
 
-def _below(y, g, level) -> tuple[int, int]:
-    """First and last index of the stretch around y = 0 where g < level (the patch's own interpenetration)."""
-    lo = hi = int(np.argmin(np.abs(y)))
-    while lo > 0 and g[lo - 1] < level:
-        lo -= 1
-    while hi < y.size - 1 and g[hi + 1] < level:
-        hi += 1
-    return lo, hi
-
-
 def _lateral_window(p, h) -> float:
     """Half-width [m] of the gap fit across rolling: WINDOW[1] Hertz semi-axes b, widened to 1.2 times the
     reach of the stretch around the contact point where the undeformed gap stays below the Hertz-equivalent
@@ -260,63 +271,6 @@ def _lateral_window(p, h) -> float:
     lo, hi = _below(y, p.gap(0.0, y) - p.gap(0.0, 0.0), h.approach)
     reach = max(-y[lo], y[hi])
     return float(min(max(WINDOW[1] * h.b, 1.2 * reach), 0.95 * SECTION_HALF_WIDTH))
-
-
-def reference_point(geo, p, approach: float, speed: float) -> dict:
-    """The patch's reference point and contact plane, as the planar contact approach takes them.
-
-    The gap is solved on the plane at the gap minimum (``p``); the reported contact point is the middle
-    of the stretch across rolling where the undeformed gap h(0, y) stays below :data:`REFERENCE_FRACTION`
-    (1/2) of the Hertz-equivalent ``approach`` [m] (Hertz's contact area is the interpenetration region at
-    half the approach), and the contact angle the rail's there: A-2.2 position 1 right, two gap minima 11 mm
-    apart in one patch, -8.644 mm and -0.0288 rad against CONTACT's -8.66 mm and -0.029 rad (the centroid of
-    the interpenetration at the whole approach gave -9.86 mm). The spin creepage is the
-    wheelset's angular velocity along that plane's normal. The scene's longitudinal and lateral creepages
-    (``creepage``) are the rigid slip at the plane's origin (the minimum), so that kalker's slip field
-    (xi - phi y, eta + phi x) is the wheel's rigid slip at every point of the plane; the reported ones
-    (``creepage_reference``, :attr:`ProfileContact.reference_creepage`) are that field at the reference
-    point, y = ``offset`` on the plane, where CONTACT reports its creepages. Where the gap has one clear
-    minimum the reference point is the minimum itself; where a second nearly touching minimum lies inside
-    the patch (a two-point geometry) the plane and the spin are those of the patch's middle, as CONTACT
-    reports them.
-
-    Returns
-    -------
-    dict
-        ``y_rail``, ``z_rail`` [m] (rail profile's own coordinates), ``angle`` [rad], ``creepage`` (at the
-        plane's origin) and ``creepage_reference`` (at the reference point) [1, 1, 1/m], ``offset`` [m] (the
-        reference point across the plane from its origin), ``arm`` [m] and ``axle`` (wheel axes, z down).
-    """
-    y = np.linspace(-SECTION_HALF_WIDTH, SECTION_HALF_WIDTH, 2401)
-    lo, hi = _below(y, p.gap(0.0, y) - p.gap(0.0, 0.0), REFERENCE_FRACTION * approach)
-    eta = 0.5 * float(y[lo] + y[hi])
-    b = float(geo.rail_inclination)
-    rail = geo.rail_profile.rotated(b) if b else geo.rail_profile
-    cb, sb = math.cos(b), math.sin(b)
-    y_inc = cb * p.y_rail + sb * p.z_rail + eta * math.cos(p.contact_angle)
-    z_inc, slope, _ = (float(v) for v in rail.at_y(y_inc))
-    angle = math.atan(slope)
-    y0_inc = cb * p.y_rail + sb * p.z_rail
-    z0_inc = -sb * p.y_rail + cb * p.z_rail
-    sign = 1.0 if geo.side == "right" else -1.0
-    rot = _rotation(sign * float(geo.roll_angle), sign * float(geo.yaw_angle))
-    w_axle = float(geo.pitch_velocity) * rot[:, 1]
-    # the rigid slip of the wheel at the reference point on the (undeformed) rail surface
-    arm = np.array([p.x, p.y_track - sign * float(geo.lateral_shift), p.rolling_radius])
-    axle = rot[:, 1]
-    for _ in range(4):   # the wheel's contact point: its distance from the axle is the rolling radius
-        d = arm - (arm @ axle) * axle
-        arm[2] += (p.rolling_radius - math.sqrt(d @ d)) * math.sqrt(d @ d) / d[2]
-    arm = arm + np.array([0.0, y_inc - y0_inc, z_inc - z0_inc])
-    v = np.array([speed, 0.0, 0.0]) + np.cross(w_axle, arm)
-    ca, sa = math.cos(angle), math.sin(angle)
-    phi = float(w_axle[1] * -sa + w_axle[2] * ca) / speed
-    xi_ref, eta_ref = float(v[0]) / speed, float(v[1] * ca + v[2] * sa) / speed
-    # kalker's slip field (xi - phi y, eta + phi x) on the plane through the minimum equals it there
-    return {"y_rail": cb * y_inc - sb * z_inc, "z_rail": sb * y_inc + cb * z_inc, "angle": angle,
-            "creepage": (xi_ref + phi * eta, eta_ref, phi), "creepage_reference": (xi_ref, eta_ref, phi),
-            "offset": eta,
-            "arm": tuple(float(v) for v in arm), "axle": tuple(float(v) for v in axle)}
 
 
 def _weighted_fit(p, half_x, half_y, reach_y, degree, step, guard=0.03):
@@ -462,7 +416,7 @@ def profile_contact(scene_name: str, table: Mapping, *, speed: float, wheel, rai
     else:
         N, fy = normal_force_from_vertical(geo.vertical_force, ref["angle"], p.hertz_curvatures, e_star, G, nu,
                                            ref["creepage"], friction)
-    return _patch_contact(scene_name, geo, p, patch_no, len(distinct), ref, N, fy, e_star, roll, free)
+    return _patch_contact(scene_name, geo, p, patch_no, len(distinct), ref, N, fy, e_star, roll, free, speed=speed)
 
 
 def _check_curvatures(scene_name, p, patch_no) -> None:
@@ -474,10 +428,12 @@ def _check_curvatures(scene_name, p, patch_no) -> None:
 
 
 def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star, roll=None,
-                   free=None) -> ProfileContact:
-    """The ProfileContact of search patch ``p`` at normal force N [N] (Fy [N] its lateral force estimate)."""
+                   free=None, *, speed: float) -> ProfileContact:
+    """The ProfileContact of search patch ``p`` at normal force N [N] (Fy [N] its lateral force estimate; speed
+    [m/s] the wheelset's, for the rigid slip at a reference point found later)."""
     curv = p.hertz_curvatures
     coef, residual = _gap_fit(scene_name, p, hertz_from_curvatures(*curv, N, e_star))
+    section = _zeroed(p.section(GAP_SECTION_HALF_WIDTH))
     return ProfileContact(side=geo.side, patch=int(patch_no), patches=int(patches),
                           contact_position_rail=ref["y_rail"], contact_height_rail=ref["z_rail"],
                           contact_angle=ref["angle"], plane_position_rail=float(p.y_rail),
@@ -486,9 +442,9 @@ def _patch_contact(scene_name, geo, p, patch_no, patches, ref, N, fy, e_star, ro
                           gap_residual=residual, creepage=ref["creepage"],
                           vertical_force=float(geo.vertical_force), normal_force=float(N),
                           lateral_force_estimate=float(fy), reference_offset=float(ref["offset"]),
-                          gap_section=_zeroed(p.section(GAP_SECTION_HALF_WIDTH)),
-                          rail_section=_rail_section(geo.rail_profile),
-                          balanced_roll=roll, free_pitch=free, arm=ref["arm"], axle=ref["axle"])
+                          gap_section=section, rail_section=_rail_section(geo.rail_profile),
+                          balanced_roll=roll, free_pitch=free, arm=ref["arm"], axle=ref["axle"],
+                          reference_of=functools.partial(contact_reference, geo, p, speed, section))
 
 
 def _zeroed(section):
@@ -625,7 +581,7 @@ def _all_patches(scene_name, geo, found, bodies, friction, speed, roll=None, fre
     found, refs, delta, normal, side = _loaded(scene_name, geo, found, bodies, friction, speed)
     loaded = [k for k, n in enumerate(normal) if n > 0.0]
     contacts = tuple(_patch_contact(scene_name, geo, found[k], j + 1, len(loaded), refs[k], normal[k], side[k],
-                                    bodies[0], roll, free) for j, k in enumerate(loaded))
+                                    bodies[0], roll, free, speed=speed) for j, k in enumerate(loaded))
     return ProfileContacts(side=geo.side, contacts=contacts, approach=float(delta),
                            vertical_force=float(geo.vertical_force), patches=len(loaded))
 
