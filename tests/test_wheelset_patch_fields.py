@@ -18,7 +18,7 @@ from railtherm.contract.patch_grid import patch_field, patch_numbers
 from railtherm.contract.schema import validate_dataset
 from railtherm.input.scene import load_scene
 from railtherm.input.wheelset_patch_scenes import patch_scenes
-from railtherm.output import store
+from railtherm.output import store, zarr_store
 
 from manchester_cases import a22_scene
 
@@ -94,6 +94,15 @@ def test_written_and_read_back_through_the_store(solved, tmp_path):
     for k in (1, 2):
         xr.testing.assert_identical(patch_field(back, "pressure", k), patch_field(r, "pressure", k))
     assert back["patch_x"].attrs == r["patch_x"].attrs and back["pressure"].attrs["units"] == "Pa"
+
+
+def test_written_and_read_back_as_the_zarr_store_keeps_fields(solved, tmp_path):
+    """``[study] store = "zarr"`` with ``keep_fields``: the run's fields group holds each patch's field and grid."""
+    _, r = solved
+    zarr_store.write_fields(tmp_path, 0, "chain", 0, r)
+    back = zarr_store.read_fields(tmp_path, 0, "chain", 0)
+    for k in (1, 2):
+        xr.testing.assert_identical(patch_field(back, "pressure", k), patch_field(r, "pressure", k))
 
 
 def test_patch_field_of_a_result_without_patches_and_of_a_missing_patch(solved):
