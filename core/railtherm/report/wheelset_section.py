@@ -129,8 +129,9 @@ def wheelset_findings(data: StudyData, link: bool = True) -> list[str]:
 
 
 def _rows(data: StudyData, groups, methods, ref) -> list[list[str]]:
-    """One row per contact and patch: the contact search's position, angle and normal force, and each method's
-    maximum pressure, flash temperature and (not the reference) its error against the reference."""
+    """One row per contact and patch: the first method's (the reference's) position and angle, the normal force,
+    and each method's maximum pressure, flash temperature and (not the reference) its error against the
+    reference."""
     rows = []
     for side, members in groups.items():
         for x, s in members:
@@ -181,7 +182,8 @@ def _shapes_caption(shapes, methods, reference) -> str:
     others = ", ".join(f"`{m}`" for m in methods if m != reference) or "other methods"
     whole = sorted({(side, sh.shift) for side, v in shapes.items() for sh in v if not sh.shared})
     text = ("The patches at lateral shifts " + ", ".join(num(x * 1e3) for x in SHAPE_SHIFTS) + " mm on the rail "
-            f"profile: the lateral extent of each patch of `{reference}` on the profile and its reference point "
+            f"profile: the lateral extent of each patch of `{reference}` on the profile and the contact search's "
+            "reference point "
             f"(top), and the cells in contact seen from above (bottom; `{reference}` filled, {others} outlined "
             "dashed; the contact plane's lateral coordinate projected on the rail's). ")
     if not whole:
@@ -200,8 +202,10 @@ def _intro(doc: Document, groups, ref):
     doc.paragraph(f"{n} contacts of a wheelset on real profiles, each method at its finest successful level, each "
                   "patch of a wheel on its own (tread patch: |contact angle| below "
                   f"{num(FLANGE_ANGLE)} rad; flange patch: from it). The contact position (in the rail profile's "
-                  "own coordinates), contact angle and normal force are the contact search's, the same for every "
-                  "method; forces are on the wheel (the CONTACT program reports them on the rail, with the "
+                  "own coordinates) and contact angle are each method's patch reference point (the run's attribute "
+                  "wheelset_reference_point: the exact chain the CONTACT program's, a Hertz-based chain the contact "
+                  "search's); the normal force is the contact search's share, the same for every method; forces "
+                  "are on the wheel (the CONTACT program reports them on the rail, with the "
                   "opposite sign); the left wheel is in its own mirrored axes. The flash temperature is the hotter "
                   "body's maximum surface temperature"
                   + (f"; its error against the study's reference `{ref}` is metrics.nc's, patch by patch (the "
@@ -215,8 +219,9 @@ def wheelset_section(doc: Document, ctx):
     For each wheel side, with one curve per method (chain) and patch role (tread, flange) at the method's
     finest successful level, against the lateral shift [mm] of the wheelset:
 
-    * the contact position on the rail [mm] (rail profile's own coordinates), the contact angle [rad] and the
-      normal force [kN] (the contact search's, the same for every chain);
+    * the contact position on the rail [mm] (rail profile's own coordinates) and the contact angle [rad] (each
+      chain's patch reference point) and the normal force [kN] (the contact search's share, the same for every
+      chain);
     * the maximum pressure [MPa], the creep forces Fx, Fy on the wheel [kN] (the CONTACT program reports them
       on the rail: minus these) and the flash temperature, the hotter body's maximum surface temperature [°C];
     * the patches at the lateral shifts :data:`~.wheelset_data.SHAPE_SHIFTS` (0, 5 and 6.5 mm: tread, the jump
@@ -249,7 +254,8 @@ def wheelset_section(doc: Document, ctx):
         head += [f"`{m}` p0 [MPa]", f"`{m}` T_max [°C]"] + ([f"`{m}` ΔT_max [%]"] if m != ref else [])
     rows = _rows(data, groups, methods, ref)
     with doc.details(f"The patches contact by contact as a table ({len(rows)} rows)"):
-        doc.table("Per contact and patch: the contact search's position on the rail, contact angle and normal "
-                  "force; each method's maximum pressure, flash temperature (the hotter body's) and its error "
+        doc.table("Per contact and patch: " + (f"`{ref}`'s" if ref else "the first method's") + " position on "
+                  "the rail and contact angle (its patch reference point), the normal force (the contact search's "
+                  "share); each method's maximum pressure, flash temperature (the hotter body's) and its error "
                   "against " + (f"`{ref}`" if ref else "the reference") + f" (tolerance {pct(data.tolerance)}).",
                   head, rows)
