@@ -17,6 +17,8 @@ from railtherm.references.flash import flash_max_hertz_coefficient, flash_temper
 from railtherm.references.transient import MovingSource, Schedule, pass_summary, temperature_history
 from railtherm.physics import pass_peaks_and_residual, pass_time_above
 from railtherm.solving.pipeline import solve
+from railtherm_green.pass_response import PassResponse
+from railtherm_green.smooth_tail import with_smooth_tail
 from railtherm_green.transient import scheduled_passes, strip_history, strip_time_axis
 
 STEEL = Material()
@@ -282,12 +284,11 @@ def test_smooth_tail_matches_the_direct_sums():
     """The Chebyshev tail in 1/time (checked at the interleaved points of twice its degree) against the
     direct edge sums at 3000 random times from 4 contact durations to 30 s, z = 0 .. 1 mm: within 1e-10
     of the maximum (measured 1.5e-12, degree 22)."""
-    from railtherm_green.transient import _PassResponse, _with_smooth_tail
     xe, fl = _grid(LEVEL2, "hertz")
     d = 2 * A / V
     theta = np.exp(np.random.default_rng(7).uniform(math.log(4 * d), math.log(30.0), 3000))
-    resp = _PassResponse(xe, fl, V, [0.0, 1e-4, 5e-4, 1e-3], BETA, KAP, 1e-18)
-    got = _with_smooth_tail(resp, theta, 4 * d)
+    resp = PassResponse(xe, fl, V, [0.0, 1e-4, 5e-4, 1e-3], BETA, KAP, 1e-18)
+    got = with_smooth_tail(resp, theta, 4 * d)
     ref = resp.direct(theta)
     assert np.max(np.abs(got - ref)) < 1e-10 * ref.max()
 

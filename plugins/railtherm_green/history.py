@@ -69,38 +69,37 @@ def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[Transi
     tr = scene.transient
     x_edges = np.asarray(grid.x_edges, dtype=float)
     count, interval = int(tr.count), float(tr.interval)
+    length = float(x_edges[-1] - x_edges[0])
     for v in speeds:
-        duration = (x_edges[-1] - x_edges[0]) / v
-        if interval < duration:
+        if interval < length / v:
             raise SceneError.bad_value(scene.name, "passes.interval", interval,
-                                       f"a time >= the contact duration 2a/V = {duration:.6g} s (a pass must end "
+                                       f"a time >= the contact duration 2a/V = {length / v:.6g} s (a pass must end "
                                        "before the next begins)")
-    # the heated bodies' own axes (their union when their speeds differ)
-    heated = sorted({float(v) for i, v in enumerate(speeds) if np.any(qc[i])}) or [float(speeds[1])]
-    # passes a schedule's kink meets are sampled at the edges and centres (a short spike's peak)
+    heated = [i for i in range(2) if np.any(qc[i])]
+    # the heated bodies' own axes (their union when their speeds differ); passes a schedule's kink meets are
+    # sampled at the edges and centres (a short spike's peak)
     axes = [strip_time_axis(x_edges, v, count, interval,
-                            dense=scheduled_passes(count, interval, (x_edges[-1] - x_edges[0]) / v,
-                                                   tr.schedule_time, tr.schedule_factor)) for v in heated]
+                            dense=scheduled_passes(count, interval, length / v, tr.schedule_time, tr.schedule_factor))
+            for v in sorted({float(speeds[i]) for i in heated} or {float(speeds[1])})]
     time = axes[0] if len(axes) == 1 else np.unique(np.concatenate(axes))
     z = np.asarray(tr.depths, dtype=float)
-    rise = np.zeros((2, time.size, z.size))
-    for i, m in enumerate(bodies):
-        if np.any(qc[i]):
-            rise[i] = strip_history(time, z, x_edges, qc[i], m.effusivity, m.diffusivity, speeds[i], count=count,
-                                    interval=interval, schedule_time=tr.schedule_time,
-                                    schedule_factor=tr.schedule_factor)
+    temperature = np.empty((2, time.size, z.size))
     peak = np.empty((2, count, z.size))
     residual = np.empty((2, count))
     above = np.empty((2, count, z.size))
-    for i in range(2):
-        if not np.any(qc[i]):                           # an unheated body stays at its bulk temperature
-            peak[i], residual[i] = bulk[i], 0.0
+    for i, m in enumerate(bodies):
+        if i not in heated:                             # an unheated body stays at its bulk temperature
+            temperature[i], peak[i], residual[i] = bulk[i], bulk[i], 0.0
             above[i] = interval if tr.threshold - bulk[i] < 0 else 0.0
             continue
-        p, r = pass_peaks_and_residual(time, rise[i], count, interval)
+        rise = strip_history(time, z, x_edges, qc[i], m.effusivity, m.diffusivity, speeds[i], count=count,
+                             interval=interval, schedule_time=tr.schedule_time, schedule_factor=tr.schedule_factor)
+        p, r = pass_peaks_and_residual(time, rise, count, interval)
         peak[i], residual[i] = p + bulk[i], r[:, 0]
-        above[i] = pass_time_above(time, rise[i], count, interval, tr.threshold - bulk[i])
-    temperature = rise + np.asarray(bulk, dtype=float)[:, None, None]
+        # a history that never exceeds the threshold spends no time above it (what pass_time_above sums then)
+        limit = tr.threshold - bulk[i]
+        above[i] = pass_time_above(time, rise, count, interval, limit) if rise.max() > limit else 0.0
+        np.add(rise, bulk[i], out=temperature[i])
     hist = TransientHistory(time=time, z=z, temperature=temperature, peak=peak, residual=residual, time_above=above)
     diag = {"transient_passes": count, "transient_interval": interval, "transient_time_samples": int(time.size),
             "transient_method": "Duhamel superposition of the 1-D strip Green function (one pass's response "

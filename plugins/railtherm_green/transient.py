@@ -6,7 +6,7 @@ half-space heated only through its surface, so the history is the 1-D Duhamel in
 1959, 2.9): ``T(z, t) = 1/(beta sqrt(pi)) int f(t') q(t') exp(-z^2/(4 kappa (t - t'))) dt' / sqrt(t - t')``,
 beta = sqrt(lambda rho c), q the strip's flux (piecewise constant per cell), f the piecewise-linear schedule;
 each interval is integrated exactly (:func:`_f_g`). Neglected: conduction along x and across strips. The
-problem is linear, so one pass's response serves every pass (:func:`shifted_sum`); a temperature-dependent
+problem is linear, so one pass's response serves every pass (:func:`_unit_pass_sum`); a temperature-dependent
 flux would break this, and green refuses such scenes (:func:`railtherm_green.history.limits`). Derivation and
 the superposition scheme: docs/NOTES.md, "Green's transient".
 
@@ -20,11 +20,14 @@ import math
 
 import numba
 import numpy as np
-from numpy.polynomial import chebyshev
 from railtherm.references.transient import shifted_sum
 from scipy.special import erfc
 
+from .pass_response import PassResponse
+from .smooth_tail import checked_tail, chebval_into, with_smooth_tail
+
 __all__ = ["strip_history", "strip_time_axis", "scheduled_passes"]
+
 
 
 def _f_g(s, c):
@@ -69,194 +72,6 @@ def _response(t, z, start, end, q, factor0, slope, effusivity, diffusivity):
     lin = factor0[None, :] + slope[None, :] * np.where(live, s_hi, 0.0)
     val = q[None, :] * (lin * (f_hi - f_lo) - slope[None, :] * (g_hi - g_lo))
     return np.where(live, val, 0.0).sum(axis=1) / (effusivity * math.sqrt(math.pi))
-
-
-def _f_only(s, c):
-    """F(s) of the module docstring for s >= 0 (arrays), without G (the constant-factor sums need F only)."""
-    s = np.maximum(s, 0.0)
-    rs = np.sqrt(s)
-    if c == 0.0:
-        return 2.0 * rs
-    pos = s > 0
-    safe = np.where(pos, s, 1.0)
-    with np.errstate(over="ignore", under="ignore"):
-        f = 2.0 * rs * np.exp(-c / safe) - 2.0 * math.sqrt(math.pi * c) * erfc(np.sqrt(c / safe))
-    return np.where(pos, np.maximum(f, 0.0), 0.0)
-
-
-class _PassResponse:
-    """One pass's rise [K] at the depths z for a constant factor 1, as a function of the time after arrival.
-
-    Summation by parts turns the cell sum into one over the cell edges: with q_k the flux of cell k (zero
-    outside), edge k (crossed at c_k = (x_lead - x_k)/V) carries w_k = q_(k-1) - q_k and
-
-    ``R(theta) = sum_k w_k F(theta - c_k) / (beta sqrt(pi))``   (F(s) = 0 for s <= 0).
-
-    On a uniform grid (c_k = r tau, r = 0 .. n, tau = h/V) and at times on the lattice theta = i tau/2 (green's
-    own axis: the crossings of the cell edges) that is a discrete convolution of the upsampled w
-    with F on the lattice: F is evaluated once per lattice point instead of once per (time, edge). Times off
-    the lattice (another body's axis, a Chebyshev node of the tail) take the direct edge sum. A time within
-    ``snap`` [s] of a lattice point is taken on it: green's axis is on the lattice up to the rounding of the
-    pass phases (1e-12 of the interval, :func:`shifted_sum`), which the direct sum would see as well.
-    """
-
-    def __init__(self, x_edges, flux, speed, depth, effusivity, diffusivity, snap):
-        x = np.asarray(x_edges, dtype=float)
-        q = np.asarray(flux, dtype=float)
-        qp = np.concatenate([[0.0], q, [0.0]])
-        self.w = qp[:-1] - qp[1:]                       # edge k: q_(k-1) - q_k
-        self.c_edge = (x[-1] - x) / speed               # crossing times [s], decreasing in k
-        self.live = self.w != 0
-        self.cs = [float(z) * float(z) / (4.0 * diffusivity) for z in depth]
-        self.scale = 1.0 / (effusivity * math.sqrt(math.pi))
-        n = x.size - 1
-        h = (x[-1] - x[0]) / n
-        self.uniform = bool(np.all(np.abs(x - (x[0] + h * np.arange(n + 1))) <= 1e-10 * h))
-        self.half = 0.5 * h / speed                     # lattice step tau/2 [s]
-        self.n = n
-        self.snap = float(snap)
-        if self.uniform:
-            up = np.zeros(2 * n + 1)
-            up[::2] = self.w[::-1]                      # edge r from the lead at lattice 2 r
-            self.up = up
-
-    def direct(self, theta):
-        """The edge sum at arbitrary times theta (m,) [s], shape (m, depths)."""
-        theta = np.asarray(theta, dtype=float)
-        out = np.zeros((theta.size, len(self.cs)))
-        w, ce = self.w[self.live], self.c_edge[self.live]
-        for lo in range(0, theta.size, 4096):           # bounded temporaries: (4096, edges)
-            s = theta[lo:lo + 4096, None] - ce[None, :]
-            for j, c in enumerate(self.cs):
-                out[lo:lo + 4096, j] = _f_only(s, c) @ w
-        return out * self.scale
-
-    def __call__(self, theta):
-        theta = np.asarray(theta, dtype=float)
-        if not self.uniform or theta.size == 0:
-            return self.direct(theta)
-        m = np.rint(theta / self.half)
-        on = (np.abs(theta - m * self.half) <= self.snap) & (m >= 0) & (m <= 64 * self.n)
-        out = np.empty((theta.size, len(self.cs)))
-        if np.any(on):
-            mi = m[on].astype(int)
-            top = int(mi.max())
-            s = self.half * np.arange(top + 1)
-            for j, c in enumerate(self.cs):
-                out[on, j] = np.convolve(self.up, _f_only(s, c))[mi] * self.scale
-        if not np.all(on):
-            out[~on] = self.direct(theta[~on])
-        return out
-
-
-@numba.njit(cache=True)
-def _tail_chebval(theta, lo, hi, coef):  # pragma: no cover - compiled
-    """sqrt(theta) times the Clenshaw sum of the Chebyshev series coef (degree + 1, m) at
-    u = 2 (1/theta - lo)/(hi - lo) - 1, shape (theta.size, m). Per column, four times' recurrences run
-    interleaved (independent chains: 2.5x faster than one at a time, the same operations in the same order)."""
-    n, m = theta.size, coef.shape[1]
-    deg = coef.shape[0] - 1
-    out = np.empty((n, m))
-    u = np.empty(n)
-    root = np.empty(n)
-    for i in range(n):
-        u[i] = 4.0 * (1.0 / theta[i] - lo) / (hi - lo) - 2.0
-        root[i] = math.sqrt(theta[i])
-    ct = np.ascontiguousarray(coef.T)
-    for j in range(m):
-        c = ct[j]
-        i = 0
-        while i + 4 <= n:
-            ua, ub, uc, ud = u[i], u[i + 1], u[i + 2], u[i + 3]
-            a1 = a2 = b1 = b2 = c1 = c2 = d1 = d2 = 0.0
-            for k in range(deg, 0, -1):
-                ck = c[k]
-                a0 = ua * a1 - a2 + ck
-                a2, a1 = a1, a0
-                b0 = ub * b1 - b2 + ck
-                b2, b1 = b1, b0
-                c0 = uc * c1 - c2 + ck
-                c2, c1 = c1, c0
-                d0 = ud * d1 - d2 + ck
-                d2, d1 = d1, d0
-            out[i, j] = root[i] * (0.5 * ua * a1 - a2 + c[0])
-            out[i + 1, j] = root[i + 1] * (0.5 * ub * b1 - b2 + c[0])
-            out[i + 2, j] = root[i + 2] * (0.5 * uc * c1 - c2 + c[0])
-            out[i + 3, j] = root[i + 3] * (0.5 * ud * d1 - d2 + c[0])
-            i += 4
-        while i < n:
-            u2 = u[i]
-            b1 = b2 = 0.0
-            for k in range(deg, 0, -1):
-                b0 = u2 * b1 - b2 + c[k]
-                b2, b1 = b1, b0
-            out[i, j] = root[i] * (0.5 * u2 * b1 - b2 + c[0])
-            i += 1
-    return out
-
-
-def _chop(coef, tol):
-    """The Chebyshev coefficients (degree + 1, m) without the trailing ones whose absolute sum (a bound on
-    what dropping them changes) stays within tol (m,)."""
-    tail = np.cumsum(np.abs(coef[::-1]), axis=0)[::-1]          # tail[k] = sum_(l >= k) |c_l|
-    keep = coef.shape[0]
-    while keep > 2 and np.all(tail[keep - 1] <= tol):
-        keep -= 1
-    return coef[:keep]
-
-
-def _with_smooth_tail(fn, theta, after, rtol=1e-11):
-    """fn(theta) (shape (theta.size, m)), with the long tail theta >= ``after`` (past the contact: the smooth
-    1-D cooling) taken from a Chebyshev interpolant when that is cheaper.
-
-    The interpolant is of fn(theta)/sqrt(theta) in w = 1/theta: each edge term F(theta - c) of
-    :class:`_PassResponse` is sqrt(theta - c) times a power series in 1/(theta - c) plus a constant (which
-    the edge weights' zero sum cancels), so fn/sqrt(theta) is analytic in w with its singularities at
-    w = 1/c >= 1/D, at least 4x the interval's end 1/after (after = 4 D): Chebyshev coefficients fall like
-    (7 + sqrt 48)^-k = 13.9^-k whatever the span of theta (a series in log(theta) needs several times the
-    degree over long histories). On the Chebyshev-Lobatto points of degree d (from 16, doubling) the
-    interpolant is checked at the d points the degree 2d adds between them and used once it matches fn there
-    within ``rtol`` of max|fn| of each column; above degree 512 fn is evaluated directly."""
-    theta = np.asarray(theta, dtype=float)
-    far = theta >= after
-    nfar = int(far.sum())
-    near = fn(theta[~far])
-    out = np.empty((theta.size, near.shape[1]))
-    out[~far] = near
-    if nfar == 0:
-        return out
-    lo, hi = 1.0 / (float(theta[far].max()) * (1.0 + 1e-12)), 1.0 / after
-    if not hi > lo:
-        out[far] = fn(theta[far])
-        return out
-
-    def at(u):
-        th = 1.0 / (lo + (hi - lo) * (u + 1.0) / 2.0)
-        return fn(th), np.sqrt(th)[:, None]
-    degree = 16
-    u = np.cos(math.pi * np.arange(degree + 1) / degree)
-    vals, roots = at(u)
-    while 2 * degree < nfar and degree <= 512:
-        mid = np.cos(math.pi * (2 * np.arange(degree) + 1) / (2 * degree))
-        exact, mid_roots = at(mid)
-        coef = chebyshev.chebfit(u, vals / roots, degree)
-        scale = np.maximum(np.maximum(np.abs(vals).max(axis=0), np.abs(exact).max(axis=0)), 1e-300)
-        miss = np.abs(mid_roots * chebyshev.chebval(mid, coef).T - exact).max(axis=0)
-        if np.all(miss <= rtol * scale):
-            # trailing coefficients whose sum (times the largest sqrt(theta)) stays within the check's margin
-            # are dropped (cheaper sums)
-            big = math.sqrt(1.0 / lo)
-            coef = _chop(coef.reshape(degree + 1, -1), 0.5 * (rtol * scale - miss) / big)
-            out[far] = _tail_chebval(theta[far], lo, hi, np.ascontiguousarray(coef))
-            return out
-        u = np.concatenate([u, mid])
-        vals = np.concatenate([vals, exact])
-        roots = np.concatenate([roots, mid_roots])
-        order = np.argsort(-u)
-        u, vals, roots = u[order], vals[order], roots[order]
-        degree *= 2
-    out[far] = fn(theta[far])
-    return out
 
 
 def _pass_weights(count, step, duration, sched):
@@ -379,46 +194,183 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
     ----------
     .. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, section 2.9.
     """
+    time, depth, step, duration = _checked_strip(time, depth, x_edges, flux, speed, count, interval)
+    if not np.any(flux):
+        return np.zeros((time.size, depth.size))
+    snap = 1e-12 * max(step, duration) + 1e-15 * duration
+    response = PassResponse(x_edges, flux, speed, depth, effusivity, diffusivity, snap)
+
+    def one_pass(theta):
+        return with_smooth_tail(response, theta, 4.0 * duration, far=response.far, passes=int(count))
+    if schedule_time is None:
+        return _unit_pass_sum(time, int(count), interval, response, 4.0 * duration)
+    sched = (np.asarray(schedule_time, dtype=float), np.asarray(schedule_factor, dtype=float))
+    if np.all(sched[1] == sched[1][0]):
+        return float(sched[1][0]) * _unit_pass_sum(time, int(count), interval, response, 4.0 * duration)
+    weights = _pass_weights(int(count), step, duration, sched)
+    out = _constant_factor_passes(time, depth.size, step, weights, one_pass)
+    segments = _segments(x_edges, flux, speed)
+    for k in np.flatnonzero(~np.isfinite(weights)):      # passes whose heating meets a kink: with the schedule
+        rows = np.flatnonzero(time - k * step > 0)
+        if rows.size:
+            out[rows] += _scheduled_pass(time[rows] - k * step, depth, segments, k * step, sched, effusivity,
+                                         diffusivity)
+    return out
+
+
+def _checked_strip(time, depth, x_edges, flux, speed, count, interval):
+    """time [s] and depth [m] as 1-D arrays, the time between passes [s] (0 for one pass without interval)
+    and the contact duration D [s]; ValueError naming the bad argument of :func:`strip_history`."""
     time = np.atleast_1d(np.asarray(time, dtype=float)).ravel()
     depth = np.atleast_1d(np.asarray(depth, dtype=float)).ravel()
+    x_edges = np.asarray(x_edges, dtype=float)
+    if x_edges.ndim != 1 or np.shape(flux) != (x_edges.size - 1,):
+        raise ValueError(f"flux must have one value per cell: {x_edges.size - 1}, got shape {np.shape(flux)}")
+    if np.any(np.diff(x_edges) <= 0):
+        raise ValueError("x_edges must be strictly increasing [m]")
     if np.any(depth < 0):
         raise ValueError(f"depth must be >= 0 [m], got {depth}")
     if not speed > 0:
         raise ValueError(f"speed must be > 0 [m/s], got {speed!r}")
     if isinstance(count, bool) or int(count) != count or count < 1:
         raise ValueError(f"count must be an integer >= 1, got {count!r}")
-    start, end, q = _segments(x_edges, flux, speed)
     duration = (x_edges[-1] - x_edges[0]) / speed
     if count > 1 and (interval is None or interval < duration):
         raise ValueError(f"interval must be >= the contact duration {duration:g} s, got {interval!r}")
-    step = 0.0 if interval is None else float(interval)
-    out = np.zeros((time.size, depth.size))
-    if q.size == 0:
-        return out
-    snap = 1e-12 * max(step, duration) + 1e-15 * duration
-    response = _PassResponse(x_edges, flux, speed, depth, effusivity, diffusivity, snap)
+    return time, depth, 0.0 if interval is None else float(interval), duration
+
+
+def _unit_pass_sum(time, count, interval, response, after):
+    """``sum_k R(t - k interval)``, k = 0 .. count - 1, of one pass's unit response R (:class:`PassResponse`,
+    its tail from ``after`` [s] on by :func:`with_smooth_tail`; zero at t <= 0): on an axis whose passes repeat
+    one pass's offsets (green's own, :func:`strip_time_axis`) by :func:`_periodic_tail_sum` (every pass but the
+    first in the tail) or :func:`_periodic_pass_sum`, else by :func:`railtherm.references.transient.shifted_sum`."""
 
     def one_pass(theta):
-        return _with_smooth_tail(response, theta, 4.0 * duration)
-    if schedule_time is None:
-        return shifted_sum(time, int(count), interval, one_pass)
-    sched = (np.asarray(schedule_time, dtype=float), np.asarray(schedule_factor, dtype=float))
-    if np.all(sched[1] == sched[1][0]):
-        return float(sched[1][0]) * shifted_sum(time, int(count), interval, one_pass)
-    # passes heated under a constant factor: that factor times one pass's response (weighted sum over the
-    # passes); passes whose heating meets a kink of the schedule: integrated pass by pass
-    weights = _pass_weights(int(count), step, duration, sched)
-    if count == 1 or interval is None:
-        out = weights[0] * one_pass(time) if np.isfinite(weights[0]) else out
-    else:
-        out = _weighted_pass_sum(time, step, weights, one_pass)
-    for k in np.nonzero(~np.isfinite(weights))[0]:
-        rows = np.nonzero(time - k * step > 0)[0]
-        if rows.size == 0:
-            continue
-        s, e, qq, f0, slope = _split_by_schedule(start, end, q, k * step, *sched)
-        for j, z in enumerate(depth):
-            out[rows, j] += _response(time[rows] - k * step, z, s, e, qq, f0, slope, effusivity, diffusivity)
+        return with_smooth_tail(response, theta, after, far=response.far, passes=count)
+    offsets = None if interval is None else _periodic_offsets(time, count, float(interval))
+    if offsets is None:
+        return shifted_sum(time, count, interval, one_pass)
+    out = _periodic_tail_sum(time, count, float(interval), offsets, response, after) if interval >= after else None
+    return _periodic_pass_sum(time, count, float(interval), offsets, one_pass) if out is None else out
+
+
+def _periodic_offsets(time, count, step):
+    """The offsets (per,) [s] when the first count * per samples of ``time`` are ``count`` passes repeating them
+    ``step`` apart, each in [0, step) (the phases :func:`railtherm.references.transient.shifted_sum` merges:
+    within 1e-12 step, rounded to it as there), else None."""
+    per = time.size // count
+    if count < 2 or per == 0 or not _repeats(time, count, per, step):
+        return None
+    return np.round(time[:per] / step, 12) * step
+
+
+@numba.njit(cache=True)
+def _repeats(time, count, per, step):  # pragma: no cover - compiled
+    """Whether time[p per + i] - p step equals time[i] within 1e-12 step for p < count, i < per, with the first
+    per times in [0, step (1 - 1e-9)) (the pass index shifted_sum gives them)."""
+    for i in range(per):
+        if not (time[i] >= 0.0 and time[i] < step * (1.0 - 1e-9)):
+            return False
+    for p in range(1, count):
+        start = step * p
+        for i in range(per):
+            if abs(time[p * per + i] - start - time[i]) > 1e-12 * step:
+                return False
+    return True
+
+
+def _periodic_pass_sum(time, count, step, offsets, curve):
+    """``sum_k curve(t - k step)`` on a periodic axis (:func:`_periodic_offsets`): pass p's samples at offset o
+    get ``sum_(n <= p) curve(o + n step)``, one cumulative sum over n of the table curve(offsets x passes) (what
+    ``shifted_sum`` gathers after sorting the phases out); the samples after the passes (green's: the last
+    pass's end) sum their ``count`` terms. One call of ``curve`` for all (one tail interpolant); its times are
+    > 0 but at offset 0 of pass 0, whose value is set to 0. The call also takes the last offset plus ``count``
+    steps, the end of ``shifted_sum``'s table, so that the tail interpolant spans the same times as there: its
+    error (within 1e-11 of the response's maximum, summed over the passes) is then the same in both sums."""
+    per = offsets.size
+    block = count * per
+    rest = time[block:]
+    theta = np.empty(block + rest.size * count + 1)
+    np.add(offsets[None, :], step * np.arange(count)[:, None], out=theta[:block].reshape(count, per))
+    np.subtract(rest[:, None], step * np.arange(count)[None, :], out=theta[block:-1].reshape(rest.size, count))
+    theta[-1] = offsets[-1] + step * count
+    vals = curve(theta)[:-1]
+    vals[theta[:-1] <= 0.0] = 0.0
+    out = np.empty((time.size, vals.shape[1]))
+    np.cumsum(vals[:block].reshape(count, per, -1), axis=0, out=out[:block].reshape(count, per, -1))
+    out[block:] = vals[block:].reshape(rest.size, count, -1).sum(axis=1)
+    return out
+
+
+def _periodic_tail_sum(time, count, step, offsets, response, after, rtol=1e-11):
+    """:func:`_periodic_pass_sum` of the unit response when every pass after the first lies in its tail
+    (step >= after), without the table: the tail interpolant is fitted once on the same times as there (up to
+    the last offset plus ``count`` steps), the first pass's offsets before ``after`` take the response itself,
+    and the later passes are interpolated and summed in one compiled loop (:func:`_tail_cumsum`; the same
+    values and additions as the table's). None when the tail is not interpolated (then the table)."""
+    per = offsets.size
+    block = count * per
+    rest = time[block:]
+    rest_theta = (rest[:, None] - step * np.arange(count)[None, :]).ravel()
+    longest = max(offsets[-1] + step * count, offsets.max() + step * (count - 1),
+                  rest_theta.max() if rest_theta.size else 0.0)
+    nfar = block + rest_theta.size + 1 - int(np.sum(offsets < after)) - int(np.sum(rest_theta < after))
+    lo, hi = 1.0 / (longest * (1.0 + 1e-12)), 1.0 / after
+    if not hi > lo or nfar <= 32:
+        return None
+    coef = checked_tail(response.far, lo, hi, nfar, rtol, count)
+    if coef is None:
+        return None
+    out = np.empty((time.size, response.cs.size))
+    _tail_cumsum(offsets, step, lo, hi, coef, response.with_tail(offsets, after, lo, hi, coef),
+                 out[:block].reshape(count, per, -1))
+    if rest.size:
+        tail = response.with_tail(rest_theta, after, lo, hi, coef)
+        out[block:] = tail.reshape(rest.size, count, -1).sum(axis=1)
+    return out
+
+
+@numba.njit(cache=True)
+def _tail_cumsum(offsets, step, lo, hi, coef, first, out):  # pragma: no cover - compiled
+    """out[p, i] = sum_(n <= p) R(offsets[i] + n step) (count, per, m): ``first`` (per, m) the first pass
+    (n = 0), the later ones from the tail interpolant by :func:`chebval_into` (as :func:`tail_chebval`),
+    added in order of n as a cumulative sum does."""
+    count, per, m = out.shape
+    ct = np.ascontiguousarray(coef.T)
+    theta = np.empty(per)
+    row = np.empty((per, m))
+    out[0] = first
+    for p in range(1, count):
+        shift = step * p
+        for i in range(per):
+            theta[i] = offsets[i] + shift
+        chebval_into(theta, lo, hi, ct, row)
+        for i in range(per):
+            for j in range(m):
+                out[p, i, j] = out[p - 1, i, j] + row[i, j]
+    return out
+
+
+def _constant_factor_passes(time, depths, step, weights, one_pass):
+    """The passes heated under a constant factor of the schedule (``weights``: per pass the factor, NaN where a
+    kink of the schedule meets the pass's heating, :func:`_pass_weights`): that factor times one pass's
+    response, summed over them (:func:`_weighted_pass_sum`), shape (time.size, depths)."""
+    if weights.size == 1 or step == 0.0:
+        if np.isfinite(weights[0]):
+            return weights[0] * one_pass(time)
+        return np.zeros((time.size, depths))
+    return _weighted_pass_sum(time, step, weights, one_pass)
+
+
+def _scheduled_pass(theta, depth, segments, arrival, sched, effusivity, diffusivity):
+    """Rise [K] (theta.size, depth.size) of the pass arriving at ``arrival`` [s] at the times theta > 0 after its
+    arrival, its cells' intervals cut at the schedule's times and each piece integrated exactly with the
+    factor linear on it (:func:`_response`)."""
+    s, e, qq, f0, slope = _split_by_schedule(*segments, arrival, *sched)
+    out = np.empty((theta.size, depth.size))
+    for j, z in enumerate(depth):
+        out[:, j] = _response(theta, z, s, e, qq, f0, slope, effusivity, diffusivity)
     return out
 
 
@@ -428,7 +380,7 @@ def strip_time_axis(x_edges, speed: float, count: int = 1, interval: float | Non
     sample per cell, >= 20 per contact duration from 20 cells on, 32 at level 0; 2: the edges and the
     centres), then the same times after the contact (cooling, over one more contact duration), then
     ``tail_samples`` geometrically spaced to the next pass (the last: one interval after it; one pass without
-    interval: to 100 contact durations). Every sample lies on the lattice of :class:`_PassResponse`. One
+    interval: to 100 contact durations). Every sample lies on the lattice of :class:`PassResponse`. One
     sample per cell keeps the sampled peak's error (h^2) below the strip's own (h^1.5) and time above a
     threshold within 0.05 % of the contact duration at level 0 (tests/test_green_transient.py), at half the
     samples of every pass (the cost of long histories is their samples). The passes in ``dense`` (those a
@@ -466,14 +418,18 @@ def strip_time_axis(x_edges, speed: float, count: int = 1, interval: float | Non
     def pass_offsets(per):
         n = per * (x_edges.size - 1)
         out = np.linspace(0.0, min(2.0 * d, span), 2 * n + 1)
-        if span > 2.0 * d:
-            out = np.concatenate([out, np.geomspace(2.0 * d, span, int(tail_samples) + 1)[1:]])
+        if span > 2.0 * d:                              # np.geomspace's values (10 ** linspace of the logs) but
+            tail = np.power(10.0, np.linspace(np.log10(2.0 * d), np.log10(span), int(tail_samples) + 1))
+            out = np.concatenate([out, tail[1:]])       # its end, set to span there: dropped here
         return out[:-1]
     offsets = pass_offsets(int(per_cell))
-    passes = (np.arange(int(count))[:, None] * span + offsets[None, :]).ravel()
-    dense = sorted({int(k) for k in dense if 0 <= int(k) < int(count)}) if int(per_cell) == 1 else []
+    dense = sorted({int(k) for k in dense if 0 <= int(k) < int(count)}) if int(per_cell) == 1 and len(dense) else []
     if not dense:
-        return np.concatenate([passes, [int(count) * span]])
+        out = np.empty(int(count) * offsets.size + 1)
+        np.add(np.arange(int(count))[:, None] * span, offsets[None, :],
+               out=out[:-1].reshape(int(count), offsets.size))
+        out[-1] = int(count) * span
+        return out
     fine = pass_offsets(2)
     per_pass = [k * span + (fine if k in dense else offsets) for k in range(int(count))]
     return np.concatenate(per_pass + [[int(count) * span]])
