@@ -75,7 +75,7 @@ def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[Transi
             raise SceneError.bad_value(scene.name, "passes.interval", interval,
                                        f"a time >= the contact duration 2a/V = {length / v:.6g} s (a pass must end "
                                        "before the next begins)")
-    heated = [i for i in range(2) if np.any(qc[i])]
+    heated = [i for i in range(2) if qc[i].any()]
     # the heated bodies' own axes (their union when their speeds differ); passes a schedule's kink meets are
     # sampled at the edges and centres (a short spike's peak)
     axes = [strip_time_axis(x_edges, v, count, interval,

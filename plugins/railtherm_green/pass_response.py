@@ -184,6 +184,34 @@ def _g_sums(theta, nodes, weights, cs):  # pragma: no cover - compiled
     return out
 
 
+@numba.njit(cache=True)
+def _edges(x, flux, speed):  # pragma: no cover - compiled
+    """The edges of the cells x (n + 1,) [m] with the flux (n,) [W/m^2] crossing at ``speed`` [m/s]: their weights
+    w_k = q_(k-1) - q_k (q = 0 outside), crossing times (x_lead - x_k)/speed [s], both for the edges whose weight
+    is not 0, the weights from the lead, and whether the cells are equal (within 1e-10 of their mean)."""
+    n = x.size - 1
+    w = np.zeros(n + 1)
+    c = np.empty(n + 1)
+    h = (x[n] - x[0]) / n
+    uniform = True
+    live = 0
+    for k in range(n + 1):
+        if k < n:
+            w[k + 1] += flux[k]
+            w[k] -= flux[k]
+        c[k] = (x[n] - x[k]) / speed
+        uniform = uniform and abs(x[k] - (x[0] + h * k)) <= 1e-10 * h
+    for k in range(n + 1):
+        live += w[k] != 0.0
+    c_live, w_live = np.empty(live), np.empty(live)
+    j = 0
+    for k in range(n + 1):
+        if w[k] != 0.0:
+            c_live[j], w_live[j] = c[k], w[k]
+            j += 1
+    return w, c, c_live, w_live, w[::-1].copy(), uniform
+
+
 class PassResponse:
     """One pass's rise [K] at the depths z for a constant factor 1, as a function of the time after arrival.
 
@@ -204,23 +232,18 @@ class PassResponse:
     """
 
     def __init__(self, x_edges, flux, speed, depth, effusivity, diffusivity, snap):
-        x = np.asarray(x_edges, dtype=float)
-        w = np.zeros(x.size)
-        w[1:] = flux
-        w[:-1] -= flux
-        self.w = w                                      # edge k: q_(k-1) - q_k
-        self.c_edge = (x[-1] - x) / speed               # crossing times [s], decreasing in k
-        live = w != 0
-        self.c_live, self.w_live = self.c_edge[live], w[live]  # the edges whose weight is not 0
+        x = np.ascontiguousarray(x_edges, dtype=float)
+        # edge k: w_k = q_(k-1) - q_k, crossed at c_k [s] (decreasing in k); those whose weight is not 0; the
+        # weights from the lead (edge r at lattice point 2 r); whether the cells are equal
+        self.w, self.c_edge, self.c_live, self.w_live, self.w_lead, self.uniform = _edges(
+            x, np.ascontiguousarray(flux, dtype=float), float(speed))
         self.cs = np.square(np.asarray(depth, dtype=float)) / (4.0 * diffusivity)
         self.scale = 1.0 / (effusivity * math.sqrt(math.pi))
         n = x.size - 1
         h = (x[-1] - x[0]) / n
-        self.uniform = bool(np.all(np.abs(x - (x[0] + h * np.arange(n + 1))) <= 1e-10 * h))
         self.half = 0.5 * h / speed                     # lattice step tau/2 [s]
         self.n = n
         self.snap = float(snap)
-        self.w_lead = np.ascontiguousarray(w[::-1])     # edge r from the lead: at lattice point 2 r
         self.duration = float((x[-1] - x[0]) / speed)
         self._far = None                                # (crossing nodes, their weights), on first use
 

@@ -106,10 +106,10 @@ def with_smooth_tail(fn, theta, after, rtol=1e-11, far=None, passes=1):
 
     The interpolant is of fn(theta)/sqrt(theta) in w = 1/theta: each edge term F(theta - c) of
     :class:`railtherm_green.pass_response.PassResponse` is sqrt(theta - c) times a power series in 1/(theta - c)
-    plus a constant (which the edge weights' zero sum cancels), so fn/sqrt(theta) is analytic in w with its singularities at
-    w = 1/c >= 1/D, at least 4x the interval's end 1/after (after = 4 D): Chebyshev coefficients fall like
-    (7 + sqrt 48)^-k = 13.9^-k whatever the span of theta (a series in log(theta) needs several times the
-    degree over long histories). On the Chebyshev-Lobatto points of degree d (from 16, doubling) the
+    plus a constant (which the edge weights' zero sum cancels), so fn/sqrt(theta) is analytic in w with its
+    singularities at w = 1/c >= 1/D, at least 4x the interval's end 1/after (after = 4 D): Chebyshev coefficients
+    fall like (7 + sqrt 48)^-k = 13.9^-k whatever the span of theta (a series in log(theta) needs several times
+    the degree over long histories). On the Chebyshev-Lobatto points of degree d (from 16, doubling) the
     interpolant is checked at the d points the degree 2d adds between them and used once it matches fn there
     within ``rtol`` of max|fn| of each column; above degree 512 fn is evaluated directly. The trailing
     coefficients dropped to cheapen the sums change the values by at most half the check's margin over the
@@ -138,20 +138,29 @@ def checked_tail(far, lo, hi, nfar, rtol, passes=1):
     values at the Lobatto points of degree 2d are evaluated once: the even ones interpolate at degree d, the odd
     ones (the points between them) check it; a failed check doubles d and adds the new points between."""
 
-    def at(u):
-        th = 1.0 / (lo + (hi - lo) * (u + 1.0) / 2.0)
-        return far(th), np.sqrt(th)[:, None]
     degree = 16                                         # nfar > 2 degree (the caller's)
-    vals, roots = at(np.cos(math.pi * np.arange(2 * degree + 1) / (2 * degree)))   # Lobatto of degree 2d
+    theta = _lobatto_times(lo, hi, 2 * degree, 1)       # the Lobatto points of degree 2d
+    vals, roots = far(theta), np.sqrt(theta)
     while True:
-        passed, coef = _lobatto_fit(vals, np.ascontiguousarray(roots[:, 0]), rtol, math.sqrt(1.0 / lo) * passes)
+        passed, coef = _lobatto_fit(vals, roots, rtol, math.sqrt(1.0 / lo) * passes)
         if passed:
             return coef
         degree *= 2
         if not (2 * degree < nfar and degree <= 512):
             return None
-        new_vals, new_roots = at(np.cos(math.pi * (2 * np.arange(degree) + 1) / (2 * degree)))
-        vals, roots = _interleave(vals, new_vals), _interleave(roots, new_roots)
+        theta = _lobatto_times(lo, hi, 2 * degree, 2)   # the new points between them
+        vals, roots = _interleave(vals, far(theta)), _interleave(roots, np.sqrt(theta))
+
+
+@numba.njit(cache=True)
+def _lobatto_times(lo, hi, d, every):  # pragma: no cover - compiled
+    """The times [s] of the Chebyshev-Lobatto points u_k = cos(pi k / d) (every ``every``-th from k = every - 1)
+    of the tail's variable u = 2 (1/theta - lo)/(hi - lo) - 1."""
+    k = np.arange(every - 1, d + 1, every)
+    out = np.empty(k.size)
+    for i in range(k.size):
+        out[i] = 1.0 / (lo + (hi - lo) * (math.cos(math.pi * k[i] / d) + 1.0) / 2.0)
+    return out
 
 
 def _interleave(even, odd):

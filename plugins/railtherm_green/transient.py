@@ -195,7 +195,7 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
     .. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, section 2.9.
     """
     time, depth, step, duration = _checked_strip(time, depth, x_edges, flux, speed, count, interval)
-    if not np.any(flux):
+    if not np.asarray(flux).any():
         return np.zeros((time.size, depth.size))
     snap = 1e-12 * max(step, duration) + 1e-15 * duration
     response = PassResponse(x_edges, flux, speed, depth, effusivity, diffusivity, snap)
@@ -226,9 +226,9 @@ def _checked_strip(time, depth, x_edges, flux, speed, count, interval):
     x_edges = np.asarray(x_edges, dtype=float)
     if x_edges.ndim != 1 or np.shape(flux) != (x_edges.size - 1,):
         raise ValueError(f"flux must have one value per cell: {x_edges.size - 1}, got shape {np.shape(flux)}")
-    if np.any(np.diff(x_edges) <= 0):
+    if not (x_edges[1:] > x_edges[:-1]).all():
         raise ValueError("x_edges must be strictly increasing [m]")
-    if np.any(depth < 0):
+    if (depth < 0).any():
         raise ValueError(f"depth must be >= 0 [m], got {depth}")
     if not speed > 0:
         raise ValueError(f"speed must be > 0 [m/s], got {speed!r}")
@@ -312,10 +312,7 @@ def _periodic_tail_sum(time, count, step, offsets, response, after, rtol=1e-11):
     per = offsets.size
     block = count * per
     rest = time[block:]
-    rest_theta = (rest[:, None] - step * np.arange(count)[None, :]).ravel()
-    longest = max(offsets[-1] + step * count, offsets.max() + step * (count - 1),
-                  rest_theta.max() if rest_theta.size else 0.0)
-    nfar = block + rest_theta.size + 1 - int(np.sum(offsets < after)) - int(np.sum(rest_theta < after))
+    rest_theta, longest, nfar = _table_span(offsets, rest, count, step, after)
     lo, hi = 1.0 / (longest * (1.0 + 1e-12)), 1.0 / after
     if not hi > lo or nfar <= 32:
         return None
@@ -329,6 +326,26 @@ def _periodic_tail_sum(time, count, step, offsets, response, after, rtol=1e-11):
         tail = response.with_tail(rest_theta, after, lo, hi, coef)
         out[block:] = tail.reshape(rest.size, count, -1).sum(axis=1)
     return out
+
+
+@numba.njit(cache=True)
+def _table_span(offsets, rest, count, step, after):  # pragma: no cover - compiled
+    """For :func:`_periodic_tail_sum`: the times (rest.size * count,) [s] after each pass's arrival of the samples
+    after the passes, the longest time of the table of :func:`_periodic_pass_sum` (its last offset plus ``count``
+    steps, or longer) and how many of its times reach ``after`` [s]."""
+    per = offsets.size
+    rest_theta = np.empty(rest.size * count)
+    longest = max(offsets[per - 1] + step * count, offsets.max() + step * (count - 1))
+    nfar = count * per + rest.size * count + 1
+    for i in range(per):
+        nfar -= offsets[i] < after
+    for r in range(rest.size):
+        for k in range(count):
+            t = rest[r] - step * k
+            rest_theta[r * count + k] = t
+            longest = max(longest, t)
+            nfar -= t < after
+    return rest_theta, longest, nfar
 
 
 @numba.njit(cache=True)
@@ -371,6 +388,19 @@ def _scheduled_pass(theta, depth, segments, arrival, sched, effusivity, diffusiv
     out = np.empty((theta.size, depth.size))
     for j, z in enumerate(depth):
         out[:, j] = _response(theta, z, s, e, qq, f0, slope, effusivity, diffusivity)
+    return out
+
+
+def _linspace(start, stop, num):
+    """np.linspace(start, stop, num)'s values (start + i (stop - start)/(num - 1), the last set to stop) without its
+    argument handling: the axis is built once per body and solve."""
+    out = np.arange(num, dtype=float)
+    if num > 1:
+        out *= (stop - start) / (num - 1)
+        out += start
+        out[-1] = stop
+    else:
+        out[:] = start
     return out
 
 
@@ -417,9 +447,9 @@ def strip_time_axis(x_edges, speed: float, count: int = 1, interval: float | Non
 
     def pass_offsets(per):
         n = per * (x_edges.size - 1)
-        out = np.linspace(0.0, min(2.0 * d, span), 2 * n + 1)
+        out = _linspace(0.0, min(2.0 * d, span), 2 * n + 1)
         if span > 2.0 * d:                              # np.geomspace's values (10 ** linspace of the logs) but
-            tail = np.power(10.0, np.linspace(np.log10(2.0 * d), np.log10(span), int(tail_samples) + 1))
+            tail = np.power(10.0, _linspace(np.log10(2.0 * d), np.log10(span), int(tail_samples) + 1))
             out = np.concatenate([out, tail[1:]])       # its end, set to span there: dropped here
         return out[:-1]
     offsets = pass_offsets(int(per_cell))
