@@ -34,5 +34,3 @@ def test_every_number_has_udunits_units(key):
                                         ("wheel.bulk_temperature", "degC"), ("contact.semi_axes", "m")])
 def test_swept_coordinates_take_their_units_from_the_table(key, units):
     assert _sweep_coord_attrs(key) == {"units": units, "long_name": f"swept study key '{key}'"}
-    # railtherm 0.1's flattened attribute names decode to the same key
-    assert _sweep_coord_attrs(key.replace(".", "_"))["units"] == units
