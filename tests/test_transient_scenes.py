@@ -219,3 +219,20 @@ def test_locked_wheel_heat_and_exact_sources():
     with pytest.raises(SceneError) as err:
         load_scene({**LOCKED, "sliding_speed": -10.5})
     assert err.value.key == "sliding_speed" and "locked wheel" in str(err.value)
+
+
+def test_study_scores_the_locked_wheel_at_its_finest_level(tmp_path):
+    """metrics.nc scores a transient scene's histories against the exact ones at every level, the finest too,
+    where neither a finer level nor the steady references exist (a wheel at rest has none): fdm's locked wheel
+    at level 0 alone, 40 ms of the 50 ms slide (the exact scheduled rail pass costs per sample)."""
+    from railtherm.input.study import parse_study
+    scene = {**LOCKED, "passes": {"count": 1, "interval": 0.06},
+             "schedule": {"time": [0.0, 1e-4, 0.04, 0.0401], "factor": [0.0, 1.0, 1.0, 0.0]}}
+    study = parse_study({"schema_version": 1, "study": {
+        "name": "locked", "methods": ["fdm"], "levels": [0], "reference": "analytic",
+        "chains": {"fdm": {"normal": ["wheelset", "hertz"], "tangential": ["full-sliding", "fastsim"],
+                           "heat_source": "frictional", "temperature": "fdm"}}}, "scene": [scene]})
+    m = railtherm.run_study(study, tmp_path, report=False)
+    assert str(m["status"].values[0]) in ("ok", "inaccurate", "unverified")
+    for metric in ("pass_peak_temperature", "residual_rise", "temperature_history"):
+        assert 0.0 < float(m[f"error_{metric}"].values[0]) < 0.1, metric

@@ -327,8 +327,10 @@ def _score(ctx: _Study, rec) -> dict:
         patch_errors(scene, own, ref_ds, errs, notes=notes, signed=signed, row=row, headline=headline(scene))
         if "cooling_rate" in errs:
             row["cooling_rate_depth"] = _cooling_depth(scene, own)
-        if ctx.kind(scene) == "analytic" and getattr(scene, "transient", None) is not None:
-            errs.update(transient_errors(scene, own, notes=notes, cache=ctx.cache))
+    if ctx.kind(scene) == "analytic" and getattr(scene, "transient", None) is not None:
+        # the exact histories need neither the steady references nor a finer level (a locked wheel has no steady one)
+        own = ctx.cache[rec.path] if rec.path in ctx.cache else _open(rec.path)
+        errs.update(transient_errors(scene, own, notes=notes, cache=ctx.cache))
     for k, (v, tag) in errs.items():
         row[f"error_{k}"], row[f"reference_{k}"] = v, tag
     for k, v in signed.items():
