@@ -112,7 +112,7 @@ def test_frictional_heat_is_the_tangential_dissipation(host):
     scene = railtherm.load_scene(sc)
     from railtherm.physics import body_speeds
     vw, vr = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
-    exact = scene.friction * scene.normal_force * abs(vw - vr)
+    exact = scene.friction.nominal * scene.normal_force * abs(vw - vr)
     assert float(ds.frictional_power) == pytest.approx(exact, rel=1e-12)
 
 

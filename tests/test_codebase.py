@@ -100,7 +100,7 @@ def test_no_function_over_80_lines_without_a_reason(tmp_path):
 
 #: test modules of concurrent work whose text still names this project's issues; the list only shrinks
 ISSUE_NAMES_TO_REMOVE = frozenset({
-    "tests/test_fastsim.py", "tests/test_fdm_field.py", "tests/test_fem_field.py", "tests/test_fipy_field.py",
+    "tests/test_fdm_field.py", "tests/test_fem_field.py", "tests/test_fipy_field.py",
     "tests/test_gap_contact.py", "tests/test_green_field.py", "tests/test_green_kernel.py",
     "tests/test_study_chains.py", "tests/test_study_keys.py",
     "tests/test_temperature_field.py", "tests/test_thermal_trace.py"})
@@ -406,7 +406,7 @@ def test_each_heat_partition_rule_has_one_meaning():
 
 def test_the_scene_is_resolved_once():
     """Only ``core/railtherm/input/`` reads the scene's raw table (``scene.source[...]``) for the friction law
-    and the heat partition; everything else reads the typed parts ``scene.friction_law`` and
+    and the heat partition; everything else reads the typed parts ``scene.friction`` and
     ``scene.partition`` resolved at load time."""
     raw = []
     for rel, tree in _trees():

@@ -186,10 +186,10 @@ class WrongSign(TangentialContactModel):
 
     def compute_tangential(self, scene, patch, level, options):
         vs = scene.sliding_speed
-        traction = np.sign(vs) * scene.friction * patch.pressure          # on the wheel, against its slip
+        traction = np.sign(vs) * scene.friction.nominal * patch.pressure          # on the wheel, against its slip
         slip = np.where(patch.pressure > 0, -vs, 0.0)                     # wheel relative to rail
         return patch.with_tangential(traction_x=traction, slip_velocity_x=slip,
-                                     creep_force_x=np.sign(vs) * scene.friction * patch.normal_force,
+                                     creep_force_x=np.sign(vs) * scene.friction.nominal * patch.normal_force,
                                      dissipation=traction * slip, diagnostics={"converged": True})
 
 
@@ -201,10 +201,10 @@ class Flipped(WrongSign):
 
     def compute_tangential(self, scene, patch, level, options):
         vs = scene.sliding_speed
-        traction = -np.sign(vs) * scene.friction * patch.pressure
+        traction = -np.sign(vs) * scene.friction.nominal * patch.pressure
         slip = np.where(patch.pressure > 0, vs, 0.0)
         return patch.with_tangential(traction_x=traction, slip_velocity_x=slip,
-                                     creep_force_x=-np.sign(vs) * scene.friction * patch.normal_force,
+                                     creep_force_x=-np.sign(vs) * scene.friction.nominal * patch.normal_force,
                                      dissipation=-traction * slip, diagnostics={"converged": True})
 
 
@@ -216,10 +216,10 @@ class PushesSlip(WrongSign):
 
     def compute_tangential(self, scene, patch, level, options):
         vs = scene.sliding_speed
-        traction = -np.sign(vs) * scene.friction * patch.pressure
+        traction = -np.sign(vs) * scene.friction.nominal * patch.pressure
         slip = np.where(patch.pressure > 0, -vs, 0.0)
         return patch.with_tangential(traction_x=traction, slip_velocity_x=slip,
-                                     creep_force_x=-np.sign(vs) * scene.friction * patch.normal_force,
+                                     creep_force_x=-np.sign(vs) * scene.friction.nominal * patch.normal_force,
                                      dissipation=np.abs(traction * slip), diagnostics={"converged": True})
 
 

@@ -213,11 +213,11 @@ def test_combined_elastic_and_partition():
 # ------------------------------------------------------------------------------------------------
 def _scene(**kw):
     steel = Material()
-    base = dict(name="t", speed=V, friction=MU, creepage=SimpleNamespace(longitudinal=0.0, lateral=ETA, spin=PHI),
+    base = dict(name="t", speed=V, friction=ConstantFriction(MU),
+                creepage=SimpleNamespace(longitudinal=0.0, lateral=ETA, spin=PHI),
                 sliding_speed=None, heat_partition=0.5, wheel=steel, rail=steel, contact_shape="ellipse",
                 heat_source=None, wheelset=None, tangential="creepage", numerics={}, convection=0.0)
     base.update(kw)
-    base.setdefault("friction_law", ConstantFriction(base["friction"]))   # core reads the law (issue 15)
     base.setdefault("partition", HeatPartition.of(base["heat_partition"]))
     return SimpleNamespace(**base)
 

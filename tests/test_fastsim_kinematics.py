@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from railtherm import ContactPatch, Material
+from railtherm.physics.friction import ConstantFriction
 import railtherm_fastsim.wheelset_normal as wheelset_normal
 from railtherm.models.sliding import FrictionalHeat
 from railtherm_fastsim.tangential import FastsimTangential
@@ -84,7 +85,7 @@ def test_model_uses_the_kinematics_for_a_wheelset_scene(monkeypatch):
     steel = Material()
     ws = SimpleNamespace(conicity=0.05, lateral_shift=3e-3, yaw_angle=1e-3, vertical_load=200e3,
                          wheel_radius=0.46, gauge=1.5)
-    scene = SimpleNamespace(name="ws", speed=30.0, friction=0.3, creepage=None, sliding_speed=None, wheelset=ws,
+    scene = SimpleNamespace(name="ws", speed=30.0, friction=ConstantFriction(0.3), creepage=None, sliding_speed=None, wheelset=ws,
                             heat_partition=0.5, wheel=steel, rail=steel, contact_shape="ellipse", heat_source=None,
                             tangential="creepage", semi_axes=None, normal_force=100e3, penetration=None,
                             curvatures=None, wheel_radius=0.46, partition=HeatPartition.of(0.5))

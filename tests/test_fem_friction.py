@@ -45,7 +45,7 @@ def fem(friction, level=0, **kw):
     return solve_fem(m._problem(
         level, m.resolve_options({}), True, wheel=sc.wheel, rail=sc.rail, speed=sc.speed,
         wheel_radius=sc.wheel_radius, normal_force=sc.normal_force, penetration=sc.penetration,
-        friction=sc.friction, friction_law=sc.friction_law, creepage=sc.creepage, sliding_speed=sc.sliding_speed,
+        friction=sc.friction, creepage=sc.creepage, sliding_speed=sc.sliding_speed,
         heat_partition=sc.heat_partition, convection=sc.convection, strip=sc.strip, field=sc.field,
         numerics=sc.numerics))
 

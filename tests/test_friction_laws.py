@@ -58,10 +58,10 @@ def test_invalid_law_parameters_are_scene_errors_naming_the_key(bad, key):
 
 def test_scene_keeps_the_law_and_a_nominal_coefficient():
     s = load_scene(scene(SLIP))
-    assert s.friction == 0.36 and s.friction_law == SlipVelocityFriction(0.36, 0.18, 0.5)
-    assert load_scene(scene(TEMP)).friction == 0.3
+    assert s.friction.nominal == 0.36 and s.friction == SlipVelocityFriction(0.36, 0.18, 0.5)
+    assert load_scene(scene(TEMP)).friction.nominal == 0.3
     c = load_scene(scene(0.3))
-    assert c.friction == 0.3 and c.friction_law == ConstantFriction(0.3)
+    assert c.friction.nominal == 0.3 and c.friction == ConstantFriction(0.3)
     assert load_scene(scene(0.3)).hash == load_scene(scene(0.3)).hash
 
 

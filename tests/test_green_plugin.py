@@ -72,7 +72,7 @@ def test_study_file_matches_published_inputs_and_runs():
     assert sorted({s.convection for s in study.scenes}) == [0.0, 10.0, 30.0, 100.0, 1000.0]
     for sc in study.scenes:
         case = ek["low_speed"] if sc.name.startswith("low") else ek["high_speed"]
-        assert (sc.speed, sc.sliding_speed, sc.friction) == (case["speed"], case["sliding_speed"], case["friction"])
+        assert (sc.speed, sc.sliding_speed, sc.friction.nominal) == (case["speed"], case["sliding_speed"], case["friction"])
         assert sc.normal_force == ek["normal_force"] and list(sc.semi_axes) == ek["semi_axes"]
         for body in (sc.wheel, sc.rail):
             assert (body.density, body.specific_heat, body.conductivity) == (ek["density"], ek["specific_heat"],

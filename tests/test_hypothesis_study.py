@@ -70,7 +70,8 @@ def check(doc):
     for sc in study.scenes:
         assert isinstance(sc, railtherm.Scene)
         assert math.isfinite(sc.speed) and sc.speed > 0
-        for v in (sc.normal_force, sc.penetration, sc.friction, sc.sliding_speed, sc.convection):
+        mu = None if sc.friction is None else sc.friction.nominal
+        for v in (sc.normal_force, sc.penetration, mu, sc.sliding_speed, sc.convection):
             assert v is None or (isinstance(v, float) and math.isfinite(v) and v >= 0)
         # the scene round-trips through its mapping
         assert load_scene(sc.to_dict()).hash == sc.hash
@@ -141,7 +142,7 @@ def test_sweeps_expand_and_round_trip(tmp_path_factory, speeds, frictions, parti
         return
     assert len(study.scenes) == n
     assert len({s.name for s in study.scenes}) == n
-    assert {(s.speed, s.friction, s.wheel.bulk_temperature) for s in study.scenes} == \
+    assert {(s.speed, s.friction.nominal, s.wheel.bulk_temperature) for s in study.scenes} == \
            {(float(a), float(b), float(c)) for a in speeds for b in frictions for c in partitions}
     for s in study.scenes:
         assert set(s.sweep) == {"speed", "friction", "wheel.bulk_temperature"}

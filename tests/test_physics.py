@@ -363,9 +363,9 @@ def test_superposition_limits_name_each_reason_and_the_model():
     from railtherm.physics import superposition_limits
     law = lambda t: NS(depends_on_temperature=t)  # noqa: E731
     body = lambda t: NS(bulk_temperature=t)  # noqa: E731
-    ok = NS(heat_source=None, friction_law=law(False), wheel=body(20.0), rail=body(20.0), outputs=("temperature_history",))
+    ok = NS(heat_source=None, friction=law(False), wheel=body(20.0), rail=body(20.0), outputs=("temperature_history",))
     assert superposition_limits(ok, "m") is None
-    hot = NS(**{**vars(ok), "friction_law": law(True)})
+    hot = NS(**{**vars(ok), "friction": law(True)})
     assert "temperature-dependent friction law" in superposition_limits(hot, "m") and "'m'" in superposition_limits(hot, "m")
     assert superposition_limits(NS(**{**vars(hot), "heat_source": object()}), "m") is None   # a given source: no law
     assert "one bulk temperature" in superposition_limits(NS(**{**vars(ok), "rail": body(30.0)}), "m")

@@ -145,13 +145,13 @@ class CarterContact(TangentialContactModel):
 
     def compute_tangential(self, scene, patch, level, options):
         from railtherm.references.carter import carter_2d
-        c = carter_2d(scene.creepage.longitudinal, patch.a, scene.friction, scene.wheel_radius,
+        c = carter_2d(scene.creepage.longitudinal, patch.a, scene.friction.nominal, scene.wheel_radius,
                       max_pressure=patch.max_pressure)
         x = patch.grid.x
         inside = patch.pressure > 0
         return patch.with_tangential(traction_x=c.traction(x) * (1 + _delta(level)),
                                      stick=np.where(inside, c.stick(x).astype(float), np.nan),
-                                     creep_force_x=c.force_ratio * scene.friction * patch.normal_force
+                                     creep_force_x=c.force_ratio * scene.friction.nominal * patch.normal_force
                                      * (1 + _delta(level)))
 
 
@@ -283,7 +283,7 @@ def test_sweep_is_one_section(study_out):
     sc = load_study(out.parent / "study.toml").scene("carter--creepage.longitudinal=-0.0004")
     a = hertz_geometry(sc.wheel, sc.rail, sc.contact_shape, sc.normal_force, penetration=sc.penetration,
                        semi_axes=sc.semi_axes, curvatures=sc.curvatures, wheel_radius=sc.wheel_radius)[0]
-    ratio = carter_2d(-4e-4, a, sc.friction, sc.wheel_radius).force_ratio
+    ratio = carter_2d(-4e-4, a, sc.friction.nominal, sc.wheel_radius).force_ratio
     assert 0.3 < ratio < 0.95  # partial slip: the curve is not trivially saturated here
     header = next(line for line in body.splitlines() if line.startswith("| longitudinal creepage |"))
     header = [c.strip() for c in header.strip("|").split("|")]

@@ -11,6 +11,7 @@ import pytest
 
 import railtherm_fastsim.kinematics as kinematics
 from railtherm import Material, Refused, SolverError
+from railtherm.physics.friction import ConstantFriction
 from railtherm.run.runner import _failure
 from railtherm_fastsim.wheelset_normal import WheelsetNormal
 
@@ -19,7 +20,8 @@ def _wheelset_scene():
     steel = Material()
     ws = SimpleNamespace(conicity=0.15, lateral_shift=3e-3, yaw_angle=1.5e-3, vertical_load=200e3, wheel_radius=0.46,
                          gauge=1.5, contact=1)
-    return SimpleNamespace(name="ws", speed=30.0, friction=0.3, creepage=None, sliding_speed=None, wheelset=ws,
+    return SimpleNamespace(name="ws", speed=30.0, friction=ConstantFriction(0.3), creepage=None, sliding_speed=None,
+                           wheelset=ws,
                            heat_partition=0.5, wheel=steel, rail=steel, contact_shape="ellipse", heat_source=None,
                            tangential="creepage", semi_axes=(5.88e-3, 10.54e-3), normal_force=100e3,
                            penetration=None, curvatures=None, wheel_radius=0.46)

@@ -126,8 +126,8 @@ def test_the_hertz_equivalent_heights_of_both_wheels_agree_at_the_balanced_roll(
     bodies = (contact_modulus(sc.wheel, sc.rail), *combined_elastic(sc.wheel, sc.rail))
 
     def mismatch(roll):
-        return (wp._wheel_height(sc.name, base, "right", roll, bodies, sc.friction, sc.speed)
-                - wp._wheel_height(sc.name, base, "left", roll, bodies, sc.friction, sc.speed))
+        return (wp._wheel_height(sc.name, base, "right", roll, bodies, sc.friction.nominal, sc.speed)
+                - wp._wheel_height(sc.name, base, "left", roll, bodies, sc.friction.nominal, sc.speed))
 
     assert abs(mismatch(pc.balanced_roll)) < 1e-10
     assert abs(mismatch(pc.balanced_roll + 1e-6)) > 3e-7

@@ -15,6 +15,7 @@ import pytest
 import railtherm
 import railtherm_fastsim.wheelset_normal as wheelset_normal
 from railtherm import ContactPatch, Material, SceneError
+from railtherm.physics.friction import ConstantFriction
 from railtherm.output import store
 from railtherm.physics import hertz_pressure_grid, rescale_hertz_patch
 from railtherm_fastsim import kinematics
@@ -28,7 +29,7 @@ AXES = (5.88e-3, 10.54e-3)
 
 def _scene(contact):
     steel = Material()
-    return SimpleNamespace(name=f"ws{contact}", speed=30.0, friction=0.3, creepage=None, sliding_speed=None,
+    return SimpleNamespace(name=f"ws{contact}", speed=30.0, friction=ConstantFriction(0.3), creepage=None, sliding_speed=None,
                            wheelset=SimpleNamespace(**WS, contact=contact), heat_partition=0.5, wheel=steel,
                            rail=steel, contact_shape="ellipse", heat_source=None, tangential="creepage",
                            semi_axes=None, normal_force=100e3, penetration=None, curvatures=None, wheel_radius=0.46)
@@ -81,7 +82,7 @@ def test_contact_outside_1_2_is_refused_by_the_kinematics():
     from railtherm_fastsim.kinematics import wheelset_contact
     sc = _scene(3)
     with pytest.raises(ValueError, match="1 or 2"):
-        wheelset_contact(sc.wheelset, sc.wheel, sc.rail, sc.speed, sc.friction, sc.normal_force, AXES, "curvatures", 3)
+        wheelset_contact(sc.wheelset, sc.wheel, sc.rail, sc.speed, sc.friction.nominal, sc.normal_force, AXES, "curvatures", 3)
 
 
 def _study():
@@ -155,7 +156,7 @@ def _fastsim_wheelset(scene):
     G, nu = combined_elastic(scene.wheel, scene.rail)
     ws = scene.wheelset
     return kinematics._Wheelset.build(ws.conicity, ws.lateral_shift, ws.yaw_angle, ws.vertical_load, ws.wheel_radius,
-                                      ws.gauge, dict(speed=scene.speed, friction=scene.friction, shear_modulus=G,
+                                      ws.gauge, dict(speed=scene.speed, friction=scene.friction.nominal, shear_modulus=G,
                                                      poisson_ratio=nu), n0, (a, b), "curvatures", 16)
 
 

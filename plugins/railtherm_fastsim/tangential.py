@@ -106,8 +106,8 @@ class FastsimTangential(TangentialContactModel):
         except ValueError as exc:
             raise Refused(f"model 'fastsim': {exc}") from exc
         V = float(scene.speed)
-        friction, slip_law = friction_of(getattr(scene, "friction_law", None), scene.friction, patch,
-                                         scene.wheel.bulk_temperature, scene.rail.bulk_temperature)
+        friction, slip_law = friction_of(scene.friction, patch, scene.wheel.bulk_temperature,
+                                         scene.rail.bulk_temperature)
         common = dict(normal_force=patch.normal_force, friction=friction, shear_modulus=G, poisson_ratio=nu, xi=xi,
                       speed=V, bound=options["bound"], leading_edge=options["leading_edge"], slip_law=slip_law)
         if patch.b is None:
@@ -129,17 +129,15 @@ class FastsimTangential(TangentialContactModel):
                                      diagnostics=diag)
 
 
-def friction_of(law, friction, patch, wheel_bulk, rail_bulk):
+def friction_of(law, patch, wheel_bulk, rail_bulk):
     """(friction, slip_law) for :func:`~railtherm_fastsim.simplified_theory.fastsim`: the constant mu (a float),
     mu per cell of a temperature law at the patch's contact temperature, or the
     nominal mu and the slip-velocity law solved in the sweep.
 
     Parameters
     ----------
-    law : railtherm.physics.friction.FrictionLaw or None
-        The scene's friction law (None: constant ``friction``).
-    friction : float
-        The scene's nominal coefficient of friction [1].
+    law : railtherm.physics.friction.FrictionLaw
+        The scene's friction law (its ``nominal`` [1] is the one coefficient of the constant and slip laws).
     patch : ContactPatch
         The normal stage's patch (its grid, and ``contact_temperature`` [degC] when core's coupled loop
         put one there).
@@ -156,11 +154,11 @@ def friction_of(law, friction, patch, wheel_bulk, rail_bulk):
     as 1/dx) such a cell would also have two slip roots, and the diagnostics count those cells
     (``friction_nonunique_cells``, their largest kappa ``friction_nonunique_kappa``) instead of refusing.
     """
-    if law is None or law.kind == "constant":
-        return float(friction), None
+    if law.kind == "constant":
+        return float(law.nominal), None
     if law.depends_on_slip:
         if not isinstance(law, SlipVelocityFriction):
             raise Refused(f"model 'fastsim': friction law {law.kind!r} ({law.describe()}) is not an exponential "
                           "slip-velocity law, the form FASTSIM's sweep solves cell by cell")
-        return float(friction), law
+        return float(law.nominal), law
     return local_friction(law, patch, wheel_bulk, rail_bulk), None

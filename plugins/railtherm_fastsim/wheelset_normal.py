@@ -48,7 +48,7 @@ class WheelsetNormal(NormalContactModel):
             return "model 'wheelset': the scene prescribes its creepage or sliding speed, so no kinematics is solved"
         if scene.friction is None:
             return "model 'wheelset' needs the friction coefficient (key 'friction') for the creep forces"
-        law = scene.friction_law
+        law = scene.friction
         if law.kind != "constant":
             return (f"model 'wheelset': its equilibrium solves the creep forces with one friction coefficient, not "
                     f"the scene's {law.kind!r} law ({law.describe()}); give friction as a number, or prescribe the "
@@ -69,7 +69,7 @@ class WheelsetNormal(NormalContactModel):
         forces = "fastsim" if chain is None or chain.model == "fastsim" else chain.model
         creep = None if forces == "fastsim" else _chain_creep(chain, base, scaling, cells)
         try:
-            sol = wheelset_contact(scene.wheelset, scene.wheel, scene.rail, scene.speed, scene.friction,
+            sol = wheelset_contact(scene.wheelset, scene.wheel, scene.rail, scene.speed, scene.friction.nominal,
                                    base.normal_force, (base.a, base.b), scaling, contact, creep_forces=creep,
                                    **fs_opts)[4]
             i = contact - 1

@@ -142,7 +142,7 @@ class FemModel(CoupledModel):
     # ------------------------------------------------------------------------------------------
     @staticmethod
     def _problem(level, options, thermal, *, wheel, rail, speed, wheel_radius, normal_force, penetration, friction,
-                 friction_law, creepage, sliding_speed, heat_partition, convection, strip, field, numerics):
+                 creepage, sliding_speed, heat_partition, convection, strip, field, numerics):
         """The FEM problem of a scene's parts at ``level`` with the model's ``options``.
 
         Parameters
@@ -161,10 +161,8 @@ class FemModel(CoupledModel):
             Wheel radius r0 [m].
         normal_force, penetration : float or None
             Load per width [N/m], or the wheel's penetration [m] when no load is given.
-        friction : float or None
-            Nominal coefficient of friction [1].
-        friction_law : FrictionLaw or None
-            The scene's law.
+        friction : FrictionLaw or None
+            The scene's law (its ``nominal`` [1] where one coefficient is needed); None: frictionless.
         creepage : Creepage or None
             Creepages (only ``longitudinal`` [1] applies in 2-D); None for full sliding.
         sliding_speed : float or None
@@ -196,7 +194,7 @@ class FemModel(CoupledModel):
         return FemProblem(
             radius=float(wheel_radius), rail=rail, wheel=wheel, speed=float(speed),
             normal_force=normal_force, penetration=penetration if normal_force is None else None,
-            friction=float(friction or 0.0), friction_law=friction_law,
+            friction=float(friction.nominal) if friction is not None else 0.0, friction_law=friction,
             creepage=creep, sliding_speed=sliding,
             regularization=float(eps), heat_partition=heat_partition,
             convection=float(convection or 0.0),
@@ -237,7 +235,7 @@ class FemModel(CoupledModel):
         prob = self._problem(
             level, options, thermal, wheel=scene.wheel, rail=scene.rail, speed=scene.speed,
             wheel_radius=scene.wheel_radius, normal_force=scene.normal_force, penetration=scene.penetration,
-            friction=scene.friction, friction_law=getattr(scene, "friction_law", None), creepage=scene.creepage,
+            friction=scene.friction, creepage=scene.creepage,
             sliding_speed=scene.sliding_speed, heat_partition=scene.partition, convection=scene.convection,
             strip=getattr(scene, "strip", None), field=fld, numerics=getattr(scene, "numerics", None))
         if transient and prob.heat_partition.needs_temperatures and not prob.thermal:

@@ -27,12 +27,12 @@ def _mu_of(law, patch, wheel_bulk, rail_bulk, shape, slip_speed=0.0):
 
 
 def solve_with_law(law, patch, wheel_bulk: float, rail_bulk: float, solve, self_coefficient: float, speed: float):
-    """Solve the tangential problem under a friction law (the scene's ``friction_law``).
+    """Solve the tangential problem under a friction law (the scene's ``friction``).
 
     Parameters
     ----------
     law : railtherm.physics.friction.FrictionLaw
-        The scene's friction law (``scene.friction_law``).
+        The scene's friction law (``scene.friction``).
     patch : ContactPatch
         Grid, pressure [Pa] and (for a temperature law) ``contact_temperature`` [degC].
     wheel_bulk, rail_bulk : float

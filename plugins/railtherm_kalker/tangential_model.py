@@ -271,8 +271,8 @@ class KalkerTangential(TangentialContactModel):
         off = float(options.get("slip_offset", 0.0))
         order = 1 if off != 0.0 else ROLLING_SCHEMES[options.get("rolling_scheme", "second-order")]
         law_diag = {}
-        if scene.friction_law.kind == "constant":
-            sol, X, Y = solve_patch_tangential(patch, float(scene.friction), (xi, eta, phi), G, nu, tol, offset=off,
+        if scene.friction.kind == "constant":
+            sol, X, Y = solve_patch_tangential(patch, float(scene.friction.nominal), (xi, eta, phi), G, nu, tol, offset=off,
                                                order=order)
         else:
             # warm start: the previous solve of core's temperature loop on this patch and creepage (this instance
@@ -289,7 +289,7 @@ class KalkerTangential(TangentialContactModel):
                 return out
 
             b0 = abs(float(rolling_operator(patch.grid.x_edges, patch.grid.y_edges, G, nu, order).self_coefficient))
-            sol, X, Y, _, law_diag = solve_with_law(scene.friction_law, patch, scene.wheel.bulk_temperature,
+            sol, X, Y, _, law_diag = solve_with_law(scene.friction, patch, scene.wheel.bulk_temperature,
                                                     scene.rail.bulk_temperature, solve, b0, V)
         grid = patch.grid
         area = grid.cell_area

@@ -68,12 +68,12 @@ def uniform_friction(scene) -> float | None:
     """The coefficient of friction [1] when it is one number over the whole patch, so that the closed-form
     references hold: a constant law; a slip-velocity law in full sliding (every cell slips at |v_s|: mu(|v_s|));
     None for a temperature law (mu varies with the cell's temperature: no closed form)."""
-    law = scene.friction_law
+    law = scene.friction
     if law is None or law.depends_on_temperature:
         return None
     if law.depends_on_slip:
         return float(law.mu(abs(scene.sliding_speed))) if scene.tangential == "full-sliding" else None
-    return float(scene.friction)
+    return float(law.nominal)
 
 
 def _surface_rise(scene, case, x, y, body):
@@ -380,10 +380,10 @@ def _contact_scalars(scene, out: dict, src: dict) -> bool:
         src.update(frictional_power="full-sliding", creep_force_x="full-sliding")
         out["_names"].append(_NAME["sliding"])
     elif (b is None and scene.creepage is not None and scene.creepage.lateral == 0 and scene.creepage.spin == 0
-          and _identical_elastic(scene.wheel, scene.rail) and scene.friction > 0
-          and scene.friction_law.kind == "constant"):
-        c = carter_2d(scene.creepage.longitudinal, a, scene.friction, scene.wheel_radius)
-        out["creep_force_x"] = c.force_ratio * scene.friction * n
+          and _identical_elastic(scene.wheel, scene.rail) and scene.friction.nominal > 0
+          and scene.friction.kind == "constant"):
+        c = carter_2d(scene.creepage.longitudinal, a, scene.friction.nominal, scene.wheel_radius)
+        out["creep_force_x"] = c.force_ratio * scene.friction.nominal * n
         src["creep_force_x"] = "carter"
         out["_names"].append(_NAME["carter"])
     return True

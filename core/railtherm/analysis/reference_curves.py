@@ -191,8 +191,9 @@ def _identical_elastic(scene) -> bool:
 
 def _pure_longitudinal(scene) -> bool:
     c = scene.creepage
-    return (c is not None and c.lateral == 0 and c.spin == 0 and bool(scene.friction) and scene.friction > 0
-            and getattr(scene, "wheelset", None) is None and scene.friction_law.kind == "constant")
+    mu = scene.friction
+    return (c is not None and c.lateral == 0 and c.spin == 0 and mu is not None and mu.nominal > 0
+            and getattr(scene, "wheelset", None) is None and mu.kind == "constant")
 
 
 def _creepage_range(scene, group_values: list[float]) -> np.ndarray:
@@ -224,9 +225,10 @@ def _creep(scene, group_values: list[float]) -> tuple[dict, dict, list[str]]:
     cattrs = {"units": "1", "long_name": "longitudinal creepage xi"}
     if scene.contact_shape == "line":
         from ..references.carter import carter_2d
-        c = carter_2d(scene.creepage.longitudinal, a, scene.friction, scene.wheel_radius, max_pressure=p0)
+        mu = scene.friction.nominal
+        c = carter_2d(scene.creepage.longitudinal, a, mu, scene.wheel_radius, max_pressure=p0)
         xp = np.linspace(-a, a, 401)
-        ratio = [carter_2d(v, a, scene.friction, scene.wheel_radius).force_ratio for v in xs]
+        ratio = [carter_2d(v, a, mu, scene.wheel_radius).force_ratio for v in xs]
         data = {
             "carter_traction_x": (("x_patch",), np.asarray(c.traction(xp), float),
                                   {"units": "Pa", "long_name": "tangential traction on the wheel", "reference": NAME_CARTER}),
@@ -247,7 +249,7 @@ def _creep(scene, group_values: list[float]) -> tuple[dict, dict, list[str]]:
     g = 2.0 / (1.0 / w.shear_modulus + 1.0 / r.shear_modulus)  # Kalker 1990: combined constants
     nu = 0.5 * g * (w.poisson_ratio / w.shear_modulus + r.poisson_ratio / r.shear_modulus)
     fx, _, _ = kalker_linear_forces(a, b, g, nu, 1.0, 0.0, 0.0)
-    slope = fx / (scene.friction * n)
+    slope = fx / (scene.friction.nominal * n)
     lim = 1.0 / abs(slope) if slope else math.inf  # the linear law reaches |Fx| = mu N here
     lin = np.where(np.abs(xs) <= lim, slope * xs, np.nan)
     data = {"creep_force_ratio_linear": (("creepage",), lin,

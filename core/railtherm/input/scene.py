@@ -17,6 +17,7 @@ from ..physics.friction import FrictionLaw, friction_law
 from ..physics.partition import HeatPartition
 from .checks import (Check, Choice, Either, FieldDepth, Flag, Friction, GapCoefficients, Int, Names, Num, Numbers,
                      Pair, ProfileSpec, Table, Text, gap_powers, quadratic_curvatures, variable_names)
+from .kinematics import Creepage, Kinematics
 from .materials import Material
 from .profiles import is_profile_wheelset
 from .transient import Transient, scene_transient
@@ -129,15 +130,6 @@ def key_units(key: str) -> str | None:
 
 # --------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
-class Creepage:
-    """Creepages: longitudinal xi [1], lateral eta [1], spin phi [1/m]."""
-
-    longitudinal: float = 0.0
-    lateral: float = 0.0
-    spin: float = 0.0
-
-
-@dataclass(frozen=True)
 class GivenHeatSource:
     """A heat source given by the scene (paper section 6.4)."""
 
@@ -196,7 +188,8 @@ class Scene:
     """
 
     name: str
-    speed: float
+    #: rolling speed, sliding speed and creepages (keys ``speed``, ``sliding_speed``, ``creepage``)
+    kinematics: Kinematics
     normal_force: float | None = None
     penetration: float | None = None
     contact_shape: str = "ellipse"
@@ -204,13 +197,9 @@ class Scene:
     curvatures: tuple[float, float] | None = None
     gap_coefficients: Mapping[tuple[int, int], float] | None = None
     line_wheel_radius: float | None = None
-    sliding_speed: float | None = None
-    creepage: Creepage | None = None
-    #: the nominal coefficient of friction [1]: the constant law's value, else the law's mu at zero slip and
-    #: at the reference temperature (:attr:`friction_law` holds the law itself)
-    friction: float | None = None
-    #: the law of key ``friction`` (None without it), resolved once at load time
-    friction_law: FrictionLaw | None = None
+    #: the law of key ``friction`` (None without it), resolved once at load time; its ``nominal`` is the
+    #: one coefficient [1] of models and metrics that take a number
+    friction: FrictionLaw | None = None
     #: key ``heat_partition`` resolved once (default Blok's equal-temperature fraction)
     partition: HeatPartition = HeatPartition("equal-temperature")
     convection: float = 0.0
@@ -237,6 +226,21 @@ class Scene:
     #: interval resolved: the wheel's revolution period 2 pi wheel_radius / speed unless given); None
     #: for a steady scene
     transient: Transient | None = None
+
+    @property
+    def speed(self) -> float:
+        """Rolling speed V [m/s] (:attr:`kinematics`)."""
+        return self.kinematics.speed
+
+    @property
+    def sliding_speed(self) -> float | None:
+        """Full sliding speed [m/s], None when rolling with creepage (:attr:`kinematics`)."""
+        return self.kinematics.sliding_speed
+
+    @property
+    def creepage(self) -> Creepage | None:
+        """Creepages of the wheel relative to the rail, None in full sliding (:attr:`kinematics`)."""
+        return self.kinematics.creepage
 
     @property
     def heat_partition(self) -> float | str:
@@ -377,8 +381,7 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
             _contact(name, c, kw)
             _load_and_slip(name, c, kw)
     if "friction" in c:
-        kw["friction_law"] = friction_law(c["friction"])
-        kw["friction"] = kw["friction_law"].nominal
+        kw["friction"] = friction_law(c["friction"])
     if "heat_partition" in c:
         kw["partition"] = HeatPartition.of(c["heat_partition"])
     for k in ("convection", "outputs", "mode", "reference"):
@@ -405,6 +408,7 @@ def _build(name: str, c: dict, raw: Mapping, sweep) -> Scene:
     kw["numerics"] = dict(c.get("numerics", {}))
     source = json.loads(json.dumps(dict(raw), default=_jsonable))
     source["name"] = name
+    kw["kinematics"] = Kinematics(kw.pop("speed"), kw.pop("sliding_speed", None), kw.pop("creepage", None))
     return Scene(**kw, source=source, sweep=dict(sweep))
 
 

@@ -47,5 +47,6 @@ def patch_scenes(scene, outputs) -> list:
         source = dict(scene.source, wheelset=dict(scene.source.get("wheelset", {}), patch=pc.patch))
         out.append(dataclasses.replace(scene, profile_contact=pc, contact_shape="ellipse" if quad else "gap",
                                        curvatures=quad, gap_coefficients=gap, normal_force=pc.normal_force,
-                                       creepage=creepage(*pc.creepage), outputs=tuple(outputs), source=source))
+                                       kinematics=dataclasses.replace(scene.kinematics, creepage=creepage(*pc.creepage)),
+                                       outputs=tuple(outputs), source=source))
     return out

@@ -650,5 +650,6 @@ def roll_height_mismatch(scene, roll: float) -> float:
     geo, _ = _geometry(scene.name, {k: v for k, v in table.items() if k != "patch"}, None)
     base = dataclasses.replace(_nominal(geo, scene.speed), vertical_force=0.5 * float(geo.vertical_force))
     bodies = (contact_modulus(scene.wheel, scene.rail), *combined_elastic(scene.wheel, scene.rail))
-    return (_wheel_height(scene.name, base, "right", roll, bodies, scene.friction, scene.speed)
-            - _wheel_height(scene.name, base, "left", roll, bodies, scene.friction, scene.speed))
+    mu = None if scene.friction is None else scene.friction.nominal
+    return (_wheel_height(scene.name, base, "right", roll, bodies, mu, scene.speed)
+            - _wheel_height(scene.name, base, "left", roll, bodies, mu, scene.speed))

@@ -43,17 +43,18 @@ class FullSlidingTangential(TangentialContactModel):
     def compute_tangential(self, scene, patch, level, options):
         vs = scene.sliding_speed
         speeds = body_speeds(scene.speed, vs, scene.tangential)
-        if scene.friction_law.kind != "constant":
-            return self._with_law(scene.friction_law, scene.wheel.bulk_temperature, scene.rail.bulk_temperature,
+        if scene.friction.kind != "constant":
+            return self._with_law(scene.friction, scene.wheel.bulk_temperature, scene.rail.bulk_temperature,
                                   patch, vs, speeds)
-        mu_p = scene.friction * patch.pressure
+        mu = scene.friction.nominal
+        mu_p = mu * patch.pressure
         # material flows in -x: the wheel surface moves at -(V + v_s), the rail at -V, so the wheel
         # slips at -v_s relative to the rail and friction pushes it forward (+x) for v_s > 0
         return patch.with_tangential(
             traction_x=np.sign(vs) * mu_p, slip_velocity_x=np.where(patch.pressure > 0, -vs, 0.0),
             stick=np.where(patch.pressure > 0, 0.0, np.nan),
-            creep_force_x=np.sign(vs) * scene.friction * patch.normal_force,
-            body_speed=speeds, dissipation=scene.friction * abs(vs) * patch.pressure,
+            creep_force_x=np.sign(vs) * mu * patch.normal_force,
+            body_speed=speeds, dissipation=mu * abs(vs) * patch.pressure,
             diagnostics=dict(CLOSED_FORM))
 
     @staticmethod

@@ -21,7 +21,7 @@ def superposition_limits(scene, model: str) -> str | None:
     would run per pass); bodies at different bulk temperatures exchange heat through the patch by a steady
     field that is no pass response; and one pass's depth-field outputs live on another axis than the
     histories. ``model`` names the model in the reason."""
-    law = getattr(scene, "friction_law", None)
+    law = getattr(scene, "friction", None)
     if getattr(scene, "heat_source", None) is None and law is not None and law.depends_on_temperature:
         return (f"model {model!r} superposes one pass's response over the passes, which holds only while the heat "
                 "input does not depend on the temperature; a temperature-dependent friction law needs the coupled "

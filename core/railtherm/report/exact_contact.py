@@ -294,7 +294,8 @@ def creep_curve(data: StudyData, comp: ExactComparison) -> XF.CreepCurve | None:
             curve.labels[m] = f"{m} ({tang} contact)"
     for xi, s in members:
         sc = data.scene[s].scene
-        mu = getattr(sc, "friction", None)
+        law = getattr(sc, "friction", None)
+        mu = None if law is None else law.nominal
         if sc is None:        # no study at hand: the friction coefficient is unknown
             mu, curve.ylabel = 1.0, "Fx / N [1] (μ unknown: the study file was not loaded)"
         for m in [comp.exact] + compared:

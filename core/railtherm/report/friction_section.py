@@ -42,7 +42,7 @@ def friction_sweeps(data: StudyData) -> dict[str, list[tuple[float, str]]]:
         if SWEPT not in sw or len(sw) != 1 or info.scene is None:
             continue
         groups.setdefault(info.base, []).append((abs(float(sw[SWEPT])), s))
-        laws = laws or info.scene.friction_law.kind != "constant"
+        laws = laws or info.scene.friction.kind != "constant"
     if not laws:
         return {}
     return {k: sorted(v) for k, v in groups.items() if len(v) >= 3}
@@ -120,7 +120,7 @@ def friction_section(doc: Document, ctx):
                   + (f" Differences are against the study's reference method `{ref}`." if ref else ""))
     force_panels, temp_panels, rows, laws = [], [], [], {}
     for base, members in sweeps.items():
-        law = data.scene[members[0][1]].scene.friction_law
+        law = data.scene[members[0][1]].scene.friction
         sc = data.scene[members[0][1]].scene
         title = f"{base}: {law.kind}, {sc.speed:g} m/s"
         laws.setdefault(law.describe(), []).append(base)

@@ -371,7 +371,8 @@ def _headline_value(data: StudyData, scene: str, method: str, headline: str, nor
     v = float(np.nanmax(np.asarray(ds[headline].values, float)))
     if normalise:
         sc = data.scene[scene].scene
-        mu = getattr(sc, "friction", None)
+        law = getattr(sc, "friction", None)
+        mu = None if law is None else law.nominal
         n = float(ds["normal_force"]) if "normal_force" in ds else getattr(sc, "normal_force", None)
         if not mu or not n:
             return None

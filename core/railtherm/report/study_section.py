@@ -51,7 +51,7 @@ def describe_scene(sc) -> str:
         elif getattr(sc, "profile_contact", None) is not None:
             parts.append(_describe_profile_contact(sc))
             if sc.friction is not None:
-                parts.append(f"μ = {num(sc.friction)}")
+                parts.append(f"μ = {num(sc.friction.nominal)}")
         else:
             geo = sc.contact_shape
             if sc.semi_axes is not None:
@@ -71,8 +71,8 @@ def describe_scene(sc) -> str:
             elif sc.sliding_speed is not None:
                 parts.append(f"sliding speed {num(sc.sliding_speed)} m/s")
             if sc.friction is not None:
-                law = sc.friction_law
-                parts.append(f"μ = {num(sc.friction)}" if law.kind == "constant" else f"friction {law.describe()}")
+                law = sc.friction
+                parts.append(f"μ = {num(law.nominal)}" if law.kind == "constant" else f"friction {law.describe()}")
         parts.append(f"speed {num(sc.speed)} m/s")
         hp = sc.heat_partition
         parts.append(f"heat partition {hp if isinstance(hp, str) else num(hp)}"

@@ -69,7 +69,7 @@ def _contact_refusal(model: StageModel, scene: "Scene") -> str | None:
         return f"model {model.name!r} needs a {'/'.join(sorted(caps.sources))} heat source, scene gives a {kind} one"
     if scene.heat_source is None and scene.tangential not in caps.tangential:
         return f"model {model.name!r} handles {sorted(caps.tangential)}, not {scene.tangential!r}"
-    law = scene.friction_law if scene.heat_source is None and "tangential" in model.stages else None
+    law = scene.friction if scene.heat_source is None and "tangential" in model.stages else None
     if law is not None and law.kind not in caps.friction_laws:
         return (f"model {model.name!r} applies the friction laws {'/'.join(sorted(caps.friction_laws))}, not the "
                 f"scene's {law.kind!r} law ({law.describe()}); use a model that declares it (railtherm methods "

@@ -115,11 +115,11 @@ def plan(scene: Scene, method: "str | Mapping[str, Any] | MethodInfo", level: in
             raise Refused(f"method {mi.name!r} cannot compute output {out!r} for scene {scene.name!r}{extra}: "
                           f"it has no {stage} stage")
         last = max(last, order.index(stage))
-    if needs_loop(scene.friction_law, scene.heat_source) and "tangential" in order[: last + 1]:
+    if needs_loop(scene.friction, scene.heat_source) and "tangential" in order[: last + 1]:
         # friction falling with temperature: the tangential stage needs the chain's temperatures
         if "temperature" not in order:
             raise Refused(f"method {mi.name!r} has no temperature stage, but the friction of scene {scene.name!r} "
-                          f"depends on the surface temperature ({scene.friction_law.describe()}): use a method "
+                          f"depends on the surface temperature ({scene.friction.describe()}): use a method "
                           "or chain with a temperature model")
         last = order.index("temperature")
     models: dict[str, StageModel] = {}
@@ -306,7 +306,7 @@ def _run(pl: Plan, scene: Scene, level: int, options: Mapping[str, Any]):
             if getattr(model, "uses_chain_tangential", False):   # its equilibrium solves the creep forces
                 opts["chain_tangential"] = _chain_tangential(pl, scene, level, options, cells)
             patch = result = model.compute_patch(scene, level, opts)
-        elif (stage == "tangential" and needs_loop(scene.friction_law, scene.heat_source)
+        elif (stage == "tangential" and needs_loop(scene.friction, scene.heat_source)
               and not isinstance(pl.models["temperature"], CoupledModel)):
             patch, source, temp, loop_records = _friction_loop(pl, scene, patch, level, options, cells)
             records.extend(loop_records)
@@ -378,7 +378,7 @@ def _friction_loop(pl: Plan, scene: Scene, patch: ContactPatch, level: int, opti
         _check_untouched(tm, p, result)
         return result
 
-    patch, source, temp, hist = solve_coupled(scene.friction_law, scene.wheel, scene.rail, patch, tangential,
+    patch, source, temp, hist = solve_coupled(scene.friction, scene.wheel, scene.rail, patch, tangential,
                                               lambda p: hm.compute_source(scene, p, level, o_h),
                                               lambda src: _temperature(km, scene, src, level, o_k),
                                               scene_name=scene.name)

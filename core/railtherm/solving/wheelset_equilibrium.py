@@ -96,7 +96,8 @@ def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool
         for a, b in wheels:
             creep = type(a.creepage)(*(u + t * (v - u) for u, v in zip(dataclasses.astuple(a.creepage),
                                                                       dataclasses.astuple(b.creepage))))
-            r = solve_one(dataclasses.replace(a, creepage=creep), method, level, options, validate=False, **kw)
+            moved = dataclasses.replace(a, kinematics=dataclasses.replace(a.kinematics, creepage=creep))
+            r = solve_one(moved, method, level, options, validate=False, **kw)
             total += axle_moment(a.profile_contact, *(float(r[q]) for q in NEED))
         return total
 
