@@ -344,7 +344,8 @@ def _scene_figures(doc: Document, ctx: Context, idx: int, scene: str, finest: di
              "through the hottest surface point, each method's finest successful level" + ref_words + ".",
              S.surface, finest, curve, ctx.palette, f"{scene}: surface temperature", bulk=bulk, ref_method=ref_method)
     exact_depth = curve is not None and "temperature" in curve
-    mu = getattr(si.scene, "friction", None) if si.scene is not None else None
+    law = getattr(si.scene, "friction", None) if si.scene is not None else None
+    mu = None if law is None else law.nominal
     outputs = set(getattr(si.scene, "outputs", ()) or ())
     traction = si.scene is None or bool(outputs & {"traction_x", "stick"})   # full sliding: slip everywhere
     with doc.details(f"More figures of `{scene}`: " + ("depth profile and traction" if traction else "depth profile")):
