@@ -1,6 +1,8 @@
 """The scene's typed parts: ``Scene.friction`` is the resolved friction law and ``Scene.kinematics`` holds the
 speeds and creepages, each held once (the old attribute names read them)."""
+import ast
 import dataclasses
+from pathlib import Path
 
 import pytest
 
@@ -33,3 +35,26 @@ def test_kinematics_are_built_once_and_the_scene_reads_them():
     assert (moved.speed, moved.sliding_speed, moved.creepage) == (20.0, None, Creepage(2e-3))
     with pytest.raises(dataclasses.FrozenInstanceError):
         rolling.kinematics.speed = 1.0
+
+
+
+def _is_scene(node) -> bool:
+    """Whether an expression names a scene: ``scene``, ``sc``, ``s`` or an attribute ``.scene``."""
+    return (isinstance(node, ast.Name) and node.id in ("scene", "sc", "s")
+            or isinstance(node, ast.Attribute) and node.attr == "scene")
+
+
+def test_no_code_reads_a_second_name_for_the_friction_law():
+    """``scene.friction`` is the one name of the scene's law: no module of core or the plugins reads a
+    scene's ``friction_law`` (directly or with getattr)."""
+    root = Path(__file__).resolve().parents[1]
+    readers = []
+    for path in sorted([*root.glob("core/railtherm/**/*.py"), *root.glob("plugins/railtherm_*/**/*.py")]):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            direct = isinstance(node, ast.Attribute) and node.attr == "friction_law" and _is_scene(node.value)
+            by_name = (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "getattr"
+                       and len(node.args) >= 2 and isinstance(node.args[1], ast.Constant)
+                       and node.args[1].value == "friction_law")
+            if direct or by_name:
+                readers.append(f"{path.relative_to(root)}:{node.lineno}")
+    assert readers == []
