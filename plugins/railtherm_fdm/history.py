@@ -30,7 +30,7 @@ from railtherm.physics import thermal_scales
 
 from .layout import depth_nodes, rail_nodes
 
-__all__ = ["SectionBlock", "section_block", "section_history", "superposed_history", "body_histories", "heating_scheme",
+__all__ = ["SectionBlock", "BandSource", "ImplicitSection", "section_block", "section_history", "superposed_history", "body_histories", "heating_scheme",
            "rail_nodes", "depth_nodes", "IMPLICIT_COST_FACTOR", "ADI_COST_FACTOR"]
 
 #: one implicit (Crank-Nicolson, sparse LU) step counted as this many explicit node updates per node
@@ -86,7 +86,7 @@ class SectionBlock:
     def stepper(self, x_edges, y_edges, flux, speed, factor, t0):
         """A :class:`_Stepper` of this block under the band's ``flux`` (nx,) [W/m^2] on ``x_edges`` [m]
         (``y_edges`` None) at ``speed`` [m/s], heat-input factor ``factor(t)``, from t0 [s]."""
-        return _Stepper(self, _BandSource(self, x_edges, flux, speed), factor, t0)
+        return _Stepper(self, BandSource(self, x_edges, flux, speed), factor, t0)
 
 
 def section_block(a: float, speed: float, conductivity: float, capacity: float, convection: float, level: int,
@@ -127,7 +127,7 @@ def section_block(a: float, speed: float, conductivity: float, capacity: float, 
                         np.ascontiguousarray(gx), np.ascontiguousarray(gz), convection * wx)
 
 
-class _BandSource:
+class BandSource:
     """The band's flux [W/m^2] as its cumulative integral on the source grid [W/m], and the top nodes' dual
     cells [m]: the power [W/m] of a node is the difference of the cumulative integral over its cell."""
 
@@ -289,7 +289,7 @@ def _adi_steps(T, cap, gx, gz, hconv, dt, m, lie, jd, i0, out):  # pragma: no co
             out[s, d] = T[i0, jd[d]]
 
 
-class _Implicit:
+class ImplicitSection:
     """theta-scheme steps (1: backward Euler, 0.5: Crank-Nicolson) with one LU per (dt, theta)."""
 
     def __init__(self, block: SectionBlock):
@@ -322,7 +322,7 @@ class _Stepper:
         """A stepper of the same block and source from t0 [s], state zero."""
         return _Stepper(self.b, self.src, self.factor, t0)
 
-    def __init__(self, block: SectionBlock, source: _BandSource, factor, t0: float):
+    def __init__(self, block: SectionBlock, source: BandSource, factor, t0: float):
         self.b = block
         self.src = source
         self.factor = factor
@@ -331,7 +331,7 @@ class _Stepper:
         self.T = np.zeros((nx, nz))
         self.t = t0
         self.cinv = (1.0 / block.capacity).reshape(nx, nz)
-        self.implicit = _Implicit(block)
+        self.implicit = ImplicitSection(block)
         self.times, self.rows = [], []
         self.explicit_steps = 0
         self.adi_steps = 0

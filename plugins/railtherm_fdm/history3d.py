@@ -25,7 +25,7 @@ from railtherm.physics import thermal_scales
 
 from .layout import depth_nodes, rail_nodes
 
-__all__ = ["EllipseBlock", "ellipse_block", "ellipse_nodes", "check_node_budget", "CG_RTOL", "CG_COST_FACTOR"]
+__all__ = ["EllipseBlock", "EllipseSource", "Implicit3D", "ellipse_block", "ellipse_nodes", "check_node_budget", "CG_RTOL", "CG_COST_FACTOR"]
 
 #: relative residual of each implicit step's conjugate gradients
 CG_RTOL = 1e-10
@@ -85,7 +85,7 @@ class EllipseBlock:
     def stepper(self, x_edges, y_edges, flux, speed, factor, t0):
         """A :class:`_Stepper3D` of this block under the source ``flux`` (nx, ny) [W/m^2] on the source
         grid's ``x_edges``, ``y_edges`` [m] at ``speed`` [m/s], heat-input factor ``factor(t)``, from t0 [s]."""
-        return _Stepper3D(self, _EllipseSource(self, x_edges, y_edges, flux, speed), factor, t0)
+        return _Stepper3D(self, EllipseSource(self, x_edges, y_edges, flux, speed), factor, t0)
 
 
 def ellipse_nodes(a: float, b: float, speed: float, kappa: float, level: int, duration_total: float,
@@ -160,7 +160,7 @@ def ellipse_block(a: float, b: float, speed: float, conductivity: float, capacit
     return EllipseBlock(x, y, z, (nx - 1) // 2, cap, stiff, float(np.min(cap / diag.ravel())), nodes)
 
 
-class _EllipseSource:
+class EllipseSource:
     """The flux on the source grid as each strip's cumulative integral along x [W/m], and the overlaps
     [m] of the top nodes' lateral dual cells with the strips: the power [W] of a top node is the sum over
     strips of overlap x (difference of the cumulative integral over the node's x dual cell). The half block
@@ -197,7 +197,7 @@ class _EllipseSource:
         return strips @ self.over.T
 
 
-class _Implicit3D:
+class Implicit3D:
     """theta-scheme steps by conjugate gradients (the matrix C/dt + theta K is symmetric positive definite),
     Jacobi-preconditioned and warm-started from the last state; ``cache`` holds the matrices per (dt, theta)."""
 
@@ -257,7 +257,7 @@ class _Stepper3D:
     implicit_cost = CG_COST_FACTOR
     cooling_implicit = "Crank-Nicolson steps by conjugate gradients (two backward-Euler start steps)"
 
-    def __init__(self, block: EllipseBlock, source: _EllipseSource, factor, t0: float):
+    def __init__(self, block: EllipseBlock, source: EllipseSource, factor, t0: float):
         self.b = block
         self.src = source
         self.factor = factor
@@ -265,7 +265,7 @@ class _Stepper3D:
         self.T = np.zeros(block.capacity.size)
         self.t = t0
         self.cinv = 1.0 / block.capacity
-        self.implicit = _Implicit3D(block)
+        self.implicit = Implicit3D(block)
         self.times, self.rows = [], []
         self.explicit_steps = 0
         self.adi_steps = 0

@@ -18,12 +18,11 @@ import math
 import time as _time
 
 import numpy as np
-from railtherm import Refused, theta_steps
-from railtherm.contract.transient import TransientHistory
+from railtherm import Refused, TransientHistory, theta_steps
 from railtherm.physics import pass_peaks_and_residual, pass_time_above
 
-from .history import _BandSource, _Implicit, section_block
-from .history3d import _EllipseSource, _Implicit3D, ellipse_block
+from .history import BandSource, ImplicitSection, section_block
+from .history3d import EllipseSource, Implicit3D, ellipse_block
 
 __all__ = ["STEPS_PER_HEATING", "heating_time", "spot_history", "resting_body_history", "with_resting_body"]
 
@@ -119,15 +118,15 @@ def resting_body_history(tr, grid, flux, material, convection: float, level: int
         nz = block.z.size
         power = np.zeros(block.capacity.size)
         # the band's source moving at 1 m/s, taken at tau = x_lead: its centre over the section
-        power[np.arange(block.x.size) * nz] = _BandSource(block, xe, flux, 1.0).power(float(xe[-1]))
-        sample, implicit = block.i0 * nz + block.depth_index, _Implicit(block)
+        power[np.arange(block.x.size) * nz] = BandSource(block, xe, flux, 1.0).power(float(xe[-1]))
+        sample, implicit = block.i0 * nz + block.depth_index, ImplicitSection(block)
     else:
         block = ellipse_block(a, float(grid.b), *args, max_nodes=max_nodes, body=body)
         ny, nz = block.y.size, block.z.size
         power = np.zeros(block.capacity.size)
         top = (np.arange(block.x.size)[:, None] * ny + np.arange(ny)[None, :]) * nz
-        power[top] = _EllipseSource(block, xe, grid.y_edges, flux, 1.0).power(float(xe[-1]))
-        sample, implicit = (block.i0 * ny) * nz + block.depth_index, _Implicit3D(block)
+        power[top] = EllipseSource(block, xe, grid.y_edges, flux, 1.0).power(float(xe[-1]))
+        sample, implicit = (block.i0 * ny) * nz + block.depth_index, Implicit3D(block)
     return spot_history(block, power, sample, implicit, tr, level, t_heat)
 
 
