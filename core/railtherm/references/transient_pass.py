@@ -38,6 +38,20 @@ _FAR = 45.0
 _SQRT_PI = math.sqrt(math.pi)
 
 
+
+def check_source_geometry(source) -> None:
+    """Raise ValueError unless ``source`` (a moving or fixed surface source) has a known ``kind`` ("band",
+    "ellipse") and ``shape`` ("uniform", "hertz"), a finite ``half_width`` > 0 [m] and, for an ellipse,
+    ``semi_axis_b`` > 0 [m]."""
+    if source.kind not in ("band", "ellipse"):
+        raise ValueError(f"kind must be 'band' or 'ellipse', got {source.kind!r}")
+    if source.shape not in ("uniform", "hertz"):
+        raise ValueError(f"shape must be 'uniform' or 'hertz', got {source.shape!r}")
+    if not (source.half_width > 0 and math.isfinite(source.half_width)):
+        raise ValueError(f"half_width must be a positive number [m], got {source.half_width!r}")
+    if source.kind == "ellipse" and not (source.semi_axis_b is not None and source.semi_axis_b > 0):
+        raise ValueError(f"an ellipse needs semi_axis_b > 0 [m], got {source.semi_axis_b!r}")
+
 @dataclass(frozen=True)
 class MovingSource:
     """A surface heat source moving in +x over a half-space.
@@ -66,16 +80,9 @@ class MovingSource:
     semi_axis_b: float | None = None
 
     def __post_init__(self):
-        if self.kind not in ("band", "ellipse"):
-            raise ValueError(f"kind must be 'band' or 'ellipse', got {self.kind!r}")
-        if self.shape not in ("uniform", "hertz"):
-            raise ValueError(f"shape must be 'uniform' or 'hertz', got {self.shape!r}")
-        if not (self.half_width > 0 and math.isfinite(self.half_width)):
-            raise ValueError(f"half_width must be a positive number [m], got {self.half_width!r}")
+        check_source_geometry(self)
         if not (self.speed > 0 and math.isfinite(self.speed)):
             raise ValueError(f"speed must be a positive number [m/s], got {self.speed!r}")
-        if self.kind == "ellipse" and not (self.semi_axis_b is not None and self.semi_axis_b > 0):
-            raise ValueError(f"an ellipse needs semi_axis_b > 0 [m], got {self.semi_axis_b!r}")
 
     @property
     def contact_duration(self) -> float:

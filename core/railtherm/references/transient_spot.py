@@ -24,7 +24,7 @@ from scipy.special import erf
 from ._quadrature import two_sided_rule
 from .flash import thermal_properties
 from .transient import PassSummary
-from .transient_pass import _INNER, Schedule, _as_depth, _bessel_sum
+from .transient_pass import _INNER, Schedule, _as_depth, _bessel_sum, check_source_geometry
 
 __all__ = ["FixedSource", "fixed_source_history", "fixed_source_summary", "heating_window"]
 
@@ -54,16 +54,9 @@ class FixedSource:
     semi_axis_b: float | None = None
 
     def __post_init__(self):
-        if self.kind not in ("band", "ellipse"):
-            raise ValueError(f"kind must be 'band' or 'ellipse', got {self.kind!r}")
-        if self.shape not in ("uniform", "hertz"):
-            raise ValueError(f"shape must be 'uniform' or 'hertz', got {self.shape!r}")
-        if not (self.half_width > 0 and math.isfinite(self.half_width)):
-            raise ValueError(f"half_width must be a positive number [m], got {self.half_width!r}")
+        check_source_geometry(self)
         if not (math.isfinite(self.flux) and self.flux >= 0):
             raise ValueError(f"flux must be a finite number >= 0 [W/m^2], got {self.flux!r}")
-        if self.kind == "ellipse" and not (self.semi_axis_b is not None and self.semi_axis_b > 0):
-            raise ValueError(f"an ellipse needs semi_axis_b > 0 [m], got {self.semi_axis_b!r}")
 
 
 def heating_window(schedule: Schedule) -> tuple[float, float]:
