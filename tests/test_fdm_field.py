@@ -1,4 +1,4 @@
-"""fastsim-fdm (temperature model ``fdm``) behind the patch and in depth (scene key ``field``, issue 14)
+"""fastsim-fdm (temperature model ``fdm``) behind the patch and in depth (scene key ``field``)
 against core's exact references: the moving Hertzian circle on a half-space (point-source superposition,
 Péclet 1000, peak at 0.3 mm depth 3.7 a behind the centre) and Jaeger's Hertzian band (2-D), rail only
 (heat_partition 0, so the rail carries the whole flux).

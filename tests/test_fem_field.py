@@ -1,4 +1,4 @@
-"""fem behind the patch and in depth (scene key ``field``, issue 14) against the exact 2-D reference:
+"""fem behind the patch and in depth (scene key ``field``) against the exact 2-D reference:
 Jaeger's Hertzian band at depth, Péclet 1000, rail only (heat_partition 0: the rail carries the whole
 flux), a = 5 mm, behind = 30a, depth 0.3 mm, threshold 1100 degC (the FEM is 2-D: line contacts only).
 

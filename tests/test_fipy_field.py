@@ -1,4 +1,4 @@
-"""fipy behind the patch and in depth (scene key ``field``, issue 14) against the exact references:
+"""fipy behind the patch and in depth (scene key ``field``) against the exact references:
 Jaeger's Hertzian band at depth (2-D, line contact) and the moving Hertzian circle on a half-space
 (3-D, point-source superposition), both at Péclet 1000, rail only (heat_partition 0: the rail carries
 the whole flux), a = 5 mm.

@@ -1,4 +1,4 @@
-"""The undeformed gap of a scene, contact = { shape = "gap", coefficients = {...} } (issue 13 item 2),
+"""The undeformed gap of a scene, contact = { shape = "gap", coefficients = {...} },
 and the scalar contact_area [m2]."""
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""green behind the patch and in depth (scene key ``field``, issue 14) against the exact references:
+"""green behind the patch and in depth (scene key ``field``) against the exact references:
 the moving Hertzian circle on a half-space (point-source superposition, Péclet 1000) and Jaeger's
 Hertzian band (2-D), rail only (heat_partition 0, so the rail carries the whole flux).
 

@@ -173,7 +173,7 @@ def test_contact_double_count_bias_is_not_present():
 
 
 def test_extended_paths_equal_the_direct_sums_on_an_extended_grid():
-    """The sums of a ``field`` grid (zero flux behind the patch, issue 14: the surface by
+    """The sums of a ``field`` grid (zero flux behind the patch: the surface by
     :func:`kernel.trail_toeplitz`, the depth by FFT over the patch rows) equal the direct O(nx^2) Toeplitz
     sums to 1e-13 of the maximum: surface (two bodies, some strips cold, one body cold, a gap between
     heated strips), depth (all depths in one transform), and the 1-D and per-column forms of

@@ -1,4 +1,4 @@
-"""Chains composed from stage models (issue 13 item 4): ``[study.chains.<name>]`` in a study and a
+"""Chains composed from stage models: ``[study.chains.<name>]`` in a study and a
 mapping as ``method`` in railtherm.solve; unknown stages or models are SceneErrors naming the key."""
 from __future__ import annotations
 

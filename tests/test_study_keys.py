@@ -1,5 +1,5 @@
 """One table of study keys (railtherm.input.scene.KEY_TABLE): the scene parser's checkers, with
-UDUNITS-2 units, are what swept coordinates are labelled with (issue 12 item 8)."""
+UDUNITS-2 units, are what swept coordinates are labelled with."""
 from __future__ import annotations
 
 import re

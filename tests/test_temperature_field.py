@@ -1,5 +1,5 @@
 """TemperatureField.from_bodies: bulk temperatures, a body without heat, the common depth axis and
-body-prefixed diagnostics are assembled in one place (issue 12, item 4)."""
+body-prefixed diagnostics are assembled in one place."""
 import numpy as np
 import pytest
 

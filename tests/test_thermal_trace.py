@@ -1,4 +1,4 @@
-"""The thermal trace (issue 14): scene key ``field``, the extended grid, core's trace functions
+"""The thermal trace: scene key ``field``, the extended grid, core's trace functions
 (:mod:`railtherm.physics.thermal_trace`) against closed forms and the exact Jaeger band at depth, and the
 capability check that refuses ``field`` for temperature models that do not declare it."""
 from __future__ import annotations
@@ -251,7 +251,7 @@ def test_methods_without_the_field_capability_refuse_it(method):
 
 
 # ------------------------------------------------------------------------------------------------
-# the exact reference's fast path (issue 14: the cost of trace_reference)
+# the exact reference's fast path (the cost of trace_reference)
 def _circle_scene():
     from railtherm.input.scene import load_scene
     return load_scene(dict(name="circle", speed=V_PE1000, heat_source=dict(flux=1e9, shape="hertz",
