@@ -3,11 +3,10 @@
 A rigid wheel (``wheel = { rigid = true }``, as in the paper) or an elastic wheel rolls on an elastic
 strip lying on a rigid foundation, in the frame moving with the wheel; see :mod:`railtherm_fem.coupled`
 for the operator splitting and the heat flux, :mod:`.contact` for the contact law, :mod:`.thermal` for
-the conduction, :mod:`.elastic` and :mod:`.condense` for the strip. Results are on the patch grid
-``surface_grid(a, None, level, cells)`` of the computed half-width a, centred on the computed patch
-(which a rigid wheel's tangential-normal coupling may shift off the axis: diagnostics ``patch_centre``).
-Nodal fields are mapped as cell averages of their piecewise-linear interpolant (conservative up to the
-part of the edge hats outside [-a, a]); stick is the state of the nearest node in contact.
+the conduction, :mod:`.elastic` and :mod:`.condense` for the strip. Results are on the patch grid of the
+computed half-width a, centred on the computed patch (a rigid wheel's tangential-normal coupling may shift
+it: diagnostics ``patch_centre``); nodal fields are mapped as cell averages of their piecewise-linear
+interpolant, stick is the state of the nearest node in contact.
 
 Temperatures: the rail from the strip's conduction problem; the wheel -- rigid or not -- from the same
 solver applied to the wheel's material moving at V + v_s, with the wheel's share eps of the heat (and the
