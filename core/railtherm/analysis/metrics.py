@@ -35,7 +35,8 @@ from .verdicts import independent  # noqa: E402,F401
 from .patch_metrics import patch_columns, patch_errors  # noqa: E402  (several patches scored patch by patch)
 #: the quantity a scene's verdict is given on: the first of these that the scene asks for
 HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
-                  "semi_axis_a", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
+                  "semi_axis_a", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature",
+                  "pass_peak_temperature")
 #: errors stored and shown but never used by a status or verdict (the cooling rate at every depth: its shallow
 #: depths are log-singular, see :mod:`.trace_metrics`)
 UNSCORED_BY_STATUS = ("cooling_rate_all_depths",)

@@ -62,7 +62,8 @@ def transient_sources(scene):
         if q > 0 and not speeds[i] > 0 and tr is not None and tr.schedule_factor and tr.schedule_factor[0] == 0:
             src = FixedSource(kind, a, q, shape, b)
         out.append((src, float(body.bulk_temperature)))
-    return out, f"transient-{kind}"
+    at_rest = any(isinstance(src, FixedSource) for src, _ in out)
+    return out, f"transient-{kind}-moving-and-at-rest" if at_rest else f"transient-{kind}"
 
 
 def _rel(value, exact, floor: float) -> float:

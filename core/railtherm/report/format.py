@@ -208,7 +208,9 @@ NAMES = {"max_surface_temperature": "max. surface temperature", "mean_contact_te
          "surface_temperature": "surface temperature", "peak_temperature": "peak temperature",
          "cooling_rate": "cooling rate", "cooling_rate_all_depths": "cooling rate, all depths",
          "heated_depth": "depth of the threshold isotherm", "time_above": "time above the threshold",
-         "energy_balance": "energy balance", "headline": "headline quantity"}
+         "energy_balance": "energy balance", "headline": "headline quantity",
+         "pass_peak_temperature": "peak temperature of each pass", "residual_rise": "residual rise before the next pass",
+         "temperature_history": "temperature history"}
 #: dotted study keys, where the general rule ("a.b" -> "a b") reads badly
 KEYS = {"creepage.longitudinal": "longitudinal creepage", "creepage.lateral": "lateral creepage",
         "creepage.spin": "spin creepage", "heat_source.flux": "heat source flux",

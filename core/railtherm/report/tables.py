@@ -22,7 +22,9 @@ METRIC_SHORT = {"max_surface_temperature": "max T", "mean_contact_temperature": 
                 "semi_axis_a": "a", "creep_force_x": "Fx", "frictional_power": "P",
                 "steady_wheel_temperature": "steady T wheel", "steady_mean_contact_temperature": "steady mean T",
                 "peak_temperature": "peak T", "cooling_rate": "cooling rate", "cooling_rate_all_depths":
-                "cooling rate, all depths", "heated_depth": "isotherm depth", "time_above": "time above"}
+                "cooling rate, all depths", "heated_depth": "isotherm depth", "time_above": "time above",
+                "pass_peak_temperature": "pass peak T", "residual_rise": "residual rise",
+                "temperature_history": "T history"}
 METRIC_ORDER = ("max_surface_temperature", "mean_contact_temperature", "surface_temperature_l2", "creep_force_x",
                 "max_pressure", "semi_axis_a", "pressure_l2", "frictional_power", "steady_wheel_temperature",
                 "steady_mean_contact_temperature")

@@ -34,7 +34,8 @@ QUANTITY = {"max_surface_temperature": "max. surface temperature", "mean_contact
             "semi_axis_a": "semi-axis a", "frictional_power": "frictional power",
             "surface_temperature_l2": "surface temperature (L2 norm)", "pressure_l2": "pressure (L2 norm)",
             "steady_wheel_temperature": "steady wheel temperature",
-            "steady_mean_contact_temperature": "steady mean contact temperature"}
+            "steady_mean_contact_temperature": "steady mean contact temperature",
+            "pass_peak_temperature": "peak temperature of each pass"}
 
 
 @dataclass
