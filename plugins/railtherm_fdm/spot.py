@@ -20,6 +20,8 @@ import time as _time
 import numpy as np
 from railtherm import Refused, TransientHistory, theta_steps
 from railtherm.physics import pass_peaks_and_residual, pass_time_above
+from railtherm.references.transient import Schedule
+from railtherm.references.transient_spot import heating_window
 
 from .history import BandSource, ImplicitSection, section_block
 from .history3d import EllipseSource, Implicit3D, ellipse_block
@@ -40,18 +42,15 @@ def heating_time(tr, body: str) -> tuple[float, float]:
         t = -inf (no finite history on a band, a steady one on a patch that is no pass history).
     """
     end = int(tr.count) * float(tr.interval)
-    if tr.schedule_time is None or tr.schedule_factor[0] != 0.0:
+    schedule = None if tr.schedule_time is None else Schedule(tr.schedule_time, tr.schedule_factor)
+    try:
+        start, stop = heating_window(schedule)
+    except ValueError:
         raise Refused(f"model 'fdm' ({body}): its surface does not move through the contact (speed 0: a locked wheel), "
                       "so its spot is heated as long as the schedule heats it; the schedule must start at factor 0 "
                       "(switched on at a finite time) -- without one the spot would be heated since t = -inf",
-                      kind="validity")
-    f = np.asarray(tr.schedule_factor)
-    t = np.asarray(tr.schedule_time)
-    on = np.nonzero(f != 0.0)[0]
-    if on.size == 0:
-        return 0.0, 0.0
-    stop = float(t[on[-1] + 1]) if on[-1] + 1 < t.size else end
-    return float(t[on[0] - 1]), min(stop, end)
+                      kind="validity") from None
+    return start, min(stop, end)
 
 
 def spot_history(block, power: np.ndarray, sample: np.ndarray, implicit, tr, level: int,
