@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from ..physics.contact_reference import interpenetration_weights
+from ..physics.contact_reference import interpenetration_weights, stretch_around
 from ..physics.contact_search import _rotation
 
 __all__ = ["reference_point", "reference_at", "contact_reference", "SEARCH_REFERENCE", "CONTACT_REFERENCE",
@@ -39,12 +39,7 @@ CONTACT_REFERENCE = ("the CONTACT program's: the centre of gravity of the interp
 
 def _below(y, g, level) -> tuple[int, int]:
     """First and last index of the stretch around y = 0 where g < level (the patch's own interpenetration)."""
-    lo = hi = int(np.argmin(np.abs(y)))
-    while lo > 0 and g[lo - 1] < level:
-        lo -= 1
-    while hi < y.size - 1 and g[hi + 1] < level:
-        hi += 1
-    return lo, hi
+    return stretch_around(np.asarray(g) < level, int(np.argmin(np.abs(y))))
 
 
 def reference_point(geo, p, approach: float, speed: float) -> dict:

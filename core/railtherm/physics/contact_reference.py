@@ -15,7 +15,18 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["interpenetration_weights", "interpenetration_centre"]
+__all__ = ["interpenetration_weights", "interpenetration_centre", "stretch_around"]
+
+
+def stretch_around(inside: np.ndarray, i: int) -> tuple[int, int]:
+    """First and last index of the run of True entries of the boolean array ``inside`` that holds index ``i``
+    (a patch's own connected region of a sampled section; ``(i, i)`` when only ``inside[i]`` or none holds)."""
+    lo = hi = int(i)
+    while lo > 0 and inside[lo - 1]:
+        lo -= 1
+    while hi < inside.size - 1 and inside[hi + 1]:
+        hi += 1
+    return lo, hi
 
 
 def interpenetration_weights(section, approach: float) -> tuple[np.ndarray, np.ndarray]:
@@ -55,11 +66,7 @@ def interpenetration_weights(section, approach: float) -> tuple[np.ndarray, np.n
     if not c[i] > 0.0:
         raise ValueError(f"approach = {approach!r} m does not reach the gap at the plane's origin "
                          f"(gap {c[i] - approach:.3g} m there): no interpenetration")
-    lo = hi = i
-    while lo > 0 and c[lo - 1] > 0.0:
-        lo -= 1
-    while hi < c.size - 1 and c[hi + 1] > 0.0:
-        hi += 1
+    lo, hi = stretch_around(c > 0.0, i)
     c, kx = c[lo:hi + 1], np.asarray(section.kx, dtype=float)[lo:hi + 1]
     return eta[lo:hi + 1], 16.0 / 15.0 * c ** 2.5 / np.sqrt(0.5 * kx)
 
