@@ -20,6 +20,8 @@ from typing import Any
 
 import numpy as np
 
+from ..solving.plugins import get_host
+from .analytic import reference_fields
 from .rises import bulk_of as _bulk, rel_error, rel_l2
 from .trace_metrics import TRACE_METRICS, trace_errors
 from .verdicts import shares_stage, unscored
@@ -53,7 +55,6 @@ def _interp_to(ref, ds, name):
 
 def chain_references(ds) -> set[str]:
     """Tags of core's exact references that a model of the run's chain reproduces by construction."""
-    from ..solving.plugins import get_host
     host = get_host()
     tags = set()
     for part in str(ds.attrs.get("stages", "")).split():
@@ -74,7 +75,6 @@ def chain_references(ds) -> set[str]:
 def _exact_fields(scene, ds, values):
     """(subsample of ``ds``, exact fields on it): at most ~:data:`MAX_FIELD_POINTS` cells of a regular
     subsample; ``(ds, {})`` when there is nothing exact or the result has no surface grid (a Zarr row)."""
-    from .analytic import reference_fields
     if not values or "x" not in ds.dims:
         return ds, {}
     n = ds.sizes["x"] * ds.sizes.get("y", 1)

@@ -23,15 +23,22 @@ from pathlib import Path
 
 import numpy as np
 
+from .._version import __version__
+from ..contract.errors import SceneError
+from ..contract.schema import VARIABLES, history_line
 from ..output import store
-from ..physics import body_speeds
+from ..physics import body_speeds, peclet_number
+from ..solving.plugins import get_host
+from .analytic import reference_values
+from .scorecard import verdict_vars
 
 from .errors import (FIELDS, MAX_FIELD_POINTS, METRICS, SCALARS, _interp_to, chain_references,  # noqa: E402,F401
                      rel_error, rel_l2 as _rel_l2, run_errors, signed_error)
 from .rises import RISES, bulk_of as _bulk  # noqa: E402,F401  (temperatures on their rise above the bulk temperature)
-from .trace_metrics import TRACE_METRICS, TRACE_PROFILES, trace_errors  # noqa: E402,F401  (metrics.nc's trace metrics)
+from .trace_metrics import (TRACE_METRICS, TRACE_PROFILES, _semi_axis,  # noqa: E402,F401  (metrics.nc's trace metrics)
+                            cooling_rate_depth, trace_errors)
 from .transient_metrics import TRANSIENT_METRICS, transient_errors  # noqa: E402  (metrics.nc's transient metrics)
-from .verdicts import independent  # noqa: E402,F401
+from .verdicts import independent, label, run_status  # noqa: E402,F401
 from .patch_metrics import patch_columns, patch_errors  # noqa: E402  (several patches scored patch by patch)
 #: the quantity a scene's verdict is given on: the first of these that the scene asks for
 HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
@@ -81,7 +88,7 @@ def half_space_energy(theta: np.ndarray, t_edges: np.ndarray) -> np.ndarray:
     ndarray, shape (...)
         π Σ_k (K⁻¹ θ)_k Δt_k [K s^(1/2)]; times β/√π it is the energy per area [J/m^2].
     """
-    from scipy.linalg import solve_triangular
+    from scipy.linalg import solve_triangular  # scipy: loaded by the energy balance only, not by importing metrics
     theta = np.asarray(theta, float)
     t_edges = np.asarray(t_edges, float)
     tc = 0.5 * (t_edges[:-1] + t_edges[1:])
@@ -112,7 +119,6 @@ def energy_balance(scene, ds) -> tuple[float, str]:
     (float, str)
         ((heat entering through the surface − frictional power) / frictional power, reference).
     """
-    from ..physics import peclet_number
     power = float(ds["frictional_power"].sum()) if "frictional_power" in ds.variables else math.nan  # over patches
     if "heat_flux" in ds.variables and not math.isfinite(power):
         hf = ds["heat_flux"].values
@@ -217,8 +223,6 @@ def _scalar(scene, name, v) -> float:
 
 
 def _theoretical_orders(method: str) -> dict:
-    from ..contract.errors import SceneError
-    from ..solving.plugins import get_host
     try:
         return dict(get_host().method(method).method.orders)
     except (SceneError, KeyError):
@@ -260,7 +264,6 @@ class _Study:
         return self.cache[rec.path]
 
     def analytic(self, scene) -> dict:
-        from .analytic import reference_values
         if scene.name not in self.exact:
             try:
                 self.exact[scene.name] = reference_values(scene)
@@ -307,14 +310,12 @@ def _base_row(rec) -> dict:
 
 def _cooling_depth(scene, ds) -> float:
     """Shallowest depth [m] at which the cooling rate of a run is scored (the smaller over the moving bodies)."""
-    from .trace_metrics import _semi_axis, cooling_rate_depth
     z = [float(v) for v in cooling_rate_depth(scene, _semi_axis(scene, ds)) if v > 0]
     return min(z) if z else math.nan
 
 
 def _score(ctx: _Study, rec) -> dict:
     """One row of metrics.nc: the run's record, its errors, energy balance, headline error and status."""
-    from .verdicts import label, run_status
     row = _base_row(rec)
     if rec.status != "ok":           # refused or failed: the runner's status stands
         return row
@@ -375,7 +376,7 @@ _RUN_ATTRS = {
 
 def _run_table(rows: list[dict], metrics: tuple):
     """The per-run variables of metrics.nc (dimension ``run``)."""
-    import xarray as xr
+    import xarray as xr  # xarray (with pandas, ~1 s): loaded when metrics.nc is built, not by importing metrics
     signed = tuple(m for m in SCALARS if m in metrics)
     str_cols = ("scene", "method", "status", "message", "reason_kind", "energy_reference", "headline_reference",
                 "not_scored") + tuple(f"reference_{m}" for m in metrics)
@@ -389,7 +390,6 @@ def _run_table(rows: list[dict], metrics: tuple):
     ds = xr.Dataset(data, coords={"run": np.arange(len(rows))})
     for k, (u, ln) in _RUN_ATTRS.items():
         ds[k].attrs.update(units=u, long_name=ln)
-    from .verdicts import label
     for m in metrics:
         what = label(m) + (" at the depths z >= cooling_rate_depth" if m == "cooling_rate" else "")
         ds[f"error_{m}"].attrs.update(units="1", long_name=f"relative error of {what} against reference_{m} "
@@ -404,7 +404,6 @@ def _run_table(rows: list[dict], metrics: tuple):
 
 def _scene_vars(ds, ctx: _Study, snames: list, mnames: list, metrics: tuple):
     """Per-scene variables: headline, reference kind and the exact values used."""
-    from ..contract.schema import VARIABLES
     scenes = ctx.scenes
     ds = ds.assign_coords(scene_name=("scene_name", np.array(snames, dtype=object)),
                           method_name=("method_name", np.array(mnames, dtype=object)),
@@ -539,7 +538,6 @@ def compute_metrics(study, out, records, tolerance: float | None = None, *, map=
     the results of :func:`score_runs` over :func:`scoring_groups` already submitted by the caller (so that a
     pool can take other work behind them). See ``docs/verdicts.md`` for every variable.
     """
-    from .scorecard import verdict_vars
     tol = study_tolerance(study, tolerance)
     metrics = METRICS + (TRACE_METRICS if any(getattr(s, "field", None) is not None for s in study.scenes) else ())
     metrics += TRANSIENT_METRICS if any(getattr(s, "transient", None) is not None for s in study.scenes) else ()
@@ -566,8 +564,6 @@ def compute_metrics(study, out, records, tolerance: float | None = None, *, map=
     for c, ln in (("scene_name", "scene"), ("method_name", "method"), ("other_method", "method compared with"),
                   ("metric", "error metric"), ("quantity", "compared quantity"), ("body", "body")):
         ds[c].attrs.update(units="1", long_name=ln)
-    from .._version import __version__
-    from ..contract.schema import history_line
     ds.attrs.update({"Conventions": "CF-1.11", "title": f"railtherm metrics of study {study.name}",
                      "source": f"railtherm {__version__}", "history": history_line("railtherm metrics"),
                      "study": study.name, "tolerance": tol, "energy_min_peclet": ENERGY_MIN_PECLET})

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import xarray as xr
 
 __all__ = ["Difference", "MACHINE_VARIABLES", "diff_metrics"]
 
@@ -38,7 +39,6 @@ class Difference:
 
 
 def _open(path):
-    import xarray as xr
     p = Path(path)
     if p.is_dir():
         p = p / "metrics.nc"
@@ -76,7 +76,6 @@ def diff_metrics(before, after, *, rtol: float = 1e-12, atol: float = 0.0,
     list of Difference
         Empty when the numbers are the same.
     """
-    import xarray as xr
     a, b = _by_run(_open(before)), _by_run(_open(after))
     skip = set() if include_machine else set(MACHINE_VARIABLES)
     out = [Difference(v, "only before") for v in sorted(set(a.data_vars) - set(b.data_vars) - skip)]

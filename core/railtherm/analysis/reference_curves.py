@@ -24,10 +24,15 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import xarray as xr
 
-from ..output import store
+from .._version import __version__
 from ..contract.errors import Refused
-from .analytic import scene_hertz_geometry
+from ..output import store
+from ..references.carter import carter_2d
+from ..references.kalker import kalker_linear_forces
+from .analytic import _depth_rise, _surface_rise, _thermal_case, scene_hertz_geometry, trace_reference
+from .trace_metrics import cooling_rate_depth
 
 __all__ = ["reference_curves", "write_reference_curves", "read_reference_curves", "FILE_NAME"]
 
@@ -72,8 +77,6 @@ def _field_depth(scene, default: float) -> float:
 
 def _trace(scene) -> tuple[dict, dict, list[str]]:
     """The exact thermal trace of a scene with ``field`` (see :func:`reference_curves`)."""
-    from .analytic import _depth_rise, _surface_rise, _thermal_case, trace_reference
-    from .trace_metrics import cooling_rate_depth
     fld = getattr(scene, "field", None)
     case = _thermal_case(scene) if fld is not None else None
     if case is None:
@@ -137,7 +140,6 @@ def _trace(scene) -> tuple[dict, dict, list[str]]:
 
 def _thermal(scene) -> tuple[dict, dict, list[str]]:
     """Data variables and coordinates of the temperature curves, and the reference names."""
-    from .analytic import _surface_rise, _thermal_case
     case = _thermal_case(scene)
     if case is None:
         return {}, {}, []
@@ -161,11 +163,11 @@ def _thermal(scene) -> tuple[dict, dict, list[str]]:
         if share == 0 or q == 0:
             depth.append(np.full_like(z, mat.bulk_temperature))
         elif line:
-            from ..references.jaeger import jaeger_band_temperature
+            from ..references.jaeger import jaeger_band_temperature  # scipy: loaded by a line contact's curves only
             depth.append(mat.bulk_temperature + np.asarray(
                 jaeger_band_temperature(np.full_like(z, x0), z, a, speeds[body], mat, share * q, shape), float))
         else:
-            from ..references.moving_source import moving_source_temperature
+            from ..references.moving_source import moving_source_temperature  # numba: only an elliptic patch needs it
             depth.append(mat.bulk_temperature + np.asarray(
                 moving_source_temperature(np.full_like(z, x0), np.zeros_like(z), z, (a, b), speeds[body], mat,
                                           share * q, shape), float))
@@ -216,7 +218,6 @@ def _creep(scene, group_values: list[float]) -> tuple[dict, dict, list[str]]:
     if scene.heat_source is not None or not _pure_longitudinal(scene) or (
             scene.contact_shape == "line" and not _identical_elastic(scene)):
         return {}, {}, []
-    from ..contract.errors import Refused
     try:
         a, b, p0, n = scene_hertz_geometry(scene)
     except Refused:
@@ -224,7 +225,6 @@ def _creep(scene, group_values: list[float]) -> tuple[dict, dict, list[str]]:
     xs = _creepage_range(scene, group_values)
     cattrs = {"units": "1", "long_name": "longitudinal creepage xi"}
     if scene.contact_shape == "line":
-        from ..references.carter import carter_2d
         mu = scene.friction.nominal
         c = carter_2d(scene.creepage.longitudinal, a, mu, scene.wheel_radius, max_pressure=p0)
         xp = np.linspace(-a, a, 401)
@@ -245,7 +245,6 @@ def _creep(scene, group_values: list[float]) -> tuple[dict, dict, list[str]]:
     w, r = scene.wheel, scene.rail
     if w.rigid or r.rigid or b is None:
         return {}, {}, []
-    from ..references.kalker import kalker_linear_forces
     g = 2.0 / (1.0 / w.shear_modulus + 1.0 / r.shear_modulus)  # Kalker 1990: combined constants
     nu = 0.5 * g * (w.poisson_ratio / w.shear_modulus + r.poisson_ratio / r.shear_modulus)
     fx, _, _ = kalker_linear_forces(a, b, g, nu, 1.0, 0.0, 0.0)
@@ -280,7 +279,6 @@ def _sweep_groups(scenes) -> dict[str, list[float]]:
 
 def scene_reference_curves(scene, group_values: list[float] | None = None):
     """Reference curves of one scene as an xarray Dataset, or None when core has none for it."""
-    import xarray as xr
     data, coords, names = {}, {}, []
     for part in (lambda: _thermal(scene), lambda: _trace(scene), lambda: _creep(scene, group_values or [])):
         d, c, n = part()
@@ -293,7 +291,6 @@ def scene_reference_curves(scene, group_values: list[float] | None = None):
         coords["body"] = ("body", np.array(["wheel", "rail"]), {"units": "1", "long_name": "body"})
     ds = xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
                     coords={k: xr.Variable(*v) for k, v in coords.items()})
-    from .._version import __version__
     ds.attrs.update({"Conventions": "CF-1.11", "title": f"railtherm reference curves of scene {scene.name}",
                      "source": f"railtherm {__version__} (railtherm.analysis.reference_curves)",
                      "scene": scene.name, "scene_hash": scene.hash, "reference": "; ".join(names)})

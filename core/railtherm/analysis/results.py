@@ -17,14 +17,16 @@ import re
 from pathlib import Path
 
 import numpy as np
+import xarray as xr
 
+from ..contract.schema import VARIABLES, variable_attrs
+from ..input.scene import key_units
 from ..output import store
 # the sweep attribute is part of the run file's format: railtherm.output.store owns it (importable from here)
 from ..output.store import SWEEP_ATTR, encode_sweep, run_sweeps, sweep_of  # noqa: F401
 
 def _sweep_coord_attrs(key: str) -> dict:
     """units (UDUNITS-2, from the one table of study keys) and long_name of a swept study key."""
-    from ..input.scene import key_units
     return {"units": key_units(key) or "1", "long_name": f"swept study key '{key}'"}
 
 
@@ -76,8 +78,6 @@ def open_results(out, *, variables=None, unstack: bool | None = None):
     >>> ds["max_surface_temperature"].sel(method_name="green", level=0, body="wheel")  # doctest: +SKIP
     >>> grid = railtherm.open_results("runs/sweep_10k", unstack=True)     # doctest: +SKIP
     """
-    import xarray as xr
-
     if store.has_store(out):
         return store.open_store(out, variables=variables, unstack=unstack)
     root = Path(out) / store.RUNS
@@ -129,8 +129,6 @@ def _missing_runs(out, have):
 def _result_arrays(records, statuses, si, mi, li, shape):
     """The Dataset variables of :func:`open_results` (name -> (dims, array, attrs)): every scalar result
     found in the run files, the wall time and the status (refused, failed, missing) of every run."""
-    from ..contract.schema import VARIABLES, variable_attrs
-
     names = sorted({k for r in records for k in r[3] if k in VARIABLES})
     data = {}
     for n in names:

@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 
+from ..physics import body_speeds
+from .analytic import _thermal_case
 from .rises import rel_error
 
 #: metrics of the thermal trace (scenes with ``field``): relative max-norm errors over the depths where
@@ -39,7 +41,6 @@ def cooling_rate_depth(scene, a: float) -> np.ndarray:
     a : float
         Semi-axis of the patch along the rolling direction [m].
     """
-    from ..physics import body_speeds
     speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
     return np.array([math.sqrt(4.0 * COOLING_TRAVEL * scene.body(i).diffusivity * float(a) / abs(float(v)))
                      if v and a and a > 0 else 0.0 for i, v in enumerate(speeds)])
@@ -86,7 +87,6 @@ def _semi_axis(scene, ds) -> float:
     """Semi-axis a [m] of a result's patch: the run's ``semi_axis_a``, else the scene's source."""
     if "semi_axis_a" in ds and np.isfinite(float(ds["semi_axis_a"].values)):
         return float(ds["semi_axis_a"].values)
-    from .analytic import _thermal_case
     case = _thermal_case(scene)
     return float(case[0]) if case is not None else math.nan
 
