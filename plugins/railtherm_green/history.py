@@ -1,11 +1,13 @@
 """Green's transient scenes: the histories at the fixed section from one pass's strip flux.
 
 The temperature model computes one pass's flux on its grid as for a steady scene; the material point on
-the centre strip y = 0 of each body then meets that flux once per pass (per revolution for the wheel)
+the centre line y = 0 of each body then meets that flux once per pass (per revolution for the wheel)
 and :func:`railtherm_green.transient.strip_history` superposes the passes exactly in time (the 1-D
-Green function of the strip). What the strips neglect between passes is conduction along x (along the
-rail or the tread) and across the strips (y): a 3-D contact's centre strip also cools sideways, so the
-residual rise of an ellipse is an upper bound (tests/test_green_transient.py measures it).
+Green function of each strip; on a 3-D contact the strips weighted by the lateral Gaussian, so that the
+centre line also cools sideways between passes, :mod:`railtherm_green.lateral`). What it neglects is
+conduction along x (along the rail or the tread), negligible at high Péclet number where the section sees
+the same history at every x (tests/test_green_transient_lateral.py measures the rest against the exact
+moving ellipse).
 
 Superposition needs the passes to be independent: a friction law that depends on the temperature makes
 each pass's heat depend on the earlier ones (the coupled loop would run per pass), and bodies at
@@ -21,7 +23,7 @@ from railtherm.physics import pass_peaks_and_residual, pass_time_above, superpos
 
 from .transient import scheduled_passes, strip_history, strip_time_axis
 
-__all__ = ["limits", "centre_flux", "histories"]
+__all__ = ["limits", "histories"]
 
 
 def limits(scene) -> str | None:
@@ -32,18 +34,7 @@ def limits(scene) -> str | None:
     return superposition_limits(scene, "green")
 
 
-def centre_flux(grid, flux: np.ndarray) -> np.ndarray:
-    """Each body's flux on the centre strip y = 0 [W/m^2], shape (2, nx): a line's only strip, an
-    ellipse's linear in y at y = 0 (as green's depth field)."""
-    if grid.line:
-        return flux[:, :, 0]
-    y = grid.y
-    j = int(np.clip(np.searchsorted(y, 0.0) - 1, 0, y.size - 2))
-    w1 = (0.0 - y[j]) / (y[j + 1] - y[j])
-    return (1.0 - w1) * flux[:, :, j] + w1 * flux[:, :, j + 1]
-
-
-def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[TransientHistory, dict]:
+def histories(scene, grid, flux: np.ndarray, bodies, speeds, bulk) -> tuple[TransientHistory, dict]:
     """The :class:`TransientHistory` of both bodies and its diagnostics.
 
     Parameters
@@ -52,8 +43,8 @@ def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[Transi
         A transient scene (``scene.transient`` set, its interval resolved).
     grid : SurfaceGrid
         Green's grid of the pass (x cell edges ``grid.x_edges``).
-    qc : ndarray, shape (2, nx)
-        Each body's flux on the centre strip [W/m^2].
+    flux : ndarray, shape (2, nx, ny)
+        Each body's flux per cell [W/m^2] (ny = 1 for a line contact).
     bodies : (Material, Material)
         Wheel and rail.
     speeds : (float, float)
@@ -75,7 +66,8 @@ def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[Transi
             raise SceneError.bad_value(scene.name, "passes.interval", interval,
                                        f"a time >= the contact duration 2a/V = {length / v:.6g} s (a pass must end "
                                        "before the next begins)")
-    heated = [i for i in range(2) if qc[i].any()]
+    heated = [i for i in range(2) if flux[i].any()]
+    y_edges = None if grid.line else np.asarray(grid.y_edges, dtype=float)
     # the heated bodies' own axes (their union when their speeds differ); passes a schedule's kink meets are
     # sampled at the edges and centres (a short spike's peak)
     axes = [strip_time_axis(x_edges, v, count, interval,
@@ -92,8 +84,9 @@ def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[Transi
             temperature[i], peak[i], residual[i] = bulk[i], bulk[i], 0.0
             above[i] = interval if tr.threshold - bulk[i] < 0 else 0.0
             continue
-        rise = strip_history(time, z, x_edges, qc[i], m.effusivity, m.diffusivity, speeds[i], count=count,
-                             interval=interval, schedule_time=tr.schedule_time, schedule_factor=tr.schedule_factor)
+        rise = strip_history(time, z, x_edges, flux[i, :, 0] if grid.line else flux[i], m.effusivity, m.diffusivity,
+                             speeds[i], count=count, interval=interval, schedule_time=tr.schedule_time,
+                             schedule_factor=tr.schedule_factor, y_edges=y_edges)
         p, r = pass_peaks_and_residual(time, rise, count, interval)
         peak[i], residual[i] = p + bulk[i], r[:, 0]
         # a history that never exceeds the threshold spends no time above it (what pass_time_above sums then)
@@ -102,7 +95,8 @@ def histories(scene, grid, qc: np.ndarray, bodies, speeds, bulk) -> tuple[Transi
         np.add(rise, bulk[i], out=temperature[i])
     hist = TransientHistory(time=time, z=z, temperature=temperature, peak=peak, residual=residual, time_above=above)
     diag = {"transient_passes": count, "transient_interval": interval, "transient_time_samples": int(time.size),
-            "transient_method": "Duhamel superposition of the 1-D strip Green function (one pass's response "
-                                "reused for every pass with a constant schedule)",
-            "transient_neglects": "conduction along x and across the strips (y) between passes"}
+            "transient_method": "Duhamel superposition of the 1-D strip Green function, the strips weighted by "
+                                "the lateral Gaussian on a 3-D contact (one pass's response reused for every "
+                                "pass with a constant schedule)",
+            "transient_neglects": "conduction along x (the rolling direction)"}
     return hist, diag

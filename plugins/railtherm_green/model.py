@@ -230,7 +230,7 @@ class GreenTemperature(TemperatureModel):
             diag.update({"field_behind": float(patch_grid.x_edges[0] - grid.x_edges[0]),
                          "field_cells_behind": int(grid.x.size - patch_grid.x.size)})
         if transient is not None:
-            hist, hdiag = history.histories(scene, grid, history.centre_flux(grid, flux), (wheel, rail), speeds, t_bulk)
+            hist, hdiag = history.histories(scene, grid, flux, (wheel, rail), speeds, t_bulk)
             diag.update(hdiag)
         result = TemperatureField.from_bodies(grid, t_bulk, *bodies, z=z, steady_wheel_temperature=steady_wheel,
                                               steady_mean_contact_temperature=steady_mean, diagnostics=diag)

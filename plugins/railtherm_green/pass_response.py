@@ -123,7 +123,7 @@ def _respond(theta, after, lo, hi, ct, lattice, far, edges, cs, scale):  # pragm
         sub = theta[idx]
         if k == 1:
             vals = np.empty((idx.size, cs.size))
-            chebval_into(sub, lo, hi, ct, vals)
+            chebval_into(sub, lo, hi, ct, vals, 0.5)
         elif k == 2:
             vals = _lattice_response(sub, half, snap, top, w_lead, cs) * scale
         elif k == 3:
@@ -230,6 +230,9 @@ class PassResponse:
     rounding of the pass phases (1e-12 of the interval, :func:`shifted_sum`), which the direct sum would see
     as well.
     """
+
+    #: the tail interpolant is of R / theta^tail_power (:func:`railtherm_green.smooth_tail.with_smooth_tail`)
+    tail_power = 0.5
 
     def __init__(self, x_edges, flux, speed, depth, effusivity, diffusivity, snap):
         x = np.ascontiguousarray(x_edges, dtype=float)

@@ -23,6 +23,7 @@ import numpy as np
 from railtherm.references.transient import shifted_sum
 from scipy.special import erfc
 
+from .lateral import LateralPassResponse, scheduled_lateral
 from .pass_response import PassResponse
 from .smooth_tail import checked_tail, chebval_into, with_smooth_tail
 
@@ -145,8 +146,8 @@ def _split_by_schedule(start, end, q, arrival, sched_t, sched_f):
 
 def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: float, speed: float,
                   count: int = 1, interval: float | None = None, schedule_time=None,
-                  schedule_factor=None) -> np.ndarray:
-    """Temperature rise history of a material point of one body's centre strip under repeated passes.
+                  schedule_factor=None, y_edges=None) -> np.ndarray:
+    """Temperature rise history of a material point of one body's centre line under repeated passes.
 
     Parameters
     ----------
@@ -157,8 +158,10 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
     x_edges : array_like
         Cell edges of green's grid along x [m], increasing; the leading edge is the last.
     flux : array_like
-        The body's heat flux per cell on the centre strip [W/m^2] (the partitioned frictional power
-        density green's steady kernel integrates), one value per cell.
+        The body's heat flux per cell [W/m^2] (the partitioned frictional power density green's steady kernel
+        integrates): on the centre strip, one value per cell (nx,) (a line contact: uniform in y), or on every
+        strip (nx, ny) with ``y_edges`` (a 3-D contact: the strips' responses weighted by the lateral Gaussian,
+        :mod:`railtherm_green.lateral`).
     effusivity : float
         beta = sqrt(lambda rho c) of the body [W s^0.5 / (m^2 K)].
     diffusivity : float
@@ -172,6 +175,8 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
     schedule_time, schedule_factor : array_like or None
         Heat-input factor f [1] at strictly increasing times [s], piecewise linear, constant ends; None:
         f = 1.
+    y_edges : array_like or None
+        Cell edges across the strips [m], increasing, (ny + 1,), with a flux (nx, ny).
 
     Returns
     -------
@@ -180,8 +185,8 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
 
     Notes
     -----
-    The result is the strip's exact 1-D Duhamel integral; what separates it from the exact moving band is
-    conduction along x. It is small where every pass lays down the same heat along the rail, and shows where
+    The result is the exact Duhamel integral without conduction along x (on a 3-D contact with the strips' lateral
+    Gaussian, :mod:`railtherm_green.lateral`); what separates it from the exact moving band is conduction along x. It is small where every pass lays down the same heat along the rail, and shows where
     the schedule varies on the scale of one pass: a heat input ramped from zero over a few contact durations
     leaves a deposit that grows across the first pass (material reached later gets more), and by the next
     pass conduction along x has carried heat from the more heated material ahead into the section. On the
@@ -194,14 +199,19 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
     ----------
     .. [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, section 2.9.
     """
-    time, depth, step, duration = _checked_strip(time, depth, x_edges, flux, speed, count, interval)
+    time, depth, step, duration = _checked_strip(time, depth, x_edges, flux, speed, count, interval, y_edges)
     if not np.asarray(flux).any():
         return np.zeros((time.size, depth.size))
     snap = 1e-12 * max(step, duration) + 1e-15 * duration
-    response = PassResponse(x_edges, flux, speed, depth, effusivity, diffusivity, snap)
+    if np.ndim(flux) == 2:
+        response = LateralPassResponse(x_edges, y_edges, flux, speed, depth, effusivity, diffusivity, snap)
+        centre = response.base_flux
+    else:
+        response, centre = PassResponse(x_edges, flux, speed, depth, effusivity, diffusivity, snap), flux
 
     def one_pass(theta):
-        return with_smooth_tail(response, theta, 4.0 * duration, far=response.far, passes=int(count))
+        return with_smooth_tail(response, theta, 4.0 * duration, far=response.far, passes=int(count),
+                                power=response.tail_power)
     if schedule_time is None:
         return _unit_pass_sum(time, int(count), interval, response, 4.0 * duration)
     sched = (np.asarray(schedule_time, dtype=float), np.asarray(schedule_factor, dtype=float))
@@ -209,23 +219,41 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
         return float(sched[1][0]) * _unit_pass_sum(time, int(count), interval, response, 4.0 * duration)
     weights = _pass_weights(int(count), step, duration, sched)
     out = _constant_factor_passes(time, depth.size, step, weights, one_pass)
-    segments = _segments(x_edges, flux, speed)
+    segments = _segments(x_edges, centre, speed)
     for k in np.flatnonzero(~np.isfinite(weights)):      # passes whose heating meets a kink: with the schedule
         rows = np.flatnonzero(time - k * step > 0)
         if rows.size:
             out[rows] += _scheduled_pass(time[rows] - k * step, depth, segments, k * step, sched, effusivity,
                                          diffusivity)
+            if np.ndim(flux) == 2:                      # a 3-D contact: its strips' lateral term too
+                out[rows] += scheduled_lateral(time[rows] - k * step, response,
+                                               _lateral_pieces(x_edges, speed, k * step, sched))
     return out
 
 
-def _checked_strip(time, depth, x_edges, flux, speed, count, interval):
+def _lateral_pieces(x_edges, speed, arrival, sched):
+    """Every cell's crossing interval after the arrival [s] cut at the schedule's times: (start, end, cell index,
+    factor at the start [1], slope [1/s]) for :func:`railtherm_green.lateral.scheduled_lateral`."""
+    x_edges = np.asarray(x_edges, dtype=float)
+    lead = x_edges[-1]
+    cells = np.arange(x_edges.size - 1, dtype=float)
+    s, e, idx, f0, slope = _split_by_schedule((lead - x_edges[1:]) / speed, (lead - x_edges[:-1]) / speed, cells,
+                                              arrival, *sched)
+    return s, e, idx.astype(int), f0, slope
+
+
+def _checked_strip(time, depth, x_edges, flux, speed, count, interval, y_edges=None):
     """time [s] and depth [m] as 1-D arrays, the time between passes [s] (0 for one pass without interval)
     and the contact duration D [s]; ValueError naming the bad argument of :func:`strip_history`."""
     time = np.atleast_1d(np.asarray(time, dtype=float)).ravel()
     depth = np.atleast_1d(np.asarray(depth, dtype=float)).ravel()
     x_edges = np.asarray(x_edges, dtype=float)
-    if x_edges.ndim != 1 or np.shape(flux) != (x_edges.size - 1,):
-        raise ValueError(f"flux must have one value per cell: {x_edges.size - 1}, got shape {np.shape(flux)}")
+    if x_edges.ndim != 1 or np.shape(flux)[:1] != (x_edges.size - 1,) or np.ndim(flux) not in (1, 2):
+        raise ValueError(f"flux must have one value per cell along x: {x_edges.size - 1} (and per strip with "
+                         f"y_edges), got shape {np.shape(flux)}")
+    if np.ndim(flux) == 2 and (y_edges is None or np.shape(y_edges) != (np.shape(flux)[1] + 1,)):
+        raise ValueError(f"y_edges must be the {np.shape(flux)[1] + 1} cell edges across the strips of a flux of "
+                         f"shape {np.shape(flux)} [m], got {None if y_edges is None else np.shape(y_edges)}")
     if not (x_edges[1:] > x_edges[:-1]).all():
         raise ValueError("x_edges must be strictly increasing [m]")
     if (depth < 0).any():
@@ -247,7 +275,7 @@ def _unit_pass_sum(time, count, interval, response, after):
     first in the tail) or :func:`_periodic_pass_sum`, else by :func:`railtherm.references.transient.shifted_sum`."""
 
     def one_pass(theta):
-        return with_smooth_tail(response, theta, after, far=response.far, passes=count)
+        return with_smooth_tail(response, theta, after, far=response.far, passes=count, power=response.tail_power)
     offsets = None if interval is None else _periodic_offsets(time, count, float(interval))
     if offsets is None:
         return shifted_sum(time, count, interval, one_pass)
@@ -316,12 +344,13 @@ def _periodic_tail_sum(time, count, step, offsets, response, after, rtol=1e-11):
     lo, hi = 1.0 / (longest * (1.0 + 1e-12)), 1.0 / after
     if not hi > lo or nfar <= 32:
         return None
-    coef = checked_tail(response.far, lo, hi, nfar, rtol, count)
+    power = response.tail_power
+    coef = checked_tail(response.far, lo, hi, nfar, rtol, count, power)
     if coef is None:
         return None
     out = np.empty((time.size, response.cs.size))
     _tail_cumsum(offsets, step, lo, hi, coef, response.with_tail(offsets, after, lo, hi, coef),
-                 out[:block].reshape(count, per, -1))
+                 out[:block].reshape(count, per, -1), power)
     if rest.size:
         tail = response.with_tail(rest_theta, after, lo, hi, coef)
         out[block:] = tail.reshape(rest.size, count, -1).sum(axis=1)
@@ -349,7 +378,7 @@ def _table_span(offsets, rest, count, step, after):  # pragma: no cover - compil
 
 
 @numba.njit(cache=True)
-def _tail_cumsum(offsets, step, lo, hi, coef, first, out):  # pragma: no cover - compiled
+def _tail_cumsum(offsets, step, lo, hi, coef, first, out, power):  # pragma: no cover - compiled
     """out[p, i] = sum_(n <= p) R(offsets[i] + n step) (count, per, m): ``first`` (per, m) the first pass
     (n = 0), the later ones from the tail interpolant by :func:`chebval_into` (as :func:`tail_chebval`),
     added in order of n as a cumulative sum does."""
@@ -362,7 +391,7 @@ def _tail_cumsum(offsets, step, lo, hi, coef, first, out):  # pragma: no cover -
         shift = step * p
         for i in range(per):
             theta[i] = offsets[i] + shift
-        chebval_into(theta, lo, hi, ct, row)
+        chebval_into(theta, lo, hi, ct, row, power)
         for i in range(per):
             for j in range(m):
                 out[p, i, j] = out[p - 1, i, j] + row[i, j]
