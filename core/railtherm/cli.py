@@ -13,11 +13,15 @@ import argparse
 import os
 import sys
 import warnings
+from pathlib import Path
 
 from .contract.errors import SceneError
-
+from .contract.options import check_study
+from .input.study import load_study
+from .output import store
 #: run statuses (docs/verdicts.md), in the order they are counted
 from .output.store import STATUSES
+from .solving.plugins import get_host
 
 
 class _UsageError(Exception):
@@ -91,15 +95,12 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _host():
-    from .solving.plugins import get_host
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return get_host()
 
 
 def _validate(paths) -> int:
-    from .contract.options import check_study
-    from .input.study import load_study
     host = _host()
     bad = 0
     for path in paths:
@@ -123,11 +124,7 @@ def _validate(paths) -> int:
 
 
 def _run(args) -> int:
-    from pathlib import Path
-
-    from .contract.options import check_study
-    from .run.runner import run_study
-    from .input.study import load_study
+    from .run.runner import run_study  # the runner (~0.3 s with the report): `railtherm run` only
     if args.workers is not None and args.workers < 1:
         raise SceneError(f"--workers {args.workers} is not allowed: an integer >= 1 (local worker processes)",
                          key="workers", value=args.workers, allowed="an integer >= 1")
@@ -154,11 +151,10 @@ def _run(args) -> int:
 
 
 def _report(args) -> int:
-    from pathlib import Path
-
-    from .output import store
+    # `railtherm report` only: the report and the executors (~0.3 s); worker_context is the fork server,
+    # whose render workers start with matplotlib loaded
     from .report import write_report
-    from .run.executors import worker_context  # the fork server: render workers start with matplotlib loaded
+    from .run.executors import worker_context
     out = Path(args.out)
     if not out.exists():
         raise SceneError(f"output folder {str(out)!r} does not exist: give the --out folder of `railtherm run`",
@@ -199,9 +195,7 @@ def _dispatch(args) -> int:
 
 
 def _diff(args) -> int:
-    from pathlib import Path
-
-    from .analysis.metrics_diff import diff_metrics
+    from .analysis.metrics_diff import diff_metrics  # xarray (~1 s): `railtherm diff` only
     for path in (args.before, args.after):
         p = Path(path)
         if not (p.is_file() or (p / "metrics.nc").is_file()):
