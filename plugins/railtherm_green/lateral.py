@@ -39,6 +39,7 @@ import math
 
 import numba
 import numpy as np
+from scipy.special import erfc
 
 from .pass_response import FAR_DEGREE, PassResponse, _far_weights
 from .smooth_tail import chebval_into
@@ -49,6 +50,15 @@ __all__ = ["LateralPassResponse", "lateral_weights", "scheduled_lateral"]
 GAUSS = 4
 #: erfc(x) < 2e-17 beyond this argument: a lateral term is dropped there
 ERFC_ZERO = 5.9
+#: degrees of the lateral far sums' Chebyshev nodes in the crossing times, from 2 D (error 5.8^-16 = 6e-13 of the
+#: lateral term) and from 4 D (13.9^-12 = 2e-14): fewer nodes than the 1-D far sum's FAR_DEGREE, each node costing
+#: a sum over the lateral distances
+FAR_DEGREES = (16, 12)
+#: erfc on [0, ERFC_ZERO] by cubic Hermite interpolation on this many intervals (error below h^4 max|erfc^(4)|/384
+#: = 3e-15); libm's erfc costs several times more, and a history's far sums take 1e5 of them
+ERFC_INTERVALS = 8192
+_ERFC_X = np.arange(ERFC_INTERVALS + 2) * (ERFC_ZERO / ERFC_INTERVALS)
+_ERFC_TABLE = np.ascontiguousarray(np.stack([erfc(_ERFC_X), -2.0 / math.sqrt(math.pi) * np.exp(-_ERFC_X ** 2)], 1))
 
 
 def lateral_weights(y_edges, flux):
@@ -93,7 +103,19 @@ def lateral_weights(y_edges, flux):
 
 
 @numba.njit(cache=True)
-def _lateral_factor(s, rho, kappa, weights):  # pragma: no cover - compiled
+def _erfc(x, table):  # pragma: no cover - compiled
+    """erfc(x) for 0 <= x <= ERFC_ZERO by cubic Hermite interpolation of ``table`` (erfc and its derivative)."""
+    h = ERFC_ZERO / ERFC_INTERVALS
+    u = x / h
+    k = min(int(u), ERFC_INTERVALS - 1)
+    t = u - k
+    t1 = 1.0 - t
+    return ((1.0 + 2.0 * t) * t1 * t1 * table[k, 0] + t * t * (3.0 - 2.0 * t) * table[k + 1, 0]
+            + h * t * t1 * (t1 * table[k, 1] - t * table[k + 1, 1]))
+
+
+@numba.njit(cache=True)
+def _lateral_factor(s, rho, kappa, weights, table):  # pragma: no cover - compiled
     """``sum_p weights[p] erfc(rho_p / sqrt(4 kappa s)) / 2`` at one s > 0 [s] (rho increasing: the sum stops
     where erfc is below 2e-17)."""
     inv = 0.5 / math.sqrt(kappa * s)
@@ -102,17 +124,18 @@ def _lateral_factor(s, rho, kappa, weights):  # pragma: no cover - compiled
         x = rho[p] * inv
         if x > ERFC_ZERO:
             break
-        acc += weights[p] * 0.5 * math.erfc(x)
-    return acc
+        acc += weights[p] * _erfc(x, table)
+    return 0.5 * acc
 
 
 @numba.njit(cache=True)
-def _psi_tables(step, last, rho, cs, kappa, nodes, gweights):  # pragma: no cover - compiled
-    """Psi_p and psi_p (module docstring) at the lattice points i step, i = 0 .. last: (P, m, last + 1) each, Psi
-    by Gauss-Legendre (``nodes``, ``gweights`` on [0, 1]) on every lattice step, cumulated; rho increasing."""
+def _psi_table(step, last, rho, cs, kappa, nodes, gweights, table):  # pragma: no cover - compiled
+    """Psi_p (module docstring) at the lattice points i step, i = 0 .. last, (P, m, last + 1), by Gauss-Legendre
+    (``nodes``, ``gweights`` on [0, 1]) on every lattice step, cumulated; and per p the first lattice point where
+    it is not 0 (rho increasing; erfc below 2e-17 counts as 0)."""
     npts, m = rho.size, cs.size
     big = np.zeros((npts, m, last + 1))
-    small = np.zeros((npts, m, last + 1))
+    first = np.full(npts, last + 1)
     g = np.empty(m)
     for i in range(last):
         for a in range(nodes.size):
@@ -124,55 +147,73 @@ def _psi_tables(step, last, rho, cs, kappa, nodes, gweights):  # pragma: no cove
                 x = rho[p] * inv
                 if x > ERFC_ZERO:
                     break
-                e = 0.5 * math.erfc(x)
+                first[p] = min(first[p], i + 1)
+                e = 0.5 * _erfc(x, table)
                 for j in range(m):
                     big[p, j, i + 1] += e * g[j]
-        s = step * (i + 1)
-        inv = 0.5 / math.sqrt(kappa * s)
         for p in range(npts):
-            x = rho[p] * inv
+            if first[p] > i + 1:
+                break
             for j in range(m):
                 big[p, j, i + 1] += big[p, j, i]
-                if x <= ERFC_ZERO:
-                    small[p, j, i + 1] = 0.5 * math.erfc(x) * math.exp(-cs[j] / s) / math.sqrt(s)
-    return big, small
+    return big, first
 
 
 @numba.njit(cache=True)
-def _lattice_sums(d_lead, table, stride):  # pragma: no cover - compiled
-    """``sum_p sum_r d_lead[r, p] table[p, :, i - stride r]`` for every lattice point i, shape (last + 1, m):
-    the edge r from the lead is crossed ``stride r`` lattice points after the arrival."""
+def _psi_points(step, last, rho, cs, kappa, table):  # pragma: no cover - compiled
+    """psi_p at the lattice points i step, i = 0 .. last, (P, m, last + 1) (0 at i = 0)."""
+    out = np.zeros((rho.size, cs.size, last + 1))
+    for i in range(1, last + 1):
+        s = step * i
+        inv = 0.5 / math.sqrt(kappa * s)
+        for p in range(rho.size):
+            x = rho[p] * inv
+            if x > ERFC_ZERO:
+                break
+            e = 0.5 * _erfc(x, table) / math.sqrt(s)
+            for j in range(cs.size):
+                out[p, j, i] = e * math.exp(-cs[j] / s)
+    return out
+
+
+@numba.njit(cache=True)
+def _lattice_sums(d_lead, tab, stride, first, want):  # pragma: no cover - compiled
+    """``sum_p sum_r d_lead[r, p] tab[p, :, i - stride r]`` at the lattice points i of ``want`` (n,), (n, m): the
+    edge r from the lead is crossed ``stride r`` lattice points after the arrival; tab[p] is 0 before first[p]."""
     nr, npts = d_lead.shape
-    _, m, size = table.shape
-    acc = np.zeros((m, size))
+    m = tab.shape[1]
+    out = np.zeros((want.size, m))
     for p in range(npts):
+        f = first[p]
         for r in range(nr):
             w = d_lead[r, p]
-            shift = stride * r
-            if w == 0.0 or shift >= size:
+            if w == 0.0:
                 continue
-            for j in range(m):
-                row = table[p, j]
-                out = acc[j]
-                for i in range(shift, size):
-                    out[i] += w * row[i - shift]
-    return acc.T.copy()
+            shift = stride * r + f                      # tab[p, :, i - stride r] = 0 for i < shift
+            for n in range(want.size):
+                i = want[n]
+                if i < shift:
+                    continue
+                for j in range(m):
+                    out[n, j] += w * tab[p, j, i - stride * r]
+    return out
 
 
 @numba.njit(cache=True)
-def _far_lateral(theta, nodes, weights, rho, cs, kappa):  # pragma: no cover - compiled
-    """``sum_l sum_p weights[p, l] psi_p(theta - c_l)`` at the times theta (n,) past the nodes c_l [s], (n, m)."""
+def _far_lateral(theta, nodes, weights, rho, cs, kappa, table):  # pragma: no cover - compiled
+    """``sum_l sum_p weights[l, p] psi_p(theta - c_l)`` at the times theta (n,) past the nodes c_l [s], (n, m)."""
     out = np.zeros((theta.size, cs.size))
     for i in range(theta.size):
         for l in range(nodes.size):
             s = theta[i] - nodes[l]
             if s <= 0.0:
                 continue
-            lat = _lateral_factor(s, rho, kappa, weights[:, l])
+            lat = _lateral_factor(s, rho, kappa, weights[l], table)
             if lat == 0.0:
                 continue
+            root = math.sqrt(s)
             for j in range(cs.size):
-                out[i, j] += lat * math.exp(-cs[j] / s) / math.sqrt(s)
+                out[i, j] += lat * math.exp(-cs[j] / s) / root
     return out
 
 
@@ -217,38 +258,49 @@ class LateralPassResponse:
 
     def __init__(self, x_edges, y_edges, flux, speed, depth, effusivity, diffusivity, snap):
         x = np.ascontiguousarray(x_edges, dtype=float)
-        centre, self.rho, b = lateral_weights(y_edges, flux)
+        centre, rho, b = lateral_weights(y_edges, flux)
+        order = np.argsort(rho)
+        self.rho, self.b = np.ascontiguousarray(rho[order]), np.ascontiguousarray(b[:, order])
         self.base_flux = centre
-        order = np.argsort(self.rho)
-        self.rho, b = np.ascontiguousarray(self.rho[order]), b[:, order]
         self.base = PassResponse(x, centre, speed, depth, effusivity, diffusivity, snap)
         self.cs, self.duration, self.scale = self.base.cs, self.base.duration, self.base.scale
         self.kappa = float(diffusivity)
-        self.b = b
-        self.d = _edge_weights(b)
+        self.d = _edge_weights(self.b)
         self.c_edge = self.base.c_edge
-        self.far_nodes = _far_weights(self.c_edge, np.zeros(self.c_edge.size), self.duration, FAR_DEGREE)[0]
-        self.far_weights = np.zeros((self.rho.size, self.far_nodes.size))
-        for p in range(self.rho.size):                  # the crossing times' Chebyshev weights per distance
-            self.far_weights[p] = _far_weights(self.c_edge, np.ascontiguousarray(self.d[:, p]), self.duration,
-                                               FAR_DEGREE)[1]
-        self.half = self.base.half
-        self.uniform = self.base.uniform
-        self._table = None
+        self.half, self.uniform, self.snap = self.base.half, self.base.uniform, self.base.snap
+        # per degree of FAR_DEGREES: the crossing times' Chebyshev nodes (L,) and each distance's weights (L, P)
+        self.far_sets = [_far_set(self.c_edge, self.d, self.duration, deg) for deg in FAR_DEGREES]
+        self._psi = None
 
-    def _tables(self):
-        """dR and its slope at the lattice points i half, i = 0 .. 4 n (two contact durations), (4 n + 1, m) each."""
-        if self._table is None:
-            last = 4 * self.base.n
+    def _lattice(self):
+        """Psi_p on the lattice of half cell-crossing times up to two contact durations and where it starts."""
+        if self._psi is None:
             nodes, gw = np.polynomial.legendre.leggauss(GAUSS)
-            big, small = _psi_tables(self.half, last, self.rho, self.cs, self.kappa, 0.5 * (nodes + 1.0), 0.5 * gw)
-            d_lead = np.ascontiguousarray(self.d[::-1])
-            self._table = (_lattice_sums(d_lead, big, 2) * self.scale, _lattice_sums(d_lead, small, 2) * self.scale)
-        return self._table
+            self._psi = _psi_table(self.half, 4 * self.base.n, self.rho, self.cs, self.kappa, 0.5 * (nodes + 1.0),
+                                   0.5 * gw, _ERFC_TABLE)
+        return self._psi
+
+    def _on_lattice(self, theta):
+        """dR at times theta (n,) before two contact durations on a uniform grid, (n, m): the discrete convolution
+        at lattice points (within ``snap``), cubic Hermite between them (its slopes: psi_p convolved alike)."""
+        big, first = self._lattice()
+        last = big.shape[2] - 1
+        d_lead = np.ascontiguousarray(self.d[::-1])
+        at = np.rint(theta / self.half)
+        on = np.abs(theta - at * self.half) <= self.snap
+        out = np.empty((theta.size, self.cs.size))
+        if on.all():
+            return _lattice_sums(d_lead, big, 2, first, at.astype(np.int64)) * self.scale
+        every = np.arange(last + 1)
+        values = _lattice_sums(d_lead, big, 2, first, every)
+        slopes = _lattice_sums(d_lead, _psi_points(self.half, last, self.rho, self.cs, self.kappa, _ERFC_TABLE), 2,
+                               first, every)
+        out[:] = _hermite(theta, self.half, values, slopes)
+        return out * self.scale
 
     def delta(self, theta):
-        """The lateral term dR at the times theta (n,) [s], (n, m): 0 at theta <= 0, on the lattice table (cubic
-        Hermite between its points) before two contact durations, by the far sum after them."""
+        """The lateral term dR at the times theta (n,) [s], (n, m): 0 at theta <= 0, on the lattice before two
+        contact durations (a uniform grid; else by Gauss-Legendre on every cell), by the far sums after them."""
         theta = np.ascontiguousarray(theta, dtype=float)
         out = np.zeros((theta.size, self.cs.size))
         two_d = 2.0 * self.duration
@@ -258,23 +310,26 @@ class LateralPassResponse:
             out[far] = self._far_delta(theta[far])
         if near.any():
             if self.uniform:
-                values, slopes = self._tables()
-                out[near] = _hermite(theta[near], self.half, values, slopes)
+                out[near] = self._on_lattice(theta[near])
             else:
-                out[near] = _cell_quadrature(theta[near], self._cells(), self.rho, self.cs, self.kappa) * self.scale
+                start, end = self.c_edge[1:], self.c_edge[:-1]
+                out[near] = _cell_quadrature(theta[near], (start, end, np.ones(start.size), np.zeros(start.size),
+                                                           self.b), self.rho, self.cs, self.kappa) * self.scale
         return out
 
-    def _cells(self):
-        """Each cell's crossing [start, end] [s], factor 1 and no slope, and its lateral weights b (nx, P)."""
-        start, end = self.c_edge[1:], self.c_edge[:-1]
-        one = np.ones(start.size)
-        return start, end, one, np.zeros(start.size), self.b
-
-    def _far_delta(self, theta):
-        return _far_lateral(theta, self.far_nodes, self.far_weights, self.rho, self.cs, self.kappa) * self.scale
+    def _far_delta(self, theta, sets=None):
+        """dR at times theta >= 2 D [s] by the far sums (the nodes of FAR_DEGREES[0] before 4 D, [1] after)."""
+        sets = self.far_sets if sets is None else sets
+        out = np.empty((theta.size, self.cs.size))
+        late = theta >= 4.0 * self.duration
+        for mask, (nodes, weights) in ((~late, sets[0]), (late, sets[1])):
+            if mask.any():
+                out[mask] = _far_lateral(np.ascontiguousarray(theta[mask]), nodes, weights, self.rho, self.cs,
+                                         self.kappa, _ERFC_TABLE)
+        return out * self.scale
 
     def far(self, theta):
-        """The whole response at times theta >= 2 D [s] (:meth:`PassResponse.far` plus the lateral far sum)."""
+        """The whole response at times theta >= 2 D [s] (:meth:`PassResponse.far` plus the lateral far sums)."""
         theta = np.ascontiguousarray(theta, dtype=float)
         return self.base.far(theta) + self._far_delta(theta)
 
@@ -297,16 +352,27 @@ class LateralPassResponse:
         return out
 
 
+def _far_set(c_edge, d, duration, degree):
+    """The Chebyshev-Lobatto nodes (degree + 1,) [s] of the crossing times and each lateral distance's far
+    weights (degree + 1, P) [W/m^2 s] (:func:`railtherm_green.pass_response._far_weights` per column of d)."""
+    nodes = _far_weights(c_edge, np.zeros(c_edge.size), duration, degree)[0]
+    weights = np.zeros((nodes.size, d.shape[1]))
+    for p in range(d.shape[1]):
+        weights[:, p] = _far_weights(c_edge, np.ascontiguousarray(d[:, p]), duration, degree)[1]
+    return nodes, weights
+
+
 def _cell_quadrature(theta, cells, rho, cs, kappa):
     """``sum_k sum_p b_kp int_(start_k)^(end_k) (f0_k + slope_k (c - start_k)) psi_p(theta - c) dc`` (n, m) at the
     times theta [s] by Gauss-Legendre (GAUSS points) on each piece, cut at theta (psi_p is smooth, flat at 0);
     ``cells`` = (start, end, f0, slope, b)."""
     gx, gw = np.polynomial.legendre.leggauss(GAUSS)
-    return _piece_sums(theta, *(np.ascontiguousarray(v, dtype=float) for v in cells), rho, cs, kappa, gx, gw)
+    return _piece_sums(theta, *(np.ascontiguousarray(v, dtype=float) for v in cells), rho, cs, kappa, gx, gw,
+                       _ERFC_TABLE)
 
 
 @numba.njit(cache=True)
-def _piece_sums(theta, start, end, f0, slope, b, rho, cs, kappa, gx, gw):  # pragma: no cover - compiled
+def _piece_sums(theta, start, end, f0, slope, b, rho, cs, kappa, gx, gw, table):  # pragma: no cover - compiled
     """:func:`_cell_quadrature` compiled."""
     out = np.zeros((theta.size, cs.size))
     for i in range(theta.size):
@@ -320,7 +386,7 @@ def _piece_sums(theta, start, end, f0, slope, b, rho, cs, kappa, gx, gw):  # pra
                 if s <= 0.0:
                     continue
                 f = (f0[k] + slope[k] * (c - start[k])) * 0.5 * gw[a] * (hi - lo)
-                lat = _lateral_factor(s, rho, kappa, b[k])
+                lat = _lateral_factor(s, rho, kappa, b[k], table)
                 if lat == 0.0:
                     continue
                 for j in range(cs.size):
@@ -332,32 +398,30 @@ def scheduled_lateral(theta, response, pieces):
     """The lateral term dR (n, m) of a pass heated under a schedule at the times theta > 0 after its arrival [s]:
     ``pieces`` = (start, end, cell, f0, slope): each cell's crossing cut at the schedule's times, with the cell
     index and the factor (value at the start, slope [1/s]) on it. Before two contact durations Gauss-Legendre on
-    every piece; after them the far sum, its weights ``int f(c) b_p(c) l_l(c) dc`` of the Lagrange basis l_l of
-    the crossing times' Chebyshev nodes integrated exactly (Gauss-Legendre of degree FAR_DEGREE + 1 per piece)."""
+    every piece; after them the far sums, their weights ``int f(c) b_p(c) l_l(c) dc`` of the Lagrange basis l_l of
+    the crossing times' Chebyshev nodes integrated exactly (Gauss-Legendre of the basis' degree + 1 per piece)."""
     theta = np.ascontiguousarray(theta, dtype=float)
     start, end, cell, f0, slope = pieces
     b = np.ascontiguousarray(response.b[cell])
     out = np.zeros((theta.size, response.cs.size))
-    two_d = 2.0 * response.duration
-    near = theta < two_d
+    near = theta < 2.0 * response.duration
     if near.any():
         out[near] = _cell_quadrature(theta[near], (start, end, f0, slope, b), response.rho, response.cs,
-                                     response.kappa)
+                                     response.kappa) * response.scale
     if (~near).any():
-        weights = _scheduled_far_weights(response.far_nodes, start, end, f0, slope, b)
-        out[~near] = _far_lateral(theta[~near], response.far_nodes, weights, response.rho, response.cs,
-                                  response.kappa)
-    return out * response.scale
+        sets = [(nodes, _scheduled_far_weights(nodes, start, end, f0, slope, b)) for nodes, _ in response.far_sets]
+        out[~near] = response._far_delta(theta[~near], sets)
+    return out
 
 
 def _scheduled_far_weights(nodes, start, end, f0, slope, b):
-    """``K_pl = int f(c) b_p(c) l_l(c) dc`` (P, L) over the pieces, l_l the Lagrange basis of ``nodes``."""
-    gx, gw = np.polynomial.legendre.leggauss((nodes.size + 2) // 2 + 1)
+    """``K_lp = int f(c) b_p(c) l_l(c) dc`` (L, P) over the pieces, l_l the Lagrange basis of ``nodes``."""
+    gx, gw = np.polynomial.legendre.leggauss(nodes.size // 2 + 2)
     c = start[:, None] + 0.5 * (gx[None, :] + 1.0) * (end - start)[:, None]          # (pieces, gauss)
     f = (f0[:, None] + slope[:, None] * (c - start[:, None])) * 0.5 * gw[None, :] * (end - start)[:, None]
     diff = c[..., None] - nodes[None, None, :]                                          # (pieces, gauss, L)
     basis = np.empty_like(diff)
-    for l in range(nodes.size):                       # the Lagrange basis, product form (L = 25 nodes)
+    for l in range(nodes.size):                       # the Lagrange basis in product form (17 or 13 nodes)
         others = np.delete(np.arange(nodes.size), l)
         basis[..., l] = np.prod(diff[..., others], axis=-1) / np.prod(nodes[l] - nodes[others])
-    return np.ascontiguousarray(np.einsum("kg,kgl,kp->pl", f, basis, b))
+    return np.ascontiguousarray(np.einsum("kg,kgl,kp->lp", f, basis, b))
