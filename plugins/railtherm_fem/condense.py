@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.linalg import solve_triangular
 
 __all__ = ["nested_dissection", "CondensedStiffness"]
 
@@ -146,7 +147,6 @@ class CondensedStiffness:
         # trailing block of U is needed (reading U out of SuperLU costs about as much as its fill)
         U = self.lu.U
         Uw = U[-2 * m:, -2 * m:].toarray()
-        from scipy.linalg import solve_triangular
         Uinv = solve_triangular(Uw, np.eye(2 * m), lower=False)
         d = np.diag(Uw)
         # C = S^{-1} = U^{-1} D U^{-T}

@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+from skfem import ElementTriP1
+from skfem.quadrature import get_quadrature
 
 from .condense import CondensedStiffness
 from .mesh import StripMesh
@@ -136,8 +138,6 @@ class ElasticStrip:
         key = (intorder, depth)
         if self._quadrature is not None and self._quadrature[0] == key:
             return self._quadrature[1]
-        from skfem import ElementTriP1
-        from skfem.quadrature import get_quadrature
         mesh = self.strip.mesh
         t = mesh.t
         elems = np.arange(mesh.nelements) if depth is None else np.nonzero((-mesh.p[1, t]).min(axis=0) < depth)[0]
@@ -180,7 +180,6 @@ class ElasticStrip:
         containing each point (plane strain: sigma_yy = lambda tr(eps) - beta theta).
         theta(x, z) gives the temperature rise [K] (None: mechanical stress only).
         """
-        from skfem import MeshTri
         mesh = self.strip.mesh
         x = np.asarray(x, float).ravel()
         z = np.asarray(z, float).ravel()

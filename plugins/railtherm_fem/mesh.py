@@ -16,6 +16,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from skfem import MeshTri
 
 __all__ = ["StripMesh", "graded_strip_mesh"]
 
@@ -136,8 +137,6 @@ def graded_strip_mesh(length: float, depth: float, window: float, spacing: float
     -------
     StripMesh
     """
-    from skfem import MeshTri
-
     if not (length > 0 and depth > 0 and window > 0 and spacing > 0):
         raise ValueError("length, depth, window and spacing must be positive")
     if window >= 0.5 * length:

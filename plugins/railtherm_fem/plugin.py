@@ -6,6 +6,8 @@ from railtherm import Method, hookimpl
 
 @hookimpl
 def railtherm_register_models():
+    # lazy: the model loads scikit-fem and builds its forms; plugin discovery (every `import railtherm`
+    # session that lists the plugins) must not pay for that
     from .model import FemModel
     return [FemModel]
 

@@ -22,6 +22,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.linalg import eigh
+from scipy.linalg.lapack import dgbtrf, dgbtrs
+from skfem import Basis, BilinearForm, ElementLineP1, MeshLine, asm
 
 __all__ = ["ThermalGrid", "thermal_grid", "bilinear_weights", "hat_load", "solve_thermal", "ThermalSolver", "ThermalBody"]
 
@@ -200,8 +203,6 @@ def _upstream_matrix(x: np.ndarray) -> sp.csr_matrix:
 
 def _fe_1d(nodes: np.ndarray):
     """P1 stiffness and mass on 1-D nodes (scikit-fem)."""
-    from skfem import Basis, BilinearForm, ElementLineP1, MeshLine, asm
-
     mesh = MeshLine(np.asarray(nodes, float))
     basis = Basis(mesh, ElementLineP1())
 
@@ -329,8 +330,6 @@ class _ModalFactor:
     :class:`ThermalSolver`), the modes stacked one after the other in one banded matrix."""
 
     def __init__(self, G, Kz, Mz, mx):
-        from scipy.linalg import eigh
-        from scipy.linalg.lapack import dgbtrf
         self.mu, self.phi = eigh(Kz, Mz)                 # Phi^T Kz Phi = diag(mu), Phi^T Mz Phi = I
         n, m = G.shape[0], self.mu.size
         band = np.zeros((4, n))                          # LAPACK band storage: band[2 + i - j, j] = G[i, j]
@@ -353,7 +352,6 @@ class _ModalFactor:
 
     def solve(self, load: np.ndarray) -> np.ndarray:
         """Free temperatures, shape (n, m) [K], for the surface load of the free x-nodes [W/m]."""
-        from scipy.linalg.lapack import dgbtrs
         rhs = (self.phi[0][:, None] * load[None, :]).ravel()
         eta, info = dgbtrs(self.lu, 1, 2, rhs, self.piv)
         if info != 0:
