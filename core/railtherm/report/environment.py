@@ -2,6 +2,7 @@
 code that produced the results (commit id, railtherm's and every plugin's version)."""
 from __future__ import annotations
 
+import importlib.metadata as md
 import json
 import os
 import platform
@@ -48,7 +49,6 @@ def commit_id() -> str:
 def code_versions(data: StudyData) -> tuple[str, list[str]]:
     """(railtherm's installed version, ['green 0.2.0', ...]): the plugins and versions named in the run
     files' ``source`` attribute (what produced the results), else the installed plugins' distributions."""
-    import importlib.metadata as md
     try:
         version = md.version("railtherm")
     except md.PackageNotFoundError:
@@ -139,7 +139,6 @@ def _run_items(data: StudyData) -> list[str]:
 def environment_section(doc: Document, data: StudyData, notes: list[str]):
     """Where the results came from: the code (commit id, railtherm's and every plugin's version), the
     packages, the machine, the run, and the data files."""
-    import importlib.metadata as md
     doc.heading(2, "Environment and code", "environment")
     version, plugins = code_versions(data)
     commit = commit_id()

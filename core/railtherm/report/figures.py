@@ -8,8 +8,11 @@ methods' lines; stick/slip is drawn in grey and black, never in a method's colou
 from __future__ import annotations
 
 import contextlib
-
 import math
+import multiprocessing as mp
+import pickle
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -67,7 +70,7 @@ def method_colour(method: str, methods=()) -> str:
 
 
 def figure(w: float, h: float):
-    from matplotlib.figure import Figure
+    from matplotlib.figure import Figure   # matplotlib only where a figure is drawn (the report imports fast)
     fig = Figure(figsize=(w, h), layout="constrained")
     return fig
 
@@ -81,7 +84,6 @@ SIZES: dict = {}
 
 def _render(blob: bytes, path: str) -> str:
     """Render a pickled figure to ``path`` (in a worker process of :func:`rendering`)."""
-    import pickle
     pickle.loads(blob).savefig(path, **PNG_OPTIONS)
     return path
 
@@ -98,9 +100,6 @@ def rendering(workers: int, context=None):
     if workers < 2:
         yield
         return
-    import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor
-    from concurrent.futures.process import BrokenProcessPool
     pool, jobs = ProcessPoolExecutor(workers, mp_context=context or mp.get_context("spawn")), []
     _RENDER = (pool, jobs)
     try:
@@ -117,7 +116,6 @@ def rendering(workers: int, context=None):
 
 def save(fig, path: Path) -> tuple[Path, int]:
     """Write ``fig`` as PNG at 2x (here, or by the pool of :func:`rendering`) and return (path, CSS width [px])."""
-    import pickle
     path.parent.mkdir(parents=True, exist_ok=True)
     width = int(round(fig.get_figwidth() * CSS_DPI))
     SIZES[Path(path)] = (int(fig.get_figwidth() * PNG_DPI), int(fig.get_figheight() * PNG_DPI))
@@ -153,6 +151,7 @@ def log_ticks(axis, lo: float, hi: float, compact: bool = False):
     ``compact`` (small multiples about two inches wide): 1-2-5 steps only below 1.2 decades, so that
     labels such as 0.002, 0.005, 0.01 do not run together, and no minor ticks (each tick is an artist
     that the constrained layout measures: they were half of such a figure's drawing time)."""
+    # matplotlib only where a figure is drawn (the report imports fast)
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator
     decades = math.log10(hi / lo) if lo > 0 and hi > 0 else 99
     subs = (1.0, 2.0, 5.0) if decades < (1.2 if compact else 2.2) else (1.0,)
@@ -194,7 +193,7 @@ class Panel:
 
 def work_precision(panels: list[Panel], palette: Palette, tol: float | None, *, path: Path, methods: list[str]):
     """Small multiples: headline error (x) against wall time (y), log-log, one panel per scene."""
-    from matplotlib.lines import Line2D
+    from matplotlib.lines import Line2D   # matplotlib only where a figure is drawn (the report imports fast)
     n = len(panels)
     ncol = min(5, n)          # five across keeps a 20-scene study at four rows on one screen width
     nrow = math.ceil(n / ncol)
@@ -280,6 +279,7 @@ def _bands(ax, x, stick, row: int):
 
 
 def _traction_line(have: dict, curve, mu, palette: Palette, title: str, path: Path):
+    # matplotlib only where a figure is drawn (the report imports fast)
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
     car = curve if curve is not None and "carter_traction_x" in curve else None
@@ -329,6 +329,7 @@ def _traction_line(have: dict, curve, mu, palette: Palette, title: str, path: Pa
 
 def _traction_maps(have: dict, title: str, path: Path):
     """Ellipse: traction q_x and stick/slip maps of each method (finest level)."""
+    # matplotlib only where a figure is drawn (the report imports fast)
     from matplotlib.colors import BoundaryNorm, ListedColormap
     items = list(have.items())[:4]
     if not items:
@@ -387,7 +388,7 @@ class SweepSeries:
 
 def sweep(series: SweepSeries, palette: Palette, tol: float | None, title: str, *, path: Path, methods: list[str]):
     """A sweep: the headline quantity (left) and its error (right) against the swept value."""
-    from matplotlib.lines import Line2D
+    from matplotlib.lines import Line2D   # matplotlib only where a figure is drawn (the report imports fast)
     fig = figure(10, 3.9)
     ax, ax2 = fig.subplots(1, 2)
     handles = []

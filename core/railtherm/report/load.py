@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..input.study import load_study
 from ..output import store
 from ..output.store import RESULT_STATUSES   # statuses of runs that produced a result
 
@@ -335,7 +336,6 @@ def _load_study(info: dict, out: Path):
         return None, (f"study file {path!r} not found: scene inputs and published values are left out" if path else
                       "no study given and no study path in study.json: scene inputs and published values are left out")
     try:
-        from ..input.study import load_study
         return load_study(path), None
     except Exception as exc:  # noqa: BLE001
         return None, f"study file {path!r} could not be loaded ({exc}): scene inputs and published values are left out"

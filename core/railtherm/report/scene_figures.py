@@ -55,12 +55,13 @@ def _y_of_line(have: dict, body: int, exact: bool, ref_method: str) -> float | N
 def surface(finest: dict, curve, palette: Palette, title: str, path: Path, bulk=(0.0, 0.0), ref_method: str = ""):
     """Surface temperature rise along x of both bodies on the line through the hottest point, with the exact
     curve and each method's difference from it (or, against a reference method, that method as the band)."""
-    from matplotlib.lines import Line2D
+    from matplotlib.lines import Line2D   # matplotlib only where a figure is drawn (the report imports fast)
     have = {m: ds for m, ds in finest.items() if "surface_temperature" in ds}
     if not have:
         return None
     ref = curve if curve is not None and "surface_temperature" in curve else None
     if ref is not None:
+        # scipy only where a curve is drawn (the report imports fast)
         from scipy.interpolate import PchipInterpolator
         xr_ = ref["x"].values
         ref_at = [PchipInterpolator(xr_, ref["surface_temperature"].values[i]) for i in (0, 1)]
@@ -144,7 +145,7 @@ def _profile(ds, body: int, x0: float, y0):
 def depth(finest: dict, curve, bulk: tuple | None, palette: Palette, title: str, path: Path, ref_method: str = ""):
     """Temperature rise against depth through the hottest surface point, the reference (exact profile, or
     the reference method's) as a grey band beside the methods; None when there is no reference profile."""
-    from matplotlib.lines import Line2D
+    from matplotlib.lines import Line2D   # matplotlib only where a figure is drawn (the report imports fast)
     have = {m: ds for m, ds in finest.items() if "temperature" in ds and "z" in ds.dims}
     exact = curve if curve is not None and "temperature" in curve and "hottest_x" in curve else None
     band = have.get(ref_method) if exact is None else None

@@ -99,6 +99,7 @@ def _ticks(ax, vx, vy, kx, ky):
 
 def draw(panels: dict, kx: str, ky: str, vx: list, vy: list, tol: float | None, title: str, *, path: Path):
     """Heat maps of ``panels`` (from :func:`grids`) side by side; returns (path, CSS width) or None."""
+    # matplotlib only where a figure is drawn (the report imports fast)
     from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
     if not panels:
         return None

@@ -14,9 +14,12 @@ successful level. A sweep is one row: the cell summarises its members' cells.
 from __future__ import annotations
 
 import math
+import os
+import re
 from dataclasses import dataclass, field
 
 from ..contract.verdict_rules import RISE_FRACTION, cheapest
+from ..output import store
 from .document import Cell
 from .format import duration, label, level, level_range, pct, ratio, short
 from .load import Run, StudyData, independent
@@ -113,7 +116,6 @@ def rows(data: StudyData, groups: list[SweepGroup]) -> list[Row]:
 
 
 def _anchor(text: str) -> str:
-    import re
     return re.sub(r"[^A-Za-z0-9]+", "-", text).strip("-").lower() or "x"
 
 
@@ -140,7 +142,6 @@ def stored_verdicts(data) -> dict:
         return cached
     out: dict = {}
     try:
-        from ..output import store
         m = store.read_metrics(data.out)
     except Exception:  # noqa: BLE001 - synthetic data or no metrics.nc: the rule is applied to the run table
         m = None
@@ -460,7 +461,6 @@ def _finest_signed(data, signed: dict, scene: str, method: str):
 
 def _scene_span(scenes: list[str]) -> str:
     """"`ek-exact-*`" for scenes sharing a prefix, else their names."""
-    import os
     names = list(dict.fromkeys(scenes))
     if len(names) == 1:
         return f"`{names[0]}`"
