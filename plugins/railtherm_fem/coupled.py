@@ -24,7 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from railtherm import Refused, SolverError
-from railtherm.physics.friction import LOOP_MU_TOLERANCE, LoopStep, contact_temperature, iterate_temperature_law
+from railtherm.physics.friction import (LOOP_MU_TOLERANCE, ConstantFriction, FrictionLaw, LoopStep, contact_temperature,
+                                        iterate_temperature_law)
 from railtherm.physics.partition import HeatPartition
 
 from .contact import ContactSolution, solve_contact, upstream_derivative
@@ -51,10 +52,11 @@ class FemProblem:
         Rolling speed V [m/s].
     normal_force, penetration : float or None
         Prescribed normal force per width [N/m] or approach [m] (exactly one).
-    friction : float
-        mu [1] (a law's nominal value: at zero slip speed and the reference temperature).
-    friction_law : railtherm.physics.friction.FrictionLaw or None
-        The scene's law (None or constant: ``friction`` everywhere); see :mod:`.friction`.
+    friction : railtherm.physics.friction.FrictionLaw or None
+        The scene's friction law (a number [1] is taken as the constant law of that mu); None: frictionless.
+        Where one coefficient is needed (the contact's mu under a constant law, whether there is friction at
+        all) it is the law's ``nominal`` (at zero slip speed and the reference temperature, :attr:`mu`); a
+        slip or temperature law is applied per window node, :mod:`.friction`.
     creepage : float or None
         Longitudinal creepage xi [1]; for full sliding ``-sliding_speed / speed`` is used (the wheel surface
         moves at V + v_s: a driving wheel, negative creepage, positive force on the wheel, as CONTACT).
@@ -93,8 +95,7 @@ class FemProblem:
     speed: float
     normal_force: float | None = None
     penetration: float | None = None
-    friction: float = 0.0
-    friction_law: object = None
+    friction: FrictionLaw | None = None
     creepage: float | None = None
     sliding_speed: float | None = None
     regularization: float = 0.0
@@ -116,6 +117,13 @@ class FemProblem:
 
     def __post_init__(self):
         self.heat_partition = HeatPartition.of(self.heat_partition)
+        if self.friction is not None and not isinstance(self.friction, FrictionLaw):
+            self.friction = ConstantFriction(float(self.friction))
+
+    @property
+    def mu(self) -> float:
+        """The law's nominal coefficient of friction [1] (0 without a law)."""
+        return 0.0 if self.friction is None else float(self.friction.nominal)
 
 
 @dataclass
@@ -406,9 +414,9 @@ def solve_fem(prob: FemProblem) -> FemSolution:
     (``friction_loop_*``, comma-separated; ``friction_loop_coupling_iterations``: the Steps 1-4 iterations
     of each of its solves).
     """
-    law = prob.friction_law
+    law = prob.friction
     if (prob.thermal and law is not None and law.depends_on_temperature and not prob.frictionless
-            and prob.friction > 0):
+            and prob.mu > 0):
         return _solve_under_temperature_law(prob, law)
     return _solve_steps(prob)
 
@@ -460,7 +468,7 @@ def _solve_steps(prob: FemProblem, node_temperature=None) -> FemSolution:
         length = max(length, 2.0 * (prob.field_behind + (1.0 + FIELD_MARGIN) * a_ref))
     if prob.field_depth is not None and not prob.strip_depth:
         depth = max(depth, 2.0 * prob.field_depth)
-    frictional = not prob.frictionless and prob.friction > 0
+    frictional = not prob.frictionless and prob.mu > 0
     xi = None
     if frictional:
         xi = prob.creepage if prob.creepage is not None else -(prob.sliding_speed or 0.0) / prob.speed
@@ -471,7 +479,7 @@ def _solve_steps(prob: FemProblem, node_temperature=None) -> FemSolution:
                       "stick zone creeps viscously and the creep force is biased (towards mu N |xi| / eps when "
                       "eps > |xi|); use eps <= 0.01 |xi|, or 0 (exact Coulomb, the default)",
                       RuntimeWarning, stacklevel=2)
-    law = prob.friction_law if frictional and prob.friction_law is not None else None
+    law = prob.friction if frictional else None
     law = None if law is None or law.kind == "constant" else law
     temperature_law = law is not None and law.depends_on_temperature
     law_state = {"mu": None}
@@ -513,7 +521,7 @@ def _solve_steps(prob: FemProblem, node_temperature=None) -> FemSolution:
     for attempt in range(4):
         window_n = min(max(window, 4 * h), window_max)
         mech = _mechanics(prob, length, depth, window_n, h)
-        common = dict(friction=prob.friction if frictional else 0.0, creepage=xi, regularization=eps,
+        common = dict(friction=prob.mu if frictional else 0.0, creepage=xi, regularization=eps,
                       normal_force=prob.normal_force, penetration=prob.penetration)
         sol = contact(mech, common, None, None)
         inside = np.nonzero(sol.pressure > 0)[0]

@@ -193,7 +193,7 @@ class FemModel(CoupledModel):
         return FemProblem(
             radius=float(wheel_radius), rail=rail, wheel=wheel, speed=float(speed),
             normal_force=normal_force, penetration=penetration if normal_force is None else None,
-            friction=float(friction.nominal) if friction is not None else 0.0, friction_law=friction,
+            friction=friction,
             creepage=creep, sliding_speed=sliding,
             regularization=float(eps), heat_partition=heat_partition,
             convection=float(convection or 0.0),
@@ -286,7 +286,7 @@ class FemModel(CoupledModel):
         sol : FemSolution
             The solution of :func:`railtherm_fem.coupled.solve_fem`.
         prob : FemProblem
-            Its problem (``speed`` [m/s], ``friction`` [1], ``creepage`` [1], ``sliding_speed`` [m/s]).
+            Its problem (``speed`` [m/s], ``mu`` [1] (its law's nominal), ``creepage`` [1], ``sliding_speed`` [m/s]).
         level : int
             Mesh level k [1].
         cells : int or None
@@ -313,7 +313,7 @@ class FemModel(CoupledModel):
                     coupling_history=",".join(f"{h:.3e}" for h in sol.history),
                     coupling_relaxation=",".join(f"{w:.3g}" for w in sol.omegas),
                     nodal_frictional_power=float(sol.frictional_power))
-        if not prob.friction > 0:
+        if not prob.mu > 0:
             # frictionless: no traction and no stick anywhere; every point slips at the rigid slip V xi (the
             # limit mu -> 0 of the frictional solution; the contact solver computes no slip without friction)
             xi = prob.creepage if prob.creepage is not None else -(prob.sliding_speed or 0.0) / V
@@ -322,7 +322,7 @@ class FemModel(CoupledModel):
         patch = ContactPatch(grid=grid, normal_force=float(c.normal_force), a=float(a), b=None,
                              max_pressure=float(c.pressure.max()), pressure=pressure, traction_x=traction,
                              slip_velocity_x=slip, stick=stick,
-                             creep_force_x=float(c.tangential_force) if prob.friction > 0 else 0.0,
+                             creep_force_x=float(c.tangential_force) if prob.mu > 0 else 0.0,
                              diagnostics=diag)
         power = nodal_cell_average(c.x, sol.heat_power_density, edges)
         source = HeatSource(grid=grid, power_density=power, heat_partition=float(sol.heat_partition),
