@@ -22,7 +22,7 @@ from scipy import optimize
 
 from .flash import thermal_properties
 from .transient_pass import (MovingSource, Schedule, _as_depth, _constant_part, _schedule_part, _split,
-                             pass_response, upstream_reach)
+                             pass_level, pass_response, upstream_reach)
 
 __all__ = ["MovingSource", "Schedule", "PassSummary", "history_time_axis", "pass_response",
            "temperature_history", "pass_summary", "shifted_sum", "time_above"]
@@ -215,9 +215,15 @@ def temperature_history(time, depth, source: MovingSource, material, count: int 
         last = np.full(time.size, count - 1) if through_pass is None else np.asarray(through_pass).ravel()
         for k in range(count):
             rows = np.nonzero((time - k * step > -reach) & (k <= last))[0]
-            if rows.size:
-                out[rows] += _schedule_part(time[rows] - k * step, depth, source, material, sched, minus, k * step,
-                                            **opts)
+            if not rows.size:
+                continue
+            # pass k: level * (steady sweep) + the time integral of f - level (see pass_level)
+            level = pass_level(sched, k * step, minus, via_time_integral)
+            if level != minus:
+                out[rows] += (level - minus) * _constant_part(time[rows] - k * step, depth, source, material, False,
+                                                              **opts)
+            out[rows] += _schedule_part(time[rows] - k * step, depth, source, material, sched, level, k * step,
+                                        **opts)
     return out
 
 

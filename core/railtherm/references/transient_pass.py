@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.special import erf, erfc, ive
@@ -28,7 +29,7 @@ from .flash import thermal_properties
 from .jaeger import jaeger_band_temperature
 from .moving_source import moving_source_temperature
 
-__all__ = ["MovingSource", "Schedule", "pass_response", "upstream_reach"]
+__all__ = ["MovingSource", "Schedule", "pass_level", "pass_response", "upstream_reach"]
 
 #: half-width of the Gaussian windows of the inner quadratures in units of s = 2 sqrt(kappa tau):
 #: the tail beyond is erfc(6.5) ~ e^-42 / 11
@@ -144,9 +145,15 @@ def _band_uniform(xi, s, src, nx):
     return 0.5 * _SQRT_PI * _erf_diff((xi + a) / s, (xi - a) / s)
 
 
+@lru_cache(maxsize=32)
 def _gl(nx):
+    """Gauss-Legendre nodes and weights on [0, 1] (cached: the inner quadratures ask for the same few rules
+    at every emission time)."""
     x, w = np.polynomial.legendre.leggauss(int(nx))
-    return (x + 1.0) / 2.0, w / 2.0
+    x, w = (x + 1.0) / 2.0, w / 2.0
+    x.setflags(write=False)
+    w.setflags(write=False)
+    return x, w
 
 
 def _x_window(xi, s, a):
@@ -211,7 +218,8 @@ _INNER = {("band", "uniform"): _band_uniform, ("band", "hertz"): _band_hertz,
 
 
 def _integrand_u(u, theta_e, z, src, kappa, nx):
-    """rho c / q * (kernel integrated over the source) * dtau/du at tau = u^2, emission time theta_e."""
+    """rho c / q * (kernel integrated over the source) * dtau/du at tau = u^2, emission time theta_e, depth z
+    (a number or one per u)."""
     s = 2.0 * math.sqrt(kappa) * u
     xi = src.half_width - src.speed * theta_e
     out = np.zeros(u.shape)
@@ -219,8 +227,9 @@ def _integrand_u(u, theta_e, z, src, kappa, nx):
     if not np.any(ok):
         return out
     inner = _INNER[(src.kind, src.shape)](xi[ok], s[ok], src, nx)
+    zz = np.broadcast_to(z, u.shape)[ok]
     with np.errstate(under="ignore"):
-        depth = np.exp(-(z / s[ok]) ** 2)
+        depth = np.exp(-(zz / s[ok]) ** 2)
     if src.kind == "band":
         out[ok] = 2.0 / (math.pi * math.sqrt(kappa)) * inner * depth
     else:
@@ -239,39 +248,76 @@ def upstream_reach(theta, src, kappa):
 
 
 def _far(p, q, theta, z, src, kappa):
-    """True when every emission in [p, q] (times after arrival) reaches the point with a Gaussian factor
+    """True (element-wise) when every emission in [p, q] (times after arrival) reaches the point with a Gaussian factor
     exp(-(d^2 + z^2)/(4 kappa tau)) < e^-_FAR: d the distance from the point to the nearest source edge,
     at least V (p - D) after departure or V (-q) before arrival, tau <= theta - p."""
-    d = src.speed * max(p - src.contact_duration, -q, 0.0)
+    d = src.speed * np.maximum(np.maximum(p - src.contact_duration, -q), 0.0)
     return d * d + z * z > 4.0 * kappa * (theta - p) * _FAR
 
 
 def _time_integral(theta, z, src, kappa, factor, start, breaks, n, nx, stop=math.inf):
-    """int_{start}^{min(stop, theta)} factor(t') K(theta - t', t') dt' [K per (q/(rho c))], u = sqrt(theta - t').
+    """int_{start}^{min(stop, theta)} factor(t') K(theta - t', t') dt' [K per (q/(rho c))], u = sqrt(theta - t'),
+    at one observation time and depth (:func:`_time_integrals` for many)."""
+    return float(_time_integrals(np.array([theta], float), np.array([z], float), src, kappa, factor, start, breaks,
+                                 n, nx, stop)[0])
 
-    ``factor`` is a callable of the emission time relative to the pass's arrival, zero outside
-    [start, stop]; ``breaks`` the times where it has kinks. Pieces whose emissions are all too far from
-    the point (:func:`_far`) are left out."""
-    lo = max(start, -upstream_reach(theta, src, kappa))
-    hi = min(stop, theta)
-    if lo >= hi:
-        return 0.0
-    pts = [lo, hi]
-    pts += [b for b in breaks if lo < b < hi]
-    for b in (0.0, src.contact_duration, theta - z * z / (4.0 * kappa)):
-        if lo < b < hi:
-            pts.append(b)
-    pts = np.unique(pts)
+
+def _panels(theta, z, src, kappa, start, breaks, stop):
+    """The time integral's panels [p, q] of emission times, shape (M, B + 1) each, per observation time and
+    depth (M): between max(start, -upstream reach) and min(stop, theta), split at the factor's ``breaks``, the
+    source's arrival (0) and departure (D) and theta - z^2/(4 kappa) (the depth's kernel peak); a panel that is
+    empty or whose emissions are all too far from the point (:func:`_far`) has ``keep`` False."""
+    v2 = src.speed ** 2
+    c = 4.0 * kappa * _FAR
+    reach = (c + np.sqrt(c * c + 4.0 * v2 * c * np.maximum(theta, 0.0))) / (2.0 * v2)   # upstream_reach
+    lo = np.maximum(start, -reach)
+    hi = np.minimum(stop, theta)
+    d = src.contact_duration
+    cand = np.column_stack([np.broadcast_to(np.asarray(b, float), theta.shape) for b in breaks]
+                           + [np.zeros_like(theta), np.full_like(theta, d), theta - z * z / (4.0 * kappa)])
+    inside = (cand > lo[:, None]) & (cand < hi[:, None])
+    pts = np.sort(np.column_stack([lo, hi, np.where(inside, cand, hi[:, None])]), axis=1)
+    p, q = pts[:, :-1], pts[:, 1:]
+    far = _far(p, q, theta[:, None], z[:, None], src, kappa)
+    keep = (q > p) & (lo < hi)[:, None] & ~far
+    return p, q, keep
+
+
+#: panels of the time integral evaluated together (each n-point graded rule x nx inner points)
+_PANEL_CHUNK = 96
+
+
+def _time_integrals(theta, z, src, kappa, factor, start, breaks, n, nx, stop=math.inf):
+    """int_{start}^{min(stop, theta_i)} factor(t') K(theta_i - t', t') dt' at depth z_i [K per (q/(rho c))], for
+    each observation time theta_i and depth z_i (arrays of one shape), u = sqrt(theta - t'): the panels of
+    :func:`_panels`, each by the graded rule :func:`~._quadrature.two_sided_rule` in u, all evaluated in
+    chunks of :data:`_PANEL_CHUNK` panels.
+
+    ``factor`` is a callable of the emission time relative to the pass's arrival (any array shape), zero outside
+    [start, stop] and linear between ``breaks``, the times where it has kinks (a panel where it is zero at both
+    ends is left out)."""
+    theta = np.asarray(theta, dtype=float).ravel()
+    z = np.broadcast_to(np.asarray(z, dtype=float).ravel(), theta.shape)
+    out = np.zeros(theta.size)
+    if theta.size == 0:
+        return out
+    p, q, keep = _panels(theta, z, src, kappa, start, breaks, stop)
+    # the factor is linear on each panel (split at its kinks): zero at both ends, zero throughout
+    keep &= (factor(p) != 0.0) | (factor(q) != 0.0)
+    row, col = np.nonzero(keep)                      # row-major: each point's panels in increasing time
     t, w = two_sided_rule(int(n))
-    total = 0.0
-    for p, q in zip(pts[:-1], pts[1:]):
-        if _far(p, q, theta, z, src, kappa):
-            continue
-        u1, u2 = math.sqrt(theta - q), math.sqrt(theta - p)
-        u = u1 + (u2 - u1) * t
-        te = theta - u * u
-        total += (u2 - u1) * float(np.dot(w, factor(te) * _integrand_u(u, te, z, src, kappa, nx)))
-    return total
+    sums = np.empty(row.size)
+    for c0 in range(0, row.size, _PANEL_CHUNK):
+        r, k = row[c0:c0 + _PANEL_CHUNK], col[c0:c0 + _PANEL_CHUNK]
+        th = theta[r][:, None]
+        u1, u2 = np.sqrt(th - q[r, k][:, None]), np.sqrt(th - p[r, k][:, None])
+        u = u1 + (u2 - u1) * t[None, :]
+        te = th - u * u
+        vals = factor(te) * _integrand_u(u.ravel(), te.ravel(), np.repeat(z[r], t.size), src, kappa,
+                                         nx).reshape(u.shape)
+        sums[c0:c0 + _PANEL_CHUNK] = (u2 - u1)[:, 0] * (vals @ w)
+    # summed per point in the panels' order (as a running sum over each point's panels)
+    return out + np.bincount(row, weights=sums, minlength=theta.size)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -298,6 +344,19 @@ def _split(schedule, via_time_integral):
     return schedule.factor[0], schedule, schedule.factor[0]
 
 
+def pass_level(schedule: Schedule, arrival: float, held: float, via_time_integral: bool = False) -> float:
+    """The factor [1] whose steady sweep a pass arriving at ``arrival`` [s] takes as its constant part: the
+    schedule's value at the arrival (``held``, the factor held from t = -inf, with ``via_time_integral``).
+
+    The rise is linear in the factor, so level * (steady sweep) + the time integral of f - level is the same
+    rise for any level; taking the factor at the arrival leaves the time integral only the schedule's
+    departures from it, and none for a pass the schedule holds constant while the source is near the point
+    (its panels are then zero or too far, :func:`_time_integrals`)."""
+    if via_time_integral:
+        return held
+    return float(schedule(arrival))
+
+
 def _constant_part(theta, depth, source, material, via_time_integral, quad_points, inner_points):
     """Rise [K] of one pass with factor 1 for all times, shape (theta, depth)."""
     out = np.empty((theta.size, depth.size))
@@ -310,11 +369,9 @@ def _constant_part(theta, depth, source, material, via_time_integral, quad_point
 
     def one(te):
         return np.ones_like(te)
-    for i, th in enumerate(theta):
-        for j, z in enumerate(depth):
-            out[i, j] = scale * _time_integral(th, z, source, kappa, one, -math.inf, (), quad_points,
-                                               inner_points)
-    return out
+    th, zz = np.meshgrid(theta, depth, indexing="ij")
+    return scale * _time_integrals(th.ravel(), zz.ravel(), source, kappa, one, -math.inf, (), quad_points,
+                                   inner_points).reshape(out.shape)
 
 
 def _schedule_part(theta, depth, source, material, schedule, minus, arrival, quad_points, inner_points):
@@ -332,13 +389,10 @@ def _schedule_part(theta, depth, source, material, schedule, minus, arrival, qua
     def factor(te):
         return schedule(te + arrival) - minus
     breaks = tuple(times - arrival)
-    out = np.zeros((theta.size, depth.size))
     scale = source.flux * kappa / lam
-    for i, th in enumerate(theta):
-        for j, z in enumerate(depth):
-            out[i, j] = scale * _time_integral(th, z, source, kappa, factor, start, breaks, quad_points,
-                                               inner_points, stop)
-    return out
+    th, zz = np.meshgrid(theta, depth, indexing="ij")
+    return scale * _time_integrals(th.ravel(), zz.ravel(), source, kappa, factor, start, breaks, quad_points,
+                                   inner_points, stop).reshape(th.shape)
 
 
 def _as_depth(depth):
@@ -387,6 +441,8 @@ def pass_response(theta, depth, source: MovingSource, material, schedule: Schedu
     theta = np.atleast_1d(np.asarray(theta, dtype=float)).ravel()
     depth = _as_depth(depth)
     const, sched, minus = _split(schedule, via_time_integral)
+    if sched is not None:
+        const = minus = pass_level(sched, arrival, minus, via_time_integral)
     out = np.zeros((theta.size, depth.size))
     if const != 0.0:
         out += const * _constant_part(theta, depth, source, material, via_time_integral, quad_points,
