@@ -41,13 +41,14 @@ import numba
 import numpy as np
 from scipy.special import erfc
 
-from .pass_response import FAR_DEGREE, PassResponse, _far_weights
+from .pass_response import PassResponse
 from .smooth_tail import chebval_into
 
 __all__ = ["LateralPassResponse", "lateral_weights", "scheduled_lateral"]
 
-#: Gauss-Legendre points per lattice step of the table of Psi_p
+#: Gauss-Legendre points per lattice step of the table of Psi_p (and per piece of a cell's crossing), on [-1, 1]
 GAUSS = 4
+_GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(GAUSS)
 #: erfc(x) < 2e-17 beyond this argument: a lateral term is dropped there
 ERFC_ZERO = 5.9
 #: degrees of the lateral far sums' Chebyshev nodes in the crossing times, from 2 D (error 5.8^-16 = 6e-13 of the
@@ -94,10 +95,12 @@ def lateral_weights(y_edges, flux):
     mag = np.abs(ye)
     keep = mag > 1e-9 * float(mag.max())
     key = np.round(mag / float(mag.max()) * 2.0 ** 36)  # the edges at +-y (rounded apart) as one distance
-    groups = np.unique(key[keep])
-    rho = np.array([mag[key == g].max() for g in groups])
-    b = np.stack([(jump[:, key == g] * sg[key == g]).sum(axis=1) for g in groups], axis=1) if groups.size else \
-        np.zeros((q.shape[0], 0))
+    groups, inv = np.unique(key[keep], return_inverse=True)
+    sign_of = np.zeros((ye.size, groups.size))         # edge e -> its distance, with the edge's sign
+    sign_of[np.flatnonzero(keep), inv] = sg[keep]
+    b = jump @ sign_of
+    rho = np.zeros(groups.size)
+    np.maximum.at(rho, inv, mag[keep])
     live = np.any(b != 0.0, axis=0)
     return centre, rho[live], np.ascontiguousarray(b[:, live])
 
@@ -185,17 +188,17 @@ def _lattice_sums(d_lead, tab, stride, first, want):  # pragma: no cover - compi
     out = np.zeros((want.size, m))
     for p in range(npts):
         f = first[p]
-        for r in range(nr):
-            w = d_lead[r, p]
-            if w == 0.0:
+        for n in range(want.size):
+            i = want[n]
+            if i < f:
                 continue
-            shift = stride * r + f                      # tab[p, :, i - stride r] = 0 for i < shift
-            for n in range(want.size):
-                i = want[n]
-                if i < shift:
-                    continue
-                for j in range(m):
-                    out[n, j] += w * tab[p, j, i - stride * r]
+            top = min(nr - 1, (i - f) // stride)         # tab[p, :, i - stride r] = 0 beyond
+            for j in range(m):
+                row = tab[p, j]
+                acc = 0.0
+                for r in range(top + 1):
+                    acc += d_lead[r, p] * row[i - stride * r]
+                out[n, j] += acc
     return out
 
 
@@ -275,9 +278,8 @@ class LateralPassResponse:
     def _lattice(self):
         """Psi_p on the lattice of half cell-crossing times up to two contact durations and where it starts."""
         if self._psi is None:
-            nodes, gw = np.polynomial.legendre.leggauss(GAUSS)
-            self._psi = _psi_table(self.half, 4 * self.base.n, self.rho, self.cs, self.kappa, 0.5 * (nodes + 1.0),
-                                   0.5 * gw, _ERFC_TABLE)
+            self._psi = _psi_table(self.half, 4 * self.base.n, self.rho, self.cs, self.kappa, 0.5 * (_GAUSS_X + 1.0),
+                                   0.5 * _GAUSS_W, _ERFC_TABLE)
         return self._psi
 
     def _on_lattice(self, theta):
@@ -354,11 +356,51 @@ class LateralPassResponse:
 
 def _far_set(c_edge, d, duration, degree):
     """The Chebyshev-Lobatto nodes (degree + 1,) [s] of the crossing times and each lateral distance's far
-    weights (degree + 1, P) [W/m^2 s] (:func:`railtherm_green.pass_response._far_weights` per column of d)."""
-    nodes = _far_weights(c_edge, np.zeros(c_edge.size), duration, degree)[0]
-    weights = np.zeros((nodes.size, d.shape[1]))
-    for p in range(d.shape[1]):
-        weights[:, p] = _far_weights(c_edge, np.ascontiguousarray(d[:, p]), duration, degree)[1]
+    weights (degree + 1, P) [W/m^2 s]: :func:`railtherm_green.pass_response._far_weights` of every column of d."""
+    return _far_weights_columns(np.ascontiguousarray(c_edge, dtype=float), np.ascontiguousarray(d), float(duration),
+                                int(degree))
+
+
+@numba.njit(cache=True)
+def _far_weights_columns(c_edge, w, duration, degree):  # pragma: no cover - compiled
+    """:func:`railtherm_green.pass_response._far_weights` for the edge weights of every column of w (edges, P) at
+    once: nodes (degree + 1,), weights (degree + 1, P) (the same moments m_j and DCT-I, per column)."""
+    p = degree
+    ncol = w.shape[1]
+    m = np.zeros((p + 1, ncol))
+    t = np.empty(p + 2)
+    pj = np.empty(p + 1)
+    for k in range(c_edge.size):
+        u = min(max(2.0 * c_edge[k] / duration - 1.0, -1.0), 1.0)
+        t[0], t[1] = 1.0, u
+        for j in range(1, p + 1):
+            t[j + 1] = 2.0 * u * t[j] - t[j - 1]
+        pj[0] = u + 1.0
+        pj[1] = 0.5 * (u * u - 1.0)
+        for j in range(2, p + 1):
+            sign = 1.0 if j % 2 == 0 else -1.0
+            pj[j] = 0.5 * (t[j + 1] / (j + 1) - t[j - 1] / (j - 1)) - sign / (j * j - 1.0)
+        for col in range(ncol):
+            wk = w[k, col]
+            if wk != 0.0:
+                for j in range(p + 1):
+                    m[j, col] += wk * pj[j]
+    nodes = np.empty(p + 1)
+    weights = np.zeros((p + 1, ncol))
+    for i in range(p + 1):
+        u = math.cos(math.pi * i / p)
+        nodes[i] = 0.5 * duration * (1.0 + u)
+        f = -0.5 * duration * (2.0 / p) * (0.5 if i == 0 or i == p else 1.0)
+        t0, t1 = 1.0, u
+        for col in range(ncol):
+            weights[i, col] = 0.5 * m[0, col]
+        for j in range(1, p + 1):
+            e = (0.5 if j == p else 1.0) * t1
+            for col in range(ncol):
+                weights[i, col] += e * m[j, col]
+            t0, t1 = t1, 2.0 * u * t1 - t0
+        for col in range(ncol):
+            weights[i, col] *= f
     return nodes, weights
 
 
@@ -366,9 +408,8 @@ def _cell_quadrature(theta, cells, rho, cs, kappa):
     """``sum_k sum_p b_kp int_(start_k)^(end_k) (f0_k + slope_k (c - start_k)) psi_p(theta - c) dc`` (n, m) at the
     times theta [s] by Gauss-Legendre (GAUSS points) on each piece, cut at theta (psi_p is smooth, flat at 0);
     ``cells`` = (start, end, f0, slope, b)."""
-    gx, gw = np.polynomial.legendre.leggauss(GAUSS)
-    return _piece_sums(theta, *(np.ascontiguousarray(v, dtype=float) for v in cells), rho, cs, kappa, gx, gw,
-                       _ERFC_TABLE)
+    return _piece_sums(theta, *(np.ascontiguousarray(v, dtype=float) for v in cells), rho, cs, kappa, _GAUSS_X,
+                       _GAUSS_W, _ERFC_TABLE)
 
 
 @numba.njit(cache=True)
