@@ -10,9 +10,12 @@ from __future__ import annotations
 
 import contextlib
 import warnings
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
+from ..analysis.metrics import compute_metrics
 from ..output import store
+from .executors import host_spec, install_host, worker_context, worker_threads
 
 #: a study scores its runs in the local worker processes when it has at least this many results
 PARALLEL_METRICS_MIN_RUNS = 40
@@ -25,8 +28,6 @@ def _analysis_pool(executor: str, workers: int, scored: int):
     if executor != "processes" or workers < 2 or scored < PARALLEL_METRICS_MIN_RUNS:
         yield None
         return
-    from concurrent.futures import ProcessPoolExecutor
-    from .executors import host_spec, install_host, worker_context, worker_threads
     with worker_threads(workers):
         pool = ProcessPoolExecutor(workers, mp_context=worker_context(), initializer=install_host,
                                    initargs=(host_spec(),))
@@ -37,7 +38,6 @@ def _analysis_pool(executor: str, workers: int, scored: int):
 def _metrics(study, out, records, pmap, scored=None):
     """metrics.nc's Dataset, the scenes scored through ``pmap`` (:func:`_analysis_pool`; ``scored``: its
     results already submitted) or here; a pool that breaks costs only the time."""
-    from ..analysis.metrics import compute_metrics
     if pmap is not None:
         try:
             return compute_metrics(study, out, records, map=pmap, scored=scored)
@@ -50,7 +50,7 @@ def _metrics(study, out, records, pmap, scored=None):
 def _reference_curves(study, out, pmap, pending=None) -> None:
     """references.nc, the scenes' curves computed through ``pmap`` (``pending``: the jobs and their results
     already submitted) or here (as :func:`_metrics`)."""
-    from ..analysis.reference_curves import collect_curves, write_reference_curves
+    from ..analysis.reference_curves import collect_curves, write_reference_curves  # xarray: ~1 s
     if pmap is not None:
         try:
             curves = collect_curves(*pending) if pending is not None else None

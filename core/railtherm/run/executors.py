@@ -16,18 +16,31 @@ retried). What was written stays on disk (atomic writes); ``--resume`` completes
 from __future__ import annotations
 
 import contextlib
+import importlib.metadata as md
+import importlib.util
 import itertools
+import logging
 import multiprocessing as mp
 import os
 import pickle
+import signal
+import socket
 import sys
 import threading
 import time
 import warnings
 from collections import deque
+from multiprocessing.connection import wait
+from types import ModuleType
 from typing import Callable, Iterator
 
+import cloudpickle
+
+from ..contract.errors import PluginError, SceneError
 from ..output import store
+from ..solving import plugins
+from ..solving.plugins import DISABLE_ENV, GROUP, get_host
+from .timelimit import WATCHDOG
 
 EXECUTORS = ("auto", "serial", "processes", "dask")
 
@@ -57,7 +70,6 @@ def _exit_text(code) -> str:
     if code is None:
         return "unknown exit"
     if code < 0:
-        import signal
         try:
             return f"killed by {signal.Signals(-code).name}"
         except ValueError:
@@ -69,10 +81,6 @@ def _exit_text(code) -> str:
 # the plugin host of worker processes
 def _split_plugins(host):
     """(autoload, [(name, plugin)]) of a host: were entry points loaded, which plugins came in memory."""
-    import importlib.metadata as md
-    from types import ModuleType
-
-    from ..solving.plugins import GROUP
     autoload = getattr(host, "autoload", None)
     extra = getattr(host, "extra", None)
     if autoload is not None and extra is not None:
@@ -87,7 +95,6 @@ def _split_plugins(host):
             continue
         extra.append((name, obj))
     if not eps:
-        from ..solving.plugins import DISABLE_ENV
         autoload = not os.environ.get(DISABLE_ENV)
     return autoload, extra
 
@@ -100,10 +107,6 @@ def host_spec() -> bytes:
     railtherm.PluginError
         A plugin registered in memory cannot be sent to workers (not picklable).
     """
-    import cloudpickle
-
-    from ..contract.errors import PluginError
-    from ..solving.plugins import get_host
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         host = get_host()
@@ -119,7 +122,6 @@ def host_spec() -> bytes:
 
 
 def _origin() -> tuple[str, int]:
-    import socket
     return socket.gethostname(), os.getpid()
 
 
@@ -142,9 +144,6 @@ def install_host(spec: bytes | None) -> None:
         for p in d["sys_path"]:
             if p not in sys.path and os.path.isdir(p):
                 sys.path.append(p)
-        import cloudpickle
-
-        from ..solving import plugins
         extra = cloudpickle.loads(d["extra"])
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -165,6 +164,7 @@ class SerialExecutor:
 def _preload() -> None:
     """Import the modules every run needs before a worker takes its first run, so that their import time
     (seconds on a loaded machine) does not count against that run's time limit."""
+    # the point of this function: these imports happen before the first run, not inside it
     from ..solving import pipeline  # noqa: F401
     from ..contract import schema  # noqa: F401
     from ..references import hertz  # noqa: F401 - scipy.optimize: ~0.5 s
@@ -219,7 +219,6 @@ def environment(env: dict | None) -> None:
 
 
 def _worker_main(conn, spec, fn, env=None):  # pragma: no cover - runs in the worker process
-    import signal
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C and ends its workers
     environment(env)
     setup_error = None
@@ -361,8 +360,6 @@ class ProcessExecutor:
     # one supervision loop: dispatch, results, worker deaths, overrun runs and respawns share the pool state
     # (which worker holds which run, attempts per run), so splitting it would pass all of that around
     def map(self, fn, tasks, **kw):
-        from multiprocessing.connection import wait
-
         n = len(tasks)
         if n == 0:
             return
@@ -454,7 +451,6 @@ class ProcessExecutor:
 
 
 def _dask_run(task, *, spec, fn, kw, grace):  # pragma: no cover - runs on a dask worker
-    from .timelimit import WATCHDOG
     install_host(spec)
     _preload()  # once per worker process (imports are cached); not in the run's time limit
     limit = task.timeout
@@ -488,8 +484,7 @@ class DaskExecutor:
         self.client = None
 
     def map(self, fn, tasks, **kw):
-        import logging
-
+        # dask.distributed: the optional 'sweep' extra
         import dask
         from distributed import Client, LocalCluster, as_completed
 
@@ -501,7 +496,6 @@ class DaskExecutor:
             try:
                 client = Client(self.scheduler, timeout="30s")
             except (OSError, TimeoutError) as exc:
-                from ..contract.errors import SceneError
                 raise SceneError.bad_value(None, "scheduler", self.scheduler,
                                            f"the address of a running dask scheduler (start one with "
                                            f"'dask scheduler --port 8786'); connecting failed: {exc}") from None
@@ -563,8 +557,6 @@ SWEEP_EXTRA = "railtherm[sweep]"
 def require_optional(module: str, key: str, value: str) -> None:
     """Raise :class:`railtherm.contract.errors.SceneError` naming ``key`` = ``value`` when the optional package
     ``module`` (of the ``sweep`` extra) is not installed, before any run starts."""
-    import importlib.util
-    from ..contract.errors import SceneError
     if importlib.util.find_spec(module) is None:
         raise SceneError(f"key {key!r} = {value!r} needs the optional package {module!r}, which is not installed: "
                          f"python -m pip install '{SWEEP_EXTRA}' (or choose another {key})", key=key, value=value,
@@ -573,7 +565,6 @@ def require_optional(module: str, key: str, value: str) -> None:
 
 def get_executor(name: str, *, scheduler: str | None = None, workers: int | None = None):
     """The executor called ``name`` ("serial", "processes" or "dask"; "auto": :func:`resolve_executor`)."""
-    from ..contract.errors import SceneError
     if scheduler and name != "dask":
         raise SceneError.bad_value(None, "scheduler", scheduler, "an address only with executor 'dask'")
     if name == "auto":

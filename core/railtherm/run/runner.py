@@ -16,6 +16,7 @@ Statuses written here: ``ok`` (ran and converged: metrics then decides ok, inacc
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import json
 import math
 import os
@@ -28,15 +29,26 @@ from pathlib import Path
 from typing import Any, Iterable, Mapping
 
 import numpy as np
+import psutil
 
-from ..output import store
-from ..contract.errors import Refused, SceneError
+from tqdm.auto import tqdm
+
+from .._version import __version__
+from ..analysis.metrics import energy_balance
+from ..contract.errors import Refused, SceneError, SolverError
+from ..contract.options import check_study
+from ..contract.schema import history_line
 from ..input.scene import Scene
-from ..output.store import RunRecord
 from ..input.study import Study, load_study
-from .timelimit import RunTimeout, _time_limit
+from ..output import store, zarr_store
+from ..output.store import RunRecord
+from ..report import write_report
+from ..solving.plugins import get_host
 from .analysis_phase import analyse
-from .executors import start_worker_server, worker_context
+from .chunks import layout_of, make_chunks, row_of_record
+from .executors import (get_executor, require_optional, resolve_executor, start_worker_server,
+                        worker_context)
+from .timelimit import RunTimeout, _time_limit
 from .timing import TIMING_BUDGET, RSSPeak, compile_watch, more_solves
 
 
@@ -102,8 +114,6 @@ def code_versions(method: "str | Mapping[str, Any]") -> str:
     """railtherm's version and the versions of the plugins behind ``method``: a registered method's name,
     or a study's chain of stage models (``{"name": ..., "normal": "kalker", ...}``), whose every
     candidate model is named with its plugin's version, so that a new plugin version re-runs the chain."""
-    from .._version import __version__
-    from ..solving.plugins import get_host
     try:
         mi = get_host().resolve(method)
     except SceneError:
@@ -116,7 +126,6 @@ def code_versions(method: "str | Mapping[str, Any]") -> str:
 def run_hash(scene: Scene, method: "str | Mapping[str, Any]", level: int, options: Mapping[str, Any]) -> str:
     """Hash [hex] of the scene, method (a name, or a study's chain with its stage models), level,
     method options and code versions of one run."""
-    import hashlib
     doc = {"scene": scene.hash, "method": method if isinstance(method, str) else dict(method), "level": int(level),
            "options": {k: options[k] for k in sorted(options)}, "versions": code_versions(method)}
     return hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode()).hexdigest()[:16]
@@ -149,7 +158,6 @@ def _diagnostics(attrs: Mapping[str, Any]) -> dict:
 
 def _summarise(rec: RunRecord, scene: Scene, ds) -> None:
     """Fill the record's energy balance, scalar values and diagnostics from the result ``ds``."""
-    from ..analysis.metrics import energy_balance
     rec.energy_balance, rec.energy_reference = energy_balance(scene, ds)
     rec.values, rec.diagnostics, rec.summary = _values(ds), _diagnostics(ds.attrs), True
 
@@ -217,7 +225,6 @@ def _written_since(task: RunTask, since: float) -> bool:
 
 def _failure(exc: BaseException, timeout: float) -> tuple[str, str, str]:
     """(status, reason kind, message) of a run that raised ``exc``."""
-    from ..contract.errors import SolverError
     if isinstance(exc, Refused):
         return "refused", getattr(exc, "kind", "validity"), str(exc)
     if isinstance(exc, SceneError):
@@ -240,7 +247,7 @@ def _warm_up(task: RunTask) -> float:
     in a timed solve. A warm-up that raises is ignored (the run's own solve reports its problem).
     Returns the time it took [s] (0 when the method was already warm).
     """
-    from ..solving.pipeline import solve
+    from ..solving.pipeline import solve  # scipy and the plugins: the runner's import stays light for the CLI
     if task.method in _WARM:
         return 0.0
     t0 = time.perf_counter()
@@ -255,7 +262,7 @@ def _warm_up(task: RunTask) -> float:
 def _measured_solve(task: RunTask, validate: bool, memory: bool):
     """One solve, its wall time [s] (the solve's own ``wall_time``), whether numba compiled during it,
     and the process's memory during it (:class:`RSSPeak`, or None)."""
-    from ..solving.pipeline import solve
+    from ..solving.pipeline import solve  # scipy and the plugins: the runner's import stays light for the CLI
     mem = RSSPeak() if memory else contextlib.nullcontext()
     with compile_watch() as compiled, mem:
         ds = solve(task.scene, task.spec, task.level, task.options, validate=validate)
@@ -265,7 +272,6 @@ def _measured_solve(task: RunTask, validate: bool, memory: bool):
 def _solve_timed(task: RunTask, rec: RunRecord, phases: dict, t_begin: float):
     """Warm up once per method, solve, repeat while short, measure memory (:func:`execute_run`);
     fill ``rec`` and return the result."""
-    from ..contract.schema import history_line
 
     hwm = RSSPeak.native()  # memory read in the timed solve itself (Linux); else a separate solve
     if task.duplicate:
@@ -391,8 +397,6 @@ def execute_chunk(chunk, *, resume: bool = False) -> list[RunRecord]:
     ``phases["write"]`` of each record is the chunk's write time divided by its runs [s], and
     ``phases["bytes"]`` its share of the chunk files written [bytes].
     """
-    from ..output import zarr_store
-    from .chunks import row_of_record
 
     out, start, n = chunk.out, chunk.start, len(chunk.tasks)
     cols = zarr_store.read_region(out, start, start + n)
@@ -442,16 +446,11 @@ def execute_chunk(chunk, *, resume: bool = False) -> list[RunRecord]:
 # ----------------------------------------------------------------------------------------------
 def _progress(total: int, desc: str):
     quiet = not (hasattr(sys.stderr, "isatty") and sys.stderr.isatty())
-    try:
-        from tqdm.auto import tqdm
-    except ImportError:  # pragma: no cover
-        return contextlib.nullcontext(None)
     return tqdm(total=total, desc=desc, file=sys.stderr, disable=quiet, unit="run")
 
 
 def make_tasks(study: Study, out, methods: Iterable[str] | None = None, levels: Iterable[int] | None = None
                ) -> list[RunTask]:
-    from ..solving.plugins import get_host
 
     host = get_host()
     chains = dict(getattr(study, "chains", None) or {})
@@ -478,7 +477,7 @@ def _mark_duplicates(tasks: list[RunTask], host) -> None:
     """Mark each task whose executed stage models are another study method's on its scene
     (:func:`railtherm.solving.pipeline.duplicate_of`): it is refused without running, every invocation
     deciding afresh from the study's current methods (a resumed study never reuses a stale decision)."""
-    from ..solving.pipeline import duplicate_of
+    from ..solving.pipeline import duplicate_of  # scipy and the plugins: see _warm_up
     peers = list({t.method: (t.spec, t.options) for t in tasks}.values())
     if len(peers) < 2:
         return
@@ -498,7 +497,6 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
     the ``run_id`` that wrote it: a run executed again within the same invocation (its worker died after writing
     but before reporting back) finds its own result and does not write it again.
     """
-    from .executors import get_executor
 
     run_id = run_id or uuid.uuid4().hex[:12]
     started = time.time()
@@ -509,7 +507,6 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
         for u in getattr(t, "tasks", ()):
             u.run_id, u.run_started = run_id, started
     if executor == "auto":
-        from .executors import resolve_executor
         executor, workers = resolve_executor(executor, workers, len(tasks))
     ex = get_executor(executor, scheduler=scheduler, workers=workers)
     records: list = [None] * len(tasks)
@@ -522,7 +519,6 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
                 bar.update(len(rec) if isinstance(rec, list) else 1)
                 bar.set_postfix_str(f"{last.scene[:24]} {last.method} L{last.level} {last.status}", refresh=False)
     if chunked:
-        from ..output import zarr_store
         zarr_store.remove_partial(tasks[0].out)
         return [r for rs in records if rs is not None for r in rs]
     store.remove_stale_tmp({Path(t.path).parent for t in tasks})
@@ -534,13 +530,12 @@ def _children_cpu() -> float:
     and those of its living children (the fork server reaps the workers forked from it; psutil reads its
     children's time from /proc)."""
     try:
-        import resource
+        import resource  # Unix only
         r = resource.getrusage(resource.RUSAGE_CHILDREN)
         total = r.ru_utime + r.ru_stime
     except (ImportError, OSError):  # pragma: no cover
         return math.nan
     try:
-        import psutil  # a dependency; only here, for the timing record
         for child in psutil.Process().children(recursive=False):
             try:
                 t = child.cpu_times()
@@ -589,8 +584,6 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
     if executor in ("auto", "processes"):
         start_worker_server(workers)   # its imports overlap the loading and checking of the study below
     study = study_or_path if isinstance(study_or_path, Study) else load_study(study_or_path)
-    from ..contract.options import check_study
-    from ..solving.plugins import get_host
     check_study(study, get_host(), methods=methods, levels=levels)  # everything, before the first task
     out = Path(out)
     if out.exists() and not out.is_dir():
@@ -598,7 +591,6 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
                          value=str(out), allowed="a folder (created if missing)")
     out.mkdir(parents=True, exist_ok=True)
     tasks, kind = _plan_tasks(study, out, methods, levels, resume)
-    from .executors import require_optional, resolve_executor
     if executor == "dask":
         require_optional("distributed", "executor", executor)
     executor, workers = resolve_executor(executor, workers, len(tasks))
@@ -620,7 +612,6 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
                                                     "records": [r.to_dict() for r in records]},
                             indent=1, default=str)
     if report:
-        from ..report import write_report
         write_report(out, study=study, workers=workers if executor == "processes" else 1, context=worker_context())
     return metrics
 
@@ -630,10 +621,7 @@ def _plan_tasks(study: Study, out: Path, methods, levels, resume: bool):
     tasks = make_tasks(study, out, methods, levels)
     kind = study.store_for(len(tasks)) if hasattr(study, "store_for") else "files"
     if kind == "zarr":
-        from .executors import require_optional
         require_optional("zarr", "study.store", kind)
-        from ..output import zarr_store
-        from .chunks import layout_of, make_chunks
         layout = layout_of(tasks, getattr(study, "keep_fields", False))
         zarr_store.create(out, layout, resume=resume)
         tasks = make_chunks(tasks, layout, out)

@@ -7,6 +7,7 @@ imports nothing from railtherm: the runner and the executors both use it.
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import math
 import signal
 import threading
@@ -25,7 +26,6 @@ class RunTimeout(Exception):
 
 def _async_raise(tid: int, exc: type | None) -> None:
     """Raise ``exc`` in thread ``tid`` at its next bytecode (None clears a pending one)."""
-    import ctypes
     ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(tid), ctypes.py_object(exc) if exc else None)
 
 

@@ -7,8 +7,11 @@ per run.
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import math
 import threading
+
+import psutil
 
 
 class RSSPeak:
@@ -56,7 +59,6 @@ class RSSPeak:
     def _trim() -> None:
         """Return freed heap memory to the OS (glibc ``malloc_trim``), so that a solve reusing it counts."""
         try:
-            import ctypes
             ctypes.CDLL("libc.so.6").malloc_trim(0)
         except (OSError, AttributeError):  # pragma: no cover - not glibc
             pass
@@ -70,7 +72,6 @@ class RSSPeak:
             self._base = self._status("VmRSS")
             self._mode = "hwm"
         except OSError:
-            import psutil
             proc = psutil.Process()
             self._base = float(proc.memory_info().rss)
             self._mode = "sample"
@@ -121,7 +122,7 @@ def compile_watch():
     """
     events: list = []
     try:
-        from numba.core import event
+        from numba.core import event  # numba: ~0.8 s, only when a run is timed
     except ImportError:  # pragma: no cover - numba is a dependency; plugins need not use it
         yield events
         return
