@@ -6,7 +6,8 @@ surface), T = 0 on the deep face, the block's ends insulated; the band's piecewi
 surface nodes as its exact integrals against the hat functions. Core's driver
 (:mod:`railtherm.solving.section_stepping`) steps the passes: Crank-Nicolson steps of
 ``M dT/dt = -K T + P(t)`` at the section's step h/V while the source is over the block, a ladder of growing
-steps between the passes, one sparse LU per step size reused by every step of that size. Nodes: spacing
+steps between the passes; the steps are solved in the depth modes of the tensor-product operators
+(:class:`TensorSection`: one tridiagonal LU per step size, reused by every step of that size). Nodes: spacing
 h = 2a/32/2**level along x over the section and four cells either side, growing by ``1.3 ** (1 / 2**level)``
 to 2a + 2 sqrt(kappa t_end); in depth from delta/4/2**level at the surface (delta = sqrt(2 a kappa / V)),
 growing by ``1.2 ** (1 / 2**level)`` to max(8 sqrt(kappa t_end), 10 delta, 1.5 x the deepest output). The
@@ -17,14 +18,17 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.linalg import eigh
+from scipy.linalg.lapack import dgttrf, dgttrs
 from scipy.sparse import csr_matrix
-from scipy.sparse.linalg import splu
 from skfem import Basis, BilinearForm, ElementQuad1, FacetBasis, MeshQuad, asm
 
 from railtherm import ImplicitSectionStepper, Refused, SceneError, body_histories
 from railtherm.physics import thermal_scales
 
-__all__ = ["FemBlock", "fem_block", "hat_integrals", "section_histories", "IMPLICIT_COST"]
+from .thermal import _fe_1d
+
+__all__ = ["FemBlock", "fem_block", "hat_integrals", "section_histories", "IMPLICIT_COST", "TensorSection"]
 
 #: one Crank-Nicolson LU solve counted as this many explicit node updates (the FE section has no explicit
 #: stepping: the model always asks the implicit scheme; the cost is recorded with the reason)
@@ -91,17 +95,114 @@ def hat_integrals(x: np.ndarray, edges: np.ndarray, flux: np.ndarray) -> np.ndar
     return load
 
 
+class TensorSection:
+    """The section's operators as tensor products of 1-D P1 matrices, stepped in depth modes.
+
+    On the tensor mesh the Q1 mass and stiffness of the free nodes (x outer, z inner; the deep face fixed) are
+    ``M = rho c Mx (x) Mz`` and ``K = lambda Kx (x) Mz + Mx (x) Kz'`` with ``Kz' = lambda Kz + h e0 e0^T``
+    (conduction in depth and the surface convection), exactly (tests/test_fem_transient.py). With the
+    generalised eigenvectors of (Kz', Mz) (``Phi^T Kz' Phi = diag(mu)``, ``Phi^T Mz Phi = I``) the nodal
+    temperatures are ``T[i, j] = sum_k Phi[j, k] eta[k, i]`` and the theta-scheme step
+    ``(M / dt + theta K) T' = (M / dt - (1 - theta) K) T + p`` splits into one tridiagonal x-system per depth
+    mode k, ``((rho c / dt + theta mu_k) Mx + theta lambda Kx) eta'_k = ((rho c / dt - (1 - theta) mu_k) Mx -
+    (1 - theta) lambda Kx) eta_k + Phi[0, k] p`` (p the surface nodes' load): all modes in one band factorised by
+    LAPACK ``dgttrf``, a step O(nx nz) against the sparse LU's fill (a level-3 section: 161 x 223 nodes, 4.4e6
+    LU entries, 25-50 ms a solve). The same discrete solution as the assembled system, to round-off
+    (tests/test_fem_wheel_spin.py). The state is ``eta`` (modes outer, x inner); :meth:`nodal` gives T.
+
+    Parameters
+    ----------
+    x, z : ndarray
+        Nodes along the rail and in depth [m] (z[0] = 0 the surface, the last the fixed deep face).
+    conductivity : float
+        lambda [W/(m K)].
+    capacity : float
+        rho c [J/(m^3 K)].
+    convection : float
+        Surface heat transfer coefficient h [W/(m^2 K)].
+    """
+
+    def __init__(self, x, z, conductivity: float, capacity: float, convection: float):
+        Kx, Mx = _fe_1d(np.asarray(x, float))
+        Kz, Mz = _fe_1d(np.asarray(z, float))
+        m = z.size - 1                                       # free depths: the deep face fixed
+        Kz = conductivity * Kz[:m, :m].toarray()
+        Kz[0, 0] += convection
+        self.mu, self.phi = eigh(Kz, Mz[:m, :m].toarray())
+        self.nx, self.m = x.size, m
+        self.rc, self.lam = float(capacity), float(conductivity)
+        self.mx = [Mx.diagonal(k) for k in (-1, 0, 1)]
+        self.kx = [Kx.diagonal(k) for k in (-1, 0, 1)]
+
+    def factor(self, dt: float, theta: float):
+        """The solver of one step's x-systems, ``((rho c / dt + theta mu_k) Mx + theta lambda Kx) eta_k = r_k``
+        for every mode [s, 1]: an object with ``solve(r)`` (r and the result modes outer, x inner)."""
+        scale = self.rc / dt + theta * self.mu                # per mode (m,)
+        sub, diag, sup = (np.outer(scale, mx) + theta * self.lam * kx for mx, kx in zip(self.mx, self.kx))
+        sub = np.concatenate([sub, np.zeros((self.m, 1))], axis=1).ravel()[:-1]    # no coupling between modes
+        sup = np.concatenate([sup, np.zeros((self.m, 1))], axis=1).ravel()[:-1]
+        dl, d, du, du2, ipiv, info = dgttrf(sub, diag.ravel(), sup)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"tridiagonal LU of the FE section's depth modes failed (info = {info})")
+        return _ModalSolve((dl, d, du, du2, ipiv))
+
+    def rhs(self, eta: np.ndarray, dt: float, theta: float, load: np.ndarray) -> np.ndarray:
+        """The right side of a step in modes, ``((rho c / dt - (1 - theta) mu_k) Mx - (1 - theta) lambda Kx)
+        eta_k + Phi[0, k] load`` [W/m], for the state ``eta`` and the surface nodes' ``load`` (nx,) [W/m]."""
+        e = np.asarray(eta, dtype=float).reshape(self.m, self.nx)
+        out = (self.rc / dt - (1.0 - theta) * self.mu)[:, None] * _tridiagonal(self.mx, e)
+        out -= (1.0 - theta) * self.lam * _tridiagonal(self.kx, e)
+        out += np.outer(self.phi[0], load)
+        return out.ravel()
+
+    def nodal(self, eta: np.ndarray) -> np.ndarray:
+        """Nodal temperatures of the free nodes (x outer, z inner) [K] of the state ``eta``."""
+        return (np.asarray(eta, dtype=float).reshape(self.m, self.nx).T @ self.phi.T).ravel()
+
+    def sampler(self, i: int, rows, weights):
+        """(indices (n, m), weights (n, m)) into the state that give sum_p weights[:, p] T[i, rows[:, p]] (rows:
+        free depth indices of x-node i): the output depths read in modes."""
+        rows, weights = np.asarray(rows), np.asarray(weights, dtype=float)
+        coef = np.einsum("np,npk->nk", weights, self.phi[rows])
+        return i + self.nx * np.tile(np.arange(self.m), (rows.shape[0], 1)), coef
+
+
+def _tridiagonal(diagonals, e: np.ndarray) -> np.ndarray:
+    """The tridiagonal matrix of ``diagonals`` (sub, main, super) applied along the last axis of ``e``."""
+    sub, main, sup = diagonals
+    out = main * e
+    out[:, 1:] += sub * e[:, :-1]
+    out[:, :-1] += sup * e[:, 1:]
+    return out
+
+
+class _ModalSolve:
+    """One factorised step matrix of a :class:`TensorSection` (see there)."""
+
+    def __init__(self, lu):
+        self.lu = lu
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        eta, info = dgttrs(*self.lu, np.asarray(rhs, dtype=float).reshape(-1, 1))
+        if info != 0:
+            raise np.linalg.LinAlgError(f"tridiagonal solve of the FE section's depth modes failed (info = {info})")
+        return eta.ravel()
+
+
 class FemBlock:
     """The section's Q1 elements and their operators (free node i (nz - 1) + j, j = 0 at the surface).
 
     Attributes: ``x`` node positions along the rail [m] (the section at ``x[i0]`` = 0), ``z`` node depths [m]
-    (the last, deep one fixed at 0), ``mass`` and ``stiffness`` [J/(K m)], [W/(K m)] on the free nodes,
-    ``capacity`` (the lumped mass, one entry per unknown), ``dt_stab`` (min C/K_ii [s], for the cost record),
-    ``surface`` (free indices of the surface nodes), ``rows`` (depths, 2) and ``weights`` (depths, 2) of the
-    output depths."""
+    (the last, deep one fixed at 0), ``mass`` and ``stiffness`` [J/(K m)], [W/(K m)] on the free nodes (as
+    scikit-fem assembles them), ``tensor`` (the same operators as a :class:`TensorSection`, whose depth modes are
+    the stepper's state), ``capacity`` (the lumped mass, one entry per unknown), ``dt_stab`` (min C/K_ii [s], for
+    the cost record), ``surface`` (free indices of the surface nodes), ``nodal_rows`` and ``nodal_weights``
+    (depths, 2): the output depths linear between two free nodes of the section's column; ``rows`` and
+    ``weights`` (depths, modes): the same read from the state."""
 
-    def __init__(self, x, z, mass, stiffness, depths, breaks=()):
+    def __init__(self, x, z, mass, stiffness, depths, breaks, tensor: TensorSection):
         self.x, self.z = np.asarray(x, float), np.asarray(z, float)
+        self.tensor = tensor
         self.breaks = np.asarray(sorted(breaks), dtype=float)
         self.i0 = int(np.argmin(np.abs(self.x)))
         self.mass, self.stiffness = mass, stiffness
@@ -113,11 +214,12 @@ class FemBlock:
         for d in depths:
             j = int(np.clip(np.searchsorted(self.z, d, side="right") - 1, 0, self.z.size - 2))
             s = (d - self.z[j]) / (self.z[j + 1] - self.z[j])
-            lower = self.i0 * m + j + 1 if j + 1 < m else self.i0 * m + j    # the deep node is 0: weight 0 below
-            rows.append([self.i0 * m + j, lower])
+            lower = j + 1 if j + 1 < m else j             # the deep node is 0: weight 0 below
+            rows.append([j, lower])
             weights.append([1.0 - s, s if j + 1 < m else 0.0])
-        self.rows = np.array(rows)
-        self.weights = np.array(weights)
+        self.nodal_rows = self.i0 * m + np.array(rows)
+        self.nodal_weights = np.array(weights)
+        self.rows, self.weights = tensor.sampler(self.i0, rows, weights)
 
     @property
     def node_shape(self) -> str:
@@ -176,7 +278,8 @@ def fem_block(a: float, speed: float, conductivity: float, capacity: float, conv
     free = np.ones((x.size, z.size), dtype=bool)
     free[:, -1] = False                                # the deep face: T = 0
     free = free.ravel()
-    return FemBlock(x, z, M[free][:, free].tocsr(), K[free][:, free].tocsr(), depths, breaks)
+    return FemBlock(x, z, M[free][:, free].tocsr(), K[free][:, free].tocsr(), depths, breaks,
+                    TensorSection(x, z, conductivity, capacity, convection))
 
 
 class _FemStepper(ImplicitSectionStepper):
@@ -185,7 +288,8 @@ class _FemStepper(ImplicitSectionStepper):
     its mean heat input."""
 
     heating_cost = IMPLICIT_COST
-    cooling_implicit = "Crank-Nicolson steps of the FE section (one sparse LU per step size; two backward-Euler start steps)"
+    cooling_implicit = ("Crank-Nicolson steps of the FE section in depth modes (one tridiagonal LU per step size; "
+                        "two backward-Euler start steps)")
 
     def __init__(self, block: FemBlock, x_edges, flux, speed, factor, t0):
         super().__init__(block, x_edges, flux, speed, factor, t0)
@@ -193,11 +297,10 @@ class _FemStepper(ImplicitSectionStepper):
         self._last = None
 
     def _factor(self, dt: float, th: float):
-        return splu((self.b.mass / dt + th * self.b.stiffness).tocsc())
+        return self.b.tensor.factor(dt, th)
 
     def _rhs(self, T, dt, th, p_old, p_mean):
-        M, K = self.b.mass, self.b.stiffness
-        return M @ T / dt - (1.0 - th) * (K @ T) + p_mean
+        return self.b.tensor.rhs(T, dt, th, p_mean)
 
     def _load(self, dt: float, arrivals):
         # the "power" at the end of each step is the step's mean load (the end values' mean, composite over the
@@ -205,23 +308,23 @@ class _FemStepper(ImplicitSectionStepper):
         return lambda t: self._mean_power(t, dt, arrivals)
 
     def _power(self, t, arrivals):
-        """Nodal heat input [W/m] at time t of the passes arriving at ``arrivals`` [s]: the leading edge of
-        pass k at x = V (t - arrival_k), the band moving towards +x."""
-        p = np.zeros(self.T.size)
+        """Heat input of the surface nodes [W/m] at time t of the passes arriving at ``arrivals`` [s]: the
+        leading edge of pass k at x = V (t - arrival_k), the band moving towards +x."""
+        p = np.zeros(self.b.x.size)
         f = float(self.factor(t))
         if f == 0.0:
             return p
         for arr in arrivals:
             shift = self.xe[-1] - self.speed * (t - arr)      # source coordinate of block position 0
-            p[self.b.surface] += hat_integrals(self.b.x + shift, self.xe, self.flux)
+            p += hat_integrals(self.b.x + shift, self.xe, self.flux)
         return f * p
 
     def _mean_power(self, t1: float, dt: float, arrivals):
-        """Trapezoidal mean nodal heat input [W/m] over the step (t1 - dt, t1] [s], composite over the pieces
+        """Trapezoidal mean heat input of the surface nodes [W/m] over the step (t1 - dt, t1] [s], composite over the pieces
         between the schedule's breaks inside the step (its kinks): without a break the end values' mean of
         Crank-Nicolson, and a spike shorter than the step keeps its energy."""
         if not len(arrivals):
-            return np.zeros(self.T.size)
+            return np.zeros(self.b.x.size)
         t0 = t1 - dt
         inner = self.b.breaks[(self.b.breaks > t0) & (self.b.breaks < t1)]
         cuts = np.concatenate([[t0], inner, [t1]])
