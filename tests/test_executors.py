@@ -501,3 +501,21 @@ def test_a_kind_on_its_first_run_is_not_started_twice():
     pending.appendleft(3)
     first.ended(0, T(status="ok"))
     assert ("kalker", 3) in first.done and first.take(pending) == 3
+
+
+def test_auto_with_one_worker_starts_no_fork_server(tmp_path):
+    """``executor = "auto"`` with one worker runs serially, so no fork server is started for it (the server
+    imports the numerical libraries in a process of its own: wasted CPU for a serial run)."""
+    import subprocess
+    import sys
+    study = tmp_path / "green.toml"
+    study.write_text(GREEN)
+    code = ("import sys, railtherm\n"
+            "from multiprocessing import forkserver\n"
+            f"m = railtherm.run_study({str(study)!r}, {str(tmp_path / 'out')!r}, executor='auto', workers=int(sys.argv[1]),"
+            " methods=['green'], levels=[0], report=False)\n"
+            "print(m.attrs['executor'], forkserver._forkserver._forkserver_pid is not None)\n")
+    for workers, expected in (("1", "serial False"), ("2", "processes True")):
+        out = subprocess.run([sys.executable, "-c", code, workers], capture_output=True, text=True, timeout=300)
+        assert out.returncode == 0, out.stderr[-2000:]
+        assert out.stdout.split("\n")[-2] == expected, out.stdout

@@ -581,7 +581,7 @@ def run_study(study_or_path: Study | str | os.PathLike, out: str | os.PathLike =
         The metrics (also written to ``out/metrics.nc``).
     """
     t0, c0, w0 = time.perf_counter(), time.process_time(), _children_cpu()
-    if executor in ("auto", "processes"):
+    if resolve_executor(executor, workers, 2)[0] == "processes":  # not when "auto" will run serially
         start_worker_server(workers)   # its imports overlap the loading and checking of the study below
     study = study_or_path if isinstance(study_or_path, Study) else load_study(study_or_path)
     check_study(study, get_host(), methods=methods, levels=levels)  # everything, before the first task
