@@ -252,16 +252,7 @@ def test_the_function_import_check_can_fail(tmp_path):
 #: shrinks (a file that has fewer must lower its number, one with none must leave the list)
 FUNCTION_IMPORTS_TO_MOVE: dict[str, int] = {
     "core/railtherm/analysis/transient_metrics.py": 2,
-    "plugins/railtherm_fastsim/fastsim_line.py": 3,
-    "plugins/railtherm_fastsim/kinematics.py": 1, "plugins/railtherm_fastsim/simplified_theory.py": 1,
-    "plugins/railtherm_fastsim/tangential.py": 1, "plugins/railtherm_fastsim/wheelset_normal.py": 2,
-    "plugins/railtherm_fdm/block2d.py": 2, "plugins/railtherm_fdm/block3d.py": 1,
-    "plugins/railtherm_fdm/history.py": 1, "plugins/railtherm_fdm/linear_solvers.py": 2,
-    "plugins/railtherm_fdm/model.py": 2, "plugins/railtherm_fdm/plugin.py": 1,
-    "plugins/railtherm_fipy/history.py": 1,
-    "plugins/railtherm_fipy/model.py": 5, "plugins/railtherm_fipy/plugin.py": 1,
-    "plugins/railtherm_fipy/solvers.py": 8, "plugins/railtherm_fipy/steady.py": 2,
-    "plugins/railtherm_fipy/transient.py": 1, "plugins/railtherm_green/kernel.py": 1,
+    "plugins/railtherm_green/kernel.py": 1,
     "plugins/railtherm_green/plugin.py": 1, "plugins/railtherm_green/steady.py": 1,
     "plugins/railtherm_green/transient.py": 1, "plugins/railtherm_green/validity.py": 6
 }

@@ -19,6 +19,9 @@ import math
 
 import numpy as np
 
+from .simplified_theory import (BOUNDS, LEADING_EDGES, FastsimResult, law_arguments, law_diagnostics,
+                                power_diagnostics)
+
 __all__ = ["line_flexibility", "fastsim_line", "fastsim_line_force_ratio", "stick_slip_boundary"]
 
 
@@ -215,8 +218,6 @@ def fastsim_line(grid, pressure, *, a, normal_force, friction, shear_modulus, po
         Fields of shape (nx,); ``creep_force_x`` [N/m], ``local_power`` and ``global_power`` [W/m];
         ``creep_force_y`` and ``spin_moment`` are 0.
     """
-    from .simplified_theory import BOUNDS, LEADING_EDGES, FastsimResult, power_diagnostics
-
     if not grid.line:
         raise ValueError("fastsim_line needs a line grid (y_edges None)")
     if bound not in BOUNDS:
@@ -278,8 +279,7 @@ def _sweep_cells(grid, p, mu, a, xi, L, speed, leading_edge, slip_law, diag):
     """Kalker's discrete sweep on the one strip: traction, slip velocity, power density, stick map (cell
     values, scaled by the inside fraction) and the stick and slip cell counts; the slip law's
     diagnostics go into ``diag``."""
-    from .fastsim_kernel import fastsim_sweep_law
-    from .simplified_theory import law_arguments, law_diagnostics
+    from .fastsim_kernel import fastsim_sweep_law  # numba: loaded when a line is first swept, not when the plugin loads
 
     x = np.ascontiguousarray(grid.x, dtype=float)
     dq = float(grid.dx)

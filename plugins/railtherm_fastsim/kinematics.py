@@ -23,6 +23,8 @@ import numpy as np
 from railtherm.physics import combined_elastic, hertz_pressure_grid, rescale_hertz_patch
 from scipy.optimize import brentq
 
+from .simplified_theory import fastsim
+
 __all__ = ["WheelsetSolution", "wheelset_contacts", "wheelset_contact", "PRESSURE_GAUSS", "CHAIN_RTOL"]
 
 
@@ -231,8 +233,6 @@ class _Wheelset:
 
     def forces(self, theta, Nv):
         """Creep forces (Fx, Fy) [N] of both wheels: FASTSIM on each Hertz patch under the normal forces Nv."""
-        from .simplified_theory import fastsim
-
         xi, eta, phi = self.creepages(theta)
         fx = np.zeros(2)
         fy = np.zeros(2)

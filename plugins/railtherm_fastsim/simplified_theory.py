@@ -128,7 +128,7 @@ def ellipse_cell_integrals(grid, a, b, n_gauss=12):
     parabola : ndarray (nx, ny)
         Cell average of max(0, 1 - x^2/a^2 - y^2/b^2) [1].
     """
-    from .fastsim_kernel import ellipse_cell_kernel
+    from .fastsim_kernel import ellipse_cell_kernel  # numba: loaded on first use, not when the plugin loads
 
     t, w = np.polynomial.legendre.leggauss(int(n_gauss))
     frac = np.empty(grid.shape)

@@ -20,6 +20,7 @@ from railtherm import Capabilities, Option, Refused, TangentialContactModel
 from railtherm.physics import combined_elastic, creep_speeds
 from railtherm.physics.friction import LAW_KINDS, SlipVelocityFriction, local_friction
 
+from .fastsim_line import fastsim_line
 from .simplified_theory import BOUNDS, FLEXIBILITIES, LEADING_EDGES, fastsim
 
 __all__ = ["FastsimTangential", "FASTSIM_OPTIONS", "ONE_SWEEP", "scene_creepages"]
@@ -111,7 +112,6 @@ class FastsimTangential(TangentialContactModel):
         common = dict(normal_force=patch.normal_force, friction=friction, shear_modulus=G, poisson_ratio=nu, xi=xi,
                       speed=V, bound=options["bound"], leading_edge=options["leading_edge"], slip_law=slip_law)
         if patch.b is None:
-            from .fastsim_line import fastsim_line
             if eta != 0.0 or phi != 0.0:
                 raise Refused(f"model 'fastsim': a line contact has only longitudinal creepage (lateral = {eta:g}, "
                               f"spin = {phi:g} 1/m given); use an elliptical contact")

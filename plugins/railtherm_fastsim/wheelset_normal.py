@@ -56,7 +56,7 @@ class WheelsetNormal(NormalContactModel):
         return None
 
     def compute_patch(self, scene, level, options):
-        from .kinematics import PRESSURE_GAUSS, wheelset_contact
+        from .kinematics import PRESSURE_GAUSS, wheelset_contact  # scipy: a wheelset scene only, not on plugin load
         geometry = hertz_geometry(scene.wheel, scene.rail, scene.contact_shape, scene.normal_force,
                                   penetration=scene.penetration, semi_axes=scene.semi_axes,
                                   curvatures=scene.curvatures, wheel_radius=scene.wheel_radius, scene_name=scene.name)
@@ -105,7 +105,7 @@ def _chain_creep(chain, base, scaling: str, cells: int):
     """``creep_forces(i, N, creepages) -> (Fx, Fy)`` [N] for the equilibrium: the chain's tangential stage
     ``chain`` on the Hertz patch of ``base`` rescaled to N [N], on the grid the model returns (``cells`` along
     2a, :data:`PRESSURE_GAUSS` points), so that the forces balanced are those the run's tangential stage gives."""
-    from .kinematics import PRESSURE_GAUSS
+    from .kinematics import PRESSURE_GAUSS  # scipy: a wheelset scene only, not on plugin load
 
     def creep_forces(i, normal_force, creepage):
         a, b, p0 = rescale_hertz_patch(normal_force, base.normal_force, base.a, base.b, scaling)

@@ -16,6 +16,8 @@ from __future__ import annotations
 import time
 
 import numpy as np
+from scipy.sparse import csc_matrix
+from scipy.sparse.linalg import splu
 
 from railtherm import Refused
 
@@ -168,7 +170,6 @@ def transient_line(grid, flux, cover, speed, conductivity, density, specific_hea
 def _line_operator(xe, ze, lam, rc, V, hA, x_scheme):
     """:func:`steady_line`'s operator on the graded cells (edges ``xe``, ``ze`` [m]), top convection ``hA``:
     (A (csc) [W/(m K)], capacity flow rho c V dz (nz,), inflow coefficients (nz,), bottom conductances (nx,))."""
-    from scipy.sparse import csc_matrix
     dx, dz = np.diff(xe), np.diff(ze)
     xc, zc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ze[1:] + ze[:-1])
     nx, nz = dx.size, dz.size
@@ -282,8 +283,6 @@ def steady_line(grid, flux, cover, speed, conductivity, density, specific_heat, 
     _check_line(grid)
     if x_scheme not in X_SCHEMES:
         raise ValueError(f"x_scheme must be one of {X_SCHEMES}, got {x_scheme!r}")
-    from scipy.sparse.linalg import splu
-
     t0 = time.perf_counter()
     pb = block_problem(grid, speed, conductivity, density, specific_heat, convection, steady=True, extent=extent,
                        out_grid=out_grid, trail=trail)

@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 import time
 
+import numba
 import numpy as np
 
 from railtherm import Refused
@@ -144,7 +145,6 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     step = K.step_kernel(T.size)
     fused = scheme == "explicit" and T.size >= K.PARALLEL_MIN_NODES
     if fused:
-        import numba
         split = 4 * numba.get_num_threads()        # chunks of the active planes per call
         # one thread (a study's worker): the serial build, the same chunks (hence the same sums)
         two_steps = K.explicit_two_steps if numba.get_num_threads() > 1 else K.explicit_two_steps_serial

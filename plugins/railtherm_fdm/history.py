@@ -28,6 +28,7 @@ from railtherm import heating_scheme as core_heating_scheme
 from railtherm import histories_at_section, section_history, superposed_history, theta_steps
 from railtherm.physics import thermal_scales
 
+from .history3d import ellipse_block
 from .layout import depth_nodes, rail_nodes
 
 __all__ = ["SectionBlock", "BandSource", "ImplicitSection", "section_block", "section_history", "superposed_history", "body_histories", "heating_scheme",
@@ -398,7 +399,6 @@ def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, reques
         args = (v, m.conductivity, m.density * m.specific_heat, convection, level, duration, z)
         if grid.line:
             return section_block(float(grid.a), *args)
-        from .history3d import ellipse_block
         return ellipse_block(float(grid.a), float(grid.b), *args, max_nodes=max_nodes,
                              body="wheel" if m is bodies[0] else "rail")
     what = ("finite-volume block around the section (2-D for a line contact, 3-D for a patch), explicit while a "

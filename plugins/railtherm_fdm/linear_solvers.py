@@ -17,6 +17,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.sparse import diags
+from scipy.sparse.linalg import splu
 
 from . import kernels as K
 
@@ -208,7 +210,6 @@ def gmres(matvec, precond, b, x0, *, rtol=1e-11, restart=30, maxiter=2000):
 
 def stencil_matrix(coef, shape):
     """The 5-point operator of ``coef`` (3-D layout with one lateral node) as a CSC matrix."""
-    from scipy.sparse import diags
     nx, nz = shape
     n = nx * nz
     f = lambda k: coef[k].reshape(-1)  # noqa: E731
@@ -241,7 +242,6 @@ class BackwardEuler:
         self.iterations, self.worst, self.failed = 0, 0.0, 0
         shape = coef["aP"].shape
         if lu:
-            from scipy.sparse.linalg import splu
             self._lu = splu(stencil_matrix(coef, (shape[0], shape[2])), permc_spec="MMD_AT_PLUS_A")
         else:
             self._lu = None

@@ -103,7 +103,7 @@ class FDMTemperature(TemperatureModel):
             diag = {"cell_size": cell0 / 2 ** int(level), "requested_scheme": requested, "dimension": 2}
         else:
             if int(options["threads"]) > 0:
-                import numba
+                import numba  # numba on first use
                 numba.set_num_threads(min(int(options["threads"]), numba.config.NUMBA_NUM_THREADS))
             cell0 = float(options["cell_size"]) or 2.0 * min(float(grid.a), float(grid.b)) / 8.0
             diag = {"cell_size": cell0 / 2 ** int(level), "requested_scheme": requested}
@@ -234,7 +234,7 @@ class FDMTemperature(TemperatureModel):
         starts at ``min(cell, delta/4/2**level)``); the transient schemes a node spacing
         ``min(cell0, delta/2) / 2**level`` that resolves the flash layer from level 0 on.
         """
-        from .block2d import line_stability_limit, steady_line, transient_line
+        from .block2d import line_stability_limit, steady_line, transient_line   # numba on first use
         grid = source.grid
         a = float(grid.a)
         m = scene.wheel if i == 0 else scene.rail

@@ -7,9 +7,10 @@ from __future__ import annotations
 
 from railtherm import hookimpl
 
+from .model import FDMTemperature
+
 
 @hookimpl
 def railtherm_register_models():
     """The temperature model ``fdm`` (3-D block for an ellipse, 2-D for a line contact)."""
-    from .model import FDMTemperature
     return [FDMTemperature]

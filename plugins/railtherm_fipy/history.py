@@ -80,7 +80,7 @@ def fipy_block(a: float, speed: float, conductivity: float, capacity: float, con
     """The cells of the module docstring for a band of half-width ``a`` [m] at ``speed`` [m/s], lambda
     [W/(m K)], rho c [J/(m^3 K)], surface convection h [W/(m^2 K)] (on the surface cells' values), refinement
     ``level``, a history of ``duration_total`` [s] and the output ``depths`` [m]."""
-    from fipy import CellVariable, DiffusionTerm, Grid2D, TransientTerm
+    from fipy import CellVariable, DiffusionTerm, Grid2D, TransientTerm  # fipy (heavy): a solve only
     kappa = conductivity / capacity
     delta = thermal_scales(a, speed, kappa).thermal_depth
     reach = math.sqrt(kappa * duration_total)

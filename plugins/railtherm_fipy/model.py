@@ -28,8 +28,11 @@ from railtherm.physics import (embed_field, field_grid, lumped_wheel, superposit
                                with_thermal_trace)
 from railtherm.physics.thermal_trace import TRACE_OUTPUTS
 
+from .history import fipy_block
 from .mesh import moving_frame_mesh
-from .steady import SCHEMES, MovingFrameSolver
+from .solvers import solver_suite
+from .steady import LU_MAX_CELLS_3D, SCHEMES, MovingFrameSolver
+from .transient import wheel_heating
 
 #: Cost model of a 3-D solve per body, calibrated on the development machine (FiPy 4.0.3, SciPy suite,
 #: OPENBLAS_NUM_THREADS=1; uniform or Hertz flux on a circle a = 2 mm or ellipses 0.5 x 10 mm, both bodies
@@ -56,7 +59,6 @@ def estimate_seconds_3d(cells: int, peclet: float, bodies: int) -> float:
     LU up to :data:`railtherm_fipy.steady.LU_MAX_CELLS_3D` cells (``SECONDS_PER_CELL_LU`` x cells), else
     GMRES + ILU (``SECONDS_PER_CELL_ITERATION`` x cells x :func:`expected_iterations`).
     """
-    from .steady import LU_MAX_CELLS_3D
     if cells <= LU_MAX_CELLS_3D:
         per_body = SECONDS_PER_CELL_LU * cells
     else:
@@ -253,7 +255,6 @@ class FipyTemperature(TemperatureModel):
         """The pass histories of both bodies on the FiPy section (:mod:`railtherm_fipy.history`, stepped by
         :func:`railtherm.solving.section_stepping.histories_at_section`), with the steady one-pass fields of the
         moving frame when the scene asks them."""
-        from .history import fipy_block
         grid = source.grid
         if not grid.line:
             raise Refused(self.supports(scene, level) or "model 'fipy': pass histories of line contacts only",
@@ -317,7 +318,6 @@ class FipyTemperature(TemperatureModel):
         depth profile rises by T_s. The radial history itself is summarised in the ``transient_*``
         diagnostics.
         """
-        from .transient import wheel_heating
         h = wheel_heating(scene, source, level, opts)
         ts = float(h["tread"][-1])                      # tread rise at the end of the simulated time
         eps_c = h["eps_c"]
@@ -389,7 +389,6 @@ class FipyTemperature(TemperatureModel):
             for i in (0, 1):
                 depth_z[i], depth_T[i] = _to_depth(depth_z[i], depth_T[i], min_depth)
         diag.update(tally.diagnostics(), solve_time=time.perf_counter() - t0)
-        from .solvers import solver_suite
         diag["solver_suite"] = solver_suite()
         bulk = (scene.wheel.bulk_temperature, scene.rail.bulk_temperature)
         return _Flash(bulk, tuple(surface), tuple(depth_T), tuple(depth_z), tuple(body_diag), diag)
@@ -490,7 +489,7 @@ def _solve_strip_rows(solver, rows, grid, q, contact, convection, tally, bd):
 def _solve_3d(solver, mesh, rows, grid, q, contact, convection, tally):
     """One body in 3-D (the half y >= 0 on a symmetric mesh): surface rise on the grid, the depth field at y = 0
     and its depth axis."""
-    from scipy.interpolate import RegularGridInterpolator
+    from scipy.interpolate import RegularGridInterpolator  # scipy.interpolate (~80 ms): 3-D solves only
 
     i0, nxp, r_ = rows.i0, rows.nxp, rows.refine
     j0 = int(np.searchsorted(mesh.y_edges, -grid.b - 1e-12 * grid.b)) if not mesh.half else 0

@@ -3,10 +3,11 @@ from __future__ import annotations
 
 from railtherm import Method, hookimpl
 
+from .model import FipyTemperature
+
 
 @hookimpl
 def railtherm_register_models():
-    from .model import FipyTemperature
     return [FipyTemperature]
 
 

@@ -13,8 +13,10 @@ from __future__ import annotations
 import os
 import sys
 import threading
+import warnings
 
 import numpy as np
+from scipy.sparse.linalg import LinearOperator, spilu, splu
 
 from railtherm import SolverError
 
@@ -48,10 +50,9 @@ def import_fipy():
             argv = sys.argv
             sys.argv = [argv[0] if argv else "railtherm"]
             try:
-                import warnings
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", DeprecationWarning)
-                    import fipy
+                    import fipy  # fipy (heavy, reads sys.argv): on first use, shielded here
             finally:
                 sys.argv = argv
             _fipy = fipy
@@ -70,8 +71,6 @@ def _lu_class():
     if "LU" in _classes:
         return _classes["LU"]
     fp = import_fipy()
-    from scipy.sparse.linalg import splu
-
     base = fp.solvers.scipy.LinearLUSolver
 
     class LU(base):
@@ -159,7 +158,6 @@ class _PermutedLU:
     """LU of ``A[p][:, p]`` that solves systems with ``A`` (the permutation is undone in :meth:`solve`)."""
 
     def __init__(self, A, order):
-        from scipy.sparse.linalg import splu
         self.p = np.asarray(order)
         A = A.tocsr()
         self.lu = splu(A[self.p][:, self.p].tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=1.0)
@@ -190,7 +188,6 @@ def lu_factor(A, order=None):
     """
     if order is not None:
         return _PermutedLU(A, order)
-    from scipy.sparse.linalg import splu
     return splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=1.0)
 
 
@@ -198,8 +195,7 @@ def _ilu_class():
     if "ilu" in _classes:
         return _classes["ilu"]
     import_fipy()
-    from fipy.solvers.scipy.preconditioners import ILUPreconditioner
-    from scipy.sparse.linalg import LinearOperator, spilu
+    from fipy.solvers.scipy.preconditioners import ILUPreconditioner  # fipy: imported by import_fipy above
 
     class ILU(ILUPreconditioner):
         """FiPy's ILU preconditioner with a minimum-degree ordering (``MMD_AT_PLUS_A``), drop
@@ -278,7 +274,6 @@ def solve_checked(eq, var, solver, what: str = "FiPy solve", dt: float | None = 
     dict
         ``iterations``, ``residual`` (relative to ``||b||``), ``converged`` (True), ``solver``.
     """
-    import warnings
     eq.cacheMatrix()
     eq.cacheRHSvector()
     with warnings.catch_warnings():

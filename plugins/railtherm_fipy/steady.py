@@ -15,6 +15,8 @@ values: docs/NOTES.md, "FiPy steady solve".
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
+from railtherm import SolverError
 
 from .mesh import MovingFrameMesh
 from .solvers import assemble, import_fipy, lu_factor, make_solver, solve_checked
@@ -161,7 +163,6 @@ class MovingFrameSolver:
             ``iterations`` (1 + refinement steps), ``residual`` (largest over the strips),
             ``converged``, ``factorisations``, ``energy_balance`` (ns,) [1], ``cells``.
         """
-        from railtherm import SolverError
         if self.three_d:
             raise ValueError("solve_strips is for 2-D meshes")
         fluxes = np.atleast_2d(np.asarray(fluxes, dtype=float))
@@ -189,7 +190,6 @@ class MovingFrameSolver:
             cols = [j for j in unique if keys[j] == key]
             A = A0
             if convection > 0:
-                import scipy.sparse as sp
                 A = (A0 + sp.diags(np.r_[np.where(contacts[cols[0]], 0.0, h_diag), np.zeros(nx * (nz - 1))])).tocsr()
             B = np.repeat(b0[:, None], len(cols), axis=1)
             B[:nx] += d[:, None] * fluxes[cols].T

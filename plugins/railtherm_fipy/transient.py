@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import scipy.sparse as sp
 
 from railtherm import Refused, SolverError
 from railtherm.physics import (conduction_conductance, convective_area, equal_temperature_partition,
@@ -166,8 +167,6 @@ def _march(L, b, cap, vol, dts, tread_of):
     """Implicit Euler steps ``(cap/dt - L) x_new = cap/dt x_old - b`` from x = 0 (one LU factorisation per
     distinct dt): times, tread rises (``tread_of(x)``), volume-mean rises, the largest relative residual,
     the final time and the final cell values."""
-    import scipy.sparse as sp
-
     ts, tr, mean = [0.0], [0.0], [0.0]
     res = 0.0
     t = 0.0
