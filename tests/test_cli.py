@@ -1,8 +1,15 @@
-"""The command line: validate rejects malformed studies by key, without a traceback; methods; run."""
+"""The command line: validate rejects malformed studies by key, without a traceback; methods; run.
+
+The commands are called in this process through :func:`railtherm.cli.main` (what ``python -m railtherm.cli``
+runs, with its return value as the exit status); one test runs the module as a command in a subprocess, so
+that its exit status and output are those a shell sees.
+"""
 import subprocess
 import sys
 
 import pytest
+
+from railtherm.cli import main
 
 GOOD = """
 schema_version = 1
@@ -21,8 +28,17 @@ friction = 0.3
 
 
 def _cli(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "railtherm.cli", *args], capture_output=True, text=True, cwd=cwd,
-                          timeout=120)
+    """The command in a subprocess: (exit status, stdout, stderr)."""
+    r = subprocess.run([sys.executable, "-m", "railtherm.cli", *args], capture_output=True, text=True, cwd=cwd,
+                       timeout=120)
+    return r.returncode, r.stdout, r.stderr
+
+
+def _main(capsys, *args):
+    """The command in this process: (exit status, stdout, stderr); an exception would fail the test."""
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out, err
 
 
 @pytest.mark.parametrize("change,key", [
@@ -31,26 +47,27 @@ def _cli(*args, cwd=None):
     (("speed = 30.0", "speed = nan"), "speed"),
     (("speed = 30.0", 'speed = "fast"'), "speed"),
 ])
-def test_validate_rejects_malformed(tmp_path, change, key):
+def test_validate_rejects_malformed(tmp_path, capsys, change, key):
     p = tmp_path / "bad.toml"
     p.write_text(GOOD.replace(*change))
-    r = _cli("validate", str(p))
-    assert r.returncode != 0
-    assert f"'{key}'" in r.stderr and "Traceback" not in r.stderr + r.stdout
+    code, out, err = _main(capsys, "validate", p)
+    assert code != 0
+    assert f"'{key}'" in err and "Traceback" not in err + out
 
 
-def test_validate_accepts_good_and_methods_lists(tmp_path):
+def test_validate_accepts_good_and_methods_lists(tmp_path, capsys):
     p = tmp_path / "good.toml"
     p.write_text(GOOD)
-    r = _cli("validate", str(p))
-    assert r.returncode == 0, r.stderr
-    assert "ok" in r.stdout
-    r = _cli("methods")
-    assert r.returncode == 0
+    code, out, err = _main(capsys, "validate", p)
+    assert code == 0, err
+    assert "ok" in out
+    code, out, err = _main(capsys, "methods")
+    assert code == 0
 
 
 def test_run_reports_unknown_method_without_traceback(tmp_path):
+    """As a shell runs it: ``python -m railtherm.cli`` in a subprocess, its exit status and stderr."""
     p = tmp_path / "good.toml"
     p.write_text(GOOD.replace('methods = "all"', 'methods = ["nope"]'))
-    r = _cli("run", str(p), "--out", str(tmp_path / "o"))
-    assert r.returncode == 2 and "nope" in r.stderr and "Traceback" not in r.stderr
+    code, out, err = _cli("run", str(p), "--out", str(tmp_path / "o"))
+    assert code == 2 and "nope" in err and "Traceback" not in err
