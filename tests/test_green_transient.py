@@ -154,11 +154,12 @@ def test_ellipse_single_pass_peaks_in_depth_against_the_exact_3d_history():
     assert np.max(np.abs(peak / ref.peak - 1)) < 0.05
 
 
-def test_strips_neglect_lateral_cooling_between_passes():
-    """What the 1-D strips neglect: the centre strip of a narrow ellipse (b = 4 mm) also cools sideways between
-    passes. Against the exact 3-D history the residual rise after one 83 ms interval is 17 % high and grows
-    with the passes (36 % after four); the 4th pass's peak at 0.5 mm is 16 % high. The test pins the sign
-    and size (residual error 10 .. 25 % after pass 1, increasing), so a change in either is seen."""
+def test_centre_strip_alone_misses_lateral_cooling_between_passes():
+    """Why green weights a 3-D contact's strips by the lateral Gaussian (tests/test_green_transient_lateral.py):
+    the centre strip of a narrow ellipse (b = 4 mm) alone, a 1-D flux, does not cool sideways between passes.
+    Against the exact 3-D history its residual rise after one 83 ms interval is 17 % high and grows with the
+    passes (36 % after four); the 4th pass's peak at 0.5 mm is 16 % high. The test pins the sign and size
+    (residual error 10 .. 25 % after pass 1, increasing), so a change in either is seen."""
     src = MovingSource("ellipse", A, V, Q, "hertz", B)
     xe, _ = _grid(LEVEL2, "hertz")
     t = strip_time_axis(xe, V, 4, 0.083)

@@ -47,7 +47,7 @@ def _train(level, depths):
 
 def test_train_of_axles_pass_peaks_against_the_exact_ellipse():
     """Issue target: against the exact 3-D ellipse at 0.1 and 0.5 mm, every pass's peak within 5 % at level 2
-    (the centre strip alone, without the lateral term, was 4.9 % and 15.9 % high at the 4th pass: measured now
+    (the centre strip alone, without the lateral term, is 4.9 % and 15.9 % high at the 4th pass; measured with it:
     8e-5 and 6.4e-4). What is left is conduction along x, of order kappa t / a^2 at the peak's time (at 0.5 mm the
     first pass peaks ~9 ms after the arrival: 3e-3): within 1e-3 here, as the residual rise (measured 1e-4)."""
     (peak, residual), (ref_peak, ref_residual) = _train(2, (1e-4, 5e-4))

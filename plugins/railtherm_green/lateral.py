@@ -1,32 +1,12 @@
 """Conduction across green's strips in its transient histories: one pass's response at the fixed section of a
 3-D contact, each strip's 1-D response weighted by the lateral Gaussian.
 
-At high Péclet number the section sees the same history, shifted in time, at every x, so conduction along x
-is negligible, while across the strips (y) it is not between passes: 83 ms after a pass its heat has spread
-sqrt(4 kappa t) = 2 mm sideways, half an ellipse's semi-axis. The instantaneous point source of an insulated
-half-space factorises into x, y and z parts; dropping only the x part (a delta in x) gives at the centre line
-(y = 0, depth z) [1, 2]
-
-``T(t) = int int q(t', y') G_y(y', t - t') g_z(t - t') dy' dt' / (beta sqrt(pi))``,
-``G_y(y, s) = exp(-y^2/(4 kappa s)) / sqrt(4 pi kappa s)``, ``g_z(s) = exp(-z^2/(4 kappa s)) / sqrt(s)``,
-
-q(t', y') the flux over the section point (x0, y') at t'. With q piecewise constant on green's cells, strip j
-(y_j .. y_(j+1)) weighs its 1-D kernel by ``W_j(s) = (erf(y_(j+1)/sqrt(4 kappa s)) - erf(y_j/sqrt(4 kappa s)))/2``,
-which tends to W_j(0+) = (sgn y_(j+1) - sgn y_j)/2 (the strip containing y = 0) as s -> 0 and sums to 1 over
-strips covering all y (a band: unchanged). Splitting W_j = W_j(0+) - (W_j(0+) - W_j) and summing by parts over
-the y edges gives the centre strip's 1-D response (:class:`railtherm_green.pass_response.PassResponse`) plus
-
-``dR(theta) = sum_p sum_k d_kp Psi_p(theta - c_k) / (beta sqrt(pi))``,  ``Psi_p(s) = int_0^s psi_p``,
-``psi_p(s) = erfc(rho_p / sqrt(4 kappa s)) g_z(s) / 2``,
-
-over the distinct distances rho_p > 0 of the y edges from the centre line and the x edges k (crossed at c_k),
-with ``b_kp = sum_(|y_e| = rho_p) sgn(y_e) (q_(k,e) - q_(k,e-1))`` and d_kp = b_(k-1)p - b_kp. psi_p vanishes
-with all its derivatives at s = 0, so dR is smooth: it is tabulated on the lattice of half cell-crossing times up
-to two contact durations (Psi_p by Gauss-Legendre on each lattice step, the edge sums as discrete convolutions,
-cubic Hermite between lattice points) and past them summed at the crossing times' Chebyshev nodes as the 1-D far
-sum. The whole response is 1/theta times a function analytic in 1/theta (each term erf(rho/sqrt(4 kappa s)) g_z
-is 1/s times a power series in 1/s; the log of the integral cancels by the weights' zero sum), so its tail is
-interpolated as theta R (``tail_power`` = -1). Derivation: docs/NOTES.md, "Green's transient".
+At high Péclet number the section sees the same history, shifted in time, at every x: conduction along x is
+negligible, across the strips (y) it is not between passes (83 ms after a pass its heat has spread
+sqrt(4 kappa t) = 2 mm sideways). The half-space's instantaneous point source factorises into x, y and z parts;
+dropping only x, strip j (y_j .. y_(j+1)) weighs its 1-D kernel by
+``W_j(s) = (erf(y_(j+1)/sqrt(4 kappa s)) - erf(y_j/sqrt(4 kappa s)))/2`` [1, 2]. The response is the centre strip's
+1-D one plus a smooth lateral term (:class:`LateralPassResponse`); derivation: docs/NOTES.md, "Green's transient".
 
 References: [1] H.S. Carslaw, J.C. Jaeger, Conduction of Heat in Solids, 2nd ed., Oxford 1959, sections 2.9,
 10.2 (the instantaneous point source). [2] M. Ertz, K. Knothe, A comparison of analytical and numerical methods
@@ -250,7 +230,25 @@ def _edge_weights(b):
 
 class LateralPassResponse:
     """One pass's rise [K] at the depths z for a constant factor 1 under a 3-D contact, as a function of the time
-    after arrival: the centre strip's 1-D response plus the lateral term dR of the module docstring.
+    after arrival: the centre strip's 1-D response plus the lateral term dR.
+
+    With the flux q piecewise constant on green's cells, at the centre line (y = 0, depth z)
+    ``T(t) = sum_j int q_j(t') W_j(t - t') g_z(t - t') dt' / (beta sqrt(pi))``, g_z(s) = exp(-z^2/(4 kappa s))/sqrt(s).
+    W_j tends to W_j(0+) = (sgn y_(j+1) - sgn y_j)/2 (the strip containing y = 0) as s -> 0 and sums to 1 over
+    strips covering all y (a band: unchanged). Splitting W_j = W_j(0+) - (W_j(0+) - W_j) and summing by parts over
+    the y edges gives the centre strip's 1-D response (:class:`railtherm_green.pass_response.PassResponse`) plus
+
+    ``dR(theta) = sum_p sum_k d_kp Psi_p(theta - c_k) / (beta sqrt(pi))``,  ``Psi_p(s) = int_0^s psi_p``,
+    ``psi_p(s) = erfc(rho_p / sqrt(4 kappa s)) g_z(s) / 2``,
+
+    over the distinct distances rho_p > 0 of the y edges from the centre line and the x edges k (crossed at c_k),
+    with ``b_kp = sum_(|y_e| = rho_p) sgn(y_e) (q_(k,e) - q_(k,e-1))`` and d_kp = b_(k-1)p - b_kp. psi_p vanishes
+    with all its derivatives at s = 0, so dR is smooth: it is tabulated on the lattice of half cell-crossing times
+    up to two contact durations (Psi_p by Gauss-Legendre on each lattice step, the edge sums as discrete
+    convolutions, cubic Hermite between lattice points) and past them summed at the crossing times' Chebyshev
+    nodes as the 1-D far sum. The whole response is 1/theta times a function analytic in 1/theta (each
+    erf(rho/sqrt(4 kappa s)) g_z is 1/s times a power series in 1/s; the log of the integral cancels by the
+    weights' zero sum), so its tail is interpolated as theta R (``tail_power`` = -1).
 
     The same interface as :class:`railtherm_green.pass_response.PassResponse` (``far``, ``with_tail``,
     ``cs``, ``duration``, ``tail_power``), so that green's sums over passes take either.

@@ -236,6 +236,7 @@ class PassResponse:
 
     def __init__(self, x_edges, flux, speed, depth, effusivity, diffusivity, snap):
         x = np.ascontiguousarray(x_edges, dtype=float)
+        self.flux = np.asarray(flux, dtype=float)
         # edge k: w_k = q_(k-1) - q_k, crossed at c_k [s] (decreasing in k); those whose weight is not 0; the
         # weights from the lead (edge r at lattice point 2 r); whether the cells are equal
         self.w, self.c_edge, self.c_live, self.w_live, self.w_lead, self.uniform = _edges(

@@ -5,10 +5,10 @@ x = x_lead - V (t - t_k) crosses the patch (pass k arrives at t_k = k interval).
 half-space heated only through its surface, so the history is the 1-D Duhamel integral (Carslaw & Jaeger
 1959, 2.9): ``T(z, t) = 1/(beta sqrt(pi)) int f(t') q(t') exp(-z^2/(4 kappa (t - t'))) dt' / sqrt(t - t')``,
 beta = sqrt(lambda rho c), q the strip's flux (piecewise constant per cell), f the piecewise-linear schedule;
-each interval is integrated exactly (:func:`_f_g`). Neglected: conduction along x and across strips. The
-problem is linear, so one pass's response serves every pass (:func:`_unit_pass_sum`); a temperature-dependent
-flux would break this, and green refuses such scenes (:func:`railtherm_green.history.limits`). Derivation and
-the superposition scheme: docs/NOTES.md, "Green's transient".
+each interval is integrated exactly (:func:`_f_g`); on a 3-D contact the strips weighted by the lateral Gaussian
+(:mod:`railtherm_green.lateral`). Neglected: conduction along x (the high-Péclet limit). The problem is linear, so
+one pass's response serves every pass (:func:`_unit_pass_sum`); a temperature-dependent flux would break this, and
+green refuses such scenes (:func:`railtherm_green.history.limits`). Derivation: docs/NOTES.md, "Green's transient".
 
 References: [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
 temperatures in wheel/rail contact, Wear 253 (2002) 498-508 (DOI not verified, see docs/references.md).
@@ -185,8 +185,9 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
 
     Notes
     -----
-    The result is the exact Duhamel integral without conduction along x (on a 3-D contact with the strips' lateral
-    Gaussian, :mod:`railtherm_green.lateral`); what separates it from the exact moving band is conduction along x. It is small where every pass lays down the same heat along the rail, and shows where
+    The result is the exact Duhamel integral without conduction along x (on a 3-D contact with the strips'
+    lateral Gaussian, :mod:`railtherm_green.lateral`); what separates it from the exact moving band or ellipse is
+    conduction along x. It is small where every pass lays down the same heat along the rail, and shows where
     the schedule varies on the scale of one pass: a heat input ramped from zero over a few contact durations
     leaves a deposit that grows across the first pass (material reached later gets more), and by the next
     pass conduction along x has carried heat from the more heated material ahead into the section. On the
@@ -203,11 +204,8 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
     if not np.asarray(flux).any():
         return np.zeros((time.size, depth.size))
     snap = 1e-12 * max(step, duration) + 1e-15 * duration
-    if np.ndim(flux) == 2:
-        response = LateralPassResponse(x_edges, y_edges, flux, speed, depth, effusivity, diffusivity, snap)
-        centre = response.base_flux
-    else:
-        response, centre = PassResponse(x_edges, flux, speed, depth, effusivity, diffusivity, snap), flux
+    response = (LateralPassResponse(x_edges, y_edges, flux, speed, depth, effusivity, diffusivity, snap)
+                if np.ndim(flux) == 2 else PassResponse(x_edges, flux, speed, depth, effusivity, diffusivity, snap))
 
     def one_pass(theta):
         return with_smooth_tail(response, theta, 4.0 * duration, far=response.far, passes=int(count),
@@ -219,15 +217,23 @@ def strip_history(time, depth, x_edges, flux, effusivity: float, diffusivity: fl
         return float(sched[1][0]) * _unit_pass_sum(time, int(count), interval, response, 4.0 * duration)
     weights = _pass_weights(int(count), step, duration, sched)
     out = _constant_factor_passes(time, depth.size, step, weights, one_pass)
-    segments = _segments(x_edges, centre, speed)
     for k in np.flatnonzero(~np.isfinite(weights)):      # passes whose heating meets a kink: with the schedule
         rows = np.flatnonzero(time - k * step > 0)
         if rows.size:
-            out[rows] += _scheduled_pass(time[rows] - k * step, depth, segments, k * step, sched, effusivity,
-                                         diffusivity)
-            if np.ndim(flux) == 2:                      # a 3-D contact: its strips' lateral term too
-                out[rows] += scheduled_lateral(time[rows] - k * step, response,
-                                               _lateral_pieces(x_edges, speed, k * step, sched))
+            out[rows] += _scheduled_history(time[rows] - k * step, depth, x_edges, response, speed, k * step, sched,
+                                            effusivity, diffusivity)
+    return out
+
+
+def _scheduled_history(theta, depth, x_edges, response, speed, arrival, sched, effusivity, diffusivity):
+    """Rise [K] (theta.size, depth.size) of the pass arriving at ``arrival`` [s] under the schedule at the times
+    theta > 0 after it: the centre strip's exact integral (:func:`_scheduled_pass`), on a 3-D contact plus its
+    strips' lateral term (:func:`railtherm_green.lateral.scheduled_lateral`)."""
+    lateral = isinstance(response, LateralPassResponse)
+    centre = response.base_flux if lateral else response.flux
+    out = _scheduled_pass(theta, depth, _segments(x_edges, centre, speed), arrival, sched, effusivity, diffusivity)
+    if lateral:
+        out += scheduled_lateral(theta, response, _lateral_pieces(x_edges, speed, arrival, sched))
     return out
 
 

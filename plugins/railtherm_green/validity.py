@@ -60,7 +60,8 @@ ADVICE = {
                "(jaeger for a line contact)"),
     "moving_surface": ("the 1-D moving Green function has no steady state without motion; use the exact "
                        "railtherm.references.moving_source"),
-    "modes": "it computes the quasi-steady flash temperature; use 'fastsim-fdm' or 'fipy' for transients",
+    "modes": ("it computes the quasi-steady flash temperature and transient histories of passes (conduction along "
+              "x neglected); use 'fdm' or 'fipy' for other transients"),
 }
 
 
