@@ -157,6 +157,7 @@ STAGE_HOOKS = frozenset({"supports", "compute_patch", "compute_tangential", "com
 #: modules whose functions below the stage hooks take the scene's parts (materials, heat partition, friction
 #: law, creepage, ...) instead of the Scene, so that each function's inputs show in its signature
 SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/physics/kinematics.py",
+                       "core/railtherm/physics/pass_history.py",
                        "core/railtherm/physics/partition.py", "core/railtherm/physics/friction/contact_temperature.py",
                        "core/railtherm/physics/thermal_trace.py",
                        "core/railtherm/models/hertz.py", "core/railtherm/models/sliding.py",

@@ -363,10 +363,12 @@ def test_superposition_limits_name_each_reason_and_the_model():
     from railtherm.physics import superposition_limits
     law = lambda t: NS(depends_on_temperature=t)  # noqa: E731
     body = lambda t: NS(bulk_temperature=t)  # noqa: E731
-    ok = NS(heat_source=None, friction=law(False), wheel=body(20.0), rail=body(20.0), outputs=("temperature_history",))
-    assert superposition_limits(ok, "m") is None
-    hot = NS(**{**vars(ok), "friction": law(True)})
-    assert "temperature-dependent friction law" in superposition_limits(hot, "m") and "'m'" in superposition_limits(hot, "m")
-    assert superposition_limits(NS(**{**vars(hot), "heat_source": object()}), "m") is None   # a given source: no law
-    assert "one bulk temperature" in superposition_limits(NS(**{**vars(ok), "rail": body(30.0)}), "m")
-    assert "'peak_temperature'" in superposition_limits(NS(**{**vars(ok), "outputs": ("peak_temperature",)}), "m")
+    ok = dict(friction=law(False), heat_source=None, wheel=body(20.0), rail=body(20.0), outputs=("temperature_history",))
+    assert superposition_limits(**ok, model="m") is None
+    hot = {**ok, "friction": law(True)}
+    assert "temperature-dependent friction law" in superposition_limits(**hot, model="m")
+    assert "'m'" in superposition_limits(**hot, model="m")
+    assert superposition_limits(**{**hot, "heat_source": object()}, model="m") is None   # a given source: no law
+    assert superposition_limits(**{**ok, "friction": None}, model="m") is None            # no friction law
+    assert "one bulk temperature" in superposition_limits(**{**ok, "rail": body(30.0)}, model="m")
+    assert "'peak_temperature'" in superposition_limits(**{**ok, "outputs": ("peak_temperature",)}, model="m")

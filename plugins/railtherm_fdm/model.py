@@ -271,7 +271,7 @@ def history_limits(scene) -> str | None:
     """Why fdm cannot compute this scene's pass histories, or None (also None when it asks for none)."""
     if not asks_history(scene):
         return None
-    return superposition_limits(scene, "fdm")
+    return superposition_limits(scene.friction, scene.heat_source, scene.wheel, scene.rail, scene.outputs, "fdm")
 
 
 def _clip_depth(z, rise, depth: float):

@@ -135,7 +135,8 @@ class FemModel(CoupledModel):
                 return ("model 'fem' computes the pass histories of a transient scene (passes, schedule or a transient "
                         "output: temperature_history, pass_peak_temperature, residual_rise, time_above); this scene "
                         "asks none (a wheel warming over revolutions is model 'fipy''s transient mode)")
-            return superposition_limits(scene, "fem")
+            return superposition_limits(scene.friction, scene.heat_source, scene.wheel, scene.rail, scene.outputs,
+                                        "fem")
         return None
 
     # ------------------------------------------------------------------------------------------

@@ -233,7 +233,7 @@ class FipyTemperature(TemperatureModel):
             return ("model 'fipy' computes the pass histories of a line contact (a 2-D FiPy section around the fixed "
                     "section); an elliptical patch's histories would need its 3-D section: use method 'green' or "
                     "'fastsim-fdm'")
-        return superposition_limits(scene, "fipy")
+        return superposition_limits(scene.friction, scene.heat_source, scene.wheel, scene.rail, scene.outputs, "fipy")
 
     def compute_temperature(self, scene, source, level, options):
         """Surface (and depth at y = 0) temperatures of wheel and rail [degC], absolute; in a transient scene

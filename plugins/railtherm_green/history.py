@@ -31,7 +31,7 @@ def limits(scene) -> str | None:
     tr = getattr(scene, "transient", None)
     if tr is None:
         return None
-    return superposition_limits(scene, "green")
+    return superposition_limits(scene.friction, scene.heat_source, scene.wheel, scene.rail, scene.outputs, "green")
 
 
 def histories(scene, grid, flux: np.ndarray, bodies, speeds, bulk) -> tuple[TransientHistory, dict]:

@@ -14,24 +14,41 @@ __all__ = ["pass_peaks_and_residual", "pass_time_above", "superposition_limits"]
 _ONE_PASS_DEPTH = ("temperature", "peak_temperature", "cooling_rate", "heated_depth")
 
 
-def superposition_limits(scene, model: str) -> str | None:
-    """Why a history built by superposing one pass's response over the passes does not hold for ``scene``,
-    or None: it holds while every pass gets the same heat, independent of the temperatures. A friction law
-    that depends on the temperature makes each pass's heat depend on the earlier ones (the coupled loop
-    would run per pass); bodies at different bulk temperatures exchange heat through the patch by a steady
-    field that is no pass response; and one pass's depth-field outputs live on another axis than the
-    histories. ``model`` names the model in the reason."""
-    law = getattr(scene, "friction", None)
-    if getattr(scene, "heat_source", None) is None and law is not None and law.depends_on_temperature:
+def superposition_limits(friction, heat_source, wheel, rail, outputs, model: str) -> str | None:
+    """Why a history built by superposing one pass's response over the passes does not hold, or None: it
+    holds while every pass gets the same heat, independent of the temperatures. A friction law that depends
+    on the temperature makes each pass's heat depend on the earlier ones (the coupled loop would run per
+    pass); bodies at different bulk temperatures exchange heat through the patch by a steady field that is
+    no pass response; and one pass's depth-field outputs live on another axis than the histories.
+
+    Parameters
+    ----------
+    friction : FrictionLaw or None
+        The scene's friction law (its ``depends_on_temperature`` is read), None without one.
+    heat_source : object or None
+        The scene's given heat source; when given, no friction law sets the heat.
+    wheel, rail : Material
+        The bodies (their ``bulk_temperature`` [degC] is read).
+    outputs : sequence of str
+        The output names the scene asks for.
+    model : str
+        The model named in the reason.
+
+    Returns
+    -------
+    str or None
+        The first condition that fails, naming ``model`` and what to change; None when superposition holds.
+    """
+    if heat_source is None and friction is not None and friction.depends_on_temperature:
         return (f"model {model!r} superposes one pass's response over the passes, which holds only while the heat "
                 "input does not depend on the temperature; a temperature-dependent friction law needs the coupled "
                 f"loop in every pass, which {model!r} does not run: use a constant or slip-velocity friction law")
-    wheel, rail = float(scene.wheel.bulk_temperature), float(scene.rail.bulk_temperature)
-    if wheel != rail:
+    t_wheel, t_rail = float(wheel.bulk_temperature), float(rail.bulk_temperature)
+    if t_wheel != t_rail:
         return (f"model {model!r} superposes the frictional heat of the passes only; wheel and rail at different bulk "
-                f"temperatures ({wheel:g} and {rail:g} degC) exchange heat through the patch by a steady field that "
-                "is no pass response: give both bodies one bulk temperature")
-    depth = [o for o in tuple(getattr(scene, "outputs", ()) or ()) if o in _ONE_PASS_DEPTH]
+                f"temperatures ({t_wheel:g} and {t_rail:g} degC) exchange heat through the patch by a steady field "
+                "that is no pass response: give both bodies one bulk temperature")
+    depth = [o for o in tuple(outputs or ()) if o in _ONE_PASS_DEPTH]
     if depth:
         return (f"model {model!r} does not return {depth[0]!r} in a transient scene with passes (the depth field is "
                 "one pass's, on another axis than the histories): ask temperature_history, pass_peak_temperature, "
