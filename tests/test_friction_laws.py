@@ -190,9 +190,12 @@ def test_loop_refuses_a_chain_without_a_temperature_model():
 
 def test_temperature_friction_has_no_closed_form_reference():
     from railtherm.analysis.analytic import uniform_friction
-    assert uniform_friction(load_scene(scene(TEMP))) is None
-    assert uniform_friction(load_scene(scene(SLIP, sliding_speed=0.5))) == pytest.approx(0.18 + 0.18 * math.exp(-1))
-    assert uniform_friction(load_scene(scene(0.25))) == 0.25
+
+    def mu(sc):
+        return uniform_friction(sc.friction, sc.tangential, sc.sliding_speed)
+    assert mu(load_scene(scene(TEMP))) is None
+    assert mu(load_scene(scene(SLIP, sliding_speed=0.5))) == pytest.approx(0.18 + 0.18 * math.exp(-1))
+    assert mu(load_scene(scene(0.25))) == 0.25
 
 
 def test_slip_law_iteration_past_its_step_limit_raises_solver_error_and_too_steep_refuses():

@@ -311,7 +311,7 @@ def _headline(scene) -> str:
     # here, not at the top: this kit is a pytest plugin that every pytest session loads, and solving/ and
     # analysis/ cost ~0.5 s to import
     from .analysis.metrics import headline
-    return headline(scene)
+    return headline(scene.outputs)
 
 
 def _exact_errors(scene, ds) -> dict[str, tuple[float, str]]:

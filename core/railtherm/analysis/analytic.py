@@ -54,7 +54,7 @@ def _thermal_case(scene):
         speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
         return a, b, hs.shape, hs.flux, speeds, scene_partition(scene.partition, scene.wheel, scene.rail, *speeds,
                                                                 scene_name=scene.name)
-    mu = uniform_friction(scene)
+    mu = uniform_friction(scene.friction, scene.tangential, scene.sliding_speed)
     if scene.tangential != "full-sliding" or mu is None:
         return None
     a, b, p0, _ = scene_hertz_geometry(scene)
@@ -64,22 +64,32 @@ def _thermal_case(scene):
                                                                                  scene_name=scene.name)
 
 
-def uniform_friction(scene) -> float | None:
+def uniform_friction(friction, tangential: str, sliding_speed: float | None) -> float | None:
     """The coefficient of friction [1] when it is one number over the whole patch, so that the closed-form
     references hold: a constant law; a slip-velocity law in full sliding (every cell slips at |v_s|: mu(|v_s|));
-    None for a temperature law (mu varies with the cell's temperature: no closed form)."""
-    law = scene.friction
-    if law is None or law.depends_on_temperature:
+    None for a temperature law (mu varies with the cell's temperature: no closed form).
+
+    Parameters
+    ----------
+    friction : FrictionLaw or None
+        The scene's friction law.
+    tangential : str
+        The scene's tangential regime: "full-sliding", "creepage" or "given".
+    sliding_speed : float or None
+        The full sliding speed [m/s] (None when rolling with creepage).
+    """
+    if friction is None or friction.depends_on_temperature:
         return None
-    if law.depends_on_slip:
-        return float(law.mu(abs(scene.sliding_speed))) if scene.tangential == "full-sliding" else None
-    return float(law.nominal)
+    if friction.depends_on_slip:
+        return float(friction.mu(abs(sliding_speed))) if tangential == "full-sliding" else None
+    return float(friction.nominal)
 
 
-def _surface_rise(scene, case, x, y, body):
+def _surface_rise(mat, case, x, y, body):
+    """Exact surface rise [K] of body ``body`` (0 wheel, 1 rail; material ``mat``) at the points (x, y) [m]
+    (y None: a line contact) under the heat source ``case`` (:func:`_thermal_case`)."""
     a, b, shape, q, speeds, eps = case
     share = eps if body == 0 else 1.0 - eps
-    mat = scene.body(body)
     if share == 0.0 or q == 0.0:
         return np.zeros(np.broadcast(x, y if y is not None else x).shape)
     # the exact temperatures import on first use: they load scipy and numba (about 1.3 s), which the callers
@@ -91,14 +101,13 @@ def _surface_rise(scene, case, x, y, body):
     return moving_source_temperature(x, y, np.zeros_like(x), (a, b), speeds[body], mat, share * q, shape)
 
 
-def _depth_rise(scene, case, x, z, body):
-    """Exact rise [K] at y = 0, depth z, of body ``body`` (x, z broadcast)."""
+def _depth_rise(mat, case, x, z, body):
+    """Exact rise [K] at y = 0, depth z, of body ``body`` of material ``mat`` (x, z broadcast)."""
     a, b, shape, q, speeds, eps = case
     share = eps if body == 0 else 1.0 - eps
     x, z = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(z, dtype=float))
     if share == 0.0 or q == 0.0:
         return np.zeros(x.shape)
-    mat = scene.body(body)
     if b is None:
         from ..references.jaeger import jaeger_band_temperature  # scipy: on first use, as in _surface_rise
         return jaeger_band_temperature(x, z, a, speeds[body], mat, share * q, shape)
@@ -228,15 +237,15 @@ def clear_trace_caches() -> None:
         store.clear()
 
 
-def _body_key(scene, case, body: int) -> tuple:
-    """Everything the exact rise of body ``body`` depends on: (a, b, shape, its heat flux [W/m^2], its speed
+def _body_key(mat, case, body: int) -> tuple:
+    """Everything the exact rise of body ``body`` (material ``mat``) depends on: (a, b, shape, its heat flux [W/m^2], its speed
     [m/s], conductivity [W/(m K)], diffusivity [m^2/s]). Scenes that differ elsewhere (name, load, friction
     law, methods, outputs) but heat a body alike share its exact temperatures; the values are the same
     whichever scene computed them (the same arguments reach the same references)."""
     from ..references.flash import thermal_properties  # loads scipy.integrate and .optimize: on first use
     a, b, shape, q, speeds, eps = case
     share = eps if body == 0 else 1.0 - eps
-    return (a, b, shape, share * q, float(speeds[body])) + thermal_properties(scene.body(body))
+    return (a, b, shape, share * q, float(speeds[body])) + thermal_properties(mat)
 
 
 def trace_reference(scene, z, fast: bool = True) -> dict | None:
@@ -281,7 +290,8 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
                                                     "cooling_position", "time_above")}
     depth = np.full(2, np.nan)
     for body in (0, 1):
-        bulk = float(scene.body(body).bulk_temperature)
+        mat = scene.body(body)
+        bulk = float(mat.bulk_temperature)
         v = float(speeds[body])
         share = eps if body == 0 else 1.0 - eps
         if share == 0.0 or q == 0.0:
@@ -290,12 +300,12 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
             out["time_above"][body] = 0.0 if bulk <= thr else math.inf
             depth[body] = 0.0 if bulk <= thr else math.inf
             continue
-        key = (_body_key(scene, case, body), bulk, thr, bool(fast))
+        key = (_body_key(mat, case, body), bulk, thr, bool(fast))
         lines = _cache_for(_LINE_CACHE, key)
         for k, zk in enumerate(z):
             zk = float(zk)
             if zk not in lines:
-                f = lambda xx, zk=zk: bulk + _depth_rise(scene, case, xx, zk, body)
+                f = lambda xx, zk=zk: bulk + _depth_rise(mat, case, xx, zk, body)
                 lines[zk] = _line_trace(f, a, v, thr, zk, zk == 0.0, fast)
             tp, xp, cool, above, xc = lines[zk]
             out["peak_temperature"][body, k], out["peak_position"][body, k] = tp, xp
@@ -303,7 +313,7 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
             out["cooling_rate"][body, k], out["time_above"][body, k] = cool, above
         depths = _cache_for(_DEPTH_CACHE, key)
         if "heated" not in depths:
-            peak = lambda zz: _line_trace(lambda xx: bulk + _depth_rise(scene, case, xx, zz, body), a, v, thr,
+            peak = lambda zz: _line_trace(lambda xx: bulk + _depth_rise(mat, case, xx, zz, body), a, v, thr,
                                           zz, True, fast, peak_only=True)[0] - thr
             depths["heated"] = _heated_depth(peak, a)
         depth[body] = depths["heated"]
@@ -345,7 +355,7 @@ def _scalars_uncached(scene):
             from ..physics import exact_total  # the given source's total: only for a scene with one
             out["frictional_power"] = q * exact_total(shape, a, b)
             src["frictional_power"] = "given-source"
-        peaks = [_surface_scalars(scene, case, body) for body in (0, 1)]
+        peaks = [_surface_scalars(scene.body(body), case, body) for body in (0, 1)]
         out["max_surface_temperature"] = np.array([p[0] for p in peaks])
         out["mean_contact_temperature"] = np.array([p[1] for p in peaks])
         tag = "jaeger" if b is None else "moving-source"
@@ -373,7 +383,7 @@ def _contact_scalars(scene, out: dict, src: dict) -> bool:
         out["semi_axis_b"] = b
         src["semi_axis_b"] = "hertz"
     out["_names"].append(_NAME["contact"])
-    mu = uniform_friction(scene)
+    mu = uniform_friction(scene.friction, scene.tangential, scene.sliding_speed)
     if scene.tangential == "full-sliding" and mu is not None:
         out["frictional_power"] = mu * abs(scene.sliding_speed) * n
         out["creep_force_x"] = math.copysign(mu * n, scene.sliding_speed) if scene.sliding_speed else 0.0
@@ -389,26 +399,26 @@ def _contact_scalars(scene, out: dict, src: dict) -> bool:
     return True
 
 
-def _surface_scalars(scene, case, body: int) -> tuple[float, float]:
-    """(maximum, mean over the patch) of the exact surface temperature [degC] of ``body`` (the rises cached
-    per body source, :func:`_body_key`)."""
-    bulk = scene.body(body).bulk_temperature
-    rises = _cache_for(_SCALAR_CACHE, _body_key(scene, case, body))
+def _surface_scalars(mat, case, body: int) -> tuple[float, float]:
+    """(maximum, mean over the patch) of the exact surface temperature [degC] of ``body`` of material ``mat``
+    (the rises cached per body source, :func:`_body_key`)."""
+    bulk = mat.bulk_temperature
+    rises = _cache_for(_SCALAR_CACHE, _body_key(mat, case, body))
     if "rises" not in rises:
-        rises["rises"] = _surface_rises(scene, case, body)
+        rises["rises"] = _surface_rises(mat, case, body)
     top, mean = rises["rises"]
     return bulk + top, bulk + mean
 
 
-def _surface_rises(scene, case, body: int) -> tuple[float, float]:
-    """(maximum, mean over the patch) of the exact surface rise [K] of ``body``: the maximum on y = 0
+def _surface_rises(mat, case, body: int) -> tuple[float, float]:
+    """(maximum, mean over the patch) of the exact surface rise [K] of ``body`` (material ``mat``): the maximum on y = 0
     (symmetric sources) from 161 samples refined by a bounded search, the mean by Gauss-Legendre in x
     (and across y on the chord for an ellipse)."""
     from scipy.optimize import minimize_scalar  # about 1 s to import: with the first exact surface rise
     a, b = case[0], case[1]
     xs = np.linspace(-1.0, 1.0, 161) * a
-    f = lambda xx: _surface_rise(scene, case, np.atleast_1d(xx), None if b is None else np.zeros(1), body)
-    vals = f(xs) if b is None else _surface_rise(scene, case, xs, np.zeros_like(xs), body)
+    f = lambda xx: _surface_rise(mat, case, np.atleast_1d(xx), None if b is None else np.zeros(1), body)
+    vals = f(xs) if b is None else _surface_rise(mat, case, xs, np.zeros_like(xs), body)
     i = int(np.argmax(vals))
     lo, hi = xs[max(i - 1, 0)], xs[min(i + 1, xs.size - 1)]
     res = minimize_scalar(lambda t: -float(f(t)[0]), bounds=(lo, hi), method="bounded", options={"xatol": 1e-6 * a})
@@ -422,12 +432,13 @@ def _surface_rises(scene, case, body: int) -> tuple[float, float]:
     chord = np.sqrt(1.0 - gx ** 2)[:, None]
     Y = b * chord * gs[None, :]
     W = wx[:, None] * ws[None, :] * chord
-    T = _surface_rise(scene, case, X.ravel(), Y.ravel(), body).reshape(X.shape)
+    T = _surface_rise(mat, case, X.ravel(), Y.ravel(), body).reshape(X.shape)
     return tmax, float(np.sum(W * T) / np.sum(W))
 
 
 def _identical_elastic(wheel, rail) -> bool:
-    """Carter's theory needs two elastic bodies with the same elastic constants (quasi-identical)."""
+    """Two elastic bodies with the same elastic constants (quasi-identical): Carter's theory needs them, and
+    so does a creep force that is zero by symmetry (:func:`railtherm.analysis.verdicts.zero_by_symmetry`)."""
     return (not wheel.rigid and not rail.rigid and wheel.shear_modulus == rail.shear_modulus
             and wheel.poisson_ratio == rail.poisson_ratio)
 
@@ -450,15 +461,15 @@ def reference_values(scene) -> dict:
 _SURFACE_CACHE: dict = {}
 
 
-def _cached_surface_rise(scene, case, x: np.ndarray, y: np.ndarray | None, body: int) -> np.ndarray:
+def _cached_surface_rise(mat, case, x: np.ndarray, y: np.ndarray | None, body: int) -> np.ndarray:
     """:func:`_surface_rise` at the points (x, y) [m] (y None: a line contact), the points not seen before for
-    this scene and body evaluated in one call."""
-    known = _cache_for(_SURFACE_CACHE, _body_key(scene, case, body))
+    this body source evaluated in one call."""
+    known = _cache_for(_SURFACE_CACHE, _body_key(mat, case, body))
     keys = list(zip(x.tolist(), (y if y is not None else np.zeros_like(x)).tolist()))
     new = [i for i, k in enumerate(keys) if k not in known]
     if new:
         idx = np.array(new)
-        vals = np.asarray(_surface_rise(scene, case, x[idx], None if y is None else y[idx], body), float)
+        vals = np.asarray(_surface_rise(mat, case, x[idx], None if y is None else y[idx], body), float)
         known.update(zip((keys[i] for i in new), np.broadcast_to(vals, idx.shape).tolist()))
     return np.array([known[k] for k in keys], float)
 
@@ -488,8 +499,9 @@ def reference_fields(scene, ds) -> dict:
             X, Y = np.meshgrid(x, y, indexing="ij")
         fields = []
         for body in (0, 1):
-            r = _cached_surface_rise(scene, case, X.ravel(), None if Y is None else Y.ravel(), body)
-            fields.append(scene.body(body).bulk_temperature + r.reshape(np.shape(X)))
+            mat = scene.body(body)
+            r = _cached_surface_rise(mat, case, X.ravel(), None if Y is None else Y.ravel(), body)
+            fields.append(mat.bulk_temperature + r.reshape(np.shape(X)))
         out["surface_temperature"] = np.stack(fields)
     want = [k for k in ("peak_temperature", "cooling_rate", "time_above") if k in ds]
     if case is not None and want and "z" in ds.coords and getattr(scene, "field", None) is not None:

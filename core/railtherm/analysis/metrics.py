@@ -229,10 +229,11 @@ def _theoretical_orders(method: str) -> dict:
         return {}
 
 
-def headline(scene) -> str:
-    """The quantity a scene's verdict is given on (see :data:`HEADLINE_ORDER`)."""
+def headline(outputs) -> str:
+    """The quantity a scene's verdict is given on (see :data:`HEADLINE_ORDER`): the first of them among the
+    scene's ``outputs`` (names), "" when none is."""
     for q in HEADLINE_ORDER:
-        if q in scene.outputs:
+        if q in outputs:
             return q
     return ""
 
@@ -326,7 +327,7 @@ def _score(ctx: _Study, rec) -> dict:
     if {k for k in ref_values if not k.startswith("_")} or ref_ds is not None:
         own = ctx.cache[rec.path] if rec.path in ctx.cache else _open(rec.path)
         errs = run_errors(scene, own, ref_values, ref_ds, ref_tag=ref_tag, notes=notes, signed=signed)
-        patch_errors(scene, own, ref_ds, errs, notes=notes, signed=signed, row=row, headline=headline(scene))
+        patch_errors(scene, own, ref_ds, errs, notes=notes, signed=signed, row=row, headline=headline(scene.outputs))
         if "cooling_rate" in errs:
             row["cooling_rate_depth"] = _cooling_depth(scene, own)
     if ctx.kind(scene) == "analytic" and getattr(scene, "transient", None) is not None:
@@ -342,7 +343,7 @@ def _score(ctx: _Study, rec) -> dict:
                                   if k not in errs or not math.isinf(errs[k][0]))
     e, eref, _ = ctx.summary(rec)
     row["energy_balance"], row["energy_reference"] = e, eref
-    hq = headline(scene)
+    hq = headline(scene.outputs)
     if hq in errs and independent(errs[hq][1]) and not math.isnan(errs[hq][0]):
         row["headline_error"], row["headline_reference"] = errs[hq][0], errs[hq][1]
         row["headline_signed_error"] = signed.get(hq, math.nan)
@@ -411,7 +412,7 @@ def _scene_vars(ds, ctx: _Study, snames: list, mnames: list, metrics: tuple):
                           metric=("metric", np.array(metrics, dtype=object)),
                           quantity=("quantity", np.array(CROSS, dtype=object)),
                           body=("body", np.array(["wheel", "rail"], dtype=object)))
-    ds["headline"] = ("scene_name", np.array([headline(scenes[s]) for s in snames], dtype=object),
+    ds["headline"] = ("scene_name", np.array([headline(scenes[s].outputs) for s in snames], dtype=object),
                       {"units": "1", "long_name": "quantity the scene's verdict is given on"})
     ds["reference_kind"] = ("scene_name", np.array([ctx.kind(scenes[s]) for s in snames], dtype=object),
                             {"units": "1", "long_name": "reference of the scene"})

@@ -31,7 +31,8 @@ from ..contract.errors import Refused
 from ..output import store
 from ..references.carter import carter_2d
 from ..references.kalker import kalker_linear_forces
-from .analytic import _depth_rise, _surface_rise, _thermal_case, scene_hertz_geometry, trace_reference
+from .analytic import (_depth_rise, _identical_elastic, _surface_rise, _thermal_case, scene_hertz_geometry,
+                       trace_reference)
 from .trace_metrics import cooling_rate_depth
 
 __all__ = ["reference_curves", "write_reference_curves", "read_reference_curves", "FILE_NAME"]
@@ -60,17 +61,16 @@ def _surface_x(a: float, behind: float, n: int) -> np.ndarray:
     return 0.5 * (lo + hi) - 0.5 * (hi - lo) * np.cos(np.linspace(0.0, np.pi, n))
 
 
-def _behind(scene) -> float:
-    fld = getattr(scene, "field", None)
+def _behind(fld) -> float:
+    """How far [m] the scene's ``field`` reaches behind the patch (0 without one)."""
     behind = getattr(fld, "behind", None) if fld is not None else None
     if behind is None and isinstance(fld, dict):
         behind = fld.get("behind")
     return float(behind) if behind else 0.0
 
 
-def _field_depth(scene, default: float) -> float:
+def _field_depth(fld, default: float) -> float:
     """The depth [m] a scene's ``field`` asks for, else ``default``."""
-    fld = getattr(scene, "field", None)
     depth = getattr(fld, "depth", None) if fld is not None else None
     return float(depth) if depth else default
 
@@ -83,7 +83,7 @@ def _trace(scene) -> tuple[dict, dict, list[str]]:
         return {}, {}, []
     a, b, shape, q, speeds, eps = case
     kappa = max(scene.body(i).diffusivity for i in (0, 1))
-    depth = _field_depth(scene, 4.0 * min(a, math.sqrt(2.0 * kappa * a / max(min(speeds), 1e-12))))
+    depth = _field_depth(fld, 4.0 * min(a, math.sqrt(2.0 * kappa * a / max(min(speeds), 1e-12))))
     zt = depth * np.linspace(0.0, 1.0, TRACE_POINTS) ** 2
     tr = trace_reference(scene, zt)
     name = NAME_JAEGER if b is None else NAME_MOVING_SOURCE
@@ -96,8 +96,8 @@ def _trace(scene) -> tuple[dict, dict, list[str]]:
         below = np.flatnonzero(peak[hot] <= half)
         zh = float(np.interp(half, peak[hot, ::-1], zt[::-1])) if below.size else float(zt[-1])
     star = trace_reference(scene, [zh])
-    x = _surface_x(a, _behind(scene), SURFACE_POINTS_LINE if b is None else SURFACE_POINTS_ELLIPSE)
-    at_depth = np.array([bulk[i] + np.asarray(_depth_rise(scene, case, x, zh, i), float) for i in (0, 1)])
+    x = _surface_x(a, _behind(fld), SURFACE_POINTS_LINE if b is None else SURFACE_POINTS_ELLIPSE)
+    at_depth = np.array([bulk[i] + np.asarray(_depth_rise(scene.body(i), case, x, zh, i), float) for i in (0, 1)])
     zattrs = {"units": "m", "long_name": "depth of the exact trace", "positive": "down"}
     ref = {"reference": name}
     data = {
@@ -127,10 +127,10 @@ def _trace(scene) -> tuple[dict, dict, list[str]]:
     coords = {"z_trace": ("z_trace", zt, zattrs)}
     if b is not None:
         nx, ny = MAP_POINTS
-        xm = np.linspace(-a - _behind(scene), a, nx)
+        xm = np.linspace(-a - _behind(fld), a, nx)
         ym = np.linspace(-b, b, ny)
         gx, gy = np.meshgrid(xm, ym, indexing="ij")
-        sm = np.array([bulk[i] + np.asarray(_surface_rise(scene, case, gx, gy, i), float) for i in (0, 1)])
+        sm = np.array([bulk[i] + np.asarray(_surface_rise(scene.body(i), case, gx, gy, i), float) for i in (0, 1)])
         data["surface_map"] = (("body", "x_map", "y_map"), sm, {**_TEMPERATURE, **ref,
                                "long_name": "surface temperature over the patch and its trace"})
         coords.update({"x_map": ("x_map", xm, {"units": "m", "long_name": "rolling direction"}),
@@ -145,18 +145,18 @@ def _thermal(scene) -> tuple[dict, dict, list[str]]:
         return {}, {}, []
     a, b, shape, q, speeds, eps = case
     line = b is None
-    x = _surface_x(a, _behind(scene), SURFACE_POINTS_LINE if line else SURFACE_POINTS_ELLIPSE)
+    x = _surface_x(a, _behind(scene.field), SURFACE_POINTS_LINE if line else SURFACE_POINTS_ELLIPSE)
     name = NAME_JAEGER if line else NAME_MOVING_SOURCE
     surface, hottest, depth = [], [], []
     # thermal layer: sqrt(2 kappa a / v) at high Peclet, ~a at low; the depth profile reaches 4x that
     kappa = max(scene.body(i).diffusivity for i in (0, 1))
     vmin = max(min(speeds), 1e-12)
     layer = min(a, math.sqrt(2.0 * kappa * a / vmin))
-    z = _field_depth(scene, 4.0 * layer) * np.linspace(0.0, 1.0, DEPTH_POINTS) ** 2
+    z = _field_depth(scene.field, 4.0 * layer) * np.linspace(0.0, 1.0, DEPTH_POINTS) ** 2
     for body in (0, 1):
         mat = scene.body(body)
         share = eps if body == 0 else 1.0 - eps
-        rise = np.asarray(_surface_rise(scene, case, x, None if line else np.zeros_like(x), body), float)
+        rise = np.asarray(_surface_rise(mat, case, x, None if line else np.zeros_like(x), body), float)
         surface.append(mat.bulk_temperature + rise)
         x0 = float(x[int(np.argmax(rise))]) if np.any(rise > 0) else 0.0
         hottest.append(x0)
@@ -185,12 +185,6 @@ def _thermal(scene) -> tuple[dict, dict, list[str]]:
     return data, coords, [name]
 
 
-def _identical_elastic(scene) -> bool:
-    w, r = scene.wheel, scene.rail
-    return (not w.rigid and not r.rigid and w.shear_modulus == r.shear_modulus
-            and w.poisson_ratio == r.poisson_ratio)
-
-
 def _pure_longitudinal(scene) -> bool:
     c = scene.creepage
     mu = scene.friction
@@ -198,10 +192,10 @@ def _pure_longitudinal(scene) -> bool:
             and getattr(scene, "wheelset", None) is None and mu.kind == "constant")
 
 
-def _creepage_range(scene, group_values: list[float]) -> np.ndarray:
+def _creepage_range(creepage, group_values: list[float]) -> np.ndarray:
     """Creepages [1] of the curve: the span of the sweep (5 % margin), else 0 to 1.5 xi; the swept values
     and 0 (when inside) are points of it."""
-    values = list(group_values) or [scene.creepage.longitudinal]
+    values = list(group_values) or [creepage.longitudinal]
     lo, hi = min(values), max(values)
     if lo == hi:
         lo, hi = min(0.0, 1.5 * lo), max(0.0, 1.5 * hi)
@@ -216,13 +210,13 @@ def _creepage_range(scene, group_values: list[float]) -> np.ndarray:
 def _creep(scene, group_values: list[float]) -> tuple[dict, dict, list[str]]:
     """Carter (line) or Kalker's linear slope (ellipse) for pure longitudinal creepage."""
     if scene.heat_source is not None or not _pure_longitudinal(scene) or (
-            scene.contact_shape == "line" and not _identical_elastic(scene)):
+            scene.contact_shape == "line" and not _identical_elastic(scene.wheel, scene.rail)):
         return {}, {}, []
     try:
         a, b, p0, n = scene_hertz_geometry(scene)
     except Refused:
         return {}, {}, []
-    xs = _creepage_range(scene, group_values)
+    xs = _creepage_range(scene.creepage, group_values)
     cattrs = {"units": "1", "long_name": "longitudinal creepage xi"}
     if scene.contact_shape == "line":
         mu = scene.friction.nominal

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..contract.verdict_rules import RISE_FRACTION, cheapest
 from ..output.store import RESULT_STATUSES
+from .analytic import _identical_elastic
 from .rises import RISES
 
 #: a reference whose magnitude (the max-norm of its rise for temperatures) is below this is noise, and
@@ -54,16 +55,12 @@ def label(metric: str, cooling_depth: float = math.nan) -> str:
 
 
 # -- what is scored ------------------------------------------------------------------------------
-def _symmetric_in_y(scene) -> bool:
-    if scene.contact_shape in ("ellipse", "line"):
+def _symmetric_in_y(contact_shape: str, gap_coefficients) -> bool:
+    """Whether a contact of shape ``contact_shape`` (with the gap's ``gap_coefficients`` {(i, j): c}, or None) is
+    symmetric in y: a Hertz ellipse or line, or a gap with even powers of y only."""
+    if contact_shape in ("ellipse", "line"):
         return True
-    gap = getattr(scene, "gap_coefficients", None) or {}
-    return scene.contact_shape == "gap" and all(j % 2 == 0 for (_, j) in gap)
-
-
-def _quasi_identical(scene) -> bool:
-    w, r = scene.wheel, scene.rail
-    return not (w.rigid or r.rigid) and w.shear_modulus == r.shear_modulus and w.poisson_ratio == r.poisson_ratio
+    return contact_shape == "gap" and all(j % 2 == 0 for (_, j) in (gap_coefficients or {}))
 
 
 def zero_by_symmetry(scene, metric: str) -> str:
@@ -79,7 +76,8 @@ def zero_by_symmetry(scene, metric: str) -> str:
     c = getattr(scene, "creepage", None)
     if c is None or scene.wheelset is not None or scene.heat_source is not None or c.longitudinal != 0:
         return ""
-    if not (_symmetric_in_y(scene) and _quasi_identical(scene)):
+    if not (_symmetric_in_y(scene.contact_shape, getattr(scene, "gap_coefficients", None))
+            and _identical_elastic(scene.wheel, scene.rail)):
         return ""
     return "zero by symmetry (no longitudinal creepage on a contact symmetric in y)"
 
