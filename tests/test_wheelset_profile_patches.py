@@ -5,6 +5,7 @@ tolerances of tests/test_manchester.py)."""
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 
 import numpy as np
@@ -16,7 +17,8 @@ from railtherm.contract.schema import validate_dataset
 from railtherm.input.scene import load_scene
 from railtherm.input.wheelset_patch_scenes import patch_scenes
 from railtherm.input.wheelset_profile import share_vertical_force
-from railtherm.references.hertz import hertz_from_curvatures
+from railtherm.input.wheelset_profile_vertical import with_normal_forces
+from railtherm.references.hertz import hertz_from_curvatures, hertz_from_penetration
 from railtherm.solving.wheelset_patches import wheel_totals
 
 from manchester_cases import A22, a22_scene
@@ -75,8 +77,10 @@ def _solve(position, side="right", method="kalker", level=1, **scene):
 
 def test_a_flange_root_and_a_tread_patch_are_solved_and_stacked():
     """A-2.2 position 11 right: the flange root and, 0.022 mm above it, the tread (their interpenetration regions
-    apart) share the 10 kN; each patch of the stacked result is the chain's own solve of that patch's scene to
-    the last bit, and the totals are the patches' forces turned into track axes."""
+    apart) share the 10 kN at one common approach (the result's ``wheelset_approach``: each patch's normal force is
+    the Hertz-equivalent force of its approach there, rel 1e-9, after the exact chain balanced the wheel's vertical
+    force with its own creep forces); each patch of the stacked result is the chain's own solve of that patch's
+    scene at those shares to the last bit, and the totals are the patches' forces turned into track axes."""
     scene, r = _solve(11)
     validate_dataset(r, "kalker")
     assert r.sizes["patch"] == 2 and list(r["patch"].values) == [1, 2] and r["patch"].attrs["units"] == "1"
@@ -84,7 +88,13 @@ def test_a_flange_root_and_a_tread_patch_are_solved_and_stacked():
     pcs = scene.profile_contact.contacts
     assert pcs[1].separation > 0.0 and pcs[1].contact_angle > pcs[0].contact_angle   # the tread, flatter
     assert pcs[1].contact_position_rail - pcs[0].contact_position_rail > 5e-3
-    for k, sub in enumerate(patch_scenes(scene, [o for o in scene.outputs if not o.startswith("wheel_force")]
+    delta = float(r.attrs["wheelset_approach"])
+    for c, n in zip(pcs, r["normal_force"].values):
+        h = hertz_from_penetration(*c.hertz_curvatures, (delta - c.separation) * math.cos(c.contact_angle), E_STAR)
+        assert float(n) == pytest.approx(h.normal_force, rel=1e-9)
+    shared = with_normal_forces(scene.profile_contact, r["normal_force"].values, delta, "as solved")
+    balanced = dataclasses.replace(scene, profile_contact=shared)
+    for k, sub in enumerate(patch_scenes(balanced, [o for o in scene.outputs if not o.startswith("wheel_force")]
                                          + ["normal_force", "creep_force_x", "creep_force_y", "contact_angle"])):
         one = railtherm.solve(sub, "kalker", level=1)
         for name in ("normal_force", "creep_force_x", "creep_force_y", "max_pressure", "contact_position_rail"):
@@ -95,19 +105,16 @@ def test_a_flange_root_and_a_tread_patch_are_solved_and_stacked():
         assert r[name].dims == () and r[name].attrs["units"] == "N"
 
 
-def test_the_vertical_total_is_the_wheel_force_but_for_the_lateral_force_estimate():
-    """The shares balance Fz with each patch's estimated lateral force at the contact angles they were shared with
-    (the search's): the chain's own Fy differs, and the vertical total in those angles, sum N cos(d) - Fy sin(d),
-    misses Fz by exactly sum (Fy_estimate - Fy) sin(d) (identity, to rounding). The result's ``wheel_force_z`` takes
-    the contact angles the exact chain reports (CONTACT's, the weighted mean of the rail's inclination; 0.002 rad
-    off the search's at the flange-root patch here) and misses that by 0.2 N (measured), more than rounding."""
-    scene, r = _solve(11)
-    est = np.array([c.lateral_force_estimate for c in scene.profile_contact.contacts])
-    d = np.array([c.contact_angle for c in scene.profile_contact.contacts])
-    n, fy = r["normal_force"].values, r["creep_force_y"].values
-    want = 1e4 + float(((est - fy) * np.sin(d)).sum())
-    assert float((n * np.cos(d) - fy * np.sin(d)).sum()) == pytest.approx(want, rel=1e-8)
-    assert abs(float(r["wheel_force_z"]) - want) > 1e-6 * want
+def test_the_shares_balance_the_vertical_force_with_the_lateral_force_estimate():
+    """The loaded shares balance Fz with each patch's estimated lateral force at the contact angles they were shared
+    with (the search's): sum N cos(d) - Fy_estimate sin(d) = Fz (rel 1e-9). The exact chain's result balances it
+    with its own (tests/test_wheelset_vertical_force.py)."""
+    scene = load_scene(_all(11))
+    pcs = scene.profile_contact.contacts
+    est = np.array([c.lateral_force_estimate for c in pcs])
+    d = np.array([c.contact_angle for c in pcs])
+    n = np.array([c.normal_force for c in pcs])
+    assert float((n * np.cos(d) - est * np.sin(d)).sum()) == pytest.approx(1e4, rel=1e-9)
 
 
 def test_a_hertz_chain_solves_the_same_patches_at_the_same_shares():

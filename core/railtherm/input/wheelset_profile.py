@@ -37,8 +37,8 @@ from .wheelset_profile_reference import (CONTACT_REFERENCE, SEARCH_REFERENCE, SE
 
 __all__ = ["ProfileContact", "ProfileContacts", "NoContact", "NoContactError", "profile_contact",
            "roll_height_mismatch", "normal_force_from_vertical", "share_vertical_force", "WINDOW", "GAP_DEGREE",
-           "ROLL_BALANCE", "GAP_SECTION_HALF_WIDTH", "SEARCH_REFERENCE", "CONTACT_REFERENCE", "reference_at",
-           "contact_reference"]
+           "ROLL_BALANCE", "VERTICAL_ESTIMATE", "VERTICAL_SHARE", "GAP_SECTION_HALF_WIDTH", "SEARCH_REFERENCE",
+           "CONTACT_REFERENCE", "reference_at", "contact_reference"]
 
 #: half-extents of the gap's fitting window, in Hertz-equivalent semi-axes (a along x, b across)
 WINDOW = (1.6, 2.0)
@@ -56,6 +56,11 @@ SECTION_POINTS = 400
 #: (:func:`railtherm.solving.wheelset_equilibrium.solve_balanced_roll`)
 ROLL_BALANCE = ("Hertz-equivalent normal forces of each wheel's patches (the profiles' curvatures at the contact), "
                 "the lateral creep force estimated by Kalker's linear theory, saturated (Shen-Hedrick-Elkins)")
+#: the lateral creep force a scene's normal forces balance Fz with when it is loaded (``vertical_balance`` None)
+VERTICAL_ESTIMATE = "the lateral creep force estimated by Kalker's linear theory, saturated (Shen-Hedrick-Elkins)"
+#: ``vertical_balance`` of each patch of a scene of every patch: its normal force is its share of the wheel's
+#: force, which the wheel's patches balance together (:class:`ProfileContacts`), never one patch alone
+VERTICAL_SHARE = "a share of the wheel's vertical force at the patches' common approach"
 
 
 @dataclass(frozen=True)
@@ -119,6 +124,11 @@ class ProfileContact:
     reference_of : callable
         ``reference_of(approach)``: :func:`contact_reference` of this patch's sampled gap at a normal solution's
         approach [m] (None: not available).
+    vertical_balance : str or None
+        Whose lateral creep force ``normal_force`` balances Fz with. None: the estimate's, and the solve may
+        replace it with the chain's own (:mod:`railtherm.solving.wheelset_vertical`); the patch of a scene of
+        every patch: :data:`VERTICAL_SHARE` (its wheel's forces are balanced together); otherwise the balance
+        the solve settled on.
     """
 
     side: str
@@ -151,6 +161,8 @@ class ProfileContact:
     arm: tuple = field(default=(), repr=False, compare=False)
     axle: tuple = field(default=(), repr=False, compare=False)
     reference_of: object = field(default=None, repr=False, compare=False)
+    #: whose lateral creep force ``normal_force`` balances Fz with (None: the estimate's, to be settled by the solve)
+    vertical_balance: str | None = None
 
     @property
     def reference_creepage(self) -> tuple[float, float, float]:
@@ -469,6 +481,8 @@ class ProfileContacts:
         The wheel's vertical force Fz [N].
     patches : int
         Loaded patches (gap minima that the approach does not close carry no load and are left out).
+    vertical_balance : str or None
+        Whose lateral creep forces the shares balance Fz with (as :attr:`ProfileContact.vertical_balance`).
     """
 
     side: str
@@ -476,6 +490,7 @@ class ProfileContacts:
     approach: float
     vertical_force: float
     patches: int
+    vertical_balance: str | None = None
 
     patch = "all"
 
@@ -580,8 +595,9 @@ def _all_patches(scene_name, geo, found, bodies, friction, speed, roll=None, fre
     """Every search patch that the shared vertical force closes (:func:`_loaded`), as :class:`ProfileContacts`."""
     found, refs, delta, normal, side = _loaded(scene_name, geo, found, bodies, friction, speed)
     loaded = [k for k, n in enumerate(normal) if n > 0.0]
-    contacts = tuple(_patch_contact(scene_name, geo, found[k], j + 1, len(loaded), refs[k], normal[k], side[k],
-                                    bodies[0], roll, free, speed=speed) for j, k in enumerate(loaded))
+    contacts = tuple(dataclasses.replace(_patch_contact(scene_name, geo, found[k], j + 1, len(loaded), refs[k],
+                                                        normal[k], side[k], bodies[0], roll, free, speed=speed),
+                                         vertical_balance=VERTICAL_SHARE) for j, k in enumerate(loaded))
     return ProfileContacts(side=geo.side, contacts=contacts, approach=float(delta),
                            vertical_force=float(geo.vertical_force), patches=len(loaded))
 

@@ -403,7 +403,8 @@ def _versions(pl: Plan, host: PluginHost) -> str:
 def _wheelset_solver(scene: Scene):
     """The solve of a wheelset on profiles beyond one patch at given motion, or None: a wheel that found no
     contact raises its error; ``pitch_velocity = "free"`` and ``roll_angle = "balance"`` (:mod:`.wheelset_equilibrium`)
-    and ``patch = "all"`` (:mod:`.wheelset_patches`) solve their patches with :func:`solve`."""
+    and ``patch = "all"`` (:mod:`.wheelset_patches`) solve their patches with :func:`solve`; normal forces still
+    the estimate's are balanced with the chain's own creep forces (:mod:`.wheelset_vertical`)."""
     pc = scene.profile_contact
     if hasattr(pc, "failure"):
         raise pc.failure()
@@ -412,11 +413,17 @@ def _wheelset_solver(scene: Scene):
         # with a free pitch or a balanced roll needs
         from .wheelset_equilibrium import solve_free_pitch
         return solve_free_pitch
-    if getattr(pc, "patch", None) == "all":
+    # normal forces still the estimate's: balanced with the chain's own creep forces (its own import, as above)
+    pending = pc is not None and getattr(pc, "vertical_balance", "") is None
+    if getattr(pc, "patch", None) == "all" and not pending:
         return solve_patches
-    if getattr(pc, "balanced_roll", None) is not None:   # the roll with the chain's own normal approaches
+    if getattr(pc, "patch", None) != "all" and getattr(pc, "balanced_roll", None) is not None:
+        # the roll with the chain's own normal approaches
         from .wheelset_equilibrium import solve_balanced_roll  # scipy.optimize, as above
         return solve_balanced_roll
+    if pending:
+        from .wheelset_vertical import solve_vertical_force
+        return solve_vertical_force
     return None
 
 

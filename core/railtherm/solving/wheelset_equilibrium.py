@@ -124,9 +124,11 @@ def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool
 
 def _approach_correction(scene, side, roll, method, level, options, solve_one, host):
     """(height correction [m], normal model, patches) of wheel ``side`` at ``roll``: (delta - delta_Hertz) /
-    cos(contact angle), delta the chain's normal approach (result attribute ``<normal model>_approach``) and
-    delta_Hertz the Hertz-equivalent one, both at the wheel's normal force; None for the correction when the
-    chain's normal model is Hertz-equivalent or reports no approach."""
+    cos(contact angle), delta the chain's normal approach (result attribute ``<normal model>_approach``) at the
+    normal force the solve settled on (its own creep forces balancing the vertical force,
+    :mod:`.wheelset_vertical`) and delta_Hertz the Hertz-equivalent one at the estimate's normal force, the one
+    the Hertz-equivalent heights (:func:`railtherm.input.wheelset_profile.roll_height_mismatch`) take; None for
+    the correction when the chain's normal model is Hertz-equivalent or reports no approach."""
     pc = scene.profile_contact
     src = _source(scene, side, float(scene.source["wheelset"]["pitch_velocity"]), roll_angle=float(roll),
                   vertical_force=float(pc.vertical_force))
@@ -137,7 +139,7 @@ def _approach_correction(scene, side, roll, method, level, options, solve_one, h
     if model in HERTZ_EQUIVALENT or delta is None:
         return None, model, sub.profile_contact.patches
     q = sub.profile_contact
-    hertz = hertz_from_curvatures(*q.hertz_curvatures, float(r["normal_force"]), contact_modulus(sub.wheel, sub.rail))
+    hertz = hertz_from_curvatures(*q.hertz_curvatures, float(q.normal_force), contact_modulus(sub.wheel, sub.rail))
     return (float(delta) - hertz.approach) / math.cos(q.contact_angle), model, q.patches
 
 
@@ -148,10 +150,11 @@ def solve_balanced_roll(scene, method, level, options, *, solve_one, validate: b
 
     One patch per scene, pitch velocity given: the scene comes loaded with the roll at which both wheels'
     Hertz-equivalent heights agree (:func:`railtherm.input.wheelset_profile.balance_roll`). A chain whose
-    normal stage solves the patch's own gap (kalker) reports its normal approach delta; each wheel's height
-    is then corrected by (delta - delta_Hertz) / cos(contact angle) at the wheel's normal force, and the
-    roll is moved until the corrected heights agree (chord steps with the Hertz heights' slope). A chain on
-    the Hertz-equivalent ellipse keeps the loaded roll. The result's attributes ``wheelset_roll_angle``
+    normal stage solves the patch's own gap (kalker) reports its normal approach delta at the normal force its
+    own creep forces balance the wheel's vertical force with (:mod:`.wheelset_vertical`); each wheel's height
+    is then corrected by (delta - delta_Hertz) / cos(contact angle), delta_Hertz at the estimate's normal force
+    (:func:`_approach_correction`), and the roll is moved until the corrected heights agree (chord steps with
+    the Hertz heights' slope). A chain on the Hertz-equivalent ellipse keeps the loaded roll. The result's attributes ``wheelset_roll_angle``
     [rad], ``wheelset_roll_balance`` (whose forces), ``wheelset_roll_angle_hertz`` [rad] and
     ``wheelset_roll_height_mismatch`` [m] say which."""
     t0 = time.perf_counter()
@@ -179,7 +182,8 @@ def solve_balanced_roll(scene, method, level, options, *, solve_one, validate: b
                                   f"the wheels' heights with {model}'s approaches in {MAX_STEPS} steps (last "
                                   f"{roll:.9g} rad, mismatch {mismatch:.3g} m)")
             balance = (f"the chain's normal stage ({model}): each wheel's Hertz-equivalent height corrected by "
-                       f"({model}'s normal approach - Hertz's) / cos(contact angle) at its normal force")
+                       f"({model}'s normal approach at the normal force its own creep forces balance the vertical "
+                       f"force with - Hertz's at the estimate's) / cos(contact angle)")
     final = load_scene(_source(scene, pc.side, float(scene.source["wheelset"]["pitch_velocity"]),
                                roll_angle=roll, vertical_force=float(pc.vertical_force)))
     out = solve_one(final, method, level, options, validate=validate, host=host, peers=peers, **kw)
