@@ -185,11 +185,10 @@ def _thermal(scene) -> tuple[dict, dict, list[str]]:
     return data, coords, [name]
 
 
-def _pure_longitudinal(scene) -> bool:
-    c = scene.creepage
-    mu = scene.friction
-    return (c is not None and c.lateral == 0 and c.spin == 0 and mu is not None and mu.nominal > 0
-            and getattr(scene, "wheelset", None) is None and mu.kind == "constant")
+def _pure_longitudinal(creepage, friction, wheelset) -> bool:
+    """Longitudinal creepage only, under a constant friction coefficient > 0, outside a wheelset."""
+    return (creepage is not None and creepage.lateral == 0 and creepage.spin == 0 and friction is not None
+            and friction.nominal > 0 and wheelset is None and friction.kind == "constant")
 
 
 def _creepage_range(creepage, group_values: list[float]) -> np.ndarray:
@@ -209,8 +208,8 @@ def _creepage_range(creepage, group_values: list[float]) -> np.ndarray:
 
 def _creep(scene, group_values: list[float]) -> tuple[dict, dict, list[str]]:
     """Carter (line) or Kalker's linear slope (ellipse) for pure longitudinal creepage."""
-    if scene.heat_source is not None or not _pure_longitudinal(scene) or (
-            scene.contact_shape == "line" and not _identical_elastic(scene.wheel, scene.rail)):
+    if (scene.heat_source is not None or not _pure_longitudinal(scene.creepage, scene.friction, scene.wheelset)
+            or (scene.contact_shape == "line" and not _identical_elastic(scene.wheel, scene.rail))):
         return {}, {}, []
     try:
         a, b, p0, n = scene_hertz_geometry(scene)
