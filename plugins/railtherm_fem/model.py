@@ -88,7 +88,11 @@ class FemModel(CoupledModel):
     heat equation stepped by Crank-Nicolson (:func:`railtherm_fem.history.section_histories`); the outputs
     ``temperature_history``, ``pass_peak_temperature``, ``residual_rise`` and ``time_above``, beside one
     pass's steady surface temperatures when asked. Against the exact moving band
-    (tests/test_fem_transient.py): second order in the section's spacing.
+    (tests/test_fem_transient.py, tests/test_fem_wheel_spin.py): second order in the section's spacing. The
+    contact's own heat is tau . s with the elastic creep in the slip (full sliding of equal bodies: s = -v_s +
+    V mu x / R), 0.089 mm behind the patch centre on the study's wheel spin, where the exact band's full-sliding
+    heat mu p v_s is centred: under a schedule that ramps the heat up through the first pass, that pass's
+    peaks are 1.5-2.5 % above the band's at any level (the later passes' within 1 %).
     """
 
     name = "fem"
