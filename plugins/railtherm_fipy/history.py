@@ -22,6 +22,8 @@ from scipy.sparse.linalg import splu
 from railtherm import ImplicitSectionStepper
 from railtherm.physics import thermal_scales
 
+from .solvers import import_fipy
+
 __all__ = ["FipyBlock", "fipy_block", "IMPLICIT_COST"]
 
 #: one Crank-Nicolson LU solve counted as this many explicit node updates (FiPy has no explicit stepping:
@@ -80,7 +82,8 @@ def fipy_block(a: float, speed: float, conductivity: float, capacity: float, con
     """The cells of the module docstring for a band of half-width ``a`` [m] at ``speed`` [m/s], lambda
     [W/(m K)], rho c [J/(m^3 K)], surface convection h [W/(m^2 K)] (on the surface cells' values), refinement
     ``level``, a history of ``duration_total`` [s] and the output ``depths`` [m]."""
-    from fipy import CellVariable, DiffusionTerm, Grid2D, TransientTerm  # fipy (heavy): a solve only
+    fp = import_fipy()
+    CellVariable, DiffusionTerm, Grid2D, TransientTerm = fp.CellVariable, fp.DiffusionTerm, fp.Grid2D, fp.TransientTerm
     kappa = conductivity / capacity
     delta = thermal_scales(a, speed, kappa).thermal_depth
     reach = math.sqrt(kappa * duration_total)
