@@ -83,7 +83,7 @@ def _table_tolerance(pc, want):
 
 def test_the_kalker_chain_balances_the_roll_with_its_own_approaches():
     """Position 13, kalker at level 1: the roll moves from the Hertz-equivalent one by the approaches' difference
-    (-6.27071e-4 -> -6.27231e-4 rad, measured; the table's -6.272e-4); at the roll returned, the wheels' heights
+    (-6.27071e-4 -> -6.27214e-4 rad, measured; the table's -6.272e-4); at the roll returned, the wheels' heights
     with kalker's approaches, recomputed here, agree to 1e-10 m, and the roll is within the table's tolerance."""
     from railtherm.input.wheelset_profile import roll_height_mismatch
     from railtherm.solving import wheelset_equilibrium as we
@@ -102,9 +102,10 @@ def test_the_kalker_chain_balances_the_roll_with_its_own_approaches():
 
 def test_kalkers_approaches_give_position_2_the_benchmarks_roll():
     """Position 2 right (the non-Hertzian patch of KNOWN_MISSES), kalker at level 2 on the contact search's sampled
-    gap: -2.3486e-5 rad against the table's -2.304e-5 (tolerance 6.9e-7) and the Hertz-equivalent -1.950e-5
-    (measured). The grid does not move it: -2.3493, -2.3485, -2.3486, -2.3485e-5 at levels 0 to 3; solving the
-    gap polynomial instead (0.22 mm misfit) gave -2.104e-5 at every level, outside the tolerance."""
+    gap, each wheel's normal force meeting its vertical force with kalker's own creep forces: -2.3514e-5 rad against
+    the table's -2.304e-5 (tolerance 6.9e-7) and the Hertz-equivalent -1.950e-5 (measured; -2.3486e-5 with the
+    estimate's normal forces). The grid does not move it: -2.3521, -2.3513, -2.3514, -2.3513e-5 at levels 0 to 3;
+    solving the gap polynomial instead (0.22 mm misfit) gave -2.104e-5 at every level, outside the tolerance."""
     sc = _balanced(2, outputs=["normal_force"])
     r = railtherm.solve(sc, "kalker", level=2)
     want = A22["position"][1]["roll"]

@@ -413,7 +413,7 @@ def _wheelset_solver(scene: Scene):
         # with a free pitch or a balanced roll needs
         from .wheelset_equilibrium import solve_free_pitch
         return solve_free_pitch
-    # normal forces still the estimate's: balanced with the chain's own creep forces (its own import, as above)
+    # normal forces still the estimate's: balanced with the chain's own creep forces
     pending = pc is not None and getattr(pc, "vertical_balance", "") is None
     if getattr(pc, "patch", None) == "all" and not pending:
         return solve_patches
@@ -422,7 +422,7 @@ def _wheelset_solver(scene: Scene):
         from .wheelset_equilibrium import solve_balanced_roll  # scipy.optimize, as above
         return solve_balanced_roll
     if pending:
-        from .wheelset_vertical import solve_vertical_force
+        from .wheelset_vertical import solve_vertical_force  # imports the equilibrium, as above
         return solve_vertical_force
     return None
 
