@@ -121,3 +121,14 @@ def test_the_estimate_at_the_scenes_own_force_is_the_loaded_one(position, patch)
     assert normal == pytest.approx([c.normal_force for c in patch_contacts(pc)], rel=1e-9)
     assert lateral == pytest.approx([c.lateral_force_estimate for c in patch_contacts(pc)], rel=1e-9)
     assert all(a > b for a, b in zip(estimated_normal_forces(pc, 1.01 * FZ, scene.wheel, scene.rail, mu)[1], normal))
+
+
+def test_a_chain_without_a_lateral_creep_force_keeps_the_estimate_and_says_so():
+    """kalker's normal stage alone (no tangential stage: no Fy of its own) solves the estimate's normal force as
+    loaded, once, and says why."""
+    scene = load_scene(dict(a22_scene(14, "right"), outputs=["normal_force", "max_pressure"]))
+    r = railtherm.solve(scene, {"normal": "kalker"}, level=1)
+    assert float(r["normal_force"]) == pytest.approx(scene.profile_contact.normal_force, rel=1e-12)
+    assert r.attrs["wheelset_vertical_force_iterations"] == 0
+    assert "the chain computes no lateral creep force" in r.attrs["wheelset_vertical_balance"]
+    assert "wheelset_vertical_force_residual" not in r.attrs
