@@ -58,8 +58,8 @@ ADVICE = {
     "peclet": ("heat conduction along the rolling direction is no longer negligible and the 1-D model is "
                "invalid. Use method 'fipy' (or 'fastsim-fdm'), or the exact railtherm.references.moving_source "
                "(jaeger for a line contact)"),
-    "moving_surface": ("the 1-D moving Green function has no steady state without motion; use the exact "
-                       "railtherm.references.moving_source"),
+    "moving_surface": ("for a body at rest use method 'fdm', or the exact railtherm.references.transient_spot (a source at "
+                       "rest over time) or railtherm.references.moving_source (a steady moving source)"),
     "modes": ("it computes the quasi-steady flash temperature and transient histories of passes (conduction along "
               "x neglected); use 'fdm' or 'fipy' for other transients"),
 }
