@@ -98,6 +98,25 @@ def history_samples(time, count: int, interval: float, duration: float, notes: d
     return every, n, thin
 
 
+def _cached_history(cache: dict | None, key, time: np.ndarray, compute) -> np.ndarray:
+    """The exact history at ``time`` [s], shape (time, depths), computed by ``compute(times)`` only at the times
+    not yet in ``cache[key]`` (a scene's runs share many samples: a method's levels, methods on one axis). The
+    exact value at a time does not depend on the other times asked with it, so the cached values are the ones
+    computed afresh."""
+    if cache is None:
+        return compute(time)
+    known_t, known_v = cache.get(key, (np.empty(0), None))
+    new = np.setdiff1d(time, known_t)
+    if new.size:
+        fresh = compute(new)
+        known_t = np.concatenate([known_t, new])
+        known_v = fresh if known_v is None else np.concatenate([known_v, fresh])
+        order = np.argsort(known_t, kind="stable")
+        known_t, known_v = known_t[order], known_v[order]
+        cache[key] = (known_t, known_v)
+    return known_v[np.searchsorted(known_t, time)]
+
+
 def transient_errors(scene, ds, notes: dict | None = None, cache: dict | None = None) -> dict:
     """Errors of the transient metrics of one result: metric -> (error [1], ``analytic:<tag>``).
 
@@ -111,7 +130,8 @@ def transient_errors(scene, ds, notes: dict | None = None, cache: dict | None = 
     notes : dict, optional
         Filled with metric -> why it is not scored.
     cache : dict, optional
-        Per-scene cache of the exact per-pass summary (the same for every level of the scene).
+        Per-scene cache of the exact per-pass summary (the same for every level of the scene) and of the exact
+        history at every time already asked.
     """
     from ..references.transient import MovingSource, Schedule, pass_summary, temperature_history
     from ..references.transient_spot import (FixedSource, fixed_source_history,  # with the metrics only
@@ -145,8 +165,10 @@ def transient_errors(scene, ds, notes: dict | None = None, cache: dict | None = 
         summary = cache[key] if cache is not None else summary
         errs["pass_peak_temperature"].append(_rel(ds["pass_peak_temperature"].values[i] - bulk, summary.peak, FLOOR))
         errs["residual_rise"].append(_rel(ds["residual_rise"].values[i], summary.residual[:, 0], FLOOR))
-        exact = (fixed_source_history(t[:n], z, src, scene.body(i), sched) if at_rest else
-                 temperature_history(t[:n], z, src, scene.body(i), tr.count, tr.interval, sched, **_QUAD))
+        exact = _cached_history(cache, ("transient-history", scene.name, i, tuple(z)), t[:n],
+                                lambda times: (fixed_source_history(times, z, src, scene.body(i), sched) if at_rest else
+                                               temperature_history(times, z, src, scene.body(i), tr.count, tr.interval,
+                                                                   sched, **_QUAD)))
         rise = ds["temperature_history"].values[i, ::every][:n] - bulk
         scale = np.max(np.abs(exact), axis=0)
         ok = scale > 0

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
+from .checked_interpolant import CheckedInterpolant
 from .flash import thermal_properties
 from .transient_pass import (MovingSource, Schedule, _as_depth, _constant_part, _schedule_part, _split,
                              pass_level, pass_response, upstream_reach)
@@ -158,6 +159,46 @@ def shifted_sum(time, count: int, interval: float | None, curve, reach: float = 
     return out
 
 
+#: the sum over passes of one pass's tail (2 D after its arrival on) is interpolated to this fraction of the
+#: largest rise of one pass at each depth (:func:`_with_checked_tail`), divided among the passes ...
+TAIL_TOLERANCE = 1e-7
+#: ... but each pass's tail to no less than this fraction (the steady sweep's own quadrature is accurate to
+#: about 4e-10 of its maximum, railtherm.references.jaeger, and no check can resolve less): a history of
+#: 1,000 passes is interpolated to 1e-6 of the largest rise, one of 100 passes or fewer to 1e-7
+TAIL_FLOOR = 1e-9
+#: ... when the tail is asked at more delays than this (below, its exact values cost less than the fit)
+TAIL_MIN_DELAYS = 2000
+
+
+def _with_checked_tail(curve, duration: float, count: int):
+    """``curve`` (one pass's response to a constant factor) with its tail theta >= 2 D replaced by a
+    :class:`~.checked_interpolant.CheckedInterpolant` of it when asked at more than :data:`TAIL_MIN_DELAYS`
+    delays there: behind the source the response is smooth and decays slowly, and a history of many passes asks
+    it at (samples per pass) x (passes) delays. Each piece is checked to max(:data:`TAIL_TOLERANCE` / ``count``,
+    :data:`TAIL_FLOOR`) of the response's largest value at each depth (sampled over [0, 2 D] and geometrically
+    over the tail; at depth it peaks long after the pass), so that the passes' errors add up to at most
+    ``count`` times that fraction of it, and of the history, which is at least as large."""
+    start = 2.0 * duration
+
+    def with_tail(theta):
+        tail = theta >= start
+        if np.count_nonzero(tail) <= TAIL_MIN_DELAYS:
+            return curve(theta)
+        hi = max(float(theta[tail].max()), 1.001 * start)
+        head = curve(theta[~tail]) if np.any(~tail) else None
+        probe = np.concatenate([np.linspace(0.0, start, 81), np.geomspace(start, hi, 161)[1:]])
+        scale = np.max(np.abs(curve(probe)), axis=0)
+        rtol = max(TAIL_TOLERANCE / count, TAIL_FLOOR)
+        fit = CheckedInterpolant(curve, start, hi, np.maximum(scale, np.finfo(float).tiny) * rtol)
+        vals = fit(theta[tail])
+        out = np.empty((theta.size, vals.shape[1]))
+        out[tail] = vals
+        if head is not None:
+            out[~tail] = head
+        return out
+    return with_tail
+
+
 def temperature_history(time, depth, source: MovingSource, material, count: int = 1,
                         interval: float | None = None, schedule: Schedule | None = None,
                         quad_points: int = 12, inner_points: int = 48,
@@ -207,10 +248,12 @@ def temperature_history(time, depth, source: MovingSource, material, count: int 
     const, sched, minus = _split(schedule, via_time_integral)
     out = np.zeros((time.size, depth.size))
     if const != 0.0:
+        def curve(th):
+            return _constant_part(th, depth, source, material, via_time_integral, **opts)
+        if not via_time_integral and count > 1:
+            curve = _with_checked_tail(curve, source.contact_duration, count)
         # a pass still further ahead than its upstream reach adds less than e^-45 of its rise: skipped
-        out += const * shifted_sum(time, count, interval,
-                                   lambda th: _constant_part(th, depth, source, material, via_time_integral, **opts),
-                                   reach=reach, through_pass=through_pass)
+        out += const * shifted_sum(time, count, interval, curve, reach=reach, through_pass=through_pass)
     if sched is not None:
         last = np.full(time.size, count - 1) if through_pass is None else np.asarray(through_pass).ravel()
         for k in range(count):
