@@ -1,8 +1,7 @@
 """Piecewise Chebyshev interpolation of a smooth curve, each piece checked against the curve itself.
 
-A history under many passes sums one pass's response at many delays: long after the source has left, that
-response is a smooth, slowly varying tail, and evaluating its exact (quadrature) value at every delay of
-every pass is where the time goes. :class:`CheckedInterpolant` replaces the curve on an interval by
+A history of many passes sums one pass's response at many delays; long after the source has left it is a
+smooth, slowly varying tail. :class:`CheckedInterpolant` replaces the curve on an interval by
 polynomials of degree ``degree`` through Chebyshev points on geometrically growing pieces (the tail varies on
 the scale of the delay itself). Every piece is accepted only after the interpolant agrees with the curve at
 the ``degree`` points halfway (in angle) between its nodes, where the interpolation error of a smooth
