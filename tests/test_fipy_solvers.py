@@ -30,25 +30,16 @@ def _published(name):
 
 
 # ------------------------------------------------------------------ import guard
-def test_import_ignores_our_command_line_and_uses_scipy():
-    """FiPy reads sys.argv at import: railtherm's CLI arguments (even a stray --petsc) must not reach it."""
+@pytest.mark.parametrize("first_use", [
+    "from railtherm_fipy.solvers import import_fipy; import_fipy()",
+    # the pass-history block may be the first code of a process to need FiPy: it goes through the guard too
+    "from railtherm_fipy.history import fipy_block; fipy_block(1e-3, 30.0, 50.0, 3.8e6, 0.0, 0, 0.01, [0.0])",
+], ids=["import_fipy", "section-history"])
+def test_import_ignores_our_command_line_and_uses_scipy(first_use):
+    """FiPy reads sys.argv at import: railtherm's CLI arguments (even a stray --petsc) must not reach it, and the
+    suite is SciPy's, whichever fipy module is the first to need FiPy."""
     code = ("import sys; sys.argv = ['railtherm', 'run', 'study.toml', '--out', 'x', '--petsc', '--inline'];"
-            "from railtherm_fipy.solvers import import_fipy, solver_suite; import_fipy();"
-            "assert sys.argv[1:3] == ['run', 'study.toml'], sys.argv; print(solver_suite())")
-    env = dict(os.environ)
-    env.pop("FIPY_SOLVERS", None)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "core"), str(ROOT / "plugins"), env.get("PYTHONPATH", "")])
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
-    assert out.returncode == 0, out.stderr
-    assert out.stdout.strip().splitlines()[-1] == "scipy"
-
-
-def test_the_section_history_imports_fipy_through_the_guard():
-    """The pass-history block (``fipy_block``) may be the first code of a process to need FiPy: it goes through
-    :func:`import_fipy` too (SciPy suite, our command line unseen)."""
-    code = ("import sys; sys.argv = ['railtherm', 'run', 'study.toml', '--petsc'];"
-            "from railtherm_fipy.history import fipy_block; from railtherm_fipy.solvers import solver_suite;"
-            "fipy_block(1e-3, 30.0, 50.0, 3.8e6, 0.0, 0, 0.01, [0.0]);"
+            f"{first_use}; from railtherm_fipy.solvers import solver_suite;"
             "assert sys.argv[1:3] == ['run', 'study.toml'], sys.argv; print(solver_suite())")
     env = dict(os.environ)
     env.pop("FIPY_SOLVERS", None)
