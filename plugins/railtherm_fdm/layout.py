@@ -72,12 +72,13 @@ def line_extent(a: float, speed: float, kappa: float, *, scale: float = 1.0) -> 
     return block_extent(a, a, speed, kappa, scale=scale)
 
 
-def explicit_stability_limit(d: float, kappa: float, h: float = 0.0, rho_c: float = 1.0) -> float:
-    """Largest stable explicit-Euler step of the 3-D node grid [s].
+def explicit_stability_limit(d: float, kappa: float, h: float = 0.0, rho_c: float = 1.0, *,
+                             dimension: int = 3) -> float:
+    """Largest stable explicit-Euler step of the node grid [s].
 
-    ``1 / (6 kappa/d^2 + 2 h/(rho c d))``: the surface node (half-depth dual cell) loses
-    ``2 h dt/(rho c d)`` per step by convection on top of the six-neighbour diffusion term; without
-    convection this is d^2/(6 kappa).
+    ``1 / (2 n kappa/d^2 + 2 h/(rho c d))`` in n = ``dimension`` dimensions: the surface node
+    (half-depth dual cell) loses ``2 h dt/(rho c d)`` per step by convection on top of the 2n-neighbour
+    diffusion term; without convection this is d^2/(2 n kappa).
 
     Parameters
     ----------
@@ -89,25 +90,16 @@ def explicit_stability_limit(d: float, kappa: float, h: float = 0.0, rho_c: floa
         Convection coefficient [W/(m^2 K)].
     rho_c : float
         Volumetric heat capacity rho c [J/(m^3 K)].
+    dimension : int
+        Dimensions of the grid [1]: 3 for the block, 2 for the line contact's block.
     """
-    return 1.0 / (6.0 * kappa / d ** 2 + 2.0 * h / (rho_c * d))
+    return 1.0 / (2.0 * dimension * kappa / d ** 2 + 2.0 * h / (rho_c * d))
 
 
 def line_stability_limit(d: float, kappa: float, h: float, rho_c: float) -> float:
-    """Largest stable explicit step of the 2-D block [s]: ``1 / (4 kappa/d^2 + 2 h/(rho c d))``.
-
-    Parameters
-    ----------
-    d : float
-        Node spacing [m].
-    kappa : float
-        Diffusivity [m^2/s].
-    h : float
-        Convection coefficient [W/(m^2 K)].
-    rho_c : float
-        Volumetric heat capacity [J/(m^3 K)].
-    """
-    return 1.0 / (4.0 * kappa / d ** 2 + 2.0 * h / (rho_c * d))
+    """Largest stable explicit step of the 2-D block [s]: :func:`explicit_stability_limit` with
+    ``dimension=2``, ``1 / (4 kappa/d^2 + 2 h/(rho c d))``."""
+    return explicit_stability_limit(d, kappa, h, rho_c, dimension=2)
 
 
 @dataclass(frozen=True)
