@@ -41,6 +41,26 @@ def _setup(n=24, margin=4):
     return area, X, Y, g
 
 
+def _cut_jacobian(conv, idx, D1, D2, offsets):
+    """The dense M = D1 + D2 B_cut on the elements ``idx`` (2 x 2 blocks D1, D2 per element), with the
+    influence B built from the near kernels of ``conv`` and cut to the element offsets (dx, dy) in ``offsets``."""
+    nin = idx.size
+    rx, ry = conv.near_radius
+    ii, jj = np.unravel_index(idx, conv.shape)
+    M = np.zeros((2 * nin, 2 * nin))
+    for e in range(nin):
+        for f in range(nin):
+            o = (ii[e] - ii[f], jj[e] - jj[f])
+            if o not in offsets:
+                continue
+            K = np.array([[conv.near[(a, b)][rx + o[0], ry + o[1]] for b in range(2)] for a in range(2)])
+            blk = D2[e] @ K + (D1[e] if o == (0, 0) else 0.0)
+            for a in range(2):
+                for b in range(2):
+                    M[a * nin + e, b * nin + f] = blk[a, b]
+    return M
+
+
 def test_local_preconditioner_is_the_exact_inverse_of_the_cut_jacobian():
     """M = D1 + D2 B_cut with B cut to the offsets (0, 0) and (-1, 0): the sweep solves M z = v exactly."""
     area, X, Y, g = _setup(10, 2)
@@ -52,21 +72,7 @@ def test_local_preconditioner_is_the_exact_inverse_of_the_cut_jacobian():
     D1 = rng.normal(size=(nin, nc, nc)) + 3 * np.eye(2)
     D2 = rng.normal(size=(nin, nc, nc))
     pre.factor(D1, D2)
-    # dense M from the near kernels
-    nx, ny = conv.shape
-    rx, ry = conv.near_radius
-    ii, jj = np.unravel_index(idx, (nx, ny))
-    M = np.zeros((nc * nin, nc * nin))
-    for e in range(nin):
-        for f in range(nin):
-            o = (ii[e] - ii[f], jj[e] - jj[f])
-            if o not in ((0, 0), (-1, 0)):
-                continue
-            K = np.array([[conv.near[(a, b)][rx + o[0], ry + o[1]] for b in range(2)] for a in range(2)])
-            blk = D2[e] @ K + (D1[e] if o == (0, 0) else 0.0)
-            for a in range(2):
-                for b in range(2):
-                    M[a * nin + e, b * nin + f] = blk[a, b]
+    M = _cut_jacobian(conv, idx, D1, D2, ((0, 0), (-1, 0)))
     v = rng.normal(size=nc * nin)
     np.testing.assert_allclose(M @ pre.solve(v), v, rtol=1e-10, atol=1e-10 * np.abs(v).max())
 
@@ -77,8 +83,6 @@ def test_line_preconditioner_is_the_exact_inverse_of_the_four_offset_jacobian():
     of them (lines with gaps)."""
     area, X, Y, g = _setup(10, 2)
     conv = rolling_operator(area.x_edges, area.y_edges, G, NU)
-    nx, ny = conv.shape
-    rx, ry = conv.near_radius
     rng = np.random.default_rng(4)
     full = np.nonzero(g.ravel() > 0)[0]
     for idx in (full, np.sort(rng.choice(full, size=2 * full.size // 3, replace=False))):
@@ -93,18 +97,7 @@ def test_line_preconditioner_is_the_exact_inverse_of_the_four_offset_jacobian():
         D2 = -r * S
         pre = LinePreconditioner(conv, idx)
         pre.factor_newton(slipping, zh, fac, r)
-        ii, jj = np.unravel_index(idx, (nx, ny))
-        M = np.zeros((nc * nin, nc * nin))
-        for e in range(nin):
-            for f in range(nin):
-                o = (ii[e] - ii[f], jj[e] - jj[f])
-                if o[1] != 0 or o[0] not in (1, 0, -1, -2):
-                    continue
-                K = np.array([[conv.near[(a, b)][rx + o[0], ry] for b in range(2)] for a in range(2)])
-                blk = D2[e] @ K + (D1[e] if o[0] == 0 else 0.0)
-                for a in range(2):
-                    for b in range(2):
-                        M[a * nin + e, b * nin + f] = blk[a, b]
+        M = _cut_jacobian(conv, idx, D1, D2, ((1, 0), (0, 0), (-1, 0), (-2, 0)))
         v = rng.normal(size=nc * nin)
         np.testing.assert_allclose(M @ pre.solve(v), v, rtol=1e-9, atol=1e-9 * np.abs(v).max())
 
