@@ -16,18 +16,11 @@ import pytest
 
 import railtherm
 from railtherm import Refused
-from railtherm.input.materials import Material
 from railtherm.input.scene import load_scene
 from railtherm.physics import pass_peaks_and_residual
 from railtherm.references.transient import MovingSource, Schedule, pass_summary, temperature_history
 from railtherm_fdm.history import heating_scheme, section_block, section_history
-
-A, V, Q = 6e-3, 30.0, 1e8
-INTERVAL = 0.083
-SLIP = {"time": [0.0, 0.083, 0.0832, 0.0836, 0.0838, 0.2], "factor": [1.0, 1.0, 2.0, 2.0, 1.0, 1.0]}
-DEPTHS = [1e-4, 5e-4]
-CHEAP = dict(quad_points=8, inner_points=24)    # the references at ~1e-5 of their maximum
-STEEL = Material()
+from transient_cases import A, CHEAP, DEPTHS, INTERVAL, Q, SLIP, STEEL, V
 
 
 def _scene(source: dict, **kw) -> dict:

@@ -20,19 +20,12 @@ import scipy.sparse as sp
 
 import railtherm
 from railtherm import Refused, SceneError
-from railtherm.input.materials import Material
 from railtherm.physics import pass_peaks_and_residual
 from railtherm.solving.section_stepping import section_history
 from railtherm.references.transient import MovingSource, Schedule, pass_summary, temperature_history
 from railtherm_fem.history import assemble_section, fem_block, hat_integrals
 from railtherm_fem.thermal import _fe_1d, hat_load
-
-A, V, Q = 6e-3, 30.0, 1e8
-INTERVAL = 0.083
-SLIP = {"time": [0.0, 0.083, 0.0832, 0.0836, 0.0838, 0.2], "factor": [1.0, 1.0, 2.0, 2.0, 1.0, 1.0]}
-DEPTHS = [1e-4, 5e-4]
-CHEAP = dict(quad_points=8, inner_points=24)    # the references at ~1e-5 of their maximum
-STEEL = Material()
+from transient_cases import A, CHEAP, DEPTHS, INTERVAL, Q, SLIP, STEEL, V
 
 
 def test_surface_loads_are_the_exact_hat_integrals():
