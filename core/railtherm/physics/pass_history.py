@@ -77,9 +77,7 @@ def pass_peaks_and_residual(time, history, count: int, interval: float) -> tuple
     peak, residual : numpy.ndarray
         [K], shape (count, depths).
     """
-    time = np.asarray(time, dtype=float)
-    history = np.asarray(history, dtype=float).reshape(time.size, -1)
-    edges = interval * np.arange(count + 1)
+    time, history, edges = _pass_windows(time, history, count, interval)
     lo = np.searchsorted(time, edges, side="left")        # first sample >= k interval: windows by index
     if np.all(lo[1:] > lo[:-1]) and lo[-2] < time.size:   # every window holds a sample: one reduction
         peak = np.maximum.reduceat(history, lo[:-1], axis=0)
@@ -99,14 +97,8 @@ def pass_time_above(time, history, count: int, interval: float, rise: float) -> 
 
     Parameters
     ----------
-    time : array_like
-        Increasing times [s] covering [0, count * interval].
-    history : array_like
-        Rise [K], shape (time.size, depths).
-    count : int
-        Passes [1].
-    interval : float
-        Time between passes [s].
+    time, history, count, interval : array_like, array_like, int, float
+        Times [s], rise [K], passes [1] and time between passes [s], as in :func:`pass_peaks_and_residual`.
     rise : float
         Threshold rise above the bulk temperature [K].
 
@@ -115,9 +107,7 @@ def pass_time_above(time, history, count: int, interval: float, rise: float) -> 
     numpy.ndarray
         [s], shape (count, depths).
     """
-    time = np.asarray(time, dtype=float)
-    history = np.asarray(history, dtype=float).reshape(time.size, -1)
-    edges = interval * np.arange(count + 1)
+    time, history, edges = _pass_windows(time, history, count, interval)
     # one axis for all windows: the pass boundaries (values interpolated) and the samples strictly inside
     # the windows; each interval between neighbours belongs to the window of its left end
     on_edge = edges[np.clip(np.searchsorted(edges, time), 0, count)] == time
@@ -135,3 +125,10 @@ def pass_time_above(time, history, count: int, interval: float, rise: float) -> 
     # the conformance kit loaded as a pytest plugin) should not load
     from ._pass_kernels import time_above_sums
     return time_above_sums(t, np.ascontiguousarray(g), edges, int(count))
+
+
+def _pass_windows(time, history, count: int, interval: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The time axis [s] and history [K] as float arrays, the history as (time.size, depths), and the
+    ``count + 1`` pass boundaries k interval [s] that bound the passes' windows."""
+    time = np.asarray(time, dtype=float)
+    return time, np.asarray(history, dtype=float).reshape(time.size, -1), interval * np.arange(count + 1)
