@@ -4,6 +4,8 @@ from pathlib import Path
 
 import pytest
 
+from studies import ELASTIC, ellipse_scene
+
 sys.path.insert(0, str(Path(__file__).parent))
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 if os.environ.get("PYTEST_XDIST_WORKER"):
@@ -45,19 +47,7 @@ methods = {methods}
 levels = [0, 1]
 repeat = 1
 timeout = {timeout}
-[defaults.wheel]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-[defaults.rail]
-shear_modulus = 82e9
-[[scene]]
-name = "ek"
-normal_force = 100e3
-contact = {{ shape = "ellipse", semi_axes = [5.88e-3, 10.54e-3] }}
-speed = {speed}
-sliding_speed = 1.0
-friction = 0.3
-heat_partition = 0.5
+{elastic}{scene}heat_partition = 0.5
 outputs = ["max_surface_temperature", "surface_temperature", "heat_flux", "frictional_power"]
 """
 
@@ -66,6 +56,7 @@ outputs = ["max_surface_temperature", "surface_temperature", "heat_flux", "frict
 def write_study(tmp_path):
     def write(methods='["flat"]', speed="[30.0, 60.0]", timeout=60, extra=""):
         p = tmp_path / "study.toml"
-        p.write_text(STUDY.format(methods=methods, speed=speed, timeout=timeout) + extra)
+        p.write_text(STUDY.format(methods=methods, timeout=timeout, elastic=ELASTIC, scene=ellipse_scene(speed=speed))
+                     + extra)
         return p
     return write

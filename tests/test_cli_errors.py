@@ -19,6 +19,7 @@ import sys
 import pytest
 
 from railtherm.cli import main
+from studies import ELASTIC, ellipse_scene
 
 STUDY = """
 schema_version = 1
@@ -29,28 +30,20 @@ levels = [0]
 repeat = 1
 warmup = false
 {extra}
-[defaults.wheel]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-[defaults.rail]
-shear_modulus = 82e9
-[[scene]]
-name = "ek"
-normal_force = 100e3
-contact = {{ shape = "ellipse", semi_axes = [5.88e-3, 10.54e-3] }}
-speed = {speed}
-sliding_speed = 1.0
-friction = 0.3
-heat_partition = 0.5
+{elastic}{scene}heat_partition = 0.5
 outputs = ["max_surface_temperature", "surface_temperature", "heat_flux", "frictional_power"]
 """
+
+
+def study_text(methods='["flat"]', speed="30.0", extra=""):
+    return STUDY.format(methods=methods, extra=extra, elastic=ELASTIC, scene=ellipse_scene(speed=speed))
 
 
 @pytest.fixture
 def study(tmp_path):
     def write(methods='["flat"]', speed="30.0", extra="", name="s.toml"):
         p = tmp_path / name
-        p.write_text(STUDY.format(methods=methods, speed=speed, extra=extra))
+        p.write_text(study_text(methods, speed, extra))
         return p
     return write
 
@@ -136,7 +129,7 @@ def test_workers_below_one(capsys, tmp_path, flat_host, study, workers):
 def test_workers_minus_one_with_processes_does_not_hang(tmp_path):
     """Before: ``--workers -1 --executor processes`` looped for ever (a pool of no worker)."""
     p = tmp_path / "s.toml"
-    p.write_text(STUDY.format(methods='"all"', speed="30.0", extra=""))
+    p.write_text(study_text(methods='"all"'))
     r = subprocess.run([sys.executable, "-m", "railtherm.cli", "run", str(p), "--out", str(tmp_path / "o"),
                         "--workers", "-1", "--executor", "processes", "--no-report"],
                        capture_output=True, text=True, timeout=120)
