@@ -320,6 +320,24 @@ def zline_factor(aP, aT, aB):  # pragma: no cover - compiled
     return cp, inv
 
 
+@numba.njit(cache=True, fastmath=True, boundscheck=False, inline="always")
+def zline_solve(rhs, aT, cp, inv, i, j, dst):  # pragma: no cover - compiled
+    """``dst[i, j, :]`` = the z-line block at (i, j) solved for ``rhs`` with the factors of
+    :func:`zline_factor` (Thomas algorithm: forward then back substitution; ``rhs`` is overwritten).
+    Inlined into :func:`sgs_zline`, which calls it in both sweeps."""
+    nz = rhs.shape[0]
+    d = rhs[0] * inv[i, j, 0]
+    rhs[0] = d
+    for k in range(1, nz):
+        d = (rhs[k] + aT[i, j, k] * d) * inv[i, j, k]
+        rhs[k] = d
+    x = rhs[nz - 1]
+    dst[i, j, nz - 1] = x
+    for k in range(nz - 2, -1, -1):
+        x = rhs[k] - cp[i, j, k] * x
+        dst[i, j, k] = x
+
+
 @numba.njit(cache=True, fastmath=True, boundscheck=False)
 def sgs_zline(aP, aE, aW, aN, aS, aT, aB, cp, inv, r, out, work):  # pragma: no cover - compiled
     """Symmetric block Gauss-Seidel preconditioner with z-lines as blocks: ``out = M^{-1} r``.
@@ -355,17 +373,7 @@ def sgs_zline(aP, aE, aW, aN, aS, aT, aB, cp, inv, r, out, work):  # pragma: no 
             if j > 0:
                 for k in range(nz):
                     rhs[k] += aS[i, j, k] * v[i, j - 1, k]
-            # Thomas: forward substitution then back substitution
-            d = rhs[0] * inv[i, j, 0]
-            rhs[0] = d
-            for k in range(1, nz):
-                d = (rhs[k] + aT[i, j, k] * d) * inv[i, j, k]
-                rhs[k] = d
-            x = rhs[nz - 1]
-            v[i, j, nz - 1] = x
-            for k in range(nz - 2, -1, -1):
-                x = rhs[k] - cp[i, j, k] * x
-                v[i, j, k] = x
+            zline_solve(rhs, aT, cp, inv, i, j, v)
     # backward sweep: (D + U) out = D v
     for i in range(nx):
         for jj in range(ny):
@@ -383,16 +391,7 @@ def sgs_zline(aP, aE, aW, aN, aS, aT, aB, cp, inv, r, out, work):  # pragma: no 
             if j + 1 < ny:
                 for k in range(nz):
                     rhs[k] += aN[i, j, k] * out[i, j + 1, k]
-            d = rhs[0] * inv[i, j, 0]
-            rhs[0] = d
-            for k in range(1, nz):
-                d = (rhs[k] + aT[i, j, k] * d) * inv[i, j, k]
-                rhs[k] = d
-            x = rhs[nz - 1]
-            out[i, j, nz - 1] = x
-            for k in range(nz - 2, -1, -1):
-                x = rhs[k] - cp[i, j, k] * x
-                out[i, j, k] = x
+            zline_solve(rhs, aT, cp, inv, i, j, out)
 
 
 @numba.njit(cache=True, fastmath=True, boundscheck=False)
