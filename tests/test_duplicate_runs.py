@@ -15,6 +15,7 @@ from railtherm.input.scene import load_scene
 from railtherm.solving.pipeline import duplicate_of, solve
 from railtherm.solving.plugins import get_host
 from railtherm.testing import canonical
+from studies import ELASTIC
 
 GIVEN = canonical("ellipse-given-flux", outputs=["max_surface_temperature", "mean_contact_temperature"])
 SLIDING = canonical("ellipse-full-sliding", outputs=["max_surface_temperature", "creep_force_x"])
@@ -110,12 +111,7 @@ name = "dup"
 methods = ["green", "kalker"]
 levels = [0]
 repeat = 1
-[defaults.wheel]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-[defaults.rail]
-shear_modulus = 82e9
-[[scene]]
+''' + ELASTIC + '''[[scene]]
 name = "given"
 speed = 1.0
 heat_source = { flux = 1e6, shape = "uniform", semi_axes = [4e-3, 4e-3] }

@@ -28,6 +28,7 @@ from railtherm.report.wheelset_data import (FLASH, QUANTITIES, patch_error, patc
                                             wheelset_scenes)
 from railtherm.report.wheelset_figures import patch_shapes
 from railtherm.report.wheelset_section import wheelset_findings, wheelset_section
+from studies import steel
 
 DATA = Path(__file__).resolve().parent / "data" / "profiles"
 
@@ -48,13 +49,7 @@ temperature = "green"
 speed = 2.0
 friction = 0.3
 outputs = ["normal_force", "creep_force_x", "creep_force_y", "max_pressure", "max_surface_temperature"]
-[defaults.wheel]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-[defaults.rail]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-"""
+""" + steel("wheel") + steel("rail")
 POSITIONS = [("p11-right", 5e-3, 0.012, -3.554e-4, -4.3353637, "right"),
              ("p13-right", 6e-3, 0.0144, -6.272e-4, -4.3293718, "right"),
              ("p13-left", 6e-3, 0.0144, -6.272e-4, -4.3293718, "left")]

@@ -12,6 +12,7 @@ import xarray as xr
 
 import railtherm
 from railtherm.analysis.metrics import run_errors
+from studies import steel
 
 CARTER = """
 schema_version = 1
@@ -22,13 +23,7 @@ levels = [0, 1]
 reference = "analytic"
 tolerance = 0.05
 repeat = 1
-[defaults.wheel]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-[defaults.rail]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-[[scene]]
+""" + steel("wheel") + steel("rail") + """[[scene]]
 name = "carter-hot"
 normal_force = 1.78896e5
 contact = { shape = "line", wheel_radius = 0.5 }
