@@ -18,6 +18,7 @@ import pytest
 import railtherm
 from railtherm import ContactPatch, TangentialContactModel, TemperatureField, TemperatureModel
 from railtherm.solving.plugins import get_host, new_host, set_host
+from studies import steel
 
 STUDY = """
 schema_version = 1
@@ -29,21 +30,7 @@ reference = "analytic"
 repeat = 1
 warmup = false
 
-[defaults.wheel]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-density = 7850.0
-specific_heat = 450.0
-conductivity = 50.0
-bulk_temperature = 20.0
-[defaults.rail]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-density = 7850.0
-specific_heat = 450.0
-conductivity = 50.0
-bulk_temperature = 10.0
-
+""" + steel("wheel", thermal=True, bulk_temperature=20.0) + steel("rail", thermal=True, bulk_temperature=10.0) + """
 [[scene]]
 name = "line-sliding"
 normal_force = 1e6

@@ -4,6 +4,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from studies import steel
+
 STUDY = """
 schema_version = 1
 [study]
@@ -12,21 +14,7 @@ methods = ["green"]
 levels = [0]
 reference = "analytic"
 
-[defaults.wheel]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-density = 7850.0
-specific_heat = 450.0
-conductivity = 50.0
-bulk_temperature = 20.0
-[defaults.rail]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-density = 7850.0
-specific_heat = 450.0
-conductivity = 50.0
-bulk_temperature = 20.0
-
+""" + steel("wheel", thermal=True, bulk_temperature=20.0) + steel("rail", thermal=True, bulk_temperature=20.0) + """
 [[scene]]
 name = "band"
 speed = 30.0

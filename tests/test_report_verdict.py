@@ -15,6 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from studies import steel
+
 STUDY = """
 schema_version = 1
 [study]
@@ -28,19 +30,7 @@ tolerance = 0.05
 max_surface_temperature = 149.7
 source = "seed Table 1"
 
-[defaults.wheel]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-density = 7850.0
-specific_heat = 450.0
-conductivity = 50.0
-[defaults.rail]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-density = 7850.0
-specific_heat = 450.0
-conductivity = 50.0
-
+""" + steel("wheel", thermal=True) + steel("rail", thermal=True) + """
 [[scene]]
 name = "ek"
 normal_force = 100e3
