@@ -292,22 +292,30 @@ def order(hs, errors):
     return float(np.polyfit(np.log(hs), np.log(np.abs(errors)), 1)[0])
 
 
-def test_circulant_preconditioner_keeps_the_pressure_and_cuts_the_iterations():
-    """The FFT-preconditioned CG (the inverse of the Strang circulant of Love's operator) gives the plain CG's
-    pressure (1e-8 of the peak) and the Hertz force, in fewer than half its iterations (measured at 72 x 72
-    elements from the Hertz pressure: 11 against 47); with the force or the approach prescribed."""
+def _hertz_normal_problem(n):
+    """Knothe's ellipse (semi-axes 5.88 x 10.54 mm [m], 100 kN [N]) on an n x n potential area (margin 4): Love's
+    operator, the Hertz gap h [m], the element area dA [m2], the Hertz pressure p0 [Pa] as a start, the force
+    [N] and the Hertz solution."""
     from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
     from railtherm_kalker.influence import normal_operator
-    from railtherm_kalker.normal_solver import solve_normal
     from railtherm_kalker.potential_area import hertz_curvatures
     a, b, force, e_star = 5.88e-3, 10.54e-3, 100e3, G / (1 - NU)
-    area = potential_area(a, b, 64, margin=4)
+    area = potential_area(a, b, n, margin=4)
     X, Y = area.mesh()
     ca, cb = hertz_curvatures(a, b, force, e_star)
     hz = hertz_from_curvatures(ca, cb, force, e_star)
     conv = normal_operator(*area.shape, area.dx, area.dy, e_star)
     h, dA = ca * X ** 2 + cb * Y ** 2, area.dx * area.dy
     p0 = hertz_pressure(X, Y, hz.a, hz.b, hz.max_pressure)
+    return conv, h, dA, p0, force, hz
+
+
+def test_circulant_preconditioner_keeps_the_pressure_and_cuts_the_iterations():
+    """The FFT-preconditioned CG (the inverse of the Strang circulant of Love's operator) gives the plain CG's
+    pressure (1e-8 of the peak) and the Hertz force, in fewer than half its iterations (measured at 72 x 72
+    elements from the Hertz pressure: 11 against 47); with the force or the approach prescribed."""
+    from railtherm_kalker.normal_solver import solve_normal
+    conv, h, dA, p0, force, _ = _hertz_normal_problem(64)
     pre = solve_normal(conv, h, dA, force=force, initial=p0)
     plain = solve_normal(conv, h, dA, force=force, initial=p0, precondition=False)
     assert pre.converged and plain.converged and pre.residual < 1e-9
@@ -355,19 +363,9 @@ def test_fused_cg_passes_match_the_numpy_reference(monkeypatch):
     """The normal solver's fused element-wise passes (numba, :mod:`railtherm_kalker._cg`) give the numpy reference
     passes' pressure (to the solver's tolerance 1e-10 of the peak: the sums are taken in another order), force
     and iterations, with the force and with the approach prescribed."""
-    from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
     from railtherm_kalker import _cg
-    from railtherm_kalker.influence import normal_operator
     from railtherm_kalker.normal_solver import solve_normal
-    from railtherm_kalker.potential_area import hertz_curvatures
-    a, b, force, e_star = 5.88e-3, 10.54e-3, 100e3, G / (1 - NU)
-    area = potential_area(a, b, 48, margin=4)
-    X, Y = area.mesh()
-    ca, cb = hertz_curvatures(a, b, force, e_star)
-    hz = hertz_from_curvatures(ca, cb, force, e_star)
-    conv = normal_operator(*area.shape, area.dx, area.dy, e_star)
-    h, dA = ca * X ** 2 + cb * Y ** 2, area.dx * area.dy
-    p0 = hertz_pressure(X, Y, hz.a, hz.b, hz.max_pressure)
+    conv, h, dA, p0, force, hz = _hertz_normal_problem(48)
     fused = [solve_normal(conv, h, dA, force=force, initial=p0), solve_normal(conv, h, dA, approach=hz.approach)]
     for name in ("residual", "direction", "step", "enter"):
         monkeypatch.setattr(_cg, name, getattr(_cg, f"_{name}_np"))
