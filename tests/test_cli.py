@@ -10,6 +10,7 @@ import sys
 import pytest
 
 from railtherm.cli import main
+from studies import ellipse_scene
 
 GOOD = """
 schema_version = 1
@@ -17,14 +18,7 @@ schema_version = 1
 name = "cli"
 methods = "all"
 levels = [0]
-[[scene]]
-name = "ek"
-normal_force = 100e3
-contact = { shape = "ellipse", semi_axes = [5.88e-3, 10.54e-3] }
-speed = 30.0
-sliding_speed = 1.0
-friction = 0.3
-"""
+""" + ellipse_scene()
 
 
 def _cli(*args, cwd=None):

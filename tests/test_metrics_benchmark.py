@@ -11,6 +11,7 @@ import pytest
 
 import railtherm
 from railtherm.analysis.metrics import energy_balance
+from studies import ellipse_scene
 
 
 def _scene(tmp_path):
@@ -22,14 +23,7 @@ name = "bench"
 [defaults.wheel]
 shear_modulus = 82e9
 poisson_ratio = 0.28
-[[scene]]
-name = "ek"
-normal_force = 100e3
-contact = { shape = "ellipse", semi_axes = [5.88e-3, 10.54e-3] }
-speed = 30.0
-sliding_speed = 1.0
-friction = 0.3
-outputs = ["max_surface_temperature", "surface_temperature", "frictional_power"]
+""" + ellipse_scene() + """outputs = ["max_surface_temperature", "surface_temperature", "frictional_power"]
 """)
     return railtherm.load_study(p).scenes[0]
 

@@ -9,6 +9,7 @@ import pytest
 
 import railtherm
 from railtherm import SceneError
+from studies import ELLIPSE_CURVATURES, ellipse_scene
 
 SMALL = """
 schema_version = 1
@@ -17,14 +18,7 @@ name = "small"
 methods = ["green"]
 levels = [0, 1]
 reference = "analytic"
-[[scene]]
-name = "ek-low"
-normal_force = 100e3
-contact = { shape = "ellipse", curvatures = [1.015, 0.4215] }
-speed = 30.0
-sliding_speed = 1.0
-friction = 0.3
-heat_partition = "equal-temperature"
+""" + ellipse_scene("ek-low", contact=ELLIPSE_CURVATURES) + """heat_partition = "equal-temperature"
 outputs = ["max_surface_temperature", "surface_temperature"]
 """
 

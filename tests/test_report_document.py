@@ -14,6 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from studies import ELLIPSE_CURVATURES, ellipse_scene
+
 STUDY = """
 # A small study whose comments say what its scenes are.
 #
@@ -53,14 +55,7 @@ heat_partition = 0.0
 outputs = ["max_surface_temperature", "surface_temperature"]
 
 # --- seed 5.4, Table 1 ---------------------------------------------------------------------------
-[[scene]]
-name = "ellipse-sliding"
-normal_force = 100e3
-contact = { shape = "ellipse", curvatures = [1.015, 0.4215] }
-speed = 30.0
-sliding_speed = 1.0
-friction = 0.3
-heat_partition = "equal-temperature"
+""" + ellipse_scene("ellipse-sliding", contact=ELLIPSE_CURVATURES) + """heat_partition = "equal-temperature"
 outputs = ["max_surface_temperature", "mean_contact_temperature", "surface_temperature", "max_pressure",
            "semi_axis_a"]
 """
