@@ -59,14 +59,9 @@ def transient_line(grid, flux, cover, speed, conductivity, density, specific_hea
         Heat flux into this body [W/m^2].
     cover : ndarray (nx,)
         1 where the patch cell is in contact (no convection), else 0 [1].
-    speed : float
-        Speed V of the body relative to the contact [m/s].
-    conductivity, density, specific_heat : float
-        lambda [W/(m K)], rho [kg/m^3], c [J/(kg K)].
-    convection : float
-        h [W/(m^2 K)] outside the patch.
-    cell : float
-        Node spacing d [m].
+    speed, conductivity, density, specific_heat, convection, cell : float
+        As :func:`railtherm_fdm.block3d.transient_block`: speed V of the body relative to the contact
+        [m/s], lambda [W/(m K)], rho [kg/m^3], c [J/(kg K)], h [W/(m^2 K)] outside the patch, node spacing d [m].
     scheme : {"explicit", "implicit"}
     time_step : float, optional
         Forced step [s] (explicit: the caller refuses steps beyond the stability limit).

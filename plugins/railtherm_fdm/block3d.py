@@ -26,7 +26,7 @@ from . import kernels as K
 from .energy import EnergyLedger, quasi_steady_change, steady_heat_balance
 from .layout import (Extent, Trail, block_extent, explicit_stability_limit, graded_grid, node_grid, plan_steps,
                      field_note)
-from .linear_solvers import CG_RTOL, BackwardEuler, backward_euler_operator, cg, gmres
+from .linear_solvers import CG_RTOL, BackwardEuler, backward_euler_operator, cg, gmres, zero_couplings
 from .problem import block_problem
 from .sampling import BlockResult, bilinear, linear_rows, surface_from_top_cells
 from .source_loading import MovingSource, box_overlap, graded_surface_source
@@ -87,6 +87,8 @@ def transient_block(grid, flux, cover, speed, conductivity, density, specific_he
     Returns
     -------
     BlockResult
+        ``surface`` (nxp, nyp) on the sample grid and ``depth`` (nxp, nz) at the node depths [K] at the
+        end of the run; energies, steps and the quasi-steady check in the diagnostics.
 
     Raises
     ------
@@ -246,6 +248,8 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
     Returns
     -------
     BlockResult
+        Steady ``surface`` (nxp, nyp) on the sample grid and ``depth`` (nxp, nz) at the cell-centre depths
+        (the surface first) [K]; the GMRES iterations and heat balance in the diagnostics.
 
     Raises
     ------
@@ -276,12 +280,7 @@ def steady_block(grid, flux, cover, speed, conductivity, density, specific_heat,
     # coefficients
     Ax = dy[:, None] * dz[None, :]                                  # (ny, nz)
     F = rc * V * Ax                                                 # advective capacity flow [W/K]
-    aE = np.zeros(shape)
-    aW = np.zeros(shape)
-    aN = np.zeros(shape)
-    aS = np.zeros(shape)
-    aT = np.zeros(shape)
-    aB = np.zeros(shape)
+    aE, aW, aN, aS, aT, aB = zero_couplings(shape)
     aP = np.zeros(shape)
 
     def exp_coeffs(delta_x):

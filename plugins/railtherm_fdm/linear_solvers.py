@@ -5,7 +5,8 @@
   preconditioner, or a sparse LU factorised once);
 * :func:`cg` -- preconditioned conjugate gradients for that SPD operator;
 * :func:`gmres` -- right-preconditioned restarted GMRES (the steady 3-D scheme);
-* :func:`stencil_matrix` -- the 2-D operator as a sparse matrix (LU).
+* :func:`stencil_matrix` -- the 2-D operator as a sparse matrix (LU); :func:`zero_couplings` -- the
+  empty neighbour coefficients an assembly fills.
 
 References
 ----------
@@ -22,7 +23,13 @@ from scipy.sparse.linalg import splu
 
 from . import kernels as K
 
-__all__ = ["backward_euler_operator", "BackwardEuler", "CG_RTOL", "cg", "gmres", "stencil_matrix"]
+__all__ = ["backward_euler_operator", "BackwardEuler", "CG_RTOL", "cg", "gmres", "stencil_matrix", "zero_couplings"]
+
+
+def zero_couplings(shape) -> tuple[np.ndarray, ...]:
+    """The six neighbour coefficients ``aE, aW, aN, aS, aT, aB`` of a 7-point operator (convention of
+    :mod:`.kernels`), zero-filled float arrays of ``shape`` (nx, ny, nz) for an assembly to fill [W/K]."""
+    return tuple(np.zeros(shape) for _ in range(6))
 
 
 def backward_euler_operator(nx, ny, nz, d, wy, wz, lam, rc, dt):
@@ -56,12 +63,7 @@ def backward_euler_operator(nx, ny, nz, d, wy, wz, lam, rc, dt):
     gx = lam * wy[:, None] * wz[None, :] / d                         # x-conductances (ny, nz)
     gyf = lam * wx * wz[None, :] / d * np.ones((ny - 1, 1))          # between j and j+1 (ny-1, nz)
     gzf = lam * wx * wy[:, None] / d * np.ones((1, nz - 1))          # between k and k+1 (ny, nz-1)
-    aE = np.zeros(shape)
-    aW = np.zeros(shape)
-    aN = np.zeros(shape)
-    aS = np.zeros(shape)
-    aT = np.zeros(shape)
-    aB = np.zeros(shape)
+    aE, aW, aN, aS, aT, aB = zero_couplings(shape)
     mass = np.zeros(shape)
     mass[:] = rc * vol[None] / dt
     aE[:] = gx[None]
