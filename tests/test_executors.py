@@ -37,9 +37,13 @@ from railtherm.run.runner import execute_run, make_tasks, run_tasks
 from railtherm.run.timelimit import RunTimeout, _time_limit
 
 from fixture_plugins import FlatPlugin, SleepyPlugin
+from studies import steel
 
 psutil = pytest.importorskip("psutil")
 
+
+# the steel of this file's studies: elastic wheel and rail, the rail's bulk temperature 20 degC
+STEEL = steel("wheel") + steel("rail", poisson=False, bulk_temperature=20.0)
 
 SWEEP = """
 schema_version = 1
@@ -52,13 +56,7 @@ repeat = 1
 warmup = false
 timeout = {timeout}
 {options}
-[defaults.wheel]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-[defaults.rail]
-shear_modulus = 82e9
-bulk_temperature = 20.0
-[[scene]]
+{steel}[[scene]]
 name = "map"
 normal_force = 100e3
 contact = {{ shape = "ellipse", curvatures = [1.015, 0.4215] }}
@@ -72,7 +70,8 @@ outputs = ["max_surface_temperature", "mean_contact_temperature", "surface_tempe
 
 def sweep(path: Path, methods='["flat"]', speeds=None, timeout=60, options="", sliding="[0.5, 2.0]"):
     speeds = speeds if speeds is not None else [float(v) for v in range(10, 20)]
-    path.write_text(SWEEP.format(methods=methods, speeds=speeds, timeout=timeout, options=options, sliding=sliding))
+    path.write_text(SWEEP.format(methods=methods, speeds=speeds, timeout=timeout, options=options, sliding=sliding,
+                                 steel=STEEL))
     return path
 
 
@@ -390,13 +389,7 @@ warmup = false
 heat_partition = "equal-temperature"
 outputs = ["max_surface_temperature", "mean_contact_temperature", "surface_temperature", "heat_flux",
            "frictional_power"]
-[defaults.wheel]
-shear_modulus = 82e9
-poisson_ratio = 0.28
-[defaults.rail]
-shear_modulus = 82e9
-bulk_temperature = 20.0
-[[scene]]
+""" + STEEL + """[[scene]]
 name = "ellipse"
 normal_force = 100e3
 contact = { shape = "ellipse", curvatures = [1.015, 0.4215] }
