@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from railtherm import Refused, SolverError
+from railtherm import Refused, SolverError, SurfaceGrid
 from railtherm.physics import contact_modulus
 from railtherm.references.hertz import (elliptic_k_minus_e, hertz_from_curvatures, hertz_from_penetration,
                                         hertz_line)
@@ -230,54 +230,32 @@ def margin_elements(n: int) -> int:
 
 
 @dataclass(frozen=True)
-class PotentialArea:
-    """A rectangular grid of elements over the potential contact area.
+class PotentialArea(SurfaceGrid):
+    """A rectangular grid of elements over the potential contact area: core's :class:`railtherm.SurfaceGrid`
+    (its edges, centres and sizes) with the rolling refinement, and a line contact held as one row of
+    elements across (``shape`` (nx, 1), ``mesh`` of that shape) as the solvers' 2-D arrays need.
 
     Attributes
     ----------
-    x_edges : ndarray
-        Element edges along rolling [m], ascending.
-    y_edges : ndarray or None
-        Element edges across [m] (None for a line contact).
-    a, b : float
-        The expected half-extents of the contact that the grid was built on [m] (b None for a line).
+    x_edges, y_edges, a, b
+        As :class:`railtherm.SurfaceGrid`: element edges [m] (y None for a line contact) and the expected
+        half-extents of the contact that the grid was built on [m] (b None for a line).
     refine_x : int
         Elements along x per element along y of the expected contact [1] (:func:`rolling_refinement`).
     """
 
-    x_edges: np.ndarray
-    y_edges: np.ndarray | None
-    a: float
-    b: float | None
     refine_x: int = 1
-
-    @property
-    def x(self):
-        return 0.5 * (self.x_edges[1:] + self.x_edges[:-1])
-
-    @property
-    def y(self):
-        return None if self.y_edges is None else 0.5 * (self.y_edges[1:] + self.y_edges[:-1])
-
-    @property
-    def dx(self) -> float:
-        return float(self.x_edges[1] - self.x_edges[0])
-
-    @property
-    def dy(self) -> float:
-        """Element width across [m]; 1 for a line contact (per unit width)."""
-        return 1.0 if self.y_edges is None else float(self.y_edges[1] - self.y_edges[0])
 
     @property
     def shape(self) -> tuple[int, int]:
         """(nx, ny); ny = 1 for a line contact."""
-        return (self.x.size, 1 if self.y_edges is None else self.y.size)
+        return (self.x.size, 1 if self.line else self.y.size)
 
     def mesh(self):
         """Element centres X, Y of shape (nx, ny) [m]."""
-        if self.y_edges is None:
+        if self.line:
             return self.x[:, None], np.zeros((self.x.size, 1))
-        return np.meshgrid(self.x, self.y, indexing="ij")
+        return super().mesh()
 
 
 def _edges(centre: float, half: float, n: int, m: int) -> np.ndarray:
@@ -329,7 +307,7 @@ def potential_area(half_x: float, half_y: float | None, n: int, *, centre=(0.0, 
                       f"{MAX_ELEMENTS:.3g} (memory ~{nx * ny * 600 / 1e9:.1f} GB); use a lower level", kind="budget")
     xe = _edges(centre[0], half_x, nx_in, mx)
     ye = None if half_y is None else _edges(centre[1], half_y, n, m)
-    return PotentialArea(xe, ye, float(half_x), None if half_y is None else float(half_y), r)
+    return PotentialArea(xe, ye, float(half_x), None if half_y is None else float(half_y), refine_x=r)
 
 
 def check_border(area: PotentialArea, pressure: np.ndarray, name: str = "?") -> None:
