@@ -122,10 +122,8 @@ def tangential_kernels(nx: int, ny: int, dx: float, dy: float, shear_modulus: fl
 
     Parameters
     ----------
-    nx, ny : int
-        Elements along x and y [1].
-    dx, dy : float
-        Element sides [m].
+    nx, ny, dx, dy : int, int, float, float
+        Elements along x and y [1] and element sides [m], as in :func:`normal_kernel`.
     shear_modulus : float
         Combined shear modulus G [Pa].
     poisson_ratio : float
