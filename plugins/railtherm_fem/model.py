@@ -425,10 +425,8 @@ class FemModel(CoupledModel):
 
         Parameters
         ----------
-        level : int
-            Mesh level k [1].
-        options : dict
-            The model's resolved options.
+        level, options : int, dict
+            Mesh level k [1] and the model's resolved options, as in :meth:`_problem`.
         source : HeatSource
             The given heat source: ``shape``, ``peak_flux`` [W/m^2] or ``power_density`` [W/m^2] on its grid,
             ``heat_partition`` [1] and ``body_speed`` [m/s].
