@@ -129,6 +129,17 @@ def surface_weights(x_edges: np.ndarray) -> np.ndarray:
     return _cached(b"W" + x_edges.tobytes(), lambda: _weights(x_edges))
 
 
+def _heated_rows(q: np.ndarray, behind: int) -> tuple[np.ndarray, int, int, int]:
+    """``(q2, nx, j0, j1)``: the columns ``q`` as a float (rows, m) array, the rows nx of the grid (q's and
+    the ``behind`` zero rows before them) and the support [j0, j1) of q's nonzero rows on that grid
+    ((0, 0) when q is all zero): only those rows carry heat into :func:`fft_toeplitz` and :func:`trail_toeplitz`."""
+    q2 = q.reshape(q.shape[0], -1)
+    rows = np.flatnonzero(np.any(q2 != 0.0, axis=1))
+    if not rows.size:
+        return q2, q2.shape[0] + behind, 0, 0
+    return q2, q2.shape[0] + behind, behind + int(rows[0]), behind + int(rows[-1]) + 1
+
+
 def fft_toeplitz(w: np.ndarray, q: np.ndarray, scale: float = 1.0, out: np.ndarray | None = None,
                  behind: int = 0) -> np.ndarray:
     """``scale W @ q`` for the upper-triangular Toeplitz W[i, i+k] = w[k] by FFT: O(nx log nx) per column.
@@ -163,16 +174,12 @@ def fft_toeplitz(w: np.ndarray, q: np.ndarray, scale: float = 1.0, out: np.ndarr
     w = np.asarray(w, dtype=float)
     q = np.asarray(q, dtype=float)
     behind = int(behind)
-    nx = q.shape[0] + behind
+    q2, nx, j0, j1 = _heated_rows(q, behind)
     flat = w.ndim == 1 and q.ndim == 1 and out is None
     w2 = w.reshape(nx, -1)
-    q2 = q.reshape(q.shape[0], -1)
     if out is None:
         out = np.empty((nx, max(w2.shape[1], q2.shape[1])))
-    rows = np.flatnonzero(np.any(q2 != 0.0, axis=1))
-    j1 = behind + int(rows[-1]) + 1 if rows.size else 0
     if j1:
-        j0 = behind + int(rows[0])
         p = j1 - j0
         n = sfft.next_fast_len(p + j1 - 1, real=True)
         # transforms along axis 0 (pocketfft batches the columns): the result's rows are out's rows, no
@@ -245,10 +252,9 @@ def trail_toeplitz(h: float, q: np.ndarray, scale: float = 1.0, out: np.ndarray 
         Columns to multiply [any unit]: the last nx - ``behind`` rows (the first ``behind`` are 0).
     scale : float
         Factor applied to the product [any unit].
-    out : ndarray, shape (nx, m), optional
-        Where to write the product (every row is written); a view into a larger array avoids a copy.
-    behind : int
-        Rows of zeros before ``q`` (the cells of an extended grid behind the patch) [1].
+    out, behind : ndarray, int
+        As :func:`fft_toeplitz`: where to write the product, shape (nx, m), optional, and the rows of zeros
+        before ``q`` (the cells of an extended grid behind the patch) [1].
 
     Returns
     -------
@@ -258,15 +264,12 @@ def trail_toeplitz(h: float, q: np.ndarray, scale: float = 1.0, out: np.ndarray 
     q = np.asarray(q, dtype=float)
     behind = int(behind)
     flat = q.ndim == 1 and out is None
-    q2 = q.reshape(q.shape[0], -1)
-    nx = q2.shape[0] + behind
+    q2, nx, j0, j1 = _heated_rows(q, behind)
     if out is None:
         out = np.empty((nx, q2.shape[1]))
-    rows = np.flatnonzero(np.any(q2 != 0.0, axis=1))
-    if not rows.size:
+    if not j1:
         out[:] = 0.0
         return out[:, 0] if flat else out
-    j0, j1 = behind + int(rows[0]), behind + int(rows[-1]) + 1
     n = j1 - j0
     heated = q2[j0 - behind:j1 - behind]
     near = max(int(math.ceil(_NEAR_FRACTION * n)), 1)
