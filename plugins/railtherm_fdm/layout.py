@@ -332,16 +332,16 @@ def graded_grid(a: float, extent: Extent, cell: float, speed: float, kappa: floa
         None: the grid is exactly the one without a field.
     """
     rk = ratio ** (1.0 / 2 ** level)
-    if trail is not None:
-        return _trail_graded_grid(a, extent, cell, speed, kappa, level, b, rk, surface_layers, trail)
-    nxa = max(2, int(round(2 * a / cell)))
-    xe = graded_edges(-a, a, nxa, -a - extent.behind, a + extent.ahead, rk)
     ye = None
     if b is not None:
         nyb = max(2, int(round(2 * b / cell)))
         ye = graded_edges(-b, b, nyb, -b - extent.lateral, b + extent.lateral, rk)
     delta = thermal_scales(a, speed, kappa).thermal_depth
-    dz1 = min(cell, delta / surface_layers / 2 ** level)
+    dz1 = min(cell, delta / surface_layers / 2 ** level)         # the first depth cell [m]
+    if trail is not None:
+        return _trail_graded_grid(a, extent, cell, level, rk, trail, ye, dz1)
+    nxa = max(2, int(round(2 * a / cell)))
+    xe = graded_edges(-a, a, nxa, -a - extent.behind, a + extent.ahead, rk)
     return GradedGrid(xe, ye, graded_depth_edges(dz1, extent.depth, rk), rk)
 
 
@@ -424,8 +424,9 @@ def _grow(h: float, length: float, ratio: float) -> np.ndarray:
     return np.array(out)
 
 
-def _trail_graded_grid(a, extent, cell, speed, kappa, level, b, rk, surface_layers, trail):
-    """:func:`graded_grid` with cells following the trail (see there)."""
+def _trail_graded_grid(a, extent, cell, level, rk, trail, ye, dz1):
+    """:func:`graded_grid` with cells following the trail (see there): its x and depth edges; the lateral
+    edges ``ye`` and the first depth cell ``dz1`` [m] as :func:`graded_grid` builds them."""
     nxa = max(2, int(round(2 * a / cell)))
     h = 2 * a / nxa
     slope = TRAIL_SLOPE / 2 ** level
@@ -437,12 +438,6 @@ def _trail_graded_grid(a, extent, cell, speed, kappa, level, b, rk, surface_laye
     far = back[-1] - _grow(last, rest, rk) if (back.size and rest > 0) else (
         -a - _grow(h, rest, rk) if rest > 0 else np.array([]))
     xe = np.concatenate([far[::-1], back[::-1], core])
-    ye = None
-    if b is not None:
-        nyb = max(2, int(round(2 * b / cell)))
-        ye = graded_edges(-b, b, nyb, -b - extent.lateral, b + extent.lateral, rk)
-    delta = thermal_scales(a, speed, kappa).thermal_depth
-    dz1 = min(cell, delta / surface_layers / 2 ** level)
     if trail.depth is None:
         ze = graded_depth_edges(dz1, extent.depth, rk)
     else:
