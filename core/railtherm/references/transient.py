@@ -359,22 +359,12 @@ def time_above(rise, depth, source: MovingSource, material, count: int = 1, inte
     ----------
     rise : float
         Threshold rise above the bulk temperature [K] (threshold minus bulk temperature).
-    depth : array_like
-        Depths [m], >= 0.
-    source : MovingSource
-        The source.
-    material : Material-like
-        conductivity [W/(m K)] and diffusivity [m^2/s] (or density and specific_heat).
-    count : int
-        Number of passes [1].
+    depth, source, material, count, schedule, quad_points, inner_points
+        As in :func:`temperature_history` (depths [m], passes [1], heat-input factor [1]).
     interval : float
         Time between passes [s] (the last pass's window ends one interval after it).
-    schedule : Schedule or None
-        Heat-input factor [1].
     samples_per_contact, tail_samples : int
         Sampling of :func:`history_time_axis` [1].
-    quad_points, inner_points : int
-        See :func:`pass_response`.
 
     Returns
     -------
@@ -383,10 +373,8 @@ def time_above(rise, depth, source: MovingSource, material, count: int = 1, inte
     """
     if interval is None:
         raise ValueError("interval is needed: each pass's window is one interval long [s]")
-    depth = _as_depth(depth)
-    axis = history_time_axis(source, count, interval, samples_per_contact, tail_samples)
-    opts = dict(quad_points=quad_points, inner_points=inner_points)
-    hist = temperature_history(axis, depth, source, material, count, interval, schedule, **opts)
+    depth, axis, hist, opts = _sampled_history(depth, source, material, count, interval, schedule,
+                                               samples_per_contact, tail_samples, quad_points, inner_points)
     per = (axis.size - 1) // count
     tol = 1e-9 * source.contact_duration
     out = np.zeros((count, depth.size))
@@ -411,6 +399,16 @@ def time_above(rise, depth, source: MovingSource, material, count: int = 1, inte
     return out
 
 
+def _sampled_history(depth, source, material, count, interval, schedule, samples_per_contact, tail_samples,
+                     quad_points, inner_points):
+    """(depths [m], the :func:`history_time_axis` [s], the exact history on it [K], the quadrature options) that
+    :func:`time_above` and :func:`pass_summary` read their passes from."""
+    depth = _as_depth(depth)
+    axis = history_time_axis(source, count, interval, samples_per_contact, tail_samples)
+    opts = dict(quad_points=quad_points, inner_points=inner_points)
+    return depth, axis, temperature_history(axis, depth, source, material, count, interval, schedule, **opts), opts
+
+
 def pass_summary(depth, source: MovingSource, material, count: int = 1, interval: float | None = None,
                  schedule: Schedule | None = None, samples_per_contact: int = 40, tail_samples: int = 40,
                  quad_points: int = 12, inner_points: int = 48, refine: bool = True) -> PassSummary:
@@ -423,23 +421,11 @@ def pass_summary(depth, source: MovingSource, material, count: int = 1, interval
 
     Parameters
     ----------
-    depth : array_like
-        Depths [m], >= 0.
-    source : MovingSource
-        The source.
-    material : Material-like
-        conductivity [W/(m K)] and diffusivity [m^2/s] (or density and specific_heat).
-    count : int
-        Number of passes [1].
+    depth, source, material, count, schedule, samples_per_contact, tail_samples, quad_points, inner_points
+        As in :func:`time_above` (depths [m], passes [1], heat-input factor [1], samples [1]).
     interval : float
         Time between passes [s], >= the contact duration (also for one pass: the residual is taken
         one interval after it).
-    schedule : Schedule or None
-        Heat-input factor [1].
-    samples_per_contact, tail_samples : int
-        Sampling of :func:`history_time_axis` [1].
-    quad_points, inner_points : int
-        See :func:`pass_response`.
     refine : bool
         Refine the peaks by the scalar search (False: the largest sample).
 
@@ -450,10 +436,8 @@ def pass_summary(depth, source: MovingSource, material, count: int = 1, interval
     """
     if interval is None:
         raise ValueError("interval is needed for the residual rise (one interval after the last pass) [s]")
-    depth = _as_depth(depth)
-    axis = history_time_axis(source, count, interval, samples_per_contact, tail_samples)
-    opts = dict(quad_points=quad_points, inner_points=inner_points)
-    hist = temperature_history(axis, depth, source, material, count, interval, schedule, **opts)
+    depth, axis, hist, opts = _sampled_history(depth, source, material, count, interval, schedule,
+                                               samples_per_contact, tail_samples, quad_points, inner_points)
     per = (axis.size - 1) // count
     # the passes up to k at the next arrival: the arriving pass's forerunning conduction left out
     residual = temperature_history(interval * np.arange(1, count + 1), depth, source, material, count, interval,
