@@ -204,8 +204,9 @@ def _intro(doc: Document, groups, ref):
                   f"{num(FLANGE_ANGLE)} rad; flange patch: from it). The contact position (in the rail profile's "
                   "own coordinates) and contact angle are each method's patch reference point (the run's attribute "
                   "wheelset_reference_point: the exact chain the CONTACT program's, a Hertz-based chain the contact "
-                  "search's); the normal force is the contact search's share, the same for every method; forces "
-                  "are on the wheel (the CONTACT program reports them on the rail, with the "
+                  "search's); the normal force is each method's own: the exact chain meets the wheel's vertical force "
+                  "with its own creep forces (the run's attribute wheelset_vertical_balance), a Hertz-based chain "
+                  "keeps the contact search's estimate of them (Shen-Hedrick-Elkins); forces are on the wheel (the CONTACT program reports them on the rail, with the "
                   "opposite sign); the left wheel is in its own mirrored axes. The flash temperature is the hotter "
                   "body's maximum surface temperature"
                   + (f"; its error against the study's reference `{ref}` is metrics.nc's, patch by patch (the "
@@ -220,8 +221,8 @@ def wheelset_section(doc: Document, ctx):
     finest successful level, against the lateral shift [mm] of the wheelset:
 
     * the contact position on the rail [mm] (rail profile's own coordinates) and the contact angle [rad] (each
-      chain's patch reference point) and the normal force [kN] (the contact search's share, the same for every
-      chain);
+      chain's patch reference point) and the normal force [kN] (each chain's own: the exact chain balances the
+      wheel's vertical force with its own creep forces, a Hertz-based chain keeps the search's estimate);
     * the maximum pressure [MPa], the creep forces Fx, Fy on the wheel [kN] (the CONTACT program reports them
       on the rail: minus these) and the flash temperature, the hotter body's maximum surface temperature [°C];
     * the patches at the lateral shifts :data:`~.wheelset_data.SHAPE_SHIFTS` (0, 5 and 6.5 mm: tread, the jump
@@ -255,7 +256,6 @@ def wheelset_section(doc: Document, ctx):
     rows = _rows(data, groups, methods, ref)
     with doc.details(f"The patches contact by contact as a table ({len(rows)} rows)"):
         doc.table("Per contact and patch: " + (f"`{ref}`'s" if ref else "the first method's") + " position on "
-                  "the rail and contact angle (its patch reference point), the normal force (the contact search's "
-                  "share); each method's maximum pressure, flash temperature (the hotter body's) and its error "
+                  "the rail, contact angle (its patch reference point) and normal force; each method's maximum pressure, flash temperature (the hotter body's) and its error "
                   "against " + (f"`{ref}`" if ref else "the reference") + f" (tolerance {pct(data.tolerance)}).",
                   head, rows)
