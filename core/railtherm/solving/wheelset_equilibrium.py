@@ -11,7 +11,6 @@
 from __future__ import annotations
 
 import copy
-import dataclasses
 import math
 import time
 
@@ -19,7 +18,6 @@ import numpy as np
 
 from ..contract.errors import SolverError
 from ..input.scene import load_scene
-from ..input.wheelset_patch_scenes import patch_scenes
 from ..input.wheelset_profile import ROLL_BALANCE, roll_height_mismatch
 from ..physics.elastic import contact_modulus
 from ..references.hertz import hertz_from_curvatures
@@ -28,7 +26,7 @@ __all__ = ["solve_free_pitch", "solve_balanced_roll", "axle_moment", "NEED"]
 
 #: what the moment needs of each patch's solve
 NEED = ("normal_force", "creep_force_x", "creep_force_y", "contact_angle")
-#: the secant stops when the moment is below this fraction of (sum of normal forces) x (nominal radius)
+#: the secant stops when the moment is below this fraction of (sum of normal forces) x (the scene's rolling radius)
 MOMENT_TOL = 1e-7
 MAX_STEPS = 30
 #: the roll balanced with the chain's normal stage: the wheels' corrected heights agree to this [m]
@@ -64,16 +62,35 @@ def _loaded(mapping):
     return scene
 
 
+def _wheel_moment(scene, side, omega, fixed, method, level, options, solve_one, kw):
+    """(moment about the axle [N m], sum of the estimate's normal forces [N]) of wheel ``side`` at pitch velocity
+    ``omega``: every patch (``patch = "all"``) solved by ``solve_one`` as a scene with that pitch velocity given, so
+    that its normal forces meet the wheel's vertical force with the chain's own creep forces where the chain
+    solves the patch's gap (:mod:`.wheelset_vertical`), each patch's forces composed at its reference point."""
+    sub = _loaded(dict(_source(scene, side, omega, **fixed), outputs=list(NEED)))
+    contacts = sub.profile_contact.contacts
+    r = solve_one(sub, method, level, options, validate=False, **kw)
+    values = [np.atleast_1d(r[q].values) for q in NEED]
+    if len(values[0]) != len(contacts):
+        raise SolverError(f"scene {scene.name!r}: the {side} wheel's result has {len(values[0])} patches, its scene "
+                          f"{len(contacts)}")
+    moment = sum(axle_moment(pc, *(float(v[i]) for v in values)) for i, pc in enumerate(contacts))
+    return moment, sum(float(pc.normal_force) for pc in contacts)
+
+
 def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool = True, **kw):
     """Solve ``scene`` at the pitch velocity that balances the axle's moment.
 
-    For a pitch velocity omega every patch of both wheels (``wheelset.patch = "all"``) is solved with the
-    chain; the moment about the axle is the sum of :func:`axle_moment` over the patches. The creepages are
-    affine in omega (the rigid slip of the wheel), so the scenes are built twice and the creepages of any
-    omega interpolated; the secant method finds the root. The scene is then loaded again with that pitch
-    velocity given and solved: its result is the result of that scene, with the attributes
-    ``wheelset_pitch_velocity`` [rad/s] and ``wheelset_axle_moment`` [N m] (the moment left); its
-    ``wall_time`` is the whole search's."""
+    For a pitch velocity omega both wheels are loaded with it given and every patch (``wheelset.patch = "all"``)
+    solved through the pipeline, whose normal forces then meet each wheel's vertical force with the chain's own
+    creep forces where the chain solves the patch's gap (:mod:`.wheelset_vertical`); the moment about the axle is
+    the sum of :func:`axle_moment` over the patches of both wheels (:func:`_wheel_moment`). The secant method finds
+    its root to :data:`MOMENT_TOL` of (sum of both wheels' normal forces at the iterate) x (the scene's rolling
+    radius). The scene is then loaded again
+    with that pitch velocity given and solved: its result is the result of that scene, with the attributes
+    ``wheelset_pitch_velocity`` [rad/s], ``wheelset_axle_moment`` [N m] (the moment left, of the forces of the
+    last iterate's solves) and ``wheelset_axle_moment_tolerance`` [N m]; its ``wall_time`` is the whole
+    search's."""
     t0 = time.perf_counter()
     pc = scene.profile_contact
     w0 = float(pc.free_pitch)
@@ -81,30 +98,23 @@ def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool
     fixed = {"patch": "all"}
     if pc.balanced_roll is not None:   # balance once: the roll of the scene as loaded, half the axle load per wheel
         fixed.update(roll_angle=pc.balanced_roll, vertical_force=pc.vertical_force)
-    wheels = []
-    for side in ("right", "left"):
-        pair = [patch_scenes(_loaded(dict(_source(scene, side, w, **fixed), outputs=list(NEED))), NEED)
-                for w in (w0, w1)]
-        if len(pair[0]) != len(pair[1]):
-            raise SolverError(f"scene {scene.name!r}: the {side} wheel's patches change with the pitch velocity")
-        wheels.extend(zip(*pair))
-    load = sum(float(a.profile_contact.normal_force) for a, _ in wheels) * float(pc.rolling_radius)
+    inner = dict(method=method, level=level, options=options, solve_one=solve_one, kw=kw)
+    loads = {}
 
     def moment(w):
-        t = (w - w0) / (w1 - w0)
         total = 0.0
-        for a, b in wheels:
-            creep = type(a.creepage)(*(u + t * (v - u) for u, v in zip(dataclasses.astuple(a.creepage),
-                                                                      dataclasses.astuple(b.creepage))))
-            moved = dataclasses.replace(a, kinematics=dataclasses.replace(a.kinematics, creepage=creep))
-            r = solve_one(moved, method, level, options, validate=False, **kw)
-            total += axle_moment(a.profile_contact, *(float(r[q]) for q in NEED))
+        for side in ("right", "left"):
+            m, loads[side] = _wheel_moment(scene, side, w, fixed, **inner)
+            total += m
         return total
+
+    def tolerance():   # the normal forces of the last iterate (the estimate's move with the creepages)
+        return MOMENT_TOL * sum(loads.values()) * float(pc.rolling_radius)
 
     x0, x1 = w0, w1
     f0, f1 = moment(x0), moment(x1)
     for _ in range(MAX_STEPS):
-        if abs(f1) <= MOMENT_TOL * load or f1 == f0:
+        if abs(f1) <= tolerance() or f1 == f0:
             break
         x0, f0, x1 = x1, f1, x1 - f1 * (x1 - x0) / (f1 - f0)
         f1 = moment(x1)
@@ -116,7 +126,7 @@ def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool
     out = solve_one(final, method, level, options, validate=validate, **kw)
     # the whole search is the solve's work (its wall time: the loads and every solve of both wheels)
     out.attrs.update({"wheelset_pitch_velocity": float(x1), "wheelset_axle_moment": float(f1),
-                      "wall_time": time.perf_counter() - t0})
+                      "wheelset_axle_moment_tolerance": float(tolerance()), "wall_time": time.perf_counter() - t0})
     if pc.balanced_roll is not None:
         out.attrs.update(wheelset_roll_angle=float(pc.balanced_roll), wheelset_roll_balance=pc.roll_balance)
     return out
