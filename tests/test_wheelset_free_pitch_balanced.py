@@ -63,4 +63,5 @@ def test_the_free_pitch_balances_the_axle_with_the_chains_balanced_forces(positi
     assert abs(float(r.attrs["wheelset_axle_moment"])) <= MOMENT_TOL * load
     assert float(r.attrs["wheelset_axle_moment"]) == pytest.approx(moment, abs=10 * MOMENT_TOL * load)
     assert abs(float(r.attrs["wheelset_vertical_force_residual"])) <= VERTICAL_TOL * FZ
+    assert float(r.attrs["wheelset_vertical_force_tolerance"]) == pytest.approx(VERTICAL_TOL * FZ, rel=1e-12)
     assert float(r.attrs["wheelset_axle_moment_tolerance"]) == pytest.approx(MOMENT_TOL * load, rel=1e-9)

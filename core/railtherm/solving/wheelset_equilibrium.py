@@ -2,8 +2,9 @@
 
 * ``pitch_velocity = "free"`` (:func:`solve_free_pitch`): the pitch velocity at which the forces of the
   chain's own solution on every patch of both wheels have no moment about the axle (no traction or braking
-  torque; :func:`axle_moment`); the result carries ``wheelset_pitch_velocity`` [rad/s] and
-  ``wheelset_axle_moment`` [N m].
+  torque; :func:`axle_moment`), each wheel's normal forces meeting its vertical force with the chain's own creep
+  forces at every iterate (:mod:`.wheelset_vertical`); the result carries ``wheelset_pitch_velocity`` [rad/s],
+  ``wheelset_axle_moment`` [N m] and ``wheelset_axle_moment_tolerance`` [N m].
 * ``roll_angle = "balance"`` (:func:`solve_balanced_roll`): the roll at which both wheels' heights agree
   with the normal approaches of the chain's normal stage; the result carries ``wheelset_roll_angle`` [rad],
   ``wheelset_roll_balance``, ``wheelset_roll_angle_hertz`` [rad] and ``wheelset_roll_height_mismatch`` [m].

@@ -9,7 +9,8 @@ vertical force and meets it with its own creep forces; :func:`solve_vertical_for
 normal stage solves the patch's own gap, moving the estimate's vertical force u (the patches' split at one common
 approach kept) until the chain's own sum meets Fz to :data:`VERTICAL_TOL`. Hertz-equivalent chains keep the estimate.
 Result attributes: ``wheelset_vertical_balance`` (whose Fy), ``wheelset_vertical_force_iterations`` (corrections of
-the normal forces), ``wheelset_vertical_force_residual`` [N] (the chain's sum minus Fz) and
+the normal forces), ``wheelset_vertical_force_residual`` [N] (the chain's sum minus Fz),
+``wheelset_vertical_force_tolerance`` [N] (the residual's bound, :data:`VERTICAL_TOL` Fz) and
 ``wheelset_vertical_force_at_estimate`` [N] (the chain's sum at the estimate's normal forces).
 """
 from __future__ import annotations
@@ -162,5 +163,6 @@ def _attributes(out, balance, steps, vertical, at_estimate, fz, t0):
                       "wall_time": time.perf_counter() - t0})
     if vertical is not None:
         out.attrs.update({"wheelset_vertical_force_residual": float(vertical - fz),
+                          "wheelset_vertical_force_tolerance": float(VERTICAL_TOL * fz),
                           "wheelset_vertical_force_at_estimate": float(at_estimate)})
     return out
