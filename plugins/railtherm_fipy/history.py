@@ -8,8 +8,10 @@ with one sparse LU per step size (FiPy's own ``eq.solve`` rebuilds the matrix ev
 1,600 cells), the source at the section's step h/V while it is over the block, a ladder of growing steps
 between the passes. Cells: width h = 2a/32/2**level along x over the section and four cells either side,
 growing by ``1.3 ** (1 / 2**level)`` to 2a + 2 sqrt(kappa t_end); heights from delta/4/2**level at the
-surface (delta = sqrt(2 a kappa / V)), growing alike. The history at a depth: linear between the cell
-centres of the section's column; at the surface, extrapolated linearly from the two top cells.
+surface (delta = sqrt(2 a kappa / V)), growing by its square root down to 1.5 times the deepest output
+depth (the profile's tail there, :func:`_depth_widths`) and like the widths beyond. The history at a depth:
+linear between the cell centres of the section's column; at the surface, extrapolated linearly from the two
+top cells.
 """
 from __future__ import annotations
 
@@ -36,6 +38,21 @@ def _widths(first: float, growth: float, uniform: int, end: float) -> np.ndarray
     w = [first] * uniform
     while sum(w) < end:
         w.append(w[-1] * growth)
+    return np.array(w)
+
+
+def _depth_widths(first: float, growth: float, output: float, end: float) -> np.ndarray:
+    """Cell heights [m] from the surface: from ``first``, growing by ``sqrt(growth)`` down to ``output`` (the
+    deepest output depth, with margin) and by ``growth`` beyond, until they reach ``end``.
+
+    The output depths sit in the tail of the profile exp(-z^2 / (4 kappa t)) while the passes are close in time
+    (1 mm after 5 passes 1 ms apart: 0.2 % of the surface rise); there the cell-centred scheme's relative error
+    grows like (dz z / (2 kappa t))^2 / 12, so the cells down to the output depths grow half as fast (still
+    second order: growth - 1 halves per level)."""
+    w = [first]
+    fine = math.sqrt(growth)
+    while sum(w) < end:
+        w.append(w[-1] * (fine if sum(w) < output else growth))
     return np.array(w)
 
 
@@ -91,7 +108,8 @@ def fipy_block(a: float, speed: float, conductivity: float, capacity: float, con
     h = 2.0 * a / (32 * 2 ** int(level))
     side = _widths(h, growth, 4, 2.0 * a + 2.0 * reach - 0.5 * h)
     dx = np.concatenate([side[::-1], [h], side])
-    dz = _widths(delta / 4.0 / 2 ** int(level), growth, 1, max(8.0 * reach, 10.0 * delta, 1.5 * max(depths)))
+    dz = _depth_widths(delta / 4.0 / 2 ** int(level), growth, 1.5 * max(depths),
+                       max(8.0 * reach, 10.0 * delta, 1.5 * max(depths)))
     mesh = Grid2D(dx=dx, dy=dz)
     T = CellVariable(mesh=mesh, value=0.0)
     T.constrain(0.0, where=mesh.facesTop)               # FiPy's top (largest y) is the block's deep face
