@@ -21,7 +21,7 @@ import numba
 import numpy as np
 from scipy.special import erfc
 
-from .pass_response import PassResponse
+from .pass_response import PassResponse, far_weights_columns
 from .smooth_tail import chebval_into
 
 __all__ = ["LateralPassResponse", "lateral_weights", "scheduled_lateral"]
@@ -354,52 +354,9 @@ class LateralPassResponse:
 
 def _far_set(c_edge, d, duration, degree):
     """The Chebyshev-Lobatto nodes (degree + 1,) [s] of the crossing times and each lateral distance's far
-    weights (degree + 1, P) [W/m^2 s]: :func:`railtherm_green.pass_response._far_weights` of every column of d."""
-    return _far_weights_columns(np.ascontiguousarray(c_edge, dtype=float), np.ascontiguousarray(d), float(duration),
+    weights (degree + 1, P) [W/m^2 s]: :func:`railtherm_green.pass_response.far_weights_columns` of d."""
+    return far_weights_columns(np.ascontiguousarray(c_edge, dtype=float), np.ascontiguousarray(d), float(duration),
                                 int(degree))
-
-
-@numba.njit(cache=True)
-def _far_weights_columns(c_edge, w, duration, degree):  # pragma: no cover - compiled
-    """:func:`railtherm_green.pass_response._far_weights` for the edge weights of every column of w (edges, P) at
-    once: nodes (degree + 1,), weights (degree + 1, P) (the same moments m_j and DCT-I, per column)."""
-    p = degree
-    ncol = w.shape[1]
-    m = np.zeros((p + 1, ncol))
-    t = np.empty(p + 2)
-    pj = np.empty(p + 1)
-    for k in range(c_edge.size):
-        u = min(max(2.0 * c_edge[k] / duration - 1.0, -1.0), 1.0)
-        t[0], t[1] = 1.0, u
-        for j in range(1, p + 1):
-            t[j + 1] = 2.0 * u * t[j] - t[j - 1]
-        pj[0] = u + 1.0
-        pj[1] = 0.5 * (u * u - 1.0)
-        for j in range(2, p + 1):
-            sign = 1.0 if j % 2 == 0 else -1.0
-            pj[j] = 0.5 * (t[j + 1] / (j + 1) - t[j - 1] / (j - 1)) - sign / (j * j - 1.0)
-        for col in range(ncol):
-            wk = w[k, col]
-            if wk != 0.0:
-                for j in range(p + 1):
-                    m[j, col] += wk * pj[j]
-    nodes = np.empty(p + 1)
-    weights = np.zeros((p + 1, ncol))
-    for i in range(p + 1):
-        u = math.cos(math.pi * i / p)
-        nodes[i] = 0.5 * duration * (1.0 + u)
-        f = -0.5 * duration * (2.0 / p) * (0.5 if i == 0 or i == p else 1.0)
-        t0, t1 = 1.0, u
-        for col in range(ncol):
-            weights[i, col] = 0.5 * m[0, col]
-        for j in range(1, p + 1):
-            e = (0.5 if j == p else 1.0) * t1
-            for col in range(ncol):
-                weights[i, col] += e * m[j, col]
-            t0, t1 = t1, 2.0 * u * t1 - t0
-        for col in range(ncol):
-            weights[i, col] *= f
-    return nodes, weights
 
 
 def _cell_quadrature(theta, cells, rho, cs, kappa):

@@ -136,36 +136,58 @@ def _respond(theta, after, lo, hi, ct, lattice, far, edges, cs, scale):  # pragm
 
 
 @numba.njit(cache=True)
-def _far_weights(c_edge, w, duration, degree):  # pragma: no cover - compiled
-    """The nodes c_l (degree + 1,) [s] (Chebyshev-Lobatto on [0, D]) and weights K_l (degree + 1,) [W/m^2 s] of
-    :meth:`PassResponse.far`: ``K_l = -sum_k w_k int_0^(c_k) l_l(c) dc`` with l_l the Lagrange basis of the
-    nodes, from the integrated Chebyshev polynomials ``P_j(u) = int_(-1)^u T_j`` at the edges' u_k = 2 c_k/D - 1:
-    ``m_j = sum_k w_k P_j(u_k)``, then K = -(D/2) C^T m with C the nodes' values -> coefficients matrix (DCT-I)."""
+def far_weights_columns(c_edge, w, duration, degree):  # pragma: no cover - compiled
+    """The nodes c_l (degree + 1,) [s] (Chebyshev-Lobatto on [0, D]) and weights K_l (degree + 1, P) [W/m^2 s] of
+    :meth:`PassResponse.far` for the edge weights of every column of w (edges, P): ``K_l = -sum_k w_k int_0^(c_k)
+    l_l(c) dc`` with l_l the Lagrange basis of the nodes, from the integrated Chebyshev polynomials
+    ``P_j(u) = int_(-1)^u T_j`` at the edges' u_k = 2 c_k/D - 1: ``m_j = sum_k w_k P_j(u_k)``, then
+    K = -(D/2) C^T m with C the nodes' values -> coefficients matrix (DCT-I). One column: a strip's own response;
+    P columns: the lateral distances of :mod:`railtherm_green.lateral`."""
     p = degree
-    m = np.zeros(p + 1)
+    ncol = w.shape[1]
+    m = np.zeros((p + 1, ncol))
     t = np.empty(p + 2)
+    pj = np.empty(p + 1)
     for k in range(c_edge.size):
         u = min(max(2.0 * c_edge[k] / duration - 1.0, -1.0), 1.0)
         t[0], t[1] = 1.0, u
         for j in range(1, p + 1):
             t[j + 1] = 2.0 * u * t[j] - t[j - 1]
-        m[0] += w[k] * (u + 1.0)
-        m[1] += w[k] * 0.5 * (u * u - 1.0)
+        pj[0] = u + 1.0
+        pj[1] = 0.5 * (u * u - 1.0)
         for j in range(2, p + 1):
             sign = 1.0 if j % 2 == 0 else -1.0
-            m[j] += w[k] * (0.5 * (t[j + 1] / (j + 1) - t[j - 1] / (j - 1)) - sign / (j * j - 1.0))
+            pj[j] = 0.5 * (t[j + 1] / (j + 1) - t[j - 1] / (j - 1)) - sign / (j * j - 1.0)
+        for col in range(ncol):
+            wk = w[k, col]
+            if wk != 0.0:
+                for j in range(p + 1):
+                    m[j, col] += wk * pj[j]
     nodes = np.empty(p + 1)
-    weights = np.empty(p + 1)
+    weights = np.zeros((p + 1, ncol))
     for i in range(p + 1):
         u = math.cos(math.pi * i / p)
         nodes[i] = 0.5 * duration * (1.0 + u)
-        acc = 0.5 * m[0]                                # T_j(u_i) = cos(pi j i / p) by the recurrence
+        f = -0.5 * duration * (2.0 / p) * (0.5 if i == 0 or i == p else 1.0)
         t0, t1 = 1.0, u
+        for col in range(ncol):
+            weights[i, col] = 0.5 * m[0, col]
         for j in range(1, p + 1):
-            acc += (0.5 if j == p else 1.0) * t1 * m[j]
+            e = (0.5 if j == p else 1.0) * t1
+            for col in range(ncol):
+                weights[i, col] += e * m[j, col]
             t0, t1 = t1, 2.0 * u * t1 - t0
-        weights[i] = -0.5 * duration * (2.0 / p) * (0.5 if i == 0 or i == p else 1.0) * acc
+        for col in range(ncol):
+            weights[i, col] *= f
     return nodes, weights
+
+
+def _far_weights(c_edge, w, duration, degree):
+    """:func:`far_weights_columns` of the one column ``w`` (edges,): nodes (degree + 1,) [s], weights
+    (degree + 1,) [W/m^2 s]."""
+    nodes, weights = far_weights_columns(c_edge, np.ascontiguousarray(w, dtype=float).reshape(-1, 1), duration,
+                                         degree)
+    return nodes, weights[:, 0]
 
 
 @numba.njit(cache=True)
