@@ -21,6 +21,7 @@ from collections import OrderedDict
 
 import numba
 import numpy as np
+from scipy import fft as sfft
 from scipy.special import erfc
 
 __all__ = ["surface_weights", "toeplitz_weights", "surface_rise", "depth_rise", "strip_prefactor",
@@ -170,7 +171,6 @@ def fft_toeplitz(w: np.ndarray, q: np.ndarray, scale: float = 1.0, out: np.ndarr
     ndarray, shape (nx, max(m_w, m_q)) (or (nx,) when both are 1-D)
         ``scale W @ q`` (``out`` when given).
     """
-    from scipy import fft as sfft
     w = np.asarray(w, dtype=float)
     q = np.asarray(q, dtype=float)
     behind = int(behind)

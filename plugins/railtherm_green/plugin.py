@@ -3,11 +3,12 @@ from __future__ import annotations
 
 from railtherm import Method, hookimpl
 
+from .model import GreenTemperature
+
 
 @hookimpl
 def railtherm_register_models():
     """The temperature model ``green``."""
-    from .model import GreenTemperature
     return [GreenTemperature]
 
 

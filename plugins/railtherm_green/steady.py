@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.special import erfc
 
 __all__ = ["contact_conduction_surface", "contact_conduction_depth"]
 
@@ -84,8 +85,6 @@ def contact_conduction_depth(x: np.ndarray, z: np.ndarray, a: float, contact_fra
     wheel, rail : ndarray, shape (nx, nz)
         Temperature change per kelvin of (wheel bulk - rail bulk) [1].
     """
-    from scipy.special import erfc
-
     x = np.asarray(x, float)[:, None]
     z = np.asarray(z, float)[None, :]
     out = []

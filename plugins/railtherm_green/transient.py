@@ -114,7 +114,7 @@ def _weighted_pass_sum(time, step, weights, curve):
     table = vals.reshape(theta.shape + (vals.shape[-1],))
     w = np.where(np.isfinite(weights), weights, 0.0)
     if count > 64:
-        from scipy.signal import fftconvolve
+        from scipy.signal import fftconvolve  # scipy.signal: ~1 s to import, for schedules of over 64 passes only
         conv = fftconvolve(table, w[None, :, None], axes=1)[:, :ns.size]
     else:
         conv = np.zeros_like(table)

@@ -12,8 +12,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy import optimize
+from scipy.special import beta as beta_fn
 
+from railtherm import Material
 from railtherm.physics import peclet_number
+from railtherm.references import flash, jaeger, moving_source
 
 __all__ = ["PECLET_MIN", "PECLET_ACCURATE", "ADVICE", "model_error", "ERROR_TABLE", "ERROR_NOTE"]
 
@@ -100,8 +104,6 @@ def model_error(pe: float, *, line: bool = False, shape: str | None = None) -> d
 # measurement of the table (uses core's exact references; slow: ~1-10 s per point)
 def _one_d_coefficients(geometry: str, shape: str) -> tuple[float, float]:
     """Exact 1-D max and patch-mean coefficients C: T = C (q0/beta) sqrt(a/v)."""
-    from scipy.special import beta as beta_fn
-    from railtherm.references import flash
     if shape == "hertz":
         cmax = flash.flash_max_hertz_coefficient()
         strip_mean = _hertz_strip_mean()
@@ -114,7 +116,6 @@ def _one_d_coefficients(geometry: str, shape: str) -> tuple[float, float]:
 
 def _hertz_strip_mean() -> float:
     """(1/2) int_{-1}^{1} I(xi)/sqrt(pi) d xi for the Hertzian band (I: references.flash.hertz_band_integral)."""
-    from railtherm.references import flash
     xg, wg = np.polynomial.legendre.leggauss(64)
     # I(xi) ~ sqrt(1 - xi)^3 near the leading edge, smooth elsewhere: substitute xi = 1 - 2 t^2
     t = 0.5 * (xg + 1.0)
@@ -150,10 +151,6 @@ def measure_model_error(pe: float, geometry: str = "ellipse", shape: str = "hert
     dict
         ``{"max": e_max, "mean": e_mean}``: (1-D - exact) / exact [1].
     """
-    from scipy import optimize
-    from railtherm import Material
-    from railtherm.references import jaeger, moving_source
-
     m = Material()
     a, b = ERROR_ELLIPSE
     v = 2.0 * m.diffusivity * pe / a
