@@ -12,11 +12,13 @@ from scipy import integrate, optimize
 
 from railtherm.analysis.transient_metrics import transient_errors, transient_sources
 from railtherm.input.materials import Material
+from railtherm.input.scene import load_scene
 from railtherm.input.study import load_study
 from railtherm.references.flash import flash_max_hertz_coefficient, flash_temperature_1d
 from railtherm.references.transient import MovingSource, Schedule, pass_summary, temperature_history
 from railtherm.physics import pass_peaks_and_residual, pass_time_above
 from railtherm.solving.pipeline import solve
+from railtherm_green.model import GreenTemperature
 from railtherm_green.pass_response import PassResponse
 from railtherm_green.smooth_tail import with_smooth_tail
 from railtherm_green.transient import scheduled_passes, strip_history, strip_time_axis
@@ -359,3 +361,15 @@ def test_passes_a_schedule_kink_meets_are_sampled_densely():
     assert scheduled_passes(3, 0.01, 2 * A / V).size == 0
     dense, plain = strip_time_axis(xe, V, 3, 0.01, dense=[1]), strip_time_axis(xe, V, 3, 0.01)
     assert dense.size - plain.size == 2 * 128 and np.all(np.diff(dense) > 0)
+
+
+def test_a_transient_scene_green_cannot_superpose_is_refused():
+    """The study's train-4-axles is supported; with the rail at another bulk temperature the bodies exchange heat
+    through the patch by a steady field that no pass response holds, and green refuses it naming both
+    temperatures (railtherm.physics.superposition_limits); a steady scene is not asked about passes."""
+    study = load_study(Path(__file__).parent.parent / "studies" / "transient.toml")
+    scene = next(s for s in study.scenes if s.name == "train-4-axles")
+    assert GreenTemperature().supports(scene, 1) is None
+    hot = load_scene({**scene.source, "rail": {**scene.source["rail"], "bulk_temperature": 50.0}})
+    why = GreenTemperature().supports(hot, 1)
+    assert "different bulk temperatures (20 and 50 degC)" in why and "'green'" in why

@@ -12,35 +12,29 @@ moving ellipse).
 Superposition needs the passes to be independent: a friction law that depends on the temperature makes
 each pass's heat depend on the earlier ones (the coupled loop would run per pass), and bodies at
 different bulk temperatures exchange heat through the patch by a steady field that is not a pass
-response; green refuses both in a transient scene (:func:`limits`).
+response; green refuses both in a transient scene (:func:`railtherm.physics.superposition_limits`).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from railtherm import SceneError, TransientHistory
-from railtherm.physics import pass_peaks_and_residual, pass_time_above, superposition_limits
+from railtherm.physics import pass_peaks_and_residual, pass_time_above
 
 from .transient import scheduled_passes, strip_history, strip_time_axis
 
-__all__ = ["limits", "histories"]
+__all__ = ["histories"]
 
 
-def limits(scene) -> str | None:
-    """Why green cannot compute this transient scene, or None (also None for a steady scene)."""
-    tr = getattr(scene, "transient", None)
-    if tr is None:
-        return None
-    return superposition_limits(scene.friction, scene.heat_source, scene.wheel, scene.rail, scene.outputs, "green")
-
-
-def histories(scene, grid, flux: np.ndarray, bodies, speeds, bulk) -> tuple[TransientHistory, dict]:
+def histories(transient, grid, flux: np.ndarray, bodies, speeds, bulk, *,
+              scene_name: str = "") -> tuple[TransientHistory, dict]:
     """The :class:`TransientHistory` of both bodies and its diagnostics.
 
     Parameters
     ----------
-    scene : railtherm.Scene
-        A transient scene (``scene.transient`` set, its interval resolved).
+    transient : railtherm.input.transient.Transient
+        The scene's passes (``scene.transient``, its interval resolved): count, interval [s], schedule,
+        history depths [m] and threshold [degC].
     grid : SurfaceGrid
         Green's grid of the pass (x cell edges ``grid.x_edges``).
     flux : ndarray, shape (2, nx, ny)
@@ -51,19 +45,21 @@ def histories(scene, grid, flux: np.ndarray, bodies, speeds, bulk) -> tuple[Tran
         Each body's surface speed through the contact [m/s].
     bulk : (float, float)
         Bulk temperatures [degC].
+    scene_name : str
+        The scene's name, for the error message.
 
     Raises
     ------
     railtherm.SceneError
         ``passes.interval`` shorter than a body's contact duration on green's grid.
     """
-    tr = scene.transient
+    tr = transient
     x_edges = np.asarray(grid.x_edges, dtype=float)
     count, interval = int(tr.count), float(tr.interval)
     length = float(x_edges[-1] - x_edges[0])
     for v in speeds:
         if interval < length / v:
-            raise SceneError.bad_value(scene.name, "passes.interval", interval,
+            raise SceneError.bad_value(scene_name, "passes.interval", interval,
                                        f"a time >= the contact duration 2a/V = {length / v:.6g} s (a pass must end "
                                        "before the next begins)")
     heated = [i for i in range(2) if flux[i].any()]

@@ -21,7 +21,7 @@ import numpy as np
 
 from railtherm import BodyTemperature, Capabilities, Option, TemperatureField, TemperatureModel
 from railtherm.physics import (CONVECTIVE_AREA, equal_temperature_partition, field_grid, lumped_wheel,
-                               peclet_number, thermal_scales, with_thermal_trace)
+                               peclet_number, superposition_limits, thermal_scales, with_thermal_trace)
 from railtherm import with_history
 from railtherm.physics.lumped_wheel import CONVECTIVE_AREAS
 
@@ -132,8 +132,11 @@ class GreenTemperature(TemperatureModel):
 
     # ------------------------------------------------------------------------------------------
     def supports(self, scene, level):
-        """The limits of green's transient (:func:`history.limits`); core has checked the declared capabilities."""
-        return super().supports(scene, level) or history.limits(scene)
+        """Where superposing one pass's response over the passes does not hold in a transient scene
+        (:func:`railtherm.physics.superposition_limits`); core has checked the declared capabilities."""
+        transient = getattr(scene, "transient", None)
+        return super().supports(scene, level) or (None if transient is None else superposition_limits(
+            scene.friction, scene.heat_source, scene.wheel, scene.rail, scene.outputs, "green"))
 
     # the steady pass, then (transient scene) its histories: one flow for both keeps the flux shared
     def compute_temperature(self, scene, source, level, options):  # noqa: C901 - over 80 lines: see above
@@ -230,7 +233,8 @@ class GreenTemperature(TemperatureModel):
             diag.update({"field_behind": float(patch_grid.x_edges[0] - grid.x_edges[0]),
                          "field_cells_behind": int(grid.x.size - patch_grid.x.size)})
         if transient is not None:
-            hist, hdiag = history.histories(scene, grid, flux, (wheel, rail), speeds, t_bulk)
+            hist, hdiag = history.histories(transient, grid, flux, (wheel, rail), speeds, t_bulk,
+                                              scene_name=scene.name)
             diag.update(hdiag)
         result = TemperatureField.from_bodies(grid, t_bulk, *bodies, z=z, steady_wheel_temperature=steady_wheel,
                                               steady_mean_contact_temperature=steady_mean, diagnostics=diag)

@@ -8,7 +8,7 @@ beta = sqrt(lambda rho c), q the strip's flux (piecewise constant per cell), f t
 each interval is integrated exactly (:func:`_f_g`); on a 3-D contact the strips weighted by the lateral Gaussian
 (:mod:`railtherm_green.lateral`). Neglected: conduction along x (the high-Péclet limit). The problem is linear, so
 one pass's response serves every pass (:func:`_unit_pass_sum`); a temperature-dependent flux would break this, and
-green refuses such scenes (:func:`railtherm_green.history.limits`). Derivation: docs/NOTES.md, "Green's transient".
+green refuses such scenes (:func:`railtherm.physics.superposition_limits`). Derivation: docs/NOTES.md, "Green's transient".
 
 References: [1] M. Ertz, K. Knothe, A comparison of analytical and numerical methods for the calculation of
 temperatures in wheel/rail contact, Wear 253 (2002) 498-508 (DOI not verified, see docs/references.md).
