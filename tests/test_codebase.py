@@ -6,7 +6,8 @@
   contract every plugin implements and are exempt;
 * no function is over 80 lines without a reason; code text names none of this project's issues;
 * no module docstring is over 15 lines (long derivations belong in the function they describe or docs/);
-* in the modules of :data:`SCENE_PARTS_MODULES`, only the stage hooks take the scene.
+* in the modules of :data:`SCENE_PARTS_MODULES`, only the stage hooks take the scene (and functions that say
+  why in a ``# whole scene:`` comment above them).
 """
 from __future__ import annotations
 
@@ -163,7 +164,7 @@ SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/physic
                        "core/railtherm/models/hertz.py", "core/railtherm/models/sliding.py",
                        "core/railtherm/models/core_plugin.py",
                        "core/railtherm/solving/friction_loop.py", "plugins/railtherm_fastsim/*.py",
-                       "plugins/railtherm_green/*.py",
+                       "plugins/railtherm_green/*.py", "core/railtherm/solving/wheelset_*.py",
                        "plugins/railtherm_fem/condense.py", "plugins/railtherm_fem/contact.py",
                        "plugins/railtherm_fem/coupled.py", "plugins/railtherm_fem/elastic.py",
                        "plugins/railtherm_fem/friction.py", "plugins/railtherm_fem/mesh.py",
@@ -171,18 +172,39 @@ SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/physic
                        "plugins/railtherm_fem/thermal.py", "plugins/railtherm_kalker/friction_laws.py")
 
 
+#: the comment directly above a function (above its decorators) that keeps the whole scene says why after this
+WHOLE_SCENE = "# whole scene:"
+
+
+def _takes_the_scene(path: Path):
+    """(line, name) of every function of ``path`` but the stage hooks with a parameter ``scene`` and no
+    ``# whole scene: <why>`` comment directly above it (a solve driver above the stage hooks, a function that
+    returns a scene, or the metrics' entry that reads a dozen parts)."""
+    lines = _text(path).splitlines()
+    for node in ast.walk(_parse(path)):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name not in STAGE_HOOKS:
+            args = node.args.posonlyargs + node.args.args + node.args.kwonlyargs
+            first = min([node.lineno] + [d.lineno for d in node.decorator_list])
+            above = lines[first - 2].strip() if first >= 2 else ""
+            if any(a.arg == "scene" for a in args) and not (above.startswith(WHOLE_SCENE)
+                                                            and above[len(WHOLE_SCENE):].strip()):
+                yield node.lineno, node.name
+
+
+def test_the_scene_parts_check_can_fail(tmp_path):
+    probe = tmp_path / "probe.py"
+    probe.write_text("def f(scene):\n    pass\n\n\n# whole scene: it returns a scene\ndef g(scene):\n    pass\n\n\n"
+                     "# whole scene:\ndef h(scene):\n    pass\n\n\ndef compute_patch(self, scene):\n    pass\n")
+    assert [name for _, name in _takes_the_scene(probe)] == ["f", "h"]
+
+
 def test_functions_below_the_stage_hooks_take_the_scene_s_parts():
-    """In :data:`SCENE_PARTS_MODULES` only the stage hooks have a parameter ``scene``; every other function
-    takes the parts it reads (CONTACT's ``calc_temp(ic, mater, kin, cgrid, outpt)`` is the model)."""
+    """In :data:`SCENE_PARTS_MODULES` only the stage hooks, and functions that say why in a ``# whole scene: <why>``
+    comment directly above them, have a parameter ``scene``; every other function takes the parts it reads
+    (CONTACT's ``calc_temp(ic, mater, kin, cgrid, outpt)`` is the model)."""
     paths = [p for pattern in SCENE_PARTS_MODULES for p in sorted(ROOT.glob(pattern))]
     assert len(paths) >= len(SCENE_PARTS_MODULES)
-    takes = []
-    for path in paths:
-        for node in ast.walk(_parse(path)):
-            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name not in STAGE_HOOKS:
-                args = node.args.posonlyargs + node.args.args + node.args.kwonlyargs
-                if any(a.arg == "scene" for a in args):
-                    takes.append(f"{path.relative_to(ROOT)}:{node.lineno} {node.name}")
+    takes = [f"{path.relative_to(ROOT)}:{line} {name}" for path in paths for line, name in _takes_the_scene(path)]
     assert takes == [], "functions below the stage hooks that take the whole scene:\n  " + "\n  ".join(takes)
 
 

@@ -49,8 +49,10 @@ def axle_moment(pc, normal, creep_x, creep_y, angle) -> float:
     return float(np.cross(np.asarray(pc.arm), force) @ np.asarray(pc.axle))
 
 
-def _source(scene, side: str, omega: float, **wheelset) -> dict:
-    src = copy.deepcopy(dict(scene.source))
+def _source(source, side: str, omega: float, **wheelset) -> dict:
+    """A copy of the scene's table ``source`` with its wheelset's ``side``, ``pitch_velocity`` [rad/s] and the
+    keys of ``wheelset`` given."""
+    src = copy.deepcopy(dict(source))
     src["wheelset"] = dict(src["wheelset"], side=side, pitch_velocity=float(omega), **wheelset)
     return src
 
@@ -63,22 +65,24 @@ def _loaded(mapping):
     return scene
 
 
-def _wheel_moment(scene, side, omega, fixed, method, level, options, solve_one, kw):
-    """(moment about the axle [N m], sum of the estimate's normal forces [N]) of wheel ``side`` at pitch velocity
-    ``omega``: every patch (``patch = "all"``) solved by ``solve_one`` as a scene with that pitch velocity given, so
-    that its normal forces meet the wheel's vertical force with the chain's own creep forces where the chain
-    solves the patch's gap (:mod:`.wheelset_vertical`), each patch's forces composed at its reference point."""
-    sub = _loaded(dict(_source(scene, side, omega, **fixed), outputs=list(NEED)))
+def _wheel_moment(source, scene_name, side, omega, fixed, method, level, options, solve_one, kw):
+    """(moment about the axle [N m], sum of the estimate's normal forces [N]) of wheel ``side`` of the scene of table
+    ``source`` at pitch velocity ``omega`` [rad/s]: every patch (``patch = "all"``) solved by ``solve_one`` as a
+    scene with that pitch velocity given, so that its normal forces meet the wheel's vertical force with the
+    chain's own creep forces where the chain solves the patch's gap (:mod:`.wheelset_vertical`), each patch's
+    forces composed at its reference point; ``scene_name`` names the scene in the error."""
+    sub = _loaded(dict(_source(source, side, omega, **fixed), outputs=list(NEED)))
     contacts = sub.profile_contact.contacts
     r = solve_one(sub, method, level, options, validate=False, **kw)
     values = [np.atleast_1d(r[q].values) for q in NEED]
     if len(values[0]) != len(contacts):
-        raise SolverError(f"scene {scene.name!r}: the {side} wheel's result has {len(values[0])} patches, its scene "
+        raise SolverError(f"scene {scene_name!r}: the {side} wheel's result has {len(values[0])} patches, its scene "
                           f"{len(contacts)}")
     moment = sum(axle_moment(pc, *(float(v[i]) for v in values)) for i, pc in enumerate(contacts))
     return moment, sum(float(pc.normal_force) for pc in contacts)
 
 
+# whole scene: a solve driver above the stage hooks; it reloads the scene from its table and solves it
 def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool = True, **kw):
     """Solve ``scene`` at the pitch velocity that balances the axle's moment.
 
@@ -105,7 +109,7 @@ def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool
     def moment(w):
         total = 0.0
         for side in ("right", "left"):
-            m, loads[side] = _wheel_moment(scene, side, w, fixed, **inner)
+            m, loads[side] = _wheel_moment(scene.source, scene.name, side, w, fixed, **inner)
             total += m
         return total
 
@@ -123,7 +127,7 @@ def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool
         raise SolverError(f"scene {scene.name!r}: no pitch velocity balances the axle's moment in {MAX_STEPS} "
                           f"steps (last {x1:.9g} rad/s, moment {f1:.3g} N m)")
     given = {k: v for k, v in fixed.items() if k != "patch"}
-    final = load_scene(_source(scene, pc.side, x1, **given))
+    final = load_scene(_source(scene.source, pc.side, x1, **given))
     out = solve_one(final, method, level, options, validate=validate, **kw)
     # the whole search is the solve's work (its wall time: the loads and every solve of both wheels)
     out.attrs.update({"wheelset_pitch_velocity": float(x1), "wheelset_axle_moment": float(f1),
@@ -133,16 +137,16 @@ def solve_free_pitch(scene, method, level, options, *, solve_one, validate: bool
     return out
 
 
-def _approach_correction(scene, side, roll, method, level, options, solve_one, host):
-    """(height correction [m], normal model, patches) of wheel ``side`` at ``roll``: (delta - delta_Hertz) /
+def _approach_correction(source, vertical_force, side, roll, method, level, options, solve_one, host):
+    """(height correction [m], normal model, patches) of wheel ``side`` of the scene of table ``source`` at ``roll``
+    [rad] and the wheel's ``vertical_force`` [N]: (delta - delta_Hertz) /
     cos(contact angle), delta the chain's normal approach (result attribute ``<normal model>_approach``) at the
     normal force the solve settled on (its own creep forces balancing the vertical force,
     :mod:`.wheelset_vertical`) and delta_Hertz the Hertz-equivalent one at the estimate's normal force, the one
     the Hertz-equivalent heights (:func:`railtherm.input.wheelset_profile.roll_height_mismatch`) take; None for
     the correction when the chain's normal model is Hertz-equivalent or reports no approach."""
-    pc = scene.profile_contact
-    src = _source(scene, side, float(scene.source["wheelset"]["pitch_velocity"]), roll_angle=float(roll),
-                  vertical_force=float(pc.vertical_force))
+    src = _source(source, side, float(source["wheelset"]["pitch_velocity"]), roll_angle=float(roll),
+                  vertical_force=float(vertical_force))
     sub = _loaded(dict(src, outputs=["normal_force"]))
     r = solve_one(sub, method, level, options, validate=False, host=host)
     model = dict(part.split(":", 1) for part in str(r.attrs.get("stages", "")).split()).get("normal", "")
@@ -154,6 +158,7 @@ def _approach_correction(scene, side, roll, method, level, options, solve_one, h
     return (float(delta) - hertz.approach) / math.cos(q.contact_angle), model, q.patches
 
 
+# whole scene: a solve driver above the stage hooks; it reloads the scene from its table and solves it
 def solve_balanced_roll(scene, method, level, options, *, solve_one, validate: bool = True, host=None, peers=None,
                         **kw):
     """Solve ``scene`` (``roll_angle = "balance"``) at the roll that balances the wheels' heights with the
@@ -173,9 +178,10 @@ def solve_balanced_roll(scene, method, level, options, *, solve_one, validate: b
     hertz_roll = roll = float(pc.balanced_roll)
     balance, mismatch = ROLL_BALANCE, 0.0
     inner = dict(method=method, level=level, options=options, solve_one=solve_one, host=host)
-    right, model, n_right = _approach_correction(scene, "right", roll, **inner)
+    loaded = (scene.source, pc.vertical_force)
+    right, model, n_right = _approach_correction(*loaded, "right", roll, **inner)
     if right is not None:
-        left, _, n_left = _approach_correction(scene, "left", roll, **inner)
+        left, _, n_left = _approach_correction(*loaded, "left", roll, **inner)
         if max(n_right, n_left) > 1:
             balance = (f"{ROLL_BALANCE}; the chain's normal stage ({model}) is not used: a wheel has "
                        f"{max(n_right, n_left)} patches, and one scene carries one")
@@ -186,8 +192,8 @@ def solve_balanced_roll(scene, method, level, options, *, solve_one, validate: b
                 if abs(mismatch) <= HEIGHT_TOL:
                     break
                 roll -= mismatch / slope
-                right = _approach_correction(scene, "right", roll, **inner)[0]
-                left = _approach_correction(scene, "left", roll, **inner)[0]
+                right = _approach_correction(*loaded, "right", roll, **inner)[0]
+                left = _approach_correction(*loaded, "left", roll, **inner)[0]
             else:
                 raise SolverError(f"scene {scene.name!r}: key 'wheelset.roll_angle' = 'balance': no roll balances "
                                   f"the wheels' heights with {model}'s approaches in {MAX_STEPS} steps (last "
@@ -195,7 +201,7 @@ def solve_balanced_roll(scene, method, level, options, *, solve_one, validate: b
             balance = (f"the chain's normal stage ({model}): each wheel's Hertz-equivalent height corrected by "
                        f"({model}'s normal approach at the normal force its own creep forces balance the vertical "
                        f"force with - Hertz's at the estimate's) / cos(contact angle)")
-    final = load_scene(_source(scene, pc.side, float(scene.source["wheelset"]["pitch_velocity"]),
+    final = load_scene(_source(scene.source, pc.side, float(scene.source["wheelset"]["pitch_velocity"]),
                                roll_angle=roll, vertical_force=float(pc.vertical_force)))
     out = solve_one(final, method, level, options, validate=validate, host=host, peers=peers, **kw)
     out.attrs.update({"wheelset_roll_angle": roll, "wheelset_roll_balance": balance,

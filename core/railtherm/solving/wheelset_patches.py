@@ -31,6 +31,7 @@ def wheel_totals(normal, creep_x, creep_y, angle) -> tuple[float, float, float]:
             float((n * np.cos(d) - fy * np.sin(d)).sum()))
 
 
+# whole scene: a solve driver above the stage hooks; it splits the scene into one scene per patch for solve_one
 def solve_patches(scene, method, level, options, *, solve_one, validate: bool = True, **kw):
     """Solve every loaded patch of ``scene`` with ``solve_one(sub_scene, method, level, options, validate=...,
     **kw)`` (the pipeline's single-patch solve) and stack the results (module docstring)."""

@@ -43,6 +43,7 @@ class _Recorder:
     def __init__(self, solve_one):
         self.solve_one, self.patches = solve_one, []
 
+    # whole scene: the pipeline's single-patch solve, wrapped
     def __call__(self, scene, method, level, options, **kw):
         extra = tuple(q for q in VERTICAL_NEED if q not in scene.outputs and q not in WHEELSET_VARIABLES)
         r = self.solve_one(dataclasses.replace(scene, outputs=tuple(scene.outputs) + extra), method, level, options,
@@ -82,12 +83,14 @@ def _model_slope(pc, fz, chain, wheel, rail, mu) -> float:
     return (model(fz + h) - model(fz - h)) / (2.0 * h)
 
 
+# whole scene: it returns the scene with its patches' normal forces replaced
 def _at(scene, normal_forces, approach, balance):
     """``scene`` with its patches' normal forces [N] (and common approach [m]) replaced, balanced by ``balance``."""
     pc = with_normal_forces(scene.profile_contact, normal_forces, approach, balance)
     return dataclasses.replace(scene, profile_contact=pc, normal_force=float(patch_contacts(pc)[0].normal_force))
 
 
+# whole scene: a solve driver above the stage hooks (every patch stacked, or its one)
 def _solve(scene, method, level, options, solve_one, **kw):
     """The scene solved as the pipeline does once its balance is settled: every patch stacked, or its one."""
     if isinstance(scene.profile_contact, ProfileContacts):
@@ -99,6 +102,7 @@ def _own_stages(ds) -> dict:
     return dict(part.split(":", 1) for part in str(ds.attrs.get("stages", "")).split())
 
 
+# whole scene: a solve driver above the stage hooks; it solves the scene at trial normal forces by solve_one
 def solve_vertical_force(scene, method, level, options, *, solve_one, validate: bool = True, host=None, peers=None,
                          **kw):
     """Solve ``scene`` (a wheel on profiles, its normal forces the estimate's) with its normal forces balancing
