@@ -17,6 +17,7 @@ References
 from __future__ import annotations
 
 import math
+import types
 
 import numba
 import numpy as np
@@ -26,7 +27,7 @@ import numpy as np
 def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
                   px, py, sx, sy, stick, power):  # pragma: no cover - compiled
     """Kalker's sweep with the traction bound ``bound`` = mu p per cell (any constant or per-cell mu):
-    :func:`fastsim_sweep_law` with ``law_mode = 0``; returns its first six results.
+    :func:`fastsim_sweep_mu` (``law_mode = 0``); returns its first six results.
 
     Stepping from a cell at x to the next one downstream at x - dq:
 
@@ -41,8 +42,8 @@ def fastsim_sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offse
     ``M=3`` (rigid shift scaled by L1/L3, L2/L3); x* is where the spin slip is sampled (see
     ``spin_offset``).
     """
-    r = fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
-                          0, 0.0, 0.0, 1.0, px, py, sx, sy, stick, power)
+    r = fastsim_sweep_mu(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
+                         0, 0.0, 0.0, 1.0, px, py, sx, sy, stick, power)
     return r[0], r[1], r[2], r[3], r[4], r[5]
 
 
@@ -169,11 +170,13 @@ def _cell_update(hx, hy, habs, g, speed, inv_dq, L1, L2):  # pragma: no cover - 
 # long: one fused numba loop over the cells of every strip, whose per-strip state (previous traction,
 # in-contact flag) and running sums a split would pass through calls in the innermost loop; half of
 # it is the parameter docstring, and the cell update itself is _cell_update
-@numba.njit(cache=True, fastmath=False, boundscheck=False)
-def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
-                      law_mode, mu_kin, dmu, decay,
-                      px, py, sx, sy, stick, power):  # pragma: no cover - compiled
+def _sweep(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_offset, edge_mode,
+           law_mode, mu_kin, dmu, decay,
+           px, py, sx, sy, stick, power):  # pragma: no cover - compiled
     """Sweep every strip y_j from the leading edge (x = +a) to the trailing edge.
+
+    Compiled twice (:func:`_compile_sweep`): :func:`fastsim_sweep_law` (every ``law_mode``) and
+    :func:`fastsim_sweep_mu` (``law_mode = 0`` only, without the slip-law code).
 
     Parameters
     ----------
@@ -282,7 +285,7 @@ def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_o
                 hy = pvy[j] - dq * (ay0 + k3 * xs)
                 advance = True
             habs = math.sqrt(hx * hx + hy * hy)
-            if law_mode == 1:
+            if _SLIP_LAW and law_mode == 1:
                 g = _law_cell(habs, hx, hy, g, speed * inv_dq, L1, L2, mu_kin, dmu, decay, stats)
             qx, qy, vx, vy, stuck, pd = _cell_update(hx, hy, habs, g, speed, inv_dq, L1, L2)
             px[i, j] = qx
@@ -305,6 +308,36 @@ def fastsim_sweep_law(x, y, bound, lead, xi, eta, phi, L1, L2, L3, speed, spin_o
                 pvy[j] = qy
                 incon[j] = True
     return fx, fy, mz, pw, nstick, nslip, int(stats[0]), int(stats[2]), stats[1], stats[3]
+
+
+#: whether a build of :func:`_sweep` holds the slip-law code (each build reads its own copy, a compile-time constant)
+_SLIP_LAW = True
+
+
+def _compile_sweep(name: str, slip_law: bool):
+    """A numba build of :func:`_sweep` named ``name``, with (``slip_law``) or without the slip-law code.
+
+    The build without it never compiles :func:`_law_cell` and :func:`slip_law_bound` (numba drops the
+    branch on the constant ``_SLIP_LAW``): about 40 % of the sweep's compilation, paid on a cold cache
+    by every process whose scenes have a constant friction coefficient. Both builds are the same Python
+    code, so they cannot drift apart; the distinct name keeps numba's on-disk cache entries apart.
+    """
+    glob = dict(_sweep.__globals__, _SLIP_LAW=bool(slip_law))
+    twin = types.FunctionType(_sweep.__code__, glob, name, _sweep.__defaults__, _sweep.__closure__)
+    twin.__qualname__ = name
+    twin.__doc__ = _sweep.__doc__
+    twin.__module__ = _sweep.__module__
+    return numba.njit(cache=True, fastmath=False, boundscheck=False)(twin)
+
+
+fastsim_sweep_law = _compile_sweep("fastsim_sweep_law", True)
+fastsim_sweep_mu = _compile_sweep("fastsim_sweep_mu", False)
+
+
+def sweep_kernel(law_mode: int):
+    """The build of the sweep for ``law_mode`` (:func:`_sweep`): :func:`fastsim_sweep_mu` for a bound
+    mu p (0), :func:`fastsim_sweep_law` for a slip-velocity law (1); both give the same results for 0."""
+    return fastsim_sweep_law if int(law_mode) == 1 else fastsim_sweep_mu
 
 
 @numba.njit(cache=True, fastmath=False, boundscheck=False)

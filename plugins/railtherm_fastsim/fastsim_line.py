@@ -279,7 +279,7 @@ def _sweep_cells(grid, p, mu, a, xi, L, speed, leading_edge, slip_law, diag):
     """Kalker's discrete sweep on the one strip: traction, slip velocity, power density, stick map (cell
     values, scaled by the inside fraction) and the stick and slip cell counts; the slip law's
     diagnostics go into ``diag``."""
-    from .fastsim_kernel import fastsim_sweep_law  # numba: loaded when a line is first swept, not when the plugin loads
+    from .fastsim_kernel import sweep_kernel  # numba: loaded when a line is first swept, not when the plugin loads
 
     x = np.ascontiguousarray(grid.x, dtype=float)
     dq = float(grid.dx)
@@ -294,8 +294,8 @@ def _sweep_cells(grid, p, mu, a, xi, L, speed, leading_edge, slip_law, diag):
     lead = np.array([float(a) if mode == 1 else x[np.nonzero(inside)[0][-1]] + 0.5 * dq])
     shape = (x.size, 1)
     px, py, sxx, syy, st, power = (np.empty(shape) for _ in range(6))
-    out = fastsim_sweep_law(x, np.zeros(1), np.ascontiguousarray(g.reshape(shape)), lead, float(xi), 0.0, 0.0,
-                            L, L, L, float(speed), 0.5 * dq, mode, *law_arguments(slip_law),
-                            px, py, sxx, syy, st, power)
+    law = law_arguments(slip_law)
+    out = sweep_kernel(law[0])(x, np.zeros(1), np.ascontiguousarray(g.reshape(shape)), lead, float(xi), 0.0, 0.0,
+                               L, L, L, float(speed), 0.5 * dq, mode, *law, px, py, sxx, syy, st, power)
     diag.update(law_diagnostics(slip_law, out))
     return px[:, 0] * frac, sxx[:, 0].copy(), power[:, 0] * frac, st[:, 0].copy(), out[4], out[5]

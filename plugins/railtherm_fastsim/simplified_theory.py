@@ -194,7 +194,7 @@ def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, pois
     -------
     FastsimResult
     """
-    from .fastsim_kernel import fastsim_sweep_law   # numba: imported on first use (keeps plugin loading light)
+    from .fastsim_kernel import sweep_kernel   # numba: imported on first use (keeps plugin loading light)
 
     if bound not in BOUNDS:
         raise ValueError(f"bound must be one of {BOUNDS}, got {bound!r}")
@@ -213,8 +213,8 @@ def fastsim(grid, pressure, *, a, b, normal_force, friction, shear_modulus, pois
     shape = p.shape
     px, py, sx, sy, stick, power = (np.empty(shape) for _ in range(6))
     law = law_arguments(slip_law)
-    out = fastsim_sweep_law(x, y, np.ascontiguousarray(g, dtype=float), lead, float(xi), float(eta), float(phi),
-                            L1, L2, L3, float(speed), offset, mode, *law, px, py, sx, sy, stick, power)
+    out = sweep_kernel(law[0])(x, y, np.ascontiguousarray(g, dtype=float), lead, float(xi), float(eta), float(phi),
+                               L1, L2, L3, float(speed), offset, mode, *law, px, py, sx, sy, stick, power)
     nstick, nslip = out[4], out[5]
     w = np.where(inside, frac, 0.0)
     tx, ty, pd = px * w, py * w, power * w
