@@ -305,3 +305,26 @@ def test_benchmark_fastsim_200x200(benchmark):
     ref = CASE["fastsim_elliptic_200x200"]["creep_force_y_ratio"]
     benchmark.extra_info.update({"creep_force_y_ratio": fy, "contact": ref, "relative_error": fy / ref - 1,
                                  "numba_threads": numba.get_num_threads(), "cells": int(p.size)})
+
+
+@pytest.mark.parametrize("edge_mode", [0, 1])
+def test_sweep_builds_agree_bit_for_bit(edge_mode):
+    """The build without the slip-law code (what a constant mu compiles) gives what the full build gives
+    with law_mode = 0, bit for bit, on a patch with cells in stick and in slip and cells outside."""
+    from railtherm_fastsim.fastsim_kernel import fastsim_sweep_law, fastsim_sweep_mu, sweep_kernel
+    rng = np.random.default_rng(5)
+    nx, ny = 31, 17
+    x, y = np.linspace(-A, A, nx), np.linspace(-B, B, ny)
+    bound = MU * P0 * (rng.random((nx, ny)) - 0.1)          # about a tenth of the cells outside (bound <= 0)
+    lead = A - 0.5 * (x[1] - x[0]) * rng.random(ny)
+    args = (x, y, bound, lead, -0.2, ETA, PHI, 1e-11, 1.2e-11, 1.5e-11, V, 0.5 * (x[1] - x[0]), edge_mode,
+            0, 0.0, 0.0, 1.0)
+    outs = []
+    for kernel in (fastsim_sweep_law, fastsim_sweep_mu):
+        arrays = [np.empty((nx, ny)) for _ in range(6)]
+        outs.append((kernel(*args, *arrays), arrays))
+    (r_law, a_law), (r_mu, a_mu) = outs
+    assert 0 < r_mu[4] < nx * ny and r_mu[5] > 0                 # stick and slip cells both present
+    assert r_law == r_mu
+    assert all(np.array_equal(u, v, equal_nan=True) for u, v in zip(a_law, a_mu))
+    assert sweep_kernel(0) is fastsim_sweep_mu and sweep_kernel(1) is fastsim_sweep_law
