@@ -83,7 +83,8 @@ def test_reference_curves_hold_the_exact_trace(small):
         from railtherm.analysis.analytic import _thermal_case
         from railtherm.analysis.trace_metrics import cooling_rate_depth
         z_c = c["trace_cooling_depth"].values
-        np.testing.assert_allclose(z_c, cooling_rate_depth(sc, _thermal_case(sc)[0]), rtol=1e-12)
+        case = _thermal_case(sc)
+        np.testing.assert_allclose(z_c, cooling_rate_depth(case[0], case[4], sc.wheel, sc.rail), rtol=1e-12)
         assert np.all(z_c > 0) and np.all(z_c < sc.field.depth)
         assert ("surface_map" in c) == (name == "locked")
     # the locked wheel: all heat into the rail, the 727 degC isotherm inside the field: z* is its depth

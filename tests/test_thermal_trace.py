@@ -13,7 +13,7 @@ from railtherm import SceneError
 from railtherm.contract.grid import embed, extended_grid, surface_grid
 from railtherm.contract.schema import build_dataset
 from railtherm.input.scene import KEY_TABLE, key_units, load_scene
-from railtherm.physics import thermal_trace
+from railtherm.physics import body_speeds, thermal_trace
 from railtherm.references.jaeger import jaeger_band_temperature
 
 A = 5e-3
@@ -179,7 +179,7 @@ def test_cooling_rate_metric_scores_the_resolvable_depths_only():
     from railtherm.analysis.metrics import run_errors
     from railtherm.analysis.trace_metrics import COOLING_TRAVEL, cooling_rate_depth
     sc = _band_metric_scene()
-    z_c = cooling_rate_depth(sc, A)
+    z_c = cooling_rate_depth(A, body_speeds(sc.speed, sc.sliding_speed, sc.tangential), sc.wheel, sc.rail)
     assert COOLING_TRAVEL == 1.0 / 16.0
     assert z_c[1] == pytest.approx(math.sqrt(MAT.diffusivity * A / (4.0 * V_PE1000)), rel=1e-12)
     assert V_PE1000 * z_c[1] ** 2 / (4.0 * MAT.diffusivity) == pytest.approx(A / 16.0, rel=1e-12)

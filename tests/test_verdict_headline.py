@@ -176,11 +176,13 @@ def test_a_force_zero_by_symmetry_is_not_scored():
 
 def test_a_reference_below_the_noise_floor_is_not_scored():
     from railtherm.analysis.verdicts import unscored
-    sc = _scene(creepage={"longitudinal": -1e-3})
-    assert "noise floor" in unscored(sc, "creep_force_x", 5e-10)         # 0.5e-3 µN < 1e-3 µN
-    assert unscored(sc, "creep_force_x", 2e-9) == ""
-    assert unscored(sc, "max_surface_temperature", [20.0, 20.0 + 1e-8], 20.0) != ""
-    assert unscored(sc, "creep_force_x", 0.0) == "the reference is zero"
+    assert "noise floor" in unscored("creep_force_x", 5e-10)         # 0.5e-3 µN < 1e-3 µN
+    assert unscored("creep_force_x", 2e-9) == ""
+    assert unscored("max_surface_temperature", [20.0, 20.0 + 1e-8], 20.0) != ""
+    assert unscored("creep_force_x", 0.0) == "the reference is zero"
+    # a metric zero by symmetry on the scene (verdicts.zero_by_symmetry) is not scored, whatever its reference
+    assert unscored("creep_force_x", 1.0, zero={"creep_force_x": "zero by symmetry"}) == "zero by symmetry"
+    assert unscored("max_pressure", 1.0, zero={"creep_force_x": "zero by symmetry"}) == ""
 
 
 # --- 7. non-finite values fail their metric ------------------------------------------------------------
@@ -272,7 +274,7 @@ def test_the_cooling_rate_at_all_depths_is_stored_but_never_decides_a_status(mon
         "max_surface_temperature": (0.01, "analytic:moving-source"),
         "cooling_rate": (0.02, "analytic:moving-source"),
         "cooling_rate_all_depths": (0.4, "analytic:moving-source")})
-    monkeypatch.setattr(metrics, "_cooling_depth", lambda scene, ds: 26e-6)
+    monkeypatch.setattr(metrics, "_cooling_depth", lambda z_c: 26e-6)
 
     class Rec:
         scene, method, level, status, message, wall_time, path = sc.name, "green", 0, "ok", "", 0.1, "x"

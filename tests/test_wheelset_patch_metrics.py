@@ -21,7 +21,10 @@ from manchester_cases import a22_scene
 
 BULK = 20.0
 SCENE = SimpleNamespace(name="p", wheel=SimpleNamespace(bulk_temperature=BULK),
-                        rail=SimpleNamespace(bulk_temperature=BULK), creepage=None, wheelset=None, heat_source=None)
+                        rail=SimpleNamespace(bulk_temperature=BULK), creepage=None, wheelset=None, heat_source=None,
+                        contact_shape="gap", speed=30.0, sliding_speed=None, tangential="creepage")
+#: the bulk temperatures (wheel, rail) [degC] the patch errors take the rises above
+BULKS = (BULK, BULK)
 
 
 def _result(temps, fx, patches=(1, 2), stages="normal:a tangential:b"):
@@ -39,7 +42,7 @@ def test_a_small_patch_off_by_half_is_not_hidden_by_a_large_one():
     run = _result([[BULK + 200, BULK + 30], [BULK + 150, BULK + 15]], [1000.0, 100.0])
     errs = {"max_surface_temperature": (0.05, "method:k")}
     signed, row = {}, {}
-    patch_of = patch_errors(SCENE, run, ref, errs, signed=signed, row=row, headline="max_surface_temperature")
+    patch_of = patch_errors(BULKS, run, ref, errs, signed=signed, row=row, headline="max_surface_temperature")
     assert errs["max_surface_temperature"] == (pytest.approx(0.5), "method:k")
     assert signed["max_surface_temperature"] == pytest.approx(0.5)
     assert patch_of == {"max_surface_temperature": 2} and row["headline_patch"] == 2
@@ -56,7 +59,7 @@ def test_the_per_patch_scores_replace_run_errors_max_norm():
     notes, signed = {}, {}
     errs = run_errors(SCENE, run, {}, ref, ref_tag="method:k", notes=notes, signed=signed)
     assert errs["creep_force_x"][0] == pytest.approx(0.005)
-    patch_errors(SCENE, run, ref, errs, notes=notes, signed=signed, headline="max_surface_temperature")
+    patch_errors(BULKS, run, ref, errs, notes=notes, signed=signed, headline="max_surface_temperature")
     assert errs["creep_force_x"] == (pytest.approx(0.05), "method:k")
     assert signed["creep_force_x"] == pytest.approx(-0.05)
     assert errs["max_surface_temperature"][0] == 0.0
@@ -67,7 +70,7 @@ def test_a_patch_with_a_zero_reference_is_noted_and_the_others_scored():
     run = _result([[BULK + 210, BULK + 1], [BULK + 150, BULK]], [1000.0, 3.0])
     notes, row = {}, {}
     errs = {"max_surface_temperature": (0.05, "method:k"), "creep_force_x": (0.003, "method:k")}
-    patch_errors(SCENE, run, ref, errs, notes=notes, row=row, headline="max_surface_temperature")
+    patch_errors(BULKS, run, ref, errs, notes=notes, row=row, headline="max_surface_temperature")
     assert errs["max_surface_temperature"][0] == pytest.approx(0.05)
     assert errs["creep_force_x"][0] == 0.0 and row["headline_patch"] == 1
     assert "reference is zero" in notes["creep_force_x patch 2"]
@@ -79,7 +82,7 @@ def test_runs_with_other_patches_than_the_reference_fail_the_metric():
     run = _result([[BULK + 200, BULK + 20], [BULK + 150, BULK + 15]], [1000.0, 100.0])
     notes = {}
     errs = {"creep_force_x": (0.0, "method:k")}
-    patch_errors(SCENE, run, ref, errs, notes=notes)
+    patch_errors(BULKS, run, ref, errs, notes=notes)
     assert math.isinf(errs["creep_force_x"][0]) and "[1, 2]" in notes["creep_force_x"]
 
 
@@ -87,7 +90,7 @@ def test_a_result_without_patches_is_left_as_it_is():
     ds = xr.Dataset({"creep_force_x": ((), 5.0)})
     errs = {"creep_force_x": (0.01, "method:k")}
     row = {}
-    assert patch_errors(SCENE, ds, ds, errs, row=row) == {} and errs == {"creep_force_x": (0.01, "method:k")}
+    assert patch_errors(BULKS, ds, ds, errs, row=row) == {} and errs == {"creep_force_x": (0.01, "method:k")}
     assert "headline_patch" not in row
 
 

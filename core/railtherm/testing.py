@@ -452,6 +452,7 @@ def _check_accuracy(method: str, solved, level: int, tolerance: float, energy_to
     # here, not at the top: this kit is a pytest plugin that every pytest session loads, and solving/ and
     # analysis/ cost ~0.5 s to import
     from .analysis import metrics
+    from .physics import body_speeds
     energy = getattr(metrics, "energy_balance", None)
     verified, notes = [], []
     for sc, ds in solved:
@@ -472,7 +473,7 @@ def _check_accuracy(method: str, solved, level: int, tolerance: float, energy_to
             continue  # inaccurate at this level: its energy is not held against it
         verified.append(sc.name)
         if energy is not None:
-            eb, ref = energy(sc, ds)
+            eb, ref = energy(ds, body_speeds(sc.speed, sc.sliding_speed, sc.tangential), sc.wheel, sc.rail)
             if np.isfinite(eb):
                 assert abs(eb) <= energy_tolerance, (
                     f"method {method!r}, scene {sc.name!r}, level {level}: energy balance of the computed "

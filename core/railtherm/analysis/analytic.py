@@ -35,6 +35,7 @@ TAG = {"contact": "hertz", "carter": "carter", "ms": "moving-source", "jaeger": 
        "sliding": "full-sliding", "given": "given-source"}
 
 
+# whole scene: the analysis's one reading of the scene's nine Hertz inputs (bodies, shape, load, geometry, name)
 def scene_hertz_geometry(scene):
     """:func:`railtherm.models.hertz.hertz_geometry` of a scene's contact: (a [m], b [m] or None, p0 [Pa], normal
     force [N or N/m]); the analysis's one reading of the Hertz inputs off a scene."""
@@ -43,6 +44,7 @@ def scene_hertz_geometry(scene):
                           wheel_radius=scene.wheel_radius, scene_name=scene.name)
 
 
+# whole scene: the closed-form heat source of a scene, read from its source, friction, kinematics and contact
 def _thermal_case(scene):
     """(a, b, shape, peak flux, (v_wheel, v_rail), eps) of the scene's heat source, or None (no closed form:
     convection, or a heat partition that depends on the temperatures)."""
@@ -248,13 +250,26 @@ def _body_key(mat, case, body: int) -> tuple:
     return (a, b, shape, share * q, float(speeds[body])) + thermal_properties(mat)
 
 
+# whole scene: the trace of a scene for the reference curves and the tests: its source, materials and field
 def trace_reference(scene, z, fast: bool = True) -> dict | None:
-    """Exact thermal trace of a scene with a given or full-sliding source (no convection).
+    """:func:`exact_trace` of a scene: its closed-form source (:func:`_thermal_case`), its bodies and its
+    ``field.threshold`` [degC] (727 without a field); None when the scene has no exact source reference."""
+    fld = getattr(scene, "field", None)
+    thr = float(fld.threshold) if fld is not None else 727.0
+    return exact_trace(_thermal_case(scene), scene.wheel, scene.rail, thr, z, fast)
+
+
+def exact_trace(case, wheel, rail, threshold: float, z, fast: bool = True) -> dict | None:
+    """Exact thermal trace of a given or full-sliding source (no convection).
 
     Parameters
     ----------
-    scene : Scene
-        With ``field`` (its ``threshold`` [degC]); the source as for :func:`reference_values`.
+    case : tuple or None
+        The scene's closed-form heat source (:func:`_thermal_case`); None: no exact reference.
+    wheel, rail : Material
+        The bodies (bulk temperature [degC], conductivity, diffusivity).
+    threshold : float
+        The temperature [degC] whose crossings give the time above and the heated depth.
     z : array_like
         Depths [m] at which the profiles are wanted.
     fast : bool
@@ -279,18 +294,15 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
     of the heat and its own speed; the search reaches as far behind the patch as the peak lies, whatever
     the field's extent.
     """
-    case = _thermal_case(scene)
     if case is None:
         return None
     z = np.atleast_1d(np.asarray(z, dtype=float))
     a, b, shape, q, speeds, eps = case
-    fld = getattr(scene, "field", None)
-    thr = float(fld.threshold) if fld is not None else 727.0
+    thr = float(threshold)
     out = {k: np.full((2, z.size), np.nan) for k in ("peak_temperature", "peak_position", "cooling_rate",
                                                     "cooling_position", "time_above")}
     depth = np.full(2, np.nan)
-    for body in (0, 1):
-        mat = scene.body(body)
+    for body, mat in enumerate((wheel, rail)):
         bulk = float(mat.bulk_temperature)
         v = float(speeds[body])
         share = eps if body == 0 else 1.0 - eps
@@ -325,78 +337,73 @@ def trace_reference(scene, z, fast: bool = True) -> dict | None:
 _CACHE: dict[str, dict] = {}
 
 
-def _scalars(scene):
-    """Cached by scene hash (a Scene holds dicts and is not hashable)."""
-    key = scene.hash
-    if key not in _CACHE:
-        if len(_CACHE) > 512:
-            _CACHE.clear()
-        _CACHE[key] = _scalars_uncached(scene)
-    return _CACHE[key]
-
-
-def _scalars_uncached(scene):
-    """Scalar references of a scene: name -> value (temperatures absolute [degC])."""
-    out: dict[str, object] = {"_names": [], "_sources": {}}
-    src = out["_sources"]
-    if getattr(scene, "wheelset", None) is not None and scene.creepage is None and scene.sliding_speed is None:
-        # the contact's load comes from the wheelset's equilibrium (normal model "wheelset"), not from
-        # the scene's nominal load: Hertz of the scene is no reference for it
-        return out
-    if scene.contact_shape == "gap":
-        return out   # a non-Hertzian gap: no closed-form contact, hence no exact reference downstream
-    if scene.heat_source is None and not _contact_scalars(scene, out, src):
-        return out
-    case = _thermal_case(scene)
-    if case is not None:
-        a, b, shape, q, speeds, eps = case
-        out["heat_partition"] = eps
-        if scene.heat_source is not None:
-            from ..physics import exact_total  # the given source's total: only for a scene with one
-            out["frictional_power"] = q * exact_total(shape, a, b)
-            src["frictional_power"] = "given-source"
-        peaks = [_surface_scalars(scene.body(body), case, body) for body in (0, 1)]
-        out["max_surface_temperature"] = np.array([p[0] for p in peaks])
-        out["mean_contact_temperature"] = np.array([p[1] for p in peaks])
-        tag = "jaeger" if b is None else "moving-source"
-        src.update(max_surface_temperature=tag, mean_contact_temperature=tag, surface_temperature=tag,
-                   heat_partition=tag)
-        out["_names"].append(_NAME["jaeger" if b is None else "ms"])
-        if getattr(scene, "field", None) is not None:
-            tr = trace_reference(scene, [0.0])
-            out["heated_depth"] = tr["heated_depth"]
-            src.update(heated_depth=tag, peak_temperature=tag, cooling_rate=tag, time_above=tag)
-    return out
-
-
-def _contact_scalars(scene, out: dict, src: dict) -> bool:
+def _contact_scalars(geometry, friction, tangential: str, kinematics, wheel, rail, wheel_radius: float,
+                     out: dict) -> None:
     """Put the Hertz patch and, where exact, the creep force and frictional power (full sliding, Carter) of a
-    scene without a given heat source into ``out`` with their tags in ``src``; False when Hertz refuses
-    the scene (no exact contact, so nothing downstream either)."""
-    try:
-        a, b, p0, n = scene_hertz_geometry(scene)
-    except Refused:
-        return False
+    scene without a given heat source into ``out`` with their tags in ``out["_sources"]``.
+
+    Parameters
+    ----------
+    geometry : (float, float or None, float, float)
+        The scene's Hertz geometry (:func:`scene_hertz_geometry`): a [m], b [m] (None: a line contact), peak
+        pressure [Pa], normal force [N or N/m].
+    friction : FrictionLaw or None
+        The scene's friction law.
+    tangential : str
+        "full-sliding" or "creepage".
+    kinematics : Kinematics
+        The scene's sliding speed [m/s] and creepages.
+    wheel, rail : Material
+        The bodies (Carter's theory needs them elastically identical).
+    wheel_radius : float
+        The wheel's rolling radius [m] (Carter's cylinder).
+    """
+    a, b, p0, n = geometry
+    src = out["_sources"]
     out.update(semi_axis_a=a, max_pressure=p0, normal_force=n)
     src.update(semi_axis_a="hertz", max_pressure="hertz", normal_force="hertz", pressure="hertz")
     if b is not None:
         out["semi_axis_b"] = b
         src["semi_axis_b"] = "hertz"
     out["_names"].append(_NAME["contact"])
-    mu = uniform_friction(scene.friction, scene.tangential, scene.sliding_speed)
-    if scene.tangential == "full-sliding" and mu is not None:
-        out["frictional_power"] = mu * abs(scene.sliding_speed) * n
-        out["creep_force_x"] = math.copysign(mu * n, scene.sliding_speed) if scene.sliding_speed else 0.0
+    sliding_speed, creepage = kinematics.sliding_speed, kinematics.creepage
+    mu = uniform_friction(friction, tangential, sliding_speed)
+    if tangential == "full-sliding" and mu is not None:
+        out["frictional_power"] = mu * abs(sliding_speed) * n
+        out["creep_force_x"] = math.copysign(mu * n, sliding_speed) if sliding_speed else 0.0
         src.update(frictional_power="full-sliding", creep_force_x="full-sliding")
         out["_names"].append(_NAME["sliding"])
-    elif (b is None and scene.creepage is not None and scene.creepage.lateral == 0 and scene.creepage.spin == 0
-          and _identical_elastic(scene.wheel, scene.rail) and scene.friction.nominal > 0
-          and scene.friction.kind == "constant"):
-        c = carter_2d(scene.creepage.longitudinal, a, scene.friction.nominal, scene.wheel_radius)
-        out["creep_force_x"] = c.force_ratio * scene.friction.nominal * n
+    elif (b is None and creepage is not None and creepage.lateral == 0 and creepage.spin == 0
+          and _identical_elastic(wheel, rail) and friction.nominal > 0 and friction.kind == "constant"):
+        c = carter_2d(creepage.longitudinal, a, friction.nominal, wheel_radius)
+        out["creep_force_x"] = c.force_ratio * friction.nominal * n
         src["creep_force_x"] = "carter"
         out["_names"].append(_NAME["carter"])
-    return True
+
+
+def _source_scalars(case, heat_source, wheel, rail, field, out: dict) -> None:
+    """Put the exact temperatures (maximum and patch mean per body), the heat partition, a given source's
+    frictional power and, with a ``field``, the heated depth of the closed-form source ``case``
+    (:func:`_thermal_case`) into ``out`` with their tags in ``out["_sources"]``; ``heat_source`` is the scene's
+    given source (None: frictional heat), ``wheel``, ``rail`` the bodies."""
+    src = out["_sources"]
+    a, b, shape, q, speeds, eps = case
+    out["heat_partition"] = eps
+    if heat_source is not None:
+        from ..physics import exact_total  # the given source's total: only for a scene with one
+        out["frictional_power"] = q * exact_total(shape, a, b)
+        src["frictional_power"] = "given-source"
+    peaks = [_surface_scalars(mat, case, body) for body, mat in enumerate((wheel, rail))]
+    out["max_surface_temperature"] = np.array([p[0] for p in peaks])
+    out["mean_contact_temperature"] = np.array([p[1] for p in peaks])
+    tag = "jaeger" if b is None else "moving-source"
+    src.update(max_surface_temperature=tag, mean_contact_temperature=tag, surface_temperature=tag,
+               heat_partition=tag)
+    out["_names"].append(_NAME["jaeger" if b is None else "ms"])
+    if field is not None:
+        tr = exact_trace(case, wheel, rail, float(field.threshold), [0.0])
+        out["heated_depth"] = tr["heated_depth"]
+        src.update(heated_depth=tag, peak_temperature=tag, cooling_rate=tag, time_above=tag)
 
 
 def _surface_scalars(mat, case, body: int) -> tuple[float, float]:
@@ -443,14 +450,38 @@ def _identical_elastic(wheel, rail) -> bool:
             and wheel.poisson_ratio == rail.poisson_ratio)
 
 
+# whole scene: the analysis's entry: a scene's exact values read its contact, friction, kinematics, source and field
 def reference_values(scene) -> dict:
     """Scalar references of ``scene``: name -> float or (2,) array [SI, temperatures in degC].
 
     Also ``"_names"`` (list of str: the references used, in words) and ``"_sources"`` (quantity ->
     short tag of its reference, e.g. ``"hertz"``, ``"carter"``, ``"moving-source"``; fields
-    ``pressure`` and ``surface_temperature`` included).
+    ``pressure`` and ``surface_temperature`` included). Cached by scene hash (a Scene holds dicts and is
+    not hashable).
     """
-    out = dict(_scalars(scene))
+    key = scene.hash
+    if key not in _CACHE:
+        if len(_CACHE) > 512:
+            _CACHE.clear()
+        found: dict = {"_names": [], "_sources": {}}
+        # the contact's load of a wheelset without given motion comes from its equilibrium (normal model
+        # "wheelset"), not from the scene's nominal load; a non-Hertzian gap has no closed-form contact: no
+        # exact reference downstream of them, nor of a contact Hertz refuses
+        exact = not ((getattr(scene, "wheelset", None) is not None and scene.creepage is None
+                      and scene.sliding_speed is None) or scene.contact_shape == "gap")
+        if exact and scene.heat_source is None:
+            try:
+                geometry = scene_hertz_geometry(scene)
+            except Refused:
+                exact = False
+            else:
+                _contact_scalars(geometry, scene.friction, scene.tangential, scene.kinematics, scene.wheel,
+                                 scene.rail, scene.wheel_radius, found)
+        case = _thermal_case(scene) if exact else None
+        if case is not None:
+            _source_scalars(case, scene.heat_source, scene.wheel, scene.rail, getattr(scene, "field", None), found)
+        _CACHE[key] = found
+    out = dict(_CACHE[key])
     out["_names"] = list(out.get("_names", []))
     out["_sources"] = dict(out.get("_sources", {}))
     return out
@@ -474,6 +505,7 @@ def _cached_surface_rise(mat, case, x: np.ndarray, y: np.ndarray | None, body: i
     return np.array([known[k] for k in keys], float)
 
 
+# whole scene: the analysis's entry for fields: the scene's Hertz inputs, closed-form source, bodies and field
 def reference_fields(scene, ds) -> dict:
     """Field references on the grid of result ``ds``: pressure [Pa], surface_temperature [degC]."""
     out = {}
@@ -498,14 +530,13 @@ def reference_fields(scene, ds) -> dict:
         else:
             X, Y = np.meshgrid(x, y, indexing="ij")
         fields = []
-        for body in (0, 1):
-            mat = scene.body(body)
+        for body, mat in enumerate((scene.wheel, scene.rail)):
             r = _cached_surface_rise(mat, case, X.ravel(), None if Y is None else Y.ravel(), body)
             fields.append(mat.bulk_temperature + r.reshape(np.shape(X)))
         out["surface_temperature"] = np.stack(fields)
     want = [k for k in ("peak_temperature", "cooling_rate", "time_above") if k in ds]
     if case is not None and want and "z" in ds.coords and getattr(scene, "field", None) is not None:
-        tr = trace_reference(scene, ds["z"].values)
+        tr = exact_trace(case, scene.wheel, scene.rail, float(scene.field.threshold), ds["z"].values)
         out.update({k: tr[k] for k in want})
         out["trace_peak_position"], out["trace_cooling_position"] = tr["peak_position"], tr["cooling_position"]
     return out

@@ -14,17 +14,19 @@ recorded in ``notes``.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from ..physics import body_speeds
 from ..solving.plugins import get_host
-from .analytic import reference_fields
-from .rises import bulk_of as _bulk, rel_error, rel_l2
+from .analytic import _thermal_case, reference_fields
+from .rises import bulk_of as _bulk, bulk_temperatures, rel_error, rel_l2
 from .trace_metrics import TRACE_METRICS, trace_errors
-from .verdicts import shares_stage, unscored
+from .verdicts import shares_stage, unscored, zero_by_symmetry
 
 SCALARS = ("max_surface_temperature", "mean_contact_temperature", "max_pressure", "semi_axis_a",
            "creep_force_x", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature")
@@ -34,14 +36,15 @@ METRICS = SCALARS + tuple(f + "_l2" for f in FIELDS)
 MAX_FIELD_POINTS = 1500
 
 
-def signed_error(scene, name: str, value, reference) -> float:
+def signed_error(bulk, name: str, value, reference) -> float:
     """The signed version of :func:`rel_error` [1]: (value − reference) / max |reference| at the entry where
-    |value − reference| is largest (its magnitude is :func:`rel_error`); temperatures on their rise."""
+    |value − reference| is largest (its magnitude is :func:`rel_error`); temperatures on their rise above
+    ``bulk``, the wheel's and the rail's bulk temperatures [degC]."""
     v, r = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
-    e = rel_error(scene, name, v, r)
+    e = rel_error(bulk, name, v, r)
     if not math.isfinite(e) or e == 0:
         return e
-    b = _bulk(scene, name, v.shape)
+    b = _bulk(bulk, name, v.shape)
     d = np.where(np.isfinite(r), (v - b) - (r - b), 0.0)
     return math.copysign(e, float(np.ravel(d)[int(np.argmax(np.abs(d)))]))
 
@@ -72,17 +75,17 @@ def chain_references(ds) -> set[str]:
     return tags
 
 
-def _exact_fields(scene, ds, values):
-    """(subsample of ``ds``, exact fields on it): at most ~:data:`MAX_FIELD_POINTS` cells of a regular
-    subsample; ``(ds, {})`` when there is nothing exact or the result has no surface grid (a Zarr row)."""
+def _field_subsample(ds, values):
+    """The cells of ``ds`` the exact fields are compared on: at most ~:data:`MAX_FIELD_POINTS` cells of a
+    regular subsample; None when there is nothing exact or the result has no surface grid (a Zarr row)."""
     if not values or "x" not in ds.dims:
-        return ds, {}
+        return None
     n = ds.sizes["x"] * ds.sizes.get("y", 1)
     stride = max(1, int(math.ceil(math.sqrt(n / MAX_FIELD_POINTS))))
-    sub = ds.isel({d: slice(stride // 2, None, stride) for d in ("x", "y") if d in ds.dims})
-    return sub, reference_fields(scene, sub)
+    return ds.isel({d: slice(stride // 2, None, stride) for d in ("x", "y") if d in ds.dims})
 
 
+# whole scene: the metrics' entry for one run: it reads the scene's materials, kinematics, symmetry and source
 def run_errors(scene, ds, ref_values: dict, ref_ds=None, *, ref_tag: str = "", sources: dict | None = None,
                notes: dict | None = None, signed: dict | None = None) -> dict[str, tuple[float, str]]:
     """Relative errors of one result: metric -> (error [1], reference tag).
@@ -111,8 +114,12 @@ def run_errors(scene, ds, ref_values: dict, ref_ds=None, *, ref_tag: str = "", s
     same = chain_references(ds) if values else set()
     if scene.heat_source is not None:  # every method takes a given source as it is
         same.add("given-source")
-    sub, fields = _exact_fields(scene, ds, values)
-    sc = _Scorer(scene, ds, ref_ds, ref_tag, sources, same, notes, signed)
+    sub = _field_subsample(ds, values)
+    sub, fields = (ds, {}) if sub is None else (sub, reference_fields(scene, sub))
+    bulk = bulk_temperatures(scene.wheel, scene.rail)
+    zero = zero_by_symmetry(scene.creepage, scene.contact_shape, getattr(scene, "gap_coefficients", None),
+                            scene.wheel, scene.rail, wheelset=scene.wheelset, heat_source=scene.heat_source)
+    sc = _Scorer(bulk, zero, ds, ref_ds, ref_tag, sources, same, notes, signed)
     err = sc.err
     for name in SCALARS:
         if name not in ds:
@@ -137,17 +144,20 @@ def run_errors(scene, ds, ref_values: dict, ref_ds=None, *, ref_tag: str = "", s
             sc.score_against_run(name)
     if ref_ds is not None and any(n in ds for n in TRACE_METRICS) and sc.shared("peak_temperature"):
         ref_ds = None                       # the trace of the same temperature model: not a check
-    err.update(trace_errors(scene, ds, fields, values, ref_ds, ref_tag, sc.exact, notes=notes))
+    speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
+    err.update(trace_errors(ds, fields, values, ref_ds, ref_tag, sc.exact, notes=notes, bulk=bulk, speeds=speeds,
+                            wheel=scene.wheel, rail=scene.rail, case=functools.partial(_thermal_case, scene)))
     return err
 
 
 @dataclass
 class _Scorer:
-    """What :func:`run_errors` needs to score one metric, built once per result: the tags of its exact
-    references, whether the reference run shares a stage model, and the errors, signed errors and notes
-    filled in."""
+    """What :func:`run_errors` needs to score one metric, built once per result: the bulk temperatures
+    (wheel, rail) [degC] and the metrics zero by symmetry of the scene, the tags of its exact references,
+    whether the reference run shares a stage model, and the errors, signed errors and notes filled in."""
 
-    scene: Any
+    bulk: tuple
+    zero: dict
     ds: Any
     ref_ds: Any
     ref_tag: str
@@ -173,18 +183,17 @@ class _Scorer:
 
     def score(self, name, value, reference, tag, l2=False):
         """Record the relative error (and the signed error of a scalar) of ``value``, or why it is not scored."""
-        scene = self.scene
         quantity = name.removesuffix("_l2")
-        why = unscored(scene, name, reference, _bulk(scene, quantity, np.shape(reference)))
+        why = unscored(name, reference, _bulk(self.bulk, quantity, np.shape(reference)), self.zero)
         if why:
             self.notes[name] = why
             self.err[name] = (math.nan, tag)
             return
-        e = (rel_l2 if l2 else rel_error)(scene, quantity, value, reference)
+        e = (rel_l2 if l2 else rel_error)(self.bulk, quantity, value, reference)
         if math.isinf(e):
             self.notes[name] = "not finite where its reference is"
         elif not l2:
-            self.signed[name] = signed_error(scene, name, value, reference)
+            self.signed[name] = signed_error(self.bulk, name, value, reference)
         self.err[name] = (e, tag)
 
     def score_against_run(self, name):

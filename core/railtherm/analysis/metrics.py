@@ -29,16 +29,17 @@ from ..contract.schema import VARIABLES, history_line
 from ..output import store
 from ..physics import body_speeds, peclet_number
 from ..solving.plugins import get_host
-from .analytic import reference_values
+from .analytic import _thermal_case, reference_values
 from .scorecard import verdict_vars
 
 from .errors import (FIELDS, MAX_FIELD_POINTS, METRICS, SCALARS, _interp_to, chain_references,  # noqa: E402,F401
                      rel_error, rel_l2 as _rel_l2, run_errors, signed_error)
-from .rises import RISES, bulk_of as _bulk  # noqa: E402,F401  (temperatures on their rise above the bulk temperature)
+from .rises import (RISES, bulk_of as _bulk,  # noqa: E402,F401  (temperatures on their rise above the bulk temperature)
+                    bulk_temperatures)
 from .trace_metrics import (TRACE_METRICS, TRACE_PROFILES, _semi_axis,  # noqa: E402,F401  (metrics.nc's trace metrics)
                             cooling_rate_depth, trace_errors)
 from .transient_metrics import TRANSIENT_METRICS, transient_errors  # noqa: E402  (metrics.nc's transient metrics)
-from .verdicts import independent, label, run_status  # noqa: E402,F401
+from .verdicts import independent, label, run_status, zero_by_symmetry  # noqa: E402,F401
 from .patch_metrics import patch_columns, patch_errors  # noqa: E402  (several patches scored patch by patch)
 #: the quantity a scene's verdict is given on: the first of these that the scene asks for
 HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
@@ -100,7 +101,7 @@ def half_space_energy(theta: np.ndarray, t_edges: np.ndarray) -> np.ndarray:
     return math.pi * (np.diff(t_edges) @ q).reshape(theta.shape[:-1])
 
 
-def energy_balance(scene, ds) -> tuple[float, str]:
+def energy_balance(ds, speeds, wheel, rail) -> tuple[float, str]:
     """Energy balance of a result's computed temperature field [1] and how it was obtained.
 
     Core's check (``analytic:half-space-1d``): at Péclet numbers above
@@ -114,6 +115,15 @@ def energy_balance(scene, ds) -> tuple[float, str]:
     Otherwise the temperature solver's own balance (global attribute ``<model>_heat_balance_error``,
     reference ``solver``) is used when it reports one; else NaN with an empty reference.
 
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result.
+    speeds : (float, float)
+        The wheel's and the rail's surface speeds through the patch [m/s] (:func:`railtherm.physics.body_speeds`).
+    wheel, rail : Material
+        The bodies (diffusivity, effusivity and bulk temperature).
+
     Returns
     -------
     (float, str)
@@ -126,13 +136,13 @@ def energy_balance(scene, ds) -> tuple[float, str]:
         dy = float(np.diff(ds["y"].values).mean()) if "y" in ds.dims else 1.0
         power = float(np.nansum(hf)) * dx * dy
     if "surface_temperature" in ds.variables and math.isfinite(power) and power > 0:
-        speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
+        bodies = (wheel, rail)
         a = float(ds.attrs.get("semi_axis_a", math.nan))
         if "semi_axis_a" in ds.variables:
             a = float(ds["semi_axis_a"])
         if not math.isfinite(a):
             a = 0.5 * float(np.ptp(ds["x"].values))
-        pe = min(peclet_number(abs(v), a, scene.body(i).diffusivity) for i, v in enumerate(speeds))
+        pe = min(peclet_number(abs(v), a, bodies[i].diffusivity) for i, v in enumerate(speeds))
         if pe >= ENERGY_MIN_PECLET and min(speeds) > 0:
             x = ds["x"].values
             if x.size >= 2:
@@ -142,7 +152,7 @@ def energy_balance(scene, ds) -> tuple[float, str]:
                 total = 0.0
                 ts = ds["surface_temperature"].transpose("body", "x", ...).values
                 for i, v in enumerate(speeds):
-                    mat = scene.body(i)
+                    mat = bodies[i]
                     theta = ts[i] - mat.bulk_temperature  # (x, [y])
                     if not np.all(np.isfinite(theta)):
                         return math.nan, ""
@@ -214,10 +224,11 @@ def richardson(levels, values, theoretical: float = math.nan) -> tuple[float, fl
 
 
 # ----------------------------------------------------------------------------------------------
-def _scalar(scene, name, v) -> float:
-    """One number for a quantity that may be per body: the entry with the largest |rise|."""
+def _scalar(bulk, name, v) -> float:
+    """One number for a quantity that may be per body: the entry with the largest |rise| above ``bulk`` (the
+    wheel's and the rail's bulk temperatures [degC])."""
     a = np.atleast_1d(np.asarray(v, float))
-    b = np.atleast_1d(_bulk(scene, name, a.shape if a.size > 1 else ()))
+    b = np.atleast_1d(_bulk(bulk, name, a.shape if a.size > 1 else ()))
     rise = a - b.ravel()[: a.size] if b.size > 1 else a - b
     return float(a[int(np.nanargmax(np.abs(rise)))]) if np.any(np.isfinite(rise)) else math.nan
 
@@ -255,8 +266,9 @@ class _Study:
                 if k not in self.finest_of or r.level > self.finest_of[k].level:
                     self.finest_of[k] = r
 
-    def kind(self, scene) -> str:
-        return scene.reference or self.study.reference
+    def kind(self, reference: str | None) -> str:
+        """The reference a scene's runs are scored against: its own ``reference``, else the study's."""
+        return reference or self.study.reference
 
     def load(self, rec):
         """A reference run's Dataset (kept: it is read again by every level compared with it)."""
@@ -264,30 +276,33 @@ class _Study:
             self.cache[rec.path] = _open(rec.path)
         return self.cache[rec.path]
 
-    def analytic(self, scene) -> dict:
-        if scene.name not in self.exact:
+    def analytic(self, name: str) -> dict:
+        """The exact values of scene ``name`` (:func:`reference_values`), computed once."""
+        if name not in self.exact:
             try:
-                self.exact[scene.name] = reference_values(scene)
+                self.exact[name] = reference_values(self.scenes[name])
             except Exception as exc:  # noqa: BLE001 - recorded, the run is then unverified
-                self.exact[scene.name] = {"_names": [f"analytic reference failed: {exc}"], "_sources": {}}
-        return self.exact[scene.name]
+                self.exact[name] = {"_names": [f"analytic reference failed: {exc}"], "_sources": {}}
+        return self.exact[name]
 
     def summary(self, rec):
         """(energy balance, its reference, scalar values) of a run, from its record when filled."""
         if getattr(rec, "summary", False):
             return rec.energy_balance, rec.energy_reference, rec.values
         ds = self.load(rec)
-        e, ref = energy_balance(self.scenes[rec.scene], ds)
+        scene = self.scenes[rec.scene]
+        e, ref = energy_balance(ds, body_speeds(scene.speed, scene.sliding_speed, scene.tangential), scene.wheel,
+                                scene.rail)
         return e, ref, {q: ds[q].values for q in set(CROSS) | set(SCALARS) if q in ds}
 
-    def reference_of(self, rec, scene):
+    def reference_of(self, rec):
         """(exact values, reference run, its tag, why there is none) for one run."""
-        kind = self.kind(scene)
+        kind = self.kind(self.scenes[rec.scene].reference)
         if kind == "analytic":
             fr = self.finest_of.get((rec.scene, rec.method))
             if fr is not None and fr.level != rec.level:
-                return self.analytic(scene), self.load(fr), "self:finest", ""
-            return self.analytic(scene), None, "", "finest level of its method" if fr is not None else ""
+                return self.analytic(rec.scene), self.load(fr), "self:finest", ""
+            return self.analytic(rec.scene), None, "", "finest level of its method" if fr is not None else ""
         target = rec.method if kind == "finest" else kind
         fr = self.finest_of.get((rec.scene, target))
         if fr is None:
@@ -309,9 +324,10 @@ def _base_row(rec) -> dict:
             "headline_reference": "", "not_scored": "", "cooling_rate_depth": math.nan}
 
 
-def _cooling_depth(scene, ds) -> float:
-    """Shallowest depth [m] at which the cooling rate of a run is scored (the smaller over the moving bodies)."""
-    z = [float(v) for v in cooling_rate_depth(scene, _semi_axis(scene, ds)) if v > 0]
+def _cooling_depth(z_c) -> float:
+    """Shallowest depth [m] at which the cooling rate of a run is scored: the smaller of the moving bodies' ``z_c``
+    (:func:`railtherm.analysis.trace_metrics.cooling_rate_depth`)."""
+    z = [float(v) for v in z_c if v > 0]
     return min(z) if z else math.nan
 
 
@@ -321,16 +337,22 @@ def _score(ctx: _Study, rec) -> dict:
     if rec.status != "ok":           # refused or failed: the runner's status stands
         return row
     scene = ctx.scenes[rec.scene]
-    ref_values, ref_ds, ref_tag, why = ctx.reference_of(rec, scene)
+    ref_values, ref_ds, ref_tag, why = ctx.reference_of(rec)
     notes, signed = {}, {}
     errs = {}
     if {k for k in ref_values if not k.startswith("_")} or ref_ds is not None:
         own = ctx.cache[rec.path] if rec.path in ctx.cache else _open(rec.path)
         errs = run_errors(scene, own, ref_values, ref_ds, ref_tag=ref_tag, notes=notes, signed=signed)
-        patch_errors(scene, own, ref_ds, errs, notes=notes, signed=signed, row=row, headline=headline(scene.outputs))
+        bulk = bulk_temperatures(scene.wheel, scene.rail)
+        zero = zero_by_symmetry(scene.creepage, scene.contact_shape, getattr(scene, "gap_coefficients", None),
+                                scene.wheel, scene.rail, wheelset=scene.wheelset, heat_source=scene.heat_source)
+        patch_errors(bulk, own, ref_ds, errs, zero=zero, notes=notes, signed=signed, row=row,
+                     headline=headline(scene.outputs))
         if "cooling_rate" in errs:
-            row["cooling_rate_depth"] = _cooling_depth(scene, own)
-    if ctx.kind(scene) == "analytic" and getattr(scene, "transient", None) is not None:
+            speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
+            row["cooling_rate_depth"] = _cooling_depth(cooling_rate_depth(
+                _semi_axis(own, functools.partial(_thermal_case, scene)), speeds, scene.wheel, scene.rail))
+    if ctx.kind(scene.reference) == "analytic" and getattr(scene, "transient", None) is not None:
         # the exact histories need neither the steady references nor a finer level (a locked wheel has no steady one)
         own = ctx.cache[rec.path] if rec.path in ctx.cache else _open(rec.path)
         errs.update(transient_errors(scene, own, notes=notes, cache=ctx.cache))
@@ -414,9 +436,9 @@ def _scene_vars(ds, ctx: _Study, snames: list, mnames: list, metrics: tuple):
                           body=("body", np.array(["wheel", "rail"], dtype=object)))
     ds["headline"] = ("scene_name", np.array([headline(scenes[s].outputs) for s in snames], dtype=object),
                       {"units": "1", "long_name": "quantity the scene's verdict is given on"})
-    ds["reference_kind"] = ("scene_name", np.array([ctx.kind(scenes[s]) for s in snames], dtype=object),
+    ds["reference_kind"] = ("scene_name", np.array([ctx.kind(scenes[s].reference) for s in snames], dtype=object),
                             {"units": "1", "long_name": "reference of the scene"})
-    used = {s: ctx.analytic(scenes[s]) for s in snames if ctx.kind(scenes[s]) == "analytic"}
+    used = {s: ctx.analytic(s) for s in snames if ctx.kind(scenes[s].reference) == "analytic"}
     for q in SCALARS + ("normal_force", "semi_axis_b", "heat_partition"):
         if not any(q in v for v in used.values()):
             continue
@@ -445,7 +467,7 @@ def _ladder_orders(ctx: _Study, sel: list, s: str, m: str, metrics: tuple, theo:
             order[k] = convergence_order([r["level"] for r in sel], errs)
             oref[k] = "; ".join(t for t in tags if t)
     if len(sel) >= 3:
-        scene = ctx.scenes[s]
+        bulk = bulk_temperatures(ctx.scenes[s].wheel, ctx.scenes[s].rail)
         for k, met in enumerate(metrics):
             if met not in SCALARS:
                 continue
@@ -454,10 +476,10 @@ def _ladder_orders(ctx: _Study, sel: list, s: str, m: str, metrics: tuple, theo:
                 v = ctx.summary(ctx.rec_of[(s, m, r["level"])])[2].get(met)
                 if v is not None:
                     lv.append(r["level"])
-                    qs.append(_scalar(scene, met, v))
+                    qs.append(_scalar(bulk, met, v))
             est, unc, _ = richardson(lv, qs, theo[k])
             if math.isfinite(est):
-                scale = abs(qs[-1] - np.ravel(_bulk(scene, met, ()))[0]) or math.nan
+                scale = abs(qs[-1] - np.ravel(_bulk(bulk, met, ()))[0]) or math.nan
                 rich[k], rich_u[k] = est / scale, unc / scale
     return order, oref, rich, rich_u
 
@@ -471,6 +493,7 @@ def _convergence_vars(ds, ctx: _Study, by_sm: dict, snames: list, mnames: list, 
     orders_of = {m: _theoretical_orders(m) for m in mnames}
     for i, s in enumerate(snames):
         vals = {}
+        bulk = bulk_temperatures(ctx.scenes[s].wheel, ctx.scenes[s].rail)
         for j, m in enumerate(mnames):
             theo[i, j] = [float(orders_of[m].get(met, math.nan)) for met in metrics]
             sel = sorted(by_sm.get((s, m), []), key=lambda r: r["level"])
@@ -484,7 +507,7 @@ def _convergence_vars(ds, ctx: _Study, by_sm: dict, snames: list, mnames: list, 
             for j, m1 in enumerate(mnames):
                 for k, m2 in enumerate(mnames):
                     if m1 in vals and m2 in vals and q in vals[m1] and q in vals[m2]:
-                        cross[i, q_i, j, k] = rel_error(ctx.scenes[s], q, vals[m1][q], vals[m2][q])
+                        cross[i, q_i, j, k] = rel_error(bulk, q, vals[m1][q], vals[m2][q])
     dims3 = ("scene_name", "method_name", "metric")
     ds["convergence_order"] = (dims3, order, {"units": "1", "long_name": "fitted slope of log(error) against "
                                                                        "log(h), h = 2^-level"})

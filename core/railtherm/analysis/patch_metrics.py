@@ -25,30 +25,32 @@ __all__ = ["patch_errors", "patch_columns", "PATCH_DIM"]
 PATCH_DIM = "patch"
 
 
-def _per_patch(scene, name: str, value, reference, patches) -> tuple[list, dict]:
+def _per_patch(bulk, zero: dict, name: str, value, reference, patches) -> tuple[list, dict]:
     """[(patch, error, signed error)] of the scored patches and {patch: why} of those not scored; ``value`` and
-    ``reference`` are DataArrays with the patch dimension."""
+    ``reference`` are DataArrays with the patch dimension; ``bulk`` and ``zero`` as :func:`patch_errors` takes
+    them."""
     scored, skipped = [], {}
     for p in patches:
         v = np.asarray(value.sel({PATCH_DIM: p}).values, float)
         r = np.asarray(reference.sel({PATCH_DIM: p}).values, float)
-        why = unscored(scene, name, r, bulk_of(scene, name, np.shape(r)))
+        why = unscored(name, r, bulk_of(bulk, name, np.shape(r)), zero)
         if why:
             skipped[int(p)] = why
             continue
-        e = rel_error(scene, name, v, r)
-        s = signed_error(scene, name, v, r) if math.isfinite(e) and e != 0 else e
+        e = rel_error(bulk, name, v, r)
+        s = signed_error(bulk, name, v, r) if math.isfinite(e) and e != 0 else e
         scored.append((int(p), e, s))
     return scored, skipped
 
 
-def patch_errors(scene, ds, ref_ds, errs: dict, *, notes: dict | None = None, signed: dict | None = None,
-                 row: dict | None = None, headline: str = "") -> dict:
+def patch_errors(bulk, ds, ref_ds, errs: dict, *, zero: dict | None = None, notes: dict | None = None,
+                 signed: dict | None = None, row: dict | None = None, headline: str = "") -> dict:
     """Re-score the errors of ``errs`` whose quantity has a ``patch`` dimension, patch by patch (module docstring).
 
     Parameters
     ----------
-    scene : Scene
+    bulk : (float, float)
+        The wheel's and the rail's bulk temperatures [degC] (temperatures are scored on their rise).
     ds, ref_ds : xarray.Dataset
         The run and its reference run (None: nothing is re-scored; an analytic reference has no patches).
     errs : dict
@@ -61,6 +63,8 @@ def patch_errors(scene, ds, ref_ds, errs: dict, *, notes: dict | None = None, si
         ``headline_patch`` (the patch of ``headline``'s error, 0 when it has none).
     headline : str
         The scene's headline quantity.
+    zero : dict, optional
+        The scene's metrics that are zero by symmetry, and why (:func:`railtherm.analysis.verdicts.zero_by_symmetry`).
 
     Returns
     -------
@@ -81,7 +85,7 @@ def patch_errors(scene, ds, ref_ds, errs: dict, *, notes: dict | None = None, si
             errs[name] = (math.inf, tag)
             notes[name] = f"the run's patches {mine} are not the reference's {theirs}"
             continue
-        scored, skipped = _per_patch(scene, name, ds[name], ref_ds[name], mine)
+        scored, skipped = _per_patch(bulk, zero or {}, name, ds[name], ref_ds[name], mine)
         for p, why in skipped.items():
             notes[f"{name} patch {p}"] = why
         if row is not None:

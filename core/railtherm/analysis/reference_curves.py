@@ -113,7 +113,7 @@ def _trace(scene) -> tuple[dict, dict, list[str]]:
         "trace_heated_depth": (("body",), np.asarray(tr["heated_depth"], float),
                                {"units": "m", **ref, "long_name": "depth where the peak falls through the threshold"}),
         "trace_threshold": ((), float(fld.threshold), {**_TEMPERATURE, "long_name": "threshold (field.threshold)"}),
-        "trace_cooling_depth": (("body",), cooling_rate_depth(scene, a),
+        "trace_cooling_depth": (("body",), cooling_rate_depth(a, speeds, scene.wheel, scene.rail),
                                 {"units": "m", "long_name": "shallowest depth at which metrics.nc scores the "
                                  "cooling rate (analysis.trace_metrics.cooling_rate_depth)"}),
         "trace_depth": ((), zh, {"units": "m", "long_name": "depth z* of trace_temperature", "body": hot}),

@@ -8,8 +8,6 @@ import math
 
 import numpy as np
 
-from ..physics import body_speeds
-from .analytic import _thermal_case
 from .rises import rel_error
 
 #: metrics of the thermal trace (scenes with ``field``): relative max-norm errors over the depths where
@@ -30,20 +28,23 @@ TRACE_METRICS = TRACE_PROFILES + ("heated_depth", "cooling_rate_all_depths")
 COOLING_TRAVEL = 1.0 / 16.0
 
 
-def cooling_rate_depth(scene, a: float) -> np.ndarray:
+def cooling_rate_depth(a: float, speeds, wheel, rail) -> np.ndarray:
     """Shallowest depth z_c [m] per body (wheel, rail) at which the cooling-rate metric scores a run:
     ``sqrt(4 f kappa a / V)`` with f = :data:`COOLING_TRAVEL` (= ``sqrt(kappa a / (4 V))``), where the
     cooling is spread over f a of travel (0 for a body at rest).
 
     Parameters
     ----------
-    scene : Scene
     a : float
         Semi-axis of the patch along the rolling direction [m].
+    speeds : (float, float)
+        The wheel's and the rail's surface speeds through the patch [m/s]
+        (:func:`railtherm.physics.body_speeds`).
+    wheel, rail : Material
+        The bodies (their diffusivities kappa [m^2/s]).
     """
-    speeds = body_speeds(scene.speed, scene.sliding_speed, scene.tangential)
-    return np.array([math.sqrt(4.0 * COOLING_TRAVEL * scene.body(i).diffusivity * float(a) / abs(float(v)))
-                     if v and a and a > 0 else 0.0 for i, v in enumerate(speeds)])
+    return np.array([math.sqrt(4.0 * COOLING_TRAVEL * mat.diffusivity * float(a) / abs(float(v)))
+                     if v and a and a > 0 else 0.0 for mat, v in zip((wheel, rail), speeds)])
 
 
 def _shallow_nan(values, z, z_c) -> np.ndarray:
@@ -83,21 +84,21 @@ def _within_field(ds, name: str, ref, fields: dict, notes: dict):
     return ref
 
 
-def _semi_axis(scene, ds) -> float:
-    """Semi-axis a [m] of a result's patch: the run's ``semi_axis_a``, else the scene's source."""
+def _semi_axis(ds, case) -> float:
+    """Semi-axis a [m] of a result's patch: the run's ``semi_axis_a``, else that of the scene's closed-form
+    source, ``case()`` (:func:`railtherm.analysis.analytic._thermal_case`; called only then, None without one)."""
     if "semi_axis_a" in ds and np.isfinite(float(ds["semi_axis_a"].values)):
         return float(ds["semi_axis_a"].values)
-    case = _thermal_case(scene)
-    return float(case[0]) if case is not None else math.nan
+    source = case()
+    return float(source[0]) if source is not None else math.nan
 
 
-def trace_errors(scene, ds, fields: dict, values: dict, ref_ds=None, ref_tag: str = "", exact=None,
-                 notes: dict | None = None) -> dict:
+def trace_errors(ds, fields: dict, values: dict, ref_ds=None, ref_tag: str = "", exact=None,
+                 notes: dict | None = None, *, bulk, speeds, wheel, rail, case) -> dict:
     """Errors of the trace metrics of one result: metric -> (error [1], reference tag).
 
     Parameters
     ----------
-    scene : Scene
     ds : xarray.Dataset
         The result.
     fields, values : dict
@@ -112,6 +113,14 @@ def trace_errors(scene, ds, fields: dict, values: dict, ref_ds=None, ref_tag: st
         run's own input (not independent).
     notes : dict, optional
         Filled with metric -> why it fails (``inf``).
+    bulk : (float, float)
+        The wheel's and the rail's bulk temperatures [degC] (the peak temperature is scored on its rise).
+    speeds : (float, float)
+        The bodies' surface speeds through the patch [m/s], and ``wheel``, ``rail`` their materials: the
+        depths the cooling rate is scored at (:func:`cooling_rate_depth`).
+    case : callable
+        ``case()``: the scene's closed-form heat source (:func:`_semi_axis`), asked only when the run has no
+        semi-axis.
     """
     err: dict[str, tuple[float, str]] = {}
     notes = {} if notes is None else notes
@@ -135,10 +144,10 @@ def trace_errors(scene, ds, fields: dict, values: dict, ref_ds=None, ref_tag: st
         if not tag:
             continue
         if name == "cooling_rate":           # the resolvable depths only (COOLING_TRAVEL); all depths beside it
-            err["cooling_rate_all_depths"] = (rel_error(scene, name, value, ref), tag)
-            z_c = cooling_rate_depth(scene, _semi_axis(scene, ds))
+            err["cooling_rate_all_depths"] = (rel_error(bulk, name, value, ref), tag)
+            z_c = cooling_rate_depth(_semi_axis(ds, case), speeds, wheel, rail)
             value, ref = _shallow_nan(value, ds["z"].values, z_c), _shallow_nan(ref, ds["z"].values, z_c)
-        err[name] = (rel_error(scene, name, value, ref), tag)
+        err[name] = (rel_error(bulk, name, value, ref), tag)
         if math.isinf(err[name][0]):
             notes[name] = "not finite at a depth where its reference is"
     return err

@@ -63,39 +63,52 @@ def _symmetric_in_y(contact_shape: str, gap_coefficients) -> bool:
     return contact_shape == "gap" and all(j % 2 == 0 for (_, j) in (gap_coefficients or {}))
 
 
-def zero_by_symmetry(scene, metric: str) -> str:
-    """Why ``metric`` is zero by symmetry on ``scene`` ("" when it is not).
+def zero_by_symmetry(creepage, contact_shape: str, gap_coefficients, wheel, rail, *, wheelset=None,
+                     heat_source=None) -> dict[str, str]:
+    """The metrics that are zero by symmetry on a scene, and why: {metric: reason} (empty when none is).
 
     The creep force Fx vanishes without longitudinal creepage on a contact symmetric in y between
     quasi-identical bodies: mirroring y maps the creepages (ξ, η, φ) to (ξ, −η, −φ) and keeps Fx, and
     reversing every creepage reverses every traction, so Fx(0, η, φ) = Fx(0, −η, −φ) = −Fx(0, η, φ) = 0
     for any friction law that depends on the slip's magnitude or the temperature only.
+
+    Parameters
+    ----------
+    creepage : Creepage or None
+        The scene's creepages (``scene.creepage``; None in full sliding).
+    contact_shape : str
+        "ellipse", "line" or "gap".
+    gap_coefficients : dict or None
+        The gap's coefficients {(i, j): c} of a contact of shape "gap".
+    wheel, rail : Material
+        The bodies (their elastic constants are compared).
+    wheelset : Wheelset or None
+        The scene's wheelset (its equilibrium sets the creepages: no symmetry is assumed).
+    heat_source : GivenHeatSource or None
+        The scene's given heat source (no creep force is computed).
     """
-    if metric != "creep_force_x" or scene is None:
-        return ""
-    c = getattr(scene, "creepage", None)
-    if c is None or scene.wheelset is not None or scene.heat_source is not None or c.longitudinal != 0:
-        return ""
-    if not (_symmetric_in_y(scene.contact_shape, getattr(scene, "gap_coefficients", None))
-            and _identical_elastic(scene.wheel, scene.rail)):
-        return ""
-    return "zero by symmetry (no longitudinal creepage on a contact symmetric in y)"
+    if creepage is None or wheelset is not None or heat_source is not None or creepage.longitudinal != 0:
+        return {}
+    if not (_symmetric_in_y(contact_shape, gap_coefficients) and _identical_elastic(wheel, rail)):
+        return {}
+    return {"creep_force_x": "zero by symmetry (no longitudinal creepage on a contact symmetric in y)"}
 
 
-def unscored(scene, metric: str, reference, bulk=0.0) -> str:
+def unscored(metric: str, reference, bulk=0.0, zero: dict | None = None) -> str:
     """Why ``metric`` is not scored against ``reference`` ("" when it is): zero by symmetry, a reference
     that is zero, or one below its :data:`NOISE_FLOOR`.
 
     Parameters
     ----------
-    scene : Scene or None
     metric : str
     reference : array_like
         The reference values [units of the quantity].
     bulk : float or array_like
         Bulk temperature subtracted from a temperature [degC] (0 for other quantities).
+    zero : dict, optional
+        The scene's metrics that are zero by symmetry, and why (:func:`zero_by_symmetry`).
     """
-    why = zero_by_symmetry(scene, metric)
+    why = (zero or {}).get(metric, "")
     if why:
         return why
     r = np.asarray(reference, float) - np.asarray(bulk, float)

@@ -42,6 +42,7 @@ from ..input.scene import Scene
 from ..input.study import Study, load_study
 from ..output import store, zarr_store
 from ..output.store import RunRecord
+from ..physics import body_speeds
 from ..report import write_report
 from ..solving.plugins import get_host
 from .analysis_phase import analyse
@@ -158,7 +159,8 @@ def _diagnostics(attrs: Mapping[str, Any]) -> dict:
 
 def _summarise(rec: RunRecord, scene: Scene, ds) -> None:
     """Fill the record's energy balance, scalar values and diagnostics from the result ``ds``."""
-    rec.energy_balance, rec.energy_reference = energy_balance(scene, ds)
+    rec.energy_balance, rec.energy_reference = energy_balance(
+        ds, body_speeds(scene.speed, scene.sliding_speed, scene.tangential), scene.wheel, scene.rail)
     rec.values, rec.diagnostics, rec.summary = _values(ds), _diagnostics(ds.attrs), True
 
 
