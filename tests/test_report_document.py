@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import html as htmllib
 import re
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -203,6 +204,30 @@ def test_data_files_commit_and_versions_at_the_end(report):
 
 
 # -- the pieces ---------------------------------------------------------------------------------------
+def test_figures_drawn_in_worker_processes_equal_those_drawn_here(report, tmp_path):
+    """``write_report(..., workers=2)`` as run_study and the CLI draw (the study's fork-server context): the
+    same PNG files byte for byte and the same HTML as the report drawn in this process, every file present
+    when the report returns. Drawn again into a copy of the study's output without its report."""
+    import railtherm
+    from railtherm.report import write_report
+    from railtherm.run.executors import worker_context
+    out, one, _, _ = report
+    parallel = tmp_path / "parallel"
+    shutil.copytree(out, parallel)
+    for p in one:
+        (parallel / p.relative_to(out)).unlink()
+    two = write_report(parallel, railtherm.load_study(out.parent / "study.toml"), workers=2, context=worker_context())
+    figs = sorted(p.name for p in one if p.suffix == ".png")
+    assert figs and figs == sorted(p.name for p in two if p.suffix == ".png")
+    for name in figs:
+        assert (out / "figures" / name).read_bytes() == (parallel / "figures" / name).read_bytes(), name
+
+    def page(folder):
+        text = (folder / "report.html").read_text().replace(str(folder), "OUT")
+        return [line for line in text.splitlines() if "Report generated in" not in line]
+    assert page(out) == page(parallel)
+
+
 def test_number_and_unit_formats():
     from railtherm.report.format import num, pct, quantity, ratio, short
     assert quantity(8.051e8, "Pa") == "805 MPa" and quantity(5.8789e-3, "m") == "5.88 mm"

@@ -1,35 +1,9 @@
-"""Figures drawn in worker processes (``write_report(..., workers=2)``): the same PNG files byte for byte
-and the same HTML as drawn in this process, and every file present when the report returns."""
+"""The render pool of the report's figures: a worker that dies costs no figure.
+
+That figures drawn in worker processes are the same as drawn here is checked on the report of
+``test_report_document`` (:func:`test_report_document.test_figures_drawn_in_worker_processes_equal_those_drawn_here`),
+whose study is run once for all its tests."""
 from __future__ import annotations
-
-import shutil
-
-import railtherm
-from railtherm.report import write_report
-from railtherm.run.executors import worker_context
-
-from test_report_document import STUDY
-
-
-def test_figures_drawn_in_worker_processes_equal_those_drawn_here(tmp_path):
-    path = tmp_path / "study.toml"
-    path.write_text(STUDY)
-    study = railtherm.load_study(path)
-    serial = tmp_path / "serial"
-    railtherm.run_study(study, out=serial, report=False)
-    parallel = tmp_path / "parallel"
-    shutil.copytree(serial, parallel)
-    one = write_report(serial, study, workers=1)
-    two = write_report(parallel, study, workers=2, context=worker_context())   # as run_study and the CLI draw
-    figs = sorted(p.name for p in one if p.suffix == ".png")
-    assert figs and figs == sorted(p.name for p in two if p.suffix == ".png")
-    for name in figs:
-        assert (serial / "figures" / name).read_bytes() == (parallel / "figures" / name).read_bytes(), name
-
-    def page(folder):
-        text = (folder / "report.html").read_text().replace(str(folder), "OUT")
-        return [line for line in text.splitlines() if "Report generated in" not in line]
-    assert page(serial) == page(parallel)
 
 
 def test_a_render_worker_that_dies_costs_no_figure(tmp_path):
