@@ -75,6 +75,15 @@ def _field_depth(fld, default: float) -> float:
     return float(depth) if depth else default
 
 
+def _heated_at_rest(case) -> list[bool]:
+    """Per body (wheel, rail) of the thermal case (:func:`railtherm.analysis.analytic._thermal_case`): heated
+    while its surface is at rest under the contact (a locked wheel: V + v_s = 0). Such a body has no steady
+    moving field (a source at rest heated since t = -inf raises a band without bound), so it has none of the
+    steady curves; any() of it is True when a scene has such a body."""
+    a, b, shape, q, speeds, eps = case
+    return [bool(q != 0 and share != 0 and not speeds[i] > 0) for i, share in enumerate((eps, 1.0 - eps))]
+
+
 def _trace(scene) -> tuple[dict, dict, list[str]]:
     """The exact thermal trace of a scene with ``field`` (see :func:`reference_curves`)."""
     fld = getattr(scene, "field", None)
@@ -82,6 +91,10 @@ def _trace(scene) -> tuple[dict, dict, list[str]]:
     if case is None:
         return {}, {}, []
     a, b, shape, q, speeds, eps = case
+    if any(_heated_at_rest(case)):
+        # the trace is the steady moving field's, which a body at rest under its heat (a locked wheel's spot)
+        # does not have; its history's exact reference is scored in metrics.nc (references.transient_spot)
+        return {}, {}, []
     kappa = max(scene.body(i).diffusivity for i in (0, 1))
     depth = _field_depth(fld, 4.0 * min(a, math.sqrt(2.0 * kappa * a / max(min(speeds), 1e-12))))
     zt = depth * np.linspace(0.0, 1.0, TRACE_POINTS) ** 2
@@ -150,12 +163,18 @@ def _thermal(scene) -> tuple[dict, dict, list[str]]:
     surface, hottest, depth = [], [], []
     # thermal layer: sqrt(2 kappa a / v) at high Peclet, ~a at low; the depth profile reaches 4x that
     kappa = max(scene.body(i).diffusivity for i in (0, 1))
-    vmin = max(min(speeds), 1e-12)
+    at_rest = _heated_at_rest(case)
+    vmin = max(min((v for v, rest in zip(speeds, at_rest) if not rest), default=0.0), 1e-12)
     layer = min(a, math.sqrt(2.0 * kappa * a / vmin))
     z = _field_depth(scene.field, 4.0 * layer) * np.linspace(0.0, 1.0, DEPTH_POINTS) ** 2
     for body in (0, 1):
         mat = scene.body(body)
         share = eps if body == 0 else 1.0 - eps
+        if at_rest[body]:      # no steady field (see _heated_at_rest): NaN curves, the moving body's drawn
+            surface.append(np.full_like(x, np.nan))
+            hottest.append(math.nan)
+            depth.append(np.full_like(z, np.nan))
+            continue
         rise = np.asarray(_surface_rise(mat, case, x, None if line else np.zeros_like(x), body), float)
         surface.append(mat.bulk_temperature + rise)
         x0 = float(x[int(np.argmax(rise))]) if np.any(rise > 0) else 0.0
