@@ -269,7 +269,7 @@ class FipyTemperature(TemperatureModel):
 
         def make_block(v, m, convection, duration, z):
             return fipy_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat, convection, level,
-                              duration, z)
+                              duration, z, scene.transient.schedule_time, scene.transient.schedule_factor)
         hist, diag = histories_at_section(
             scene.transient, scene.convection, grid.x_edges, grid.y_edges,
             [q if np.any(q != 0) else None for q in fluxes], tuple(float(v) for v in source.body_speed),
