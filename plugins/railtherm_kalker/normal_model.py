@@ -21,6 +21,7 @@ from railtherm import Capabilities, ContactPatch, NormalContactModel, Option, Re
 from railtherm.physics import contact_modulus
 from railtherm.references.hertz import hertz_from_curvatures, hertz_pressure
 
+from ._precompile import compile_kernels
 from .influence import element_size, normal_operator
 from .normal_solver import NORMAL_TOLERANCE, solve_normal
 from .potential_area import SampledGap, check_border, potential_area, rolling_refinement, scene_gap
@@ -219,6 +220,7 @@ class KalkerNormal(NormalContactModel):
         return None
 
     def compute_patch(self, scene, level, options):
+        compile_kernels()           # all of the plugin's kernels in the process's first solve (the runner's warm-up)
         cells = int(options.get("cells") or DEFAULT_CELLS)
         area, gap, sol = solve_scene_normal(scene, level, cells, float(options.get("normal_tolerance", NORMAL_TOLERANCE)),
                                             options.get("rolling_refinement", "auto"))

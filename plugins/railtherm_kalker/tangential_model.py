@@ -25,6 +25,7 @@ from railtherm.physics.friction import LAW_KINDS
 from scipy.fft import next_fast_len
 
 from .friction_laws import solve_with_law
+from ._precompile import compile_kernels
 from ._quadrant import (ROLLING_EXTRA, _quadrant_differences_cached, mirror_quadrant, place_rolling,
                         tangential_quadrants)
 from .influence import Convolution, element_size, line_kernel, normal_operator, rolling_kernel, tangential_kernels
@@ -258,6 +259,7 @@ class KalkerTangential(TangentialContactModel):
                                      "(docs/kalker.md)", minimum=0.0)}
 
     def compute_tangential(self, scene, patch, level, options):
+        compile_kernels()           # all of the plugin's kernels in the process's first solve (the runner's warm-up)
         xi, eta, phi = patch_creepages(scene, patch)
         if patch.b is None and (eta != 0.0 or phi != 0.0):
             raise Refused(f"model 'kalker': a line contact has only longitudinal creepage (lateral = {eta:g}, "
