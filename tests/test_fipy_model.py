@@ -32,6 +32,11 @@ def _scene(v, shape="ellipse", wheel=STEEL, rail=STEEL, convection=0.0, **kw):
     return SimpleNamespace(**ns)
 
 
+def _parts(scene):
+    """The parts of ``scene`` that FipyTemperature.choose_dimension reads: the materials and the field's depth."""
+    return (scene.wheel, scene.rail), None if scene.field is None else scene.field.depth
+
+
 def _uniform_source(a, b, level, v, eps=0.5, speeds=None, cells=8, q=1e8):
     g = surface_grid(a, b, level, cells)
     qd = np.where(g.inside(), q, 0.0)
@@ -49,18 +54,18 @@ def test_line_contact_is_2d_and_refuses_3d():
     src = _uniform_source(1e-3, None, 0, v)
     m = FipyTemperature()
     opts = m.resolve_options({})
-    assert m.choose_dimension(_scene(v, "line"), src, 0, opts) == (2, "line")
+    assert m.choose_dimension(*_parts(_scene(v, "line")), src, 0, opts) == (2, "line")
     with pytest.raises(Refused, match="dimension 3 needs an elliptical patch"):
-        m.choose_dimension(_scene(v, "line"), src, 0, m.resolve_options({"dimension": 3}))
+        m.choose_dimension(*_parts(_scene(v, "line")), src, 0, m.resolve_options({"dimension": 3}))
 
 
 def test_auto_uses_strips_at_high_peclet_and_3d_at_low():
     a = 1e-3
     m = FipyTemperature()
     v_hi = _pe_speed(1e4, a)
-    assert m.choose_dimension(_scene(v_hi), _uniform_source(a, a, 0, v_hi), 0, m.resolve_options({}))[1] == "strips"
+    assert m.choose_dimension(*_parts(_scene(v_hi)), _uniform_source(a, a, 0, v_hi), 0, m.resolve_options({}))[1] == "strips"
     v_lo = _pe_speed(10.0, a)
-    assert m.choose_dimension(_scene(v_lo), _uniform_source(a, a, 0, v_lo), 0, m.resolve_options({}))[1] == "3-D"
+    assert m.choose_dimension(*_parts(_scene(v_lo)), _uniform_source(a, a, 0, v_lo), 0, m.resolve_options({}))[1] == "3-D"
 
 
 def test_strips_refused_at_low_peclet_with_reason():
@@ -68,7 +73,7 @@ def test_strips_refused_at_low_peclet_with_reason():
     v = _pe_speed(10.0, a)
     m = FipyTemperature()
     with pytest.raises(Refused, match=r"delta/b = .* > max_strip_delta = 0.02 \(Peclet number 10"):
-        m.choose_dimension(_scene(v), _uniform_source(a, a, 0, v), 0, m.resolve_options({"dimension": 2}))
+        m.choose_dimension(*_parts(_scene(v)), _uniform_source(a, a, 0, v), 0, m.resolve_options({"dimension": 2}))
 
 
 def test_refused_when_strips_invalid_and_3d_too_large():
@@ -268,6 +273,6 @@ def test_low_peclet_3d_budget():
     src = _uniform_source(a, a, 1, v)
     m = FipyTemperature()
     with pytest.raises(Refused, match="max_cells_low_peclet = 100000 at Peclet number 0.1"):
-        m.choose_dimension(_scene(v), src, 1, m.resolve_options({"dimension": 3}))
-    assert m.choose_dimension(_scene(v), src, 1, m.resolve_options({"dimension": 3, "max_cells_low_peclet": 200_000})
+        m.choose_dimension(*_parts(_scene(v)), src, 1, m.resolve_options({"dimension": 3}))
+    assert m.choose_dimension(*_parts(_scene(v)), src, 1, m.resolve_options({"dimension": 3, "max_cells_low_peclet": 200_000})
                               ) == (3, "3-D")

@@ -35,11 +35,12 @@ def _source(a=5e-3, b=5e-3, q=1e7, eps=0.5, v=30.0):
 
 
 def _scene(radius, numerics, convection=0.0):
-    return SimpleNamespace(wheel=STEEL, rail=STEEL, convection=convection, wheel_radius=radius, numerics=numerics)
+    """The keywords of wheel_heating for a steel wheel of ``radius`` [m] on steel."""
+    return dict(bodies=(STEEL, STEEL), convection=convection, wheel_radius=radius, numerics=numerics)
 
 
 def _half_space_error(level):
-    h = wheel_heating(_scene(20.0, {"time_step": 0.5, "duration": 20.0}), _source(), level, {})
+    h = wheel_heating(**_scene(20.0, {"time_step": 0.5, "duration": 20.0}), source=_source(), level=level, options={})
     q, H = h["power"] / h["area"], h["g_cond"] / h["area"]
     b = H * math.sqrt(STEEL.diffusivity * h["t"][-1]) / STEEL.conductivity
     exact = q / H * (1.0 - erfcx(b))
@@ -57,9 +58,9 @@ def test_early_heating_matches_half_space_solution():
 def test_late_state_is_the_lumped_steady_state():
     """A small wheel (R = 5 cm: R^2/kappa = 180 s) run for 30 time constants reaches eps P / G."""
     src = _source()
-    h = wheel_heating(_scene(0.05, {}, convection=50.0), src, 0, {})
+    h = wheel_heating(**_scene(0.05, {}, convection=50.0), source=src, level=0, options={})
     tau = h["tau"]
-    h = wheel_heating(_scene(0.05, {"duration": 30 * tau}, convection=50.0), src, 0, {})
+    h = wheel_heating(**_scene(0.05, {"duration": 30 * tau}, convection=50.0), source=src, level=0, options={})
     eps_c = equal_temperature_partition(STEEL, STEEL, 30.0, 30.0)
     g = conduction_conductance(STEEL.effusivity, 30.0, eps_c, 5e-3, 5e-3) + 50.0 * h["convective_area"]
     assert h["t_inf"] == pytest.approx(h["power"] / g, rel=1e-12)

@@ -68,6 +68,10 @@ def estimate_seconds_3d(cells: int, peclet: float, bodies: int) -> float:
 
 #: result variables this model fills
 PROVIDES = frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature", "temperature"})
+#: why fipy refuses the histories of an elliptical patch
+LINE_HISTORIES_ONLY = ("model 'fipy' computes the pass histories of a line contact (a 2-D FiPy section around the "
+                       "fixed section); an elliptical patch's histories would need its 3-D section: use method 'green' "
+                       "or 'fastsim-fdm'")
 #: the thermal trace (scenes with ``field``: :func:`railtherm.physics.with_thermal_trace` of the depth field)
 TRACE = frozenset(TRACE_OUTPUTS)
 
@@ -138,11 +142,13 @@ class FipyTemperature(TemperatureModel):
 
     # ------------------------------------------------------------------ helpers
     @staticmethod
-    def choose_dimension(scene, source, level, options, grid=None) -> tuple[int, str]:
-        """Return (2 or 3, how) for this scene and source; raise :class:`railtherm.Refused` when neither works.
+    def choose_dimension(bodies, field_depth, source, level, options, grid=None) -> tuple[int, str]:
+        """Return (2 or 3, how) for the materials ``bodies`` (wheel, rail) and the source; raise
+        :class:`railtherm.Refused` when neither works.
 
-        ``how`` is "line", "strips" or "3-D". ``grid``: the grid reported on (default ``source.grid``; the
-        extended grid of the scene's ``field``, whose 3-D mesh is counted against the budgets).
+        ``how`` is "line", "strips" or "3-D". ``field_depth``: the scene's ``field.depth`` [m] or None (the mesh
+        reaches it). ``grid``: the grid reported on (default ``source.grid``; the extended grid of the scene's
+        ``field``, whose 3-D mesh is counted against the budgets).
         """
         grid = source.grid if grid is None else grid
         dim = options["dimension"]
@@ -151,9 +157,9 @@ class FipyTemperature(TemperatureModel):
                 raise Refused("model 'fipy': dimension 3 needs an elliptical patch; a line contact is solved in 2-D "
                               "(x-z): use dimension 'auto' or 2")
             return 2, "line"
-        strip_why = FipyTemperature.strip_limit(scene, source, options)
-        cells = FipyTemperature.cells_3d(scene, source, level, options, grid)
-        pe = min(thermal_scales(grid.a, source.body_speed[i], scene.body(i).diffusivity).peclet for i in (0, 1))
+        strip_why = FipyTemperature.strip_limit(bodies, source, options)
+        cells = FipyTemperature.cells_3d(bodies, field_depth, source, level, options, grid)
+        pe = min(thermal_scales(grid.a, source.body_speed[i], bodies[i].diffusivity).peclet for i in (0, 1))
         size_why = None
         bodies = sum(bool(np.any(np.asarray(source.flux(i)) != 0)) for i in (0, 1))
         seconds = estimate_seconds_3d(cells, pe, bodies)
@@ -186,31 +192,33 @@ class FipyTemperature(TemperatureModel):
         raise Refused(f"model 'fipy': {strip_why}, and {size_why}", kind="budget")
 
     @staticmethod
-    def strip_limit(scene, source, options) -> str | None:
-        """Reason why strip-wise 2-D solves of an ellipse are not valid, or None."""
+    def strip_limit(bodies, source, options) -> str | None:
+        """Reason why strip-wise 2-D solves of an ellipse of the materials ``bodies`` (wheel, rail) are not valid,
+        or None."""
         grid = source.grid
         worst = 0.0
         for i in (0, 1):
             v = source.body_speed[i]
-            sc = thermal_scales(grid.a, v, scene.body(i).diffusivity)
+            sc = thermal_scales(grid.a, v, bodies[i].diffusivity)
             worst = max(worst, sc.thermal_depth / grid.b)
         lim = options["max_strip_delta"]
         if worst > lim:
-            pe = min(thermal_scales(grid.a, source.body_speed[i], scene.body(i).diffusivity).peclet for i in (0, 1))
+            pe = min(thermal_scales(grid.a, source.body_speed[i], bodies[i].diffusivity).peclet for i in (0, 1))
             return (f"strip-wise 2-D solves neglect lateral conduction, valid only for a thin thermal layer: "
                     f"delta/b = a/(b sqrt(Pe)) = {worst:.3g} > max_strip_delta = {lim:g} (Peclet number {pe:.3g})")
         return None
 
     @staticmethod
-    def cells_3d(scene, source, level, options, grid=None) -> int:
-        """Cells per body of the 3-D mesh (the larger of wheel and rail) on ``grid`` (default ``source.grid``)."""
+    def cells_3d(bodies, field_depth, source, level, options, grid=None) -> int:
+        """Cells per body of the 3-D mesh (the larger of wheel and rail, materials ``bodies``) on ``grid`` (default
+        ``source.grid``) reaching ``field_depth`` [m] (None: the mesh's own depth)."""
         grid = source.grid if grid is None else grid
         n = 0
         for i in (0, 1):
-            m = moving_frame_mesh(grid.x_edges, grid.a, source.body_speed[i], scene.body(i).diffusivity, level,
+            m = moving_frame_mesh(grid.x_edges, grid.a, source.body_speed[i], bodies[i].diffusivity, level,
                                   y_patch_edges=grid.y_edges, b=grid.b, refine=options["refine"],
                                   layer_cells=options["layer_cells"], ratio=options["growth"],
-                                  half=FipyTemperature._half(source), min_depth=_field_depth(scene))
+                                  half=FipyTemperature._half(source), min_depth=field_depth)
             n = max(n, m.cells)
         return n
 
@@ -230,59 +238,65 @@ class FipyTemperature(TemperatureModel):
         if why or not asks_history(scene):
             return why
         if getattr(scene, "contact_shape", None) != "line":
-            return ("model 'fipy' computes the pass histories of a line contact (a 2-D FiPy section around the fixed "
-                    "section); an elliptical patch's histories would need its 3-D section: use method 'green' or "
-                    "'fastsim-fdm'")
+            return LINE_HISTORIES_ONLY
         return superposition_limits(scene.friction, scene.heat_source, scene.wheel, scene.rail, scene.outputs, "fipy")
 
     def compute_temperature(self, scene, source, level, options):
         """Surface (and depth at y = 0) temperatures of wheel and rail [degC], absolute; in a transient scene
         with passes, the pass histories (:meth:`_histories`)."""
         opts = {**options, "refine": int(options["refine"])}   # resolved by core (pipeline)
+        bodies = (scene.wheel, scene.rail)
+        fld = getattr(scene, "field", None)
+        depth = _field_depth(fld)
+        radius = float(getattr(scene, "wheel_radius", None) or scene.wheel.radius)
         if asks_history(scene):
-            return self._histories(scene, source, level, opts)
-        grid = field_grid(source.grid, scene.field)            # the patch grid, or its extension (field)
-        flash = self._steady(scene, source, level, opts, grid)
+            outputs = tuple(getattr(scene, "outputs", ()) or ())
+            return self._histories(scene.transient, bodies, scene.convection, outputs, depth, radius, source, level,
+                                   opts)
+        grid = field_grid(source.grid, fld)                     # the patch grid, or its extension (field)
+        flash = self._steady(bodies, depth, scene.convection, source, level, opts, grid)
         if getattr(scene, "mode", "steady") != "transient":
-            result = self._lumped_steady(scene, source, flash, grid)
+            result = self._lumped_steady(bodies, scene.convection, radius, source, flash, grid)
         else:
-            result = self._transient(scene, source, level, opts, flash, grid)
-        if getattr(scene, "field", None) is None:
+            heating = dict(convection=scene.convection, wheel_radius=radius,
+                           numerics=getattr(scene, "numerics", {}), name=getattr(scene, "name", "?"))
+            result = self._transient(bodies, heating, source, level, opts, flash, grid)
+        if fld is None:
             return result
-        return with_thermal_trace(result, scene.field, source)
+        return with_thermal_trace(result, fld, source)
 
-    def _histories(self, scene, source, level, opts):
-        """The pass histories of both bodies on the FiPy section (:mod:`railtherm_fipy.history`, stepped by
+    def _histories(self, transient, bodies, convection, outputs, field_depth, radius, source, level, opts):
+        """The pass histories of both bodies (materials ``bodies``) on the FiPy section under the scene's
+        ``transient`` passes and schedule (:mod:`railtherm_fipy.history`, stepped by
         :func:`railtherm.solving.section_stepping.histories_at_section`), with the steady one-pass fields of the
-        moving frame when the scene asks them."""
+        moving frame when ``outputs`` (empty: the defaults) ask them; ``convection`` [W/(m^2 K)], ``field_depth``
+        [m] or None, wheel ``radius`` [m]."""
         grid = source.grid
         if not grid.line:
-            raise Refused(self.supports(scene, level) or "model 'fipy': pass histories of line contacts only",
-                          kind="validity")
+            raise Refused(LINE_HISTORIES_ONLY, kind="validity")
         fluxes = [np.asarray(source.flux(i), dtype=float).reshape(-1) for i in range(2)]
         for i, q in enumerate(fluxes):
             if np.any(q != 0) and not float(source.body_speed[i]) > 0.0:
                 raise Refused(f"model 'fipy' ({('wheel', 'rail')[i]}): its surface moves at "
                               f"{float(source.body_speed[i]):g} m/s relative to the contact; the section's passes "
                               "need a body moving through it")
-        bulk = (float(scene.wheel.bulk_temperature), float(scene.rail.bulk_temperature))
+        bulk = (float(bodies[0].bulk_temperature), float(bodies[1].bulk_temperature))
 
         def make_block(v, m, convection, duration, z):
             return fipy_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat, convection, level,
-                              duration, z, scene.transient.schedule_time, scene.transient.schedule_factor)
+                              duration, z, transient.schedule_time, transient.schedule_factor)
         hist, diag = histories_at_section(
-            scene.transient, scene.convection, grid.x_edges, grid.y_edges,
+            transient, convection, grid.x_edges, grid.y_edges,
             [q if np.any(q != 0) else None for q in fluxes], tuple(float(v) for v in source.body_speed),
-            (scene.wheel, scene.rail), bulk, int(level), "implicit", make_block,
+            tuple(bodies), bulk, int(level), "implicit", make_block,
             "FiPy cell-centred finite volumes of the fixed section (x-z), Crank-Nicolson steps (FiPy has no explicit "
             "stepping)", "conduction along the rail beyond the section's ends; the wheel's curvature")
         diag.update({"converged": True, "iterations": 0, "residual": 0.0, "dimension": 2,
                      "scheme": "transient FiPy section (Crank-Nicolson)"})
         one_pass = ("surface_temperature", "max_surface_temperature", "mean_contact_temperature")
-        outputs = tuple(getattr(scene, "outputs", ()) or ())
         if not outputs or any(o in outputs for o in one_pass):
-            flash = self._steady(scene, source, level, opts, grid)
-            result = self._lumped_steady(scene, source, flash, grid)
+            flash = self._steady(bodies, field_depth, convection, source, level, opts, grid)
+            result = self._lumped_steady(bodies, convection, radius, source, flash, grid)
             # the one-pass depth field lies on another depth axis than the histories: not returned
             result = replace(result, z=None, temperature=None,
                              diagnostics={**dict(result.diagnostics or {}), **diag})
@@ -291,8 +305,9 @@ class FipyTemperature(TemperatureModel):
         return with_history(result, hist)
 
     @staticmethod
-    def _lumped_steady(scene, source, flash, grid=None):
-        """Steady mode: the long-term values of Ertz & Knothe's lumped wheel (no time integration).
+    def _lumped_steady(bodies, convection, radius, source, flash, grid=None):
+        """Steady mode: the long-term values of Ertz & Knothe's lumped wheel (no time integration) of the materials
+        ``bodies`` (wheel, rail), surface ``convection`` [W/(m^2 K)] and wheel ``radius`` [m].
 
         ``T_inf = eps P / (G_cond + alpha A)`` and ``T_mean_inf = T_mean + eps_c T_inf`` (seed eqs.
         50-54), with core's :func:`railtherm.physics.lumped_wheel` and its documented convective area
@@ -302,23 +317,25 @@ class FipyTemperature(TemperatureModel):
         grid = patch if grid is None else grid
         v_w, v_r = (float(v) for v in source.body_speed)
         power = float(patch.integrate(np.asarray(source.flux(0), dtype=float) * np.ones(patch.shape)))
-        R = getattr(scene, "wheel_radius", None) or scene.wheel.radius
-        st = lumped_wheel(power, 0.0, wheel=scene.wheel, rail=scene.rail, speed_wheel=v_w, speed_rail=v_r,
-                          a=grid.a, b=None if grid.line else grid.b, radius=float(R),
-                          heat_transfer=float(scene.convection or 0.0))
-        return flash.field(grid, steady_wheel_temperature=scene.wheel.bulk_temperature + st.wheel_rise,
+        wheel, rail = bodies
+        st = lumped_wheel(power, 0.0, wheel=wheel, rail=rail, speed_wheel=v_w, speed_rail=v_r,
+                          a=grid.a, b=None if grid.line else grid.b, radius=float(radius),
+                          heat_transfer=float(convection or 0.0))
+        return flash.field(grid, steady_wheel_temperature=wheel.bulk_temperature + st.wheel_rise,
                            steady_mean_contact_temperature=flash.mean_wheel(grid)
                            + st.contact_fraction * st.wheel_rise)
 
-    def _transient(self, scene, source, level, opts, flash, grid=None):
-        """Wheel heating over many revolutions on top of the cold-wheel flash field (seed eq. 54).
+    def _transient(self, bodies, heating, source, level, opts, flash, grid=None):
+        """Wheel heating over many revolutions on top of the cold-wheel flash field (seed eq. 54): the materials
+        ``bodies`` (wheel, rail), ``heating`` the keywords of :func:`railtherm_fipy.transient.wheel_heating`
+        (``convection``, ``wheel_radius``, ``numerics``, ``name``).
 
         Superposition (seed eqs. 41, 44, 54): with the tread rise T_s at the end of the simulated time,
         in the patch both surfaces rise by eps_c T_s; outside it the wheel is at T_s, and the wheel's
         depth profile rises by T_s. The radial history itself is summarised in the ``transient_*``
         diagnostics.
         """
-        h = wheel_heating(scene, source, level, opts)
+        h = wheel_heating(bodies, source=source, level=level, options=opts, **heating)
         ts = float(h["tread"][-1])                      # tread rise at the end of the simulated time
         eps_c = h["eps_c"]
         grid = source.grid if grid is None else grid
@@ -327,21 +344,22 @@ class FipyTemperature(TemperatureModel):
         diag.update({"transient_" + k: v for k, v in h.items() if np.isscalar(v)})
         diag["transient_tread_fraction_of_steady"] = ts / h["t_inf"] if h["t_inf"] > 0 else 1.0
         diag["transient_mean_fraction_of_steady"] = float(h["mean"][-1]) / h["t_inf"] if h["t_inf"] > 0 else 1.0
-        bulk_w = scene.wheel.bulk_temperature
+        bulk_w = bodies[0].bulk_temperature
         warm = flash.warmed(np.where(inside, eps_c * ts, ts), np.where(inside, eps_c * ts, 0.0), ts)
         return warm.field(grid, steady_wheel_temperature=bulk_w + ts,
                           steady_mean_contact_temperature=bulk_w + (flash.mean_wheel(grid) - bulk_w) + eps_c * ts,
                           diagnostics=diag)
 
-    def _steady(self, scene, source, level, opts, grid=None) -> "_Flash":
-        """Steady moving-frame flash temperature rises of both bodies on ``grid`` (default ``source.grid``;
-        the extended grid of the scene's ``field``: zero flux and convection behind the patch, the mesh's
-        uniform cells running through the trail and its depth reaching ``field.depth``)."""
+    def _steady(self, bodies, field_depth, convection, source, level, opts, grid=None) -> "_Flash":
+        """Steady moving-frame flash temperature rises of both bodies (materials ``bodies``, surface ``convection``
+        [W/(m^2 K)]) on ``grid`` (default ``source.grid``; the extended grid of the scene's ``field``: zero flux and
+        convection behind the patch, the mesh's uniform cells running through the trail and its depth reaching
+        ``field_depth`` [m])."""
         patch = source.grid
         grid = patch if grid is None else grid
         extended = grid is not patch
-        dim, how = self.choose_dimension(scene, source, level, opts, grid)
-        min_depth = _field_depth(scene)
+        dim, how = self.choose_dimension(bodies, field_depth, source, level, opts, grid)
+        min_depth = field_depth
         t0 = time.perf_counter()
         surface, body_diag = [None, None], [None, None]      # rises of the heated bodies and their diagnostics
         depth_T, depth_z = [], []
@@ -352,7 +370,7 @@ class FipyTemperature(TemperatureModel):
         tally = _Tally()
         contact = grid.inside()
         for i in (0, 1):
-            mat = scene.body(i)
+            mat = bodies[i]
             v = float(source.body_speed[i])
             q = np.asarray(source.flux(i), dtype=float) * np.ones(patch.shape)
             if extended:
@@ -376,11 +394,11 @@ class FipyTemperature(TemperatureModel):
             solver = MovingFrameSolver(mesh, v, mat, scheme=opts["scheme"])
             rows = _PatchRows.of(grid, mesh, solver, extended, opts["refine"])
             if dim == 2 and grid.line:
-                surface[i], T, z = _solve_line(solver, rows, grid, q, contact, scene.convection, tally)
+                surface[i], T, z = _solve_line(solver, rows, grid, q, contact, convection, tally)
             elif dim == 2:
-                surface[i], T, z = _solve_strip_rows(solver, rows, grid, q, contact, scene.convection, tally, bd)
+                surface[i], T, z = _solve_strip_rows(solver, rows, grid, q, contact, convection, tally, bd)
             else:
-                surface[i], T, z = _solve_3d(solver, mesh, rows, grid, q, contact, scene.convection, tally)
+                surface[i], T, z = _solve_3d(solver, mesh, rows, grid, q, contact, convection, tally)
             depth_T.append(T)
             depth_z.append(z)
             bd.update(first_cell=float(mesh.z_edges[1]), depth=float(mesh.z_edges[-1]), cells=int(mesh.cells))
@@ -390,7 +408,7 @@ class FipyTemperature(TemperatureModel):
                 depth_z[i], depth_T[i] = _to_depth(depth_z[i], depth_T[i], min_depth)
         diag.update(tally.diagnostics(), solve_time=time.perf_counter() - t0)
         diag["solver_suite"] = solver_suite()
-        bulk = (scene.wheel.bulk_temperature, scene.rail.bulk_temperature)
+        bulk = (bodies[0].bulk_temperature, bodies[1].bulk_temperature)
         return _Flash(bulk, tuple(surface), tuple(depth_T), tuple(depth_z), tuple(body_diag), diag)
 
 
@@ -527,9 +545,9 @@ def _solve_3d(solver, mesh, rows, grid, q, contact, convection, tally):
     return surface, np.array([rows.to_grid(Tc[:, k]) for k in range(res["z"].size)]).T, res["z"]
 
 
-def _field_depth(scene) -> float | None:
-    """The scene's ``field.depth`` [m], or None (no field, or the model's own depth)."""
-    fld = getattr(scene, "field", None)
+def _field_depth(fld) -> float | None:
+    """The depth [m] of the scene's ``field`` (a :class:`railtherm.input.scene.Field` or None), or None (no field,
+    or the model's own depth)."""
     depth = None if fld is None else getattr(fld, "depth", None)
     return None if depth is None else float(depth)
 

@@ -54,14 +54,20 @@ def time_steps(duration: float, tau: float, level: int, fixed: float | None = No
     return dts
 
 
-def wheel_heating(scene, source, level: int, options: dict, flash=None) -> dict:
+def wheel_heating(bodies, convection: float | None, wheel_radius: float | None, numerics, source, level: int,
+                  options: dict, flash=None, name: str = "?") -> dict:
     """Integrate the wheel's warm-up with FiPy (see the module docstring).
 
     Parameters
     ----------
-    scene : Scene-like
-        ``wheel``, ``rail`` (Material), ``convection`` [W/(m^2 K)], ``wheel_radius`` [m],
-        ``numerics`` (``time_step`` [s], ``duration`` [s], ``revolutions`` [1]).
+    bodies : (Material, Material)
+        Wheel and rail.
+    convection : float or None
+        Heat transfer coefficient of the tread [W/(m^2 K)] (None: 0).
+    wheel_radius : float or None
+        Rolling radius [m] (None: the wheel's ``radius``).
+    numerics : mapping or None
+        The scene's ``numerics``: ``time_step`` [s], ``duration`` [s], ``revolutions`` [1].
     source : railtherm.HeatSource
         Heat source (grid, power density, partition, body speeds).
     level : int
@@ -70,6 +76,8 @@ def wheel_heating(scene, source, level: int, options: dict, flash=None) -> dict:
         Model options (unused keys ignored).
     flash : TemperatureField, optional
         Unused; kept for symmetry with the steady path.
+    name : str
+        The scene's name (in a refusal's message).
 
     Returns
     -------
@@ -80,50 +88,30 @@ def wheel_heating(scene, source, level: int, options: dict, flash=None) -> dict:
     """
     fp = import_fipy()
     grid = source.grid
-    wheel, rail = scene.wheel, scene.rail
+    wheel, rail = bodies
     v_w, v_r = (float(v) for v in source.body_speed)
-    R = float(getattr(scene, "wheel_radius", None) or scene.wheel.radius)
+    R = float(wheel_radius or wheel.radius)
     width = 1.0 if grid.line else 2.0 * grid.b
     area = 2.0 * math.pi * R * width
     b = None if grid.line else grid.b
     power = float(grid.integrate(np.asarray(source.flux(0), dtype=float) * np.ones(grid.shape)))
     eps_c = equal_temperature_partition(wheel, rail, v_w, v_r)
     g_cond = conduction_conductance(rail.effusivity, v_r, eps_c, grid.a, b)
-    alpha = float(scene.convection or 0.0)
+    alpha = float(convection or 0.0)
     area_c = convective_area(R, b)
     g_tot = g_cond + alpha * area_c
     t_inf = power / g_tot
     rho_c = wheel.density * wheel.specific_heat
     lam = wheel.conductivity
     tau = rho_c * math.pi * R * R * width / g_tot
-    num = dict(getattr(scene, "numerics", {}) or {})
+    num = dict(numerics or {})
     duration = _duration(num, R, v_w, tau)
     if num.get("time_step") is not None:
-        _check_budget(scene, num, level, duration, tau, options)
+        _check_budget(name, num, level, duration, tau, options)
     # radial mesh graded towards the tread: first cell resolves the diffusion length of the first step
     dt0 = float(num.get("time_step", tau / 1e4))
     first = min(0.25 * math.sqrt(wheel.diffusivity * dt0), R / 20.0)
-    e = R - geometric_edges(R, first, 1.3, level)[::-1]
-    e[0] = 0.0
-    mesh = fp.CylindricalGrid1D(dx=np.diff(e))
-    T = fp.CellVariable(mesh=mesh, value=0.0, hasOld=True)
-    dr1 = e[-1] - e[-2]
-    tread = mesh.facesRight.value
-    n = mesh.faceNormals
-    # tread face: lambda (T_s - T_P) / (dr/2) = P/A - H T_s with H = G/A gives
-    # T_s = (T_P + P/A dr/(2 lambda)) / (1 + c), c = H dr / (2 lambda); the flux into the cell is
-    # (P/A) / (1 + c) - H_eff T_P with H_eff = H / (1 + c): exact steady state P / G.
-    c_half = (g_tot / area) * dr1 / (2.0 * lam)
-    h_eff = (g_tot / area) / (1.0 + c_half)
-    q_in = fp.FaceVariable(mesh=mesh, value=np.where(tread, power / area / (1.0 + c_half), 0.0))
-    h_face = fp.FaceVariable(mesh=mesh, value=np.where(tread, h_eff, 0.0))
-    # FiPy assembles the spatial operator once: L T = b for  div(lambda grad T) + flux - H_eff T = 0.
-    # Implicit Euler, exactly what FiPy's TransientTerm(rho c) adds (rho c V / dt on the diagonal):
-    #   (rho c V / dt - L) T_new = rho c V / dt T_old - b
-    # The coefficients never change, so one assembly serves every step (and FiPy issue #1223 cannot bite).
-    steady_eq = (fp.DiffusionTerm(coeff=lam) + (q_in * n).divergence
-                 - fp.ImplicitSourceTerm(coeff=(h_face * n).divergence)) == 0
-    L, b = assemble(steady_eq, T)
+    mesh, T, L, b, dr1, c_half = _radial_operator(fp, R, first, level, lam, g_tot / area, power / area)
     vol = np.asarray(mesh.cellVolumes, dtype=float)
     cap = rho_c * vol
     dts = time_steps(duration, tau, level, num.get("time_step"))
@@ -136,6 +124,35 @@ def wheel_heating(scene, source, level: int, options: dict, flash=None) -> dict:
             "radial_cells": int(mesh.numberOfCells), "first_cell": float(dr1), "area": area}
 
 
+def _radial_operator(fp, R: float, first: float, level: int, lam: float, H: float, flux: float):
+    """FiPy's radial conduction in a disc of radius ``R`` [m] (conductivity ``lam`` [W/(m K)]) with the tread's
+    heat balance (``flux`` P/A [W/m^2] in, ``H`` G/A [W/(m^2 K)] out), cells graded towards the tread from
+    ``first`` [m] by 1.3 at level 0: (mesh, the cell variable, the operator L and right side b of
+    ``L T = b``, the tread cell's width dr [m], c = H dr / (2 lambda))."""
+    e = R - geometric_edges(R, first, 1.3, level)[::-1]
+    e[0] = 0.0
+    mesh = fp.CylindricalGrid1D(dx=np.diff(e))
+    T = fp.CellVariable(mesh=mesh, value=0.0, hasOld=True)
+    dr1 = e[-1] - e[-2]
+    tread = mesh.facesRight.value
+    n = mesh.faceNormals
+    # tread face: lambda (T_s - T_P) / (dr/2) = P/A - H T_s with H = G/A gives
+    # T_s = (T_P + P/A dr/(2 lambda)) / (1 + c), c = H dr / (2 lambda); the flux into the cell is
+    # (P/A) / (1 + c) - H_eff T_P with H_eff = H / (1 + c): exact steady state P / G.
+    c_half = H * dr1 / (2.0 * lam)
+    h_eff = H / (1.0 + c_half)
+    q_in = fp.FaceVariable(mesh=mesh, value=np.where(tread, flux / (1.0 + c_half), 0.0))
+    h_face = fp.FaceVariable(mesh=mesh, value=np.where(tread, h_eff, 0.0))
+    # FiPy assembles the spatial operator once: L T = b for  div(lambda grad T) + flux - H_eff T = 0.
+    # Implicit Euler, exactly what FiPy's TransientTerm(rho c) adds (rho c V / dt on the diagonal):
+    #   (rho c V / dt - L) T_new = rho c V / dt T_old - b
+    # The coefficients never change, so one assembly serves every step (and FiPy issue #1223 cannot bite).
+    steady_eq = (fp.DiffusionTerm(coeff=lam) + (q_in * n).divergence
+                 - fp.ImplicitSourceTerm(coeff=(h_face * n).divergence)) == 0
+    L, b = assemble(steady_eq, T)
+    return mesh, T, L, b, dr1, c_half
+
+
 def _duration(num: dict, R: float, v_w: float, tau: float) -> float:
     """The time integrated [s]: ``numerics.duration``, or ``numerics.revolutions`` of the wheel, or 8 tau."""
     if "duration" in num:
@@ -145,15 +162,14 @@ def _duration(num: dict, R: float, v_w: float, tau: float) -> float:
     return 8.0 * tau
 
 
-def _check_budget(scene, num: dict, level: int, duration: float, tau: float, options: dict) -> None:
+def _check_budget(name: str, num: dict, level: int, duration: float, tau: float, options: dict) -> None:
     """Refuse fixed time steps whose number is estimated to take more than ``max_seconds`` (known before
-    anything is built; growing steps stay ~100s)."""
+    anything is built; growing steps stay ~100s); ``name``: the scene's, for the message."""
     k = 2 ** int(level)
     n_steps = max(1, int(math.ceil(duration * k / float(num["time_step"]) - 1e-9)))
     seconds = n_steps * SECONDS_PER_STEP
     limit = float((options or {}).get("max_seconds", 60.0))
     if seconds > limit:
-        name = getattr(scene, "name", "?")
         raise Refused(
             f"scene {name!r}, model 'fipy' (transient wheel heating): numerics.time_step = "
             f"{float(num['time_step']):g} s over a duration of {duration:.4g} s (lumped time constant tau = "
