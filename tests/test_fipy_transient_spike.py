@@ -21,6 +21,7 @@ import railtherm
 from railtherm.analysis.transient_metrics import transient_errors, transient_sources
 from railtherm.input.study import load_study
 from railtherm.references.transient import Schedule, temperature_history
+from railtherm_fipy.history import ScheduleSteps
 
 STUDY = Path(__file__).resolve().parents[1] / "studies" / "transient.toml"
 CHEAP = dict(quad_points=8, inner_points=24)    # the references at ~1e-5 of their maximum (core's metrics)
@@ -44,6 +45,30 @@ def test_spike_10us_within_the_targets_at_level_2():
     assert errs["temperature_history"][0] < 0.03, errs
     assert errs["pass_peak_temperature"][0] < 0.02, errs
     assert errs["residual_rise"][0] < 0.02, errs
+
+
+def test_schedule_steps_end_on_the_kinks_and_resolve_the_ramps():
+    """The spike's kinks (195, 200, 205 us) are step ends of the section's regular steps (h/V = 3.125 us at level 2
+    from the pass's start at 0); its 5 us ramps are stepped at 5 us / 16 and the relaxation after them on steps
+    doubling every 16 steps up to the regular step; a constant schedule adds nothing."""
+    sched = ScheduleSteps.of([1.95e-4, 2.0e-4, 2.05e-4], [1.0, 5.0, 1.0], 2)
+    assert sched.per_segment == 16 and sched.shortest == pytest.approx(5e-6)
+    dt = 3.125e-6
+    ends = sched.ends(0.0, dt, 200)
+    assert ends[-1] == pytest.approx(200 * dt) and np.all(np.diff(ends) > 0)
+    for kink in (1.95e-4, 2.0e-4, 2.05e-4):
+        assert np.min(np.abs(ends - kink)) < 1e-9 * dt
+    steps = np.diff(np.concatenate([[0.0], ends]))
+    starts = ends - steps
+    ramps = (starts >= 1.95e-4 - 1e-12) & (ends <= 2.05e-4 + 1e-12)
+    assert np.all(steps[ramps] <= 5e-6 / 16 * (1 + 1e-9)) and ramps.sum() == 32
+    after = starts >= 2.05e-4 - 1e-12
+    allowed = 5e-6 / 16 * 2.0 ** np.floor(np.log2(1.0 + (starts[after] - 2.05e-4) / 5e-6))
+    assert np.all(steps[after] <= allowed * (1 + 1e-9))
+    assert np.all(steps[ends <= 62 * dt + 1e-12] == pytest.approx(dt))           # up to 193.75 us: regular
+    assert steps[np.argmin(np.abs(ends - 1.95e-4))] == pytest.approx(1.25e-6)   # 193.75 -> 195 us: split
+    assert np.all(steps[after][-10:] == pytest.approx(dt))
+    assert ScheduleSteps.of([0.0, 1.0], [2.0, 2.0], 2) is None and ScheduleSteps.of(None, None, 2) is None
 
 
 def _spike_error(level: int) -> float:
