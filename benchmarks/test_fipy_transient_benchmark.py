@@ -4,7 +4,8 @@ a = 6 mm) heating the rail at 30 m/s, level 2, through ``railtherm.solve(scene, 
 steady scene (FiPy's moving-frame steady section, default outputs) against the transient scene with 1, 10
 and 1,000 passes 83 ms apart (history outputs at the surface and 0.1, 0.5 mm; the constant schedule
 superposes one pass's response, :func:`railtherm.solving.section_stepping.superposed_history`), and the
-study's 8-pass line contact (studies/transient.toml, "train-8-passes-line") against its steady scene.
+study's 8-pass line contact and its 10 us spike (studies/transient.toml, "train-8-passes-line",
+"spike-10us") against their steady scenes.
 
 Each case is timed interleaved with the others (best and median in one process; the 1,000-pass case
 once per round, in the first two rounds); the ratios of wall and of process CPU time are recorded
@@ -83,8 +84,13 @@ def test_benchmark_fipy_transient(benchmark):
                          "8 passes": study_scene("train-8-passes-line")})
     print(f"fipy level 2, study scene train-8-passes-line: steady {study['steady'][0]:.3f} s, 8 passes "
           f"{study['8 passes'][0]:.3f} s; 8 passes / steady {study['8 passes'][0] / study['steady'][0]:.1f}")
+    spike = interleaved({"steady": study_scene("spike-10us", steady=True), "spike": study_scene("spike-10us")})
+    print(f"fipy level 2, study scene spike-10us (one pass, the schedule's 5 us ramps stepped finer): steady "
+          f"{spike['steady'][0]:.3f} s, history {spike['spike'][0]:.3f} s; history / steady "
+          f"{spike['spike'][0] / spike['steady'][0]:.1f} (CPU {spike['spike'][2] / spike['steady'][2]:.1f})")
     benchmark.extra_info.update({f"{'steady' if n is None else n}_best_s": b for n, (b, _, _) in cost.items()})
     benchmark.extra_info.update(ratio_10_steady=cost[10][0] / steady, ratio_1000_1=cost[1000][0] / cost[1][0],
                                 study_train8_ratio=study["8 passes"][0] / study["steady"][0],
+                                study_spike_ratio=spike["spike"][0] / spike["steady"][0],
                                 cpu_ratio_10_steady=cost[10][2] / cost[None][2],
                                 cpu_ratio_1000_1=cost[1000][2] / cost[1][2])
