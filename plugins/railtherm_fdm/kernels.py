@@ -24,7 +24,7 @@ from numba import prange
 
 __all__ = ["explicit_step", "explicit_step_serial", "explicit_two_steps", "explicit_two_steps_serial",
            "explicit_step_2d", "stencil_matvec", "stencil_matvec_serial", "zline_factor", "sgs_zline", "vdot", "vaxpy", "step_kernel", "matvec_kernel",
-           "PARALLEL_MIN_NODES", "compile_twice"]
+           "PARALLEL_MIN_NODES", "compile_twice", "block_kernel_signatures", "compile_block_kernels"]
 
 
 def compile_twice(func, **options):
@@ -430,3 +430,38 @@ def matvec_kernel(nodes):
     """The 7-point operator kernel for a grid of ``nodes`` nodes (parallel for large grids and several
     threads)."""
     return stencil_matvec if _threaded(nodes) else stencil_matvec_serial
+
+
+def block_kernel_signatures() -> list:
+    """(kernel, argument types) of what the 3-D block (:mod:`railtherm_fdm.block3d`) calls with one numba
+    thread: the steady and implicit schemes' operator, preconditioner and vector helpers, and the fused
+    explicit kernel of large grids. All float64, C-contiguous; counts and plane indices int64."""
+    f8, i8 = numba.types.float64, numba.types.int64
+
+    def a(nd):
+        return numba.types.Array(f8, nd, "C")
+
+    return [(zline_factor, (a(3),) * 3), (sgs_zline, (a(3),) * 12), (stencil_matvec_serial, (a(3),) * 9),
+            (vdot, (a(1), a(1))), (vaxpy, (f8, a(1), a(1))),
+            (explicit_two_steps_serial, (a(3), a(3), f8, a(2), a(2), a(2), a(2), a(2), a(1), a(1), i8, a(2), i8))]
+
+
+_BLOCK_KERNELS_READY = []
+
+
+def compile_block_kernels() -> None:
+    """Compile (or load from numba's disk cache) the 3-D block's kernels (:func:`block_kernel_signatures`) in a
+    process's first 3-D solve, when numba runs one thread (a study's worker): the scheme a scene takes depends on
+    its level (the main study's circular sources: steady up to level 2, explicit at level 3), so a warm-up at the
+    coarsest level would otherwise leave the fused explicit kernel (about 2.5 s on an empty cache) to compile in
+    a timed level-3 solve. With a filled cache they load in milliseconds. Several threads: the kernels compile on
+    first use (their parallel builds take seconds that a solve which never needs them should not pay).
+    A compilation that fails is left to the kernel's first call, which raises it where it matters."""
+    if _BLOCK_KERNELS_READY or numba.get_num_threads() > 1:
+        return
+    for kernel, sig in block_kernel_signatures():
+        try:
+            kernel.compile(sig)
+        except Exception:  # noqa: BLE001 - the kernel's own call reports it in the solve that needs it
+            pass
+    _BLOCK_KERNELS_READY.append(True)

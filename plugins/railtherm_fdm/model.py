@@ -189,6 +189,8 @@ class FDMTemperature(TemperatureModel):
     def _run_block(self, scene, source, level, options, i, q, cell0, requested, extra=None):
         """Body ``i`` on the 3-D block with cells ``cell0 / 2**level``: (scheme, BlockResult)."""
         from .block3d import explicit_stability_limit, steady_block, transient_block   # numba on first use
+        from .kernels import compile_block_kernels      # numba on first use
+        compile_block_kernels()                   # every level's kernels in the process's first solve (warm-up)
         grid = source.grid
         a, b = float(grid.a), float(grid.b)
         m = scene.wheel if i == 0 else scene.rail
