@@ -64,3 +64,19 @@ def two_sided_rule(n: int, ratio: float = GRADING_RATIO, innermost: float = INNE
     tt.setflags(write=False)
     ww.setflags(write=False)
     return tt, ww
+
+
+@lru_cache(maxsize=512)
+def graded_pair_rule(n: int, low_exponent: int, high_exponent: int, ratio: float = GRADING_RATIO
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Rule on (0, 1) graded toward 0 down to 10**low_exponent and toward 1 down to 10**high_exponent (each
+    half as :func:`graded_rule` with that innermost panel): an integrand whose nearest singularity lies a
+    distance d outside an end needs its panels graded only down to about d there (Schwab 1998, 3.3), so an end
+    far from any singularity takes few panels. With both exponents -16 it is :func:`two_sided_rule`."""
+    t0, w0 = graded_rule(n, ratio, 10.0 ** int(low_exponent))
+    t1, w1 = graded_rule(n, ratio, 10.0 ** int(high_exponent))
+    tt = np.concatenate([0.5 * t0, 1.0 - 0.5 * t1[::-1]])
+    ww = np.concatenate([0.5 * w0, 0.5 * w1[::-1]])
+    tt.setflags(write=False)
+    ww.setflags(write=False)
+    return tt, ww

@@ -21,10 +21,11 @@ import math
 from dataclasses import dataclass
 from functools import lru_cache
 
+import numba
 import numpy as np
 from scipy.special import erf, erfc, ive
 
-from ._quadrature import two_sided_rule
+from ._quadrature import graded_pair_rule
 from .flash import thermal_properties
 from .jaeger import jaeger_band_temperature
 from .moving_source import moving_source_temperature
@@ -216,12 +217,48 @@ def _ellipse_hertz(xi, s, src, nx):
 _INNER = {("band", "uniform"): _band_uniform, ("band", "hertz"): _band_hertz,
           ("ellipse", "uniform"): _ellipse_uniform, ("ellipse", "hertz"): _ellipse_hertz}
 
+#: depth factors exp(-x) with x above this are below 1e-304: their nodes add nothing to a double sum
+_UNDERFLOW = 700.0
+
+
+@numba.njit(cache=True)
+def _band_hertz_depth(xi, s, z, a, t, w, scale):  # pragma: no cover - compiled (checked against _band_hertz)
+    """scale * _band_hertz(xi, s) * exp(-(z/s)^2) per node, compiled: the same window quadrature node by node,
+    without the (nodes x points) temporaries; nodes whose window is empty or whose depth factor is below
+    e^-_UNDERFLOW are exactly (or to 1e-304) zero and skipped."""
+    out = np.zeros(xi.size)
+    for i in range(xi.size):
+        si = s[i]
+        if si <= 0.0:
+            continue
+        x2 = (z[i] / si) ** 2
+        if x2 > _UNDERFLOW:
+            continue
+        lo = min(max(xi[i] - _WINDOW * si, -a), a)
+        hi = min(max(xi[i] + _WINDOW * si, -a), a)
+        p1, p2 = math.acos(-lo / a), math.acos(-hi / a)
+        if not p2 > p1:
+            continue
+        acc = 0.0
+        for k in range(t.size):
+            phi = p1 + (p2 - p1) * t[k]
+            sp = math.sin(phi)
+            r = (xi[i] + a * math.cos(phi)) / si
+            acc += w[k] * (sp * sp * a * math.exp(-r * r))
+        out[i] = scale * acc * (p2 - p1) / si * math.exp(-x2)
+    return out
+
 
 def _integrand_u(u, theta_e, z, src, kappa, nx):
     """rho c / q * (kernel integrated over the source) * dtau/du at tau = u^2, emission time theta_e, depth z
     (a number or one per u)."""
     s = 2.0 * math.sqrt(kappa) * u
     xi = src.half_width - src.speed * theta_e
+    if src.kind == "band" and src.shape == "hertz":     # the transient scenes' source: compiled
+        t, w = _gl(nx)
+        return _band_hertz_depth(np.ascontiguousarray(xi, dtype=float).ravel(), s.ravel(),
+                                 np.ascontiguousarray(np.broadcast_to(z, u.shape), dtype=float).ravel(),
+                                 float(src.half_width), t, w, 2.0 / (math.pi * math.sqrt(kappa))).reshape(u.shape)
     out = np.zeros(u.shape)
     ok = s > 0
     if not np.any(ok):
@@ -285,13 +322,35 @@ def _panels(theta, z, src, kappa, start, breaks, stop):
 
 #: panels of the time integral evaluated together (each n-point graded rule x nx inner points)
 _PANEL_CHUNK = 96
+#: the graded rules' innermost panel at an end, relative to the panel: this fraction of the distance from that
+#: end to the integrand's nearest singularity (:func:`_grading`), to a power of 10 below
+_GRADE_MARGIN = 0.1
+
+
+def _grading(u1, u2, src, kappa):
+    """Exponents (toward u1, toward u2) of each panel's :func:`~._quadrature.graded_pair_rule` in u = sqrt(tau).
+
+    The integrand is analytic in u on the panel except near u = 0 (tau -> 0: the kernel's point source,
+    exp(-z^2/(4 kappa u^2)) and the source's sharp edges) and it varies on the scale sqrt(kappa)/V in u wherever
+    the source's edges pass (the edge smoothed over s = 2 sqrt(kappa) u moves past in s/V of time, which is
+    sqrt(kappa)/V in u at any u). So toward u1 the nearest singularity is min(u1, sqrt(kappa)/V) away, toward
+    u2 sqrt(kappa)/V; each end is graded down to :data:`_GRADE_MARGIN` of that distance (relative to the panel,
+    to 1e-16 at most: u1 = 0, a panel reaching the observation time, is graded fully)."""
+    width = np.maximum(u2 - u1, np.finfo(float).tiny)
+    h = math.sqrt(kappa) / src.speed if getattr(src, "speed", 0.0) > 0 else math.inf
+
+    def exponent(distance):
+        rel = np.clip(_GRADE_MARGIN * distance / width, 1e-16, 0.1)
+        return np.floor(np.log10(rel)).astype(int)
+    return exponent(np.minimum(u1, h)), exponent(np.full(u1.shape, h))
 
 
 def _time_integrals(theta, z, src, kappa, factor, start, breaks, n, nx, stop=math.inf):
     """int_{start}^{min(stop, theta_i)} factor(t') K(theta_i - t', t') dt' at depth z_i [K per (q/(rho c))], for
     each observation time theta_i and depth z_i (arrays of one shape), u = sqrt(theta - t'): the panels of
-    :func:`_panels`, each by the graded rule :func:`~._quadrature.two_sided_rule` in u, all evaluated in
-    chunks of :data:`_PANEL_CHUNK` panels.
+    :func:`_panels`, each by a rule graded toward both ends in u (:func:`~._quadrature.graded_pair_rule`, as far
+    as :func:`_grading` finds the integrand's singularities need it), all evaluated in chunks of
+    :data:`_PANEL_CHUNK` panels.
 
     ``factor`` is a callable of the emission time relative to the pass's arrival (any array shape), zero outside
     [start, stop] and linear between ``breaks``, the times where it has kinks (a panel where it is zero at both
@@ -305,17 +364,21 @@ def _time_integrals(theta, z, src, kappa, factor, start, breaks, n, nx, stop=mat
     # the factor is linear on each panel (split at its kinks): zero at both ends, zero throughout
     keep &= (factor(p) != 0.0) | (factor(q) != 0.0)
     row, col = np.nonzero(keep)                      # row-major: each point's panels in increasing time
-    t, w = two_sided_rule(int(n))
+    u1, u2 = np.sqrt(theta[row] - q[row, col]), np.sqrt(theta[row] - p[row, col])
+    low, high = _grading(u1, u2, src, kappa)
     sums = np.empty(row.size)
-    for c0 in range(0, row.size, _PANEL_CHUNK):
-        r, k = row[c0:c0 + _PANEL_CHUNK], col[c0:c0 + _PANEL_CHUNK]
-        th = theta[r][:, None]
-        u1, u2 = np.sqrt(th - q[r, k][:, None]), np.sqrt(th - p[r, k][:, None])
-        u = u1 + (u2 - u1) * t[None, :]
-        te = th - u * u
-        vals = factor(te) * _integrand_u(u.ravel(), te.ravel(), np.repeat(z[r], t.size), src, kappa,
-                                         nx).reshape(u.shape)
-        sums[c0:c0 + _PANEL_CHUNK] = (u2 - u1)[:, 0] * (vals @ w)
+    for lo_e, hi_e in set(zip(low.tolist(), high.tolist())):
+        t, w = graded_pair_rule(int(n), lo_e, hi_e)
+        sel = np.flatnonzero((low == lo_e) & (high == hi_e))
+        for c0 in range(0, sel.size, _PANEL_CHUNK):
+            i = sel[c0:c0 + _PANEL_CHUNK]
+            th = theta[row[i]][:, None]
+            a, b = u1[i][:, None], u2[i][:, None]
+            u = a + (b - a) * t[None, :]
+            te = th - u * u
+            vals = factor(te) * _integrand_u(u.ravel(), te.ravel(), np.repeat(z[row[i]], t.size), src, kappa,
+                                             nx).reshape(u.shape)
+            sums[i] = (b - a)[:, 0] * (vals @ w)
     # summed per point in the panels' order (as a running sum over each point's panels)
     return out + np.bincount(row, weights=sums, minlength=theta.size)
 

@@ -21,10 +21,10 @@ import numpy as np
 from scipy import optimize
 from scipy.special import erf
 
-from ._quadrature import two_sided_rule
+from ._quadrature import graded_pair_rule
 from .flash import thermal_properties
 from .transient import PassSummary
-from .transient_pass import _INNER, Schedule, _as_depth, _bessel_sum, check_source_geometry
+from .transient_pass import _GRADE_MARGIN, _INNER, Schedule, _as_depth, _bessel_sum, check_source_geometry
 
 __all__ = ["FixedSource", "fixed_source_history", "fixed_source_summary", "heating_window"]
 
@@ -109,20 +109,29 @@ def _kernel_u(u, depth, src, kappa, nx):
     return out
 
 
+def _grade_exponent(distance: float, width: float) -> int:
+    """Exponent of the innermost panel [1] (:func:`~._quadrature.graded_pair_rule`) at an end of a panel of
+    ``width`` in u whose nearest singularity is ``distance`` away: the kernel under a source at rest is analytic
+    in u = sqrt(tau) but at u = 0 (exp(-z^2/(4 kappa u^2)), the source's edges seen at s = 2 sqrt(kappa) u -> 0),
+    so an end at u is graded down to :data:`~.transient_pass._GRADE_MARGIN` of u (fully, to 1e-16, at u = 0)."""
+    rel = min(max(_GRADE_MARGIN * distance / max(width, np.finfo(float).tiny), 1e-16), 0.1)
+    return int(math.floor(math.log10(rel)))
+
+
 def _rise_at(t, depth, src, kappa, schedule, start, stop, n, nx):
     """int_{start}^{min(stop, t)} f(t') K(z, t - t') dt' [K per q/(rho c)] at each depth: panels between the
     schedule's kinks and t - z^2/(4 kappa) (the kernel's peak at each depth z), each graded toward both ends in
-    u = sqrt(t - t')."""
+    u = sqrt(t - t') as far as its distance from u = 0 needs (:func:`_grade_exponent`)."""
     hi = min(stop, t)
     if hi <= start:
         return np.zeros(depth.size)
     peaks = t - depth * depth / (4.0 * kappa)
     pts = [start, hi] + [b for b in schedule.time if start < b < hi] + [p for p in peaks if start < p < hi]
     pts = np.unique(pts)
-    rule, w = two_sided_rule(int(n))
     total = np.zeros(depth.size)
     for p, q in zip(pts[:-1], pts[1:]):
         u1, u2 = math.sqrt(t - q), math.sqrt(t - p)
+        rule, w = graded_pair_rule(int(n), _grade_exponent(u1, u2 - u1), _grade_exponent(u2, u2 - u1))
         u = u1 + (u2 - u1) * rule
         total += (u2 - u1) * (w * schedule(t - u * u)) @ _kernel_u(u, depth, src, kappa, nx)
     return total
