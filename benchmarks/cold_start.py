@@ -4,9 +4,9 @@ object.
 
 * ``compile``: with the caller's ``NUMBA_CACHE_DIR`` (an empty directory: a fresh install), the warm-up of
   fastsim-fdm on the study's first scene (ek-low, level 0: FASTSIM and the FDM's steady scheme), then two
-  solves of fdm-circular-q10 at level 3, the first level whose scheme is explicit: its first solve compiles
-  the fused explicit kernel, the warm-up did not reach it. Wall and CPU time [s] of each solve and the numba
-  compilations in it (top level: a kernel's compilation includes the functions it calls).
+  solves of fdm-circular-q10 at level 3, the first level whose scheme is explicit (the fused kernel must come
+  from the warm-up: :func:`railtherm_fdm.kernels.compile_block_kernels`). Wall and CPU time [s] of each solve
+  and the numba compilations in it (top level: a kernel's compilation includes the functions it calls).
 * ``fem``: the FEM's first solve of a geometry against its repeat, for the runs whose first timed solve was
   slowest in a study: each cold solve follows a warm-up on another scene and an emptied mechanics cache
   (:func:`railtherm_fem.coupled.clear_cache`), so it builds the mesh, stiffness and factorisation; the repeat

@@ -1,15 +1,13 @@
 """Cold start of the main study's workers: fastsim-fdm's numba compilation on an empty cache (its warm-up, and
-the explicit kernel that level 3 compiles late) and the FEM's first solve of a geometry against its repeat
+the first level-3 solve of the explicit scheme) and the FEM's first solve of a geometry against its repeat
 (benchmarks/cold_start.py says what each measures). Each measurement runs in a fresh process (one numba and
 BLAS thread, as a study's worker), so no kernel or factorisation of this process is reused.
-
-Measured (this machine, 2 cores, at a load of 5-8; CPU time, the wall time was 2-3x that): the warm-up
-compiles 7 kernels in 4.7-5.3 s (5.2-6.4 s while the FASTSIM sweep also compiled its slip-law code); the first
-level-3 solve of fdm-circular-q10 takes 4.8 s against 0.38 s for its repeat: it compiles the fused explicit
-kernel, which the warm-up (steady scheme) never reaches, and core's thermal-trace kernel (the warm-up scene
-has no field). The FEM's cold solve (its mesh, stiffness and factorisation, about 60 % of it SuperLU's
-factorisation) is 2.4-9x its repeat: fem-seed L0 0.51 / 0.054 s, carter L3 0.52 / 0.091 s. Printed and recorded in ``extra_info``, not asserted: timings
-are measurements, never verdicts.
+Measured (this machine, 2 cores, at a load of 4-8; CPU time, the wall time was 1.5-3x that): the warm-up
+compiles 8 kernels in 6.8 s, the fused explicit kernel that level 3 needs among them, so that the first
+level-3 solve of fdm-circular-q10 compiles only core's thermal-trace kernel (2.0 s against 0.36 s for its
+repeat; the warm-up scene has no field). The FEM's cold solve (its mesh, stiffness and factorisation, about
+60 % of it SuperLU's factorisation) is 2.4-9x its repeat: fem-seed L0 0.51 / 0.054 s, carter L3 0.52 / 0.091 s.
+Printed and recorded in ``extra_info``, not asserted: timings are measurements, never verdicts.
 Run: ``python -m pytest benchmarks/test_cold_start_benchmark.py -m benchmark --benchmark-enable -n 0
 -p no:cacheprovider -s``.
 """
