@@ -227,7 +227,8 @@ class _FipyStepper(ImplicitSectionStepper):
         T, t, p_old = self.T, self.t, power(self.t)
         out = np.empty((ends.size, self.b.rows.shape[0]))
         for i, t1 in enumerate(ends):
-            h = float(f"{t1 - t:.12g}")             # equal steps share one LU despite rounding (1e-12 relative)
+            # equal steps share one LU despite rounding (1e-12 relative); a whole step is the driver's own dt
+            h = dt if abs(t1 - t - dt) <= 1e-9 * dt else float(f"{t1 - t:.12g}")
             th = 1.0 if i < start else theta
             if (h, th) not in self.cache:
                 self.cache[(h, th)] = self._factor(h, th)
