@@ -39,7 +39,8 @@ def _run(level: int):
 
 def test_spike_10us_within_the_targets_at_level_2():
     """The targets against the exact band at level 2: history max-norm error within 3 %, pass peaks and residual
-    rise within 2 %."""
+    rise within 2 % (measured 0.21 %, 0.062 %, 0.022 %; with steps of h/V straddling the kinks and the first cells
+    delta/4/2**level, the history is 4.1 % off at the spike: the surface lags the 5 us ramps)."""
     scene = _scene()
     errs = transient_errors(scene, _run(2))
     assert errs["temperature_history"][0] < 0.03, errs
