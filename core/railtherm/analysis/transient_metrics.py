@@ -20,6 +20,10 @@ import math
 
 import numpy as np
 
+from ..references.transient import MovingSource, Schedule, pass_summary, temperature_history
+from ..references.transient_spot import FixedSource, fixed_source_history, fixed_source_summary
+from .analytic import _thermal_case
+
 __all__ = ["TRANSIENT_METRICS", "FLOOR", "transient_errors", "transient_sources", "history_samples"]
 
 #: metrics of a transient scene, in metrics.nc only for a study with a transient scene
@@ -44,9 +48,6 @@ def transient_sources(scene):
     """Each body's exact source as (MovingSource, FixedSource for a body at rest under the contact -- a
     locked wheel's spot, scored when the schedule switches it on at a finite time -- or None, bulk temperature
     [degC]) for wheel and rail, and the reference's tag; None when the scene's heat source has no closed form."""
-    from ..references.transient import MovingSource
-    from ..references.transient_spot import FixedSource  # with the metrics only, as the moving source above
-    from .analytic import _thermal_case
     case = _thermal_case(scene)
     if case is None:
         return None
@@ -133,9 +134,6 @@ def transient_errors(scene, ds, notes: dict | None = None, cache: dict | None = 
         Per-scene cache of the exact per-pass summary (the same for every level of the scene) and of the exact
         history at every time already asked.
     """
-    from ..references.transient import MovingSource, Schedule, pass_summary, temperature_history
-    from ..references.transient_spot import (FixedSource, fixed_source_history,  # with the metrics only
-                                             fixed_source_summary)
     notes = {} if notes is None else notes
     tr = getattr(scene, "transient", None)
     if tr is None or "temperature_history" not in ds:
