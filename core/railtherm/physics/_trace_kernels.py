@@ -65,7 +65,8 @@ def trace_columns(x, T, v, thr):  # pragma: no cover - compiled
             status[c] |= 1
         else:
             where[c], peak[c] = _refine_max(x[i - 1], x[i], x[i + 1], T[i - 1, c], T[i, c], T[i + 1, c])
-            j, rj = 0, _rate(x, T, v, 0, c)        # fastest cooling behind the peak (rows < i)
+            j = 0                                  # fastest cooling behind the peak (rows < i)
+            rj = _rate(x, T, v, np.int64(j), c)    # an int64, not the literal 0: one compiled _rate
             for r in range(1, i):
                 rr = _rate(x, T, v, r, c)
                 if rr > rj:
