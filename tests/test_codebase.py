@@ -164,7 +164,7 @@ SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/physic
                        "core/railtherm/models/hertz.py", "core/railtherm/models/sliding.py",
                        "core/railtherm/models/core_plugin.py",
                        "core/railtherm/solving/friction_loop.py", "plugins/railtherm_fastsim/*.py",
-                       "plugins/railtherm_green/*.py", "core/railtherm/solving/wheelset_*.py",
+                       "plugins/railtherm_green/*.py", "plugins/railtherm_fipy/*.py", "core/railtherm/solving/wheelset_*.py",
                        "core/railtherm/analysis/analytic.py", "core/railtherm/analysis/errors.py",
                        "core/railtherm/analysis/metrics.py", "core/railtherm/analysis/patch_metrics.py",
                        "core/railtherm/analysis/rises.py", "core/railtherm/analysis/trace_metrics.py",
