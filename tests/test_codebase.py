@@ -164,14 +164,15 @@ SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/physic
                        "core/railtherm/models/hertz.py", "core/railtherm/models/sliding.py",
                        "core/railtherm/models/core_plugin.py",
                        "core/railtherm/solving/friction_loop.py", "plugins/railtherm_fastsim/*.py",
-                       "plugins/railtherm_green/*.py", "plugins/railtherm_fipy/*.py", "core/railtherm/solving/wheelset_*.py",
+                       "plugins/railtherm_green/*.py", "plugins/railtherm_fipy/*.py", "plugins/railtherm_fdm/*.py",
+                       "core/railtherm/solving/wheelset_*.py",
                        "core/railtherm/analysis/analytic.py", "core/railtherm/analysis/errors.py",
                        "core/railtherm/analysis/metrics.py", "core/railtherm/analysis/patch_metrics.py",
                        "core/railtherm/analysis/rises.py", "core/railtherm/analysis/trace_metrics.py",
                        "core/railtherm/analysis/verdicts.py",
                        "plugins/railtherm_fem/condense.py", "plugins/railtherm_fem/contact.py",
                        "plugins/railtherm_fem/coupled.py", "plugins/railtherm_fem/elastic.py",
-                       "plugins/railtherm_fem/friction.py", "plugins/railtherm_fem/mesh.py",
+                       "plugins/railtherm_fem/friction.py", "plugins/railtherm_fem/history.py", "plugins/railtherm_fem/mesh.py",
                        "plugins/railtherm_fem/model.py", "plugins/railtherm_fem/plugin.py",
                        "plugins/railtherm_fem/thermal.py", "plugins/railtherm_kalker/friction_laws.py")
 

@@ -391,10 +391,15 @@ def heating_scheme(requested: str, dt_stab: float, dt_source: float,
     return core_heating_scheme(requested, dt_stab, dt_source, implicit_cost)
 
 
-def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, requested: str = "auto",
+def body_histories(transient, convection, grid, fluxes, bodies, speeds, bulk, level: int, requested: str = "auto",
                    max_nodes: float = math.inf):
-    """:func:`railtherm.solving.section_stepping.body_histories` on fdm's blocks: the 2-D section block of a
-    line contact, the 3-D block (:mod:`.history3d`) of a patch, refused above ``max_nodes`` nodes."""
+    """:func:`railtherm.solving.section_stepping.histories_at_section` on fdm's blocks: the 2-D section block of a
+    line contact, the 3-D block (:mod:`.history3d`) of a patch, refused above ``max_nodes`` nodes.
+
+    ``transient``: the scene's passes (count, interval [s], schedule, history depths [m]); ``convection``: the
+    surface heat transfer coefficient [W/(m^2 K)] (None: 0); ``grid``: the source's grid; ``fluxes``: each body's
+    flux [W/m^2] on it (None: not heated); ``bodies``: the wheel's and the rail's materials; ``speeds``: their
+    surface speeds through the contact [m/s]; ``bulk``: their bulk temperatures [degC]."""
     def make_block(v, m, convection, duration, z):
         args = (v, m.conductivity, m.density * m.specific_heat, convection, level, duration, z)
         if grid.line:
@@ -403,6 +408,6 @@ def body_histories(scene, grid, fluxes, bodies, speeds, bulk, level: int, reques
                              body="wheel" if m is bodies[0] else "rail")
     what = ("finite-volume block around the section (2-D for a line contact, 3-D for a patch), explicit while a "
             "source is over it and implicit between passes, chosen by cost")
-    return histories_at_section(scene.transient, scene.convection, grid.x_edges, grid.y_edges, fluxes,
+    return histories_at_section(transient, convection, grid.x_edges, grid.y_edges, fluxes,
                                 speeds, bodies, bulk, level, requested, make_block, what,
                                 "conduction along the rail beyond the block's ends; the wheel's curvature")

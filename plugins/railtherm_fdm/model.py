@@ -83,13 +83,22 @@ class FDMTemperature(TemperatureModel):
     # -- compute -------------------------------------------------------------------------------
     def supports(self, scene, level):
         """What fdm's pass histories cover (:func:`history_limits`); core has checked the declared capabilities."""
-        return super().supports(scene, level) or history_limits(scene)
+        why = super().supports(scene, level)
+        if why or not asks_history(scene):
+            return why
+        return history_limits(scene.friction, scene.heat_source, scene.wheel, scene.rail, scene.outputs)
 
     def compute_temperature(self, scene, source, level, options):
         """Surface (and, when asked for, depth at y = 0) temperatures of wheel and rail [degC]; in a
         transient scene that asks for them, the pass histories of the section (:mod:`.history`)."""
+        bodies_m = (scene.wheel, scene.rail)
+        convection, mode = scene.convection, getattr(scene, "mode", "steady")
+        outputs = tuple(getattr(scene, "outputs", ()) or ())
+        ts = _forced_step(scene.numerics)
+        requested = requested_scheme(scene.numerics, options)
         if asks_history(scene):
-            return self._histories(scene, source, level, options)
+            return self._histories(scene.transient, bodies_m, convection, mode, ts, outputs, requested, source,
+                                   level, options)
         grid = source.grid
         fld = getattr(scene, "field", None)
         out = field_grid(grid, scene.field)
@@ -97,7 +106,6 @@ class FDMTemperature(TemperatureModel):
         if fld is not None:       # without a field the blocks are called exactly as before
             behind = float(grid.x_edges[0] - out.x_edges[0])
             extra = {"out_grid": out, "trail": Trail(behind, None if fld.depth is None else float(fld.depth))}
-        requested = requested_scheme(scene, options)
         if grid.line:
             cell0 = float(options["cell_size"]) or 2.0 * float(grid.a) / 16.0
             diag = {"cell_size": cell0 / 2 ** int(level), "requested_scheme": requested, "dimension": 2}
@@ -107,7 +115,7 @@ class FDMTemperature(TemperatureModel):
                 numba.set_num_threads(min(int(options["threads"]), numba.config.NUMBA_NUM_THREADS))
             cell0 = float(options["cell_size"]) or 2.0 * min(float(grid.a), float(grid.b)) / 8.0
             diag = {"cell_size": cell0 / 2 ** int(level), "requested_scheme": requested}
-        depth = "temperature" in tuple(getattr(scene, "outputs", ()) or ()) or fld is not None
+        depth = "temperature" in outputs or fld is not None
         bodies, solved = [], {}
         for i, body in enumerate(BODY_NAMES):
             q = np.asarray(source.flux(i), dtype=float)
@@ -116,8 +124,8 @@ class FDMTemperature(TemperatureModel):
                 bodies.append(None)
                 continue
             run = self._run_line if grid.line else self._run_block
-            scheme, res = run(scene, source, level, options, i, q, cell0, requested, extra)
-            m = scene.wheel if i == 0 else scene.rail
+            m = bodies_m[i]
+            scheme, res = run(m, convection, mode, ts, source, level, options, i, q, cell0, requested, extra)
             body_diag = {"peclet": peclet_number(float(source.body_speed[i]), float(grid.a), m.diffusivity),
                          "power": float(grid.integrate(q)), "scheme": scheme,
                          **{k: v for k, v in res.diagnostics.items() if k != "scheme"}}
@@ -135,42 +143,44 @@ class FDMTemperature(TemperatureModel):
         if fld is not None:
             diag.update({"field_behind": float(grid.x_edges[0] - out.x_edges[0]),
                          "field_cells_behind": int(out.x.size - grid.x.size)})
-        result = TemperatureField.from_bodies(out, (scene.wheel.bulk_temperature, scene.rail.bulk_temperature),
+        result = TemperatureField.from_bodies(out, (bodies_m[0].bulk_temperature, bodies_m[1].bulk_temperature),
                                               *bodies, z=z, diagnostics=diag)
         return result if fld is None else with_thermal_trace(result, scene.field, source)
 
-    def _histories(self, scene, source, level, options):
+    def _histories(self, transient, bodies_m, convection, mode, time_step, outputs, requested, source, level,
+                   options):
         """The pass histories of both bodies (:func:`railtherm_fdm.history.body_histories`; a body at rest under
         the contact, a locked wheel: :mod:`railtherm_fdm.spot`), with the steady one-pass surface (the
-        moving-frame steady block) when the scene asks for it."""
+        moving-frame steady block) when ``outputs`` (empty: the defaults) ask for it.
+
+        The scene's parts: ``transient`` (passes, schedule, history depths), ``bodies_m`` the wheel's and the
+        rail's materials, ``convection`` [W/(m^2 K)] (None: 0), ``mode`` ("steady" or "transient"), the forced
+        ``time_step`` [s] or None, and the ``requested`` scheme (:func:`railtherm_fdm.scheme_choice.requested_scheme`)."""
         from .history import body_histories                  # numba on first use
         from .spot import resting_body_history, with_resting_body
         grid = source.grid
-        bodies_m = (scene.wheel, scene.rail)
         fluxes = [np.asarray(source.flux(i), dtype=float).reshape(grid.shape) for i in range(2)]
         # a body whose surface does not move through the contact (a locked wheel): its spot heated in place
         resting = [i for i, q in enumerate(fluxes) if np.any(q != 0) and not float(source.body_speed[i]) > 0.0]
-        outputs = tuple(getattr(scene, "outputs", ()) or ())
         one_pass = not outputs or any(o in outputs for o in _ONE_PASS)
         if resting and one_pass:
             raise Refused(f"model 'fdm' ({BODY_NAMES[resting[0]]}): its surface does not move through the contact "
                           f"(speed {float(source.body_speed[resting[0]]):g} m/s), so it has no one-pass surface field "
                           f"in the contact's frame ({', '.join(_ONE_PASS)}); ask only the histories "
                           "(temperature_history, pass_peak_temperature, residual_rise, time_above)", kind="validity")
-        bulk = (float(scene.wheel.bulk_temperature), float(scene.rail.bulk_temperature))
-        requested = requested_scheme(scene, options)
+        bulk = (float(bodies_m[0].bulk_temperature), float(bodies_m[1].bulk_temperature))
         if requested == "steady":
             raise Refused("model 'fdm': scheme 'steady' (the moving frame) has no history at a fixed section; use "
                           "'auto', 'explicit' or 'implicit' for the pass histories", kind="validity")
-        hist, diag = body_histories(scene, grid, [q if np.any(q != 0) and i not in resting else None
-                                                  for i, q in enumerate(fluxes)], bodies_m,
+        moving = [q if np.any(q != 0) and i not in resting else None for i, q in enumerate(fluxes)]
+        hist, diag = body_histories(transient, convection, grid, moving, bodies_m,
                                     tuple(float(v) for v in source.body_speed), bulk, int(level), requested,
                                     max_nodes=float(options["max_history_nodes"]))
         for i in resting:
-            t, rise, d = resting_body_history(scene.transient, grid, fluxes[i], bodies_m[i],
-                                              float(scene.convection or 0.0), int(level), BODY_NAMES[i],
+            t, rise, d = resting_body_history(transient, grid, fluxes[i], bodies_m[i],
+                                              float(convection or 0.0), int(level), BODY_NAMES[i],
                                               max_nodes=float(options["max_history_nodes"]))
-            hist = with_resting_body(hist, i, t, rise, scene.transient, bulk[i])
+            hist = with_resting_body(hist, i, t, rise, transient, bulk[i])
             diag.update({f"{BODY_NAMES[i]}_history_{k}": v for k, v in d.items()})
         bodies = [None, None]
         if one_pass:
@@ -178,7 +188,8 @@ class FDMTemperature(TemperatureModel):
             for i, q in enumerate(fluxes):
                 if np.any(q > 0):
                     run = self._run_line if grid.line else self._run_block
-                    scheme, res = run(scene, source, level, options, i, q, cell0, "steady")
+                    scheme, res = run(bodies_m[i], convection, mode, time_step, source, level, options, i, q, cell0,
+                                      "steady")
                     bodies[i] = BodyTemperature(res.surface, diagnostics={"scheme": scheme, **res.diagnostics})
                     diag[f"{BODY_NAMES[i]}_one_pass_scheme"] = scheme
         diag.update({"converged": True, "iterations": 0, "residual": 0.0, "dimension": 2,
@@ -186,23 +197,25 @@ class FDMTemperature(TemperatureModel):
         result = TemperatureField.from_bodies(grid, bulk, *bodies, diagnostics=diag)
         return with_history(result, hist)
 
-    def _run_block(self, scene, source, level, options, i, q, cell0, requested, extra=None):
-        """Body ``i`` on the 3-D block with cells ``cell0 / 2**level``: (scheme, BlockResult)."""
+    def _run_block(self, m, convection, mode, time_step, source, level, options, i, q, cell0, requested, extra=None):
+        """Body ``i`` (material ``m``) on the 3-D block with cells ``cell0 / 2**level``: (scheme, BlockResult).
+
+        The scene's parts: surface ``convection`` [W/(m^2 K)] (None: 0), ``mode`` ("steady" or "transient") and
+        the forced ``time_step`` [s] or None (the scene's ``numerics.time_step``)."""
         from .block3d import explicit_stability_limit, steady_block, transient_block   # numba on first use
         from .kernels import compile_block_kernels      # numba on first use
         compile_block_kernels()                   # every level's kernels in the process's first solve (warm-up)
         grid = source.grid
         a, b = float(grid.a), float(grid.b)
-        m = scene.wheel if i == 0 else scene.rail
         body = BODY_NAMES[i]
         d = cell0 / 2 ** int(level)
-        ts = _forced_step(scene)
-        h = float(scene.convection or 0.0)
+        ts = time_step
+        h = float(convection or 0.0)
         V = float(source.body_speed[i])
         rc = m.density * m.specific_heat
         kappa = m.conductivity / rc
         lim = explicit_stability_limit(d, kappa, h, rc)
-        scheme = choose_scheme(requested, getattr(scene, "mode", "steady"), a, b, V, kappa, d,
+        scheme = choose_scheme(requested, mode, a, b, V, kappa, d,
                                float(options["budget"]), time_step=ts, dt_limit=lim, courant=float(options["courant"]))
         check_explicit_step(scheme, ts, lim, d=d, kappa=kappa, h=h, body=body)
         pe = peclet_number(V, a, kappa)
@@ -229,8 +242,9 @@ class FDMTemperature(TemperatureModel):
         return scheme, transient_block(*args, scheme=scheme, time_step=ts, courant=float(options["courant"]),
                                        max_nodes=float(options["max_nodes"]), **(extra or {}))
 
-    def _run_line(self, scene, source, level, options, i, q, cell0, requested, extra=None):
-        """Body ``i`` on the 2-D (x-z) block of a line contact: (scheme, BlockResult).
+    def _run_line(self, m, convection, mode, time_step, source, level, options, i, q, cell0, requested, extra=None):
+        """Body ``i`` (material ``m``) on the 2-D (x-z) block of a line contact: (scheme, BlockResult); the
+        scene's parts ``convection``, ``mode`` and ``time_step`` as in :meth:`_run_block`.
 
         The steady scheme takes cells ``cell0 / 2**level`` along x over the band (its depth grid
         starts at ``min(cell, delta/4/2**level)``); the transient schemes a node spacing
@@ -239,21 +253,20 @@ class FDMTemperature(TemperatureModel):
         from .block2d import line_stability_limit, steady_line, transient_line   # numba on first use
         grid = source.grid
         a = float(grid.a)
-        m = scene.wheel if i == 0 else scene.rail
         body = BODY_NAMES[i]
         V = float(source.body_speed[i])
         if not V > 0.0:
             raise Refused(f"model 'fdm' ({body}, line): the {body} surface moves at {V:g} m/s relative to the "
                           "contact; the 2-D block needs a body moving through the contact (speed > 0): a "
                           "line source at rest on a half-plane has no steady state")
-        ts = _forced_step(scene)
-        h = float(scene.convection or 0.0)
+        ts = time_step
+        h = float(convection or 0.0)
         rc = m.density * m.specific_heat
         kappa = m.conductivity / rc
         delta = thermal_scales(a, V, kappa).thermal_depth
         d = min(cell0, 0.5 * delta) / 2 ** int(level)
         lim = line_stability_limit(d, kappa, h, rc)
-        scheme = choose_line_scheme(requested, getattr(scene, "mode", "steady"), a, V, kappa, d,
+        scheme = choose_line_scheme(requested, mode, a, V, kappa, d,
                                     float(options["budget"]), time_step=ts, dt_limit=lim,
                                     courant=float(options["courant"]), body=body, level=level)
         check_explicit_step(scheme, ts, lim, d=d, kappa=kappa, h=h, body=body, line=True)
@@ -269,11 +282,11 @@ class FDMTemperature(TemperatureModel):
 _ONE_PASS = ("surface_temperature", "max_surface_temperature", "mean_contact_temperature")
 
 
-def history_limits(scene) -> str | None:
-    """Why fdm cannot compute this scene's pass histories, or None (also None when it asks for none)."""
-    if not asks_history(scene):
-        return None
-    return superposition_limits(scene.friction, scene.heat_source, scene.wheel, scene.rail, scene.outputs, "fdm")
+def history_limits(friction, heat_source, wheel, rail, outputs) -> str | None:
+    """Why fdm cannot superpose the pass histories of a transient scene that asks for them, or None: the scene's
+    friction law, heat source, wheel and rail materials and outputs checked by
+    :func:`railtherm.physics.superposition_limits`."""
+    return superposition_limits(friction, heat_source, wheel, rail, outputs, "fdm")
 
 
 def _clip_depth(z, rise, depth: float):
@@ -288,9 +301,9 @@ def _clip_depth(z, rise, depth: float):
     return np.append(z[keep], depth), np.concatenate([rise[:, keep], at[:, None]], axis=1)
 
 
-def _forced_step(scene) -> float | None:
-    """The scene's ``numerics.time_step`` [s], or None."""
-    ts = dict(scene.numerics or {}).get("time_step")
+def _forced_step(numerics) -> float | None:
+    """``numerics["time_step"]`` [s] of the scene's ``numerics`` mapping (or None), or None."""
+    ts = dict(numerics or {}).get("time_step")
     return float(ts) if ts is not None else None
 
 

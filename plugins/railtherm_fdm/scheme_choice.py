@@ -1,6 +1,6 @@
 """Which scheme of the finite-difference block runs, and the forced steps it refuses.
 
-Scheme choice: ``scene.numerics["scheme"]`` if the scene sets it, else the method option ``scheme``
+Scheme choice: the scene's ``numerics["scheme"]`` if it sets it, else the method option ``scheme``
 (:func:`requested_scheme`). ``"auto"`` picks, per body, the explicit scheme (the seed's) when it is
 affordable and otherwise the moving-frame steady scheme -- or the implicit one when the scene asks
 for a transient (:func:`choose_scheme` for the 3-D block, :func:`choose_line_scheme` for the 2-D
@@ -24,9 +24,10 @@ SCHEMES = ("auto", "explicit", "implicit", "steady")
 IMPLICIT_COST_FACTOR = 50.0
 
 
-def requested_scheme(scene, options) -> str:
-    """The scene's ``numerics.scheme``, else the option ``scheme`` ("auto" when neither is set)."""
-    num = dict(scene.numerics or {})
+def requested_scheme(numerics, options) -> str:
+    """The scheme asked for: ``numerics["scheme"]`` (the scene's ``numerics`` mapping, or None), else the
+    option ``scheme`` ("auto" when neither is set)."""
+    num = dict(numerics or {})
     return num.get("scheme") or options["scheme"] or "auto"
 
 

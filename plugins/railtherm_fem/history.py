@@ -23,7 +23,7 @@ from scipy.linalg.lapack import dgttrf, dgttrs
 from scipy.sparse import csr_matrix
 from skfem import Basis, BilinearForm, ElementQuad1, FacetBasis, MeshQuad, asm
 
-from railtherm import ImplicitSectionStepper, Refused, SceneError, body_histories
+from railtherm import ImplicitSectionStepper, Refused, SceneError, histories_at_section
 from railtherm.physics import thermal_scales
 
 from .thermal import _fe_1d
@@ -339,21 +339,27 @@ class _FemStepper(ImplicitSectionStepper):
         return self._last[1]
 
 
-def section_histories(scene, source, level: int):
+def section_histories(transient, convection, bodies, source, level: int, scene_name: str = ""):
     """The pass histories of both bodies under one pass's ``source`` on the FE sections of :func:`fem_block`,
-    stepped by core's driver (:func:`railtherm.solving.section_stepping.body_histories`: Crank-Nicolson, one
+    stepped by core's driver (:func:`railtherm.solving.section_stepping.histories_at_section`: Crank-Nicolson, one
     pass's response superposed over the passes under a constant schedule): (TransientHistory, diagnostics,
     the source's grid).
 
     Parameters
     ----------
-    scene : Scene
-        A transient scene asking the histories (``transient``: passes, interval [s], schedule, depths [m];
-        ``convection`` [W/(m^2 K)]; ``wheel`` and ``rail`` materials and bulk temperatures [degC]).
+    transient : railtherm.input.transient.Transient
+        The scene's passes (``scene.transient``, its interval resolved): count, interval [s], schedule, history
+        depths [m].
+    convection : float or None
+        The surface heat transfer coefficient [W/(m^2 K)] (None: 0).
+    bodies : (Material, Material)
+        The wheel's and the rail's materials, with their bulk temperatures [degC].
     source : HeatSource
         One pass's heat source of a line contact: flux [W/m^2] on its grid, ``body_speed`` [m/s].
     level : int
         Refinement level of the sections [1].
+    scene_name : str
+        The scene's name, for the error messages.
 
     Raises
     ------
@@ -363,9 +369,9 @@ def section_histories(scene, source, level: int):
         ``passes.interval`` shorter than a heated body's contact duration 2a/V.
     """
     grid = source.grid
-    tr = scene.transient
+    tr = transient
     if not grid.line:
-        raise Refused(f"scene {scene.name!r}: model 'fem' computes the pass histories of a line contact only",
+        raise Refused(f"scene {scene_name!r}: model 'fem' computes the pass histories of a line contact only",
                       kind="validity")
     fluxes = [np.asarray(source.flux(i), dtype=float).reshape(-1) for i in range(2)]
     speeds = tuple(float(v) for v in source.body_speed)
@@ -378,19 +384,19 @@ def section_histories(scene, source, level: int):
             raise Refused(f"model 'fem' ({body}): its surface moves at {speeds[i]:g} m/s relative to the contact; "
                           "the section's passes need a body moving through it", kind="validity")
         if float(tr.interval) < span / speeds[i]:
-            raise SceneError.bad_value(scene.name, "passes.interval", float(tr.interval),
+            raise SceneError.bad_value(scene_name, "passes.interval", float(tr.interval),
                                        f"a time >= the contact duration 2a/V = {span / speeds[i]:.6g} s of the {body} "
                                        "(a pass must end before the next begins)")
 
     def make_block(v, m, convection, duration, z):
         return fem_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat, convection, level,
                          duration, z, tr.schedule_time or ())
-    bulk = (float(scene.wheel.bulk_temperature), float(scene.rail.bulk_temperature))
-    hist, diag = body_histories(
-        scene, grid, [q if np.any(q != 0) else None for q in fluxes], speeds, (scene.wheel, scene.rail), bulk,
-        int(level), "implicit", make_block, "bilinear finite elements (scikit-fem) of the fixed section (x-z), "
-        "Crank-Nicolson steps, one LU per step size", "conduction along the rail beyond the section's ends; the "
-        "wheel's curvature")
+    bulk = (float(bodies[0].bulk_temperature), float(bodies[1].bulk_temperature))
+    hist, diag = histories_at_section(
+        tr, convection, grid.x_edges, grid.y_edges, [q if np.any(q != 0) else None for q in fluxes], speeds,
+        tuple(bodies), bulk, int(level), "implicit", make_block, "bilinear finite elements (scikit-fem) of the fixed "
+        "section (x-z), Crank-Nicolson steps, one LU per step size", "conduction along the rail beyond the section's "
+        "ends; the wheel's curvature")
     diag.update({"converged": True, "iterations": 0, "residual": 0.0,
                  "scheme": "transient FE section (Crank-Nicolson)"})
     return hist, diag, grid

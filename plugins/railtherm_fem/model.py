@@ -234,7 +234,9 @@ class FemModel(CoupledModel):
                                 convection=scene.convection, strip=getattr(scene, "strip", None),
                                 field=fld, scene_name=scene.name) if thermal else None
             if transient:
-                given = self._with_histories(given, *section_histories(scene, upstream.source, level), bulk)
+                hist = section_histories(scene.transient, scene.convection, (scene.wheel, scene.rail), upstream.source,
+                                         level, scene.name)
+                given = self._with_histories(given, *hist, bulk)
             return None, None, given
         prob = self._problem(
             level, options, thermal, wheel=scene.wheel, rail=scene.rail, speed=scene.speed,
@@ -255,7 +257,9 @@ class FemModel(CoupledModel):
             temp = self._temperature_from(sol.thermal_grid, sol.theta, grid, xc, fld, bulk,
                                           {**diag, **self._stresses(sol, grid, xc)}, source, scene_name=scene.name)
         if transient:
-            temp = self._with_histories(temp, *section_histories(scene, source, level), bulk)
+            hist = section_histories(scene.transient, scene.convection, (scene.wheel, scene.rail), source, level,
+                                     scene.name)
+            temp = self._with_histories(temp, *hist, bulk)
         return (patch if {"normal", "tangential"} & set(stages) else None,
                 source if "heat_source" in stages or thermal or transient else None, temp)
 
