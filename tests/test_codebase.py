@@ -275,23 +275,11 @@ def test_the_function_import_check_can_fail(tmp_path):
     assert list(_function_imports_without_reason(p)) == [4]
 
 
-#: files of concurrent work with imports inside functions that give no reason, and how many; the list only
-#: shrinks (a file that has fewer must lower its number, one with none must leave the list)
-FUNCTION_IMPORTS_TO_MOVE: dict[str, int] = {
-    "core/railtherm/analysis/transient_metrics.py": 2,
-}
-
-
 def test_imports_inside_functions_say_why():
     """Imports stand at the top of a module; one inside a function carries a ``#`` comment saying why
     (a heavy library a plain ``import railtherm`` must not load, a cycle, an optional dependency)."""
-    found = {str(p.relative_to(ROOT)): len(list(_function_imports_without_reason(p))) for p in SOURCES}
-    found = {k: n for k, n in found.items() if n}
-    new = sorted(f"{k}: {n}" for k, n in found.items() if n > FUNCTION_IMPORTS_TO_MOVE.get(k, 0))
-    assert new == [], "imports inside functions without a '#' reason (move them to the top):\n  " + "\n  ".join(new)
-    fewer = sorted(f"{k}: {n} -> {found.get(k, 0)}" for k, n in FUNCTION_IMPORTS_TO_MOVE.items()
-                   if found.get(k, 0) < n)
-    assert fewer == [], f"lower FUNCTION_IMPORTS_TO_MOVE: {fewer}"
+    found = sorted(f"{p.relative_to(ROOT)}:{line}" for p in SOURCES for line in _function_imports_without_reason(p))
+    assert found == [], "imports inside functions without a '#' reason (move them to the top):\n  " + "\n  ".join(found)
 
 
 # ---------------------------------------------------------------------------------------------
