@@ -174,7 +174,7 @@ SCENE_PARTS_MODULES = ("core/railtherm/physics/hertz.py", "core/railtherm/physic
                        "plugins/railtherm_fem/coupled.py", "plugins/railtherm_fem/elastic.py",
                        "plugins/railtherm_fem/friction.py", "plugins/railtherm_fem/history.py", "plugins/railtherm_fem/mesh.py",
                        "plugins/railtherm_fem/model.py", "plugins/railtherm_fem/plugin.py",
-                       "plugins/railtherm_fem/thermal.py", "plugins/railtherm_kalker/friction_laws.py")
+                       "plugins/railtherm_fem/thermal.py", "plugins/railtherm_kalker/*.py")
 
 
 #: the comment directly above a function (above its decorators) that keeps the whole scene says why after this

@@ -103,8 +103,9 @@ def _normal_operator(area, e_star):
     return normal_operator(nx, ny, element_size(area.x_edges), dy, float(e_star))
 
 
-def _estimate_area(scene, gap, e_star, load):
-    """Centre and half-extents of the contact of a non-Hertzian gap from a coarse solve (32 elements)."""
+def _estimate_area(scene_name, gap, e_star, load):
+    """Centre and half-extents of the contact of a non-Hertzian gap from a coarse solve (32 elements);
+    ``scene_name`` names the scene in the refusal."""
     A, B = gap.quadratic
     force, approach = load
     if force is not None:
@@ -113,7 +114,7 @@ def _estimate_area(scene, gap, e_star, load):
     else:
         half = (1.6 * math.sqrt(approach / A), 1.6 * math.sqrt(approach / B))
     for _ in range(6):
-        area = potential_area(half[0], half[1], 32, margin=0, name=scene.name)
+        area = potential_area(half[0], half[1], 32, margin=0, name=scene_name)
         X, Y = area.mesh()
         sol = solve_normal(_normal_operator(area, e_star), gap(X, Y), area.dx * area.dy, force=force,
                            approach=approach, tol=1e-8)
@@ -124,7 +125,7 @@ def _estimate_area(scene, gap, e_star, load):
             y0, y1 = area.y_edges[loaded[1].min()], area.y_edges[loaded[1].max() + 1]
             return (0.5 * (x0 + x1), 0.5 * (y0 + y1)), (0.5 * (x1 - x0), 0.5 * (y1 - y0))
         half = (1.5 * half[0], 1.5 * half[1])
-    raise Refused(f"scene {scene.name!r}, model 'kalker': the contact of the gap {gap.coefficients} does not stay "
+    raise Refused(f"scene {scene_name!r}, model 'kalker': the contact of the gap {gap.coefficients} does not stay "
                   f"within {half[0]:.3g} x {half[1]:.3g} m; check the gap coefficients", kind="validity")
 
 
@@ -132,6 +133,7 @@ def _estimate_area(scene, gap, e_star, load):
 ROLLING_REFINEMENTS = ("auto", 1, 2, 4, 8, 16, 32)
 
 
+# whole scene: the gap is built from the scene's geometry (scene_gap), then loaded by its force or approach
 def solve_scene_normal(scene, level: int, cells: int = DEFAULT_CELLS, tol: float = NORMAL_TOLERANCE,
                        refine_x="auto"):
     """Solve the normal problem of a scene on the potential contact area of ``level``.
@@ -166,7 +168,7 @@ def solve_scene_normal(scene, level: int, cells: int = DEFAULT_CELLS, tol: float
         a0, b0, _ = gap.hertz
         centre = (0.0, 0.0)
     else:
-        centre, (a0, b0) = _estimate_area(scene, gap, e_star, (force, approach))
+        centre, (a0, b0) = _estimate_area(scene.name, gap, e_star, (force, approach))
     m = rolling_refinement(a0, b0) if refine_x == "auto" else int(refine_x)
     area = potential_area(a0, b0, n, centre=centre, name=scene.name, refine_x=m)
     X, Y = area.mesh()

@@ -131,6 +131,7 @@ def hertz_curvatures(a: float, b: float, normal_force: float, e_star: float) -> 
     return (large, small) if a <= b else (small, large)
 
 
+# whole scene: the adapter from the scene's contact geometry (shape, gap, radii, profile), load, materials to a Gap
 def scene_gap(scene) -> Gap:
     """The undeformed gap of a scene (see the module docstring).
 

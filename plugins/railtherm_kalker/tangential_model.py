@@ -35,16 +35,16 @@ __all__ = ["KalkerTangential", "rolling_operator", "patch_creepages", "solve_pat
            "rolling_operator_kernels"]
 
 
-def patch_creepages(scene, patch) -> tuple[float, float, float]:
-    """(xi [1], eta [1], phi [1/m]): the patch's, the scene's, or full sliding xi = -v_s / V."""
+def patch_creepages(patch, creepage, sliding_speed, speed, scene_name: str) -> tuple[float, float, float]:
+    """(xi [1], eta [1], phi [1/m]): the patch's, the scene's ``creepage``, or full sliding xi = -v_s / V
+    (``sliding_speed``, ``speed`` [m/s]); ``scene_name`` names the scene in the refusal."""
     if patch.creepage is not None:
         return tuple(float(c) for c in patch.creepage)
-    if scene.creepage is not None:
-        c = scene.creepage
-        return float(c.longitudinal), float(c.lateral), float(c.spin)
-    if scene.sliding_speed is not None:
-        return -float(scene.sliding_speed) / float(scene.speed), 0.0, 0.0
-    raise Refused(f"scene {scene.name!r}: no creepage or sliding speed for model 'kalker'")
+    if creepage is not None:
+        return float(creepage.longitudinal), float(creepage.lateral), float(creepage.spin)
+    if sliding_speed is not None:
+        return -float(sliding_speed) / float(speed), 0.0, 0.0
+    raise Refused(f"scene {scene_name!r}: no creepage or sliding speed for model 'kalker'")
 
 
 #: order of the rolling difference by default (:func:`railtherm_kalker.influence.rolling_kernel`): the
@@ -260,7 +260,7 @@ class KalkerTangential(TangentialContactModel):
 
     def compute_tangential(self, scene, patch, level, options):
         compile_kernels()           # all of the plugin's kernels in the process's first solve (the runner's warm-up)
-        xi, eta, phi = patch_creepages(scene, patch)
+        xi, eta, phi = patch_creepages(patch, scene.creepage, scene.sliding_speed, scene.speed, scene.name)
         if patch.b is None and (eta != 0.0 or phi != 0.0):
             raise Refused(f"model 'kalker': a line contact has only longitudinal creepage (lateral = {eta:g}, "
                           f"spin = {phi:g} 1/m given)")
