@@ -7,6 +7,12 @@ superposes one pass's response, :func:`railtherm.solving.section_stepping.superp
 study's 8-pass line contact and its 10 us spike (studies/transient.toml, "train-8-passes-line",
 "spike-10us") against their steady scenes.
 
+Measured (the command below, one after the other on 2 loaded cores): with a sparse LU per step size (17
+factorisations of the 89x119-cell section, 649 solves: 0.30 + 0.44 s of the 0.99 s history) the 10 passes
+cost 14.9x the steady solve (CPU 10.9x), the 8-pass study scene 10.8x, the spike 15.6x (CPU 13.0x); each
+Crank-Nicolson step taken per eigenmode of FiPy's separable operator (:mod:`railtherm_fipy.modes`, the same
+steps to 7e-13) 1.5x (CPU 1.3x), 2.5x and 2.2x (CPU 2.2x); the 1,000 passes 6.6x one pass (CPU 7.6x).
+
 Each case is timed interleaved with the others (best and median in one process; the 1,000-pass case
 once per round, in the first two rounds); the ratios of wall and of process CPU time are recorded
 (``extra_info``; a loaded machine stretches wall time, not a single-threaded solve's CPU time), not asserted:

@@ -3,8 +3,9 @@
 FiPy's cell-centred finite volumes (``TransientTerm(rho c) == DiffusionTerm(lambda)`` on a ``Grid2D``, the deep
 face at theta = 0, the rail's ends and the surface insulated, the band's flux entering the surface cells) give
 the capacity C [J/(K m)] and conductance K [W/(K m)] once; core's driver (:mod:`railtherm.solving.section_stepping`)
-steps ``C dT/dt = -K T + P(t)`` by Crank-Nicolson, one sparse LU per step size (FiPy's ``eq.solve`` would rebuild
-the matrix every step), at the section's step h/V under a source and on a ladder of growing steps between passes;
+steps ``C dT/dt = -K T + P(t)`` by Crank-Nicolson (FiPy's ``eq.solve`` would rebuild the matrix every step), each
+step one multiplication per eigenmode of the separable operator (:mod:`railtherm_fipy.modes`: no factorisation),
+at the section's step h/V under a source and on a ladder of growing steps between passes;
 a schedule's kinks are step ends and its changing segments (tau [s]) are stepped finer (:class:`ScheduleSteps`).
 Cells: width h = 2a/32/2**level along x over the section and four cells either side, growing by
 ``1.3 ** (1 / 2**level)`` to 2a + 2 sqrt(kappa t_end); heights from delta/4/2**level at the surface (delta =
@@ -20,16 +21,16 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.sparse import csr_matrix, diags
-from scipy.sparse.linalg import splu
 
-from railtherm import ImplicitSectionStepper
+from railtherm import ImplicitSectionStepper, SolverError
 from railtherm.physics import thermal_scales
 
+from .modes import SectionModes, separate
 from .solvers import import_fipy
 
 __all__ = ["FipyBlock", "fipy_block", "IMPLICIT_COST"]
 
-#: one Crank-Nicolson LU solve counted as this many explicit node updates (FiPy has no explicit stepping:
+#: one Crank-Nicolson step counted as this many explicit node updates (FiPy has no explicit stepping:
 #: the model always asks the implicit scheme; the cost is recorded with the reason)
 IMPLICIT_COST = 50.0
 
@@ -66,9 +67,12 @@ class FipyBlock:
     Attributes: ``x``, ``z`` cell centres [m] (section at ``x[i0]`` = 0), ``faces_x`` [m], ``capacity``
     [J/(K m)], ``stiffness`` [W/(K m)], ``dt_stab`` (min C/K_ii [s], for the cost record), ``rows``
     (depths, 2) cells and ``weights`` (depths, 2) of the output depths, ``schedule`` (:class:`ScheduleSteps`
-    or None: the steps the heat-input schedule adds)."""
+    or None: the steps the heat-input schedule adds), ``modes`` (:class:`~railtherm_fipy.modes.SectionModes`
+    of the operator, which the stepper steps; ``rho_c`` [J/(m^3 K)], None: read off the first cell's
+    capacity)."""
 
-    def __init__(self, faces_x, faces_z, capacity, stiffness, depths, schedule: "ScheduleSteps | None" = None):
+    def __init__(self, faces_x, faces_z, capacity, stiffness, depths, schedule: "ScheduleSteps | None" = None,
+                 rho_c: float | None = None):
         self.schedule = schedule
         self.faces_x = faces_x
         self.x = 0.5 * (faces_x[1:] + faces_x[:-1])
@@ -89,6 +93,13 @@ class FipyBlock:
             weights.append([1.0 - s, s])
         self.rows = np.array(rows)
         self.weights = np.array(weights)
+        dx, dz = np.diff(faces_x), np.diff(faces_z)
+        parts = separate(stiffness, dx, dz)
+        if parts is None:
+            raise SolverError(f"fipy section {self.node_shape}: FiPy's conductance is not the separable sum "
+                              "Mz (x) Kx + Kz (x) Mx of its rectilinear cells; its modes cannot step it")
+        rho_c = float(capacity[0] / (dx[0] * dz[0])) if rho_c is None else float(rho_c)
+        self.modes = SectionModes(dx, dz, rho_c, *parts, self.i0, self.rows // nx, self.weights)
 
     @property
     def node_shape(self) -> str:
@@ -133,7 +144,7 @@ def fipy_block(a: float, speed: float, conductivity: float, capacity: float, con
         K = K + diags(np.concatenate([convection * dx, np.zeros(dx.size * (dz.size - 1))]))
     faces_x = np.concatenate([[0.0], np.cumsum(dx)]) - (side.sum() + 0.5 * h)
     faces_z = np.concatenate([[0.0], np.cumsum(dz)])
-    return FipyBlock(faces_x, faces_z, cap, csr_matrix(K), depths, schedule)
+    return FipyBlock(faces_x, faces_z, cap, csr_matrix(K), depths, schedule, capacity)
 
 
 @dataclass(frozen=True)
@@ -197,60 +208,69 @@ class ScheduleSteps:
 class _FipyStepper(ImplicitSectionStepper):
     """Crank-Nicolson (and backward-Euler start) steps of the FiPy operator (core's
     :class:`~railtherm.solving.section_stepping.ImplicitSectionStepper`): lumped cell capacities, each step
-    loaded with the theta-weighted heat input of its ends."""
+    loaded with the theta-weighted heat input of its ends, taken in the operator's eigenmodes
+    (:class:`railtherm_fipy.modes.SectionModes`: the state is the modes ``Y``, ``T`` the cell values on demand;
+    ``cache`` holds one set of mode multipliers per (step size, theta) where a sparse LU would hold a factorisation)."""
 
     heating_cost = IMPLICIT_COST
-    cooling_implicit = "Crank-Nicolson steps of FiPy's operator (one sparse LU per step; two backward-Euler start steps)"
+    cooling_implicit = ("Crank-Nicolson steps of FiPy's operator (one multiplication per eigenmode of the separable "
+                        "operator per step; two backward-Euler start steps)")
 
     def __init__(self, block: FipyBlock, x_edges, flux, speed, factor, t0):
         super().__init__(block, x_edges, flux, speed, factor, t0)
         self.cum = np.concatenate([[0.0], np.cumsum(np.asarray(flux, dtype=float).reshape(-1) * np.diff(self.xe))])
 
-    def _factor(self, dt: float, th: float):
-        # C/dt + theta K is symmetric (FiPy's diffusion operator): a minimum-degree ordering of A^T + A
-        # keeps the LU factors of the 2-D five-point matrix about half as full as scipy's default
-        # COLAMD (measured at level 2, 87x88 cells: 2.7e5 against 4.8e5 nonzeros, solves 4x faster)
-        return splu((diags(self.b.capacity / dt) + th * self.b.stiffness).tocsc(), permc_spec="MMD_AT_PLUS_A")
+    @property
+    def T(self) -> np.ndarray:
+        """The cell values [K] (index i + nx j)."""
+        return self.b.modes.to_cells(self.Y)
 
-    def _rhs(self, T, dt, th, p_old, p_new):
-        C, K = self.b.capacity, self.b.stiffness
-        return C / dt * T - (1.0 - th) * (K @ T) + th * p_new + (1.0 - th) * p_old
+    @T.setter
+    def T(self, value) -> None:
+        self.Y = self.b.modes.of_cells(value)
 
     def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
-        """m theta-scheme steps of dt [s] under the passes arriving at ``arrivals`` [s], on the schedule's own
-        steps where it has any in them (:meth:`ScheduleSteps.ends`); every end is sampled."""
+        """m theta-scheme steps of dt [s] (the first ``start`` backward Euler) under the passes arriving at
+        ``arrivals`` [s], on the schedule's own steps where it has any in them (:meth:`ScheduleSteps.ends`); every
+        end is sampled."""
         sched = self.b.schedule
         ends = None if sched is None or not len(arrivals) else sched.ends(self.t, dt, m)
         if ends is None:
-            return super().implicit_steps(dt, m, arrivals, theta, start)
-        power = self._load(dt, arrivals)
-        T, t, p_old = self.T, self.t, power(self.t)
+            ends = self.t + dt * np.arange(1, m + 1)
+            steps = np.full(m, float(dt))
+        else:
+            # equal steps share one key despite rounding (1e-12 relative); a whole step is the driver's own dt
+            raw = np.diff(np.concatenate([[self.t], ends]))
+            steps = np.array([dt if abs(h - dt) <= 1e-9 * dt else float(f"{h:.12g}") for h in raw])
+        modes = self.b.modes
+        Y, t, q_old = self.Y, self.t, self._surface_power(self.t, arrivals)
         out = np.empty((ends.size, self.b.rows.shape[0]))
-        for i, t1 in enumerate(ends):
-            # equal steps share one LU despite rounding (1e-12 relative); a whole step is the driver's own dt
-            h = dt if abs(t1 - t - dt) <= 1e-9 * dt else float(f"{t1 - t:.12g}")
+        for i, (t1, h) in enumerate(zip(ends, steps)):
             th = 1.0 if i < start else theta
             if (h, th) not in self.cache:
-                self.cache[(h, th)] = self._factor(h, th)
-            p_new = power(t1)
-            T = self.cache[(h, th)].solve(self._rhs(T, h, th, p_old, p_new))
+                self.cache[(h, th)] = modes.coefficients(h, th)
+            a, b = self.cache[(h, th)]
+            q_new = self._surface_power(t1, arrivals)
+            Y = a * Y
+            if q_new is not None or q_old is not None:
+                q = (th * (0.0 if q_new is None else q_new) + (1.0 - th) * (0.0 if q_old is None else q_old))
+                Y += b * modes.load(q)
             self.solves += 1
-            out[i] = np.sum(T[self.b.rows] * self.b.weights, axis=1)
-            t, p_old = t1, p_new
-        self.T, self.t = T, float(ends[-1])
+            out[i] = modes.sample(Y)
+            t, q_old = t1, q_new
+        self.Y, self.t = Y, float(ends[-1])
         self.times.append(ends)
         self.rows.append(out)
 
-    def _load(self, dt: float, arrivals):
-        return lambda t: self._power(t, arrivals)
-
-    def _power(self, t, arrivals):
-        p = np.zeros(self.T.size)
+    def _surface_power(self, t: float, arrivals):
+        """The heat [W/m] entering each surface cell at time t [s] from the passes arriving at ``arrivals`` [s];
+        None where there is none."""
         f = float(self.factor(t))
-        if f == 0.0:
-            return p
+        if f == 0.0 or not len(arrivals):
+            return None
         fx = self.b.faces_x
+        p = np.zeros(fx.size - 1)
         for arr in arrivals:
             shift = self.xe[-1] - self.speed * (t - arr)
-            p[:fx.size - 1] += np.diff(np.interp(fx + shift, self.xe, self.cum))
+            p += np.diff(np.interp(fx + shift, self.xe, self.cum))
         return f * p
