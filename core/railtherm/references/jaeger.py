@@ -54,7 +54,8 @@ def jaeger_band_temperature(x, z, half_width: float, speed: float, material, flu
     interval is split at the field point and each part is integrated by a composite Gauss-Legendre rule
     geometrically graded toward the field point (hp-quadrature, Schwab 1998), which integrates the
     logarithmic singularity of K0 at r = 0 and the downstream boundary layer of width 1/P for any Péclet
-    number. ``exp(-P X) K0(P r) = k0e(P r) exp(-P (r + X))`` with r + X >= 0 avoids overflow.
+    number; each point's panels are graded only as far as its distance to that singularity needs
+    (:func:`_grading`). ``exp(-P X) K0(P r) = k0e(P r) exp(-P (r + X))`` with r + X >= 0 avoids overflow.
 
     Parameters
     ----------
@@ -105,19 +106,51 @@ def jaeger_band_temperature(x, z, half_width: float, speed: float, material, flu
         raise ValueError("depth z must be >= 0")
     xi = (x / a).ravel()
     zeta = (z / a).ravel()
-    t, w = graded_rule(int(quad_points))
     out = np.empty(xi.shape)
-    for s in range(0, xi.size, chunk):
-        out[s:s + chunk] = _band_integral(xi[s:s + chunk], zeta[s:s + chunk], pe, f, t, w)
+    grading = _grading(xi, zeta, pe)
+    for lo_e, hi_e in set(zip(*(g.tolist() for g in grading))):
+        rules = tuple(graded_rule(int(quad_points), innermost=10.0 ** e) for e in (lo_e, hi_e))
+        sel = np.flatnonzero((grading[0] == lo_e) & (grading[1] == hi_e))
+        for s in range(0, sel.size, chunk):
+            i = sel[s:s + chunk]
+            out[i] = _band_integral(xi[i], zeta[i], pe, f, rules)
     return (flux * a / (math.pi * lam) * out).reshape(x.shape)
 
 
-def _band_integral(xi, zeta, pe, f, t, w):
-    """int_{-1}^{1} f(u) exp(-L (xi - u)) K0(L rho) du, rho = sqrt((xi - u)^2 + zeta^2), u = -cos(theta)."""
+#: each side of the integral is graded toward the field point down to this fraction of the distance to the
+#: integrand's nearest singularity or steepest scale (:func:`_grading`), to a power of 10 below
+GRADE_MARGIN = 0.1
+
+
+def _grading(xi, zeta, pe):
+    """Exponents of the innermost panel of each side's graded rule (toward the pivot, theta < and > the pivot).
+
+    In u = x'/a the kernel exp(-L (xi - u)) K0(L rho) has its only singularity at u = xi +- i zeta, a distance
+    d = sqrt(max(|xi| - 1, 0)^2 + zeta^2) from the pivot (the field point, or the nearer band end); it varies
+    upstream on the scale 1/L and downstream, where exp(-L (rho + dx)) ~ exp(-L zeta^2 / (2 |dx|)), on the scale
+    2 d^2 / (L zeta^2). The panels next to the pivot are graded down to :data:`GRADE_MARGIN` of the smallest of
+    these, relative to the side's length in theta (a distance in u is at least as long in theta: |du/dtheta| =
+    sin(theta) <= 1); d = 0, the field point on the band's surface, is graded fully (to 1e-16)."""
+    d = np.hypot(np.maximum(np.abs(xi) - 1.0, 0.0), zeta)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        steep = np.where(zeta > 0, 2.0 * d * d / (pe * zeta * zeta), np.inf)
+    dist = np.minimum(np.minimum(d, 1.0 / pe), steep)
+    piv = np.arccos(-np.clip(xi, -1.0, 1.0))
+    out = []
+    for side in (piv, math.pi - piv):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            rel = np.clip(GRADE_MARGIN * dist / np.maximum(side, np.finfo(float).tiny), 1e-16, 0.1)
+        out.append(np.floor(np.log10(rel)).astype(int))
+    return out
+
+
+def _band_integral(xi, zeta, pe, f, rules):
+    """int_{-1}^{1} f(u) exp(-L (xi - u)) K0(L rho) du, rho = sqrt((xi - u)^2 + zeta^2), u = -cos(theta); ``rules``
+    the graded rules (nodes, weights) of the two sides."""
     # pivot: theta of the field point, or the nearer band end if outside
     piv = np.arccos(-np.clip(xi, -1.0, 1.0))[:, None]
     total = np.zeros(xi.shape)
-    for side_len, sign in ((piv, -1.0), (math.pi - piv, 1.0)):
+    for side_len, sign, (t, w) in ((piv, -1.0, rules[0]), (math.pi - piv, 1.0, rules[1])):
         th = piv + sign * side_len * t[None, :]
         u = -np.cos(th)
         dx = xi[:, None] - u
@@ -126,5 +159,7 @@ def _band_integral(xi, zeta, pe, f, t, w):
         with np.errstate(divide="ignore", invalid="ignore"):
             ker = np.where(arg > 0, k0e(arg) * np.exp(-pe * (rho + dx)), 0.0)
         integrand = f(u) * np.sin(th) * ker
-        total += side_len[:, 0] * (integrand @ w)
+        # a row-wise sum, not a matrix product: BLAS sums the rows of a small block in another order, and a
+        # point's value must not depend on the points evaluated with it (cached histories are compared bitwise)
+        total += side_len[:, 0] * np.sum(integrand * w, axis=1)
     return total

@@ -248,15 +248,18 @@ def temperature_history(time, depth, source: MovingSource, material, count: int 
     opts = dict(quad_points=quad_points, inner_points=inner_points)
     const, sched, minus = _split(schedule, via_time_integral)
     out = np.zeros((time.size, depth.size))
+    def curve(th):
+        return _constant_part(th, depth, source, material, via_time_integral, **opts)
+    if not via_time_integral and count > 1:
+        # one pass's steady sweep, its tail from a checked interpolant when asked at many delays: the passes'
+        # constant part and the schedule's levels below read the same curve
+        curve = _with_checked_tail(curve, source.contact_duration, count)
     if const != 0.0:
-        def curve(th):
-            return _constant_part(th, depth, source, material, via_time_integral, **opts)
-        if not via_time_integral and count > 1:
-            curve = _with_checked_tail(curve, source.contact_duration, count)
         # a pass still further ahead than its upstream reach adds less than e^-45 of its rise: skipped
         out += const * shifted_sum(time, count, interval, curve, reach=reach, through_pass=through_pass)
     if sched is not None:
         last = np.full(time.size, count - 1) if through_pass is None else np.asarray(through_pass).ravel()
+        swept: list[tuple[np.ndarray, np.ndarray, float]] = []      # (rows, delays, level - minus) per pass
         for k in range(count):
             rows = np.nonzero((time - k * step > -reach) & (k <= last))[0]
             if not rows.size:
@@ -264,10 +267,15 @@ def temperature_history(time, depth, source: MovingSource, material, count: int 
             # pass k: level * (steady sweep) + the time integral of f - level (see pass_level)
             level = pass_level(sched, k * step, minus, via_time_integral)
             if level != minus:
-                out[rows] += (level - minus) * _constant_part(time[rows] - k * step, depth, source, material, False,
-                                                              **opts)
+                swept.append((rows, time[rows] - k * step, level - minus))
             out[rows] += _schedule_part(time[rows] - k * step, depth, source, material, sched, level, k * step,
                                         **opts)
+        if swept:                                   # every pass's sweep in one call of the curve
+            vals = curve(np.concatenate([th for _, th, _ in swept]))
+            start = 0
+            for rows, th, weight in swept:
+                out[rows] += weight * vals[start:start + th.size]
+                start += th.size
     return out
 
 

@@ -378,7 +378,7 @@ def _time_integrals(theta, z, src, kappa, factor, start, breaks, n, nx, stop=mat
             te = th - u * u
             vals = factor(te) * _integrand_u(u.ravel(), te.ravel(), np.repeat(z[row[i]], t.size), src, kappa,
                                              nx).reshape(u.shape)
-            sums[i] = (b - a)[:, 0] * (vals @ w)
+            sums[i] = (b - a)[:, 0] * np.sum(vals * w, axis=1)   # row-wise: see jaeger._band_integral
     # summed per point in the panels' order (as a running sum over each point's panels)
     return out + np.bincount(row, weights=sums, minlength=theta.size)
 
