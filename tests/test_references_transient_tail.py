@@ -139,3 +139,24 @@ def test_vectorised_peak_search_finds_the_bounded_scalar_maximum():
                 else:
                     assert axis[i + 1] - got.peak_time[k, j] <= 2e-7 * d
                     assert brent * (1 - 1e-12) <= got.peak[k, j] <= brent * (1 + 1e-6)
+
+
+def test_schedule_levels_read_the_interpolated_sweep_within_its_tolerance(monkeypatch):
+    """A heat ramp held over 3 revolutions (the study's wheel spin: f from 0 to 1 in 5 ms, back to 0 at 0.2 s)
+    asked at 6,000 times: the passes after the first take their level's steady sweep from the checked tail (more
+    than TAIL_MIN_DELAYS delays behind 2 D); the history equals the one from exact sweeps (the tail switched off)
+    to count x TAIL_TOLERANCE / count of the largest rise at each depth, and the tail was used (the histories
+    are not bit-identical)."""
+    src = MovingSource("band", 5.88e-3, 30.0, 1e8, "hertz")
+    sched = Schedule((0.0, 0.005, 0.195, 0.2), (0.0, 1.0, 1.0, 0.0))
+    interval, count = 0.091, 3
+    t = np.sort(np.random.default_rng(11).uniform(0.0, count * interval, 6000))
+    z = [0.0, 1e-4, 1e-3]
+    opts = dict(quad_points=8, inner_points=24)
+    got = temperature_history(t, z, src, STEEL, count, interval, sched, **opts)
+    monkeypatch.setattr(tr, "TAIL_MIN_DELAYS", 10 ** 9)
+    exact = temperature_history(t, z, src, STEEL, count, interval, sched, **opts)
+    scale = np.max(np.abs(exact), axis=0)
+    err = np.max(np.abs(got - exact), axis=0)
+    assert np.all(err <= tr.TAIL_TOLERANCE * scale)
+    assert np.any(err > 0)
