@@ -1,5 +1,8 @@
+import json
 import os
+import statistics
 import sys
+from collections import defaultdict
 from pathlib import Path
 
 import pytest
@@ -25,6 +28,49 @@ def _one_numba_thread_per_test_worker():
     yield
 
 
+#: seconds each test file takes (setup, call and teardown of its tests; written by ``--write-file-durations``
+#: from a run on a warm numba cache): only their order matters, and only for the order of the files
+FILE_DURATIONS = Path(__file__).parent / "file_durations.json"
+
+
+def pytest_addoption(parser):
+    parser.addoption("--write-file-durations", action="store_true",
+                     help=f"write the seconds each test file took to {FILE_DURATIONS.name} (for the xdist order)")
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """Test files longest first, each file's own order kept (LPT scheduling).
+
+    ``--dist loadfile`` hands a whole file to a worker that is nearly out of work, in the order collected
+    (``--no-loadscope-reorder``: not by number of tests). The longest files first leave short ones to fill
+    the gaps at the end, instead of one long file keeping one core busy while the other idles. A file not
+    yet in the table counts as the median file."""
+    try:
+        seconds = json.loads(FILE_DURATIONS.read_text())
+    except (OSError, ValueError):
+        return
+    default = statistics.median(seconds.values()) if seconds else 0.0
+    first = {}
+    for i, item in enumerate(items):
+        first.setdefault(item.nodeid.split("::")[0], i)
+    items.sort(key=lambda item: (-seconds.get(item.nodeid.split("::")[0], default),
+                                 first[item.nodeid.split("::")[0]]))
+
+
+_FILE_SECONDS = defaultdict(float)
+
+
+def pytest_runtest_logreport(report):
+    _FILE_SECONDS[report.nodeid.split("::")[0]] += report.duration
+
+
+def pytest_sessionfinish(session):
+    """``--write-file-durations``: the table of :func:`pytest_collection_modifyitems` (in the xdist controller,
+    which receives every worker's reports, or in a run without xdist)."""
+    if session.config.getoption("--write-file-durations") and not os.environ.get("PYTEST_XDIST_WORKER") \
+            and _FILE_SECONDS:
+        FILE_DURATIONS.write_text(json.dumps({k: round(v, 2) for k, v in sorted(_FILE_SECONDS.items())}, indent=1)
+                                  + "\n")
 
 
 @pytest.fixture
