@@ -35,7 +35,7 @@ FLOOR = 1e-3
 #: (tests/test_references_transient.py), 3x cheaper than the default
 _QUAD = dict(quad_points=8, inner_points=24)
 #: the exact history is evaluated on at most this many of the run's samples (a schedule makes the reference
-#: cost ~10 ms per sample, so a 1,000-pass axis of 5e5 samples is out of reach): a longer axis is first
+#: cost ~0.5-1 ms per sample at 4 depths, so a 1,000-pass axis of 5e5 samples is out of reach): a longer axis is first
 #: thinned to every k-th sample, as long as :data:`MIN_PER_CONTACT` remain per contact duration, so that
 #: every level of a method is scored over the same passes with the same scale; what still exceeds it is
 #: scored over its first whole passes (the per-pass peaks and residuals cover every pass)
