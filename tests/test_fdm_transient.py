@@ -416,6 +416,14 @@ def test_locked_wheel_spot_converges_at_second_order_to_the_source_at_rest():
     assert slope == pytest.approx(2.0, abs=0.35), peaks
 
 
+def test_locked_wheel_history_holds_no_one_pass_field():
+    """Asked only for histories, the locked wheel's result has no one-pass surface field at all: it was not
+    computed, and the bulk temperature in its place would read as an unheated rail and wheel."""
+    ds = railtherm.solve(load_scene(LOCKED), FDM_CHAIN, level=0)
+    assert "temperature_history" in ds and float(ds.pass_peak_temperature.max()) > 100.0
+    assert not {"surface_temperature", "max_surface_temperature", "mean_contact_temperature"} & set(ds.data_vars)
+
+
 def test_locked_wheel_refusals_name_the_reason():
     """A body at rest has no one-pass field in the contact's frame (asked: refused, never the bulk temperature);
     a schedule that does not start at factor 0 would have heated the spot since t = -inf (refused)."""

@@ -1,7 +1,7 @@
 """Plugin "kalker": every numba kernel compiled in a process's first solve (:mod:`railtherm_kalker._precompile`).
 
-The runner's warm-up is one coarse solve of the first scene a worker sees (docs/DESIGN.md, "Timing protocol"); a
-kernel it did not reach compiled in a later solve. These tests check that the table of kernel signatures covers
+The runner's warm-up is one coarse solve of the first scene a worker sees (the timing protocol in docs/DESIGN.md,
+"Scene vocabulary"); a kernel it did not reach compiled in a later solve. These tests check that the table of kernel signatures covers
 every kernel of the plugin and the argument types the solvers really pass: after :func:`compile_kernels`, solves
 that reach every kernel leave no kernel with a signature outside the table (a kernel whose call types drifted
 from the table would compile a new specialisation there).

@@ -16,6 +16,8 @@ Thermoelastic Wheel-Rail Contact Problems with Friction" (docs/references.md).
 """
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from railtherm import (BodyTemperature, Capabilities, Option, Refused, TemperatureField, TemperatureModel, asks_history,
                        with_history)
@@ -195,6 +197,9 @@ class FDMTemperature(TemperatureModel):
         diag.update({"converged": True, "iterations": 0, "residual": 0.0, "dimension": 2,
                      "scheme": "transient section block (explicit/implicit by cost)"})
         result = TemperatureField.from_bodies(grid, bulk, *bodies, diagnostics=diag)
+        if not one_pass:   # not computed: no one-pass field in the result (bulk would read as "not heated")
+            result = dataclasses.replace(result, surface_temperature=None, max_surface_temperature=None,
+                                         mean_contact_temperature=None)
         return with_history(result, hist)
 
     def _run_block(self, m, convection, mode, time_step, source, level, options, i, q, cell0, requested, extra=None):

@@ -158,12 +158,13 @@ class TemperatureField:
 
     Attributes
     ----------
-    surface_temperature : ndarray, shape (2, *grid.shape)
-        Surface temperature of wheel and rail on the grid [degC] (absolute, bulk included).
-    max_surface_temperature : ndarray, shape (2,)
-        Maximum surface temperature of each body [degC].
-    mean_contact_temperature : ndarray, shape (2,)
-        Mean surface temperature over the contact patch [degC].
+    surface_temperature : ndarray or None, shape (2, *grid.shape)
+        Surface temperature of wheel and rail on the grid [degC] (absolute, bulk included). None only with
+        a pass history (:attr:`history`) of a scene whose outputs ask for no one-pass field: not computed.
+    max_surface_temperature : ndarray or None, shape (2,)
+        Maximum surface temperature of each body [degC] (None with ``surface_temperature``).
+    mean_contact_temperature : ndarray or None, shape (2,)
+        Mean surface temperature over the contact patch [degC] (None with ``surface_temperature``).
     z : ndarray or None
         Depth coordinate of the depth field [m], z >= 0.
     temperature : ndarray or None, shape (2, nx, nz)

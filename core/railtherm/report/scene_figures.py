@@ -64,7 +64,9 @@ def surface(finest: dict, curve, palette: Palette, title: str, path: Path, bulk=
         # scipy only where a curve is drawn (the report imports fast)
         from scipy.interpolate import PchipInterpolator
         xr_ = ref["x"].values
-        ref_at = [PchipInterpolator(xr_, ref["surface_temperature"].values[i]) for i in (0, 1)]
+        # a body heated at rest under the contact (a locked wheel) has no steady exact curve (NaN): no band for it
+        ref_at = [PchipInterpolator(xr_, ref["surface_temperature"].values[i])
+                  if np.isfinite(ref["surface_temperature"].values[i]).all() else None for i in (0, 1)]
         fig = figure(10, 4.2)
         grid = fig.subplots(2, 2, sharex=True, height_ratios=[2.2, 1])
         axes, daxes = grid[0], grid[1]
@@ -82,8 +84,11 @@ def surface(finest: dict, curve, palette: Palette, title: str, path: Path, bulk=
             continue
         y0 = _y_of_line(have, body, ref is not None, ref_method)
         b0 = float(bulk[body]) if bulk else 0.0
-        if ref is not None:
+        if ref is not None and ref_at[body] is not None:
             ax.plot(xr_ * 1e3, ref["surface_temperature"].values[body] - b0, "-", **REFERENCE_STYLE)
+        elif ref is not None:
+            dax.text(0.5, 0.5, "no steady exact curve: this body is heated at rest", transform=dax.transAxes,
+                     ha="center", va="center", color="0.4", fontsize=8)
         for m, ds in have.items():
             x, t = _line(ds, body, y0)
             st = palette.style(m)
@@ -93,7 +98,7 @@ def surface(finest: dict, curve, palette: Palette, title: str, path: Path, bulk=
                 ax.plot(x * 1e3, t - b0, "-", **REFERENCE_STYLE)
                 st["marker"] = None
             ax.plot(x * 1e3, t - b0, **st)
-            if dax is not None:
+            if dax is not None and ref_at[body] is not None:
                 inside = (x >= xr_[0]) & (x <= xr_[-1])
                 dax.plot(x[inside] * 1e3, t[inside] - ref_at[body](x[inside]), **st)
         for a_ in (ax, dax):
