@@ -45,7 +45,9 @@ def test_fused_kernel_skips_only_planes_without_heat(monkeypatch, h):
     """Stops the kernel is given lie below the last plane while the source starts on a cold block, and
     the field equals the run that updates every plane (stop = nx - 1) bit for bit."""
     monkeypatch.setattr(K, "PARALLEL_MIN_NODES", 0)
-    fused = K.explicit_two_steps
+    # the serial build: the parallel one is the same Python body compiled with prange (bit-identical,
+    # tests/test_fdm_package.py) and costs ~15 s to compile on an empty numba cache
+    fused = K.explicit_two_steps_serial
     stops = []
 
     def record(*args):
