@@ -124,7 +124,9 @@ def pass_time_above(time, history, count: int, interval: float, rise: float) -> 
     # imported here, not at the top: the compiled pass needs numba, which ``import railtherm`` (the CLI,
     # the conformance kit loaded as a pytest plugin) should not load
     from ._pass_kernels import time_above_sums
-    return time_above_sums(t, np.ascontiguousarray(g), edges, int(count))
+    # writable C arrays always (a read-only one, e.g. an xarray index, would compile a second specialisation)
+    return time_above_sums(np.require(t, float, "CW"), np.require(g, float, "CW"), np.require(edges, float, "CW"),
+                           int(count))
 
 
 def _pass_windows(time, history, count: int, interval: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -121,10 +121,9 @@ def thermal_trace(x, z, temperature, speed: float, threshold: float) -> Trace:
         raise ValueError(f"speed must be > 0, got {speed!r} [m/s]")
     thr = float(threshold)
     nz = z.size
-    # imported here, not at the top: the compiled pass needs numba, which ``import railtherm`` (the CLI,
-    # the conformance kit loaded as a pytest plugin) should not load
-    from ._trace_kernels import trace_columns
-    peak, where, cool, above, status = trace_columns(x, np.ascontiguousarray(T), v, thr)
+    from ._trace_kernels import trace_columns   # numba: not loaded by ``import railtherm`` (CLI, pytest plugin)
+    # writable C arrays: a read-only one (an xarray index) would compile a second specialisation
+    peak, where, cool, above, status = trace_columns(np.require(x, float, "CW"), np.require(T, float, "CW"), v, thr)
     short_peak = list(z[(status & 1) != 0])
     short_cool = list(z[(status & 2) != 0])
     short_above = list(z[(status & 4) != 0])
