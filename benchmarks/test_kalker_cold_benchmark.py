@@ -1,6 +1,6 @@
 """The "kalker" method's cold level-3 solve after a level-0 warm-up, as a study's worker runs it.
 
-The runner warms a method up once per process with a level-0 solve (docs/DESIGN.md, "Timing protocol"); a run's
+The runner warms a method up once per process with a level-0 solve (the timing protocol in docs/DESIGN.md); a run's
 first timed solve at level 3 is then the first on its grid. Scene: the main study's carter line contact at
 xi = -6e-4 (``studies/seed_paper.toml``; at level 0 it slips fully, so its warm-up reaches none of the tangential
 solver's kernels). Two settings:

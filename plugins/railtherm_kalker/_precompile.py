@@ -3,7 +3,7 @@
 A numba kernel compiles for the argument types of its first call, and a solve reaches only some kernels: a line
 contact never forms the two-component products (:func:`railtherm_kalker.influence._mac2`), a coarse solve in full
 slip never reaches the Newton solver's. A study's warm-up (one coarse solve of the first scene a worker sees,
-docs/DESIGN.md "Timing protocol") would leave the other kernels to compile in a later timed solve: in a fresh
+the timing protocol in docs/DESIGN.md) would leave the other kernels to compile in a later timed solve: in a fresh
 install, 0.6-3 s in the main study's first level-3 solves of carter and of the E&K ellipses (carter at xi = -5e-5:
 2.95 s against 0.018 s). :func:`compile_kernels` compiles every kernel for the signatures the models call it with
 (:func:`kernel_signatures`), once per process, from the models' first solve: the warm-up carries all compilation
