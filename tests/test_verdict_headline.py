@@ -322,3 +322,16 @@ def test_a_reference_field_that_cannot_be_put_on_the_run_grid_fails_the_metric()
     from railtherm.analysis.verdicts import run_status
     st, msg = run_status(err, math.nan, "", 0.05, "creep_force_x", notes=notes)
     assert st == "inaccurate" and "surface_temperature_l2" in msg and "grid" in msg
+
+
+def test_a_transient_scene_is_judged_on_its_pass_peaks():
+    """A transient scene's headline is the peak of each pass even when it also asks for the one-pass field
+    (the same in every pass: it would hide what accumulates between passes); a steady scene's stays the
+    maximum surface temperature (docs/verdicts.md)."""
+    from railtherm.analysis.metrics import headline
+    steady = ("max_surface_temperature", "mean_contact_temperature", "heat_flux")
+    assert headline(steady) == "max_surface_temperature"
+    assert headline(steady + ("temperature_history", "pass_peak_temperature", "residual_rise")) == \
+        "pass_peak_temperature"
+    assert headline(("creep_force_x", "traction_x")) == "creep_force_x"
+    assert headline(("heat_flux",)) == ""

@@ -41,10 +41,11 @@ from .trace_metrics import (TRACE_METRICS, TRACE_PROFILES, _semi_axis,  # noqa: 
 from .transient_metrics import TRANSIENT_METRICS, transient_errors  # noqa: E402  (metrics.nc's transient metrics)
 from .verdicts import independent, label, run_status, zero_by_symmetry  # noqa: E402,F401
 from .patch_metrics import patch_columns, patch_errors  # noqa: E402  (several patches scored patch by patch)
-#: the quantity a scene's verdict is given on: the first of these that the scene asks for
-HEADLINE_ORDER = ("max_surface_temperature", "mean_contact_temperature", "creep_force_x", "max_pressure",
-                  "semi_axis_a", "frictional_power", "steady_wheel_temperature", "steady_mean_contact_temperature",
-                  "pass_peak_temperature")
+#: the quantity a scene's verdict is given on: the first of these that the scene asks for (a transient scene's
+#: pass peaks first: its one-pass field is the same in every pass and would hide what accumulates between them)
+HEADLINE_ORDER = ("pass_peak_temperature", "max_surface_temperature", "mean_contact_temperature", "creep_force_x",
+                  "max_pressure", "semi_axis_a", "frictional_power", "steady_wheel_temperature",
+                  "steady_mean_contact_temperature")
 #: errors stored and shown but never used by a status or verdict (the cooling rate at every depth: its shallow
 #: depths are log-singular, see :mod:`.trace_metrics`)
 UNSCORED_BY_STATUS = ("cooling_rate_all_depths",)
