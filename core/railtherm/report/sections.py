@@ -19,6 +19,7 @@ from .format import duration, finite, label, level_range, num, pct, plain, quant
 from .load import StudyData
 from .study_section import describe_scene, hot_note
 from .sweep_maps import sweep_maps
+from .transient_section import transient_section
 from .wheelset_section import wheelset_findings
 from .tables import (METRIC_SHORT, cross_tables, message_lines, order_table, published_table, reference_words,
                      refusal_lines, run_table)
@@ -273,8 +274,9 @@ def scene_section(doc: Document, ctx: Context, idx: int, scene: str, trace_ancho
     if trace_anchor:
         doc.paragraph(f"Figures of this scene (temperature along x, in depth, maps of the trace): "
                       f"[thermal trace of `{scene}`](#{trace_anchor}).")
-        return
-    _scene_figures(doc, ctx, idx, scene, finest)
+    else:
+        _scene_figures(doc, ctx, idx, scene, finest)
+    transient_section(doc, ctx, idx, scene, finest)   # nothing for a steady scene
 
 
 def _run_details(doc: Document, data: StudyData, scene: str):
