@@ -34,6 +34,7 @@ from ..references.kalker import kalker_linear_forces
 from .analytic import (_depth_rise, _identical_elastic, _surface_rise, _thermal_case, scene_hertz_geometry,
                        trace_reference)
 from .trace_metrics import cooling_rate_depth
+from .transient_curves import transient_history_curves
 
 __all__ = ["reference_curves", "write_reference_curves", "read_reference_curves", "FILE_NAME"]
 
@@ -297,6 +298,9 @@ def scene_reference_curves(scene, group_values: list[float] | None = None):
         data.update(d)
         coords.update(c)
         names += [x for x in n if x not in names]
+    transient, tcoords, tname = transient_history_curves(scene)
+    data.update(transient)
+    coords.update(tcoords)
     if not data:
         return None
     if "body" in {dim for v in data.values() for dim in v[0]}:
@@ -306,6 +310,8 @@ def scene_reference_curves(scene, group_values: list[float] | None = None):
     ds.attrs.update({"Conventions": "CF-1.11", "title": f"railtherm reference curves of scene {scene.name}",
                      "source": f"railtherm {__version__} (railtherm.analysis.reference_curves)",
                      "scene": scene.name, "scene_hash": scene.hash, "reference": "; ".join(names)})
+    if tname:
+        ds.attrs["transient_reference"] = tname
     return ds
 
 
@@ -353,7 +359,13 @@ def reference_curves(study, map=None) -> dict:
       (or around its own creepage);
     * ``creep_force_ratio_linear(creepage)`` [1] and ``kalker_linear_slope`` [1]: the initial slope
       d(Fx / mu N)/d(xi) of Kalker's linear theory for an elliptic Hertz contact with pure longitudinal
-      creepage, drawn up to |Fx| = mu N (no saturation).
+      creepage, drawn up to |Fx| = mu N (no saturation);
+    * for a transient scene (``mode = "transient"``), the exact history and per-pass values of
+      :func:`railtherm.analysis.transient_curves.transient_history_curves` (the calls ``metrics.nc`` scores
+      with): ``exact_temperature_history(body, history_time, history_depth)`` [degC],
+      ``exact_pass_peak_temperature(body, pass, history_depth)`` [degC], ``exact_residual_rise(body, pass)``
+      [K] and ``exact_time_above(body, pass, history_depth)`` [s], the group attribute
+      ``transient_reference`` naming the references.
     """
     jobs = curve_jobs(study)
     return collect_curves(jobs, (map or builtins.map)(scene_curves_job, jobs))
