@@ -135,10 +135,11 @@ def test_time_stepping_equals_fipy_transient_term():
         assert np.allclose(x, T.value, rtol=1e-10, atol=1e-12)
 
 
-def test_transient_study_histories_computed_on_line_contacts_refused_on_ellipses():
-    """fipy computes the pass histories of a line contact (its FiPy section) and refuses an elliptical patch's
-    with the reason, before any solve: each scene of studies/transient.toml is one or the other, none answered
-    with a steady field (a line scene with passes returns its history)."""
+def test_transient_study_histories_supported_on_line_contacts_and_ellipses():
+    """fipy computes the pass histories of every scene of studies/transient.toml, line contacts (its 2-D FiPy
+    section) and ellipses (its 3-D block, railtherm_fipy.history3d; checked against the exact ellipse in
+    tests/test_fipy_ellipse_history.py); a body at rest under the contact is still refused with the reason,
+    before any solve (a line scene with passes returns its history, none a steady field)."""
     import railtherm
     from railtherm import Refused
     from railtherm.input.study import load_study
@@ -147,15 +148,14 @@ def test_transient_study_histories_computed_on_line_contacts_refused_on_ellipses
     model = FipyTemperature()
     kinds = {}
     for scene in study.scenes:
-        why = model.supports(scene, 0)
         kinds[scene.name] = scene.contact_shape
-        if scene.contact_shape == "line":
-            assert why is None, (scene.name, why)
-        else:
-            assert "pass histories of a line contact" in why, scene.name
-            with pytest.raises(Refused, match="pass histories of a line contact"):
-                railtherm.solve(scene, "fipy", level=0)
+        assert model.supports(scene, 0) is None, scene.name
     assert "ellipse" in kinds.values() and "line" in kinds.values()
+    locked = {"name": "locked-ellipse", "normal_force": 0.8e6, "contact": {"shape": "ellipse", "semi_axes": [6e-3, 4e-3]},
+              "speed": 10.0, "sliding_speed": -10.0, "friction": 0.3, "heat_partition": 0.066, "mode": "transient",
+              "passes": {"count": 1, "interval": 0.1}, "field": {"depth": [1e-4]}, "outputs": ["temperature_history"]}
+    with pytest.raises(Refused, match="moving_surface|moves at"):
+        railtherm.solve(locked, "fipy", level=0)
     line = {"name": "passes-line", "speed": 30.0, "mode": "transient", "heat_partition": 0.0,
             "heat_source": {"flux": 1e8, "shape": "hertz", "half_width": 6e-3},
             "passes": {"count": 2, "interval": 0.05}, "field": {"depth": [1e-4, 5e-4]},

@@ -84,14 +84,15 @@ def test_wheel_interval_defaults_to_its_revolution():
 
 def test_computed_contact_runs_and_steady_methods_refuse():
     """A computed Hertz patch (full sliding) runs through green (and fastsim-fdm, its 3-D section block: opt-in,
-    below); fipy (no histories) refuses the ellipse's histories instead of returning a steady answer."""
+    below) and fipy (its 3-D block: tests/test_fipy_ellipse_history.py); fem (line contacts only) refuses the ellipse
+    instead of returning a steady answer."""
     import railtherm.testing
     scene = railtherm.testing.canonical("ellipse-full-sliding", mode="transient", passes={"count": 3, "interval": 0.05},
                                         outputs=["temperature_history", "residual_rise"])
     ds = railtherm.solve(scene, "green", level=0)
     assert ds.residual_rise.shape == (2, 3) and np.all(ds.residual_rise.values > 0)
-    with pytest.raises(Refused, match="pass histories"):
-        railtherm.solve(scene, "fipy", level=0)
+    with pytest.raises(Refused, match="contacts, not 'ellipse'"):
+        railtherm.solve(scene, "fem", level=0)
 
 
 # fdm's 3-D block for both bodies (~6 s): opt-in (-m slow)

@@ -6,12 +6,12 @@ a line contact as one 2-D (x-z) problem per body; an ellipse as 2-D "strips" (``
 problem per row, valid while the thermal layer ``delta = a/sqrt(Pe)`` is thin against b, refused when
 ``delta / b > max_strip_delta``) or one 3-D problem (``dimension = 3``); ``"auto"`` picks strips where valid,
 else 3-D within ``max_cells``. Budgets (cells, estimated seconds, :func:`estimate_seconds_3d`) refuse a
-scene before any solve. Transient mode: :mod:`railtherm_fipy.transient` (wheel heating over revolutions).
-Behind the patch and in depth (scene key ``field``): core's extended grid
+scene before any solve. Transient mode: :mod:`railtherm_fipy.transient` (wheel heating over revolutions); pass
+histories: :mod:`railtherm_fipy.history` (a line contact's 2-D section), :mod:`railtherm_fipy.history3d` (an
+ellipse's 3-D block). Behind the patch and in depth (scene key ``field``): core's extended grid
 (:func:`railtherm.physics.field_grid`) and :func:`railtherm.physics.with_thermal_trace`. The scheme is first
 order along the flow wherever the cell Péclet number exceeds ~2 (upwinding), which limits accuracy at high Pe.
-Measured accuracy, costs and details: docs/NOTES.md, "FiPy model". Temperatures returned are absolute: the
-rise plus the body's ``bulk_temperature``.
+Measured accuracy, costs and details: docs/NOTES.md, "FiPy model". Temperatures: absolute (rise plus bulk).
 """
 from __future__ import annotations
 
@@ -29,6 +29,7 @@ from railtherm.physics import (embed_field, field_grid, lumped_wheel, superposit
 from railtherm.physics.thermal_trace import TRACE_OUTPUTS
 
 from .history import fipy_block
+from .history3d import MAX_HISTORY_CELLS, fipy_ellipse_block
 from .mesh import moving_frame_mesh
 from .solvers import solver_suite
 from .steady import LU_MAX_CELLS_3D, SCHEMES, MovingFrameSolver
@@ -68,10 +69,6 @@ def estimate_seconds_3d(cells: int, peclet: float, bodies: int) -> float:
 
 #: result variables this model fills
 PROVIDES = frozenset({"surface_temperature", "max_surface_temperature", "mean_contact_temperature", "temperature"})
-#: why fipy refuses the histories of an elliptical patch
-LINE_HISTORIES_ONLY = ("model 'fipy' computes the pass histories of a line contact (a 2-D FiPy section around the "
-                       "fixed section); an elliptical patch's histories would need its 3-D section: use method 'green' "
-                       "or 'fastsim-fdm'")
 #: the thermal trace (scenes with ``field``: :func:`railtherm.physics.with_thermal_trace` of the depth field)
 TRACE = frozenset(TRACE_OUTPUTS)
 
@@ -104,6 +101,8 @@ class FipyTemperature(TemperatureModel):
         Largest 3-D mesh when the Péclet number is below 1 (slow Krylov convergence there).
     max_strip_delta : float
         Largest ``delta / b`` for which strip-wise 2-D solves of an ellipse are accepted.
+    max_history_cells : int
+        Largest 3-D block (cells per body) of an ellipse's pass histories (:mod:`railtherm_fipy.history3d`).
 
     References
     ----------
@@ -117,7 +116,8 @@ class FipyTemperature(TemperatureModel):
     """
 
     name = "fipy"
-    description = "finite-volume heat conduction with FiPy: steady moving frame (2-D/3-D) and wheel heating"
+    description = ("finite-volume heat conduction with FiPy: steady moving frame (2-D/3-D), wheel heating and pass "
+                   "histories (2-D section of a line contact, 3-D block of an ellipse)")
     capabilities = Capabilities(convection=True, modes=frozenset({"steady", "transient"}), moving_surface=True,
                                 field=True, histories=True,
                                 advice={"moving_surface": "e.g. a locked wheel v0 + v_s = 0; use a method with a static "
@@ -132,6 +132,8 @@ class FipyTemperature(TemperatureModel):
         "layer_cells": Option(4.0, "cells per min(delta, a) at the surface at level 0", minimum=0.5),
         "growth": Option(1.3, "growth ratio of graded cells at level 0", minimum=1.01),
         "max_cells": Option(400_000, "largest 3-D mesh per body [cells]", minimum=1000),
+        "max_history_cells": Option(MAX_HISTORY_CELLS, "largest 3-D block of an ellipse's pass histories per body "
+                                    "[cells]", minimum=1000),
         "max_cells_low_peclet": Option(100_000, "largest 3-D mesh per body when Pe < 1 [cells]", minimum=1000),
         "max_strip_delta": Option(0.02, "largest delta/b accepted for strip-wise 2-D solves", minimum=0.0),
         "max_seconds": Option(60.0, "largest estimated wall time [s] of the 3-D solves of both bodies "
@@ -233,12 +235,11 @@ class FipyTemperature(TemperatureModel):
 
     # ------------------------------------------------------------------ compute
     def supports(self, scene, level):
-        """fipy's pass histories: line contacts (its FiPy section), under the superposition's limits."""
+        """fipy's pass histories: line contacts (its 2-D FiPy section) and elliptical patches (its 3-D block),
+        under the superposition's limits."""
         why = super().supports(scene, level)
         if why or not asks_history(scene):
             return why
-        if getattr(scene, "contact_shape", None) != "line":
-            return LINE_HISTORIES_ONLY
         return superposition_limits(scene.friction, scene.heat_source, scene.wheel, scene.rail, scene.outputs, "fipy")
 
     def compute_temperature(self, scene, source, level, options):
@@ -272,8 +273,6 @@ class FipyTemperature(TemperatureModel):
         moving frame when ``outputs`` (empty: the defaults) ask them; ``convection`` [W/(m^2 K)], ``field_depth``
         [m] or None, wheel ``radius`` [m]."""
         grid = source.grid
-        if not grid.line:
-            raise Refused(LINE_HISTORIES_ONLY, kind="validity")
         fluxes = [np.asarray(source.flux(i), dtype=float).reshape(-1) for i in range(2)]
         for i, q in enumerate(fluxes):
             if np.any(q != 0) and not float(source.body_speed[i]) > 0.0:
@@ -283,15 +282,23 @@ class FipyTemperature(TemperatureModel):
         bulk = (float(bodies[0].bulk_temperature), float(bodies[1].bulk_temperature))
 
         def make_block(v, m, convection, duration, z):
-            return fipy_block(float(grid.a), v, m.conductivity, m.density * m.specific_heat, convection, level,
-                              duration, z, transient.schedule_time, transient.schedule_factor)
+            args = (v, m.conductivity, m.density * m.specific_heat, convection, level, duration, z,
+                    transient.schedule_time, transient.schedule_factor)
+            if grid.line:
+                return fipy_block(float(grid.a), *args)
+            return fipy_ellipse_block(float(grid.a), float(grid.b), *args, max_cells=opts["max_history_cells"],
+                                 body="wheel" if m is bodies[0] else "rail")
+        section = ("the fixed section (x-z)" if grid.line else
+                   "a 3-D block (x-y-z) around the fixed section, the centre line's column sampled")
         hist, diag = histories_at_section(
             transient, convection, grid.x_edges, grid.y_edges,
             [q if np.any(q != 0) else None for q in fluxes], tuple(float(v) for v in source.body_speed),
             tuple(bodies), bulk, int(level), "implicit", make_block,
-            "FiPy cell-centred finite volumes of the fixed section (x-z), Crank-Nicolson steps (FiPy has no explicit "
-            "stepping)", "conduction along the rail beyond the section's ends; the wheel's curvature")
-        diag.update({"converged": True, "iterations": 0, "residual": 0.0, "dimension": 2,
+            f"FiPy cell-centred finite volumes of {section}, Crank-Nicolson steps per eigenmode of the separable "
+            "operator (FiPy has no explicit stepping)",
+            "conduction along the rail beyond the block's ends" + ("" if grid.line else " and sides")
+            + "; the wheel's curvature")
+        diag.update({"converged": True, "iterations": 0, "residual": 0.0, "dimension": 2 if grid.line else 3,
                      "scheme": "transient FiPy section (Crank-Nicolson)"})
         one_pass = ("surface_temperature", "max_surface_temperature", "mean_contact_temperature")
         if not outputs or any(o in outputs for o in one_pass):

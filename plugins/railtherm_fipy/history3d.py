@@ -1,0 +1,265 @@
+"""fipy's pass histories of an elliptical patch: the rail section as a 3-D block of FiPy cells (x, y, z).
+
+The 2-D section of :mod:`.history` with the lateral direction added: FiPy's cell-centred finite volumes
+(``TransientTerm(rho c) == DiffusionTerm(lambda)`` on a ``Grid3D``, theta = 0 on the deep face, the block's
+ends, sides and surface insulated, the flux entering the surface cells) give C [J/K] and K [W/K] once. On
+rectilinear cells K is the separable sum ``Mz(x)My(x)Kx + Mz(x)Ky(x)Mx + Kz(x)My(x)Mx`` (M: the cell widths):
+:func:`separate3` reads the 1-D parts off FiPy's matrix and checks that they rebuild it; :class:`BlockModes`
+steps ``C dT/dt = -K T + P(t)`` by Crank-Nicolson, one multiplication per eigenmode (no factorisation); the
+surface heat's modal load is its projection onto the x-y modes times the depth modes' surface values. Core's
+driver (:mod:`railtherm.solving.section_stepping`) runs the passes, cooling ladder and superposition. Cells:
+:func:`ellipse_cells`. Outputs: the centre line's column (x = 0, y = 0) at the history depths, linear between
+cell centres. Neglected: conduction beyond the block's ends and sides (insulated).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.linalg import eigh
+from scipy.sparse import csr_matrix, diags, kron
+
+from railtherm import Refused, SolverError
+from railtherm.physics import thermal_scales
+
+from .history import IMPLICIT_COST, ScheduleSteps, _depth_widths, _FipyStepper, _widths
+from .solvers import import_fipy
+
+__all__ = ["EllipseBlock", "BlockModes", "fipy_ellipse_block", "ellipse_cells", "separate3", "MAX_HISTORY_CELLS"]
+
+#: default largest 3-D history block [cells]: FiPy builds its mesh and matrix once (measured 16 s for the study's
+#: train-4-axles at level 2, 85 x 101 x 121 cells, OPENBLAS_NUM_THREADS unset, 2 shared cores) and every step
+#: touches each mode; 8x a level (level 3 of that scene, ~8e6 cells, is refused)
+MAX_HISTORY_CELLS = 1_500_000
+
+
+def separate3(K, dx: np.ndarray, dy: np.ndarray, dz: np.ndarray, rtol: float = 1e-12):
+    """``(Kx, Ky, Kz)`` dense [W/(K m^3)] with ``K = Mz (x) My (x) Kx + Mz (x) Ky (x) Mx + Kz (x) My (x) Mx``
+    (``K`` [W/K] on the cells ``dx``, ``dy``, ``dz`` [m], FiPy's index i + nx j + nx ny k), or None where ``K`` is
+    not that sum to ``rtol`` of its largest entry."""
+    K = csr_matrix(K)
+    nx, ny, nz = dx.size, dy.size, dz.size
+    Kx, Ky, Kz = np.zeros((nx, nx)), np.zeros((ny, ny)), np.zeros((nz, nz))
+    i, j, k = np.arange(nx - 1), np.arange(ny - 1), np.arange(nz - 1)
+    Kx[i, i + 1] = Kx[i + 1, i] = np.asarray(K[i, i + 1]).ravel() / (dy[0] * dz[0])
+    Ky[j, j + 1] = Ky[j + 1, j] = np.asarray(K[nx * j, nx * (j + 1)]).ravel() / (dx[0] * dz[0])
+    Kx[np.arange(nx), np.arange(nx)] = -Kx.sum(axis=1)           # insulated ends: rows sum to zero
+    Ky[np.arange(ny), np.arange(ny)] = -Ky.sum(axis=1)           # insulated sides
+    step = nx * ny
+    Kz[k, k + 1] = Kz[k + 1, k] = np.asarray(K[step * k, step * (k + 1)]).ravel() / (dx[0] * dy[0])
+    col = np.asarray(K[step * np.arange(nz), step * np.arange(nz)]).ravel()
+    Kz[np.arange(nz), np.arange(nz)] = (col - (Kx[0, 0] * dy[0] + Ky[0, 0] * dx[0]) * dz) / (dx[0] * dy[0])
+    Mx, My, Mz = diags(dx), diags(dy), diags(dz)
+    rebuilt = (kron(Mz, kron(My, csr_matrix(Kx))) + kron(Mz, kron(csr_matrix(Ky), Mx))
+               + kron(csr_matrix(Kz), kron(My, Mx)))
+    if abs(K - rebuilt).max() > rtol * abs(K).max():
+        return None
+    return Kx, Ky, Kz
+
+
+class BlockModes:
+    """The eigenmodes of the separable 3-D operator (the cells ``dx``, ``dy``, ``dz`` [m], ``rho_c``
+    [J/(m^3 K)], the parts of :func:`separate3`), the output column ``(i0, j0)`` and the sampled depth rows
+    ``rows_z`` (n, 2) with ``weights`` (n, 2).
+
+    A state is ``Y`` (nz, ny, nx) with ``T = (Vz (x) Vy (x) Vx) Y`` (each V orthonormal in its widths:
+    ``V^T M V = 1``, ``V^T K V = diag(w)``), so ``rho_c dY/dt = -(wz + wy + wx) Y + V^T p``: each mode is one
+    scalar equation, one theta step one multiplication. The heat enters the surface cells only:
+    ``V^T p = Vz[0] (x) (Vy^T P Vx)`` with P (ny, nx) [W] the surface cells' power; the output at depth row r
+    reads ``Vz[r] . (Y Vx[i0]) Vy[j0]``."""
+
+    def __init__(self, dx, dy, dz, rho_c: float, Kx, Ky, Kz, i0: int, j0: int, rows_z, weights):
+        self.shape = (dz.size, dy.size, dx.size)
+        self.dx, self.dy, self.dz = np.asarray(dx, float), np.asarray(dy, float), np.asarray(dz, float)
+        self.rho_c = float(rho_c)
+        self.wx, self.vx = eigh(Kx, np.diag(self.dx))
+        self.wy, self.vy = eigh(Ky, np.diag(self.dy))
+        self.wz, self.vz = eigh(Kz, np.diag(self.dz))
+        self.rate = self.wz[:, None, None] + self.wy[None, :, None] + self.wx[None, None, :]
+        self.surface = self.vz[0]
+        self.column = self.vx[i0]
+        self.line = self.vy[j0]
+        self.read = self.vz[np.asarray(rows_z)]                  # (n, 2, nz)
+        self.weights = np.asarray(weights, float)
+
+    def coefficients(self, dt: float, theta: float):
+        """``(a, b)`` (nz, ny, nx): one theta step is ``Y1 = a Y0 + b V^T (theta p1 + (1 - theta) p0)``."""
+        b = 1.0 / (self.rho_c / dt + theta * self.rate)
+        return b * (self.rho_c / dt - (1.0 - theta) * self.rate), b
+
+    def load(self, p_surface: np.ndarray) -> np.ndarray:
+        """The modes' share (nz, ny, nx) [W] of the heat ``p_surface`` (ny, nx) [W] entering the surface cells."""
+        return self.surface[:, None, None] * (self.vy.T @ p_surface @ self.vx)[None]
+
+    def sample(self, Y: np.ndarray) -> np.ndarray:
+        """The outputs (n,) [K]: the column (i0, j0) at the sampled rows, weighted."""
+        return np.sum((self.read @ ((Y @ self.column) @ self.line)) * self.weights, axis=1)
+
+    def to_cells(self, Y: np.ndarray) -> np.ndarray:
+        """The cell values (nz ny nx,) [K] of the modes ``Y``."""
+        T = np.einsum("kc,cba->kba", self.vz, Y)
+        T = np.einsum("jb,kba->kja", self.vy, T)
+        return (T @ self.vx.T).reshape(-1)
+
+    def of_cells(self, T: np.ndarray) -> np.ndarray:
+        """The modes (nz, ny, nx) of the cell values ``T`` (nz ny nx,) [K] (``V^-1 = V^T M``)."""
+        T3 = np.asarray(T, float).reshape(self.shape)
+        W = self.dz[:, None, None] * T3 * self.dy[None, :, None] * self.dx[None, None, :]
+        W = np.einsum("kc,kba->cba", self.vz, W)
+        W = np.einsum("jb,kja->kba", self.vy, W)
+        return W @ self.vx
+
+
+def ellipse_cells(a: float, b: float, speed: float, kappa: float, level: int, duration_total: float, depths,
+                  schedule: ScheduleSteps | None = None):
+    """The cell widths ``(dx, dy, dz)`` [m] of the block for an ellipse of semi-axes ``a``, ``b`` [m] at ``speed``
+    [m/s], diffusivity ``kappa`` [m^2/s], refinement ``level``, a history of ``duration_total`` [s], the output
+    ``depths`` [m] and the schedule's steps (its shortest changing segment thins the top cells).
+
+    Along x those of the 2-D section (width h = 2a/32/2**level at the section, four cells either side, growing by
+    ``1.3 ** (1 / 2**level)`` to 2a + 2 sqrt(kappa t_end)); across, the full width, a cell of b/8/2**level
+    centred on the centre line y = 0, uniform over the patch and growing like x beyond it to b + 2 sqrt(kappa
+    t_end); in depth those of the 2-D section (:func:`railtherm_fipy.history._depth_widths`)."""
+    delta = thermal_scales(a, speed, kappa).thermal_depth
+    reach = math.sqrt(kappa * duration_total)
+    k = 2 ** int(level)
+    growth = 1.3 ** (1.0 / k)
+    h = 2.0 * a / (32 * k)
+    side = _widths(h, growth, 4, 2.0 * a + 2.0 * reach - 0.5 * h)
+    dx = np.concatenate([side[::-1], [h], side])
+    hy = b / (8 * k)
+    lateral = _widths(hy, growth, int(math.ceil((b - 0.5 * hy) / hy)), b + 2.0 * reach - 0.5 * hy)
+    dy = np.concatenate([lateral[::-1], [hy], lateral])
+    surface = None if schedule is None else math.sqrt(kappa * schedule.shortest) / 4.0 / k
+    dz = _depth_widths(delta / 4.0 / k, growth, 1.5 * max(depths),
+                       max(8.0 * reach, 10.0 * delta, 1.5 * max(depths)), surface)
+    return dx, dy, dz
+
+
+class EllipseBlock:
+    """The 3-D block's FiPy cells and the modes of its operator (cell index i + nx j + nx ny k, k = 0 at the
+    surface), with the attributes core's driver reads: ``x``, ``y``, ``z`` cell centres [m] (section at
+    ``x[i0]`` = 0, centre line at ``y[j0]`` = 0), ``capacity`` [J/K], ``dt_stab`` (min C/K_ii [s], for the
+    cost record), ``rows`` (depths, 2) depth rows and ``weights`` of the outputs, ``schedule``
+    (:class:`~railtherm_fipy.history.ScheduleSteps` or None), ``stiffness`` (FiPy's K [W/K]) and ``modes``
+    (:class:`BlockModes`)."""
+
+    def __init__(self, faces_x, faces_y, faces_z, capacity, stiffness, depths, rho_c: float,
+                 schedule: ScheduleSteps | None = None):
+        self.schedule = schedule
+        self.faces_x, self.faces_y = faces_x, faces_y
+        self.x = 0.5 * (faces_x[1:] + faces_x[:-1])
+        self.y = 0.5 * (faces_y[1:] + faces_y[:-1])
+        self.z = 0.5 * (faces_z[1:] + faces_z[:-1])
+        self.i0 = int(np.argmin(np.abs(self.x)))
+        self.j0 = int(np.argmin(np.abs(self.y)))
+        self.capacity = capacity
+        self.stiffness = stiffness
+        self.dt_stab = float(np.min(capacity / stiffness.diagonal()))
+        rows, weights = [], []
+        for d in depths:
+            j = 0 if d <= self.z[0] else min(int(np.searchsorted(self.z, d)) - 1, self.z.size - 2)
+            s = (d - self.z[j]) / (self.z[j + 1] - self.z[j])
+            rows.append([j, j + 1])
+            weights.append([1.0 - s, s])
+        self.rows = np.array(rows)
+        self.weights = np.array(weights)
+        dx, dy, dz = np.diff(faces_x), np.diff(faces_y), np.diff(faces_z)
+        parts = separate3(stiffness, dx, dy, dz)
+        if parts is None:
+            raise SolverError(f"fipy 3-D section {self.node_shape}: FiPy's conductance is not the separable sum "
+                              "of its rectilinear cells' 1-D parts; its modes cannot step it")
+        self.modes = BlockModes(dx, dy, dz, rho_c, *parts, self.i0, self.j0, self.rows, self.weights)
+
+    @property
+    def node_shape(self) -> str:
+        return f"{self.x.size}x{self.y.size}x{self.z.size}"
+
+    def stepper(self, x_edges, y_edges, flux, speed, factor, t0):
+        """A :class:`_EllipseStepper` under the patch's ``flux`` (nx, ny) [W/m^2] on the source grid's
+        ``x_edges``, ``y_edges`` [m] at ``speed`` [m/s], heat-input factor ``factor(t)``, from t0 [s]."""
+        return _EllipseStepper(self, (x_edges, y_edges), flux, speed, factor, t0)
+
+
+def check_cell_budget(shape, level: int, max_cells: float, body: str) -> None:
+    """Refuse a 3-D history block of more than ``max_cells`` cells, naming its shape, the level and the option.
+
+    Raises
+    ------
+    railtherm.Refused
+        kind "budget": FiPy's assembly of the 3-D matrix (time and memory) and each step's work grow with the
+        cell count, 8x a level.
+    """
+    total = int(np.prod(shape))
+    if total > max_cells:
+        raise Refused(f"model 'fipy' ({body}): the 3-D section block of this history needs {'x'.join(map(str, shape))} "
+                      f"= {total:.3g} cells at level {int(level)}, above the budget max_history_cells = {max_cells:.3g} "
+                      "(FiPy's assembly of the 3-D matrix and every step grow with the cells, 8x a level and with the "
+                      "history's length): use a lower level, a shorter history or raise the option max_history_cells",
+                      kind="budget")
+
+
+def fipy_ellipse_block(a: float, b: float, speed: float, conductivity: float, capacity: float, convection: float,
+                  level: int, duration_total: float, depths, schedule_time=None, schedule_factor=None,
+                  max_cells: float = MAX_HISTORY_CELLS, body: str = "rail") -> EllipseBlock:
+    """The block of the module docstring for an ellipse of semi-axes ``a``, ``b`` [m] at ``speed`` [m/s],
+    lambda [W/(m K)], rho c [J/(m^3 K)], surface convection h [W/(m^2 K)], refinement ``level``, a history of
+    ``duration_total`` [s], the output ``depths`` [m] and the heat-input schedule (``schedule_time`` [s],
+    ``schedule_factor`` [1]; None: constant); refused above ``max_cells`` cells (:func:`check_cell_budget`)."""
+    schedule = ScheduleSteps.of(schedule_time, schedule_factor, level)
+    dx, dy, dz = ellipse_cells(a, b, speed, conductivity / capacity, level, duration_total, depths, schedule)
+    check_cell_budget((dx.size, dy.size, dz.size), level, max_cells, body)
+    fp = import_fipy()
+    mesh = fp.Grid3D(dx=dx, dy=dy, dz=dz)
+    T = fp.CellVariable(mesh=mesh, value=0.0)
+    # the deep face: FiPy's largest z (the bottom layer's side faces have their centres half a cell above it)
+    deep = np.abs(np.asarray(mesh.faceCenters[2]) - float(np.sum(dz))) < 0.25 * dz[-1]
+    T.constrain(0.0, where=mesh.exteriorFaces & deep)
+    eq = fp.TransientTerm(coeff=capacity) == fp.DiffusionTerm(coeff=conductivity)
+    eq.cacheMatrix()
+    eq._prepareLinearSystem(var=T, solver=None, boundaryConditions=(), dt=1.0)   # the matrix only, no solve
+    cap = capacity * np.asarray(mesh.cellVolumes, dtype=float)
+    M = eq.matrix
+    K = csr_matrix(M.matrix if hasattr(M, "matrix") else M) - diags(cap)
+    if convection:
+        K = K + diags(np.concatenate([convection * np.outer(dy, dx).ravel(), np.zeros(dx.size * dy.size * (dz.size - 1))]))
+    faces = [np.concatenate([[0.0], np.cumsum(d)]) for d in (dx, dy, dz)]
+    faces[0] = faces[0] - faces[0][-1] / 2.0
+    faces[1] = faces[1] - faces[1][-1] / 2.0
+    return EllipseBlock(faces[0], faces[1], faces[2], cap, csr_matrix(K), depths, capacity, schedule)
+
+
+class _EllipseStepper(_FipyStepper):
+    """The 2-D section's Crank-Nicolson stepping in modes (:class:`railtherm_fipy.history._FipyStepper`) on
+    the 3-D block: the heat of a pass enters the surface cells as the source grid's flux (piecewise constant)
+    integrated exactly over each cell's x-y face, shifted by the pass's travel."""
+
+    heating_cost = IMPLICIT_COST
+
+    def __init__(self, block: EllipseBlock, edges, flux, speed, factor, t0):
+        x_edges, y_edges = edges
+        super(_FipyStepper, self).__init__(block, x_edges, flux, speed, factor, t0)
+        self.args = (edges, flux, speed)                 # what fresh() hands a new stepper
+        self.xe = np.asarray(x_edges, dtype=float)
+        ye = np.asarray(y_edges, dtype=float)
+        q = np.asarray(flux, dtype=float).reshape(self.xe.size - 1, ye.size - 1)
+        self.cum = np.concatenate([np.zeros((1, q.shape[1])), np.cumsum(q * np.diff(self.xe)[:, None], axis=0)])
+        fy = block.faces_y
+        # overlap [m] (ny cells, strips) of each cell's y face with each strip of the source grid
+        self.over = np.clip(np.minimum(fy[1:, None], ye[None, 1:]) - np.maximum(fy[:-1, None], ye[None, :-1]),
+                            0.0, None)
+
+    def _surface_power(self, t: float, arrivals):
+        """The heat [W] entering each surface cell (ny, nx) at time t [s] from the passes arriving at
+        ``arrivals`` [s]; None where there is none."""
+        f = float(self.factor(t))
+        if f == 0.0 or not len(arrivals):
+            return None
+        fx = self.b.faces_x
+        strips = np.zeros((fx.size - 1, self.cum.shape[1]))
+        for arr in arrivals:
+            shift = self.xe[-1] - self.speed * (t - arr)
+            if fx[-1] + shift <= self.xe[0] or fx[0] + shift >= self.xe[-1]:
+                continue
+            strips += np.diff(np.stack([np.interp(fx + shift, self.xe, c) for c in self.cum.T], axis=1), axis=0)
+        return f * (self.over @ strips.T)

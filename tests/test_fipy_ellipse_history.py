@@ -1,0 +1,172 @@
+"""fipy's pass histories of an elliptical patch (railtherm_fipy.history3d): the 3-D block of FiPy cells around the
+fixed section, its operator separated into 1-D parts and stepped per eigenmode by Crank-Nicolson, through
+``railtherm.solve(scene, "fipy", level)`` on the transient study's train-4-axles (4 passes of a Hertz ellipse a = 6,
+b = 4 mm, 2e8 W/m^2 into the rail, 30 m/s, 83 ms apart) against core's exact moving ellipse
+(railtherm.references.transient).
+
+Checks: (1) the separated conductances rebuild FiPy's assembled 3-D matrix (with surface convection), a
+non-separable matrix is recognised; (2) theta steps per mode equal sparse-LU steps of FiPy's matrix; (3) the
+pass peaks at 0.1 and 0.5 mm within 5 % of the exact ellipse (issue target at level 2; level 0 in the fast
+suite); (4) the pass peak error converges over levels 0 .. 2 at the scheme's second order; (5) the cell budget
+refuses a block too large, naming the option.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.sparse import diags, kron
+from scipy.sparse.linalg import splu
+
+from railtherm import Refused, SolverError
+from railtherm.analysis.transient_metrics import transient_sources
+from railtherm.input.materials import Material
+from railtherm.input.study import load_study
+from railtherm.references.transient import pass_summary
+from railtherm.solving.pipeline import solve
+from railtherm_fipy.history3d import EllipseBlock, fipy_ellipse_block, separate3
+
+STUDY = Path(__file__).parent.parent / "studies" / "transient.toml"
+STEEL = Material()
+A, B, V = 6e-3, 4e-3, 30.0
+DEPTHS = (0.0, 1e-4, 5e-4)
+#: the reference's quadrature as metrics.nc takes it (railtherm.analysis.transient_metrics)
+CHEAP = dict(quad_points=8, inner_points=24)
+
+
+@pytest.fixture(scope="module")
+def block():
+    """The block at level 0 for a history of 1 ms (25 x 17 x 16 cells), depths 0.1 and 0.5 mm, convection
+    20 W/(m^2 K)."""
+    return fipy_ellipse_block(A, B, V, STEEL.conductivity, STEEL.density * STEEL.specific_heat, 20.0, 0, 1e-3, [1e-4, 5e-4])
+
+
+def test_separated_conductances_rebuild_fipys_3d_matrix(block):
+    dx, dy, dz = block.modes.dx, block.modes.dy, block.modes.dz
+    Kx, Ky, Kz = separate3(block.stiffness, dx, dy, dz)
+    assert np.allclose(Kx.sum(axis=1), 0.0, atol=1e-12 * np.abs(Kx).max())      # insulated ends
+    assert np.allclose(Ky.sum(axis=1), 0.0, atol=1e-12 * np.abs(Ky).max())      # insulated sides
+    Mx, My, Mz = diags(dx), diags(dy), diags(dz)
+    rebuilt = kron(Mz, kron(My, Kx)) + kron(Mz, kron(Ky, Mx)) + kron(Kz, kron(My, Mx))
+    K = block.stiffness
+    assert abs(K - rebuilt).max() <= 1e-12 * abs(K).max()
+    assert Kz[0].sum() == pytest.approx(20.0, rel=1e-9)        # the top's convection h [W/(m^2 K)]
+    assert Kz[-1].sum() > 0.0                                  # the deep face at theta = 0
+    nx, ny = dx.size, dy.size
+    skewed = block.stiffness.tolil()
+    skewed[3 * nx * ny + 5, 3 * nx * ny + 5] *= 1.001          # one cell's conductance off the product form
+    assert separate3(skewed.tocsr(), dx, dy, dz) is None
+    faces = [np.concatenate([[0.0], np.cumsum(d)]) for d in (dx, dy, dz)]
+    with pytest.raises(SolverError, match="not the separable sum"):
+        EllipseBlock(*faces, block.capacity, skewed.tocsr(), [1e-4], 1.0)
+
+
+@pytest.mark.parametrize("theta", [0.5, 1.0])
+def test_steps_per_mode_equal_sparse_lu_steps(block, theta):
+    """Theta steps of 1e-7 .. 1 s under a random surface load: per mode and by sparse LU of FiPy's matrix
+    ``(C/dt + theta K) T1 = (C/dt - (1 - theta) K) T0 + theta p1 + (1 - theta) p0``, to 1e-11 of the state."""
+    modes, C, K = block.modes, block.capacity, block.stiffness
+    top = modes.dx.size * modes.dy.size
+    rng = np.random.default_rng(7)
+    T = rng.standard_normal(C.size)
+    Y = modes.of_cells(T)
+    for dt in (1e-7, 3.1e-6, 1e-3, 1.0):
+        p0, p1 = np.zeros(C.size), np.zeros(C.size)
+        p0[:top], p1[:top] = rng.random(top), rng.random(top)
+        lu = splu((diags(C / dt) + theta * K).tocsc())
+        T = lu.solve(C / dt * T - (1.0 - theta) * (K @ T) + theta * p1 + (1.0 - theta) * p0)
+        a, b = modes.coefficients(dt, theta)
+        surface = (theta * p1[:top] + (1.0 - theta) * p0[:top]).reshape(modes.dy.size, modes.dx.size)
+        Y = a * Y + b * modes.load(surface)
+        assert np.max(np.abs(modes.to_cells(Y) - T)) <= 1e-11 * np.max(np.abs(T)), dt
+        column = T.reshape(modes.shape)[:, block.j0, block.i0]
+        expected = np.sum(column[block.rows] * block.weights, axis=1)
+        assert np.allclose(modes.sample(Y), expected, rtol=0.0, atol=1e-11 * np.max(np.abs(T)))
+
+
+def test_stepper_power_is_the_flux_integrated_over_the_surface_cells(block):
+    """A uniform flux q over a source grid wider than the block: every surface cell takes q times its face's
+    area; the state goes both ways between cells and modes."""
+    xe, ye = np.linspace(-0.1, 0.1, 9), np.linspace(-0.1, 0.1, 5)
+    st = block.stepper(xe, ye, np.full((8, 4), 3.0), V, lambda t: 1.0, 0.0)
+    p = st._surface_power(0.1 / V, [0.0])          # the source centred on the section
+    assert np.allclose(p, 3.0 * np.outer(block.modes.dy, block.modes.dx), rtol=1e-12)
+    T = np.random.default_rng(3).standard_normal(block.capacity.size)
+    st.T = T
+    assert np.allclose(st.T, T, rtol=0.0, atol=1e-12)
+    side = st.fresh(0.0)
+    assert side.cache is st.cache and np.all(side.T == 0.0)
+
+
+def _train(level):
+    """fipy's rail pass peaks (passes, depths) on the study's train-4-axles at ``level`` and their relative
+    errors against the exact ellipse at the surface, 0.1 and 0.5 mm; the result."""
+    scene = load_study(STUDY).scene("train-4-axles")
+    ds = solve(scene, "fipy", level=level)
+    tr = scene.transient
+    (_, _), (src, bulk) = transient_sources(scene)[0]
+    z = np.asarray(ds["z"].values)
+    cols = [int(np.flatnonzero(np.isclose(z, d))[0]) for d in DEPTHS]
+    ref = pass_summary(list(DEPTHS), src, scene.body(1), tr.count, tr.interval, **CHEAP)
+    peak = ds["pass_peak_temperature"].values[1][:, cols] - bulk
+    return np.abs(peak / ref.peak - 1.0), ds
+
+
+def test_train_of_axles_level_0_within_5_percent_of_the_exact_ellipse():
+    """Level 0 (27 x 27 x 31 cells, ~2 s): every pass's peak at 0.1 and 0.5 mm within 5 % of the exact ellipse
+    (measured 0.41 % and 0.81 %); the rail's history from the 3-D block, the wheel unheated at its bulk."""
+    err, ds = _train(0)
+    assert np.max(err[:, 1:]) < 0.05, err
+    assert ds.attrs["fipy_dimension"] == 3
+    assert ds.attrs["fipy_rail_history_node_shape"].count("x") == 2
+    assert np.all(ds.temperature_history.sel(body="wheel").values == 20.0)
+
+
+@pytest.fixture(scope="module")
+def ladder():
+    """The errors (levels, passes, depths) of levels 0 .. 2 (level 2: 85 x 101 x 121 cells, ~25 s)."""
+    return [_train(level)[0] for level in range(3)]
+
+
+# level 2's block takes FiPy ~15 s to assemble (its generic mesh geometry over ~1e6 cells): opt-in (-m slow)
+@pytest.mark.slow
+def test_train_of_axles_level_2_within_5_percent_of_the_exact_ellipse(ladder):
+    """Issue target: at level 2 every pass's peak at 0.1 and 0.5 mm within 5 % of the exact ellipse (measured
+    0.047 % and 0.032 %)."""
+    assert np.max(ladder[2][:, 1:]) < 0.05, ladder[2]
+
+
+@pytest.mark.slow
+def test_pass_peak_error_converges_at_second_order(ladder):
+    """Levels 0 .. 2 (cells h = 2a/32/2**level along x, b/8/2**level across, delta/4/2**level at the surface,
+    steps h/V: second order in space and time): the largest pass peak error over the surface, 0.1 and 0.5 mm
+    falls like h^2 (fitted slope within 0.3 of 2; measured 0.81, 0.14, 0.047 %: slope 2.05), and at every
+    depth each level at least halves it (at 0.1 mm more slowly than h^2: measured 0.41, 0.13, 0.047 %)."""
+    worst = [float(np.max(e)) for e in ladder]
+    hs = [2 * A / 32 / 2 ** level for level in range(3)]
+    assert np.polyfit(np.log(hs), np.log(worst), 1)[0] == pytest.approx(2.0, abs=0.3), worst
+    by_depth = np.array([np.max(e, axis=0) for e in ladder])
+    assert np.all(by_depth[1:] < 0.5 * by_depth[:-1]), by_depth
+
+
+def test_computed_patch_through_fipy_agrees_with_green():
+    """A computed Hertz patch (full sliding, heat into both bodies), 3 passes 50 ms apart, level 0: fipy's 3-D
+    blocks of both bodies (the wheel's and the rail's) separate (FiPy's deep face alone constrained) and their
+    residual rises agree with green's (exact in time, its lateral conduction approximate) within 1 % (measured
+    0.24 %)."""
+    import railtherm.testing
+    scene = railtherm.testing.canonical("ellipse-full-sliding", mode="transient", passes={"count": 3, "interval": 0.05},
+                                        outputs=["temperature_history", "residual_rise"])
+    ds = solve(scene, "fipy", level=0)
+    green = solve(scene, "green", level=0)
+    assert ds.attrs["fipy_wheel_history_node_shape"].count("x") == 2
+    assert np.max(np.abs(ds.residual_rise.values / green.residual_rise.values - 1.0)) < 0.01
+
+
+def test_block_over_the_cell_budget_is_refused():
+    """A level whose block exceeds ``max_history_cells`` is refused before FiPy assembles it, naming the shape,
+    the level and the option."""
+    scene = load_study(STUDY).scene("train-4-axles")
+    with pytest.raises(Refused, match=r"max_history_cells = 1e\+04.*raise the option max_history_cells"):
+        solve(scene, "fipy", level=0, options={"max_history_cells": 10_000})
