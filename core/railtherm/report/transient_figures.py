@@ -83,6 +83,13 @@ def _exact_history(curve, body: int, z: float):
     return np.asarray(curve["history_time"].values, float), y
 
 
+def _marks(t: np.ndarray, n: int = 8) -> list[int]:
+    """Indices of about ``n`` markers evenly spaced in time (a thinned line is densest at its peaks)."""
+    if t.size == 0:
+        return []
+    return sorted(set(np.searchsorted(t, np.linspace(t[0], t[-1], n)).clip(0, t.size - 1).tolist()))
+
+
 def _window(t, y, lo: float, hi: float):
     keep = (t >= lo) & (t <= hi)
     return thin(t[keep], y[keep])
@@ -102,7 +109,7 @@ def histories(finest: dict, curve, body: int, count: int, threshold: float, pale
     wins = windows(t_end, count)
     fig = figure(10, 0.9 + 1.55 * len(rows))
     axes = np.atleast_2d(fig.subplots(len(rows), len(wins), squeeze=False, sharex="col"))
-    handles = {}
+    handles, reached = {}, False
     for i, j in enumerate(rows):
         exact = _exact_history(curve, body, z[j])
         for c, (lo, hi, what) in enumerate(wins):
@@ -116,11 +123,12 @@ def histories(finest: dict, curve, body: int, count: int, threshold: float, pale
                 t = np.asarray(ds["time"].values, float)
                 y = np.asarray(ds["temperature_history"].isel(body=body, z=j).values, float)
                 tw, yw = _window(t, y, lo, hi)
-                st = dict(palette.style(m), ms=3.0, markevery=max(1, tw.size // 8), lw=1.2)
+                st = dict(palette.style(m), ms=3.0, markevery=_marks(tw), lw=1.2)
                 handles.setdefault(m, ax.plot(tw * MS, yw, **st, label=m)[0])
                 top = max(top, float(np.nanmax(yw, initial=-np.inf)))
             if np.isfinite(top) and top >= threshold:
                 ax.axhline(threshold, color="0.3", ls=":", lw=1.0)
+                reached = True
             ax.grid(True, alpha=0.3)
             if i == 0:
                 ax.set_title(what, fontsize=9)
@@ -130,7 +138,7 @@ def histories(finest: dict, curve, body: int, count: int, threshold: float, pale
                 ax.set_ylabel("surface [°C]" if z[j] == 0 else f"z = {z[j] * MM:.3g} mm [°C]", fontsize=9)
     fig.legend(handles=list(handles.values()), loc="outside lower center", ncol=min(len(handles), 5), fontsize=8,
                frameon=False)
-    fig.suptitle(title + (f" (dotted: {threshold:g} °C)" if threshold else ""), fontsize=10)
+    fig.suptitle(title + (f" (dotted: {threshold:g} °C)" if reached else ""), fontsize=10)
     return save(fig, path)
 
 

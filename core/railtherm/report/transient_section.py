@@ -54,19 +54,19 @@ def _bulk(data: StudyData, scene: str, body: int) -> float:
 
 
 def heated_bodies(data: StudyData, scene: str, finest: dict) -> list[int]:
-    """Bodies (0 wheel, 1 rail) whose surface pass peak rises above their bulk in some method's result,
-    the rail first (the section the passes go over)."""
-    out = []
+    """Bodies (0 wheel, 1 rail) whose surface pass peak rises above their bulk in some method's result, the
+    hotter first (its history is shown, the other's behind a closed box); the rail first on a tie."""
+    rise = {}
     for b in (1, 0):
         bulk = _bulk(data, scene, b)
         for ds in finest.values():
             if "pass_peak_temperature" not in ds:
                 continue
             peaks = np.asarray(ds["pass_peak_temperature"].isel(body=b, z=0).values, float)
-            if np.nanmax(peaks, initial=-math.inf) - bulk > HEATED_RISE:
-                out.append(b)
-                break
-    return out
+            r = float(np.nanmax(peaks, initial=-math.inf)) - bulk
+            if r > HEATED_RISE:
+                rise[b] = max(rise.get(b, -math.inf), r)
+    return sorted(rise, key=lambda b: -rise[b])
 
 
 def _count(data: StudyData, scene: str, finest: dict) -> int:
