@@ -27,9 +27,9 @@ from .solvers import import_fipy
 
 __all__ = ["EllipseBlock", "BlockModes", "fipy_ellipse_block", "ellipse_cells", "separate3", "MAX_HISTORY_CELLS"]
 
-#: default largest 3-D history block [cells]: FiPy builds its mesh and matrix once (measured 16 s for the study's
-#: train-4-axles at level 2, 85 x 101 x 121 cells, OPENBLAS_NUM_THREADS unset, 2 shared cores) and every step
-#: touches each mode; 8x a level (level 3 of that scene, ~8e6 cells, is refused)
+#: default largest 3-D history block [cells]: FiPy builds its mesh and matrix once and every step touches each
+#: mode (the study's train-4-axles at level 2, 85 x 101 x 121 = 1.04e6 cells: 15-24 s of FiPy's build, 34-41 s in
+#: all, 3.2 GB peak memory, on 2 shared cores); 8x a level (level 3 of that scene, ~8e6 cells, is refused)
 MAX_HISTORY_CELLS = 1_500_000
 
 
