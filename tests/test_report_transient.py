@@ -66,6 +66,8 @@ def test_transient_scene_has_figures_and_error_table(small):
         assert f"figures/{name}.png" in part, name
         assert (out / "figures" / f"{name}.png").stat().st_size > 10_000
     assert "history-wheel" not in part          # heat_partition 0: the wheel takes no heat
+    # references.nc holds the scene's exact history: both figures draw it as the grey band
+    assert part.count("grey band: exact transient band (`references.nc`)") == 2
     # the error table: green's level, its three transient errors (metrics.nc's) and the reference named
     from railtherm.report.load import load
     data = load(out)
@@ -143,10 +145,10 @@ def test_exact_curves_are_drawn_when_present(small):
                         "exact_pass_peak_temperature": ds["pass_peak_temperature"].rename(z="history_depth"),
                         "exact_residual_rise": ds["residual_rise"],
                         "exact_time_above": ds["time_above"].rename(z="history_depth")},
-                       attrs={"transient_reference": "transient-band"})
+                       attrs={"transient_reference": "exact transient band"})
     md, ctx = _section(out, curve)
     assert len(ctx.figures) == 2
-    assert "grey band: the exact history (transient-band)" in md and "no exact history" not in md
+    assert "grey band: exact transient band (`references.nc`)" in md and "no exact history" not in md
 
 
 def test_many_passes_draw_first_and_last_windows_and_thinning_keeps_peaks():

@@ -138,7 +138,7 @@ def transient_section(doc: Document, ctx, idx: int, scene: str, finest: dict):
     ref = _reference_name(curve, data, scene, finest)
     count, thr = _count(data, scene, runs), _threshold(data, scene)
     levels = ", ".join(f"{m} level {data.finest_result(scene, m).level}" for m in runs)
-    band = (f"grey band: the exact history ({ref})" if has_exact else
+    band = (f"grey band: {ref or 'the exact history'} (`references.nc`)" if has_exact else
             "no exact history is drawn (`references.nc` holds none for this scene)")
     header, rows = error_rows(data, scene, runs)
     doc.table(f"`{scene}`, {count} pass{'es' if count != 1 else ''}: each method's finest successful level, its "
