@@ -162,3 +162,19 @@ def test_many_passes_draw_first_and_last_windows_and_thinning_keeps_peaks():
     tt, yy = thin(t, y)
     assert tt.size <= 5000 and yy.max() == y.max() and yy.min() == y.min()
     assert np.all(np.diff(tt) > 0)
+
+
+def test_a_coarse_exact_history_is_drawn_as_points_and_a_fine_one_as_a_band():
+    """The exact history is joined by a line only where its time axis is within 20x the methods' median step:
+    a uniform axis of half a pass over 1,000 passes would cut every peak."""
+    import xarray as xr
+    from railtherm.report.transient_figures import exact_joined
+    run = xr.Dataset({"temperature_history": (("body", "time", "z"), np.zeros((2, 1001, 1)))},
+                     coords={"time": np.linspace(0.0, 1e-3, 1001)})          # step 1 us
+    def curve(n):
+        return xr.Dataset({"exact_temperature_history": (("body", "history_time", "history_depth"),
+                                                        np.zeros((2, n, 1)))},
+                          coords={"history_time": np.linspace(0.0, 1e-3, n)})
+    assert exact_joined({"m": run}, curve(101)) is True        # 10 us: joined
+    assert exact_joined({"m": run}, curve(21)) is False        # 50 us: points
+    assert exact_joined({"m": run}, None) is None and exact_joined({"m": run}, xr.Dataset()) is None

@@ -21,7 +21,7 @@ import numpy as np
 
 from .figures import BODIES, REFERENCE_STYLE, Palette, figure, save
 
-__all__ = ["histories", "per_pass", "windows", "history_depths", "thin", "FEW_PASSES"]
+__all__ = ["histories", "per_pass", "windows", "history_depths", "thin", "exact_joined", "FEW_PASSES"]
 
 MS = 1e3   # s -> ms
 MM = 1e3   # m -> mm
@@ -32,6 +32,10 @@ FIRST_PASSES, LAST_PASSES = 3, 2
 HISTORY_DEPTHS = (1e-4, 5e-4, 1e-3)
 #: points per drawn line at most (a 1,000-pass history holds 300,000 samples)
 MAX_POINTS = 4000
+#: an exact history whose median time step exceeds the coarsest method's by more than this is drawn as points
+JOIN_RATIO = 20.0
+#: the exact history's samples when they are too coarse to be joined by a line
+EXACT_SAMPLES = {"color": "0.55", "ls": "none", "marker": "o", "ms": 3.0, "alpha": 0.8}
 
 
 def windows(t_end: float, count: int) -> list[tuple[float, float, str]]:
@@ -90,6 +94,27 @@ def _marks(t: np.ndarray, n: int = 8) -> list[int]:
     return sorted(set(np.searchsorted(t, np.linspace(t[0], t[-1], n)).clip(0, t.size - 1).tolist()))
 
 
+def _step(t: np.ndarray) -> float:
+    """The median spacing of a time axis [s] (inf when it has no two samples)."""
+    return float(np.median(np.diff(t))) if t.size > 1 else np.inf
+
+
+def _resolves(t_exact: np.ndarray, step: float) -> bool:
+    """True when the exact history's axis is fine enough to join its samples by a line: its median step is
+    within :data:`JOIN_RATIO` of the coarsest method's (a uniform axis over many passes, coarser than a
+    contact, would cut each pass's peak; its samples are then drawn as points)."""
+    return _step(t_exact) <= JOIN_RATIO * step
+
+
+def exact_joined(finest: dict, curve) -> bool | None:
+    """Whether :func:`histories` joins the exact history's samples by a line (None: there is no exact history)."""
+    runs = [ds for ds in finest.values() if "temperature_history" in ds]
+    if curve is None or "exact_temperature_history" not in curve or not runs:
+        return None
+    step = max(_step(np.asarray(ds["time"].values, float)) for ds in runs)
+    return _resolves(np.asarray(curve["history_time"].values, float), step)
+
+
 def _window(t, y, lo: float, hi: float):
     keep = (t >= lo) & (t <= hi)
     return thin(t[keep], y[keep])
@@ -109,6 +134,7 @@ def histories(finest: dict, curve, body: int, count: int, threshold: float, pale
     wins = windows(t_end, count)
     fig = figure(10, 0.9 + 1.55 * len(rows))
     axes = np.atleast_2d(fig.subplots(len(rows), len(wins), squeeze=False, sharex="col"))
+    method_step = max(_step(np.asarray(ds["time"].values, float)) for ds in runs.values())
     handles, reached = {}, False
     for i, j in enumerate(rows):
         exact = _exact_history(curve, body, z[j])
@@ -117,7 +143,9 @@ def histories(finest: dict, curve, body: int, count: int, threshold: float, pale
             top = -np.inf
             if exact is not None:
                 te, ye = _window(*exact, lo, hi)
-                handles.setdefault("exact", ax.plot(te * MS, ye, **REFERENCE_STYLE, label="exact")[0])
+                joined = _resolves(exact[0], method_step)
+                handles.setdefault("exact", ax.plot(te * MS, ye, **(REFERENCE_STYLE if joined else EXACT_SAMPLES),
+                                                    label="exact" if joined else "exact (samples, not joined)")[0])
                 top = max(top, float(np.nanmax(ye, initial=-np.inf)))
             for m, ds in runs.items():
                 t = np.asarray(ds["time"].values, float)

@@ -140,6 +140,11 @@ def transient_section(doc: Document, ctx, idx: int, scene: str, finest: dict):
     levels = ", ".join(f"{m} level {data.finest_result(scene, m).level}" for m in runs)
     band = (f"grey band: {ref or 'the exact history'} (`references.nc`)" if has_exact else
             "no exact history is drawn (`references.nc` holds none for this scene)")
+    joined = TF.exact_joined(runs, curve)
+    history_band = band if joined is not False else (
+        f"grey dots: the samples of {ref or 'the exact history'} (`references.nc`; its time axis is coarser than "
+        "a contact, so they are not joined and fall between the passes' peaks: the per-pass figure holds the "
+        "exact peaks)")
     header, rows = error_rows(data, scene, runs)
     doc.table(f"`{scene}`, {count} pass{'es' if count != 1 else ''}: each method's finest successful level, its "
               "largest relative errors over the passes and bodies (`metrics.nc`: pass peak and residual rise per "
@@ -160,7 +165,7 @@ def transient_section(doc: Document, ctx, idx: int, scene: str, finest: dict):
                    "fixed section, at the surface and the history depths, "
                    + (f"over the first {TF.FIRST_PASSES} and the last {TF.LAST_PASSES} of {count} passes (left, "
                       "right)" if many else "over the whole history") + f"; methods at their finest level "
-                   f"({levels}); {band}; dotted: {thr:g} °C where reached.")
+                   f"({levels}); {history_band}; dotted: {thr:g} °C where reached.")
         args = (TF.histories, runs, curve, body, count, thr, ctx.palette, f"{scene} ({who}): temperature history")
         if body == bodies[0]:
             ctx.draw(doc, f"{base}-history-{who}", caption, *args)
