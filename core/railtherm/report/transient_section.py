@@ -155,7 +155,7 @@ def transient_section(doc: Document, ctx, idx: int, scene: str, finest: dict):
     base = f"{idx:03d}-{slug(scene)}"
     ctx.draw(doc, f"{base}-per-pass", f"`{scene}`: per pass, the peak surface temperature, the residual rise above "
              "the bulk left just before the next pass (after the last: one interval after it)"
-             + (f" and the time the surface spends above {thr:g} °C" if thr else "") + " of each heated body; "
+             + f" and, where some pass reaches {thr:g} °C, the time the surface spends above it, of each heated body; "
              f"methods at their finest level ({levels}); {band}.", TF.per_pass, runs, curve, bodies, thr,
              ctx.palette, f"{scene}: per pass")
     many = count > TF.FEW_PASSES
