@@ -34,6 +34,8 @@ HISTORY_DEPTHS = (1e-4, 5e-4, 1e-3)
 MAX_POINTS = 4000
 #: an exact history whose median time step exceeds the coarsest method's by more than this is drawn as points
 JOIN_RATIO = 20.0
+#: the exact value of a scene with one pass (per-pass figure)
+ONE_PASS_EXACT = {"color": "0.6", "ls": "none", "marker": "s", "ms": 14.0, "alpha": 0.5}
 #: the exact history's samples when they are too coarse to be joined by a line
 EXACT_SAMPLES = {"color": "0.55", "ls": "none", "marker": "o", "ms": 3.0, "alpha": 0.8}
 
@@ -206,8 +208,9 @@ def per_pass(finest: dict, curve, bodies: list[int], threshold: float, palette: 
         for c, (name, exact_name, what, scale) in enumerate(cols):
             ax = axes[i, c]
             ye = _exact_pass(curve, exact_name, b)
-            if ye is not None:
-                handles.setdefault("exact", ax.plot(np.arange(1, ye.size + 1), ye * scale, **REFERENCE_STYLE,
+            if ye is not None:   # one pass: a wide grey marker (a line of one point is not drawn)
+                handles.setdefault("exact", ax.plot(np.arange(1, ye.size + 1), ye * scale,
+                                                    **(REFERENCE_STYLE if ye.size > 1 else ONE_PASS_EXACT),
                                                     label="exact")[0])
             for m, ds in runs.items():
                 if name not in ds:
@@ -223,6 +226,9 @@ def per_pass(finest: dict, curve, bodies: list[int], threshold: float, palette: 
                 handles.setdefault(m, ax.plot(n, y, **st, label=m)[0])
             ax.grid(True, alpha=0.3)
             ax.locator_params(axis="x", integer=True)
+            if ax.get_xlim()[1] - ax.get_xlim()[0] < 1.0:   # a single pass: one tick, room around it
+                ax.set_xlim(0.5, 1.5)
+                ax.set_xticks([1])
             if i == 0:
                 ax.set_title(what, fontsize=9)
             if i == len(bodies) - 1:
