@@ -178,3 +178,24 @@ def test_a_coarse_exact_history_is_drawn_as_points_and_a_fine_one_as_a_band():
     assert exact_joined({"m": run}, curve(101)) is True        # 10 us: joined
     assert exact_joined({"m": run}, curve(21)) is False        # 50 us: points
     assert exact_joined({"m": run}, None) is None and exact_joined({"m": run}, xr.Dataset()) is None
+
+
+@pytest.mark.parametrize("passes", [1, 3])
+def test_per_pass_figure_of_one_and_of_several_passes(tmp_path, passes):
+    """The per-pass figure draws for one pass (a single tick) as for several, both bodies heated, with the
+    time above the threshold and the exact values."""
+    import xarray as xr
+    from railtherm.report.figures import Palette
+    from railtherm.report.transient_figures import per_pass
+    n = np.arange(1, passes + 1)
+    peak = 800.0 + np.zeros((2, passes, 2))
+    run = xr.Dataset({"pass_peak_temperature": (("body", "pass", "z"), peak),
+                      "residual_rise": (("body", "pass"), np.ones((2, passes))),
+                      "time_above": (("body", "pass", "z"), 1e-3 * np.ones((2, passes, 2)))},
+                     coords={"pass": n, "z": [0.0, 1e-4]})
+    curve = xr.Dataset({"exact_pass_peak_temperature": (("body", "pass", "history_depth"), peak),
+                        "exact_residual_rise": (("body", "pass"), np.ones((2, passes))),
+                        "exact_time_above": (("body", "pass", "history_depth"), 1e-3 * np.ones((2, passes, 2)))},
+                       coords={"pass": n, "history_depth": [0.0, 1e-4]})
+    path, width = per_pass({"green": run}, curve, [1, 0], 727.0, Palette(["green"]), "t", path=tmp_path / "p.png")
+    assert path.stat().st_size > 10_000 and width <= 1024

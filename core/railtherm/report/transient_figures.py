@@ -225,16 +225,19 @@ def per_pass(finest: dict, curve, bodies: list[int], threshold: float, palette: 
                     st["markevery"] = max(1, y.size // 20)
                 handles.setdefault(m, ax.plot(n, y, **st, label=m)[0])
             ax.grid(True, alpha=0.3)
-            ax.locator_params(axis="x", integer=True)
-            if ax.get_xlim()[1] - ax.get_xlim()[0] < 1.0:   # a single pass: one tick, room around it
-                ax.set_xlim(0.5, 1.5)
-                ax.set_xticks([1])
             if i == 0:
                 ax.set_title(what, fontsize=9)
             if i == len(bodies) - 1:
                 ax.set_xlabel("pass (the wheel: revolution)" if b == 0 else "pass")
             if c == 0:
                 ax.set_ylabel(BODIES[b], fontsize=9)
+    single = max(ds.sizes.get("pass", 1) for ds in runs.values()) == 1
+    for ax in axes.ravel():   # the axes share x: set once each, after every line is drawn
+        if single:            # one pass: one tick, room around it
+            ax.set_xlim(0.5, 1.5)
+            ax.set_xticks([1])
+        else:
+            ax.locator_params(axis="x", integer=True)
     fig.legend(handles=list(handles.values()), loc="outside lower center", ncol=min(len(handles), 5), fontsize=8,
                frameon=False)
     fig.suptitle(title, fontsize=10)
