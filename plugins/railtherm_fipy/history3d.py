@@ -23,6 +23,7 @@ from railtherm import Refused, SolverError
 from railtherm.physics import thermal_scales
 
 from .history import IMPLICIT_COST, ScheduleSteps, _depth_widths, _FipyStepper, _widths
+from .modes import theta_coefficients
 from .solvers import import_fipy
 
 __all__ = ["EllipseBlock", "BlockModes", "fipy_ellipse_block", "ellipse_cells", "separate3", "MAX_HISTORY_CELLS"]
@@ -84,8 +85,7 @@ class BlockModes:
 
     def coefficients(self, dt: float, theta: float):
         """``(a, b)`` (nz, ny, nx): one theta step is ``Y1 = a Y0 + b V^T (theta p1 + (1 - theta) p0)``."""
-        b = 1.0 / (self.rho_c / dt + theta * self.rate)
-        return b * (self.rho_c / dt - (1.0 - theta) * self.rate), b
+        return theta_coefficients(self.rho_c, self.rate, dt, theta)
 
     def load(self, p_surface: np.ndarray) -> np.ndarray:
         """The modes' share (nz, ny, nx) [W] of the heat ``p_surface`` (ny, nx) [W] entering the surface cells."""

@@ -19,7 +19,14 @@ import numpy as np
 from scipy.linalg import eigh
 from scipy.sparse import csr_matrix, diags, kron
 
-__all__ = ["SectionModes", "separate"]
+__all__ = ["SectionModes", "separate", "theta_coefficients"]
+
+
+def theta_coefficients(rho_c: float, rate: np.ndarray, dt: float, theta: float):
+    """``(a, b)`` of one theta step of ``dt`` [s] per mode of decay ``rate`` [W/(K m^3)] (any shape), capacity
+    ``rho_c`` [J/(m^3 K)]: ``Y1 = a Y0 + b (theta P1 + (1 - theta) P0)`` for the modes' loads P [W/m^3]."""
+    b = 1.0 / (rho_c / dt + theta * rate)
+    return b * (rho_c / dt - (1.0 - theta) * rate), b
 
 
 def separate(K, dx: np.ndarray, dz: np.ndarray, rtol: float = 1e-12):
@@ -71,8 +78,7 @@ class SectionModes:
 
     def coefficients(self, dt: float, theta: float):
         """``(a, b)`` (nz, nx): one theta step is ``Y1 = a Y0 + b (Vz (x) Vx)^T (theta p1 + (1 - theta) p0)``."""
-        b = 1.0 / (self.rho_c / dt + theta * self.rate)
-        return b * (self.rho_c / dt - (1.0 - theta) * self.rate), b
+        return theta_coefficients(self.rho_c, self.rate, dt, theta)
 
     def load(self, p_surface: np.ndarray) -> np.ndarray:
         """The modes' share (nz, nx) [W/m] of the heat ``p_surface`` (nx,) [W/m] entering the surface cells."""

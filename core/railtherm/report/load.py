@@ -18,7 +18,7 @@ from ..input.study import load_study
 from ..output import store
 from ..output.store import RESULT_STATUSES   # statuses of runs that produced a result
 
-__all__ = ["RESULT_STATUSES", "Run", "Order", "SceneInfo", "StudyData", "load"]
+__all__ = ["RESULT_STATUSES", "Run", "Order", "SceneInfo", "StudyData", "body_bulk", "load"]
 
 
 @dataclass
@@ -401,3 +401,12 @@ def load(out, study=None) -> StudyData:
         orders={nm: _orders(m, nm) for nm in names}, cross={nm: _cross(m, nm) for nm in names},
         curves=curves, notes=notes)
 
+
+def body_bulk(data: StudyData, scene: str, body: int) -> float:
+    """The bulk temperature [degC] of ``body`` (0 wheel, 1 rail) in ``scene`` of a loaded study; 0 when the study
+    file (and so the scene) is not available."""
+    sc = data.scene[scene].scene
+    try:
+        return float(sc.body(body).bulk_temperature)
+    except AttributeError:
+        return 0.0

@@ -23,7 +23,7 @@ from .document import Cell, Document
 from .exact_contact import relative_error
 from .document import anchor_text
 from .format import finite, label, num, pct
-from .load import StudyData
+from .load import StudyData, body_bulk
 from .tables import error_text, metric_name
 from .study_section import hot_note
 
@@ -61,14 +61,6 @@ def heated_bodies(curve) -> list[int]:
     """Bodies that take heat: their exact surface temperature is not uniform (the other's is its bulk)."""
     t = np.asarray(curve["surface_temperature"].values, float)
     return [i for i in (0, 1) if np.nanmax(t[i]) > np.nanmin(t[i])]
-
-
-def _bulk(data: StudyData, scene: str, body: int) -> float:
-    sc = data.scene[scene].scene
-    try:
-        return float(sc.body(body).bulk_temperature)
-    except AttributeError:
-        return 0.0
 
 
 def _surface(ds, name: str, body: int) -> float:
@@ -183,7 +175,7 @@ def trace_rows(data: StudyData, scenes: list[str] | None = None) -> tuple[list[s
         finest = _finest(data, s)
         first = set()
         for body in heated_bodies(curve):
-            bulk = _bulk(data, s, body)
+            bulk = body_bulk(data, s, body)
             ref = values(data, s, None, body)
             scored = metric_name("cooling_rate", _depths(data, s))
             row = [f"`{s}` ({thr:g} °C; z* = {zs * 1e3:.3g} mm" + (f"; {scored} scored" if "≥" in scored else "")
@@ -266,7 +258,7 @@ def _scene(doc: Document, ctx, scene: str):
     bodies = heated_bodies(curve) or [1]
     doc.heading(3, f"`{scene}` behind the patch and in depth", trace_anchor(scene))
     doc.paragraph(hot_note(data, scene), css="warning")
-    rises = {b: float(np.nanmax(np.asarray(curve["trace_peak_temperature"].values[b], float))) - _bulk(data, scene, b)
+    rises = {b: float(np.nanmax(np.asarray(curve["trace_peak_temperature"].values[b], float))) - body_bulk(data, scene, b)
              for b in bodies}
     main = max(bodies, key=lambda b: rises[b])
     for body in [main] + [b for b in bodies if b != main]:
@@ -278,11 +270,11 @@ def _scene(doc: Document, ctx, scene: str):
                    f"({ref}); methods at their finest level ({lv}).")
         args = (TF.trace, finest, curve, body, ctx.palette, f"{scene} ({who}): thermal trace")
         if body == main:
-            ctx.draw(doc, f"trace-{scene}-{who}", caption, *args, bulk=_bulk(data, scene, body))
+            ctx.draw(doc, f"trace-{scene}-{who}", caption, *args, bulk=body_bulk(data, scene, body))
         else:
             with doc.details(f"The {who}'s trace (its rise peaks at {num(rises[body])} K, the {BODIES[main]}'s at "
                              f"{num(rises[main])} K)"):
-                ctx.draw(doc, f"trace-{scene}-{who}", caption, *args, bulk=_bulk(data, scene, body))
+                ctx.draw(doc, f"trace-{scene}-{who}", caption, *args, bulk=body_bulk(data, scene, body))
     if "surface_map" in curve:
         with doc.details(f"Surface map of the trace of `{scene}` ({BODIES[main]})"):
             for body in [main]:
@@ -290,4 +282,4 @@ def _scene(doc: Document, ctx, scene: str):
                 ctx.draw(doc, f"trace-map-{scene}-{who}", f"`{scene}`, {who}: surface temperature rise [K] over the "
                          f"patch (dashed outline) and its trace behind it, exact ({ref}) and each method at its "
                          f"finest level ({lv}); one colour scale.", TF.maps, finest, curve, body,
-                         f"{scene} ({who}): surface temperature rise", bulk=_bulk(data, scene, body))
+                         f"{scene} ({who}): surface temperature rise", bulk=body_bulk(data, scene, body))

@@ -18,7 +18,7 @@ import numpy as np
 from . import transient_figures as TF
 from .document import Cell, Document
 from .format import duration, finite, label, slug
-from .load import StudyData
+from .load import StudyData, body_bulk
 from .tables import error_text, reference_words
 
 __all__ = ["transient_section", "is_transient", "heated_bodies", "error_rows", "METRICS"]
@@ -45,20 +45,12 @@ def is_transient(data: StudyData, scene: str, finest: dict) -> bool:
     return any("pass_peak_temperature" in ds for ds in finest.values())
 
 
-def _bulk(data: StudyData, scene: str, body: int) -> float:
-    sc = data.scene[scene].scene
-    try:
-        return float(sc.body(body).bulk_temperature)
-    except AttributeError:
-        return 0.0
-
-
 def heated_bodies(data: StudyData, scene: str, finest: dict) -> list[int]:
     """Bodies (0 wheel, 1 rail) whose surface pass peak rises above their bulk in some method's result, the
     hotter first (its history is shown, the other's behind a closed box); the rail first on a tie."""
     rise = {}
     for b in (1, 0):
-        bulk = _bulk(data, scene, b)
+        bulk = body_bulk(data, scene, b)
         for ds in finest.values():
             if "pass_peak_temperature" not in ds:
                 continue
