@@ -39,9 +39,8 @@ def _transient(data: StudyData, scene: str):
 
 def is_transient(data: StudyData, scene: str, finest: dict) -> bool:
     """True for a scene with passes over time (its study says so, or its runs hold pass peaks)."""
-    sc = data.scene[scene].scene
-    if sc is not None:
-        return getattr(sc, "transient", None) is not None
+    if data.scene[scene].scene is not None:
+        return _transient(data, scene) is not None
     return any("pass_peak_temperature" in ds for ds in finest.values())
 
 
