@@ -227,7 +227,8 @@ class _FipyStepper(ImplicitSectionStepper):
 
     @T.setter
     def T(self, value) -> None:
-        self.Y = self.b.modes.of_cells(value)
+        modes = self.b.modes
+        self.Y = np.zeros(modes.rate.shape) if not np.any(value) else modes.of_cells(value)
 
     def implicit_steps(self, dt: float, m: int, arrivals=(), theta: float = 0.5, start: int = 0):
         """m theta-scheme steps of dt [s] (the first ``start`` backward Euler) under the passes arriving at
@@ -248,13 +249,12 @@ class _FipyStepper(ImplicitSectionStepper):
         for i, (t1, h) in enumerate(zip(ends, steps)):
             th = 1.0 if i < start else theta
             if (h, th) not in self.cache:
-                self.cache[(h, th)] = modes.coefficients(h, th)
-            a, b = self.cache[(h, th)]
+                self.cache[(h, th)] = modes.step_coefficients(h, th)
             q_new = self._surface_power(t1, arrivals)
-            Y = a * Y
+            q = None
             if q_new is not None or q_old is not None:
                 q = (th * (0.0 if q_new is None else q_new) + (1.0 - th) * (0.0 if q_old is None else q_old))
-                Y += b * modes.load(q)
+            Y = modes.advance(Y, self.cache[(h, th)], q)
             self.solves += 1
             out[i] = modes.sample(Y)
             t, q_old = t1, q_new

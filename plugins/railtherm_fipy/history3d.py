@@ -1,15 +1,16 @@
 """fipy's pass histories of an elliptical patch: the rail section as a 3-D block of FiPy cells (x, y, z).
 
 The 2-D section of :mod:`.history` with the lateral direction added: FiPy's cell-centred finite volumes
-(``TransientTerm(rho c) == DiffusionTerm(lambda)`` on a ``Grid3D``, theta = 0 on the deep face, the block's
-ends, sides and surface insulated, the flux entering the surface cells) give C [J/K] and K [W/K] once. On
-rectilinear cells K is the separable sum ``Mz(x)My(x)Kx + Mz(x)Ky(x)Mx + Kz(x)My(x)Mx`` (M: the cell widths):
-:func:`separate3` reads the 1-D parts off FiPy's matrix and checks that they rebuild it; :class:`BlockModes`
-steps ``C dT/dt = -K T + P(t)`` by Crank-Nicolson, one multiplication per eigenmode (no factorisation); the
-surface heat's modal load is its projection onto the x-y modes times the depth modes' surface values. Core's
-driver (:mod:`railtherm.solving.section_stepping`) runs the passes, cooling ladder and superposition. Cells:
-:func:`ellipse_cells`. Outputs: the centre line's column (x = 0, y = 0) at the history depths, linear between
-cell centres. Neglected: conduction beyond the block's ends and sides (insulated).
+(``TransientTerm(rho c) == DiffusionTerm(lambda)``, theta = 0 on the deep face, the block's ends, sides and
+surface insulated, the flux entering the surface cells) on rectilinear cells: the conductance is the separable
+sum ``K = Mz (x) My (x) Kx + Mz (x) Ky (x) Mx + Kz (x) My (x) Mx`` (M: cell widths), its 1-D parts assembled by
+FiPy on ``Grid1D`` meshes (:func:`fipy_line_conductance`; the tests check their sum against FiPy's ``Grid3D``
+matrix, :func:`fipy_3d_stiffness`, which would take ~20 s and ~3 GB at level 2's 1e6 cells). :class:`BlockModes`
+steps ``C dT/dt = -K T + P(t)`` by Crank-Nicolson, one multiplication per eigenmode (no factorisation), only the
+modes the outputs read (:meth:`BlockModes.read`: on the symmetric widths the odd ones vanish on the centre column,
+a quarter of the cells stays). Core's driver (:mod:`railtherm.solving.section_stepping`) runs the passes, cooling
+ladder and superposition. Cells: :func:`ellipse_cells`. Outputs: the centre line's column (x = 0, y = 0) at the
+history depths, linear between cell centres. Neglected: conduction beyond the block's ends and sides (insulated).
 """
 from __future__ import annotations
 
@@ -19,19 +20,23 @@ import numpy as np
 from scipy.linalg import eigh
 from scipy.sparse import csr_matrix, diags, kron
 
-from railtherm import Refused, SolverError
+from railtherm import Refused
 from railtherm.physics import thermal_scales
 
 from .history import IMPLICIT_COST, ScheduleSteps, _depth_widths, _FipyStepper, _widths
 from .modes import theta_coefficients
 from .solvers import import_fipy
 
-__all__ = ["EllipseBlock", "BlockModes", "fipy_ellipse_block", "ellipse_cells", "separate3", "MAX_HISTORY_CELLS"]
+__all__ = ["EllipseBlock", "BlockModes", "fipy_ellipse_block", "fipy_line_conductance", "fipy_3d_stiffness",
+           "ellipse_cells", "separate3", "MAX_HISTORY_CELLS"]
 
-#: default largest 3-D history block [cells]: FiPy builds its mesh and matrix once and every step touches each
-#: mode (the study's train-4-axles at level 2, 85 x 101 x 121 = 1.04e6 cells: 15-24 s of FiPy's build, 34-41 s in
-#: all, 3.2 GB peak memory, on 2 shared cores); 8x a level (level 3 of that scene, ~8e6 cells, is refused)
+#: default largest 3-D history block [cells]: every step touches each mode the outputs read (a quarter of the
+#: cells) and the stepper keeps two multipliers per mode and step size (~20 sizes); 8x a level
 MAX_HISTORY_CELLS = 1_500_000
+
+#: a mode whose value on the centre line's column is below this fraction of the largest is not stepped (the
+#: odd modes of the symmetric widths: 1e-16 of it, rounding)
+READ_RTOL = 1e-12
 
 
 def separate3(K, dx: np.ndarray, dy: np.ndarray, dz: np.ndarray, rtol: float = 1e-12):
@@ -63,11 +68,11 @@ class BlockModes:
     [J/(m^3 K)], the parts of :func:`separate3`), the output column ``(i0, j0)`` and the sampled depth rows
     ``rows_z`` (n, 2) with ``weights`` (n, 2).
 
-    A state is ``Y`` (nz, ny, nx) with ``T = (Vz (x) Vy (x) Vx) Y`` (each V orthonormal in its widths:
+    A state is ``Y`` (nz, my, mx) with ``T = (Vz (x) Vy (x) Vx) Y`` (each V orthonormal in its widths:
     ``V^T M V = 1``, ``V^T K V = diag(w)``), so ``rho_c dY/dt = -(wz + wy + wx) Y + V^T p``: each mode is one
     scalar equation, one theta step one multiplication. The heat enters the surface cells only:
     ``V^T p = Vz[0] (x) (Vy^T P Vx)`` with P (ny, nx) [W] the surface cells' power; the output at depth row r
-    reads ``Vz[r] . (Y Vx[i0]) Vy[j0]``."""
+    reads ``Vz[r] . (Y Vx[i0]) Vy[j0]``. All modes (my = ny, mx = nx), or those the outputs read (:meth:`read`)."""
 
     def __init__(self, dx, dy, dz, rho_c: float, Kx, Ky, Kz, i0: int, j0: int, rows_z, weights):
         self.shape = (dz.size, dy.size, dx.size)
@@ -76,24 +81,60 @@ class BlockModes:
         self.wx, self.vx = eigh(Kx, np.diag(self.dx))
         self.wy, self.vy = eigh(Ky, np.diag(self.dy))
         self.wz, self.vz = eigh(Kz, np.diag(self.dz))
+        self.i0, self.j0 = int(i0), int(j0)
+        self.read_rows = np.asarray(rows_z)
+        self.weights = np.asarray(weights, float)
+        self._derive()
+
+    def _derive(self) -> None:
+        """The decay rates, the surface's, column's and line's shares of the modes, a scratch state."""
         self.rate = self.wz[:, None, None] + self.wy[None, :, None] + self.wx[None, None, :]
         self.surface = self.vz[0]
-        self.column = self.vx[i0]
-        self.line = self.vy[j0]
-        self.read = self.vz[np.asarray(rows_z)]                  # (n, 2, nz)
-        self.weights = np.asarray(weights, float)
+        self.column = self.vx[self.i0]
+        self.line = self.vy[self.j0]
+        self.read_z = self.vz[self.read_rows]                    # (n, 2, nz)
+        self._scratch = np.empty(self.rate.shape)
+
+    def read(self, rtol: float = READ_RTOL) -> "BlockModes":
+        """The modes the outputs read: those whose value on the column ``i0`` (along x) and on the line ``j0``
+        (across) exceeds ``rtol`` of the largest. The modes are independent, so the outputs of the states
+        stepped in these alone are those of all modes; on symmetric widths with the column at the centre the
+        odd modes drop (their value there is rounding)."""
+        keep_x = np.abs(self.vx[self.i0]) > rtol * np.max(np.abs(self.vx[self.i0]))
+        keep_y = np.abs(self.vy[self.j0]) > rtol * np.max(np.abs(self.vy[self.j0]))
+        out = object.__new__(BlockModes)
+        out.__dict__.update(self.__dict__)
+        out.wx, out.vx = self.wx[keep_x], self.vx[:, keep_x]
+        out.wy, out.vy = self.wy[keep_y], self.vy[:, keep_y]
+        out._derive()
+        return out
 
     def coefficients(self, dt: float, theta: float):
-        """``(a, b)`` (nz, ny, nx): one theta step is ``Y1 = a Y0 + b V^T (theta p1 + (1 - theta) p0)``."""
+        """``(a, b)`` (nz, my, mx): one theta step is ``Y1 = a Y0 + b V^T (theta p1 + (1 - theta) p0)``."""
         return theta_coefficients(self.rho_c, self.rate, dt, theta)
 
+    def step_coefficients(self, dt: float, theta: float):
+        """``(a, b Vz[0])`` of :meth:`coefficients`, the surface's share folded in (what :meth:`advance` takes)."""
+        a, b = self.coefficients(dt, theta)
+        return a, b * self.surface[:, None, None]
+
+    def advance(self, Y: np.ndarray, coefficients, p_surface) -> np.ndarray:
+        """``Y`` (overwritten) after one theta step of :meth:`step_coefficients` under the theta-weighted surface
+        heat ``p_surface`` (ny, nx) [W] (None: none): ``a Y + b Vz[0] (x) (Vy^T P Vx)``, in place."""
+        a, bs = coefficients
+        np.multiply(Y, a, out=Y)
+        if p_surface is not None:
+            np.multiply(bs, (self.vy.T @ p_surface @ self.vx)[None], out=self._scratch)
+            Y += self._scratch
+        return Y
+
     def load(self, p_surface: np.ndarray) -> np.ndarray:
-        """The modes' share (nz, ny, nx) [W] of the heat ``p_surface`` (ny, nx) [W] entering the surface cells."""
+        """The modes' share (nz, my, mx) [W] of the heat ``p_surface`` (ny, nx) [W] entering the surface cells."""
         return self.surface[:, None, None] * (self.vy.T @ p_surface @ self.vx)[None]
 
     def sample(self, Y: np.ndarray) -> np.ndarray:
         """The outputs (n,) [K]: the column (i0, j0) at the sampled rows, weighted."""
-        return np.sum((self.read @ ((Y @ self.column) @ self.line)) * self.weights, axis=1)
+        return np.sum((self.read_z @ ((Y @ self.column) @ self.line)) * self.weights, axis=1)
 
     def to_cells(self, Y: np.ndarray) -> np.ndarray:
         """The cell values (nz ny nx,) [K] of the modes ``Y``."""
@@ -102,7 +143,8 @@ class BlockModes:
         return (T @ self.vx.T).reshape(-1)
 
     def of_cells(self, T: np.ndarray) -> np.ndarray:
-        """The modes (nz, ny, nx) of the cell values ``T`` (nz ny nx,) [K] (``V^-1 = V^T M``)."""
+        """The modes (nz, my, mx) of the cell values ``T`` (nz ny nx,) [K] (``V^-1 = V^T M``; with the modes
+        of :meth:`read`, the projection on them)."""
         T3 = np.asarray(T, float).reshape(self.shape)
         W = self.dz[:, None, None] * T3 * self.dy[None, :, None] * self.dx[None, None, :]
         W = np.einsum("kc,kba->cba", self.vz, W)
@@ -141,10 +183,11 @@ class EllipseBlock:
     surface), with the attributes core's driver reads: ``x``, ``y``, ``z`` cell centres [m] (section at
     ``x[i0]`` = 0, centre line at ``y[j0]`` = 0), ``capacity`` [J/K], ``dt_stab`` (min C/K_ii [s], for the
     cost record), ``rows`` (depths, 2) depth rows and ``weights`` of the outputs, ``schedule``
-    (:class:`~railtherm_fipy.history.ScheduleSteps` or None), ``stiffness`` (FiPy's K [W/K]) and ``modes``
-    (:class:`BlockModes`)."""
+    (:class:`~railtherm_fipy.history.ScheduleSteps` or None), ``parts`` (the 1-D conductances ``Kx``, ``Ky``,
+    ``Kz`` of :func:`separate3`), ``stiffness`` (their sum K [W/K], sparse, built on demand) and ``modes`` (the
+    :class:`BlockModes` the outputs read, which the stepper steps; :meth:`all_modes`: every mode)."""
 
-    def __init__(self, faces_x, faces_y, faces_z, capacity, stiffness, depths, rho_c: float,
+    def __init__(self, faces_x, faces_y, faces_z, parts, depths, rho_c: float,
                  schedule: ScheduleSteps | None = None):
         self.schedule = schedule
         self.faces_x, self.faces_y = faces_x, faces_y
@@ -153,9 +196,11 @@ class EllipseBlock:
         self.z = 0.5 * (faces_z[1:] + faces_z[:-1])
         self.i0 = int(np.argmin(np.abs(self.x)))
         self.j0 = int(np.argmin(np.abs(self.y)))
-        self.capacity = capacity
-        self.stiffness = stiffness
-        self.dt_stab = float(np.min(capacity / stiffness.diagonal()))
+        self.rho_c = float(rho_c)
+        self.widths = tuple(np.diff(f) for f in (faces_x, faces_y, faces_z))
+        self.parts = tuple(np.asarray(k, dtype=float) for k in parts)
+        # C_ii / K_ii = rho_c / (Kx_ii/dx_i + Ky_jj/dy_j + Kz_kk/dz_k): its minimum takes each direction's largest
+        self.dt_stab = self.rho_c / sum(float(np.max(np.diag(k) / d)) for k, d in zip(self.parts, self.widths))
         rows, weights = [], []
         for d in depths:
             j = 0 if d <= self.z[0] else min(int(np.searchsorted(self.z, d)) - 1, self.z.size - 2)
@@ -164,12 +209,25 @@ class EllipseBlock:
             weights.append([1.0 - s, s])
         self.rows = np.array(rows)
         self.weights = np.array(weights)
-        dx, dy, dz = np.diff(faces_x), np.diff(faces_y), np.diff(faces_z)
-        parts = separate3(stiffness, dx, dy, dz)
-        if parts is None:
-            raise SolverError(f"fipy 3-D section {self.node_shape}: FiPy's conductance is not the separable sum "
-                              "of its rectilinear cells' 1-D parts; its modes cannot step it")
-        self.modes = BlockModes(dx, dy, dz, rho_c, *parts, self.i0, self.j0, self.rows, self.weights)
+        self.modes = self.all_modes().read()
+
+    def all_modes(self) -> BlockModes:
+        """Every mode of the block's operator."""
+        return BlockModes(*self.widths, self.rho_c, *self.parts, self.i0, self.j0, self.rows, self.weights)
+
+    @property
+    def capacity(self) -> np.ndarray:
+        """The cells' capacities rho c dx dy dz (nz ny nx,) [J/K]."""
+        dx, dy, dz = self.widths
+        return self.rho_c * (dz[:, None, None] * dy[None, :, None] * dx[None, None, :]).reshape(-1)
+
+    @property
+    def stiffness(self) -> csr_matrix:
+        """The conductance ``Mz (x) My (x) Kx + Mz (x) Ky (x) Mx + Kz (x) My (x) Mx`` [W/K] (sparse)."""
+        (dx, dy, dz), (Kx, Ky, Kz) = self.widths, self.parts
+        Mx, My, Mz = diags(dx), diags(dy), diags(dz)
+        return csr_matrix(kron(Mz, kron(My, csr_matrix(Kx))) + kron(Mz, kron(csr_matrix(Ky), Mx))
+                          + kron(csr_matrix(Kz), kron(My, Mx)))
 
     @property
     def node_shape(self) -> str:
@@ -187,29 +245,46 @@ def check_cell_budget(shape, level: int, max_cells: float, body: str) -> None:
     Raises
     ------
     railtherm.Refused
-        kind "budget": FiPy's assembly of the 3-D matrix (time and memory) and each step's work grow with the
-        cell count, 8x a level.
+        kind "budget": each step's work and the stepper's memory (two multipliers per mode and step size) grow
+        with the cell count, 8x a level.
     """
     total = int(np.prod(shape))
     if total > max_cells:
         raise Refused(f"model 'fipy' ({body}): the 3-D section block of this history needs {'x'.join(map(str, shape))} "
                       f"= {total:.3g} cells at level {int(level)}, above the budget max_history_cells = {max_cells:.3g} "
-                      "(FiPy's assembly of the 3-D matrix and every step grow with the cells, 8x a level and with the "
+                      "(every step and the stepper's memory grow with the cells, 8x a level and with the "
                       "history's length): use a lower level, a shorter history or raise the option max_history_cells",
                       kind="budget")
 
 
-def fipy_ellipse_block(a: float, b: float, speed: float, conductivity: float, capacity: float, convection: float,
-                  level: int, duration_total: float, depths, schedule_time=None, schedule_factor=None,
-                  max_cells: float = MAX_HISTORY_CELLS, body: str = "rail") -> EllipseBlock:
-    """The block of the module docstring for an ellipse of semi-axes ``a``, ``b`` [m] at ``speed`` [m/s],
-    lambda [W/(m K)], rho c [J/(m^3 K)], surface convection h [W/(m^2 K)], refinement ``level``, a history of
-    ``duration_total`` [s], the output ``depths`` [m] and the heat-input schedule (``schedule_time`` [s],
-    ``schedule_factor`` [1]; None: constant); refused above ``max_cells`` cells (:func:`check_cell_budget`)."""
-    schedule = ScheduleSteps.of(schedule_time, schedule_factor, level)
-    dx, dy, dz = ellipse_cells(a, b, speed, conductivity / capacity, level, duration_total, depths, schedule)
-    check_cell_budget((dx.size, dy.size, dz.size), level, max_cells, body)
+def fipy_line_conductance(widths, conductivity: float, capacity: float, deep: bool = False,
+                          convection: float = 0.0) -> np.ndarray:
+    """FiPy's 1-D conductance (n, n) dense [W/(K m^2)] (per unit cross-section) of the cells ``widths`` [m]:
+    ``TransientTerm(rho c) == DiffusionTerm(lambda)`` on a ``Grid1D`` (``conductivity`` lambda [W/(m K)],
+    ``capacity`` rho c [J/(m^3 K)]), its matrix at dt = 1 s less the cells' capacities; ends insulated, the last
+    face at theta = 0 where ``deep``; ``convection`` h [W/(m^2 K)] on the first cell."""
     fp = import_fipy()
+    widths = np.asarray(widths, dtype=float)
+    mesh = fp.Grid1D(dx=widths)
+    T = fp.CellVariable(mesh=mesh, value=0.0)
+    if deep:
+        T.constrain(0.0, where=mesh.facesRight)
+    eq = fp.TransientTerm(coeff=capacity) == fp.DiffusionTerm(coeff=conductivity)
+    eq.cacheMatrix()
+    eq._prepareLinearSystem(var=T, solver=None, boundaryConditions=(), dt=1.0)   # the matrix only, no solve
+    M = eq.matrix
+    K = csr_matrix(M.matrix if hasattr(M, "matrix") else M).toarray() - np.diag(capacity * widths)
+    K[0, 0] += convection
+    return K
+
+
+def fipy_3d_stiffness(dx, dy, dz, conductivity: float, capacity: float, convection: float = 0.0) -> csr_matrix:
+    """FiPy's 3-D conductance K [W/K] (sparse, FiPy's index i + nx j + nx ny k) of the cells ``dx``, ``dy``,
+    ``dz`` [m] assembled on a ``Grid3D`` (the deep face, FiPy's largest z, at theta = 0; lambda, rho c and h as
+    in :func:`fipy_line_conductance`): what the block's separable sum of 1-D parts stands for (checked by the
+    tests; slow beyond ~1e5 cells)."""
+    fp = import_fipy()
+    dx, dy, dz = (np.asarray(d, dtype=float) for d in (dx, dy, dz))
     mesh = fp.Grid3D(dx=dx, dy=dy, dz=dz)
     T = fp.CellVariable(mesh=mesh, value=0.0)
     # the deep face: FiPy's largest z (the bottom layer's side faces have their centres half a cell above it)
@@ -217,16 +292,31 @@ def fipy_ellipse_block(a: float, b: float, speed: float, conductivity: float, ca
     T.constrain(0.0, where=mesh.exteriorFaces & deep)
     eq = fp.TransientTerm(coeff=capacity) == fp.DiffusionTerm(coeff=conductivity)
     eq.cacheMatrix()
-    eq._prepareLinearSystem(var=T, solver=None, boundaryConditions=(), dt=1.0)   # the matrix only, no solve
+    eq._prepareLinearSystem(var=T, solver=None, boundaryConditions=(), dt=1.0)
     cap = capacity * np.asarray(mesh.cellVolumes, dtype=float)
     M = eq.matrix
     K = csr_matrix(M.matrix if hasattr(M, "matrix") else M) - diags(cap)
     if convection:
         K = K + diags(np.concatenate([convection * np.outer(dy, dx).ravel(), np.zeros(dx.size * dy.size * (dz.size - 1))]))
+    return csr_matrix(K)
+
+
+def fipy_ellipse_block(a: float, b: float, speed: float, conductivity: float, capacity: float, convection: float,
+                       level: int, duration_total: float, depths, schedule_time=None, schedule_factor=None,
+                       max_cells: float = MAX_HISTORY_CELLS, body: str = "rail") -> EllipseBlock:
+    """The block of the module docstring for an ellipse of semi-axes ``a``, ``b`` [m] at ``speed`` [m/s],
+    lambda [W/(m K)], rho c [J/(m^3 K)], surface convection h [W/(m^2 K)], refinement ``level``, a history of
+    ``duration_total`` [s], the output ``depths`` [m] and the heat-input schedule (``schedule_time`` [s],
+    ``schedule_factor`` [1]; None: constant); refused above ``max_cells`` cells (:func:`check_cell_budget`)."""
+    schedule = ScheduleSteps.of(schedule_time, schedule_factor, level)
+    dx, dy, dz = ellipse_cells(a, b, speed, conductivity / capacity, level, duration_total, depths, schedule)
+    check_cell_budget((dx.size, dy.size, dz.size), level, max_cells, body)
+    parts = (fipy_line_conductance(dx, conductivity, capacity), fipy_line_conductance(dy, conductivity, capacity),
+             fipy_line_conductance(dz, conductivity, capacity, deep=True, convection=convection))
     faces = [np.concatenate([[0.0], np.cumsum(d)]) for d in (dx, dy, dz)]
     faces[0] = faces[0] - faces[0][-1] / 2.0
     faces[1] = faces[1] - faces[1][-1] / 2.0
-    return EllipseBlock(faces[0], faces[1], faces[2], cap, csr_matrix(K), depths, capacity, schedule)
+    return EllipseBlock(faces[0], faces[1], faces[2], parts, depths, capacity, schedule)
 
 
 class _EllipseStepper(_FipyStepper):

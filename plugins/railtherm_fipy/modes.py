@@ -80,6 +80,16 @@ class SectionModes:
         """``(a, b)`` (nz, nx): one theta step is ``Y1 = a Y0 + b (Vz (x) Vx)^T (theta p1 + (1 - theta) p0)``."""
         return theta_coefficients(self.rho_c, self.rate, dt, theta)
 
+    def step_coefficients(self, dt: float, theta: float):
+        """What :meth:`advance` takes for one theta step of ``dt`` [s]: :meth:`coefficients`."""
+        return self.coefficients(dt, theta)
+
+    def advance(self, Y: np.ndarray, coefficients, p_surface) -> np.ndarray:
+        """The modes after one theta step of :meth:`step_coefficients` ``(a, b)`` from ``Y`` under the
+        theta-weighted surface heat ``p_surface`` (nx,) [W/m] (None: none): ``a Y + b load(p_surface)``."""
+        a, b = coefficients
+        return a * Y if p_surface is None else a * Y + b * self.load(p_surface)
+
     def load(self, p_surface: np.ndarray) -> np.ndarray:
         """The modes' share (nz, nx) [W/m] of the heat ``p_surface`` (nx,) [W/m] entering the surface cells."""
         return np.outer(self.surface, self.vx.T @ p_surface)
