@@ -12,6 +12,21 @@ factorisations of the 89x119-cell section, 649 solves: 0.30 + 0.44 s of the 0.99
 cost 14.9x the steady solve (CPU 10.9x), the 8-pass study scene 10.8x, the spike 15.6x (CPU 13.0x); each
 Crank-Nicolson step taken per eigenmode of FiPy's separable operator (:mod:`railtherm_fipy.modes`, the same
 steps to 7e-13) 1.5x (CPU 1.3x), 2.5x and 2.2x (CPU 2.2x); the 1,000 passes 6.6x one pass (CPU 7.6x).
+Rerun with the 3-D cases below: 1.3x, 2.3x, 2.4x; 1,000 passes 7.1x one pass.
+
+The 3-D block of an ellipse (:mod:`railtherm_fipy.history3d`, :func:`test_benchmark_fipy_transient_ellipse`):
+the Hertz ellipse a = 6, b = 4 mm of :func:`transient_scenes.transient_scene` (steady: FiPy's moving-frame strips,
+0.15 s) against 1, 10 and 1,000 passes 83 ms apart, and the study's train-4-axles against its steady scene.
+With FiPy's Grid3D assembly of the block (85..133 x 101..175 x 121..155 cells) and every mode stepped, separate
+processes: 1 pass 14.5 s (2.4 GB peak RSS), 10 passes 38 s (3.7 GB): 160x the steady solve; train-4-axles 22 s
+(3.3 GB); 1,000 passes refused (3.6e6 cells over the budget 1.5e6); cProfile: 26 of 30 s in FiPy's Grid3D mesh
+and matrix. With the block's operator from FiPy's three 1-D parts, only the modes the centre column reads
+stepped (a quarter) and each step compiled (update and read in one pass over the modes): 1 pass 0.23 s, 10
+passes 0.37 s: 2.5x the steady solve (CPU 2.5x; target 10x), 1,000 passes 3.7 s: 16.0x one pass (CPU 15.5x;
+target 20x); train-4-axles 0.46 s, 3.3x its steady 0.14 s; peak RSS (separate processes, /usr/bin/time) 10
+passes 0.32 GB, train-4-axles 0.36 GB, 1,000 passes 0.85 GB. The 1,000 passes cost more than the 10 per pass
+stepped because the block grows with the history (sqrt(kappa t_end): 3.6e6 cells against 1.2e6) and the source
+crosses it in steps of h/V (2,059 steps of the 1,000-pass case's one pass: 2.3 s of compiled steps).
 
 Each case is timed interleaved with the others (best and median in one process; the 1,000-pass case
 once per round, in the first two rounds); the ratios of wall and of process CPU time are recorded
@@ -59,18 +74,18 @@ def study_scene(name: str, steady: bool = False) -> dict:
     return sc
 
 
-def interleaved(cases: dict, reps: int = 3, once=()) -> dict:
-    """Best and median wall time [s] and best process CPU time [s] of each case, the cases interleaved in
-    every round; the cases in ``once`` only in the first two rounds."""
+def interleaved(cases: dict, reps: int = 3, once=(), level: int = 2) -> dict:
+    """Best and median wall time [s] and best process CPU time [s] of each case at ``level``, the cases
+    interleaved in every round; the cases in ``once`` only in the first two rounds."""
     for sc in cases.values():
-        railtherm.solve(sc, "fipy", level=2)                        # imports and FiPy's first use once
+        railtherm.solve(sc, "fipy", level=level)                    # imports and FiPy's first use once
     times = {n: [] for n in cases}
     for rep in range(reps):
         for n, sc in cases.items():
             if n in once and rep >= 2:
                 continue
             t0, c0 = time.perf_counter(), time.process_time()
-            railtherm.solve(sc, "fipy", level=2)
+            railtherm.solve(sc, "fipy", level=level)
             times[n].append((time.perf_counter() - t0, time.process_time() - c0))
     return {n: (min(w for w, _ in v), statistics.median(w for w, _ in v), min(c for _, c in v))
             for n, v in times.items()}
@@ -100,3 +115,26 @@ def test_benchmark_fipy_transient(benchmark):
                                 study_spike_ratio=spike["spike"][0] / spike["steady"][0],
                                 cpu_ratio_10_steady=cost[10][2] / cost[None][2],
                                 cpu_ratio_1000_1=cost[1000][2] / cost[1][2])
+
+
+@pytest.mark.benchmark
+def test_benchmark_fipy_transient_ellipse(benchmark):
+    """The 3-D block (:mod:`railtherm_fipy.history3d`): the Hertz ellipse a = 6, b = 4 mm of
+    :func:`transient_scenes.transient_scene` steady (FiPy's moving-frame strips) against 1, 10 and 1,000 passes,
+    and the study's train-4-axles (its outputs ask the one-pass steady fields too) against its steady scene."""
+    benchmark.pedantic(railtherm.solve, args=(transient_scene("fipy-ellipse-10", 10, "ellipse"), "fipy"),
+                       kwargs={"level": 2}, rounds=3, warmup_rounds=1)
+    cases = {n: transient_scene(f"fipy-ellipse-{n}", n, "ellipse") for n in (None, 1, 10, 1000)}
+    cost = interleaved(cases, once=(1000,))
+    study = interleaved({"steady": study_scene("train-4-axles", steady=True), "4 passes": study_scene("train-4-axles")})
+    line = ", ".join(f"{'steady' if n is None else f'{n} passes'} {b:.3f} s (median {m:.3f}, CPU {c:.3f})"
+                     for n, (b, m, c) in cost.items())
+    ratios = {"ratio_10_steady": cost[10][0] / cost[None][0], "cpu_ratio_10_steady": cost[10][2] / cost[None][2],
+              "ratio_1000_1": cost[1000][0] / cost[1][0], "cpu_ratio_1000_1": cost[1000][2] / cost[1][2],
+              "study_train4_ratio": study["4 passes"][0] / study["steady"][0],
+              "study_train4_cpu_ratio": study["4 passes"][2] / study["steady"][2]}
+    print(f"\nfipy level 2, Hertz ellipse (3-D block): {line}; " + ", ".join(f"{k} {v:.1f}" for k, v in ratios.items())
+          + f"; train-4-axles steady {study['steady'][0]:.3f} s, 4 passes {study['4 passes'][0]:.3f} s")
+    benchmark.extra_info.update({f"ellipse_{'steady' if n is None else n}_best_s": b for n, (b, _, _) in cost.items()})
+    benchmark.extra_info.update({f"ellipse_{'steady' if n is None else n}_cpu_s": c for n, (_, _, c) in cost.items()})
+    benchmark.extra_info.update(ratios, study_train4_steady_s=study["steady"][0], study_train4_s=study["4 passes"][0])

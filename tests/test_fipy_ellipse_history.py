@@ -81,13 +81,15 @@ def test_stepped_modes_are_those_the_centre_column_reads(block):
 def test_steps_per_mode_equal_sparse_lu_steps(block, theta):
     """Theta steps of 1e-7 .. 1 s under a random surface load: per mode and by sparse LU of FiPy's matrix
     ``(C/dt + theta K) T1 = (C/dt - (1 - theta) K) T0 + theta p1 + (1 - theta) p0``, to 1e-11 of the state; the
-    stepper's modes (those the centre column reads, stepped in place) give the column's outputs to 1e-11."""
+    stepper's modes (those the centre column reads, stepped in place) give the column's outputs to 1e-11, and
+    their compiled step (update and read in one pass) equals the array form to 1e-13."""
     modes, kept, C = block.all_modes(), block.modes, block.capacity
     K = fipy_3d_stiffness(*block.widths, STEEL.conductivity, STEEL.density * STEEL.specific_heat, 20.0)
     top = modes.dx.size * modes.dy.size
     rng = np.random.default_rng(7)
     T = rng.standard_normal(C.size)
     Y, Yk = modes.of_cells(T), kept.of_cells(T)
+    Ys = Yk.copy()
     for dt in (1e-7, 3.1e-6, 1e-3, 1.0):
         p0, p1 = np.zeros(C.size), np.zeros(C.size)
         p0[:top], p1[:top] = rng.random(top), rng.random(top)
@@ -97,11 +99,17 @@ def test_steps_per_mode_equal_sparse_lu_steps(block, theta):
         surface = (theta * p1[:top] + (1.0 - theta) * p0[:top]).reshape(modes.dy.size, modes.dx.size)
         Y = a * Y + b * modes.load(surface)
         Yk = kept.advance(Yk, kept.step_coefficients(dt, theta), surface)
+        Ys, out = kept.step(Ys, kept.step_coefficients(dt, theta), surface)     # compiled, in one pass
+        assert np.allclose(Ys, Yk, rtol=0.0, atol=1e-13 * np.max(np.abs(Yk)))
+        assert np.allclose(out, kept.sample(Yk), rtol=0.0, atol=1e-13 * np.max(np.abs(T)))
         assert np.max(np.abs(modes.to_cells(Y) - T)) <= 1e-11 * np.max(np.abs(T)), dt
         column = T.reshape(modes.shape)[:, block.j0, block.i0]
         expected = np.sum(column[block.rows] * block.weights, axis=1)
         assert np.allclose(modes.sample(Y), expected, rtol=0.0, atol=1e-11 * np.max(np.abs(T)))
         assert np.allclose(kept.sample(Yk), expected, rtol=0.0, atol=1e-11 * np.max(np.abs(T)))
+    a, b = modes.coefficients(1e-3, theta)
+    Ys, out = kept.step(Ys, kept.step_coefficients(1e-3, theta), None)                # a source-free step
+    assert np.allclose(out, modes.sample(a * Y), rtol=0.0, atol=1e-11 * np.max(np.abs(T)))
 
 
 def test_stepper_power_is_the_flux_integrated_over_the_surface_cells(block):

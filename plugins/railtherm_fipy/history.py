@@ -254,9 +254,8 @@ class _FipyStepper(ImplicitSectionStepper):
             q = None
             if q_new is not None or q_old is not None:
                 q = (th * (0.0 if q_new is None else q_new) + (1.0 - th) * (0.0 if q_old is None else q_old))
-            Y = modes.advance(Y, self.cache[(h, th)], q)
+            Y, out[i] = modes.step(Y, self.cache[(h, th)], q)
             self.solves += 1
-            out[i] = modes.sample(Y)
             t, q_old = t1, q_new
         self.Y, self.t = Y, float(ends[-1])
         self.times.append(ends)

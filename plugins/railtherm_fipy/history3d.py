@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 from scipy.linalg import eigh
 from scipy.sparse import csr_matrix, diags, kron
 
@@ -31,8 +32,10 @@ __all__ = ["EllipseBlock", "BlockModes", "fipy_ellipse_block", "fipy_line_conduc
            "ellipse_cells", "separate3", "MAX_HISTORY_CELLS"]
 
 #: default largest 3-D history block [cells]: every step touches each mode the outputs read (a quarter of the
-#: cells) and the stepper keeps two multipliers per mode and step size (~20 sizes); 8x a level
-MAX_HISTORY_CELLS = 1_500_000
+#: cells) and the stepper keeps two multipliers per mode and step size (~20 sizes); 8x a level. Measured: the
+#: Hertz ellipse a = 6, b = 4 mm at 30 m/s over 1,000 passes 83 ms apart at level 2, 133 x 175 x 155 = 3.6e6
+#: cells: 7 s, 0.85 GB peak (benchmarks/test_fipy_transient_benchmark.py); level 3 of a 4-pass train, ~8e6, is refused
+MAX_HISTORY_CELLS = 4_000_000
 
 #: a mode whose value on the centre line's column is below this fraction of the largest is not stepped (the
 #: odd modes of the symmetric widths: 1e-16 of it, rounding)
@@ -114,9 +117,11 @@ class BlockModes:
         return theta_coefficients(self.rho_c, self.rate, dt, theta)
 
     def step_coefficients(self, dt: float, theta: float):
-        """``(a, b Vz[0])`` of :meth:`coefficients`, the surface's share folded in (what :meth:`advance` takes)."""
-        a, b = self.coefficients(dt, theta)
-        return a, b * self.surface[:, None, None]
+        """``(a, b Vz[0])`` of :meth:`coefficients`, the surface's share folded in (what :meth:`advance` takes),
+        in one pass over the modes (:func:`_theta_multipliers`)."""
+        a, bs = np.empty(self.rate.shape), np.empty(self.rate.shape)
+        _theta_multipliers(self.rho_c / float(dt), float(theta), self.wz, self.wy, self.wx, self.surface, a, bs)
+        return a, bs
 
     def advance(self, Y: np.ndarray, coefficients, p_surface) -> np.ndarray:
         """``Y`` (overwritten) after one theta step of :meth:`step_coefficients` under the theta-weighted surface
@@ -127,6 +132,17 @@ class BlockModes:
             np.multiply(bs, (self.vy.T @ p_surface @ self.vx)[None], out=self._scratch)
             Y += self._scratch
         return Y
+
+    def step(self, Y: np.ndarray, coefficients, p_surface):
+        """:meth:`advance` and :meth:`sample` in one pass over the modes (:func:`_step_and_read`): ``(Y, outputs)``."""
+        a, bs = coefficients
+        load = None if p_surface is None else self.vy.T @ p_surface @ self.vx
+        acc = np.empty(Y.shape[0])
+        if load is None:
+            _decay_and_read(Y, a, self.column, self.line, acc)
+        else:
+            _step_and_read(Y, a, bs, load, self.column, self.line, acc)
+        return Y, np.sum((self.read_z @ acc) * self.weights, axis=1)
 
     def load(self, p_surface: np.ndarray) -> np.ndarray:
         """The modes' share (nz, my, mx) [W] of the heat ``p_surface`` (ny, nx) [W] entering the surface cells."""
@@ -150,6 +166,52 @@ class BlockModes:
         W = np.einsum("kc,kba->cba", self.vz, W)
         W = np.einsum("jb,kja->kba", self.vy, W)
         return W @ self.vx
+
+
+@njit(cache=True)
+def _theta_multipliers(c_dt, theta, wz, wy, wx, surface, a, bs):
+    """:func:`railtherm_fipy.modes.theta_coefficients` of the rates ``wz[k] + wy[j] + wx[i]`` (``c_dt`` = rho c /
+    dt [W/(K m^3)]) into ``a`` and ``bs`` = b surface[k] (nz, my, mx)."""
+    for k in range(wz.size):
+        for j in range(wy.size):
+            for i in range(wx.size):
+                rate = wz[k] + wy[j] + wx[i]
+                b = 1.0 / (c_dt + theta * rate)
+                a[k, j, i] = b * (c_dt - (1.0 - theta) * rate)
+                bs[k, j, i] = b * surface[k]
+
+
+@njit(cache=True)
+def _step_and_read(Y, a, bs, load, column, line, acc):
+    """``Y = a Y + bs load`` in place (Y, a, bs (nz, my, mx), load (my, mx)) and ``acc[k] = line . (Y[k] column)``
+    (the centre column's value of each depth mode) in the same pass."""
+    nz, my, mx = Y.shape
+    for k in range(nz):
+        total = 0.0
+        for j in range(my):
+            row = 0.0
+            for i in range(mx):
+                y = a[k, j, i] * Y[k, j, i] + bs[k, j, i] * load[j, i]
+                Y[k, j, i] = y
+                row += column[i] * y
+            total += line[j] * row
+        acc[k] = total
+
+
+@njit(cache=True)
+def _decay_and_read(Y, a, column, line, acc):
+    """:func:`_step_and_read` without heat: ``Y = a Y`` in place and the column's value of each depth mode."""
+    nz, my, mx = Y.shape
+    for k in range(nz):
+        total = 0.0
+        for j in range(my):
+            row = 0.0
+            for i in range(mx):
+                y = a[k, j, i] * Y[k, j, i]
+                Y[k, j, i] = y
+                row += column[i] * y
+            total += line[j] * row
+        acc[k] = total
 
 
 def ellipse_cells(a: float, b: float, speed: float, kappa: float, level: int, duration_total: float, depths,
@@ -351,5 +413,9 @@ class _EllipseStepper(_FipyStepper):
             shift = self.xe[-1] - self.speed * (t - arr)
             if fx[-1] + shift <= self.xe[0] or fx[0] + shift >= self.xe[-1]:
                 continue
-            strips += np.diff(np.stack([np.interp(fx + shift, self.xe, c) for c in self.cum.T], axis=1), axis=0)
+            # np.interp of every strip's cumulative heat at the shifted faces, the weights shared by the strips
+            xq = np.clip(fx + shift, self.xe[0], self.xe[-1])
+            i = np.clip(np.searchsorted(self.xe, xq, side="right"), 1, self.xe.size - 1)
+            w = ((xq - self.xe[i - 1]) / (self.xe[i] - self.xe[i - 1]))[:, None]
+            strips += np.diff(self.cum[i - 1] * (1.0 - w) + self.cum[i] * w, axis=0)
         return f * (self.over @ strips.T)

@@ -90,6 +90,11 @@ class SectionModes:
         a, b = coefficients
         return a * Y if p_surface is None else a * Y + b * self.load(p_surface)
 
+    def step(self, Y: np.ndarray, coefficients, p_surface):
+        """``(Y, outputs)``: :meth:`advance`, then :meth:`sample` of its result."""
+        Y = self.advance(Y, coefficients, p_surface)
+        return Y, self.sample(Y)
+
     def load(self, p_surface: np.ndarray) -> np.ndarray:
         """The modes' share (nz, nx) [W/m] of the heat ``p_surface`` (nx,) [W/m] entering the surface cells."""
         return np.outer(self.surface, self.vx.T @ p_surface)
