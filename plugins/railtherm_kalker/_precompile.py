@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import threading
 
-from . import _band, _cg, _mirror, _quadrant, _sweep, influence, tangential_solver
+from . import _band, _cg, _mirror, _sweep, influence, tangential_solver
 
 try:  # pragma: no cover - exercised when numba is installed (a declared dependency)
     from numba import types
@@ -44,16 +44,13 @@ def kernel_signatures() -> list:
         return types.Array(dt, nd, "C")
 
     band_solve = (a(f8, 2), a(i8, 2), a(i8, 1), a(f8, 3), a(f8, 3), a(f8, 3), a(f8, 3))
-    blocks = (a(b1, 1), a(f8, 2), a(f8, 1), f8, a(f8, 2), a(f8, 2))
     sigs = [(_band._factor, (a(i8, 1), a(i8, 2), a(i8, 2), a(i8, 1), a(b1, 1), a(f8, 2), a(f8, 1), f8, a(f8, 3))),
             (_band._solve, band_solve), (_band._solve2, band_solve),
             (_cg.residual, (a(f8, 1), a(f8, 1), a(b1, 1), b1, f8, a(f8, 1))),
             (_cg.direction, (a(f8, 1), a(f8, 1), a(f8, 1), a(f8, 1), a(b1, 1), b1, f8, b1)),
             (_cg.step, (a(f8, 1), a(f8, 1), a(f8, 1), a(b1, 1), b1, a(f8, 1), a(f8, 1))),
             (_cg.enter, (a(f8, 1), a(f8, 1), a(b1, 1), b1, f8)),
-            (_quadrant.place_rolling, (a(f8, 2), a(f8, 2), a(f8, 2), i8, i8, i8, f8, a(f8, 3))),
             (_sweep._sweep_nb, (a(f8, 2), a(f8, 3), a(f8, 3), a(i8, 1), a(i8, 1))),
-            (_sweep._blocks_nb, blocks), (_sweep._blocks2_nb, blocks),
             # GMRES's rows: a single-precision step in a float32 or float64 basis, a double-precision one
             (tangential_solver._jacobian_rows, (a(f4, 2), a(f4, 2), a(b1, 1), a(f8, 2), a(f8, 1), f8)),
             (tangential_solver._jacobian_rows, (a(f8, 2), a(f4, 2), a(b1, 1), a(f8, 2), a(f8, 1), f8)),
@@ -61,9 +58,6 @@ def kernel_signatures() -> list:
     for c in (c16, c8):
         sigs.append((getattr(_mirror, "_combine", None), (a(c, 3), a(c, 2), a(c, 2), a(c, 2))))
         sigs.append((influence._mac2, (a(c, 3), a(c, 2), a(c, 2), a(c, 2), a(c, 2), a(c, 3))))
-    for r in (f8, f4):
-        sigs.append((influence._scatter, (a(r, 2), a(i8, 1), a(r, 2))))
-        sigs.append((influence._gather, (a(r, 2), a(i8, 1))))
     return [(k, s) for k, s in sigs if k is not None and hasattr(k, "compile")]
 
 

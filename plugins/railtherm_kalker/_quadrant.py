@@ -94,41 +94,39 @@ def tangential_quadrants(nx: int, ny: int, dx: float, dy: float, shear_modulus: 
     return {"xx": c * ((1.0 - nu) * inv_r + nu * ya), "xy": c * nu * mr, "yy": c * ((1.0 - nu) * inv_r + nu * xa)}
 
 
-try:  # pragma: no cover - exercised when numba is installed (a declared dependency)
-    from numba import njit
+def place_rolling(qxx, qxy, qyy, nx, ny, order, dx, out):
+    """The rolling kernels (xx, xy, yy; :func:`railtherm_kalker.influence.rolling_kernel`) at the offsets
+    -(nx - 1) ... nx - 1 (and y likewise) from the Boussinesq-Cerruti quadrants (offsets 0 ... nx - 1 + order),
+    placed at o mod M in out (3, M_x, M_y), which is zero elsewhere (M_y >= 2 ny - 1: the y offsets do not
+    overlap). Vectorised numpy: called once per grid (the operator is cached), a compiled pass would cost more to
+    compile than it saves; each value is the difference's terms summed from 0 in the order s = 0, 1, 2.
 
-    @njit(cache=True, nogil=True)
-    def place_rolling(qxx, qxy, qyy, nx, ny, order, dx, out):
-        """The rolling kernels (xx, xy, yy; :func:`railtherm_kalker.influence.rolling_kernel`) at the offsets
-        -(nx - 1) ... nx - 1 (and y likewise) from the Boussinesq-Cerruti quadrants (offsets 0 ... nx - 1 + order),
-        placed at o mod M in out (3, M_x, M_y), which is zero elsewhere."""
-        mx, my = out.shape[1], out.shape[2]
-        w = np.zeros(3)
-        if order == 1:
-            w[0], w[1] = -1.0 / dx, 1.0 / dx
-        else:
-            w[0], w[1], w[2] = -3.0 / (2.0 * dx), 4.0 / (2.0 * dx), -1.0 / (2.0 * dx)
-        a = np.empty(3, dtype=np.int64)
-        sx = np.empty(3)
-        for ox in range(-(nx - 1), nx):
-            ix = ox if ox >= 0 else ox + mx
-            for s in range(order + 1):
-                o = ox + s
-                a[s] = o if o >= 0 else -o
-                sx[s] = w[s] * (1.0 if o > 0 else (-1.0 if o < 0 else 0.0))
-            for ay in range(ny):                       # oy = ay and -ay: xx, yy even in y, xy odd
-                vxx, vxy, vyy = 0.0, 0.0, 0.0
-                for s in range(order + 1):
-                    vxx += w[s] * qxx[a[s], ay]
-                    vxy += sx[s] * qxy[a[s], ay]
-                    vyy += w[s] * qyy[a[s], ay]
-                out[0, ix, ay] = vxx
-                out[1, ix, ay] = vxy
-                out[2, ix, ay] = vyy
-                if ay > 0:
-                    out[0, ix, my - ay] = vxx
-                    out[1, ix, my - ay] = -vxy
-                    out[2, ix, my - ay] = vyy
-
-except Exception:  # numba missing or unusable
-    place_rolling = None
+    Parameters
+    ----------
+    qxx, qxy, qyy : ndarray (>= nx + order, >= ny)
+        Quadrants of the Boussinesq-Cerruti kernels [1/Pa] (:func:`tangential_quadrants`).
+    nx, ny : int
+        Elements along x and y.
+    order : {1, 2}
+        Order of the rolling difference.
+    dx : float
+        Element length along x [m].
+    out : ndarray (3, M_x, M_y)
+        Zeroed output, filled in place [1/Pa/m]."""
+    mx, my = out.shape[1], out.shape[2]
+    if order == 1:
+        w = (-1.0 / dx, 1.0 / dx)
+    else:
+        w = (-3.0 / (2.0 * dx), 4.0 / (2.0 * dx), -1.0 / (2.0 * dx))
+    ox = np.arange(-(nx - 1), nx)
+    vxx, vxy, vyy = (np.zeros((ox.size, ny)) for _ in range(3))
+    for s, ws in enumerate(w):
+        o = ox + s
+        a = np.abs(o)
+        vxx += ws * qxx[a, :ny]
+        vxy += (ws * np.sign(o).astype(float))[:, None] * qxy[a, :ny]
+        vyy += ws * qyy[a, :ny]
+    ix = ox % mx
+    for c, v, odd in ((0, vxx, False), (1, vxy, True), (2, vyy, False)):
+        out[c, ix, :ny] = v
+        out[c, ix[:, None], my - np.arange(1, ny)] = -v[:, 1:] if odd else v[:, 1:]

@@ -1,5 +1,6 @@
 """The backward sweep of :class:`railtherm_kalker.tangential_solver.LocalPreconditioner` and its per-element
-blocks from the Newton Jacobian (compiled by numba when available; vectorised numpy otherwise)."""
+blocks from the Newton Jacobian: the sweep compiled by numba when available (numpy otherwise), the blocks in
+vectorised numpy."""
 from __future__ import annotations
 
 import numpy as np
@@ -24,8 +25,6 @@ def _sweep_py(v, minv, coup, order, nb, columns):
 try:  # pragma: no cover - exercised when numba is installed (a declared dependency)
     from numba import njit
 
-    from ._band import invert_block
-
     @njit(cache=True, nogil=True)
     def _sweep_nb(v, minv, coup, order, nb):
         nc, nin = v.shape
@@ -48,63 +47,8 @@ try:  # pragma: no cover - exercised when numba is installed (a declared depende
                     acc += minv[e, a, b] * rhs[b]
                 z[a, e] = acc
         return z
-
-    @njit(cache=True, nogil=True)
-    def _blocks2_nb(slipping, zh, fac, r, K0, K1):
-        """_blocks_nb for two components, the 2 x 2 products and the inverse written out (a third of its time)."""
-        nin = zh.shape[1]
-        minv = np.empty((nin, 2, 2))
-        coup = np.empty((nin, 2, 2))
-        for e in range(nin):
-            if slipping[e]:
-                f, a, b = fac[e], zh[0, e], zh[1, e]
-                s00, s01, s11 = f * (1.0 - a * a), -f * a * b, f * (1.0 - b * b)
-                d00, d01, d11 = 1.0 - s00, -s01, 1.0 - s11
-            else:
-                s00, s01, s11 = 1.0, 0.0, 1.0
-                d00, d01, d11 = 0.0, 0.0, 0.0
-            m00 = d00 - r * (s00 * K0[0, 0] + s01 * K0[1, 0])
-            m01 = d01 - r * (s00 * K0[0, 1] + s01 * K0[1, 1])
-            m10 = d01 - r * (s01 * K0[0, 0] + s11 * K0[1, 0])
-            m11 = d11 - r * (s01 * K0[0, 1] + s11 * K0[1, 1])
-            coup[e, 0, 0] = -r * (s00 * K1[0, 0] + s01 * K1[1, 0])
-            coup[e, 0, 1] = -r * (s00 * K1[0, 1] + s01 * K1[1, 1])
-            coup[e, 1, 0] = -r * (s01 * K1[0, 0] + s11 * K1[1, 0])
-            coup[e, 1, 1] = -r * (s01 * K1[0, 1] + s11 * K1[1, 1])
-            inv = 1.0 / (m00 * m11 - m01 * m10)
-            minv[e, 0, 0] = m11 * inv
-            minv[e, 0, 1] = -m01 * inv
-            minv[e, 1, 0] = -m10 * inv
-            minv[e, 1, 1] = m00 * inv
-        return minv, coup
-
-    @njit(cache=True, nogil=True)
-    def _blocks_nb(slipping, zh, fac, r, K0, K1):
-        nc, nin = zh.shape
-        minv = np.empty((nin, nc, nc))
-        coup = np.empty((nin, nc, nc))
-        S = np.empty((nc, nc))
-        M = np.empty((nc, nc))
-        for e in range(nin):
-            for a in range(nc):
-                for b in range(nc):
-                    if slipping[e]:
-                        S[a, b] = fac[e] * ((1.0 if a == b else 0.0) - zh[a, e] * zh[b, e])
-                    else:
-                        S[a, b] = 1.0 if a == b else 0.0
-            for a in range(nc):
-                for b in range(nc):
-                    m0 = 0.0
-                    c1 = 0.0
-                    for c in range(nc):
-                        m0 += S[a, c] * K0[c, b]
-                        c1 += S[a, c] * K1[c, b]
-                    M[a, b] = -r * m0 + (((1.0 if a == b else 0.0) - S[a, b]) if slipping[e] else 0.0)
-                    coup[e, a, b] = -r * c1
-            invert_block(M, minv[e])
-        return minv, coup
 except Exception:  # numba missing or unusable
-    _sweep_nb = _blocks_nb = _blocks2_nb = None
+    _sweep_nb = None
 
 
 def _inverse_blocks(M):
@@ -121,8 +65,9 @@ def newton_blocks(slipping, zh, fac, r, K0, K1):
 
     Per element, with S = fac (I - zh zh^T) where slipping and S = I where sticking: D2 = -r S, and
     D1 = I - S (slipping) or 0 (sticking); the blocks are ``(D1 + D2 K0)^{-1}`` and ``D2 K1``, with K0 and K1
-    the rolling kernel at the offsets 0 and -1 along x (nc x nc). One pass, without the (nin, nc, nc)
-    intermediates of the vectorised form (a tenth of its time at 200^2 elements).
+    the rolling kernel at the offsets 0 and -1 along x (nc x nc). Vectorised numpy: it runs once per Newton step
+    (the main study's kalker runs: 52 calls, 0.03-0.05 s in all), where a compiled one-pass build (ten times faster
+    at 200^2 elements) would cost a process 1.4 s of compilation.
 
     Parameters
     ----------
@@ -143,9 +88,6 @@ def newton_blocks(slipping, zh, fac, r, K0, K1):
     slipping = np.ascontiguousarray(slipping, dtype=np.bool_)
     zh = np.ascontiguousarray(zh, dtype=float)
     fac = np.ascontiguousarray(fac, dtype=float)
-    if _blocks_nb is not None:
-        blocks = _blocks2_nb if zh.shape[0] == 2 else _blocks_nb
-        return blocks(slipping, zh, fac, float(r), np.ascontiguousarray(K0), np.ascontiguousarray(K1))
     nc = zh.shape[0]
     eye = np.eye(nc)
     sl = slipping[:, None, None]

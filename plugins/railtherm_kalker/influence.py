@@ -339,8 +339,7 @@ class Convolution:
 
     def _mirrorable(self):
         """Whether :meth:`apply_at` can take mirrored fields by :class:`railtherm_kalker._mirror.MirroredProduct`."""
-        return (self.ncomp == 2 and self.shape[1] % 2 == 0 and self._buffered_ok and _combine is not None
-                and _scatter is not None)
+        return self.ncomp == 2 and self.shape[1] % 2 == 0 and self._buffered_ok and _combine is not None
 
     @property
     def _spec32(self):
@@ -478,7 +477,7 @@ class Convolution:
         dt = np.float32 if single else np.float64
         spec = self._spec32 if single else self._spec
         v = np.asarray(v, dtype=dt).reshape(nc, -1)
-        if mirrored and not (self._buffered_ok and _scatter is not None and nc == 2 and ny % 2 == 0):
+        if mirrored and not (self._buffered_ok and nc == 2 and ny % 2 == 0):
             twin = idx - 2 * (idx % ny) + ny - 1           # the general path on both halves
             out = self.apply_at(np.hstack([v, v * np.array([[1.0], [-1.0]], dtype=dt)]), np.concatenate([idx, twin]),
                                 single=single)
@@ -501,12 +500,8 @@ class Convolution:
             if work[3] is not idx:                   # other elements than the last call's: clear the field
                 buf[...] = 0.0
                 work[3] = idx
-            if _scatter is not None:
-                _scatter(buf, idx, v)
-                return _gather(self._buffered(work, spec).reshape(nc, mx * ny), idx)
-            for c in range(nc):
-                np.put(buf[c], idx, v[c])
-            return np.take(self._buffered(work, spec).reshape(nc, mx * ny), idx, axis=1)
+            _scatter(buf, idx, v)
+            return _gather(self._buffered(work, spec).reshape(nc, mx * ny), idx)
         buf = np.zeros((nc, mx * ny), dtype=dt)
         for c in range(nc):                      # np.put: about twice as fast as fancy assignment
             np.put(buf[c], idx, v[c])
@@ -601,24 +596,20 @@ try:  # pragma: no cover - exercised when numba is installed (a declared depende
                 out[0, i, j] = s00[i, j] * a + s01[i, j] * b
                 out[1, i, j] = s10[i, j] * a + s11[i, j] * b
         return out
-
-    @njit(cache=True, nogil=True)
-    def _scatter(buf, idx, v):
-        """buf[c, idx[k]] = v[c, k] (np.put per component in one pass)."""
-        for c in range(v.shape[0]):
-            for k in range(idx.size):
-                buf[c, idx[k]] = v[c, k]
-
-    @njit(cache=True, nogil=True)
-    def _gather(u, idx):
-        """u[:, idx] (np.take along the last axis in one pass)."""
-        out = np.empty((u.shape[0], idx.size), dtype=u.dtype)
-        for c in range(u.shape[0]):
-            for k in range(idx.size):
-                out[c, k] = u[c, idx[k]]
-        return out
 except Exception:  # numba missing or unusable
-    _mac2 = _scatter = _gather = None
+    _mac2 = None
+
+
+def _scatter(buf, idx, v):
+    """buf[c, idx[k]] = v[c, k] for each component c (np.put: as fast as a compiled pass at the main study's sizes,
+    a few microseconds, without its compilation)."""
+    for c in range(v.shape[0]):
+        np.put(buf[c], idx, v[c])
+
+
+def _gather(u, idx):
+    """u[:, idx] (np.take along the last axis): a new (nc, idx.size) array."""
+    return np.take(u, idx, axis=1)
 
 
 def element_size(edges) -> float:

@@ -139,9 +139,10 @@ def rolling_operator_kernels(nx: int, ny: int, dx: float, dy: float, shear_modul
     (:func:`railtherm_kalker.influence.tangential_kernels`), placed circulantly on the padded grid
     (``Convolution(..., placed=True)``): ``(0, 0), (0, 1), (1, 1) -> ndarray padded`` [1/Pa].
 
-    One compiled pass from the kernels' quadrants (:func:`railtherm_kalker._quadrant.tangential_quadrants`, whose
-    corner differences the grid's normal operator shares) instead of the full kernels, their differences and their
-    placement as separate array passes; without numba the full kernels' path.
+    Placed from the kernels' quadrants (:func:`railtherm_kalker._quadrant.tangential_quadrants`, whose corner
+    differences the grid's normal operator shares; :func:`railtherm_kalker._quadrant.place_rolling`) instead of the
+    full kernels, their differences and their placement as separate array passes; the full kernels' path (with
+    ``place_rolling`` None) is the reference the tests compare it with.
     """
     mx, my = padded
     if place_rolling is None:
