@@ -450,7 +450,7 @@ def test_contact_extent_equals_the_per_line_edges():
 def test_fused_jacobian_rows_and_scatter_gather_equal_numpy():
     """The Newton Jacobian's rows in one numba pass equal the numpy expression (-r B v in stick,
     v - fac (I - zh zh^T)(v + r B v) in slip) to round-off, in v's precision (float32, or float64 with a float32
-    B v), and the scatter/gather equal np.put/np.take."""
+    B v; the kernel is called in float64), and the scatter/gather equal np.put/np.take."""
     from railtherm_kalker import influence, tangential_solver
     if tangential_solver._jacobian_rows is None:
         pytest.skip("numba not available: the numpy expressions are used")
@@ -465,15 +465,17 @@ def test_fused_jacobian_rows_and_scatter_gather_equal_numpy():
     expected = np.where(slipping, v - fac * (q - zh * np.sum(zh * q, axis=0)), -r * bv)
     got = tangential_solver._jacobian_rows(v, bv, slipping, zh, fac, r)
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-14 * np.abs(expected).max())
-    # float32 in and out (GMRES in single precision): the double-precision rows of the float32 inputs, rounded
+    # float32 in and out (GMRES in single precision), as the solver calls it: the float32 inputs converted exactly,
+    # the double-precision rows rounded
     v32, bv32 = v.astype(np.float32), bv.astype(np.float32)
-    got32 = tangential_solver._jacobian_rows(v32, bv32, slipping, zh, fac, r)
+    got32 = tangential_solver._jacobian_rows(v32.astype(float), bv32.astype(float), slipping, zh, fac, r
+                                             ).astype(np.float32)
     q32 = v32.astype(float) + r * bv32.astype(float)
     want32 = np.where(slipping, v32 - fac * (q32 - zh * np.sum(zh * q32, axis=0)), -r * bv32.astype(float))
     assert got32.dtype == np.float32
     np.testing.assert_allclose(got32, want32, rtol=0, atol=1e-7 * np.abs(want32).max())
     # a float32 product with a double-precision basis: the rows in double precision
-    mixed = tangential_solver._jacobian_rows(v, bv32, slipping, zh, fac, r)
+    mixed = tangential_solver._jacobian_rows(v, bv32.astype(float), slipping, zh, fac, r)
     qm = v + r * bv32.astype(float)
     assert mixed.dtype == np.float64
     np.testing.assert_allclose(mixed, np.where(slipping, v - fac * (qm - zh * np.sum(zh * qm, axis=0)),

@@ -33,12 +33,12 @@ FAILED: list = []
 
 def kernel_signatures() -> list:
     """(kernel, argument types) of every signature the models call the plugin's numba kernels with: float64 fields,
-    int64 indices, bool masks, C-contiguous; the FFT products and the GMRES rows also in single precision (inexact
-    inner products). Not listed: the operators' fallbacks without scipy's pocketfft binding and calls of the kernels
-    with other layouts outside the models (they compile on first use). Empty without numba."""
+    int64 indices, bool masks, C-contiguous; the FFT products also in single precision (inexact inner products).
+    Not listed: the operators' fallbacks without scipy's pocketfft binding and calls of the kernels with other
+    layouts outside the models (they compile on first use). Empty without numba."""
     if types is None:
         return []
-    f8, f4, c16, c8, i8, b1 = types.float64, types.float32, types.complex128, types.complex64, types.int64, types.boolean
+    f8, c16, c8, i8, b1 = types.float64, types.complex128, types.complex64, types.int64, types.boolean
 
     def a(dt, nd):
         return types.Array(dt, nd, "C")
@@ -51,9 +51,7 @@ def kernel_signatures() -> list:
             (_cg.step, (a(f8, 1), a(f8, 1), a(f8, 1), a(b1, 1), b1, a(f8, 1), a(f8, 1))),
             (_cg.enter, (a(f8, 1), a(f8, 1), a(b1, 1), b1, f8)),
             (_sweep._sweep_nb, (a(f8, 2), a(f8, 3), a(f8, 3), a(i8, 1), a(i8, 1))),
-            # GMRES's rows: a single-precision step in a float32 or float64 basis, a double-precision one
-            (tangential_solver._jacobian_rows, (a(f4, 2), a(f4, 2), a(b1, 1), a(f8, 2), a(f8, 1), f8)),
-            (tangential_solver._jacobian_rows, (a(f8, 2), a(f4, 2), a(b1, 1), a(f8, 2), a(f8, 1), f8)),
+            # GMRES's rows, called in double precision whatever the basis's (float32 converted exactly, rows rounded)
             (tangential_solver._jacobian_rows, (a(f8, 2), a(f8, 2), a(b1, 1), a(f8, 2), a(f8, 1), f8))]
     for c in (c16, c8):
         sigs.append((getattr(_mirror, "_combine", None), (a(c, 3), a(c, 2), a(c, 2), a(c, 2))))

@@ -414,8 +414,9 @@ def solve_tangential(conv, bound: np.ndarray, w: np.ndarray, *, tol: float = TAN
                 bv = product(v.astype(np.float32, copy=False), single=True)
             else:
                 bv = product(v)
-            if _jacobian_rows is not None:
-                return _jacobian_rows(v, bv, slipping, zh, fac, r).ravel()
+            if _jacobian_rows is not None:   # one compiled signature (float64): float32 in exactly, out rounded
+                rows = _jacobian_rows(v.astype(float, copy=False), bv.astype(float, copy=False), slipping, zh, fac, r)
+                return rows.astype(v.dtype, copy=False).ravel()
             bv = bv.astype(float, copy=False)
             stick_row = -r * bv                                          # F = r s, s = w - B p
             q = v + r * bv                                               # (I + r B) v
