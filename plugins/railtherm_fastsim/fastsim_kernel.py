@@ -338,39 +338,3 @@ def sweep_kernel(law_mode: int):
     """The build of the sweep for ``law_mode`` (:func:`_sweep`): :func:`fastsim_sweep_mu` for a bound
     mu p (0), :func:`fastsim_sweep_law` for a slip-velocity law (1); both give the same results for 0."""
     return fastsim_sweep_law if int(law_mode) == 1 else fastsim_sweep_mu
-
-
-@numba.njit(cache=True, fastmath=False, boundscheck=False)
-def ellipse_cell_kernel(xe, ye, a, b, t, w, frac, par):  # pragma: no cover - compiled
-    """Cell averages of the ellipse indicator and parabola (see ``simplified_theory.ellipse_cell_integrals``).
-
-    Exact along x, Gauss-Legendre nodes ``t`` / weights ``w`` (on [-1, 1]) across y.
-    """
-    nx = xe.shape[0] - 1
-    ny = ye.shape[0] - 1
-    dx = xe[1] - xe[0]
-    inv_a2 = 1.0 / (a * a)
-    for j in range(ny):
-        y0 = ye[j]
-        y1 = ye[j + 1]
-        for i in range(nx):
-            frac[i, j] = 0.0
-            par[i, j] = 0.0
-        for q in range(t.shape[0]):
-            yy = 0.5 * (y0 + y1) + 0.5 * (y1 - y0) * t[q]
-            c2 = 1.0 - (yy / b) ** 2
-            if c2 <= 0.0:
-                continue
-            lim = a * math.sqrt(c2)
-            wq = 0.5 * w[q] / dx
-            for i in range(nx):
-                lo = xe[i]
-                hi = xe[i + 1]
-                if hi <= -lim or lo >= lim:
-                    continue
-                if lo < -lim:
-                    lo = -lim
-                if hi > lim:
-                    hi = lim
-                frac[i, j] += wq * (hi - lo)
-                par[i, j] += wq * (c2 * (hi - lo) - (hi ** 3 - lo ** 3) * inv_a2 / 3.0)

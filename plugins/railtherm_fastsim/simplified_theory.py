@@ -113,7 +113,8 @@ class FastsimResult:
 def ellipse_cell_integrals(grid, a, b, n_gauss=12):
     """Cell averages of the indicator and of the parabola of the ellipse (x/a)^2 + (y/b)^2 <= 1.
 
-    Exact along x in each cell, Gauss-Legendre (``n_gauss`` points) across y.
+    Exact along x in each cell, Gauss-Legendre (``n_gauss`` points) across y. Vectorised numpy, once per solve
+    (about 1 ms at 100 x 100 cells, where a compiled loop would cost each process about a second to compile).
 
     Parameters
     ----------
@@ -128,13 +129,24 @@ def ellipse_cell_integrals(grid, a, b, n_gauss=12):
     parabola : ndarray (nx, ny)
         Cell average of max(0, 1 - x^2/a^2 - y^2/b^2) [1].
     """
-    from .fastsim_kernel import ellipse_cell_kernel  # numba: loaded on first use, not when the plugin loads
-
     t, w = np.polynomial.legendre.leggauss(int(n_gauss))
-    frac = np.empty(grid.shape)
-    par = np.empty(grid.shape)
-    ellipse_cell_kernel(np.ascontiguousarray(grid.x_edges, dtype=float), np.ascontiguousarray(grid.y_edges, dtype=float),
-                        float(a), float(b), t, w, frac, par)
+    xe, ye = np.asarray(grid.x_edges, dtype=float), np.asarray(grid.y_edges, dtype=float)
+    dx, a, b = xe[1] - xe[0], float(a), float(b)
+    inv_a2 = 1.0 / (a * a)
+    lo0, hi0 = xe[:-1, None], xe[1:, None]
+    frac = np.zeros((xe.size - 1, ye.size - 1))
+    par = np.zeros_like(frac)
+    # one Gauss line across y at a time: each cell sums its lines in the order of the nodes, a line outside the
+    # ellipse or a cell outside its chord adds nothing (where=)
+    for q in range(t.size):
+        yy = 0.5 * (ye[:-1] + ye[1:]) + 0.5 * (ye[1:] - ye[:-1]) * t[q]
+        c2 = 1.0 - (yy / b) * (yy / b)
+        lim = a * np.sqrt(np.maximum(c2, 0.0))              # the chord's half-length at yy
+        inside = (c2 > 0.0) & (hi0 > -lim) & (lo0 < lim)
+        lo, hi = np.maximum(lo0, -lim), np.minimum(hi0, lim)
+        wq = 0.5 * w[q] / dx
+        np.copyto(frac, frac + wq * (hi - lo), where=inside)
+        np.copyto(par, par + wq * (c2 * (hi - lo) - (hi * (hi * hi) - lo * (lo * lo)) * inv_a2 / 3.0), where=inside)
     return frac, par
 
 
