@@ -21,12 +21,13 @@ With FiPy's Grid3D assembly of the block (85..133 x 101..175 x 121..155 cells) a
 processes: 1 pass 14.5 s (2.4 GB peak RSS), 10 passes 38 s (3.7 GB): 160x the steady solve; train-4-axles 22 s
 (3.3 GB); 1,000 passes refused (3.6e6 cells over the budget 1.5e6); cProfile: 26 of 30 s in FiPy's Grid3D mesh
 and matrix. With the block's operator from FiPy's three 1-D parts, only the modes the centre column reads
-stepped (a quarter) and each step compiled (update and read in one pass over the modes): 1 pass 0.23 s, 10
-passes 0.37 s: 2.5x the steady solve (CPU 2.5x; target 10x), 1,000 passes 3.7 s: 16.0x one pass (CPU 15.5x;
-target 20x); train-4-axles 0.46 s, 3.3x its steady 0.14 s; peak RSS (separate processes, /usr/bin/time) 10
-passes 0.32 GB, train-4-axles 0.36 GB, 1,000 passes 0.85 GB. The 1,000 passes cost more than the 10 per pass
-stepped because the block grows with the history (sqrt(kappa t_end): 3.6e6 cells against 1.2e6) and the source
-crosses it in steps of h/V (2,059 steps of the 1,000-pass case's one pass: 2.3 s of compiled steps).
+stepped (a quarter), each step compiled (update and read in one pass over the modes) and the source's heat
+projected on the modes strip by strip: 1 pass 0.22 s, 10 passes 0.35 s: 2.3x the steady solve (CPU 2.2x;
+target 10x), 1,000 passes 3.3 s: 14.7x one pass (CPU 14.5x; target 20x); train-4-axles 0.48 s, 3.5x its
+steady 0.14 s; peak RSS (separate processes, /usr/bin/time) 10 passes 0.32 GB, train-4-axles 0.36 GB, 1,000
+passes 0.85 GB. The 1,000 passes cost more than the 10 per pass stepped because the block grows with the
+history (sqrt(kappa t_end): 3.6e6 cells against 1.2e6) and the source crosses it in steps of h/V (2,059 steps
+of the 1,000-pass case's one pass: 2.9 of its 6 s under cProfile in the compiled steps, memory-bound).
 
 Each case is timed interleaved with the others (best and median in one process; the 1,000-pass case
 once per round, in the first two rounds); the ratios of wall and of process CPU time are recorded

@@ -99,7 +99,7 @@ def test_steps_per_mode_equal_sparse_lu_steps(block, theta):
         surface = (theta * p1[:top] + (1.0 - theta) * p0[:top]).reshape(modes.dy.size, modes.dx.size)
         Y = a * Y + b * modes.load(surface)
         Yk = kept.advance(Yk, kept.step_coefficients(dt, theta), surface)
-        Ys, out = kept.step(Ys, kept.step_coefficients(dt, theta), surface)     # compiled, in one pass
+        Ys, out = kept.step(Ys, kept.step_coefficients(dt, theta), kept.project(surface))   # compiled, one pass
         assert np.allclose(Ys, Yk, rtol=0.0, atol=1e-13 * np.max(np.abs(Yk)))
         assert np.allclose(out, kept.sample(Yk), rtol=0.0, atol=1e-13 * np.max(np.abs(T)))
         assert np.max(np.abs(modes.to_cells(Y) - T)) <= 1e-11 * np.max(np.abs(T)), dt
@@ -120,6 +120,8 @@ def test_stepper_power_is_the_flux_integrated_over_the_surface_cells(block):
     st = block.stepper(xe, ye, np.full((8, 4), 3.0), V, lambda t: 1.0, 0.0)
     p = st._surface_power(0.1 / V, [0.0])          # the source centred on the section
     assert np.allclose(p, 3.0 * np.outer(block.modes.dy, block.modes.dx), rtol=1e-12)
+    projected = block.modes.project(p)
+    assert np.allclose(st._step_power(0.1 / V, [0.0]), projected, rtol=0.0, atol=1e-12 * np.abs(projected).max())
     T = np.random.default_rng(3).standard_normal(block.capacity.size)
     st.T = T
     column = T.reshape(block.modes.shape)[:, block.j0, block.i0]

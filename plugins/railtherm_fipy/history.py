@@ -244,13 +244,13 @@ class _FipyStepper(ImplicitSectionStepper):
             raw = np.diff(np.concatenate([[self.t], ends]))
             steps = np.array([dt if abs(h - dt) <= 1e-9 * dt else float(f"{h:.12g}") for h in raw])
         modes = self.b.modes
-        Y, t, q_old = self.Y, self.t, self._surface_power(self.t, arrivals)
+        Y, t, q_old = self.Y, self.t, self._step_power(self.t, arrivals)
         out = np.empty((ends.size, self.b.rows.shape[0]))
         for i, (t1, h) in enumerate(zip(ends, steps)):
             th = 1.0 if i < start else theta
             if (h, th) not in self.cache:
                 self.cache[(h, th)] = modes.step_coefficients(h, th)
-            q_new = self._surface_power(t1, arrivals)
+            q_new = self._step_power(t1, arrivals)
             q = None
             if q_new is not None or q_old is not None:
                 q = (th * (0.0 if q_new is None else q_new) + (1.0 - th) * (0.0 if q_old is None else q_old))
@@ -260,6 +260,10 @@ class _FipyStepper(ImplicitSectionStepper):
         self.Y, self.t = Y, float(ends[-1])
         self.times.append(ends)
         self.rows.append(out)
+
+    def _step_power(self, t: float, arrivals):
+        """The heat at time t [s] as the modes' step takes it: the surface cells' (:meth:`_surface_power`)."""
+        return self._surface_power(t, arrivals)
 
     def _surface_power(self, t: float, arrivals):
         """The heat [W/m] entering each surface cell at time t [s] from the passes arriving at ``arrivals`` [s];

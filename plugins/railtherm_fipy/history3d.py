@@ -133,10 +133,15 @@ class BlockModes:
             Y += self._scratch
         return Y
 
-    def step(self, Y: np.ndarray, coefficients, p_surface):
-        """:meth:`advance` and :meth:`sample` in one pass over the modes (:func:`_step_and_read`): ``(Y, outputs)``."""
+    def project(self, p_surface: np.ndarray) -> np.ndarray:
+        """The x-y modes' share ``Vy^T P Vx`` (my, mx) [W] of the heat ``p_surface`` (ny, nx) [W] entering the
+        surface cells (what :meth:`step` takes)."""
+        return self.vy.T @ p_surface @ self.vx
+
+    def step(self, Y: np.ndarray, coefficients, load):
+        """:meth:`advance` and :meth:`sample` in one pass over the modes (:func:`_step_and_read`): ``(Y, outputs)``;
+        ``load`` (my, mx) [W]: the theta-weighted surface heat projected (:meth:`project`), None: none."""
         a, bs = coefficients
-        load = None if p_surface is None else self.vy.T @ p_surface @ self.vx
         acc = np.empty(Y.shape[0])
         if load is None:
             _decay_and_read(Y, a, self.column, self.line, acc)
@@ -400,10 +405,22 @@ class _EllipseStepper(_FipyStepper):
         # overlap [m] (ny cells, strips) of each cell's y face with each strip of the source grid
         self.over = np.clip(np.minimum(fy[1:, None], ye[None, 1:]) - np.maximum(fy[:-1, None], ye[None, :-1]),
                             0.0, None)
+        self.over_modes = block.modes.vy.T @ self.over       # (my, strips): the strips' share of the y modes
 
     def _surface_power(self, t: float, arrivals):
         """The heat [W] entering each surface cell (ny, nx) at time t [s] from the passes arriving at
         ``arrivals`` [s]; None where there is none."""
+        strips = self._strips(t, arrivals)
+        return None if strips is None else self.over @ strips.T
+
+    def _step_power(self, t: float, arrivals):
+        """:meth:`_surface_power` projected on the x-y modes (``BlockModes.project``), the strips first."""
+        strips = self._strips(t, arrivals)
+        return None if strips is None else (self.over_modes @ strips.T) @ self.b.modes.vx
+
+    def _strips(self, t: float, arrivals):
+        """The heat per unit width [W/m] of each source strip over each cell's x face (nx, strips) at time t [s]
+        from the passes arriving at ``arrivals`` [s], the factor applied; None where there is none."""
         f = float(self.factor(t))
         if f == 0.0 or not len(arrivals):
             return None
@@ -418,4 +435,4 @@ class _EllipseStepper(_FipyStepper):
             i = np.clip(np.searchsorted(self.xe, xq, side="right"), 1, self.xe.size - 1)
             w = ((xq - self.xe[i - 1]) / (self.xe[i] - self.xe[i - 1]))[:, None]
             strips += np.diff(self.cum[i - 1] * (1.0 - w) + self.cum[i] * w, axis=0)
-        return f * (self.over @ strips.T)
+        return f * strips
