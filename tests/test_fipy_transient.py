@@ -253,29 +253,3 @@ def test_section_history_converges_at_second_order():
         residual.append(np.max(np.abs(res / ref.residual[:, 0] - 1)))
     for err in (peak, residual):
         assert np.polyfit(np.log(hs), np.log(err), 1)[0] == pytest.approx(2.0, abs=0.3), err
-
-
-def test_scene_taking_body_histories_is_the_parts_taking_form():
-    """section_stepping.body_histories(scene, grid, ...) hands the parts it reads (scene.transient,
-    scene.convection, grid.x_edges, grid.y_edges) to histories_at_section: the same histories, bit for bit,
-    on fipy's section (Hertz band, 2 passes 10 ms apart, level 0)."""
-    from railtherm.solving.section_stepping import body_histories, histories_at_section
-    from railtherm_fipy.history import fipy_block
-    a, v, q = 6e-3, 30.0, 1e8
-    xe = np.linspace(-a, a, 33)
-    xc = 0.5 * (xe[1:] + xe[:-1])
-    flux = q * np.sqrt(1.0 - (xc / a) ** 2)
-    tr = SimpleNamespace(count=2, interval=0.01, schedule_time=None, schedule_factor=None, depths=(0.0, 1e-4),
-                         threshold=100.0)
-    scene = SimpleNamespace(transient=tr, convection=None)
-    grid = SimpleNamespace(x_edges=xe, y_edges=None)
-
-    def make_block(speed, m, convection, duration, z):
-        return fipy_block(a, speed, m.conductivity, m.density * m.specific_heat, convection, 0, duration, z)
-    args = ([None, flux], (v, v), (STEEL, STEEL), (20.0, 20.0), 0, "implicit", make_block, "fipy", "x")
-    old, _ = body_histories(scene, grid, *args)
-    new, _ = histories_at_section(tr, None, xe, None, *args)
-    for name in ("time", "temperature", "peak", "residual", "time_above"):
-        assert np.array_equal(getattr(old, name), getattr(new, name)), name
-    assert np.max(new.temperature[1]) > 30.0                  # the rail is heated, the wheel is not
-    assert np.all(new.temperature[0] == 20.0)

@@ -41,7 +41,7 @@ _LAZY = {
     "open_results": "analysis.results",
     "hertz_geometry": "models.hertz", "hertz_patch": "models.hertz",
     **{name: "solving.section_stepping" for name in (
-        "ImplicitSectionStepper", "body_histories", "heating_scheme", "histories_at_section", "section_history",
+        "ImplicitSectionStepper", "heating_scheme", "histories_at_section", "section_history",
         "superposed_history", "theta_steps")},
 }
 

@@ -24,7 +24,7 @@ from ..physics.pass_history import pass_peaks_and_residual, pass_time_above
 from ..references.transient import shifted_sum
 
 __all__ = ["heating_scheme", "cooling_ladder", "schedule_factor", "section_history", "superposed_history",
-           "histories_at_section", "body_histories", "theta_steps", "ImplicitSectionStepper", "pass_windows"]
+           "histories_at_section", "theta_steps", "ImplicitSectionStepper", "pass_windows"]
 
 
 def schedule_factor(tr):
@@ -359,11 +359,3 @@ def histories_at_section(transient, convection, x_edges, y_edges, fluxes, speeds
     diag["transient_time_samples"] = int(time.size)
     return TransientHistory(time=time, z=z, temperature=temperature, peak=peak, residual=residual,
                             time_above=above), diag
-
-
-def body_histories(scene, grid, fluxes, speeds, bodies, bulk, level: int, requested: str, make_block, method: str,
-                   neglects: str):
-    """:func:`histories_at_section` with the parts read off a scene (``transient``, ``convection``) and a
-    grid (``x_edges``, ``y_edges``): the scene-taking form, for callers that have not moved to the parts."""
-    return histories_at_section(scene.transient, scene.convection, grid.x_edges, grid.y_edges, fluxes, speeds,
-                                bodies, bulk, level, requested, make_block, method, neglects)
