@@ -124,10 +124,13 @@ def _validate(paths) -> int:
 
 
 def _run(args) -> int:
-    from .run.runner import run_study  # the runner (~0.3 s with the report): `railtherm run` only
     if args.workers is not None and args.workers < 1:
         raise SceneError(f"--workers {args.workers} is not allowed: an integer >= 1 (local worker processes)",
                          key="workers", value=args.workers, allowed="an integer >= 1")
+    from .run.executors import resolve_executor, start_worker_server  # `railtherm run` only
+    if resolve_executor(args.executor, args.workers, 2)[0] == "processes":
+        start_worker_server(args.workers)  # its imports (~2 s) overlap the runner's import and the checks below
+    from .run.runner import run_study  # the runner (~0.3 s with the report): `railtherm run` only
     methods = None
     if args.methods is not None:
         methods = [m.strip() for m in args.methods.split(",") if m.strip()]
