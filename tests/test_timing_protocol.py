@@ -73,6 +73,24 @@ def test_one_warm_up_per_method_and_process_on_the_coarsest_level(scene, tmp_pat
             assert r.timing_runs == 1
 
 
+def test_the_first_scene_with_a_temperature_field_is_warmed_up_once_more(scene, tmp_path, monkeypatch):
+    """A method warm on a scene without a temperature field is warmed up again, untimed, at its first scene with
+    one (the thermal trace's kernels), and not at the next."""
+    st = railtherm.load_study(os.path.join(os.path.dirname(__file__), "..", "studies", "seed_paper.toml"))
+    field = next(s for s in st.scenes if s.name == "fdm-circular-q1")
+    assert scene.field is None and field.field is not None
+    monkeypatch.setattr(runner, "_WARM", set())
+    monkeypatch.setattr(runner, "_WARM_FIELD", set())
+    r0 = execute_run(RunTask(scene, "green", 0, {}, str(tmp_path / "a"), warmup_level=0))
+    r1 = execute_run(RunTask(field, "green", 1, {}, str(tmp_path / "b"), warmup_level=0))
+    r2 = execute_run(RunTask(field, "green", 0, {}, str(tmp_path / "c"), warmup_level=0))
+    r3 = execute_run(RunTask(scene, "green", 1, {}, str(tmp_path / "d"), warmup_level=0))
+    assert all(r.status == "ok" for r in (r0, r1, r2, r3)), [r.message for r in (r0, r1, r2, r3)]
+    assert r0.phases["warmup"] > 0 and r1.phases["warmup"] > 0
+    assert r2.phases["warmup"] == 0.0 and r3.phases["warmup"] == 0.0
+    assert runner._WARM == runner._WARM_FIELD == {"green"}
+
+
 @pytest.mark.skipif(not RSSPeak.native(), reason="the high-water mark is read in the timed solve on Linux only")
 def test_memory_is_read_in_the_results_own_solve(scene, tmp_path, monkeypatch):
     monkeypatch.setattr(runner, "_WARM", {"green"})

@@ -212,6 +212,8 @@ def _existing(task: RunTask, *, same_invocation: bool = False) -> RunRecord | No
 
 #: methods solved at least once in this process (their modules and kernels are loaded)
 _WARM: set = set()
+#: methods solved at least once in this process on a scene with a temperature field (scene key ``field``)
+_WARM_FIELD: set = set()
 
 
 def _written_since(task: RunTask, since: float) -> bool:
@@ -243,14 +245,17 @@ def _failure(exc: BaseException, timeout: float) -> tuple[str, str, str]:
 
 
 def _warm_up(task: RunTask) -> float:
-    """Once per method and process: an untimed solve of the study's coarsest level of this scene.
+    """Once per method and process: an untimed solve of the study's coarsest level of this scene; once more at
+    the method's first scene with a temperature field (scene key ``field``), whose thermal trace and depth fields
+    run kernels that a scene without one never reaches (core's trace pass, a model's depth-field kernels).
 
     Imports, numba compilation (or loading from its disk cache) and first-touch costs fall here, not
     in a timed solve. A warm-up that raises is ignored (the run's own solve reports its problem).
     Returns the time it took [s] (0 when the method was already warm).
     """
     from ..solving.pipeline import solve  # scipy and the plugins: the runner's import stays light for the CLI
-    if task.method in _WARM:
+    field = getattr(task.scene, "field", None) is not None
+    if task.method in _WARM and (not field or task.method in _WARM_FIELD):
         return 0.0
     t0 = time.perf_counter()
     try:
@@ -258,6 +263,8 @@ def _warm_up(task: RunTask) -> float:
     except Exception:  # noqa: BLE001 - the timed solve raises it again if it concerns this run
         pass
     _WARM.add(task.method)
+    if field:
+        _WARM_FIELD.add(task.method)
     return time.perf_counter() - t0
 
 
