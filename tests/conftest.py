@@ -18,6 +18,12 @@ if os.environ.get("PYTEST_XDIST_WORKER"):
     for _var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS") + (() if "numba" in sys.modules else ("NUMBA_NUM_THREADS",)):
         os.environ.setdefault(_var, "1")
 
+# after the thread variables above (numba reads them when it is imported): with an empty numba cache the test
+# workers compile each cached kernel once between them, not once each
+from numba_compile_lock import install_for_xdist_worker  # noqa: E402
+
+install_for_xdist_worker()
+
 
 @pytest.fixture(autouse=True)
 def _one_numba_thread_per_test_worker():
