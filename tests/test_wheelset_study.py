@@ -35,20 +35,23 @@ def _scene(contact):
                            semi_axes=None, normal_force=100e3, penetration=None, curvatures=None, wheel_radius=0.46)
 
 
-@pytest.fixture
-def patches(monkeypatch):
+@pytest.fixture(scope="module")
+def patches():
+    """Both contacts' patches of the wheelset model on the reference patch of :data:`AXES`, and the equilibrium
+    they come from (computed once for the tests that read them)."""
     a, b, p0 = rescale_hertz_patch(100e3, 100e3, *AXES)
     g, p = hertz_pressure_grid(a, b, p0, 0, 16, gauss=PRESSURE_GAUSS)
     ref = ContactPatch(grid=g, normal_force=100e3, a=a, b=b, max_pressure=p0, pressure=p)
-    monkeypatch.setattr(wheelset_normal, "hertz_geometry", lambda *args, **kw: (a, b, p0, 100e3))
-    monkeypatch.setattr(wheelset_normal, "hertz_patch", lambda *args, **kw: ref)
-    model = WheelsetNormal()
-    opts = {"cells": 16, **model.resolve_options({})}
-    steel = Material()
-    G = steel.shear_modulus
-    sol = wheelset_contacts(**WS, speed=30.0, friction=0.3, shear_modulus=G, poisson_ratio=steel.poisson_ratio,
-                            ref_normal_force=100e3, ref_semi_axes=AXES)
-    return {c: model.compute_patch(_scene(c), 0, opts) for c in (1, 2)}, sol
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(wheelset_normal, "hertz_geometry", lambda *args, **kw: (a, b, p0, 100e3))
+        mp.setattr(wheelset_normal, "hertz_patch", lambda *args, **kw: ref)
+        model = WheelsetNormal()
+        opts = {"cells": 16, **model.resolve_options({})}
+        steel = Material()
+        G = steel.shear_modulus
+        sol = wheelset_contacts(**WS, speed=30.0, friction=0.3, shear_modulus=G, poisson_ratio=steel.poisson_ratio,
+                                ref_normal_force=100e3, ref_semi_axes=AXES)
+        return {c: model.compute_patch(_scene(c), 0, opts) for c in (1, 2)}, sol
 
 
 def test_contact_2_is_the_equilibriums_second_contact(patches):
