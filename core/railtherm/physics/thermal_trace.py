@@ -22,6 +22,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..contract.grid import embed as embed_field, extended_grid
+from .trace_scan import trace_columns
 
 __all__ = ["Trace", "thermal_trace", "with_thermal_trace", "field_grid", "embed_field", "extended_grid", "TRACE_OUTPUTS",
            "FIELD_TOO_SHORT"]
@@ -52,8 +53,8 @@ class Trace:
     that bracket T*. Each of these is second order in the spacing for a smooth field
     (tests/test_thermal_trace.py fits the orders against the exact moving-source references); a kink of
     the field (the surface temperature of a uniform flux at the trailing edge, where the exact cooling
-    rate is infinite) lowers them. All depths are done in one compiled pass
-    (:func:`railtherm.physics._trace_kernels.trace_columns`).
+    rate is infinite) lowers them. All depths are scanned at once
+    (:func:`railtherm.physics.trace_scan.trace_columns`).
 
     Attributes
     ----------
@@ -121,9 +122,7 @@ def thermal_trace(x, z, temperature, speed: float, threshold: float) -> Trace:
         raise ValueError(f"speed must be > 0, got {speed!r} [m/s]")
     thr = float(threshold)
     nz = z.size
-    from ._trace_kernels import trace_columns   # numba: not loaded by ``import railtherm`` (CLI, pytest plugin)
-    # writable C arrays: a read-only one (an xarray index) would compile a second specialisation
-    peak, where, cool, above, status = trace_columns(np.require(x, float, "CW"), np.require(T, float, "CW"), v, thr)
+    peak, where, cool, above, status = trace_columns(x, T, v, thr)
     short_peak = list(z[(status & 1) != 0])
     short_cool = list(z[(status & 2) != 0])
     short_above = list(z[(status & 4) != 0])

@@ -246,8 +246,8 @@ def _failure(exc: BaseException, timeout: float) -> tuple[str, str, str]:
 
 def _warm_up(task: RunTask) -> float:
     """Once per method and process: an untimed solve of the study's coarsest level of this scene; once more at
-    the method's first scene with a temperature field (scene key ``field``), whose thermal trace and depth fields
-    run kernels that a scene without one never reaches (core's trace pass, a model's depth-field kernels).
+    the method's first scene with a temperature field (scene key ``field``), whose depth fields run kernels
+    that a scene without one never reaches (a model's depth-field kernels, e.g. green's Toeplitz weights).
 
     Imports, numba compilation (or loading from its disk cache) and first-touch costs fall here, not
     in a timed solve. A warm-up that raises is ignored (the run's own solve reports its problem).
