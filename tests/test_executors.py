@@ -125,6 +125,163 @@ def assert_same_runs(a: Path, b: Path, minimum: int = 8):
                 assert x.attrs[key] == y.attrs[key]
 
 
+# -- first the tests that score no study (the last one only in its final resume): with an empty numba cache,
+# under pytest-xdist, the other test worker meanwhile compiles the moving-source reference that scoring
+# needs, and this one loads it from the disk cache (tests/numba_compile_lock.py) instead of waiting for it
+
+
+def test_time_limit_in_a_thread_raises_in_that_thread():
+    """dask runs tasks in threads, where SIGALRM cannot reach: the limit is raised asynchronously."""
+    box = {}
+
+    def target():
+        t0 = time.perf_counter()
+        try:
+            with _time_limit(0.2):
+                while time.perf_counter() - t0 < 10:
+                    time.sleep(0.01)
+        except RunTimeout:
+            box["after"] = time.perf_counter() - t0
+        # a later, finished block is never hit by a stale timer
+        with _time_limit(0.05):
+            pass
+        time.sleep(0.1)
+        box["clean"] = True
+    th = threading.Thread(target=target)
+    th.start()
+    th.join(15)
+    assert 0.2 <= box["after"] < 1.0 and box.get("clean")
+
+
+def test_scheduler_needs_the_dask_executor():
+    with pytest.raises(railtherm.SceneError, match="scheduler"):
+        run_tasks([], executor="processes", scheduler="tcp://127.0.0.1:8786")
+
+
+def test_a_kind_on_its_first_run_is_not_started_twice():
+    """A (method, level) on its first run compiles its kernels (cached on disk): another worker takes the next
+    other task meanwhile, the order otherwise kept; once that kind has a result (not a refusal) it is warm;
+    when every pending task waits for a compilation the first is taken."""
+    from collections import deque
+    from types import SimpleNamespace as T
+
+    from railtherm.run.executors import _FirstRuns
+    tasks = [T(method=m, level=3) for m in ("kalker", "kalker", "fdm", "kalker", "fdm")]
+    first, pending = _FirstRuns(tasks), deque(range(5))
+    order = []
+    for _ in range(3):
+        i = first.take(pending)
+        first.started(i)
+        order.append(i)
+    assert order == [0, 2, 1] and list(pending) == [3, 4]
+    first.ended(1, T(status="refused"))            # a refusal compiled nothing: kalker still compiling (run 0)
+    assert first.take(pending) == 3                # all wait: the first is taken
+    pending.appendleft(3)
+    first.ended(0, T(status="ok"))
+    assert ("kalker", 3) in first.done and first.take(pending) == 3
+
+
+def test_direct_netcdf_writer_matches_xarray(hosts, tmp_path):
+    import netCDF4
+
+    from railtherm.output.store import _direct_writable, write_dataset_atomic
+    from railtherm.testing import canonical
+    for name in ("ellipse-full-sliding", "line-full-sliding", "line-given-flux"):
+        ds = railtherm.solve(canonical(name), "flat", 1)
+        ds.attrs.update(peak_memory=float("nan"), run_id="abc", timing_runs=3)
+        assert _direct_writable(ds)
+        write_dataset_atomic(ds, tmp_path / f"{name}-direct.nc")
+        ds.to_netcdf(tmp_path / f"{name}-xarray.nc", engine="netcdf4")
+        with xr.open_dataset(tmp_path / f"{name}-direct.nc") as a, xr.open_dataset(tmp_path / f"{name}-xarray.nc") as b:
+            assert a.identical(b)
+        with netCDF4.Dataset(tmp_path / f"{name}-direct.nc") as a, netCDF4.Dataset(tmp_path / f"{name}-xarray.nc") as b:
+            assert a.data_model == b.data_model == "NETCDF4"
+            for v in b.variables:
+                assert a[v].dtype == b[v].dtype and a[v].dimensions == b[v].dimensions
+                assert {k: repr(a[v].getncattr(k)) for k in a[v].ncattrs()} == \
+                       {k: repr(b[v].getncattr(k)) for k in b[v].ncattrs()}
+            assert {k: repr(a.getncattr(k)) for k in a.ncattrs()} == {k: repr(b.getncattr(k)) for k in b.ncattrs()}
+    # anything unusual goes through xarray
+    ds = railtherm.solve(canonical("ellipse-full-sliding"), "flat", 0)
+    ds = ds.assign_coords(label=("x", np.array([f"c{i}" for i in range(ds.sizes["x"])])))
+    assert not _direct_writable(ds)
+
+
+@pytest.fixture(scope="module")
+def loopback_cluster(hosts):
+    """A scheduler and two worker processes on loopback, one retry after a worker death."""
+    pytest.importorskip("distributed")
+    import dask
+    from distributed import Client, LocalCluster
+    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address=":0", silence_logs=logging.ERROR)
+    client = Client(cluster)
+    yield cluster, client
+    client.close()
+    cluster.close()
+
+
+def test_dask_stuck_run_ends_with_its_worker(loopback_cluster, tmp_path):
+    """A run stuck in a call that the soft (asynchronous) limit cannot interrupt ends its worker."""
+    from railtherm.run.executors import DaskExecutor
+    cluster, client = loopback_cluster
+    study = railtherm.load_study(sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0], timeout=1.0,
+                                       sliding="0.5", options="[study.options.sleepy]\nstuck_at_speed = 11.0\n"))
+    tasks = make_tasks(study, tmp_path / "out", levels=[0])
+    for t in tasks:
+        t.run_id, t.run_started = "dstuck", time.time()
+    t0 = time.time()
+    recs = dict(DaskExecutor(cluster.scheduler_address, grace=0.5).map(execute_run, tasks))
+    assert time.time() - t0 < 40
+    by = {tasks[i].scene.speed: r for i, r in recs.items()}
+    assert by[10.0].status == "ok"
+    assert by[11.0].status == "failed" and "time limit of 1 s" in by[11.0].message
+    assert "dask worker process was ended" in by[11.0].message
+    client.wait_for_workers(2, timeout=30)  # the nanny has replaced the worker
+
+
+def test_runs_whose_worker_dies_or_hangs_are_failed_then_resume_completes(hosts, tmp_path):
+    """Speed 11 kills its worker every time (recorded failed after the retry); speed 12 hangs in a
+    call that ignores SIGALRM (its worker is ended after the time limit and the grace period)."""
+    from railtherm.run.executors import ProcessExecutor
+    path = sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0, 12.0], sliding="0.5", timeout=1.0,
+                 options="[study.options.sleepy]\ndie_at_speed = 11.0\nstuck_at_speed = 12.0\n")
+    out = tmp_path / "out"
+    tasks = make_tasks(railtherm.load_study(path), out, levels=[0])
+    for t in tasks:
+        t.run_id, t.run_started = "faults", time.time()
+    t0 = time.time()
+    by = {tasks[i].scene.speed: r for i, r in ProcessExecutor(2, grace=0.5).map(execute_run, tasks)}
+    assert time.time() - t0 < 60
+    assert by[10.0].status == "ok"
+    assert by[11.0].status == "failed" and "worker process died (killed by SIGKILL) in each of 2 attempts" \
+        in by[11.0].message
+    assert by[12.0].status == "failed" and "time limit of 1 s" in by[12.0].message \
+        and "worker process was ended" in by[12.0].message
+    for speed in (11.0, 12.0):  # the failure is stored beside the run, and no result file
+        p = next(t.path for t in tasks if t.scene.speed == speed)
+        assert not p.exists() and p.with_name("level-0.status.json").exists()
+    written = {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/level-*.nc")}
+    assert len(written) == 1
+    # resumed with the same study: what is done is kept, the failures are retried (and fail again); one
+    # worker, ended and replaced at each failure in turn (the faults above met two)
+    again = make_tasks(railtherm.load_study(path), out, levels=[0])
+    recs = {again[i].scene.speed: r for i, r in ProcessExecutor(1, grace=0.5).map(execute_run, again, resume=True)}
+    assert recs[10.0].resumed and recs[11.0].status == recs[12.0].status == "failed"
+    for f, t in written.items():
+        assert f.stat().st_mtime_ns == t
+    # the causes are gone, and with them the options: the run hash changes, every run is computed anew
+    sweep(path, methods='["sleepy"]', speeds=[10.0, 11.0, 12.0], sliding="0.5")
+    m = railtherm.run_study(path, out, levels=[0], resume=True, report=False)
+    assert set(m["status"].values) <= RAN and m.sizes["run"] == 3
+    for f, t in written.items():
+        assert f.stat().st_mtime_ns != t
+
+
+# -- studies scored in this file's worker
+
+
 def test_processes_match_serial_bit_for_bit(serial_sweep, tmp_path, monkeypatch):
     """The run files, and the scores of metrics.nc: with the threshold of parallel scoring lowered to this
     sweep's 8 runs, the runs are scored and the reference curves computed in worker processes too."""
@@ -234,82 +391,6 @@ def test_processes_worker_killed_mid_study(hosts, tmp_path):
     _check_after_kill(study, out, written, box["metrics"])
 
 
-def test_runs_whose_worker_dies_or_hangs_are_failed_then_resume_completes(hosts, tmp_path):
-    """Speed 11 kills its worker every time (recorded failed after the retry); speed 12 hangs in a
-    call that ignores SIGALRM (its worker is ended after the time limit and the grace period)."""
-    from railtherm.run.executors import ProcessExecutor
-    path = sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0, 12.0], sliding="0.5", timeout=1.0,
-                 options="[study.options.sleepy]\ndie_at_speed = 11.0\nstuck_at_speed = 12.0\n")
-    out = tmp_path / "out"
-    tasks = make_tasks(railtherm.load_study(path), out, levels=[0])
-    for t in tasks:
-        t.run_id, t.run_started = "faults", time.time()
-    t0 = time.time()
-    by = {tasks[i].scene.speed: r for i, r in ProcessExecutor(2, grace=0.5).map(execute_run, tasks)}
-    assert time.time() - t0 < 60
-    assert by[10.0].status == "ok"
-    assert by[11.0].status == "failed" and "worker process died (killed by SIGKILL) in each of 2 attempts" \
-        in by[11.0].message
-    assert by[12.0].status == "failed" and "time limit of 1 s" in by[12.0].message \
-        and "worker process was ended" in by[12.0].message
-    for speed in (11.0, 12.0):  # the failure is stored beside the run, and no result file
-        p = next(t.path for t in tasks if t.scene.speed == speed)
-        assert not p.exists() and p.with_name("level-0.status.json").exists()
-    written = {p: p.stat().st_mtime_ns for p in out.glob("runs/*/*/level-*.nc")}
-    assert len(written) == 1
-    # resumed with the same study: what is done is kept, the failures are retried (and fail again); one
-    # worker, ended and replaced at each failure in turn (the faults above met two)
-    again = make_tasks(railtherm.load_study(path), out, levels=[0])
-    recs = {again[i].scene.speed: r for i, r in ProcessExecutor(1, grace=0.5).map(execute_run, again, resume=True)}
-    assert recs[10.0].resumed and recs[11.0].status == recs[12.0].status == "failed"
-    for f, t in written.items():
-        assert f.stat().st_mtime_ns == t
-    # the causes are gone, and with them the options: the run hash changes, every run is computed anew
-    sweep(path, methods='["sleepy"]', speeds=[10.0, 11.0, 12.0], sliding="0.5")
-    m = railtherm.run_study(path, out, levels=[0], resume=True, report=False)
-    assert set(m["status"].values) <= RAN and m.sizes["run"] == 3
-    for f, t in written.items():
-        assert f.stat().st_mtime_ns != t
-
-
-def test_time_limit_in_a_thread_raises_in_that_thread():
-    """dask runs tasks in threads, where SIGALRM cannot reach: the limit is raised asynchronously."""
-    box = {}
-
-    def target():
-        t0 = time.perf_counter()
-        try:
-            with _time_limit(0.2):
-                while time.perf_counter() - t0 < 10:
-                    time.sleep(0.01)
-        except RunTimeout:
-            box["after"] = time.perf_counter() - t0
-        # a later, finished block is never hit by a stale timer
-        with _time_limit(0.05):
-            pass
-        time.sleep(0.1)
-        box["clean"] = True
-    th = threading.Thread(target=target)
-    th.start()
-    th.join(15)
-    assert 0.2 <= box["after"] < 1.0 and box.get("clean")
-
-
-@pytest.fixture(scope="module")
-def loopback_cluster(hosts):
-    """A scheduler and two worker processes on loopback, one retry after a worker death."""
-    pytest.importorskip("distributed")
-    import dask
-    from distributed import Client, LocalCluster
-    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
-        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                               dashboard_address=":0", silence_logs=logging.ERROR)
-    client = Client(cluster)
-    yield cluster, client
-    client.close()
-    cluster.close()
-
-
 def test_dask_worker_killed_mid_study(loopback_cluster, tmp_path):
     cluster, client = loopback_cluster
     study = sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0, 12.0, 13.0],
@@ -325,56 +406,6 @@ def test_dask_worker_killed_mid_study(loopback_cluster, tmp_path):
     assert not th.is_alive() and "error" not in box, box.get("error")
     assert 4 <= len(written) < 16
     _check_after_kill(study, out, written, box["metrics"])
-
-
-def test_dask_stuck_run_ends_with_its_worker(loopback_cluster, tmp_path):
-    """A run stuck in a call that the soft (asynchronous) limit cannot interrupt ends its worker."""
-    from railtherm.run.executors import DaskExecutor
-    cluster, client = loopback_cluster
-    study = railtherm.load_study(sweep(tmp_path / "s.toml", methods='["sleepy"]', speeds=[10.0, 11.0], timeout=1.0,
-                                       sliding="0.5", options="[study.options.sleepy]\nstuck_at_speed = 11.0\n"))
-    tasks = make_tasks(study, tmp_path / "out", levels=[0])
-    for t in tasks:
-        t.run_id, t.run_started = "dstuck", time.time()
-    t0 = time.time()
-    recs = dict(DaskExecutor(cluster.scheduler_address, grace=0.5).map(execute_run, tasks))
-    assert time.time() - t0 < 40
-    by = {tasks[i].scene.speed: r for i, r in recs.items()}
-    assert by[10.0].status == "ok"
-    assert by[11.0].status == "failed" and "time limit of 1 s" in by[11.0].message
-    assert "dask worker process was ended" in by[11.0].message
-    client.wait_for_workers(2, timeout=30)  # the nanny has replaced the worker
-
-
-def test_direct_netcdf_writer_matches_xarray(hosts, tmp_path):
-    import netCDF4
-
-    from railtherm.output.store import _direct_writable, write_dataset_atomic
-    from railtherm.testing import canonical
-    for name in ("ellipse-full-sliding", "line-full-sliding", "line-given-flux"):
-        ds = railtherm.solve(canonical(name), "flat", 1)
-        ds.attrs.update(peak_memory=float("nan"), run_id="abc", timing_runs=3)
-        assert _direct_writable(ds)
-        write_dataset_atomic(ds, tmp_path / f"{name}-direct.nc")
-        ds.to_netcdf(tmp_path / f"{name}-xarray.nc", engine="netcdf4")
-        with xr.open_dataset(tmp_path / f"{name}-direct.nc") as a, xr.open_dataset(tmp_path / f"{name}-xarray.nc") as b:
-            assert a.identical(b)
-        with netCDF4.Dataset(tmp_path / f"{name}-direct.nc") as a, netCDF4.Dataset(tmp_path / f"{name}-xarray.nc") as b:
-            assert a.data_model == b.data_model == "NETCDF4"
-            for v in b.variables:
-                assert a[v].dtype == b[v].dtype and a[v].dimensions == b[v].dimensions
-                assert {k: repr(a[v].getncattr(k)) for k in a[v].ncattrs()} == \
-                       {k: repr(b[v].getncattr(k)) for k in b[v].ncattrs()}
-            assert {k: repr(a.getncattr(k)) for k in a.ncattrs()} == {k: repr(b.getncattr(k)) for k in b.ncattrs()}
-    # anything unusual goes through xarray
-    ds = railtherm.solve(canonical("ellipse-full-sliding"), "flat", 0)
-    ds = ds.assign_coords(label=("x", np.array([f"c{i}" for i in range(ds.sizes["x"])])))
-    assert not _direct_writable(ds)
-
-
-def test_scheduler_needs_the_dask_executor():
-    with pytest.raises(railtherm.SceneError, match="scheduler"):
-        run_tasks([], executor="processes", scheduler="tcp://127.0.0.1:8786")
 
 
 GREEN = """
@@ -471,29 +502,6 @@ outputs = ["max_surface_temperature"]
         m.close()
     assert counts["false"] == [1]
     assert counts["true"] == [3]
-
-
-def test_a_kind_on_its_first_run_is_not_started_twice():
-    """A (method, level) on its first run compiles its kernels (cached on disk): another worker takes the next
-    other task meanwhile, the order otherwise kept; once that kind has a result (not a refusal) it is warm;
-    when every pending task waits for a compilation the first is taken."""
-    from collections import deque
-    from types import SimpleNamespace as T
-
-    from railtherm.run.executors import _FirstRuns
-    tasks = [T(method=m, level=3) for m in ("kalker", "kalker", "fdm", "kalker", "fdm")]
-    first, pending = _FirstRuns(tasks), deque(range(5))
-    order = []
-    for _ in range(3):
-        i = first.take(pending)
-        first.started(i)
-        order.append(i)
-    assert order == [0, 2, 1] and list(pending) == [3, 4]
-    first.ended(1, T(status="refused"))            # a refusal compiled nothing: kalker still compiling (run 0)
-    assert first.take(pending) == 3                # all wait: the first is taken
-    pending.appendleft(3)
-    first.ended(0, T(status="ok"))
-    assert ("kalker", 3) in first.done and first.take(pending) == 3
 
 
 def test_auto_with_one_worker_starts_no_fork_server(green_host, tmp_path, monkeypatch):
