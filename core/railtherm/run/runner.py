@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import itertools
 import json
 import math
 import os
@@ -24,6 +25,7 @@ import sys
 import time
 import traceback
 import uuid
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable, Mapping
@@ -82,6 +84,9 @@ class RunTask:
     warmup_level: int = 0
     #: why this run would repeat another study method's computation (refused, not run); "" otherwise
     duplicate: str = ""
+    #: the run's plan refuses it or it is a duplicate: a local-process executor runs it in the parent (it takes
+    #: milliseconds; a worker would spend more on the round trip than on the run)
+    refused_early: bool = False
     #: the stage models of a chain the study composes (``[study.chains.<method>]``); None: a registered method
     chain: dict | None = None
 
@@ -485,16 +490,31 @@ def make_tasks(study: Study, out, methods: Iterable[str] | None = None, levels: 
 def _mark_duplicates(tasks: list[RunTask], host) -> None:
     """Mark each task whose executed stage models are another study method's on its scene
     (:func:`railtherm.solving.pipeline.duplicate_of`): it is refused without running, every invocation
-    deciding afresh from the study's current methods (a resumed study never reuses a stale decision)."""
-    from ..solving.pipeline import duplicate_of  # scipy and the plugins: see _warm_up
+    deciding afresh from the study's current methods (a resumed study never reuses a stale decision).
+    Mark too (``refused_early``) the duplicates and the tasks whose plan refuses them
+    (:func:`railtherm.solving.pipeline.plan`): the refusal then comes from the run's own solve, in the parent."""
+    from ..solving.pipeline import duplicate_of, plan  # scipy and the plugins: see _warm_up
     peers = list({t.method: (t.spec, t.options) for t in tasks}.values())
-    if len(peers) < 2:
-        return
     for t in tasks:
         try:
-            t.duplicate = duplicate_of(t.scene, t.spec, t.level, peers, t.options, host) or ""
+            t.duplicate = (duplicate_of(t.scene, t.spec, t.level, peers, t.options, host) or "") if len(peers) > 1 else ""
         except Exception:  # noqa: BLE001 - a method that cannot be planned reports that when it runs
             t.duplicate = ""
+        t.refused_early = bool(t.duplicate) or _plan_refuses(plan, t, host)
+
+
+def _plan_refuses(plan, task: RunTask, host) -> bool:
+    """Whether ``plan`` refuses the task's scene, method and level (a wheelset on profiles plans per patch in
+    its solve: never predicted)."""
+    if getattr(task.scene, "profile_contact", None) is not None:
+        return False
+    try:
+        plan(task.scene, host.resolve(task.spec), task.level, host)
+    except Refused:
+        return True
+    except Exception:  # noqa: BLE001 - the run's own solve reports it
+        return False
+    return False
 
 
 def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str | None = None,
@@ -515,13 +535,20 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
     for t in tasks:
         for u in getattr(t, "tasks", ()):
             u.run_id, u.run_started = run_id, started
+    # refusals known from the plan run in a thread of this process while the workers run the rest: the same
+    # execute_run, milliseconds each, without a worker's round trip
+    here = [] if chunked or executor == "serial" else [i for i, t in enumerate(tasks) if t.refused_early]
+    away = sorted(set(range(len(tasks))) - set(here))
     if executor == "auto":
-        executor, workers = resolve_executor(executor, workers, len(tasks))
+        executor, workers = resolve_executor(executor, workers, max(1, len(away)))
     ex = get_executor(executor, scheduler=scheduler, workers=workers)
     records: list = [None] * len(tasks)
     total = sum(len(t.tasks) for t in tasks) if chunked else len(tasks)
-    with _progress(total, desc) as bar:
-        for i, rec in ex.map(execute_chunk if chunked else execute_run, tasks, resume=resume):
+    with _progress(total, desc) as bar, ThreadPoolExecutor(1, thread_name_prefix="railtherm-refusals") as pool:
+        local = pool.submit(lambda: [(i, execute_run(tasks[i], resume=resume)) for i in here])
+        remote = ((away[j], rec) for j, rec in ex.map(execute_chunk if chunked else execute_run,
+                                                       [tasks[i] for i in away], resume=resume))
+        for i, rec in itertools.chain(remote, _deferred(local)):
             records[i] = rec
             if bar is not None:
                 last = rec[-1] if isinstance(rec, list) else rec
@@ -532,6 +559,11 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
         return [r for rs in records if rs is not None for r in rs]
     store.remove_stale_tmp({Path(t.path).parent for t in tasks})
     return [r for r in records if r is not None]
+
+
+def _deferred(future):
+    """The items of the list ``future`` returns, once it is done (an exception it raised propagates)."""
+    yield from future.result()
 
 
 def _children_cpu() -> float:
