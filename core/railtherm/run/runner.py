@@ -537,10 +537,12 @@ def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str 
             u.run_id, u.run_started = run_id, started
     # refusals known from the plan run in a thread of this process while the workers run the rest: the same
     # execute_run, milliseconds each, without a worker's round trip
-    here = [] if chunked or executor == "serial" else [i for i, t in enumerate(tasks) if t.refused_early]
-    away = sorted(set(range(len(tasks))) - set(here))
+    # (never beside runs timed in this process: a serial executor runs every task itself)
+    early = [] if chunked else [i for i, t in enumerate(tasks) if t.refused_early]
     if executor == "auto":
-        executor, workers = resolve_executor(executor, workers, max(1, len(away)))
+        executor, workers = resolve_executor(executor, workers, max(1, len(tasks) - len(early)))
+    here = [] if executor == "serial" else early
+    away = sorted(set(range(len(tasks))) - set(here))
     ex = get_executor(executor, scheduler=scheduler, workers=workers)
     records: list = [None] * len(tasks)
     total = sum(len(t.tasks) for t in tasks) if chunked else len(tasks)
