@@ -15,7 +15,6 @@ cycle of calls.
 """
 from __future__ import annotations
 
-import fcntl
 import hashlib
 import os
 import tempfile
@@ -24,6 +23,11 @@ from pathlib import Path
 from numba.core import dispatcher
 from numba.core.caching import NullCache
 from numba.core.compiler_lock import global_compiler_lock
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - Windows: no flock, numba as it is
+    fcntl = None
 
 
 def lock_folder() -> Path:
@@ -35,24 +39,35 @@ def lock_folder() -> Path:
     return d
 
 
+def lock_name(func) -> str:
+    """The lock file's name for the Python function ``func`` of a numba dispatcher (its module and name)."""
+    return hashlib.sha1(f"{func.__module__}.{func.__qualname__}".encode()).hexdigest()
+
+
 def install() -> None:
     """Wrap numba's ``Dispatcher.compile`` with the per-function file lock in :func:`lock_folder`."""
     original = dispatcher.Dispatcher.compile
-    if getattr(original, "_railtherm_locked", False):
+    if fcntl is None or getattr(original, "_railtherm_locked", False):
         return
-    folder = lock_folder()
+    try:
+        folder = lock_folder()
+    except OSError:                                   # no temporary folder to lock in: numba as it is
+        return
 
     def compile(self, sig):
         if isinstance(self._cache, NullCache):       # not cached on disk: nothing to share
             return original(self, sig)
-        func = self.py_func
-        name = hashlib.sha1(f"{func.__module__}.{func.__qualname__}".encode()).hexdigest()
-        with global_compiler_lock, open(folder / name, "a") as fh:
-            fcntl.flock(fh, fcntl.LOCK_EX)
+        with global_compiler_lock:
             try:
+                fh = open(folder / lock_name(self.py_func), "a")
+            except OSError:                           # no lock file (e.g. a read-only temporary folder): compile
                 return original(self, sig)
-            finally:
-                fcntl.flock(fh, fcntl.LOCK_UN)
+            with fh:
+                fcntl.flock(fh, fcntl.LOCK_EX)
+                try:
+                    return original(self, sig)
+                finally:
+                    fcntl.flock(fh, fcntl.LOCK_UN)
 
     compile._railtherm_locked = True
     dispatcher.Dispatcher.compile = compile
