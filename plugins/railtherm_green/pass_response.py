@@ -130,8 +130,9 @@ def _respond(theta, after, lo, hi, ct, lattice, far, edges, cs, scale):  # pragm
             vals = _g_sums(sub, nodes, weights, cs) * scale
         else:
             vals = _edge_sums(sub, c_edge, w_edge, cs) * scale
-        for r in range(idx.size):
-            out[idx[r]] = vals[r]
+        for r in range(idx.size):       # element by element: a row assignment compiles numba's shape-error text
+            for j in range(cs.size):
+                out[idx[r], j] = vals[r, j]
     return out
 
 

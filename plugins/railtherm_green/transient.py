@@ -392,7 +392,9 @@ def _tail_cumsum(offsets, step, lo, hi, coef, first, out, power):  # pragma: no 
     ct = np.ascontiguousarray(coef.T)
     theta = np.empty(per)
     row = np.empty((per, m))
-    out[0] = first
+    for i in range(per):                # element by element: a block assignment compiles numba's shape-error text
+        for j in range(m):
+            out[0, i, j] = first[i, j]
     for p in range(1, count):
         shift = step * p
         for i in range(per):
