@@ -40,8 +40,9 @@ def lock_folder() -> Path:
 
 
 def lock_name(func) -> str:
-    """The lock file's name for the Python function ``func`` of a numba dispatcher (its module and name)."""
-    return hashlib.sha1(f"{func.__module__}.{func.__qualname__}".encode()).hexdigest()
+    """The lock file's name for the Python function ``func`` of a numba dispatcher (its source file and name:
+    the key of numba's disk cache beside the sources)."""
+    return hashlib.sha1(f"{func.__code__.co_filename}:{func.__qualname__}".encode()).hexdigest()
 
 
 def install() -> None:
