@@ -143,10 +143,8 @@ class BlockModes:
         ``load`` (my, mx) [W]: the theta-weighted surface heat projected (:meth:`project`), None: none."""
         a, bs = coefficients
         acc = np.empty(Y.shape[0])
-        if load is None:
-            _decay_and_read(Y, a, self.column, self.line, acc)
-        else:
-            _step_and_read(Y, a, bs, load, self.column, self.line, acc)
+        heated = load is not None
+        _step_and_read(Y, a, bs, load if heated else bs[0], heated, self.column, self.line, acc)
         return Y, np.sum((self.read_z @ acc) * self.weights, axis=1)
 
     def load(self, p_surface: np.ndarray) -> np.ndarray:
@@ -187,25 +185,10 @@ def _theta_multipliers(c_dt, theta, wz, wy, wx, surface, a, bs):
 
 
 @njit(cache=True)
-def _step_and_read(Y, a, bs, load, column, line, acc):
-    """``Y = a Y + bs load`` in place (Y, a, bs (nz, my, mx), load (my, mx)) and ``acc[k] = line . (Y[k] column)``
-    (the centre column's value of each depth mode) in the same pass."""
-    nz, my, mx = Y.shape
-    for k in range(nz):
-        total = 0.0
-        for j in range(my):
-            row = 0.0
-            for i in range(mx):
-                y = a[k, j, i] * Y[k, j, i] + bs[k, j, i] * load[j, i]
-                Y[k, j, i] = y
-                row += column[i] * y
-            total += line[j] * row
-        acc[k] = total
-
-
-@njit(cache=True)
-def _decay_and_read(Y, a, column, line, acc):
-    """:func:`_step_and_read` without heat: ``Y = a Y`` in place and the column's value of each depth mode."""
+def _step_and_read(Y, a, bs, load, heated, column, line, acc):
+    """``Y = a Y + bs load`` in place (Y, a, bs (nz, my, mx), load (my, mx); without the heat term where not
+    ``heated``) and ``acc[k] = line . (Y[k] column)`` (the centre column's value of each depth mode) in the
+    same pass."""
     nz, my, mx = Y.shape
     for k in range(nz):
         total = 0.0
@@ -213,6 +196,8 @@ def _decay_and_read(Y, a, column, line, acc):
             row = 0.0
             for i in range(mx):
                 y = a[k, j, i] * Y[k, j, i]
+                if heated:
+                    y += bs[k, j, i] * load[j, i]
                 Y[k, j, i] = y
                 row += column[i] * y
             total += line[j] * row
