@@ -111,6 +111,20 @@ class FipyBlock:
         return _FipyStepper(self, x_edges, flux, speed, factor, t0)
 
 
+def fipy_conductance(T, capacity: float, conductivity: float) -> csr_matrix:
+    """FiPy's conductance K [W/K] of the cells of ``T``'s mesh (its constraints applied): the matrix FiPy
+    assembles for rho c dT/dt = div(lambda grad T) (``capacity`` rho c [J/(m^3 K)], ``conductivity`` lambda
+    [W/(m K)]) at a unit time step, less its capacity term. Only the matrix: FiPy's sweep would also solve the
+    system once (a third of the cost)."""
+    fp = import_fipy()
+    eq = fp.TransientTerm(coeff=capacity) == fp.DiffusionTerm(coeff=conductivity)
+    eq.cacheMatrix()
+    eq._prepareLinearSystem(var=T, solver=None, boundaryConditions=(), dt=1.0)
+    M = eq.matrix
+    return csr_matrix(M.matrix if hasattr(M, "matrix") else M) - diags(capacity * np.asarray(T.mesh.cellVolumes,
+                                                                                            dtype=float))
+
+
 def fipy_block(a: float, speed: float, conductivity: float, capacity: float, convection: float, level: int,
                duration_total: float, depths, schedule_time=None, schedule_factor=None) -> FipyBlock:
     """The cells of the module docstring for a band of half-width ``a`` [m] at ``speed`` [m/s], lambda
@@ -118,7 +132,7 @@ def fipy_block(a: float, speed: float, conductivity: float, capacity: float, con
     ``level``, a history of ``duration_total`` [s], the output ``depths`` [m] and the heat-input schedule
     (``schedule_time`` [s], ``schedule_factor`` [1]; None: constant)."""
     fp = import_fipy()
-    CellVariable, DiffusionTerm, Grid2D, TransientTerm = fp.CellVariable, fp.DiffusionTerm, fp.Grid2D, fp.TransientTerm
+    CellVariable, Grid2D = fp.CellVariable, fp.Grid2D
     kappa = conductivity / capacity
     delta = thermal_scales(a, speed, kappa).thermal_depth
     reach = math.sqrt(kappa * duration_total)
@@ -133,13 +147,8 @@ def fipy_block(a: float, speed: float, conductivity: float, capacity: float, con
     mesh = Grid2D(dx=dx, dy=dz)
     T = CellVariable(mesh=mesh, value=0.0)
     T.constrain(0.0, where=mesh.facesTop)               # FiPy's top (largest y) is the block's deep face
-    eq = TransientTerm(coeff=capacity) == DiffusionTerm(coeff=conductivity)
-    eq.cacheMatrix()
-    # the matrix only: FiPy's sweep would also solve the system once (a third of this function's time)
-    eq._prepareLinearSystem(var=T, solver=None, boundaryConditions=(), dt=1.0)
+    K = fipy_conductance(T, capacity, conductivity)
     cap = capacity * np.asarray(mesh.cellVolumes, dtype=float)
-    M = eq.matrix
-    K = csr_matrix(M.matrix if hasattr(M, "matrix") else M) - diags(cap)
     if convection:
         K = K + diags(np.concatenate([convection * dx, np.zeros(dx.size * (dz.size - 1))]))
     faces_x = np.concatenate([[0.0], np.cumsum(dx)]) - (side.sum() + 0.5 * h)

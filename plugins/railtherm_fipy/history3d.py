@@ -24,7 +24,7 @@ from scipy.sparse import csr_matrix, diags, kron
 from railtherm import Refused
 from railtherm.physics import thermal_scales
 
-from .history import IMPLICIT_COST, ScheduleSteps, _depth_widths, _FipyStepper, _widths
+from .history import IMPLICIT_COST, ScheduleSteps, _depth_widths, _FipyStepper, _widths, fipy_conductance
 from .modes import theta_coefficients
 from .solvers import import_fipy
 
@@ -321,11 +321,7 @@ def fipy_line_conductance(widths, conductivity: float, capacity: float, deep: bo
     T = fp.CellVariable(mesh=mesh, value=0.0)
     if deep:
         T.constrain(0.0, where=mesh.facesRight)
-    eq = fp.TransientTerm(coeff=capacity) == fp.DiffusionTerm(coeff=conductivity)
-    eq.cacheMatrix()
-    eq._prepareLinearSystem(var=T, solver=None, boundaryConditions=(), dt=1.0)   # the matrix only, no solve
-    M = eq.matrix
-    K = csr_matrix(M.matrix if hasattr(M, "matrix") else M).toarray() - np.diag(capacity * widths)
+    K = fipy_conductance(T, capacity, conductivity).toarray()
     K[0, 0] += convection
     return K
 
@@ -342,12 +338,7 @@ def fipy_3d_stiffness(dx, dy, dz, conductivity: float, capacity: float, convecti
     # the deep face: FiPy's largest z (the bottom layer's side faces have their centres half a cell above it)
     deep = np.abs(np.asarray(mesh.faceCenters[2]) - float(np.sum(dz))) < 0.25 * dz[-1]
     T.constrain(0.0, where=mesh.exteriorFaces & deep)
-    eq = fp.TransientTerm(coeff=capacity) == fp.DiffusionTerm(coeff=conductivity)
-    eq.cacheMatrix()
-    eq._prepareLinearSystem(var=T, solver=None, boundaryConditions=(), dt=1.0)
-    cap = capacity * np.asarray(mesh.cellVolumes, dtype=float)
-    M = eq.matrix
-    K = csr_matrix(M.matrix if hasattr(M, "matrix") else M) - diags(cap)
+    K = fipy_conductance(T, capacity, conductivity)
     if convection:
         K = K + diags(np.concatenate([convection * np.outer(dy, dx).ravel(), np.zeros(dx.size * dy.size * (dz.size - 1))]))
     return csr_matrix(K)
