@@ -30,3 +30,23 @@ def ellipse_scene(name: str = "ek", *, contact: str = ELLIPSE_AXES, speed: str =
     appends the scene's further keys."""
     return (f'[[scene]]\nname = "{name}"\nnormal_force = 100e3\ncontact = {{ shape = "ellipse", {contact} }}\n'
             f"speed = {speed}\nsliding_speed = 1.0\nfriction = 0.3\n")
+
+
+def green_analytic_study(name: str) -> str:
+    """The head of a small study: green at level 0 against the analytic references (5 %), no convection; the
+    caller appends its ``[[scene]]`` tables."""
+    return (f'schema_version = 1\n[study]\nname = "{name}"\nmethods = ["green"]\nlevels = [0]\n'
+            'reference = "analytic"\ntolerance = 0.05\n[defaults]\nconvection = 0.0\n')
+
+
+def run_with_report(folder, text: str):
+    """Run the study of TOML ``text`` in ``folder`` (a path) without its report, then write the report once:
+    ``(study, out, paths)``, the parsed study, its output folder and the report's paths."""
+    import railtherm                        # here: the report's plotting only for the tests that draw one
+    from railtherm.report import write_report
+    path = folder / "study.toml"
+    path.write_text(text)
+    study = railtherm.load_study(path)
+    out = folder / "out"
+    railtherm.run_study(study, out=out, report=False)
+    return study, out, write_report(out, study)

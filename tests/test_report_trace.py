@@ -9,16 +9,9 @@ import textwrap
 import numpy as np
 import pytest
 
-STUDY = textwrap.dedent("""
-    schema_version = 1
-    [study]
-    name = "trace-small"
-    methods = ["green"]
-    levels = [0]
-    reference = "analytic"
-    tolerance = 0.05
-    [defaults]
-    convection = 0.0
+from studies import green_analytic_study, run_with_report
+
+STUDY = green_analytic_study("trace-small") + textwrap.dedent("""
     [[scene]]
     name = "locked"
     speed = 10.0
@@ -44,16 +37,7 @@ STUDY = textwrap.dedent("""
 
 @pytest.fixture(scope="module")
 def small(tmp_path_factory):
-    import railtherm
-    from railtherm.report import write_report
-    tmp = tmp_path_factory.mktemp("trace")
-    path = tmp / "study.toml"
-    path.write_text(STUDY)
-    study = railtherm.load_study(path)
-    out = tmp / "out"
-    railtherm.run_study(study, out=out, report=False)   # the report once, here (it returns the paths)
-    paths = write_report(out, study)
-    return study, out, paths
+    return run_with_report(tmp_path_factory.mktemp("trace"), STUDY)
 
 
 def test_reference_curves_hold_the_exact_trace(small):

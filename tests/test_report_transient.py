@@ -10,16 +10,9 @@ import textwrap
 import numpy as np
 import pytest
 
-STUDY = textwrap.dedent("""
-    schema_version = 1
-    [study]
-    name = "transient-small"
-    methods = ["green"]
-    levels = [0]
-    reference = "analytic"
-    tolerance = 0.05
-    [defaults]
-    convection = 0.0
+from studies import green_analytic_study, run_with_report
+
+STUDY = green_analytic_study("transient-small") + textwrap.dedent("""
     [[scene]]
     name = "band-passes"
     speed = 30.0
@@ -40,15 +33,7 @@ STUDY = textwrap.dedent("""
 
 @pytest.fixture(scope="module")
 def small(tmp_path_factory):
-    import railtherm
-    from railtherm.report import write_report
-    tmp = tmp_path_factory.mktemp("transient-report")
-    path = tmp / "study.toml"
-    path.write_text(STUDY)
-    study = railtherm.load_study(path)
-    out = tmp / "out"
-    railtherm.run_study(study, out=out, report=False)
-    write_report(out, study)
+    study, out, _ = run_with_report(tmp_path_factory.mktemp("transient-report"), STUDY)
     return study, out
 
 
