@@ -17,23 +17,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.sparse import diags, kron
-from scipy.sparse.linalg import splu
 
 from railtherm import Refused
-from railtherm.analysis.transient_metrics import transient_sources
 from railtherm.input.materials import Material
 from railtherm.input.study import load_study
-from railtherm.references.transient import pass_summary
 from railtherm.solving.pipeline import solve
 from railtherm_fipy.history3d import fipy_3d_stiffness, fipy_ellipse_block, separate3
+
+from transient_cases import lu_theta_steps, train_of_axles
 
 STUDY = Path(__file__).parent.parent / "studies" / "transient.toml"
 STEEL = Material()
 A, B, V = 6e-3, 4e-3, 30.0
 DEPTHS = (0.0, 1e-4, 5e-4)
-#: the reference's quadrature as metrics.nc takes it (railtherm.analysis.transient_metrics)
-CHEAP = dict(quad_points=8, inner_points=24)
 
 
 @pytest.fixture(scope="module")
@@ -85,18 +81,12 @@ def test_steps_per_mode_equal_sparse_lu_steps(block, theta):
     their compiled step (update and read in one pass) equals the array form to 1e-13."""
     modes, kept, C = block.all_modes(), block.modes, block.capacity
     K = fipy_3d_stiffness(*block.widths, STEEL.conductivity, STEEL.density * STEEL.specific_heat, 20.0)
-    top = modes.dx.size * modes.dy.size
-    rng = np.random.default_rng(7)
-    T = rng.standard_normal(C.size)
+    T, steps = lu_theta_steps(C, K, modes.dx.size * modes.dy.size, theta, np.random.default_rng(7))
     Y, Yk = modes.of_cells(T), kept.of_cells(T)
     Ys = Yk.copy()
-    for dt in (1e-7, 3.1e-6, 1e-3, 1.0):
-        p0, p1 = np.zeros(C.size), np.zeros(C.size)
-        p0[:top], p1[:top] = rng.random(top), rng.random(top)
-        lu = splu((diags(C / dt) + theta * K).tocsc())
-        T = lu.solve(C / dt * T - (1.0 - theta) * (K @ T) + theta * p1 + (1.0 - theta) * p0)
+    for dt, load, T in steps:
         a, b = modes.coefficients(dt, theta)
-        surface = (theta * p1[:top] + (1.0 - theta) * p0[:top]).reshape(modes.dy.size, modes.dx.size)
+        surface = load.reshape(modes.dy.size, modes.dx.size)
         Y = a * Y + b * modes.load(surface)
         Yk = kept.advance(Yk, kept.step_coefficients(dt, theta), surface)
         Ys, out = kept.step(Ys, kept.step_coefficients(dt, theta), kept.project(surface))   # compiled, one pass
@@ -137,15 +127,8 @@ def test_stepper_power_is_the_flux_integrated_over_the_surface_cells(block):
 def _train(level):
     """fipy's rail pass peaks (passes, depths) on the study's train-4-axles at ``level`` and their relative
     errors against the exact ellipse at the surface, 0.1 and 0.5 mm; the result."""
-    scene = load_study(STUDY).scene("train-4-axles")
-    ds = solve(scene, "fipy", level=level)
-    tr = scene.transient
-    (_, _), (src, bulk) = transient_sources(scene)[0]
-    z = np.asarray(ds["z"].values)
-    cols = [int(np.flatnonzero(np.isclose(z, d))[0]) for d in DEPTHS]
-    ref = pass_summary(list(DEPTHS), src, scene.body(1), tr.count, tr.interval, **CHEAP)
-    peak = ds["pass_peak_temperature"].values[1][:, cols] - bulk
-    return np.abs(peak / ref.peak - 1.0), ds
+    ds, peak, exact = train_of_axles("fipy", level, DEPTHS)
+    return np.abs(peak / exact.peak - 1.0), ds
 
 
 def test_train_of_axles_level_0_within_5_percent_of_the_exact_ellipse():

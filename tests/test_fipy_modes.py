@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.sparse import diags
-from scipy.sparse.linalg import splu
 
 from railtherm import SolverError
 from railtherm.input.materials import Material
 from railtherm_fipy.history import FipyBlock, fipy_block
 from railtherm_fipy.modes import separate
+
+from transient_cases import lu_theta_steps
 
 STEEL = Material()
 A, V = 6e-3, 30.0
@@ -47,18 +47,12 @@ def test_separated_conductances_rebuild_fipys_matrix(block):
 
 @pytest.mark.parametrize("theta", [0.5, 1.0])
 def test_steps_per_mode_equal_sparse_lu_steps(block, theta):
-    modes, C, K = block.modes, block.capacity, block.stiffness
-    nx = modes.dx.size
-    rng = np.random.default_rng(7)
-    T = rng.standard_normal(C.size)
+    modes = block.modes
+    T, steps = lu_theta_steps(block.capacity, block.stiffness, modes.dx.size, theta, np.random.default_rng(7))
     Y = modes.of_cells(T)
-    for dt in (1e-7, 3.1e-6, 1e-3, 1.0):
-        p0, p1 = np.zeros(C.size), np.zeros(C.size)
-        p0[:nx], p1[:nx] = rng.random(nx), rng.random(nx)
-        lu = splu((diags(C / dt) + theta * K).tocsc())
-        T = lu.solve(C / dt * T - (1.0 - theta) * (K @ T) + theta * p1 + (1.0 - theta) * p0)
+    for dt, load, T in steps:
         a, b = modes.coefficients(dt, theta)
-        Y = a * Y + b * modes.load(theta * p1[:nx] + (1.0 - theta) * p0[:nx])
+        Y = a * Y + b * modes.load(load)
         assert np.max(np.abs(modes.to_cells(Y) - T)) <= 1e-11 * np.max(np.abs(T)), dt
         expected = np.sum(T[block.rows] * block.weights, axis=1)
         assert np.allclose(modes.sample(Y), expected, rtol=0.0, atol=1e-11 * np.max(np.abs(T)))

@@ -5,44 +5,30 @@ its convergence with the level, and a flux uniform across the strips (the band) 
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import integrate
 from scipy.special import erf
 
-from railtherm.analysis.transient_metrics import transient_sources
 from railtherm.input.materials import Material
-from railtherm.input.study import load_study
-from railtherm.references.transient import pass_summary
-from railtherm.solving.pipeline import solve
 from railtherm_green.lateral import LateralPassResponse
 from railtherm_green.pass_response import PassResponse
 from railtherm_green.transient import strip_history, strip_time_axis
 
-STUDY = Path(__file__).parent.parent / "studies" / "transient.toml"
+from transient_cases import train_of_axles
+
 STEEL = Material()
 BETA, KAP = STEEL.effusivity, STEEL.diffusivity
 A, B, V, Q = 6e-3, 4e-3, 30.0, 1e8
 D = 2 * A / V
-#: the references' quadrature as metrics.nc takes it (railtherm.analysis.transient_metrics): ~1e-5 of the maximum
-CHEAP = dict(quad_points=8, inner_points=24)
 
 
 def _train(level, depths):
-    """green's pass peaks at ``depths`` and surface residual rises on the study's train-4-axles (4 passes of a Hertz
-    ellipse a = 6, b = 4 mm over the rail at 30 m/s, 83 ms apart) at ``level``, and the exact 3-D moving ellipse's
-    (peaks (passes, depths), surface residual (passes,))."""
-    scene = load_study(STUDY).scene("train-4-axles")
-    ds = solve(scene, "green", level=level)
-    tr = scene.transient
-    (_, _), (src, bulk) = transient_sources(scene)[0]
-    z = np.asarray(ds["z"].values)
-    cols = [int(np.flatnonzero(np.isclose(z, d))[0]) for d in depths]
-    ref = pass_summary([0.0, *depths], src, scene.body(1), tr.count, tr.interval, **CHEAP)
-    got = ds["pass_peak_temperature"].values[1][:, cols] - bulk, ds["residual_rise"].values[1]
-    return got, (ref.peak[:, 1:], ref.residual[:, 0])
+    """green's pass peaks at ``depths`` and surface residual rises on the study's train-4-axles at ``level``, and
+    the exact 3-D moving ellipse's (peaks (passes, depths), surface residual (passes,))."""
+    ds, peak, exact = train_of_axles("green", level, (0.0, *depths))
+    return (peak[:, 1:], ds["residual_rise"].values[1]), (exact.peak[:, 1:], exact.residual[:, 0])
 
 
 def test_train_of_axles_pass_peaks_against_the_exact_ellipse():
