@@ -28,7 +28,7 @@ from .friction_laws import solve_with_law
 from ._precompile import compile_kernels
 from ._quadrant import (ROLLING_EXTRA, _quadrant_differences_cached, mirror_quadrant, place_rolling,
                         tangential_quadrants)
-from .influence import Convolution, element_size, line_kernel, normal_operator, rolling_kernel, tangential_kernels
+from .influence import Convolution, element_size, line_kernel, normal_operator, rolling_kernel
 from .tangential_solver import TANGENTIAL_TOLERANCE, solve_tangential_nested
 
 __all__ = ["KalkerTangential", "rolling_operator", "patch_creepages", "solve_patch_tangential", "clear_operator_caches",
@@ -141,19 +141,9 @@ def rolling_operator_kernels(nx: int, ny: int, dx: float, dy: float, shear_modul
 
     Placed from the kernels' quadrants (:func:`railtherm_kalker._quadrant.tangential_quadrants`, whose corner
     differences the grid's normal operator shares; :func:`railtherm_kalker._quadrant.place_rolling`) instead of the
-    full kernels, their differences and their placement as separate array passes; the full kernels' path (with
-    ``place_rolling`` None) is the reference the tests compare it with.
+    full kernels, their differences and their placement as separate array passes (the tests compare the two).
     """
     mx, my = padded
-    if place_rolling is None:
-        k = tangential_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio, extra=order)
-        out = {}
-        for key, name in {(0, 0): "xx", (0, 1): "xy", (1, 1): "yy"}.items():
-            emb = np.zeros((mx, my))
-            at = np.ix_(np.arange(-(nx - 1), nx) % mx, np.arange(-(ny - 1), ny) % my)
-            emb[at] = rolling_kernel(k[name], dx, order)
-            out[key] = emb
-        return out
     if order not in (1, 2):
         raise ValueError(f"order = {order!r}: the rolling difference is of order 1 or 2")
     q = tangential_quadrants(nx + order, ny, dx, dy, shear_modulus, poisson_ratio,
