@@ -90,13 +90,12 @@ class BlockModes:
         self._derive()
 
     def _derive(self) -> None:
-        """The decay rates, the surface's, column's and line's shares of the modes, a scratch state."""
+        """The decay rates, the surface's, column's and line's shares of the modes."""
         self.rate = self.wz[:, None, None] + self.wy[None, :, None] + self.wx[None, None, :]
         self.surface = self.vz[0]
         self.column = self.vx[self.i0]
         self.line = self.vy[self.j0]
         self.read_z = self.vz[self.read_rows]                    # (n, 2, nz)
-        self._scratch = np.empty(self.rate.shape)
 
     def read(self, rtol: float = READ_RTOL) -> "BlockModes":
         """The modes the outputs read: those whose value on the column ``i0`` (along x) and on the line ``j0``
@@ -117,21 +116,11 @@ class BlockModes:
         return theta_coefficients(self.rho_c, self.rate, dt, theta)
 
     def step_coefficients(self, dt: float, theta: float):
-        """``(a, b Vz[0])`` of :meth:`coefficients`, the surface's share folded in (what :meth:`advance` takes),
+        """``(a, b Vz[0])`` of :meth:`coefficients`, the surface's share folded in (what :meth:`step` takes),
         in one pass over the modes (:func:`_theta_multipliers`)."""
         a, bs = np.empty(self.rate.shape), np.empty(self.rate.shape)
         _theta_multipliers(self.rho_c / float(dt), float(theta), self.wz, self.wy, self.wx, self.surface, a, bs)
         return a, bs
-
-    def advance(self, Y: np.ndarray, coefficients, p_surface) -> np.ndarray:
-        """``Y`` (overwritten) after one theta step of :meth:`step_coefficients` under the theta-weighted surface
-        heat ``p_surface`` (ny, nx) [W] (None: none): ``a Y + b Vz[0] (x) (Vy^T P Vx)``, in place."""
-        a, bs = coefficients
-        np.multiply(Y, a, out=Y)
-        if p_surface is not None:
-            np.multiply(bs, (self.vy.T @ p_surface @ self.vx)[None], out=self._scratch)
-            Y += self._scratch
-        return Y
 
     def project(self, p_surface: np.ndarray) -> np.ndarray:
         """The x-y modes' share ``Vy^T P Vx`` (my, mx) [W] of the heat ``p_surface`` (ny, nx) [W] entering the
@@ -139,7 +128,8 @@ class BlockModes:
         return self.vy.T @ p_surface @ self.vx
 
     def step(self, Y: np.ndarray, coefficients, load):
-        """:meth:`advance` and :meth:`sample` in one pass over the modes (:func:`_step_and_read`): ``(Y, outputs)``;
+        """``Y = a Y + b Vz[0] (x) load`` in place and :meth:`sample` of it, in one pass over the modes
+        (:func:`_step_and_read`): ``(Y, outputs)``;
         ``load`` (my, mx) [W]: the theta-weighted surface heat projected (:meth:`project`), None: none."""
         a, bs = coefficients
         acc = np.empty(Y.shape[0])
