@@ -483,38 +483,34 @@ def make_tasks(study: Study, out, methods: Iterable[str] | None = None, levels: 
                                      study.warmup, study.timeout,
                                      trace_memory=study.warmup or i % MEMORY_SAMPLE == 0, warmup_level=min(lv),
                                      chain=chains.get(m)))
-    _mark_duplicates(tasks, host)
+    _mark_refusals(tasks, host)
     return tasks
 
 
-def _mark_duplicates(tasks: list[RunTask], host) -> None:
-    """Mark each task whose executed stage models are another study method's on its scene
-    (:func:`railtherm.solving.pipeline.duplicate_of`): it is refused without running, every invocation
-    deciding afresh from the study's current methods (a resumed study never reuses a stale decision).
-    Mark too (``refused_early``) the duplicates and the tasks whose plan refuses them
-    (:func:`railtherm.solving.pipeline.plan`): the refusal then comes from the run's own solve, in the parent."""
+def _mark_refusals(tasks: list[RunTask], host) -> None:
+    """Mark each task whose plan refuses it (:func:`railtherm.solving.pipeline.plan`: a model's validity or
+    capabilities) or whose executed stage models are another study method's on its scene
+    (:func:`railtherm.solving.pipeline.duplicate_of`, its reason in ``duplicate``): ``refused_early``, the
+    refusal then comes from the run's own solve in the study's process. Every invocation decides afresh from
+    the study's current methods (a resumed study never reuses a stale decision). A wheelset on profiles plans
+    per patch in its solve: its plan's refusal is never predicted."""
     from ..solving.pipeline import duplicate_of, plan  # scipy and the plugins: see _warm_up
     peers = list({t.method: (t.spec, t.options) for t in tasks}.values())
     for t in tasks:
+        refused = False
+        if getattr(t.scene, "profile_contact", None) is None:
+            try:
+                plan(t.scene, host.resolve(t.spec), t.level, host)
+            except Refused:
+                refused = True
+            except Exception:  # noqa: BLE001 - a method that cannot be planned reports that when it runs
+                pass
         try:
-            t.duplicate = (duplicate_of(t.scene, t.spec, t.level, peers, t.options, host) or "") if len(peers) > 1 else ""
-        except Exception:  # noqa: BLE001 - a method that cannot be planned reports that when it runs
+            t.duplicate = "" if refused or len(peers) < 2 else \
+                (duplicate_of(t.scene, t.spec, t.level, peers, t.options, host) or "")
+        except Exception:  # noqa: BLE001 - as above
             t.duplicate = ""
-        t.refused_early = bool(t.duplicate) or _plan_refuses(plan, t, host)
-
-
-def _plan_refuses(plan, task: RunTask, host) -> bool:
-    """Whether ``plan`` refuses the task's scene, method and level (a wheelset on profiles plans per patch in
-    its solve: never predicted)."""
-    if getattr(task.scene, "profile_contact", None) is not None:
-        return False
-    try:
-        plan(task.scene, host.resolve(task.spec), task.level, host)
-    except Refused:
-        return True
-    except Exception:  # noqa: BLE001 - the run's own solve reports it
-        return False
-    return False
+        t.refused_early = refused or bool(t.duplicate)
 
 
 def run_tasks(tasks: list[RunTask], *, executor: str = "serial", scheduler: str | None = None,
