@@ -181,6 +181,23 @@ def test_a_kind_on_its_first_run_is_not_started_twice():
     assert ("kalker", 3) in first.done and first.take(pending) == 3
 
 
+def test_a_free_worker_takes_the_next_run_of_its_last_runs_affinity():
+    """A model's per-process cache (fem's factorised strip) serves the next member of the same sweep at the same
+    level: a free worker takes that one first, the order otherwise kept; without a last run, the first."""
+    from collections import deque
+    from types import SimpleNamespace as T
+
+    from railtherm.run.executors import _FirstRuns
+    tasks = [T(method="fem", level=3, affinity=a) for a in (("fem", 3, "carter"), ("fem", 3, "seed"),
+                                                             ("fem", 3, "carter"), ("fem", 3, "strip"))]
+    first = _FirstRuns(tasks)
+    first.done.add(("fem", 3))
+    pending = deque([1, 2, 3])
+    assert first.take(pending, last=0) == 2 and list(pending) == [1, 3]
+    assert first.take(pending, last=0) == 1                     # none of that affinity left: the first
+    assert first.take(pending) == 3
+
+
 def test_direct_netcdf_writer_matches_xarray(hosts, tmp_path):
     import netCDF4
 

@@ -5,6 +5,8 @@
 * the warm-up happens once per method and process, on the study's coarsest level;
 * a solve during which numba compiled is not a timing (solved again);
 * the memory is read in the result's own solve (Linux: ``VmHWM``), not in an extra solve;
+* a repeat times the same stages without assembling a result (``solve_time``);
+* after a warm-up the process's objects are frozen out of later garbage collections;
 * ``railtherm run`` uses local worker processes, one per core and at most one per run.
 """
 from __future__ import annotations
@@ -55,9 +57,9 @@ def test_one_warm_up_per_method_and_process_on_the_coarsest_level(scene, tmp_pat
     calls = []
     real = runner._measured_solve
 
-    def spy(task, validate, memory):
+    def spy(task, result, memory):
         calls.append(task.level)
-        return real(task, validate, memory)
+        return real(task, result, memory)
     monkeypatch.setattr(runner, "_WARM", set())
     monkeypatch.setattr(runner, "_measured_solve", spy)
     r1 = execute_run(RunTask(scene, "green", 1, {}, str(tmp_path / "a"), warmup_level=0))
@@ -98,6 +100,46 @@ def test_memory_is_read_in_the_results_own_solve(scene, tmp_path, monkeypatch):
     assert rec.status == "ok" and rec.timing_runs == 1
     assert "memory" not in rec.phases                                   # no extra solve for memory
     assert rec.peak_rss > 50e6 and rec.rss_growth >= 0                  # the interpreter included
+
+
+def test_repeats_time_the_stages_without_assembling_a_result(scene, tmp_path, monkeypatch):
+    """Only the result's own solve builds a dataset; the repeats time the same stages (solve_time)."""
+    from railtherm.solving import pipeline
+    built = []
+    real = pipeline.build_dataset
+
+    def counting(*a, **kw):
+        built.append(1)
+        return real(*a, **kw)
+    monkeypatch.setattr(runner, "_WARM", {"green"})
+    monkeypatch.setattr(pipeline, "build_dataset", counting)
+    rec = execute_run(RunTask(scene, "green", 0, {}, str(tmp_path / "o"), repeat=3))
+    assert rec.status == "ok", rec.message
+    assert rec.timing_runs == 3 and len(built) == 1                     # green at level 0 takes milliseconds
+    assert 0 < rec.wall_time <= rec.wall_time_median and np.isfinite(rec.wall_time_cold)
+
+
+def test_solve_time_refuses_what_solve_refuses(scene):
+    from railtherm.solving.pipeline import solve_time
+    assert 0 < solve_time(scene, "green", 0) < 60
+    with pytest.raises(railtherm.SceneError, match="level"):
+        solve_time(scene, "green", -1)
+    with pytest.raises(railtherm.SceneError, match="method"):
+        solve_time(scene, "no-such-method", 0)
+
+
+def test_the_warm_up_freezes_what_the_process_holds(scene, tmp_path, monkeypatch):
+    """After a warm-up, the objects the process holds (modules, compiled kernels) sit in the garbage
+    collector's permanent generation: a timed solve's full collections no longer traverse them."""
+    import gc
+    monkeypatch.setattr(runner, "_WARM", set())
+    gc.unfreeze()
+    try:
+        rec = execute_run(RunTask(scene, "green", 0, {}, str(tmp_path / "o"), repeat=1))
+        assert rec.status == "ok" and rec.phases["warmup"] > 0
+        assert gc.get_freeze_count() > 10_000
+    finally:
+        gc.unfreeze()
 
 
 def test_a_solve_that_compiles_is_not_a_timing(scene, tmp_path, monkeypatch):

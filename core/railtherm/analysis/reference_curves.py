@@ -28,6 +28,7 @@ import xarray as xr
 
 from .._version import __version__
 from ..contract.errors import Refused
+from ..input.study import base_name
 from ..output import store
 from ..references.carter import carter_2d
 from ..references.kalker import kalker_linear_forces
@@ -279,7 +280,7 @@ def _sweep_groups(scenes) -> dict[str, list[float]]:
         sweep = dict(getattr(sc, "sweep", {}) or {})
         if "creepage.longitudinal" not in sweep:
             continue
-        key = (sc.name.split("--", 1)[0],
+        key = (base_name(sc.name),
                tuple(sorted((k, str(v)) for k, v in sweep.items() if k != "creepage.longitudinal")))
         groups.setdefault(key, []).append(sc)
     out = {}

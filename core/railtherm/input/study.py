@@ -106,6 +106,16 @@ def _sweep_paths(scene: Mapping[str, Any]) -> list[tuple[tuple[str, ...], list]]
     return out
 
 
+#: what joins a swept scene's name to its sweep values (``base--k=v,...``)
+SWEEP_SEPARATOR = "--"
+
+
+def base_name(name: str) -> str:
+    """The study's scene name a swept scene was generated from (``base--k=v,...`` -> ``base``; a scene that was
+    not swept is its own base)."""
+    return name.split(SWEEP_SEPARATOR, 1)[0]
+
+
 def expand_sweeps(scene: Mapping[str, Any]) -> list[tuple[dict, dict]]:
     """Expand a scene mapping into (mapping, sweep) pairs, one per point of the cartesian product."""
     sweeps = _sweep_paths(scene)
@@ -133,7 +143,7 @@ def expand_sweeps(scene: Mapping[str, Any]) -> list[tuple[dict, dict]]:
             target[path[-1]] = v
             sweep[".".join(path)] = v
         if isinstance(name, str):
-            m["name"] = name + "--" + ",".join(f"{k}={_fmt(v)}" for k, v in sweep.items())
+            m["name"] = name + SWEEP_SEPARATOR + ",".join(f"{k}={_fmt(v)}" for k, v in sweep.items())
         out.append((m, sweep))
     return out
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..input.study import load_study
+from ..input.study import base_name, load_study
 from ..output import store
 from ..output.store import RESULT_STATUSES   # statuses of runs that produced a result
 
@@ -163,11 +163,6 @@ def _float(v) -> float:
         return float(v)
     except (TypeError, ValueError):
         return math.nan
-
-
-def base_name(name: str) -> str:
-    """The study's scene name a swept scene was generated from (``base--k=v,...`` -> ``base``)."""
-    return name.split("--", 1)[0]
 
 
 def _sweeps(out: Path, names, scenes_obj: dict, info: dict) -> dict:

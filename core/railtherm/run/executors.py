@@ -268,7 +268,7 @@ def worker_threads(workers: int):
 
 
 class _Worker:
-    """A worker process, its pipe, and the run it holds (None: idle; -1: not ready yet)."""
+    """A worker process, its pipe, the run it holds (None: idle) and the last run it finished (None: none yet)."""
 
     def __init__(self, ctx, spec, fn):
         parent, child = ctx.Pipe()
@@ -279,6 +279,7 @@ class _Worker:
         self.conn = parent
         self.ready = False
         self.task: int | None = None
+        self.last: int | None = None
         self.t0 = 0.0
 
     def send(self, i, task, kw) -> bool:
@@ -319,12 +320,18 @@ class _FirstRuns:
     def _kind(self, i):
         return getattr(self.tasks[i], "method", None), getattr(self.tasks[i], "level", None)
 
-    def take(self, pending: deque) -> int:
-        for j, i in enumerate(itertools.islice(pending, self.LOOKAHEAD)):
-            k = self._kind(i)
-            if k in self.done or not self.compiling.get(k):
-                del pending[j]
-                return i
+    def take(self, pending: deque, last=None) -> int:
+        """The next task for a free worker whose last task was ``last`` (an index, or None): the first pending
+        task of the same :attr:`~railtherm.run.runner.RunTask.affinity` (a model's per-process cache, e.g. fem's
+        factorised strip, serves it), else the first not waiting for a compilation."""
+        ready = [(j, i) for j, i in enumerate(itertools.islice(pending, self.LOOKAHEAD))
+                 if self._kind(i) in self.done or not self.compiling.get(self._kind(i))]
+        want = getattr(self.tasks[last], "affinity", None) if last is not None else None
+        if ready and want is not None:
+            ready = [(j, i) for j, i in ready if getattr(self.tasks[i], "affinity", None) == want] or ready
+        if ready:
+            del pending[ready[0][0]]
+            return ready[0][1]
         return pending.popleft()
 
     def started(self, i: int) -> None:
@@ -379,7 +386,7 @@ class ProcessExecutor:
             while done < n:
                 for w in pool:
                     if w.ready and w.task is None and pending:
-                        i = first.take(pending)
+                        i = first.take(pending, w.last)
                         attempts[i] += 1
                         if not w.send(i, tasks[i], kw):  # a dead worker: found below
                             attempts[i] -= 1
@@ -402,7 +409,7 @@ class ProcessExecutor:
                             if j == "ready":
                                 w.ready = started = True
                                 continue
-                            w.task = None
+                            w.task, w.last = None, j
                             done += 1
                             if isinstance(out, str):
                                 out = _crash_record(tasks[j], out)

@@ -41,7 +41,7 @@ from ..contract.errors import Refused, SceneError, SolverError
 from ..contract.options import check_study
 from ..contract.schema import history_line
 from ..input.scene import Scene
-from ..input.study import Study, load_study
+from ..input.study import Study, base_name, load_study
 from ..output import store, zarr_store
 from ..output.store import RunRecord
 from ..physics import body_speeds
@@ -52,7 +52,7 @@ from .chunks import layout_of, make_chunks, row_of_record
 from .executors import (get_executor, require_optional, resolve_executor, start_worker_server,
                         worker_context)
 from .timelimit import RunTimeout, _time_limit
-from .timing import TIMING_BUDGET, RSSPeak, compile_watch, more_solves
+from .timing import TIMING_BUDGET, RSSPeak, compile_watch, freeze_process_objects, more_solves
 
 
 #: a run-sweep study (``warmup = false``) traces the memory of one run in this many per (method, level)
@@ -102,6 +102,13 @@ class RunTask:
         or another version of railtherm or of the method's plugins is computed again).
         """
         return run_hash(self.scene, self.spec, self.level, self.options)
+
+    @property
+    def affinity(self) -> tuple:
+        """Runs that may share a model's per-process cache: one method, level and swept scene (sweep members
+        keep their geometry unless the sweep changes it, e.g. fem's factorised strip across a creepage sweep).
+        A local-process executor gives a free worker the next run of its last run's affinity first."""
+        return self.method, self.level, base_name(self.scene.name)
 
     @property
     def spec(self) -> "str | dict":
@@ -255,7 +262,8 @@ def _warm_up(task: RunTask) -> float:
     that a scene without one never reaches (a model's depth-field kernels, e.g. green's Toeplitz weights).
 
     Imports, numba compilation (or loading from its disk cache) and first-touch costs fall here, not
-    in a timed solve. A warm-up that raises is ignored (the run's own solve reports its problem).
+    in a timed solve; what the process then holds is frozen out of later garbage collections
+    (:func:`~railtherm.run.timing.freeze_process_objects`). A warm-up that raises is ignored (the run's own solve reports its problem).
     Returns the time it took [s] (0 when the method was already warm).
     """
     from ..solving.pipeline import solve  # scipy and the plugins: the runner's import stays light for the CLI
@@ -270,17 +278,24 @@ def _warm_up(task: RunTask) -> float:
     _WARM.add(task.method)
     if field:
         _WARM_FIELD.add(task.method)
+    freeze_process_objects()
     return time.perf_counter() - t0
 
 
-def _measured_solve(task: RunTask, validate: bool, memory: bool):
-    """One solve, its wall time [s] (the solve's own ``wall_time``), whether numba compiled during it,
-    and the process's memory during it (:class:`RSSPeak`, or None)."""
-    from ..solving.pipeline import solve  # scipy and the plugins: the runner's import stays light for the CLI
+def _measured_solve(task: RunTask, result: bool, memory: bool):
+    """One solve, its wall time [s] (what the result's ``wall_time`` measures), whether numba compiled during it,
+    and the process's memory during it (:class:`RSSPeak`, or None). ``result``: the run's result, validated;
+    otherwise a repeat for the timing only (:func:`~railtherm.solving.pipeline.solve_time`: the same stages,
+    no result assembled), and None for the result."""
+    from ..solving.pipeline import solve, solve_time  # scipy and the plugins: the runner's import stays light
     mem = RSSPeak() if memory else contextlib.nullcontext()
     with compile_watch() as compiled, mem:
-        ds = solve(task.scene, task.spec, task.level, task.options, validate=validate)
-    return ds, float(ds.attrs["wall_time"]), bool(compiled), (mem if memory else None)
+        if result:
+            ds = solve(task.scene, task.spec, task.level, task.options, validate=True)
+            wall = float(ds.attrs["wall_time"])
+        else:
+            ds, wall = None, solve_time(task.scene, task.spec, task.level, task.options)
+    return ds, wall, bool(compiled), (mem if memory else None)
 
 
 def _solve_timed(task: RunTask, rec: RunRecord, phases: dict, t_begin: float):

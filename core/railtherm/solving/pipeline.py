@@ -31,7 +31,7 @@ from .friction_loop import needs_loop, solve_coupled
 from .plugins import MethodInfo, PluginHost, get_host
 from .wheelset_patches import solve_patches
 
-__all__ = ["solve", "plan", "given_heat_source", "Plan", "duplicate_of"]
+__all__ = ["solve", "solve_time", "plan", "given_heat_source", "Plan", "duplicate_of"]
 
 
 
@@ -502,6 +502,30 @@ def solve(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", l
     if validate:
         validate_dataset(ds, pl.method.plugin)
     return ds
+
+
+def solve_time(scene: Scene | Mapping[str, Any], method: "str | Mapping[str, Any]", level: int = 0,
+               options: Mapping[str, Any] | None = None, *, host: PluginHost | None = None) -> float:
+    """The solving time [s] of one more solve with arguments :func:`solve` has already solved and checked.
+
+    What the result's ``wall_time`` measures (the stage models, from the plan on), without assembling, checking
+    or validating a result that would equal the checked one: the study runner's repeated timings of a run.
+    A wheelset on profiles, which solves its patches through :func:`solve`, takes its full solve's
+    ``wall_time``.
+
+    Parameters are those of :func:`solve`; it raises what :func:`solve` raises on them.
+    """
+    host = host or get_host()
+    scene = load_scene(scene)
+    if _wheelset_solver(scene) is not None:
+        return float(solve(scene, method, level, options, host=host, validate=False).attrs["wall_time"])
+    level = check_level(level, where=f"scene {scene.name!r}: ")
+    mi = host.resolve(method)
+    options = _check_options(mi, options, scene.name)
+    pl = plan(scene, mi, level, host)
+    t0 = time.perf_counter()
+    _run(pl, scene, level, options)
+    return time.perf_counter() - t0
 
 
 def _check_result(ds, scene: Scene, pl, method: str, level: int, converged: bool, diag: dict, grid) -> None:
