@@ -196,6 +196,9 @@ def test_a_free_worker_takes_the_next_run_of_its_last_runs_affinity():
     assert first.take(pending, last=0) == 2 and list(pending) == [1, 3]
     assert first.take(pending, last=0) == 1                     # none of that affinity left: the first
     assert first.take(pending) == 3
+    pending = deque([0, 1, 2])                                  # another worker holds carter: seed first
+    assert first.take(pending, others=[("fem", 3, "carter"), None]) == 1
+    assert first.take(pending, others=[("fem", 3, "carter")]) == 0   # only carter left: taken
 
 
 def test_direct_netcdf_writer_matches_xarray(hosts, tmp_path):
@@ -540,3 +543,20 @@ def test_auto_with_one_worker_starts_no_fork_server(green_host, tmp_path, monkey
     assert asked == []
     start_worker_server(2)
     assert asked == [True]
+
+
+def _numba_functions_at_start(_):
+    from numba.core.registry import cpu_target
+    return len(cpu_target.typing_context._functions)
+
+
+def test_workers_start_with_numba_contexts_built():
+    """The fork server builds numba's typing and target contexts once (railtherm.run.warm_imports): a worker's
+    first kernel, compiled or loaded from the disk cache, does not build them again (about 0.4 s each)."""
+    pytest.importorskip("numba")
+    from railtherm.run.executors import worker_context
+    ctx = worker_context()
+    if ctx.get_start_method() != "forkserver":
+        pytest.skip("no fork server on this platform")
+    with ctx.Pool(1) as pool:
+        assert pool.map(_numba_functions_at_start, [0])[0] > 100

@@ -320,19 +320,25 @@ class _FirstRuns:
     def _kind(self, i):
         return getattr(self.tasks[i], "method", None), getattr(self.tasks[i], "level", None)
 
-    def take(self, pending: deque, last=None) -> int:
-        """The next task for a free worker whose last task was ``last`` (an index, or None): the first pending
-        task of the same :attr:`~railtherm.run.runner.RunTask.affinity` (a model's per-process cache, e.g. fem's
-        factorised strip, serves it), else the first not waiting for a compilation."""
+    def affinity(self, i):
+        """The :attr:`~railtherm.run.runner.RunTask.affinity` of task ``i`` (None: an index of None, or a task
+        without one)."""
+        return None if i is None else getattr(self.tasks[i], "affinity", None)
+
+    def take(self, pending: deque, last=None, others=()) -> int:
+        """The next task for a free worker whose last task was ``last`` (an index, or None), among the pending
+        tasks not waiting for a compilation: the first of the same :attr:`affinity` (a model's per-process
+        cache, e.g. fem's factorised strip, serves it), else the first whose affinity is none of ``others``
+        (the other workers' current and last tasks': their caches serve those), else the first."""
         ready = [(j, i) for j, i in enumerate(itertools.islice(pending, self.LOOKAHEAD))
                  if self._kind(i) in self.done or not self.compiling.get(self._kind(i))]
-        want = getattr(self.tasks[last], "affinity", None) if last is not None else None
-        if ready and want is not None:
-            ready = [(j, i) for j, i in ready if getattr(self.tasks[i], "affinity", None) == want] or ready
-        if ready:
-            del pending[ready[0][0]]
-            return ready[0][1]
-        return pending.popleft()
+        if not ready:
+            return pending.popleft()
+        want, held = self.affinity(last), set(others) - {None}
+        j, i = (next((p for p in ready if want is not None and self.affinity(p[1]) == want), None)
+                or next((p for p in ready if self.affinity(p[1]) not in held), None) or ready[0])
+        del pending[j]
+        return i
 
     def started(self, i: int) -> None:
         k = self._kind(i)
@@ -386,7 +392,8 @@ class ProcessExecutor:
             while done < n:
                 for w in pool:
                     if w.ready and w.task is None and pending:
-                        i = first.take(pending, w.last)
+                        i = first.take(pending, w.last, [first.affinity(x) for v in pool if v is not w
+                                                         for x in (v.task, v.last)])
                         attempts[i] += 1
                         if not w.send(i, tasks[i], kw):  # a dead worker: found below
                             attempts[i] -= 1

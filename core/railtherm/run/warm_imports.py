@@ -4,6 +4,7 @@ A spawned worker imports numpy, scipy, xarray, netCDF4, numba and the plugins it
 process, paid again by every pool (runs, scoring, figures) and every replacement of a worker that died. The
 fork server (:func:`railtherm.run.executors.worker_context`) imports this module once; its workers are forks of
 it. An import that fails here costs only its time saving: the worker imports it (and meets the error) itself.
+numba's typing and target contexts are built here too (:func:`_numba_contexts`).
 """
 from __future__ import annotations
 
@@ -30,4 +31,18 @@ def _warm() -> None:
             pass
 
 
+
+def _numba_contexts() -> None:
+    """Build numba's CPU typing and target contexts with every registration the imports above made (about
+    0.4 s), which a worker would otherwise build at its first kernel, compiled or loaded from the disk cache.
+    Building them starts no thread, so the forks inherit them safely."""
+    try:
+        from numba.core.registry import cpu_target
+        cpu_target.typing_context.refresh()
+        cpu_target.target_context.refresh()
+    except Exception:  # noqa: BLE001 - numba missing or changed: each worker builds them itself
+        pass
+
+
 _warm()
+_numba_contexts()
