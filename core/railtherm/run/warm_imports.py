@@ -37,7 +37,7 @@ def _numba_contexts() -> None:
     0.4 s), which a worker would otherwise build at its first kernel, compiled or loaded from the disk cache.
     Building them starts no thread, so the forks inherit them safely."""
     try:
-        from numba.core.registry import cpu_target
+        from numba.core.registry import cpu_target  # numba is optional for core: imported above when installed
         cpu_target.typing_context.refresh()
         cpu_target.target_context.refresh()
     except Exception:  # noqa: BLE001 - numba missing or changed: each worker builds them itself
