@@ -263,8 +263,8 @@ def _warm_up(task: RunTask) -> float:
 
     Imports, numba compilation (or loading from its disk cache) and first-touch costs fall here, not
     in a timed solve; what the process then holds is frozen out of later garbage collections
-    (:func:`~railtherm.run.timing.freeze_process_objects`). A warm-up that raises is ignored (the run's own solve reports its problem).
-    Returns the time it took [s] (0 when the method was already warm).
+    (:func:`~railtherm.run.timing.freeze_process_objects`). A warm-up that raises is ignored (the run's
+    own solve reports its problem). Returns the time it took [s] (0 when the method was already warm).
     """
     from ..solving.pipeline import solve  # scipy and the plugins: the runner's import stays light for the CLI
     field = getattr(task.scene, "field", None) is not None
