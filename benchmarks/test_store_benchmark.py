@@ -5,7 +5,7 @@ Asserted: store size per run (< 1 kB) and in all (< 10 MB), chunk write time per
 bit for bit to a serial per-file run (on the first 200 scenes, which the per-file store writes in the default
 time). Recorded, not asserted (a wall time measures the machine's load as much as the code): the wall time of the
 whole study (the benchmark's own timing, one round), with the load average before it, the CPU time and the phases
-in ``extra_info`` (31 s measured on an idle 2-core machine). The per-file store's wall time over the 10 000 runs
+in ``extra_info`` (68 s on a 2-core machine: runs 41 s, metrics 23 s). The per-file store's wall time over the 10 000 runs
 is measured too (``RAILTHERM_BENCH_FILES_10K=1``: 100 s more).
 
     OPENBLAS_NUM_THREADS=1 python -m pytest -m benchmark -s benchmarks/test_store_benchmark.py

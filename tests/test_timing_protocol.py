@@ -22,6 +22,29 @@ from railtherm.run.executors import resolve_executor
 from railtherm.run.runner import RSSPeak, RunTask, execute_run, more_solves
 
 
+def test_a_sweep_of_many_scenes_is_scored_in_a_bounded_number_of_work_items():
+    """10 000 scenes scored scene by scene would pickle the study and every record 10 000 times (each work item
+    carries them): the pool gets at most SCORING_PARTS items, each scene's runs in one item, every run once."""
+    from types import SimpleNamespace as R
+
+    from railtherm.analysis.metrics import SCORING_PARTS, scoring_parts, submit_scoring
+    records = [R(scene=f"s--k={i // 3}", status="ok" if i % 3 else "refused") for i in range(3 * 2000)]
+    items = []
+
+    def fake_map(fn, iterable):
+        items.extend(iterable)
+        return []
+    submit_scoring(R(tolerance=0.05), records, fake_map)
+    assert 1 < len(items) <= SCORING_PARTS
+    assert sorted(i for item in items for i in item) == list(range(len(records)))
+    owner = {records[i].scene: k for k, item in enumerate(items) for i in item}
+    assert all(owner[records[i].scene] == k for k, item in enumerate(items) for i in item)
+    loads = [sum(records[i].status == "ok" for i in item) for item in items]
+    assert max(loads) - min(loads) <= 2 and loads == sorted(loads, reverse=True)
+    few = records[:3 * 19]                                   # the main study's size: one item per scene
+    assert len(scoring_parts(few)) == 19
+
+
 def test_more_solves_repeats_only_short_solves():
     assert more_solves([0.01], 3, True) and more_solves([0.01, 0.01], 3, True)
     assert not more_solves([0.01, 0.01, 0.01], 3, True)        # at most `repeat`
@@ -163,13 +186,18 @@ def test_a_solve_that_compiles_is_not_a_timing(scene, tmp_path, monkeypatch):
         assert "compiled were not timed" in ds.attrs["history"]
 
 
-def test_metrics_scored_in_worker_processes_equal_the_serial_ones(tmp_path, write_study):
+@pytest.mark.parametrize("parts", [None, 2])
+def test_metrics_scored_in_worker_processes_equal_the_serial_ones(tmp_path, write_study, monkeypatch, parts):
     """The scenes of a study scored in a process pool (the study's: forked from the fork server, the plugin host
-    rebuilt) give metrics.nc's values exactly as scored in this process."""
+    rebuilt) give metrics.nc's values exactly as scored in this process; also with its three scenes packed
+    into two work items (``parts = 2``: a sweep of more scenes than :data:`SCORING_PARTS`)."""
     import json
     from concurrent.futures import ProcessPoolExecutor
 
+    from railtherm.analysis import metrics
     from railtherm.analysis.metrics import compute_metrics
+    if parts is not None:
+        monkeypatch.setattr(metrics, "SCORING_PARTS", parts)
     from railtherm.output.store import RunRecord
     from railtherm.run.executors import host_spec, install_host, worker_context
     study = write_study(methods='["green"]', speed="[20.0, 30.0, 60.0]")
