@@ -100,9 +100,16 @@ class StudyData:
     notes: list[str] = field(default_factory=list)
     _files: dict = field(default_factory=dict, repr=False)
     _attrs: dict = field(default_factory=dict, repr=False)
+    _by_scene: dict | None = field(default=None, repr=False)   # runs_of's index, built on its first call
 
     def runs_of(self, scene: str, method: str | None = None) -> list[Run]:
-        return [r for r in self.runs if r.scene == scene and (method is None or r.method == method)]
+        """The runs of ``scene`` (of ``method`` only, if given), in :attr:`runs` order; looked up in an index of
+        the runs by scene, built on the first call (a report asks for every scene's)."""
+        if self._by_scene is None:
+            self._by_scene = {}
+            for r in self.runs:
+                self._by_scene.setdefault(r.scene, []).append(r)
+        return [r for r in self._by_scene.get(scene, ()) if method is None or r.method == method]
 
     def finest_result(self, scene: str, method: str) -> Run | None:
         ok = [r for r in self.runs_of(scene, method) if r.has_result]
@@ -261,29 +268,48 @@ def _stored_words(metric: str, name: str) -> bool:
     return name == metric.replace("_", " ")
 
 
-def _per_scene(m, var: str, scene: str):
-    if var not in m or "scene_name" not in m[var].dims or scene not in list(map(str, m["scene_name"].values)):
-        return None
-    return m[var].sel(scene_name=scene)
+class _PerScene:
+    """metrics.nc's per-scene variables, each transposed once to (scene, ...) as a numpy array and read by the
+    scene's position: a report on 10 000 scenes spent most of its time in an xarray selection per scene and
+    variable."""
+
+    def __init__(self, m):
+        self.m = m
+        names = m["scene_name"].values if "scene_name" in m.coords else ()
+        self.pos = {str(n): i for i, n in enumerate(names)}
+        self._arrays: dict = {}
+
+    def dims(self, var: str) -> tuple:
+        """The dimensions of ``var`` after ``scene_name`` (empty when it is not per scene)."""
+        if var not in self.m or "scene_name" not in self.m[var].dims:
+            return ()
+        return tuple(d for d in self.m[var].dims if d != "scene_name")
+
+    def get(self, var: str, scene: str, dims: tuple | None = None):
+        """``m[var]`` of ``scene`` as a numpy array with dimensions ``dims`` (default: as stored), or None (no
+        such variable, not per scene, or no such scene)."""
+        if var not in self.m or "scene_name" not in self.m[var].dims or scene not in self.pos:
+            return None
+        dims = tuple(dims) if dims is not None else self.dims(var)
+        key = (var, dims)
+        if key not in self._arrays:
+            self._arrays[key] = self.m[var].transpose("scene_name", *dims).values
+        return self._arrays[key][self.pos[scene]]
+
+    def coord(self, name: str) -> list[str]:
+        return [str(x) for x in self.m[name].values]
 
 
-def _orders(m, scene: str) -> list[Order]:
-    co = _per_scene(m, "convergence_order", scene)
-    if co is None:
-        return []
+def _orders(ps: _PerScene, scene: str) -> list[Order]:
     dims = ("method_name", "metric")
-
-    def table(var, default):
-        # one (method, metric) array per variable: a .sel per cell cost ~0.3 ms, thousands per study
-        da = _per_scene(m, var, scene)
-        return None if da is None else da.transpose(*dims).values
-
-    order = co.transpose(*dims).values
-    rich, theory = table("richardson_error", math.nan), table("theoretical_order", math.nan)
-    ref, unc = table("order_reference", ""), table("richardson_uncertainty", math.nan)
+    order = ps.get("convergence_order", scene, dims)
+    if order is None:
+        return []
+    rich, theory = ps.get("richardson_error", scene, dims), ps.get("theoretical_order", scene, dims)
+    ref, unc = ps.get("order_reference", scene, dims), ps.get("richardson_uncertainty", scene, dims)
     out = []
-    for i, meth in enumerate(map(str, co["method_name"].values)):
-        for j, met in enumerate(map(str, co["metric"].values)):
+    for i, meth in enumerate(ps.coord("method_name")):
+        for j, met in enumerate(ps.coord("metric")):
             o = _float(order[i, j])
             r = _float(rich[i, j]) if rich is not None else math.nan
             if not math.isfinite(o) and not math.isfinite(r):
@@ -294,14 +320,14 @@ def _orders(m, scene: str) -> list[Order]:
     return out
 
 
-def _cross(m, scene: str) -> dict:
-    cd = _per_scene(m, "cross_difference", scene)
+def _cross(ps: _PerScene, scene: str) -> dict:
+    cd = ps.get("cross_difference", scene, ("quantity", "method_name", "other_method"))
     if cd is None:
         return {}
-    methods = [str(x) for x in cd["method_name"].values]
+    methods = ps.coord("method_name")
     out = {}
-    for q in map(str, cd["quantity"].values):
-        mat = np.asarray(cd.sel(quantity=q).values, float)
+    for k, q in enumerate(ps.coord("quantity")):
+        mat = np.asarray(cd[k], float)
         off = mat.copy()
         np.fill_diagonal(off, np.nan)
         keep = [i for i in range(len(methods)) if np.isfinite(off[i]).any() or np.isfinite(off[:, i]).any()]
@@ -363,27 +389,30 @@ def load(out, study=None) -> StudyData:
 
     scenes_obj = {s.name: s for s in study.scenes} if study is not None else {}
     names = list(scenes_obj)
+    seen = set(names)
     for nm in (list(map(str, m["scene_name"].values)) if "scene_name" in m.coords else []) + [r.scene for r in runs]:
-        if nm not in names:
+        if nm not in seen:
             names.append(nm)
+            seen.add(nm)
     present = {r.scene for r in runs}
     names = [n for n in names if n in present]
     sweeps = _sweeps(out, names, scenes_obj, info)
     published = getattr(study, "published", None) or {}
 
+    ps = _PerScene(m)
+    analytic = [v for v in m.data_vars if v.startswith("analytic_")]
     scene_info = {}
     for nm in names:
         sc = scenes_obj.get(nm)
         si = SceneInfo(nm, sweep=sweeps[nm], base=base_name(nm), scene=sc, published=dict(published.get(nm, {})))
-        h = _per_scene(m, "headline", nm)
-        si.headline = _str(h.values.item()) if h is not None else ""
-        rk = _per_scene(m, "reference_kind", nm)
-        si.reference_kind = _str(rk.values.item()) if rk is not None else ""
-        for var in m.data_vars:
-            if var.startswith("analytic_"):
-                da = _per_scene(m, var, nm)
-                if da is not None:
-                    si.analytic[var[len("analytic_"):]] = np.asarray(da.values, float)
+        h = ps.get("headline", nm)
+        si.headline = _str(getattr(h, "item", lambda: h)()) if h is not None else ""
+        rk = ps.get("reference_kind", nm)
+        si.reference_kind = _str(getattr(rk, "item", lambda: rk)()) if rk is not None else ""
+        for var in analytic:
+            da = ps.get(var, nm)
+            if da is not None:
+                si.analytic[var[len("analytic_"):]] = np.asarray(da, float)
         scene_info[nm] = si
     curves, note = _load_curves(out)
     if note:
@@ -393,7 +422,7 @@ def load(out, study=None) -> StudyData:
         out=out, name=str(info.get("study") or m.attrs.get("study") or getattr(study, "name", out.name)),
         tolerance=tol, runs=runs, scenes=names, methods=sorted({r.method for r in runs}),
         levels=sorted({r.level for r in runs}), info=info, study=study, scene=scene_info,
-        orders={nm: _orders(m, nm) for nm in names}, cross={nm: _cross(m, nm) for nm in names},
+        orders={nm: _orders(ps, nm) for nm in names}, cross={nm: _cross(ps, nm) for nm in names},
         curves=curves, notes=notes)
 
 

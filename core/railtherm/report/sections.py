@@ -141,7 +141,8 @@ def _cell_reasons(data: StudyData, table_rows, cards) -> list[str]:
             v = cards[(row.label, m)]
             if v.status not in ("refused", "failed", "unverified"):
                 continue
-            msgs = {x.message for x in v.members} if v.members else {v.message}
+            # members' order, each message once (a set's order follows the string hash, which differs per process)
+            msgs = list(dict.fromkeys(x.message for x in v.members)) if v.members else [v.message]
             for msg in msgs:
                 text = msg.replace(f"scene '{row.scenes[0]}': ", "") if msg else "no message"
                 by.setdefault((v.status, v.reason_kind, text), []).append(f"{m} on {row.label}")
