@@ -41,8 +41,8 @@ def test_a_sweep_of_many_scenes_is_scored_in_a_bounded_number_of_work_items():
     assert all(owner[records[i].scene] == k for k, item in enumerate(items) for i in item)
     loads = [sum(records[i].status == "ok" for i in item) for item in items]
     assert max(loads) - min(loads) <= 2 and loads == sorted(loads, reverse=True)
-    few = records[:3 * 19]                                   # the main study's size: one item per scene
-    assert len(scoring_parts(few)) == 19
+    few = records[:3 * 30]                                   # the main study's 30 scenes: one item per scene
+    assert len(scoring_parts(few)) == 30
 
 
 def test_more_solves_repeats_only_short_solves():
