@@ -51,3 +51,15 @@ def test_plan_refusals_are_marked_and_refused_in_this_process(tmp_path):
     _, serial = _records(tmp_path, "serial", "serial", True)   # every run in this process, none marked early
     for a, b in zip(recs, serial):
         assert (a.method, a.status, a.reason_kind, a.message) == (b.method, b.status, b.reason_kind, b.message)
+
+
+def test_a_run_its_plan_refuses_warms_nothing_up(tmp_path, monkeypatch):
+    """The plan's refusal comes from the run's own solve: no warm-up solve of another level of the scene (it
+    would solve, and compile, in the study's process beside the workers)."""
+    from railtherm.run import runner
+    path = tmp_path / "s.toml"
+    path.write_text(STUDY)
+    task = next(t for t in make_tasks(load_study(path), tmp_path / "o") if t.refused_early)
+    monkeypatch.setattr(runner, "_WARM", set())
+    rec = runner.execute_run(task)
+    assert rec.status == "refused" and rec.phases["warmup"] == 0.0 and task.method not in runner._WARM

@@ -306,7 +306,9 @@ def _solve_timed(task: RunTask, rec: RunRecord, phases: dict, t_begin: float):
     if task.duplicate:
         raise Refused(task.duplicate, kind="validity")
     with _time_limit(task.timeout):
-        phases["warmup"] = _warm_up(task)
+        # a run its plan refuses raises at its plan below: warming its method up would solve another level of
+        # the scene for nothing (in the study's own process, beside the workers)
+        phases["warmup"] = 0.0 if task.refused_early else _warm_up(task)
         t0 = time.perf_counter()
         ds, first, compiled, mem = _measured_solve(task, True, hwm)
         phases["solve"] = time.perf_counter() - t0
